@@ -1,0 +1,18 @@
+//! The native 3D linear-elasticity solver.
+//!
+//! `element` (shape functions, quadrature, element stiffness) →
+//! `assembly` (CSC pattern once, numeric passes) → `constraints`
+//! (Dirichlet elimination, rigid hub coupling) → `solver` (ordering,
+//! sparse Cholesky) → `stress` (recovery at nodes).
+
+pub mod assembly;
+pub mod constraints;
+pub mod element;
+pub mod loads;
+pub mod material;
+pub mod model;
+pub mod ordering;
+pub mod quadrature;
+pub mod solver;
+pub mod static_analysis;
+pub mod stress;

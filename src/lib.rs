@@ -1,0 +1,20 @@
+//! # flank — finite-element-first gear tooth contact
+//!
+//! Data flow (see DESIGN.md):
+//!
+//! ```text
+//! deck.inp / scene.toml ─► mesh ─► fem (K, constraints, Cholesky) ─► results ─► report
+//! ```
+//!
+//! * [`mesh`]: nodes, quadratic solid elements (C3D20, C3D20R, C3D15), sets;
+//!   CalculiX/Abaqus deck reader and writer; structured meshes for verification.
+//! * [`fem`]: elements, quadrature, assembly, constraints, sparse Cholesky,
+//!   stress recovery, the linear static analysis.
+//! * [`report`]: VTU, CSV and JSON output.
+
+pub mod error;
+pub mod fem;
+pub mod mesh;
+pub mod report;
+
+pub use error::{FlankError, Result};

@@ -1,0 +1,1 @@
+//! CalculiX/Abaqus deck (`.inp`) reader and writer.

@@ -1,0 +1,1 @@
+//! Structured meshes for verification (boxes, cylinders, plates).

@@ -1,0 +1,2 @@
+//! Output: VTU, CSV and JSON writers.
+pub mod vtu;
