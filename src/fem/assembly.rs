@@ -1,1 +1,420 @@
-//! TODO
+//! Global stiffness assembly: symbolic pass once, numeric passes cheap.
+//!
+//! The reduced stiffness Tᵀ K T is stored as the lower triangle of a CSC
+//! matrix. The symbolic pass computes the pattern from the graph of DOF groups
+//! (nodes and rigid couplings), an element→slot map, and a greedy colouring of
+//! the elements so that elements of one colour share no node. The numeric pass
+//! then integrates element matrices in parallel (rayon) colour by colour and adds
+//! them into their slots without locks: within a colour the slots are disjoint.
+//! Elements touching a rigid coupling write into shared reference-DOF slots and
+//! are added serially afterwards.
+
+use rayon::prelude::*;
+
+use crate::error::FlankError;
+use crate::fem::constraints::{DofMap, DofTarget};
+use crate::fem::element::{stiffness, ElementWorkspace};
+use crate::fem::model::Model;
+
+/// Lower-triangular CSC pattern of a symmetric matrix.
+#[derive(Clone, Debug)]
+pub struct SparsePattern {
+    pub n: usize,
+    pub col_ptr: Vec<usize>,
+    pub row_idx: Vec<usize>,
+}
+
+impl SparsePattern {
+    pub fn nnz(&self) -> usize {
+        self.row_idx.len()
+    }
+
+    /// Slot of entry (row, col) with row ≥ col, if present.
+    #[inline]
+    pub fn slot(&self, row: usize, col: usize) -> Option<usize> {
+        let (a, b) = (self.col_ptr[col], self.col_ptr[col + 1]);
+        self.row_idx[a..b].binary_search(&row).ok().map(|k| a + k)
+    }
+
+    /// y = A x for the symmetric matrix whose lower triangle is `values`.
+    pub fn sym_mul(&self, values: &[f64], x: &[f64]) -> Vec<f64> {
+        let mut y = vec![0.0; self.n];
+        for c in 0..self.n {
+            for k in self.col_ptr[c]..self.col_ptr[c + 1] {
+                let r = self.row_idx[k];
+                let v = values[k];
+                y[r] += v * x[c];
+                if r != c {
+                    y[c] += v * x[r];
+                }
+            }
+        }
+        y
+    }
+}
+
+/// Graph of DOF groups in CSR form (no self loops), for the ordering.
+#[derive(Clone, Debug)]
+pub struct GroupGraph {
+    pub xadj: Vec<usize>,
+    pub adjncy: Vec<usize>,
+    /// Number of reduced DOFs in each group (vertex weight).
+    pub weight: Vec<usize>,
+}
+
+const NO_SLOT: u32 = u32::MAX;
+
+/// The symbolic part of assembly: pattern, slots, colouring.
+pub struct Assembly {
+    pub pattern: SparsePattern,
+    pub groups: GroupGraph,
+    /// Element colour classes (fast-path elements only).
+    pub colors: Vec<Vec<usize>>,
+    /// Elements with coupled DOFs, assembled serially.
+    pub serial: Vec<usize>,
+    slot_offset: Vec<usize>,
+    slots: Vec<u32>,
+}
+
+/// Result of a numeric assembly pass.
+pub struct AssembledSystem {
+    /// Values of the lower triangle, aligned with [`Assembly::pattern`].
+    pub values: Vec<f64>,
+    /// −Tᵀ K u₀: the load from prescribed non-zero displacements.
+    pub prescribed_load: Vec<f64>,
+}
+
+struct SharedMut(*mut f64);
+unsafe impl Sync for SharedMut {}
+unsafe impl Send for SharedMut {}
+impl SharedMut {
+    /// # Safety
+    /// No other thread may write index `i` concurrently.
+    #[inline]
+    unsafe fn add(&self, i: usize, v: f64) {
+        *self.0.add(i) += v;
+    }
+}
+
+impl Assembly {
+    /// Symbolic assembly for `model` with constraints `dofs`.
+    pub fn new(model: &Model, dofs: &DofMap) -> Result<Self, FlankError> {
+        let mesh = &model.mesh;
+        let ne = mesh.elements.len();
+        let nn = mesh.node_count();
+        let ng = dofs.group_count();
+        // groups touched by each node: its own group or its coupling's group
+        let mut node_coupling = vec![usize::MAX; nn];
+        for (c, cp) in model.couplings.iter().enumerate() {
+            for &n in &cp.nodes {
+                node_coupling[n] = c;
+            }
+        }
+        let node_groups = |n: usize| -> Option<usize> {
+            if dofs.node_group[n] != usize::MAX {
+                Some(dofs.node_group[n])
+            } else if node_coupling[n] != usize::MAX {
+                let g = dofs.coupling_group[node_coupling[n]];
+                (g != usize::MAX).then_some(g)
+            } else {
+                None
+            }
+        };
+        let elem_groups: Vec<Vec<usize>> = mesh
+            .elements
+            .iter()
+            .map(|el| {
+                let mut g: Vec<usize> = el.nodes.iter().filter_map(|&n| node_groups(n)).collect();
+                g.sort_unstable();
+                g.dedup();
+                g
+            })
+            .collect();
+        // group → elements
+        let mut ge_ptr = vec![0usize; ng + 1];
+        for gs in &elem_groups {
+            for &g in gs {
+                ge_ptr[g + 1] += 1;
+            }
+        }
+        for g in 0..ng {
+            ge_ptr[g + 1] += ge_ptr[g];
+        }
+        let mut ge = vec![0usize; ge_ptr[ng]];
+        let mut fill = ge_ptr.clone();
+        for (e, gs) in elem_groups.iter().enumerate() {
+            for &g in gs {
+                ge[fill[g]] = e;
+                fill[g] += 1;
+            }
+        }
+        // group adjacency (including self), sorted
+        let neighbors: Vec<Vec<usize>> = (0..ng)
+            .into_par_iter()
+            .map_init(
+                || (vec![usize::MAX; ng], Vec::new()),
+                |(mark, list): &mut (Vec<usize>, Vec<usize>), g| {
+                    list.clear();
+                    for &e in &ge[ge_ptr[g]..ge_ptr[g + 1]] {
+                        for &h in &elem_groups[e] {
+                            if mark[h] != g {
+                                mark[h] = g;
+                                list.push(h);
+                            }
+                        }
+                    }
+                    list.sort_unstable();
+                    list.clone()
+                },
+            )
+            .collect();
+        // CSC lower pattern
+        let n = dofs.reduced_count;
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        col_ptr.push(0usize);
+        let mut row_idx = Vec::new();
+        for g in 0..ng {
+            for c in dofs.group_dofs(g) {
+                for &h in &neighbors[g] {
+                    if h < g {
+                        continue;
+                    }
+                    for r in dofs.group_dofs(h) {
+                        if r >= c {
+                            row_idx.push(r);
+                        }
+                    }
+                }
+                col_ptr.push(row_idx.len());
+            }
+        }
+        if row_idx.len() >= NO_SLOT as usize {
+            return Err(FlankError::Solver(format!(
+                "stiffness pattern has {} entries, beyond the 32-bit slot map",
+                row_idx.len()
+            )));
+        }
+        let pattern = SparsePattern {
+            n,
+            col_ptr,
+            row_idx,
+        };
+        // group graph for the ordering
+        let mut xadj = vec![0usize];
+        let mut adjncy = Vec::new();
+        for (g, nb) in neighbors.iter().enumerate() {
+            adjncy.extend(nb.iter().copied().filter(|&h| h != g));
+            xadj.push(adjncy.len());
+        }
+        let weight = (0..ng).map(|g| dofs.group_dofs(g).len()).collect();
+        let groups = GroupGraph {
+            xadj,
+            adjncy,
+            weight,
+        };
+
+        // element classification and slot map
+        let is_serial: Vec<bool> = mesh
+            .elements
+            .iter()
+            .map(|el| {
+                el.nodes.iter().any(|&n| {
+                    (0..3).any(|k| matches!(dofs.targets[3 * n + k], DofTarget::Coupled { .. }))
+                })
+            })
+            .collect();
+        let mut slot_offset = Vec::with_capacity(ne + 1);
+        slot_offset.push(0usize);
+        for (e, el) in mesh.elements.iter().enumerate() {
+            let m = if is_serial[e] { 0 } else { 3 * el.nodes.len() };
+            slot_offset.push(slot_offset[e] + m * (m + 1) / 2);
+        }
+        let mut slots = vec![NO_SLOT; slot_offset[ne]];
+        {
+            let mut chunks: Vec<&mut [u32]> = Vec::with_capacity(ne);
+            let mut rest = slots.as_mut_slice();
+            for e in 0..ne {
+                let (a, b) = rest.split_at_mut(slot_offset[e + 1] - slot_offset[e]);
+                chunks.push(a);
+                rest = b;
+            }
+            chunks.into_par_iter().enumerate().for_each(|(e, out)| {
+                if out.is_empty() {
+                    return;
+                }
+                let el = &mesh.elements[e];
+                let m = 3 * el.nodes.len();
+                let red: Vec<Option<usize>> = (0..m)
+                    .map(|p| match dofs.targets[3 * el.nodes[p / 3] + p % 3] {
+                        DofTarget::Free(r) => Some(r),
+                        _ => None,
+                    })
+                    .collect();
+                let mut k = 0;
+                for p in 0..m {
+                    for q in 0..=p {
+                        if let (Some(rp), Some(rq)) = (red[p], red[q]) {
+                            let s = pattern
+                                .slot(rp.max(rq), rp.min(rq))
+                                .expect("pattern contains every element pair");
+                            out[k] = s as u32;
+                        }
+                        k += 1;
+                    }
+                }
+            });
+        }
+        // greedy colouring of the fast-path elements
+        let mut ne_ptr = vec![0usize; nn + 1];
+        for el in &mesh.elements {
+            for &n in &el.nodes {
+                ne_ptr[n + 1] += 1;
+            }
+        }
+        for i in 0..nn {
+            ne_ptr[i + 1] += ne_ptr[i];
+        }
+        let mut nel = vec![0usize; ne_ptr[nn]];
+        let mut fill = ne_ptr.clone();
+        for (e, el) in mesh.elements.iter().enumerate() {
+            for &n in &el.nodes {
+                nel[fill[n]] = e;
+                fill[n] += 1;
+            }
+        }
+        let mut color = vec![usize::MAX; ne];
+        let mut forbidden_stamp: Vec<usize> = Vec::new();
+        let mut colors: Vec<Vec<usize>> = Vec::new();
+        let mut serial = Vec::new();
+        for e in 0..ne {
+            if is_serial[e] {
+                serial.push(e);
+                continue;
+            }
+            for &n in &mesh.elements[e].nodes {
+                for &f in &nel[ne_ptr[n]..ne_ptr[n + 1]] {
+                    let c = color[f];
+                    if c != usize::MAX {
+                        forbidden_stamp[c] = e;
+                    }
+                }
+            }
+            let c = (0..colors.len())
+                .find(|&c| forbidden_stamp[c] != e)
+                .unwrap_or_else(|| {
+                    colors.push(Vec::new());
+                    forbidden_stamp.push(usize::MAX);
+                    colors.len() - 1
+                });
+            color[e] = c;
+            colors[c].push(e);
+        }
+        Ok(Assembly {
+            pattern,
+            groups,
+            colors,
+            serial,
+            slot_offset,
+            slots,
+        })
+    }
+
+    /// Numeric pass: integrates all element matrices and adds them into the
+    /// pattern; also returns the load from prescribed displacements.
+    pub fn assemble(&self, model: &Model, dofs: &DofMap) -> Result<AssembledSystem, FlankError> {
+        let mesh = &model.mesh;
+        let lame: Vec<(f64, f64)> = model.materials.iter().map(|m| m.lame()).collect();
+        let mut values = vec![0.0; self.pattern.nnz()];
+        let mut rhs = vec![0.0; dofs.reduced_count];
+        let vals = SharedMut(values.as_mut_ptr());
+        let rhs_ptr = SharedMut(rhs.as_mut_ptr());
+        let integrate =
+            |e: usize, ws: &mut ElementWorkspace, k: &mut Vec<f64>| -> Result<(), FlankError> {
+                let el = &mesh.elements[e];
+                ws.coords.clear();
+                ws.coords.extend(el.nodes.iter().map(|&n| mesh.coords[n]));
+                let (l, u) = lame[model.element_material[e]];
+                let coords = std::mem::take(&mut ws.coords);
+                let r = stiffness(el.kind, &coords, l, u, ws, k);
+                ws.coords = coords;
+                r.map_err(|j| j.into_error(el.label, el.kind))
+            };
+        for class in &self.colors {
+            class.par_iter().try_for_each_init(
+                || (ElementWorkspace::default(), Vec::new()),
+                |(ws, k), &e| -> Result<(), FlankError> {
+                    integrate(e, ws, k)?;
+                    let el = &mesh.elements[e];
+                    let m = 3 * el.nodes.len();
+                    let slots = &self.slots[self.slot_offset[e]..self.slot_offset[e + 1]];
+                    let mut s = 0;
+                    for p in 0..m {
+                        let row = &k[p * m..p * m + p + 1];
+                        for &kv in row {
+                            let slot = slots[s];
+                            if slot != NO_SLOT {
+                                // SAFETY: elements of one colour share no node, hence no slot.
+                                unsafe { vals.add(slot as usize, kv) };
+                            }
+                            s += 1;
+                        }
+                    }
+                    // load from prescribed displacements: f_r −= Σ_q K_pq u0_q
+                    let dof = |p: usize| 3 * el.nodes[p / 3] + p % 3;
+                    if (0..m).any(|q| dofs.prescribed(dof(q)) != 0.0) {
+                        for p in 0..m {
+                            if let DofTarget::Free(r) = dofs.targets[dof(p)] {
+                                let f: f64 =
+                                    (0..m).map(|q| k[p * m + q] * dofs.prescribed(dof(q))).sum();
+                                // SAFETY: free DOFs belong to one node; nodes are exclusive within a colour.
+                                unsafe { rhs_ptr.add(r, -f) };
+                            }
+                        }
+                    }
+                    Ok(())
+                },
+            )?;
+        }
+        // elements with coupled DOFs: general Tᵀ K T, serially
+        let mut ws = ElementWorkspace::default();
+        let mut k = Vec::new();
+        for &e in &self.serial {
+            integrate(e, &mut ws, &mut k)?;
+            let el = &mesh.elements[e];
+            let m = 3 * el.nodes.len();
+            let dof = |p: usize| 3 * el.nodes[p / 3] + p % 3;
+            for p in 0..m {
+                for q in 0..m {
+                    let kpq = k[p * m + q];
+                    if kpq == 0.0 {
+                        continue;
+                    }
+                    dofs.for_each_term(dof(p), |rp, cp| {
+                        dofs.for_each_term(dof(q), |rq, cq| {
+                            if rp >= rq {
+                                let s = self.pattern.slot(rp, rq).expect("coupled pair in pattern");
+                                values[s] += cp * cq * kpq;
+                            }
+                        });
+                    });
+                    let u0 = dofs.prescribed(dof(q));
+                    if u0 != 0.0 {
+                        dofs.for_each_term(dof(p), |rp, cp| rhs[rp] -= cp * kpq * u0);
+                    }
+                }
+            }
+        }
+        Ok(AssembledSystem {
+            values,
+            prescribed_load: rhs,
+        })
+    }
+
+    /// Bytes held by the symbolic structures (pattern and slot map).
+    pub fn memory_bytes(&self) -> usize {
+        self.pattern.row_idx.len() * 8
+            + self.pattern.col_ptr.len() * 8
+            + self.slots.len() * 4
+            + self.slot_offset.len() * 8
+    }
+}

@@ -52,7 +52,13 @@ pub struct RigidCoupling {
 impl RigidCoupling {
     /// Hub that may only rotate about `axis` through `point`, loaded by `torque` (N·mm).
     /// The axis must be a coordinate axis (0 = x, 1 = y, 2 = z).
-    pub fn rotation_about(name: &str, point: [f64; 3], axis: usize, nodes: Vec<usize>, torque: f64) -> Self {
+    pub fn rotation_about(
+        name: &str,
+        point: [f64; 3],
+        axis: usize,
+        nodes: Vec<usize>,
+        torque: f64,
+    ) -> Self {
         let mut free = [false; 6];
         free[3 + axis] = true;
         let mut load = [0.0; 6];
