@@ -12,6 +12,7 @@
 //!   stress recovery, the linear static analysis.
 //! * [`report`]: VTU, CSV and JSON output.
 
+pub mod ccx;
 pub mod error;
 pub mod fem;
 pub mod mesh;

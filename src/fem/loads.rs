@@ -58,6 +58,60 @@ pub fn pressure_face_load(
     Some(out)
 }
 
+/// Consistent nodal forces f_a = ∫ N_a t dA of a uniform traction `t` (MPa,
+/// global components) on face `face` (1-based), same face rules as pressures.
+pub fn traction_face_load(
+    kind: ElementKind,
+    x: &[[f64; 3]],
+    face: usize,
+    t: [f64; 3],
+) -> Option<Vec<(usize, [f64; 3])>> {
+    let nodes = face_nodes(kind, face)?;
+    let weights = face_integrals(kind, x, nodes);
+    Some(
+        nodes
+            .iter()
+            .zip(weights)
+            .map(|(&a, w)| (a, [w * t[0], w * t[1], w * t[2]]))
+            .collect(),
+    )
+}
+
+/// ∫ N_a dA for each node of a face.
+fn face_integrals(kind: ElementKind, x: &[[f64; 3]], nodes: &[usize]) -> Vec<f64> {
+    let mut out = vec![0.0; nodes.len()];
+    let mut add = |n: &[f64], d: &[[f64; 2]], w: f64| {
+        let mut t1 = [0.0; 3];
+        let mut t2 = [0.0; 3];
+        for (k, &a) in nodes.iter().enumerate() {
+            for i in 0..3 {
+                t1[i] += x[a][i] * d[k][0];
+                t2[i] += x[a][i] * d[k][1];
+            }
+        }
+        let da = ((t1[1] * t2[2] - t1[2] * t2[1]).powi(2)
+            + (t1[2] * t2[0] - t1[0] * t2[2]).powi(2)
+            + (t1[0] * t2[1] - t1[1] * t2[0]).powi(2))
+        .sqrt();
+        for (k, o) in out.iter_mut().enumerate() {
+            *o += n[k] * da * w;
+        }
+    };
+    if nodes.len() == 8 {
+        let order = if kind == ElementKind::C3D20 { 3 } else { 2 };
+        for (xi, w) in quad_rule(order) {
+            let (n, d) = quad8_shape(xi);
+            add(&n, &d, w);
+        }
+    } else {
+        for &(xi, w) in &TRIANGLE_3 {
+            let (n, d) = tri6_shape(xi);
+            add(&n, &d, w);
+        }
+    }
+    out
+}
+
 /// Full load vector (node-major DOFs) of the model's nodal forces and pressures.
 pub fn load_vector(model: &Model) -> Result<Vec<f64>, FlankError> {
     let nn = model.mesh.node_count();

@@ -1,2 +1,3 @@
 //! Output: VTU, CSV and JSON writers.
+pub mod solution;
 pub mod vtu;

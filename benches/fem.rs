@@ -1,0 +1,94 @@
+//! Criterion benchmarks of the FE core: element integration, assembly
+//! (symbolic and numeric), ordering + factorization, at three mesh sizes of a
+//! C3D20 cantilever box (the side-by-side run against CalculiX is
+//! `benches/ccx_side_by_side.sh`).
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+
+use flank::fem::assembly::Assembly;
+use flank::fem::constraints::DofMap;
+use flank::fem::element::{stiffness, ElementWorkspace, HEX20_NODES, WEDGE15_NODES};
+use flank::fem::material::Material;
+use flank::fem::model::{Dirichlet, Model};
+use flank::fem::ordering::OrderingMethod;
+use flank::fem::solver::{parallelism, SparseCholesky};
+use flank::mesh::structured::{box_mesh, BoxElement};
+use flank::mesh::ElementKind;
+
+/// Cantilever box L × 10 × 10 mm, clamped at x = 0.
+fn cantilever(cells: [usize; 3]) -> Model {
+    let mesh = box_mesh([10.0 * cells[0] as f64 / cells[1] as f64 * 1.0, 10.0, 10.0], cells, BoxElement::Hex20);
+    let clamped = mesh.node_sets["X0"].clone();
+    let ne = mesh.elements.len();
+    let mut model = Model {
+        mesh,
+        materials: vec![Material::new("steel", 210e3, 0.3).unwrap()],
+        element_material: vec![0; ne],
+        ..Default::default()
+    };
+    for n in clamped {
+        for k in 0..3 {
+            model.dirichlet.push(Dirichlet { node: n, component: k, value: 0.0 });
+        }
+    }
+    model
+}
+
+fn element_integration(c: &mut Criterion) {
+    let mut g = c.benchmark_group("element_stiffness");
+    let distort = |p: &[f64; 3]| [p[0] + 0.05 * p[1] * p[2], p[1] + 0.03 * p[0], p[2] - 0.02 * p[0] * p[1]];
+    for kind in [ElementKind::C3D20, ElementKind::C3D20R, ElementKind::C3D15] {
+        let x: Vec<[f64; 3]> = match kind {
+            ElementKind::C3D15 => WEDGE15_NODES.iter().map(distort).collect(),
+            _ => HEX20_NODES.iter().map(distort).collect(),
+        };
+        let mut ws = ElementWorkspace::default();
+        let mut k = Vec::new();
+        g.bench_function(kind.name(), |b| b.iter(|| stiffness(kind, &x, 121e3, 81e3, &mut ws, &mut k).unwrap()));
+    }
+    g.finish();
+}
+
+const SIZES: [[usize; 3]; 3] = [[20, 4, 4], [50, 6, 6], [100, 10, 10]];
+
+fn assembly(c: &mut Criterion) {
+    let mut g = c.benchmark_group("assembly");
+    g.sample_size(10);
+    for cells in SIZES {
+        let model = cantilever(cells);
+        let dofs = DofMap::new(&model).unwrap();
+        let id = format!("{}x{}x{}", cells[0], cells[1], cells[2]);
+        g.bench_with_input(BenchmarkId::new("symbolic", &id), &model, |b, m| b.iter(|| Assembly::new(m, &dofs).unwrap()));
+        let asm = Assembly::new(&model, &dofs).unwrap();
+        g.bench_with_input(BenchmarkId::new("numeric", &id), &model, |b, m| b.iter(|| asm.assemble(m, &dofs).unwrap()));
+    }
+    g.finish();
+}
+
+fn factorization(c: &mut Criterion) {
+    let mut g = c.benchmark_group("factorization");
+    g.sample_size(10);
+    for cells in SIZES {
+        let model = cantilever(cells);
+        let dofs = DofMap::new(&model).unwrap();
+        let asm = Assembly::new(&model, &dofs).unwrap();
+        let sys = asm.assemble(&model, &dofs).unwrap();
+        let id = format!("{}x{}x{}", cells[0], cells[1], cells[2]);
+        for ordering in [OrderingMethod::Metis, OrderingMethod::Amd] {
+            if ordering == OrderingMethod::Amd && cells[0] == 100 {
+                continue; // AMD's fill on the largest box makes the run long; see benches/README.md
+            }
+            let mut chol = SparseCholesky::analyze(&asm.pattern, &asm.groups, &dofs.group_start, ordering, parallelism(0)).unwrap();
+            g.bench_function(BenchmarkId::new(format!("ordering_{}", ordering.name()), &id), |b| {
+                b.iter(|| SparseCholesky::analyze(&asm.pattern, &asm.groups, &dofs.group_start, ordering, parallelism(0)).unwrap())
+            });
+            g.bench_function(BenchmarkId::new(format!("numeric_{}", ordering.name()), &id), |b| {
+                b.iter(|| chol.factorize(&asm.pattern, &sys.values, &|r| r.to_string()).unwrap())
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, element_integration, assembly, factorization);
+criterion_main!(benches);

@@ -1,0 +1,108 @@
+//! Writes the results of a static solve: `displacements.csv`, `stresses.csv`,
+//! `reactions.csv`, `result.vtu` and `summary.json`.
+
+use std::io::Write;
+use std::path::Path;
+
+use crate::error::FlankError;
+use crate::fem::model::Model;
+use crate::fem::static_analysis::StaticSolution;
+use crate::report::vtu::{write_vtu, PointField};
+
+fn create(path: &Path) -> Result<std::io::BufWriter<std::fs::File>, FlankError> {
+    Ok(std::io::BufWriter::new(std::fs::File::create(path).map_err(|e| FlankError::io(path, e))?))
+}
+
+/// `node,ux,uy,uz`, one row per node with the deck's node labels, full precision.
+pub fn write_displacements_csv(path: &Path, model: &Model, u: &[f64]) -> Result<(), FlankError> {
+    let mut w = create(path)?;
+    let io = |e| FlankError::io(path, e);
+    writeln!(w, "node,ux,uy,uz").map_err(io)?;
+    for (i, label) in model.mesh.node_labels.iter().enumerate() {
+        writeln!(w, "{label},{:e},{:e},{:e}", u[3 * i], u[3 * i + 1], u[3 * i + 2]).map_err(io)?;
+    }
+    w.flush().map_err(io)
+}
+
+/// Writes every output file of a solve into `dir` (created if needed).
+pub fn write_solution(dir: &Path, model: &Model, sol: &StaticSolution, extra: serde_json::Value) -> Result<(), FlankError> {
+    std::fs::create_dir_all(dir).map_err(|e| FlankError::io(dir, e))?;
+    write_displacements_csv(&dir.join("displacements.csv"), model, &sol.displacement)?;
+    let mut point_fields = vec![PointField {
+        name: "displacement",
+        components: 3,
+        values: &sol.displacement,
+    }];
+    let stress_flat: Vec<f64>;
+    if let Some(rec) = &sol.recovery {
+        let path = dir.join("stresses.csv");
+        let mut w = create(&path)?;
+        let io = |e| FlankError::io(&path, e);
+        writeln!(w, "node,sxx,syy,szz,sxy,syz,sxz,von_mises").map_err(io)?;
+        for (i, label) in model.mesh.node_labels.iter().enumerate() {
+            let s = rec.stress[i];
+            writeln!(w, "{label},{:e},{:e},{:e},{:e},{:e},{:e},{:e}", s[0], s[1], s[2], s[3], s[4], s[5], rec.von_mises[i])
+                .map_err(io)?;
+        }
+        w.flush().map_err(io)?;
+        stress_flat = rec.stress.iter().flat_map(|s| s.iter().copied()).collect();
+        point_fields.push(PointField {
+            name: "stress",
+            components: 6,
+            values: &stress_flat,
+        });
+        point_fields.push(PointField {
+            name: "von_mises",
+            components: 1,
+            values: &rec.von_mises,
+        });
+    }
+    if let Some(reaction) = &sol.reaction {
+        let path = dir.join("reactions.csv");
+        let mut w = create(&path)?;
+        let io = |e| FlankError::io(&path, e);
+        writeln!(w, "node,rx,ry,rz").map_err(io)?;
+        let constrained = constrained_nodes(model);
+        for (i, label) in model.mesh.node_labels.iter().enumerate() {
+            if constrained[i] {
+                writeln!(w, "{label},{:e},{:e},{:e}", reaction[3 * i], reaction[3 * i + 1], reaction[3 * i + 2]).map_err(io)?;
+            }
+        }
+        w.flush().map_err(io)?;
+        point_fields.push(PointField {
+            name: "reaction",
+            components: 3,
+            values: reaction,
+        });
+    }
+    write_vtu(&dir.join("result.vtu"), &model.mesh, &point_fields, &[])?;
+    let mut summary = serde_json::to_value(&sol.stats).expect("stats serialize");
+    if let (Some(obj), serde_json::Value::Object(extra)) = (summary.as_object_mut(), extra) {
+        for (k, v) in extra {
+            obj.insert(k, v);
+        }
+        let umax = (0..model.mesh.node_count())
+            .map(|i| (sol.displacement[3 * i].powi(2) + sol.displacement[3 * i + 1].powi(2) + sol.displacement[3 * i + 2].powi(2)).sqrt())
+            .fold(0.0f64, f64::max);
+        obj.insert("max_displacement_mm".into(), umax.into());
+        if let Some(rec) = &sol.recovery {
+            obj.insert("max_von_mises_mpa".into(), rec.von_mises.iter().copied().fold(0.0f64, f64::max).into());
+        }
+    }
+    let path = dir.join("summary.json");
+    std::fs::write(&path, serde_json::to_string_pretty(&summary).expect("json") + "\n").map_err(|e| FlankError::io(&path, e))
+}
+
+/// Nodes with at least one prescribed DOF or in a rigid coupling.
+fn constrained_nodes(model: &Model) -> Vec<bool> {
+    let mut c = vec![false; model.mesh.node_count()];
+    for bc in &model.dirichlet {
+        c[bc.node] = true;
+    }
+    for cp in &model.couplings {
+        for &n in &cp.nodes {
+            c[n] = true;
+        }
+    }
+    c
+}
