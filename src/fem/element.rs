@@ -88,6 +88,43 @@ pub fn face_nodes(kind: ElementKind, face: usize) -> Option<&'static [usize]> {
     }
 }
 
+/// C3D20 edges as (corner, corner, midside) node positions.
+pub const HEX20_EDGES: [[usize; 3]; 12] = [
+    [0, 1, 8],
+    [1, 2, 9],
+    [2, 3, 10],
+    [3, 0, 11],
+    [4, 5, 12],
+    [5, 6, 13],
+    [6, 7, 14],
+    [7, 4, 15],
+    [0, 4, 16],
+    [1, 5, 17],
+    [2, 6, 18],
+    [3, 7, 19],
+];
+
+/// C3D15 edges as (corner, corner, midside) node positions.
+pub const WEDGE15_EDGES: [[usize; 3]; 9] = [
+    [0, 1, 6],
+    [1, 2, 7],
+    [2, 0, 8],
+    [3, 4, 9],
+    [4, 5, 10],
+    [5, 3, 11],
+    [0, 3, 12],
+    [1, 4, 13],
+    [2, 5, 14],
+];
+
+/// Edges of an element kind as (corner, corner, midside) node positions.
+pub fn edges(kind: ElementKind) -> &'static [[usize; 3]] {
+    match kind {
+        ElementKind::C3D20 | ElementKind::C3D20R => &HEX20_EDGES,
+        ElementKind::C3D15 => &WEDGE15_EDGES,
+    }
+}
+
 /// Shape functions N and their derivatives ∂N/∂ξ of the 20-node hexahedron.
 pub fn hex20_shape(xi: [f64; 3]) -> ([f64; 20], [[f64; 3]; 20]) {
     let mut n = [0.0; 20];

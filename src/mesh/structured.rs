@@ -17,6 +17,7 @@ use std::collections::HashMap;
 use std::f64::consts::FRAC_PI_2;
 
 use super::{ElementKind, Mesh};
+use crate::fem::element::{edges, face_nodes};
 
 /// Element type of a structured mesh.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -68,74 +69,6 @@ const HEX20_LATTICE: [[usize; 3]; 20] = [
 /// The two triangles of an xy-cell (lattice offsets), both counter-clockwise
 /// seen from +axis 2, so that the wedges extruded along axis 2 are positive.
 const CELL_TRIANGLES: [[[usize; 2]; 3]; 2] = [[[0, 0], [2, 0], [2, 2]], [[0, 0], [2, 2], [0, 2]]];
-
-/// C3D20 faces (CalculiX numbering, face `f` at index `f-1`), 0-based node
-/// positions: corners then midsides; corner order gives the outward normal.
-pub const HEX20_FACES: [&[usize]; 6] = [
-    &[3, 2, 1, 0, 10, 9, 8, 11],
-    &[4, 5, 6, 7, 12, 13, 14, 15],
-    &[0, 1, 5, 4, 8, 17, 12, 16],
-    &[1, 2, 6, 5, 9, 18, 13, 17],
-    &[2, 3, 7, 6, 10, 19, 14, 18],
-    &[3, 0, 4, 7, 11, 16, 15, 19],
-];
-
-/// C3D15 faces (CalculiX numbering), 0-based node positions, outward normal.
-pub const WEDGE15_FACES: [&[usize]; 5] = [
-    &[0, 2, 1, 8, 7, 6],
-    &[3, 4, 5, 9, 10, 11],
-    &[0, 1, 4, 3, 6, 13, 9, 12],
-    &[1, 2, 5, 4, 7, 14, 10, 13],
-    &[3, 5, 2, 0, 11, 14, 8, 12],
-];
-
-/// C3D20 edges as (corner, corner, midside) node positions.
-pub const HEX20_EDGES: [[usize; 3]; 12] = [
-    [0, 1, 8],
-    [1, 2, 9],
-    [2, 3, 10],
-    [3, 0, 11],
-    [4, 5, 12],
-    [5, 6, 13],
-    [6, 7, 14],
-    [7, 4, 15],
-    [0, 4, 16],
-    [1, 5, 17],
-    [2, 6, 18],
-    [3, 7, 19],
-];
-
-/// C3D15 edges as (corner, corner, midside) node positions.
-pub const WEDGE15_EDGES: [[usize; 3]; 9] = [
-    [0, 1, 6],
-    [1, 2, 7],
-    [2, 0, 8],
-    [3, 4, 9],
-    [4, 5, 10],
-    [5, 3, 11],
-    [0, 3, 12],
-    [1, 4, 13],
-    [2, 5, 14],
-];
-
-/// Node positions (0-based, corners first) of face `face` (1-based, CalculiX).
-///
-/// # Panics
-/// If `face` is not in `1..=kind.face_count()`.
-pub fn face_nodes(kind: ElementKind, face: usize) -> &'static [usize] {
-    match kind {
-        ElementKind::C3D20 | ElementKind::C3D20R => HEX20_FACES[face - 1],
-        ElementKind::C3D15 => WEDGE15_FACES[face - 1],
-    }
-}
-
-/// Edges of an element kind as (corner, corner, midside) node positions.
-pub fn edges(kind: ElementKind) -> &'static [[usize; 3]] {
-    match kind {
-        ElementKind::C3D20 | ElementKind::C3D20R => &HEX20_EDGES,
-        ElementKind::C3D15 => &WEDGE15_EDGES,
-    }
-}
 
 /// Number of corner nodes (8 or 6); the remaining nodes are midside nodes.
 fn corner_count(kind: ElementKind) -> usize {
@@ -306,7 +239,7 @@ fn boundary_nodes(mesh: &Mesh) -> Vec<bool> {
     let mut count: HashMap<Vec<usize>, (usize, usize, usize)> = HashMap::new();
     for (e, el) in mesh.elements.iter().enumerate() {
         for f in 1..=el.kind.face_count() {
-            let local = face_nodes(el.kind, f);
+            let local = face_nodes(el.kind, f).expect("face number within the element's faces");
             let corners = if local.len() == 8 { 4 } else { 3 };
             let mut key: Vec<usize> = local[..corners].iter().map(|&p| el.nodes[p]).collect();
             key.sort_unstable();
@@ -317,7 +250,7 @@ fn boundary_nodes(mesh: &Mesh) -> Vec<bool> {
     for &(c, e, f) in count.values() {
         if c == 1 {
             let el = &mesh.elements[e];
-            for &p in face_nodes(el.kind, f) {
+            for &p in face_nodes(el.kind, f).expect("face number within the element's faces") {
                 boundary[el.nodes[p]] = true;
             }
         }
@@ -437,7 +370,7 @@ pub fn box_faces(mesh: &Mesh, set: &str) -> Vec<(usize, usize)> {
     let mut faces = Vec::new();
     for (e, el) in mesh.elements.iter().enumerate() {
         for f in 1..=el.kind.face_count() {
-            if face_nodes(el.kind, f).iter().all(|&p| member[el.nodes[p]]) {
+            if face_nodes(el.kind, f).expect("face number within the element's faces").iter().all(|&p| member[el.nodes[p]]) {
                 faces.push((e, f));
             }
         }
@@ -756,7 +689,7 @@ mod tests {
                     .fold([0.0; 3], |a, p| [a[0] + p[0], a[1] + p[1], a[2] + p[2]])
                     .map(|v| v / nc as f64);
                 for f in 1..=el.kind.face_count() {
-                    let local = face_nodes(el.kind, f);
+                    let local = face_nodes(el.kind, f).expect("face number within the element's faces");
                     let c = local.len() / 2;
                     let normal = cross(
                         sub(x[local[1]], x[local[0]]),

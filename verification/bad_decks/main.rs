@@ -1,0 +1,1 @@
+//! Verification case: bad_decks (to be written)

@@ -1,0 +1,1 @@
+//! Verification case: cantilever (to be written)

@@ -1,0 +1,1 @@
+//! Verification case: ccx_crosscheck (to be written)

@@ -1,0 +1,1 @@
+//! Verification case: convergence (to be written)

@@ -1,0 +1,1 @@
+//! Verification case: element_checks (to be written)

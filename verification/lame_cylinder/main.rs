@@ -1,0 +1,1 @@
+//! Verification case: lame_cylinder (to be written)

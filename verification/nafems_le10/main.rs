@@ -1,0 +1,1 @@
+//! Verification case: nafems_le10 (to be written)

@@ -1,0 +1,1 @@
+//! Verification case: patch_test (to be written)
