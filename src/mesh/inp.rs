@@ -7,6 +7,11 @@
 //! other procedures, ...) is a [`FlankError::Parse`] with file and line;
 //! harmless or unknown keywords become [`DeckWarning`]s. No input panics.
 //!
+//! A keyword line ending with a comma continues on the next line when that
+//! line holds parameters (Abaqus); ccx 2.20 has no such continuation and
+//! stops on it, so accepting it cannot change an answer. A trailing comma
+//! followed by data is just ignored, as in ccx.
+//!
 //! Parsing is two-phase and linear in the deck size:
 //! 1. lines are read once (following `*INCLUDE`); nodes are stored at once,
 //!    everything that refers to nodes, elements or sets is recorded together
@@ -19,9 +24,11 @@
 //! the same model. ccx reads real numbers from the first 20 characters of a
 //! field only (`f20.0`), so every real is written in the shortest form that
 //! fits in 20 characters: exact (bit-for-bit round trip) whenever such a form
-//! exists, otherwise rounded to the nearest value that fits (relative error
-//! below 1e-15; only happens for e.g. negative values with 17 significant
-//! digits below 0.01 in magnitude).
+//! exists, otherwise rounded to as many significant digits as fit: at least
+//! 15 (relative error ≤ 5e-15) for 1e-9 ≤ |x| < 1e10, at least 13 anywhere.
+//! Every value with 0.01 ≤ |x| < 1e26 (and 0) is exact; below that, values
+//! needing 16-17 significant digits (e.g. -0.0019289749616291370) may be
+//! rounded.
 
 use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
@@ -374,6 +381,17 @@ fn looks_numeric(tok: &str) -> bool {
     tok.starts_with(|c: char| c.is_ascii_digit() || matches!(c, '+' | '-' | '.'))
 }
 
+/// Parameters that may stand without `=value` on a continuation line.
+const FLAG_PARAMETERS: &[&str] = &["GENERATE", "UNSORTED", "NLGEOM", "PERTURBATION"];
+
+/// Whether a line continues a keyword line: its first field is `KEY=VALUE`
+/// or a flag parameter (data lines are numbers or set names).
+fn looks_like_parameters(line: &str) -> bool {
+    let first = line.split(',').next().unwrap_or("").trim();
+    !line.starts_with('*')
+        && (first.contains('=') || FLAG_PARAMETERS.contains(&norm_keyword(first).as_str()))
+}
+
 /// Comma-separated fields, trimmed, without trailing empty fields.
 fn split_fields(text: &str) -> Vec<&str> {
     let mut f: Vec<&str> = text.split(',').map(str::trim).collect();
@@ -440,8 +458,9 @@ impl Parser {
                 self.data(t, loc)?;
                 continue;
             };
-            // A keyword line ending with a comma continues on the next line,
-            // unless that line is blank, a keyword or numeric data.
+            // A keyword line ending with a comma continues on the next line
+            // if that line holds parameters (Abaqus); otherwise the comma is
+            // a harmless trailing one and the next line is data (ccx).
             let mut kw = kw.to_string();
             while kw.trim_end().ends_with(',') {
                 let Some(&(_, next)) = lines.peek() else {
@@ -452,7 +471,7 @@ impl Parser {
                     lines.next();
                     continue;
                 }
-                if n.is_empty() || n.starts_with('*') || looks_numeric(n) {
+                if !looks_like_parameters(n) {
                     break;
                 }
                 kw.push_str(n);
@@ -1185,7 +1204,7 @@ impl Parser {
     }
 
     fn dload_line(&mut self, f: &[&str], loc: Loc) -> Result<()> {
-        if f.len() != 3 {
+        if f.len() < 2 {
             return Err(self.err(loc, "*DLOAD data must be: element or set, Pn, value"));
         }
         let target = self.parse_target(f[0], loc)?;
@@ -1206,6 +1225,9 @@ impl Parser {
                 loc,
                 format!("*DLOAD face {ty} out of range (P1..P6 for hexahedra, P1..P5 for wedges)"),
             ));
+        }
+        if f.len() != 3 {
+            return Err(self.err(loc, "*DLOAD data must be: element or set, Pn, value"));
         }
         let value = self.parse_real(f[2], loc)?;
         self.cmds.push(Cmd::Dload {
@@ -1642,7 +1664,7 @@ impl Parser {
                 .filter_map(|k| lookup(first + k * step))
                 .collect()
         } else {
-            let in_range = |l: u64| l >= first && l <= last && (l - first) % step == 0;
+            let in_range = |l: u64| l >= first && l <= last && (l - first).is_multiple_of(step);
             if elem {
                 (0..self.mesh.elements.len())
                     .filter(|&e| in_range(self.mesh.elements[e].label))
@@ -2016,6 +2038,11 @@ impl Names {
 /// exact (shortest round-trip digits) whenever an exact form fits, otherwise
 /// rounded to as many significant digits as fit.
 fn fmt_real(x: f64) -> String {
+    // Fast path: Display is the shortest round-trip, positional; most fit.
+    let plain = x.to_string();
+    if plain.len() <= CCX_REAL_WIDTH {
+        return plain;
+    }
     let exact = compact_real(&format!("{x:e}"));
     if exact.len() <= CCX_REAL_WIDTH {
         return exact;
@@ -2082,11 +2109,1088 @@ fn compact_real(sci: &str) -> String {
     } else {
         Some(format!(".{}{digits}", "0".repeat((-exp - 1) as usize)))
     };
-    let mut best = scientific;
-    for cand in [Some(integer_mantissa), positional].into_iter().flatten() {
+    // Prefer positional notation on ties: it is the most readable.
+    let mut best = positional.unwrap_or_else(|| scientific.clone());
+    for cand in [scientific, integer_mantissa] {
         if cand.len() < best.len() {
             best = cand;
         }
     }
     format!("{sign}{best}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fem::model::RigidCoupling;
+    use crate::mesh::Mesh;
+
+    /// One C3D20 element using every supported keyword, with comments, mixed
+    /// case, a continued keyword line, GENERATE and a Fortran exponent.
+    const HEX: &str = "\
+** One C3D20 element: every supported keyword
+*Heading
+One hexahedron
+*NODE, NSET=Nall
+1, 0, 0, 0
+2, 1., 0., 0.
+3, 1, 1
+4, 0, 1.0e0, 0,
+5, 0, 0, 1
+6, 1, 0, 1
+7, 1, 1, 1
+8, 0, 1, 1
+9, 0.5, 0, 0
+10, 1, 0.5, 0
+11, 0.5, 1, 0
+12, 0, 0.5, 0
+13, 0.5, 0, 1
+14, 1, 0.5, 1
+15, 0.5, 1, 1
+16, 0, 0.5, 1
+17, 0, 0, 0.5
+18, 1, 0, 0.5
+19, 1, 1, 0.5
+20, 0, 1, 5D-1
+*Element, type=c3d20,
+** comment inside a continued keyword line
+ elset=Block
+1, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15,
+16, 17, 18, 19, 20
+*NSET, NSET = bottom
+1, 2, 3, 4, 9, 10, 11, 12
+*nset,nset=TOP,generate
+5, 8
+13, 16, 1
+*Nset, nset=Both
+bottom, TOP
+*ELSET,ELSET=E1,GENERATE
+1,1
+*MATERIAL, NAME=Steel
+*ELASTIC
+210000., 0.3
+*DENSITY
+7.85e-9
+*SOLID SECTION, ELSET=BLOCK, MATERIAL=steel
+
+*BOUNDARY
+bottom, 1, 3
+*STEP
+*STATIC
+*BOUNDARY
+1, 1, 1, 0.0
+top, 3, 3, -0.01
+*CLOAD
+7, 1, 100.5
+*cload
+7, 1, 1.5D1
+*DLOAD
+E1, P2, 5.0
+*NODE PRINT, NSET=NALL
+U
+*EL PRINT, ELSET=EALL
+S
+*END STEP
+";
+
+    /// One C3D15 wedge.
+    const WEDGE: &str = "\
+*NODE, NSET=NALL
+1,0,0,0
+2,1,0,0
+3,0,1,0
+4,0,0,1
+5,1,0,1
+6,0,1,1
+7,.5,0,0
+8,.5,.5,0
+9,0,.5,0
+10,.5,0,1
+11,.5,.5,1
+12,0,.5,1
+13,0,0,.5
+14,1,0,.5
+15,0,1,.5
+*ELEMENT,TYPE=C3D15,ELSET=W
+1,1,2,3,4,5,6,7,8,9,10,
+11,12,13,14,15
+*MATERIAL,NAME=AL
+*ELASTIC
+70000,0.33
+*SOLID SECTION,ELSET=W,MATERIAL=AL
+*BOUNDARY
+1,1,3
+2,2,3
+3,3
+*STEP
+*STATIC
+*DLOAD
+1,P5,2.5
+*NODE PRINT, NSET=NALL
+U
+*END STEP
+";
+
+    fn parse(deck: &str) -> Result<Deck> {
+        parse_deck(deck, Path::new("test.inp"))
+    }
+
+    /// 1-based line of the first line containing `needle`.
+    fn line_of(deck: &str, needle: &str) -> usize {
+        deck.lines()
+            .position(|l| l.contains(needle))
+            .unwrap_or_else(|| panic!("'{needle}' not in deck"))
+            + 1
+    }
+
+    fn with(deck: &str, from: &str, to: &str) -> String {
+        assert!(deck.contains(from), "'{from}' not in deck");
+        deck.replacen(from, to, 1)
+    }
+
+    /// Asserts a Parse error at `line` whose message contains `word`.
+    fn expect_err(deck: &str, line: usize, word: &str) {
+        match parse(deck) {
+            Err(FlankError::Parse {
+                line: l, message, ..
+            }) => {
+                assert_eq!(l, line, "wrong line for: {message}");
+                assert!(
+                    message.to_lowercase().contains(&word.to_lowercase()),
+                    "'{word}' not in: {message}"
+                );
+            }
+            other => panic!("expected a parse error, got {other:?}"),
+        }
+    }
+
+    /// Node indices of the given labels.
+    fn idx(mesh: &Mesh, labels: &[u64]) -> Vec<usize> {
+        let mut v: Vec<usize> = labels.iter().map(|&l| mesh.node(l).unwrap()).collect();
+        v.sort_unstable();
+        v
+    }
+
+    #[test]
+    fn hex_deck_with_all_keywords() {
+        let deck = parse(HEX).unwrap();
+        assert_eq!(deck.title.as_deref(), Some("One hexahedron"));
+        let m = &deck.model;
+        let mesh = &m.mesh;
+        assert_eq!(mesh.node_count(), 20);
+        assert_eq!(mesh.coords[mesh.node(3).unwrap()], [1.0, 1.0, 0.0]);
+        assert_eq!(mesh.coords[mesh.node(4).unwrap()], [0.0, 1.0, 0.0]);
+        assert_eq!(mesh.coords[mesh.node(20).unwrap()], [0.0, 1.0, 0.5]);
+        assert_eq!(mesh.elements.len(), 1);
+        assert_eq!(mesh.elements[0].kind, ElementKind::C3D20);
+        assert_eq!(mesh.elements[0].nodes, (0..20).collect::<Vec<_>>());
+
+        let bottom = idx(mesh, &[1, 2, 3, 4, 9, 10, 11, 12]);
+        let top = idx(mesh, &[5, 6, 7, 8, 13, 14, 15, 16]);
+        assert_eq!(mesh.node_sets["BOTTOM"], bottom);
+        assert_eq!(mesh.node_sets["TOP"], top);
+        assert_eq!(mesh.node_sets["BOTH"].len(), 16);
+        assert_eq!(mesh.node_sets["NALL"].len(), 20);
+        assert_eq!(mesh.element_sets["BLOCK"], vec![0]);
+        assert_eq!(mesh.element_sets["E1"], vec![0]);
+        assert_eq!(mesh.element_sets["EALL"], vec![0]);
+
+        assert_eq!(m.materials.len(), 1);
+        assert_eq!(m.materials[0].name, "STEEL");
+        assert_eq!(m.materials[0].young, 210000.0);
+        assert_eq!(m.materials[0].poisson, 0.3);
+        assert_eq!(m.element_material, vec![0]);
+
+        // 8 bottom nodes x 3 (node 1/x repeated: deduplicated) + 8 top z.
+        assert_eq!(m.dirichlet.len(), 32);
+        let bc = |label: u64, c: usize| {
+            let n = mesh.node(label).unwrap();
+            let v: Vec<f64> = m
+                .dirichlet
+                .iter()
+                .filter(|d| d.node == n && d.component == c)
+                .map(|d| d.value)
+                .collect();
+            assert_eq!(v.len(), 1, "node {label} comp {c}");
+            v[0]
+        };
+        assert_eq!(bc(1, 0), 0.0);
+        assert_eq!(bc(12, 2), 0.0);
+        assert_eq!(bc(5, 2), -0.01);
+        assert_eq!(bc(16, 2), -0.01);
+
+        let n7 = mesh.node(7).unwrap();
+        assert_eq!(
+            m.forces,
+            vec![
+                NodalForce {
+                    node: n7,
+                    component: 0,
+                    value: 100.5
+                },
+                NodalForce {
+                    node: n7,
+                    component: 0,
+                    value: 15.0
+                },
+            ]
+        );
+        assert_eq!(
+            m.pressures,
+            vec![Pressure {
+                element: 0,
+                face: 2,
+                value: 5.0
+            }]
+        );
+        assert_eq!(deck.warnings.len(), 1, "{:?}", deck.warnings);
+        assert_eq!(deck.warnings[0].line, line_of(HEX, "*DENSITY"));
+        assert!(deck.warnings[0].message.contains("DENSITY"));
+    }
+
+    #[test]
+    fn trailing_comma_on_keyword_before_data() {
+        // ccx ignores the comma; "bottom, 1, 3" stays a data line.
+        let d = with(HEX, "*BOUNDARY\nbottom", "*BOUNDARY,\nbottom");
+        let d = with(&d, "*nset,nset=TOP,generate", "*nset,nset=TOP,\n GENERATE");
+        let m = parse(&d).unwrap().model;
+        assert_eq!(m.dirichlet, parse(HEX).unwrap().model.dirichlet);
+        assert_eq!(m.mesh.node_sets["TOP"].len(), 8);
+    }
+
+    #[test]
+    fn wedge_deck() {
+        let deck = parse(WEDGE).unwrap();
+        let m = &deck.model;
+        assert_eq!(m.mesh.node_count(), 15);
+        assert_eq!(m.mesh.elements[0].kind, ElementKind::C3D15);
+        assert_eq!(m.mesh.elements[0].nodes, (0..15).collect::<Vec<_>>());
+        assert_eq!(m.mesh.coords[10], [0.5, 0.5, 1.0]);
+        assert_eq!(m.materials[0].poisson, 0.33);
+        let mut bcs: Vec<(usize, usize)> =
+            m.dirichlet.iter().map(|d| (d.node, d.component)).collect();
+        bcs.sort_unstable();
+        assert_eq!(bcs, vec![(0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2)]);
+        assert_eq!(
+            m.pressures,
+            vec![Pressure {
+                element: 0,
+                face: 5,
+                value: 2.5
+            }]
+        );
+        assert!(deck.warnings.is_empty(), "{:?}", deck.warnings);
+        // A wedge has five faces.
+        let bad = with(WEDGE, "1,P5,2.5", "1,P6,2.5");
+        expect_err(&bad, line_of(&bad, "1,P6"), "P6");
+    }
+
+    #[test]
+    fn nodes_may_follow_elements() {
+        let nodes_end = WEDGE.find("*ELEMENT").unwrap();
+        let elems_end = WEDGE.find("*MATERIAL").unwrap();
+        let reordered = format!(
+            "{}{}{}",
+            &WEDGE[nodes_end..elems_end],
+            &WEDGE[..nodes_end],
+            &WEDGE[elems_end..]
+        );
+        let m = parse(&reordered).unwrap().model;
+        assert_eq!(m.mesh.elements[0].nodes, (0..15).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn implicit_eall_and_nall() {
+        let deck = with(HEX, "ELSET=BLOCK, MATERIAL", "ELSET=EALL, MATERIAL");
+        let deck = with(&deck, "*NODE, NSET=Nall", "*NODE");
+        let deck = with(&deck, "bottom, 1, 3", "NALL, 1, 1");
+        let m = parse(&deck).unwrap().model;
+        assert_eq!(m.element_material, vec![0]);
+        assert_eq!(m.mesh.node_sets["NALL"].len(), 20);
+        assert_eq!(m.dirichlet.iter().filter(|d| d.component == 0).count(), 20);
+    }
+
+    #[test]
+    fn include_is_followed_relative_to_including_file() {
+        let dir = std::env::temp_dir().join(format!("flank-inp-test-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("sub")).unwrap();
+        let node_start = HEX.find("1, 0, 0, 0").unwrap();
+        let node_end = HEX.find("*Element").unwrap();
+        // Data-only include: the node lines continue the *NODE block.
+        std::fs::write(dir.join("sub/nodes.inc"), &HEX[node_start..node_end]).unwrap();
+        let main = format!(
+            "{}*INCLUDE, INPUT=sub/nodes.inc\n{}",
+            &HEX[..node_start],
+            &HEX[node_end..]
+        );
+        std::fs::write(dir.join("main.inp"), &main).unwrap();
+        let deck = read_deck(&dir.join("main.inp")).unwrap();
+        assert_eq!(deck.model.mesh.node_count(), 20);
+        assert_eq!(deck.model.mesh.node_sets["NALL"].len(), 20);
+
+        // Errors inside an included file name that file and its line.
+        let bad = HEX[node_start..node_end].replace("6, 1, 0, 1", "6, 1, x, 1");
+        std::fs::write(dir.join("sub/nodes.inc"), &bad).unwrap();
+        match read_deck(&dir.join("main.inp")) {
+            Err(FlankError::Parse { file, line, .. }) => {
+                assert!(file.ends_with("sub/nodes.inc"));
+                assert_eq!(line, line_of(&bad, "6, 1, x"));
+            }
+            other => panic!("{other:?}"),
+        }
+
+        // A file including itself stops with an error, and a missing file too.
+        std::fs::write(dir.join("loop.inp"), "*INCLUDE, INPUT=loop.inp\n").unwrap();
+        assert!(matches!(
+            read_deck(&dir.join("loop.inp")),
+            Err(FlankError::Parse { line: 1, .. })
+        ));
+        std::fs::write(dir.join("missing.inp"), "**\n*INCLUDE, INPUT=nope.inp\n").unwrap();
+        assert!(matches!(
+            read_deck(&dir.join("missing.inp")),
+            Err(FlankError::Parse { line: 2, .. })
+        ));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    // -- bad decks ----------------------------------------------------------
+
+    #[test]
+    fn unknown_element_type() {
+        let d = with(HEX, "type=c3d20", "type=C3D8");
+        expect_err(&d, line_of(&d, "type=C3D8"), "C3D8");
+    }
+
+    #[test]
+    fn element_with_missing_node() {
+        let d = with(HEX, "16, 17, 18, 19, 20", "16, 17, 18, 19, 99");
+        expect_err(&d, line_of(&d, "1, 1, 2, 3, 4"), "undefined node 99");
+    }
+
+    #[test]
+    fn negative_young_modulus() {
+        let d = with(HEX, "210000., 0.3", "-210000., 0.3");
+        expect_err(&d, line_of(&d, "-210000."), "Young");
+    }
+
+    #[test]
+    fn poisson_ratio_half() {
+        let d = with(HEX, "210000., 0.3", "210000., 0.5");
+        expect_err(&d, line_of(&d, "210000., 0.5"), "Poisson");
+    }
+
+    #[test]
+    fn undefined_set_in_boundary() {
+        let d = with(HEX, "bottom, 1, 3", "bottm, 1, 3");
+        expect_err(&d, line_of(&d, "bottm"), "BOTTM");
+    }
+
+    #[test]
+    fn undefined_set_in_solid_section() {
+        let d = with(HEX, "ELSET=BLOCK, MATERIAL", "ELSET=BLOK, MATERIAL");
+        expect_err(&d, line_of(&d, "ELSET=BLOK"), "BLOK");
+    }
+
+    #[test]
+    fn undefined_material() {
+        let d = with(HEX, "MATERIAL=steel", "MATERIAL=brass");
+        expect_err(&d, line_of(&d, "MATERIAL=brass"), "BRASS");
+    }
+
+    #[test]
+    fn malformed_number() {
+        let d = with(HEX, "2, 1., 0., 0.", "2, 1.0.0, 0., 0.");
+        expect_err(&d, line_of(&d, "1.0.0"), "malformed number '1.0.0'");
+        let d = with(HEX, "7, 1, 100.5", "7, 1, nan");
+        expect_err(&d, line_of(&d, "7, 1, nan"), "nan");
+        let d = with(HEX, "7, 1, 100.5", "7x, 1, 100.5");
+        expect_err(&d, line_of(&d, "7x, 1"), "7x");
+    }
+
+    #[test]
+    fn incomplete_element() {
+        // Cut off by the next keyword: error at the element's first line.
+        let d = with(HEX, "16, 17, 18, 19, 20\n", "");
+        expect_err(&d, line_of(&d, "1, 1, 2, 3, 4"), "incomplete");
+        // A new element starts while the previous one lacks nodes.
+        let d = with(
+            HEX,
+            "16, 17, 18, 19, 20\n",
+            "2, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15,\n16, 17, 18, 19, 20\n",
+        );
+        expect_err(&d, line_of(&d, "2, 1, 2, 3, 4"), "incomplete element 1");
+        // Too many nodes on one element.
+        let d = with(HEX, "16, 17, 18, 19, 20", "16, 17, 18, 19, 20, 1");
+        expect_err(&d, line_of(&d, "16, 17, 18, 19, 20, 1"), "incomplete");
+    }
+
+    #[test]
+    fn duplicate_labels_and_repeated_nodes() {
+        let d = with(HEX, "6, 1, 0, 1", "5, 1, 0, 1");
+        expect_err(&d, line_of(&d, "5, 1, 0, 1"), "duplicate node label 5");
+        let d = with(HEX, "16, 17, 18, 19, 20", "16, 17, 18, 19, 1");
+        expect_err(&d, line_of(&d, "1, 1, 2, 3, 4"), "more than once");
+        let d = with(
+            HEX,
+            "*NSET, NSET = bottom",
+            "*ELEMENT, TYPE=C3D20\n1, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16,\n17, 18, 19, 20\n*NSET, NSET = bottom",
+        );
+        expect_err(&d, line_of(&d, "15, 16,"), "duplicate element label 1");
+    }
+
+    #[test]
+    fn dload_face_out_of_range() {
+        let d = with(HEX, "E1, P2, 5.0", "E1, P7, 5.0");
+        expect_err(&d, line_of(&d, "E1, P7"), "face");
+        let d = with(HEX, "E1, P2, 5.0", "E1, GRAV, 9810., 0., 0., -1.");
+        expect_err(&d, line_of(&d, "GRAV"), "unsupported *DLOAD load type GRAV");
+    }
+
+    #[test]
+    fn cload_before_step() {
+        let d = with(HEX, "*STEP\n", "*CLOAD\n7, 1, 1.0\n*STEP\n");
+        expect_err(&d, line_of(&d, "*CLOAD"), "step");
+    }
+
+    #[test]
+    fn second_step() {
+        let d = with(HEX, "*END STEP", "*END STEP\n*STEP\n*STATIC\n*END STEP");
+        expect_err(&d, line_of(&d, "*END STEP") + 1, "step");
+    }
+
+    #[test]
+    fn nonlinear_step_and_other_procedures() {
+        let d = with(HEX, "*STEP\n", "*STEP, NLGEOM\n");
+        expect_err(&d, line_of(&d, "NLGEOM"), "NLGEOM");
+        let d = with(HEX, "*STEP\n", "*STEP, NLGEOM=YES, INC=100\n");
+        expect_err(&d, line_of(&d, "NLGEOM"), "NLGEOM");
+        let d = with(HEX, "*STEP\n", "*STEP, NLGEOM=NO, INC=100\n");
+        assert!(parse(&d).is_ok());
+        let d = with(HEX, "*STATIC", "*FREQUENCY");
+        expect_err(&d, line_of(&d, "*FREQUENCY"), "FREQUENCY");
+    }
+
+    #[test]
+    fn unknown_keyword_is_a_warning() {
+        let d = with(HEX, "*STEP\n", "*FOOBAR, X=1\nsome, data\n*STEP\n");
+        let deck = parse(&d).unwrap();
+        let w = deck
+            .warnings
+            .iter()
+            .find(|w| w.message.contains("FOOBAR"))
+            .expect("warning");
+        assert_eq!(w.line, line_of(&d, "*FOOBAR"));
+    }
+
+    #[test]
+    fn answer_changing_keywords_are_errors() {
+        let d = with(
+            HEX,
+            "*STEP\n",
+            "*EQUATION\n2\n1, 1, 1.0, 2, 1, -1.0\n*STEP\n",
+        );
+        expect_err(&d, line_of(&d, "*EQUATION"), "EQUATION");
+        let d = with(HEX, "*ELASTIC", "*ELASTIC, TYPE=ORTHO");
+        expect_err(&d, line_of(&d, "TYPE=ORTHO"), "ORTHO");
+        let d = with(HEX, "*DENSITY\n7.85e-9", "*PLASTIC\n500., 0.");
+        expect_err(&d, line_of(&d, "*PLASTIC"), "PLASTIC");
+        let d = with(
+            HEX,
+            "*CLOAD\n7, 1, 100.5",
+            "*CLOAD, AMPLITUDE=A1\n7, 1, 100.5",
+        );
+        expect_err(&d, line_of(&d, "AMPLITUDE"), "AMPLITUDE");
+    }
+
+    #[test]
+    fn boundary_dofs() {
+        let d = with(HEX, "1, 1, 1, 0.0", "1, 11, 11, 20.");
+        expect_err(&d, line_of(&d, "1, 11"), "11");
+        let d = with(HEX, "1, 1, 1, 0.0", "1, 5, 5, 0.1");
+        expect_err(&d, line_of(&d, "1, 5, 5"), "rotational");
+        let d = with(HEX, "1, 1, 1, 0.0", "1, 1, 6");
+        let deck = parse(&d).unwrap();
+        assert!(deck
+            .warnings
+            .iter()
+            .any(|w| w.line == line_of(&d, "1, 1, 6")));
+        let d = with(HEX, "7, 1, 100.5", "7, 4, 100.5");
+        expect_err(&d, line_of(&d, "7, 4"), "DOF 4");
+        // Last value wins on a repeated constraint.
+        let d = with(HEX, "1, 1, 1, 0.0", "1, 1, 1, 0.25");
+        let m = parse(&d).unwrap().model;
+        let n1 = m.mesh.node(1).unwrap();
+        let v: Vec<f64> = m
+            .dirichlet
+            .iter()
+            .filter(|b| b.node == n1 && b.component == 0)
+            .map(|b| b.value)
+            .collect();
+        assert_eq!(v, vec![0.25]);
+    }
+
+    #[test]
+    fn element_without_section() {
+        let d = with(HEX, "*SOLID SECTION, ELSET=BLOCK, MATERIAL=steel\n", "");
+        expect_err(
+            &d,
+            line_of(&d, "1, 1, 2, 3, 4"),
+            "element 1 has no *SOLID SECTION",
+        );
+    }
+
+    #[test]
+    fn temperature_dependent_elastic_uses_first_line() {
+        let d = with(
+            HEX,
+            "210000., 0.3",
+            "210000., 0.3, 20.\n200000., 0.31, 300.",
+        );
+        let deck = parse(&d).unwrap();
+        assert_eq!(deck.model.materials[0].young, 210000.0);
+        assert!(deck
+            .warnings
+            .iter()
+            .any(|w| w.line == line_of(&d, "200000.")));
+    }
+
+    #[test]
+    fn huge_generate_range_is_cheap() {
+        let d = with(
+            HEX,
+            "*Nset, nset=Both",
+            "*NSET, NSET=G, GENERATE\n1, 18446744073709551615\n*Nset, nset=Both",
+        );
+        let deck = parse(&d).unwrap();
+        assert_eq!(deck.model.mesh.node_sets["G"].len(), 20);
+        assert!(deck.warnings.iter().any(|w| w.message.contains("GENERATE")));
+    }
+
+    #[test]
+    fn many_set_blocks_stay_linear() {
+        // 2000 *NODE blocks all extending one set: no re-sorting per block.
+        let mut s = String::new();
+        for b in 0..2000u64 {
+            s.push_str("*NODE, NSET=BIG\n");
+            for k in 0..100u64 {
+                let l = b * 100 + k + 1;
+                let _ = writeln!(s, "{l}, {}, 0, 0", l as f64 * 0.5);
+            }
+            let _ = writeln!(s, "*NSET, NSET=BIG\n{}", b * 100 + 1);
+        }
+        let deck = parse(&s).unwrap();
+        assert_eq!(deck.model.mesh.node_sets["BIG"].len(), 200_000);
+    }
+
+    #[test]
+    fn garbage_does_not_panic() {
+        let bytes: Vec<u8> = (0..=255u8).cycle().take(4096).collect();
+        let binary = String::from_utf8_lossy(&bytes).into_owned();
+        let cases = [
+            binary.as_str(),
+            "\0\u{1}\u{2}\u{ff}\u{fe}\u{7f}",
+            "*",
+            "*,,,=",
+            "*=,=",
+            "1, 2, 3",
+            "*NODE\n1,2,3,4,5,6,7\n*ELEMENT,TYPE=\n",
+            "*ELEMENT, TYPE=C3D20\n1,\n",
+            "*ELEMENT, TYPE=C3D20\n1,2,3\n*NODE\n1\n",
+            "*NSET,NSET=A,GENERATE\n1\n",
+            "*NSET,NSET=A,GENERATE\n5, 1\n",
+            "*NSET,NSET=A\nA\n",
+            "*NODE\n-1, 0, 0, 0",
+            "*NODE\n18446744073709551616, 0",
+            "*NODE\n1, 1e999",
+            "*STEP\n*STEP",
+            "*STEP\n*STATIC\n*DLOAD\n1, P99999999999999999999999, 1\n",
+            "*BOUNDARY\n1, 3, 1\n",
+            "*BOUNDARY\n1, 0\n",
+            "*MATERIAL\n*ELASTIC\n1,0.3\n",
+            "*ELASTIC\n1, 0.3",
+            "*MATERIAL, NAME=\"\"\n",
+            "*INCLUDE\n",
+            "*INCLUDE, INPUT=\n",
+            "*HEADING\n\u{feff}\u{202e}text",
+            "\u{feff}*NODE\n1,0,0,0\r\n2,0,0,0\r\n",
+        ];
+        for c in cases {
+            let _ = parse(c);
+        }
+        // Random decks from keyword and data fragments.
+        let fragments = [
+            "*NODE",
+            "*NODE, NSET=A",
+            "*ELEMENT, TYPE=C3D20",
+            "*ELEMENT,TYPE=C3D15,ELSET=E",
+            "*ELEMENT,TYPE=C3D20R,",
+            "*NSET,NSET=A,GENERATE",
+            "*ELSET,ELSET=E",
+            "*ELSET,ELSET=E,GENERATE",
+            "*MATERIAL,NAME=M",
+            "*ELASTIC",
+            "*SOLID SECTION,ELSET=E,MATERIAL=M",
+            "*STEP",
+            "*STATIC",
+            "*END STEP",
+            "*BOUNDARY",
+            "*CLOAD",
+            "*DLOAD",
+            "*HEADING",
+            "*FOO",
+            "**",
+            "",
+            "*INCLUDE,INPUT=/nonexistent/x.inp",
+            "1, 2, 3",
+            "1, 0, 0, 0",
+            "2, 1.5, -3e2",
+            "a, b",
+            ",",
+            ",,,",
+            "E, P3, 1",
+            "E, P6, -1",
+            "A, 1, 3",
+            "A, 2",
+            "1, 1, 3, 0.5",
+            "1e999",
+            "P0",
+            "1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15,",
+            "16, 17, 18, 19, 20",
+            "3, 1",
+            "0, 0",
+            "18446744073709551615, 1, 1",
+            "210000, 0.3",
+            "1, 0.5",
+            "NALL, 1, 3",
+            "EALL, P1, 2",
+            "\u{0}\u{1}*",
+            "1,,,",
+            "  *  node  ,  nset = a  ",
+            "7, 1, 1.0",
+        ];
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for _ in 0..3000 {
+            let mut deck = String::new();
+            for _ in 0..(next() % 40) {
+                deck.push_str(fragments[(next() % fragments.len() as u64) as usize]);
+                deck.push('\n');
+            }
+            let _ = parse(&deck);
+        }
+    }
+
+    /// Timing on a large structured deck (about 800k nodes, 96k C3D20):
+    /// `cargo test --lib mesh::inp::tests::large_deck -- --ignored --nocapture`.
+    #[test]
+    #[ignore]
+    fn large_deck() {
+        let (nx, ny, nz) = (40usize, 40usize, 60usize);
+        let (ax, ay) = (2 * nx + 1, 2 * ny + 1);
+        let id = |a: usize, b: usize, c: usize| 1 + a + ax * (b + ay * c);
+        let mut s = String::from("*NODE, NSET=NALL\n");
+        for c in 0..=2 * nz {
+            for b in 0..ay {
+                for a in 0..ax {
+                    let x = [a as f64 * 0.25, b as f64 * 0.25, c as f64 * 0.1 - 3.0];
+                    let _ = writeln!(s, "{}, {}, {}, {}", id(a, b, c), x[0], x[1], x[2]);
+                }
+            }
+        }
+        s.push_str("*ELEMENT, TYPE=C3D20, ELSET=EALL\n");
+        let pattern: [(usize, usize, usize); 20] = [
+            (0, 0, 0),
+            (2, 0, 0),
+            (2, 2, 0),
+            (0, 2, 0),
+            (0, 0, 2),
+            (2, 0, 2),
+            (2, 2, 2),
+            (0, 2, 2),
+            (1, 0, 0),
+            (2, 1, 0),
+            (1, 2, 0),
+            (0, 1, 0),
+            (1, 0, 2),
+            (2, 1, 2),
+            (1, 2, 2),
+            (0, 1, 2),
+            (0, 0, 1),
+            (2, 0, 1),
+            (2, 2, 1),
+            (0, 2, 1),
+        ];
+        let mut label = 0;
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    label += 1;
+                    let nodes: Vec<String> = pattern
+                        .iter()
+                        .map(|&(a, b, c)| id(2 * i + a, 2 * j + b, 2 * k + c).to_string())
+                        .collect();
+                    let _ = writeln!(
+                        s,
+                        "{label}, {},\n{}",
+                        nodes[..15].join(", "),
+                        nodes[15..].join(", ")
+                    );
+                }
+            }
+        }
+        s.push_str("*MATERIAL, NAME=STEEL\n*ELASTIC\n210000, 0.3\n");
+        s.push_str("*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL\n");
+        s.push_str("*NSET, NSET=BOTTOM, GENERATE\n1, 6561\n*BOUNDARY\nBOTTOM, 1, 3\n");
+        s.push_str("*STEP\n*STATIC\n*CLOAD\nNALL, 3, 0.001\n*END STEP\n");
+        let t = std::time::Instant::now();
+        let deck = parse(&s).unwrap();
+        let parse_time = t.elapsed();
+        let t = std::time::Instant::now();
+        let text = format_deck(&deck.model).unwrap();
+        let write_time = t.elapsed();
+        eprintln!(
+            "{} MB, {} nodes, {} elements: parse {parse_time:?}, format {write_time:?} ({} MB)",
+            s.len() >> 20,
+            deck.model.mesh.node_count(),
+            deck.model.mesh.elements.len(),
+            text.len() >> 20
+        );
+        assert_eq!(deck.model.mesh.elements.len(), nx * ny * nz);
+    }
+
+    /// Runs ccx (if on PATH) in a fresh directory on `deck`; returns the
+    /// displacements printed to the .dat file, by node label.
+    fn run_ccx(dir: &Path, job: &str, deck: &str) -> Option<HashMap<u64, [f64; 3]>> {
+        std::fs::write(dir.join(format!("{job}.inp")), deck).unwrap();
+        let status = std::process::Command::new("ccx")
+            .args(["-i", job])
+            .current_dir(dir)
+            .env("OMP_NUM_THREADS", "1")
+            .env("CCX_NPROC_EQUATION_SOLVER", "1")
+            .stdout(std::process::Stdio::null())
+            .status()
+            .ok()?;
+        assert!(status.success(), "ccx failed on {job}");
+        let dat = std::fs::read_to_string(dir.join(format!("{job}.dat"))).unwrap();
+        let mut u = HashMap::new();
+        let mut on = false;
+        for line in dat.lines() {
+            if line.contains("displacements") {
+                on = true;
+                continue;
+            }
+            let f: Vec<&str> = line.split_whitespace().collect();
+            if on && f.len() == 4 {
+                let v = |k: usize| f[k].parse::<f64>().unwrap();
+                u.insert(f[0].parse().unwrap(), [v(1), v(2), v(3)]);
+            } else if on && !u.is_empty() {
+                on = false;
+            }
+        }
+        assert!(!u.is_empty(), "no displacements in {job}.dat");
+        Some(u)
+    }
+
+    /// Checks the writer against a real ccx 2.20: written decks give the same
+    /// answer as the hand-written ones, and every real notation the writer
+    /// emits is read correctly. `cargo test --lib mesh::inp -- --ignored`.
+    #[test]
+    #[ignore]
+    fn ccx_reads_written_decks() {
+        let dir = std::env::temp_dir().join(format!("flank-inp-ccx-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        // ccx 2.20 has no keyword-line continuation (an Abaqus feature).
+        let hex = with(
+            HEX,
+            "*Element, type=c3d20,\n** comment inside a continued keyword line\n elset=Block",
+            "*Element, type=c3d20, elset=Block",
+        );
+        for (name, deck) in [("hex", hex.as_str()), ("wedge", WEDGE)] {
+            let Some(reference) = run_ccx(&dir, &format!("{name}_orig"), deck) else {
+                eprintln!("ccx not found: skipped");
+                return;
+            };
+            let written = format_deck(&parse(deck).unwrap().model).unwrap();
+            let u = run_ccx(&dir, &format!("{name}_flank"), &written).unwrap();
+            assert_eq!(u, reference, "{name}");
+        }
+        // Prescribed displacements in every notation fmt_real produces.
+        let mut m = parse(HEX).unwrap().model;
+        let values = [
+            -0.5,
+            0.3,
+            -0.001_928_974_961_629_137,
+            -2.5e-27,
+            1.234_567_890_123_456_7e-15,
+            1200.0,
+            -6.123_233_995_736_766e-17,
+            0.1 + 0.2,
+        ];
+        let top: Vec<usize> = m.mesh.node_sets["TOP"].clone();
+        m.dirichlet.retain(|d| !top.contains(&d.node));
+        for (&node, &value) in top.iter().zip(&values) {
+            eprintln!("{value:e} written as {}", fmt_real(value));
+            m.dirichlet.push(Dirichlet {
+                node,
+                component: 2,
+                value,
+            });
+        }
+        let u = run_ccx(&dir, "notation", &format_deck(&m).unwrap()).unwrap();
+        for (&node, &value) in top.iter().zip(&values) {
+            let uz = u[&m.mesh.node_labels[node]][2];
+            assert!(
+                (uz - value).abs() <= 1e-6 * value.abs(),
+                "{value:e}: ccx read {uz:e}"
+            );
+        }
+        // Why 20 characters: a {:.17e} value loses its exponent in ccx 2.20
+        // (the run succeeds with uz = -3 instead of -0.3).
+        let long = format!("{:.17e}", -0.3);
+        let bad = with(&hex, "top, 3, 3, -0.01", &format!("top, 3, 3, {long}"));
+        let u = run_ccx(&dir, "long", &bad).unwrap();
+        eprintln!("{long} was read by ccx as {:e}", u[&5][2]);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    // -- writer -------------------------------------------------------------
+
+    /// Three elements of all kinds, two materials, sets, every load type.
+    fn sample_model() -> Model {
+        let mut mesh = Mesh::new();
+        for i in 0..36u64 {
+            let f = i as f64;
+            let x = [
+                f * 0.1,
+                ((i * 7 % 13) as f64).sqrt() * 3.3,
+                -f / 3.0 + (f * 0.7).sin() * 40.0,
+            ];
+            mesh.add_node(1000 + 3 * i, x).unwrap();
+        }
+        mesh.add_element(7, ElementKind::C3D20, (0..20).collect())
+            .unwrap();
+        mesh.add_element(3, ElementKind::C3D20R, (8..28).collect())
+            .unwrap();
+        mesh.add_element(100, ElementKind::C3D15, (21..36).collect())
+            .unwrap();
+        mesh.extend_node_set("FIX", [0, 1, 2, 3]);
+        mesh.extend_element_set("HUB", [1]);
+        let mut dirichlet = Vec::new();
+        for node in 0..4 {
+            for component in 0..3 {
+                dirichlet.push(Dirichlet {
+                    node,
+                    component,
+                    value: 0.0,
+                });
+            }
+        }
+        dirichlet.push(Dirichlet {
+            node: 30,
+            component: 1,
+            value: -0.0123,
+        });
+        Model {
+            mesh,
+            materials: vec![
+                Material::new("steel", 210000.0, 0.3).unwrap(),
+                Material::new("Bronze alloy", 1.1e5, 0.34).unwrap(),
+            ],
+            element_material: vec![0, 1, 0],
+            dirichlet,
+            forces: vec![
+                NodalForce {
+                    node: 33,
+                    component: 2,
+                    value: 1234.5,
+                },
+                NodalForce {
+                    node: 33,
+                    component: 2,
+                    value: 0.1 + 0.2,
+                },
+            ],
+            pressures: vec![
+                Pressure {
+                    element: 0,
+                    face: 2,
+                    value: 1.5,
+                },
+                Pressure {
+                    element: 2,
+                    face: 5,
+                    value: -2.25,
+                },
+            ],
+            couplings: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn round_trip() {
+        let m = sample_model();
+        let text = format_deck(&m).unwrap();
+        let deck = parse(&text).unwrap();
+        assert!(deck.warnings.is_empty(), "{:?}", deck.warnings);
+        let p = &deck.model;
+        assert_eq!(p.mesh.node_labels, m.mesh.node_labels);
+        for (a, b) in p.mesh.coords.iter().zip(&m.mesh.coords) {
+            for k in 0..3 {
+                assert_eq!(a[k].to_bits(), b[k].to_bits(), "{a:?} vs {b:?}");
+            }
+        }
+        assert_eq!(p.mesh.elements, m.mesh.elements);
+        assert_eq!(p.materials.len(), 2);
+        for (a, b) in p.materials.iter().zip(&m.materials) {
+            assert_eq!(a.name, deck_name(&b.name));
+            assert_eq!(a.young.to_bits(), b.young.to_bits());
+            assert_eq!(a.poisson.to_bits(), b.poisson.to_bits());
+        }
+        assert_eq!(p.materials[1].name, "BRONZE_ALLOY");
+        assert_eq!(p.element_material, m.element_material);
+        assert_eq!(p.dirichlet, m.dirichlet);
+        assert_eq!(p.forces, m.forces);
+        assert_eq!(p.pressures, m.pressures);
+        assert_eq!(p.mesh.node_sets["FIX"], m.mesh.node_sets["FIX"]);
+        assert_eq!(p.mesh.element_sets["HUB"], m.mesh.element_sets["HUB"]);
+        assert_eq!(p.mesh.node_sets["NALL"].len(), 36);
+        assert_eq!(p.mesh.element_sets["EALL"], vec![0, 1, 2]);
+
+        // Writing the parsed model again reaches a fixed point.
+        let again = format_deck(p).unwrap();
+        let twice = format_deck(&parse(&again).unwrap().model).unwrap();
+        assert_eq!(again, twice);
+    }
+
+    #[test]
+    fn written_deck_fits_ccx_limits() {
+        let text = format_deck(&sample_model()).unwrap();
+        for line in text.lines() {
+            assert!(line.len() <= 132, "{line}");
+            if !looks_numeric(line) {
+                continue; // keywords, comments, heading text
+            }
+            let fields = split_fields(line);
+            assert!(fields.len() <= 16, "{line}");
+            for f in fields {
+                assert!(f.len() <= CCX_REAL_WIDTH, "{line}");
+            }
+        }
+        assert!(text.contains("*NODE, NSET=NALL\n"));
+        assert!(text.contains("*ELEMENT, TYPE=C3D20R, ELSET=EALL\n"));
+        assert!(text.contains("*SOLID SECTION, ELSET=M_STEEL, MATERIAL=STEEL\n"));
+        assert!(text.contains("*NODE PRINT, NSET=NALL\nU\n*END STEP\n"));
+    }
+
+    #[test]
+    fn write_deck_to_file() {
+        let path = std::env::temp_dir().join(format!("flank-inp-write-{}.inp", std::process::id()));
+        let m = sample_model();
+        write_deck(&m, &path).unwrap();
+        let p = read_deck(&path).unwrap().model;
+        assert_eq!(p.mesh.elements, m.mesh.elements);
+        std::fs::remove_file(&path).unwrap();
+    }
+
+    #[test]
+    fn writer_rejects_what_it_cannot_express() {
+        let mut m = sample_model();
+        m.couplings.push(RigidCoupling::rotation_about(
+            "HUB",
+            [0.0; 3],
+            2,
+            vec![0, 1],
+            1.0,
+        ));
+        assert!(matches!(format_deck(&m), Err(FlankError::Model(_))));
+        let mut m = sample_model();
+        m.forces[0].node = 999;
+        assert!(matches!(format_deck(&m), Err(FlankError::Model(_))));
+        let mut m = sample_model();
+        m.pressures[1].face = 6; // wedge has 5 faces
+        assert!(matches!(format_deck(&m), Err(FlankError::Model(_))));
+        let mut m = sample_model();
+        m.mesh.coords[0][1] = f64::NAN;
+        assert!(matches!(format_deck(&m), Err(FlankError::Model(_))));
+        let mut m = sample_model();
+        m.mesh.extend_node_set("NALL", [0]);
+        assert!(matches!(format_deck(&m), Err(FlankError::Model(_))));
+    }
+
+    #[test]
+    fn reals_fit_twenty_characters() {
+        // Exact whenever an exact form fits.
+        for x in [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            0.1,
+            0.30000000000000004,
+            1.0 / 3.0,
+            -12.345678901234567,
+            210000.0,
+            1e300,
+            -5e-324,
+            6.123233995736766e-17,
+            123456789012345680.0,
+        ] {
+            let s = fmt_real(x);
+            assert!(s.len() <= CCX_REAL_WIDTH, "{s}");
+            assert_eq!(s.parse::<f64>().unwrap().to_bits(), x.to_bits(), "{s}");
+        }
+        assert_eq!(fmt_real(1200.0), "1200");
+        assert_eq!(fmt_real(-0.5), "-0.5");
+        assert_eq!(fmt_real(2.5e-7), "0.00000025");
+        assert_eq!(fmt_real(-2.5e-27), "-25e-28");
+        // Needs 22 characters exactly; 15 significant digits fit.
+        assert_eq!(fmt_real(-1.2345678901234567e-5), "-1.23456789012346e-5");
+        // Random bit patterns: always short; exact or rounded to at least 15
+        // significant digits in 1e-9..1e10, 13 anywhere.
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut inexact = 0;
+        for _ in 0..200_000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let x = f64::from_bits(state);
+            if !x.is_finite() {
+                continue;
+            }
+            let s = fmt_real(x);
+            assert!(s.len() <= CCX_REAL_WIDTH, "{s}");
+            let y: f64 = s.parse().unwrap();
+            if y.to_bits() != x.to_bits() {
+                inexact += 1;
+                let tol = if (1e-9..1e10).contains(&x.abs()) {
+                    5e-15
+                } else {
+                    5e-13
+                };
+                assert!(((y - x) / x).abs() <= tol, "{x:e} -> {s}");
+            }
+        }
+        assert!(inexact > 0);
+        // Everything with 0.01 <= |x| < 1e26 is exact.
+        for i in 0..200_000u32 {
+            let t = (f64::from(i) * 0.618_033_988_749_894_9).fract();
+            for x in [
+                t * 400.0 - 200.0,
+                -0.01 - t * 0.09,
+                10f64.powf(t * 28.0 - 2.0),
+            ] {
+                if x.abs() >= 0.01 && x.abs() < 1e26 {
+                    let s = fmt_real(x);
+                    assert_eq!(s.parse::<f64>().unwrap().to_bits(), x.to_bits(), "{s}");
+                    let s = fmt_real(-x);
+                    assert_eq!(s.parse::<f64>().unwrap().to_bits(), (-x).to_bits(), "{s}");
+                }
+            }
+        }
+    }
 }
