@@ -19,7 +19,7 @@ pub fn ccx_executable() -> Option<PathBuf> {
     let ok = Command::new(&exe)
         .arg("-v")
         .output()
-        .map(|o| String::from_utf8_lossy(&o.stdout).contains("CalculiX") || o.status.success())
+        .map(|o| String::from_utf8_lossy(&o.stdout).contains("Version") || o.status.success())
         .unwrap_or(false);
     ok.then_some(exe)
 }
