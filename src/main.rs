@@ -39,8 +39,18 @@ enum Command {
     },
 }
 
-fn main() -> Result<()> {
-    let cli = Cli::parse();
+fn main() -> std::process::ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            // the whole context chain, no backtrace: the message says what and where
+            eprintln!("error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Solve {
             deck,
@@ -53,7 +63,7 @@ fn main() -> Result<()> {
             if threads > 0 {
                 rayon::ThreadPoolBuilder::new().num_threads(threads).build_global().ok();
             }
-            let parsed = flank::mesh::inp::read_deck(&deck).with_context(|| format!("reading {}", deck.display()))?;
+            let parsed = flank::mesh::inp::read_deck(&deck)?;
             for w in &parsed.warnings {
                 eprintln!("warning: {}:{}: {}", deck.display(), w.line, w.message);
             }

@@ -1,1 +1,152 @@
-//! Verification case: bad_decks (to be written)
+//! # Bad decks get clear errors, never a panic or a wrong number
+//!
+//! Each deck below is a valid one-element C3D20 deck with one thing broken.
+//! `flank solve` must exit with an error whose message names the problem (and
+//! where it is), must not panic, and must not write results.
+
+use std::process::Command;
+
+/// A valid unit-cube C3D20 deck; `edit` breaks one thing.
+fn deck(edit: impl Fn(String) -> String) -> String {
+    let mut s = String::from("*NODE, NSET=NALL\n");
+    let p: [[f64; 3]; 20] = [
+        [0., 0., 0.],
+        [1., 0., 0.],
+        [1., 1., 0.],
+        [0., 1., 0.],
+        [0., 0., 1.],
+        [1., 0., 1.],
+        [1., 1., 1.],
+        [0., 1., 1.],
+        [0.5, 0., 0.],
+        [1., 0.5, 0.],
+        [0.5, 1., 0.],
+        [0., 0.5, 0.],
+        [0.5, 0., 1.],
+        [1., 0.5, 1.],
+        [0.5, 1., 1.],
+        [0., 0.5, 1.],
+        [0., 0., 0.5],
+        [1., 0., 0.5],
+        [1., 1., 0.5],
+        [0., 1., 0.5],
+    ];
+    for (i, x) in p.iter().enumerate() {
+        s += &format!("{}, {}, {}, {}\n", i + 1, x[0], x[1], x[2]);
+    }
+    s += "*ELEMENT, TYPE=C3D20, ELSET=EALL\n1, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15,\n16, 17, 18, 19, 20\n";
+    s += "*NSET, NSET=BASE\n1, 2, 3, 4, 9, 10, 11, 12\n";
+    s += "*MATERIAL, NAME=STEEL\n*ELASTIC\n210000., 0.3\n*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL\n";
+    s += "*STEP\n*STATIC\n*BOUNDARY\nBASE, 1, 3\n*DLOAD\n1, P2, 10.\n*NODE PRINT, NSET=NALL\nU\n*END STEP\n";
+    edit(s)
+}
+
+fn run(name: &str, text: &str) -> (bool, String) {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("bad_decks").join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("{name}.inp"));
+    std::fs::write(&path, text).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_flank"))
+        .args(["solve", path.to_str().unwrap(), "--out", dir.join("out").to_str().unwrap(), "--quiet"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+    assert!(!stderr.contains("panicked"), "{name}: flank panicked:\n{stderr}");
+    if !out.status.success() {
+        assert!(!dir.join("out/displacements.csv").exists(), "{name}: results written despite the error");
+    }
+    (out.status.success(), stderr)
+}
+
+fn expect_error(name: &str, text: &str, words: &[&str]) {
+    let (ok, stderr) = run(name, text);
+    assert!(!ok, "{name}: flank accepted a bad deck");
+    let lower = stderr.to_lowercase();
+    for w in words {
+        assert!(lower.contains(&w.to_lowercase()), "{name}: error message lacks '{w}':\n{stderr}");
+    }
+    println!("{name:<24} -> {}", stderr.lines().filter(|l| !l.trim().is_empty()).collect::<Vec<_>>().join(" | "));
+}
+
+#[test]
+fn the_valid_deck_solves() {
+    let (ok, stderr) = run("valid", &deck(|s| s));
+    assert!(ok, "the reference deck must solve:\n{stderr}");
+}
+
+#[test]
+fn unknown_element_type() {
+    expect_error("unknown_type", &deck(|s| s.replace("TYPE=C3D20,", "TYPE=C3D8,")), &["C3D8", ":22"]);
+}
+
+#[test]
+fn element_refers_to_missing_node() {
+    expect_error("missing_node", &deck(|s| s.replace("16, 17, 18, 19, 20\n", "16, 17, 18, 19, 99\n")), &["99"]);
+}
+
+#[test]
+fn inverted_element() {
+    // mirror z: nodes 5..8 below 1..4
+    let text = deck(|s| {
+        s.lines()
+            .map(|l| {
+                let f: Vec<&str> = l.split(',').map(str::trim).collect();
+                if f.len() == 4 && f[0].parse::<u32>().is_ok_and(|n| n <= 20) && !l.starts_with('*') {
+                    let z: f64 = f[3].parse().unwrap();
+                    format!("{}, {}, {}, {}", f[0], f[1], f[2], -z)
+                } else {
+                    l.to_string()
+                }
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+    });
+    expect_error("inverted", &text, &["element 1", "inverted"]);
+}
+
+#[test]
+fn no_constraints_is_singular() {
+    expect_error("no_constraints", &deck(|s| s.replace("*BOUNDARY\nBASE, 1, 3\n", "")), &["singular", "rigid-body", "translation"]);
+}
+
+#[test]
+fn partial_constraints_name_the_free_modes() {
+    expect_error("only_z_fixed", &deck(|s| s.replace("BASE, 1, 3", "BASE, 3, 3")), &["rotation about z", "translation x"]);
+}
+
+#[test]
+fn negative_youngs_modulus() {
+    expect_error("negative_e", &deck(|s| s.replace("210000., 0.3", "-210000., 0.3")), &["young", ":29"]);
+}
+
+#[test]
+fn poisson_ratio_at_one_half() {
+    expect_error("nu_half", &deck(|s| s.replace("210000., 0.3", "210000., 0.5")), &["poisson", ":29"]);
+}
+
+#[test]
+fn undefined_set_name() {
+    expect_error("undefined_set", &deck(|s| s.replace("BASE, 1, 3", "BOTTOM, 1, 3")), &["BOTTOM"]);
+    expect_error(
+        "undefined_elset",
+        &deck(|s| s.replace("*SOLID SECTION, ELSET=EALL", "*SOLID SECTION, ELSET=SOLIDS")),
+        &["SOLIDS"],
+    );
+}
+
+#[test]
+fn malformed_number_names_the_line() {
+    expect_error("malformed", &deck(|s| s.replace("\n3, 1, 1, 0\n", "\n3, 1, 1.x, 0\n")), &[":4", "1.x"]);
+}
+
+#[test]
+fn missing_file() {
+    let out = Command::new(env!("CARGO_BIN_EXE_flank"))
+        .args(["solve", "/nonexistent/deck.inp", "--quiet"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("/nonexistent/deck.inp") && !stderr.contains("panicked"), "{stderr}");
+}
