@@ -37,6 +37,27 @@ enum Command {
         #[arg(long, short)]
         quiet: bool,
     },
+    /// Write the benchmark cantilever as a CalculiX deck: a box L × 10 × 10 mm
+    /// (L = 10·nx/ny mm … so elements are cubes), clamped at x = 0, 1 kN tip
+    /// load in −y spread over the tip face nodes.
+    Cantilever {
+        /// Elements along x, y, z.
+        #[arg(long, num_args = 3, value_delimiter = ',', default_values_t = [100, 10, 10])]
+        cells: Vec<usize>,
+        /// Element type.
+        #[arg(long, value_enum, default_value_t = DeckElement::C3d20)]
+        element: DeckElement,
+        /// Output deck.
+        #[arg(long, default_value = "cantilever.inp")]
+        out: PathBuf,
+    },
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum DeckElement {
+    C3d20,
+    C3d20r,
+    C3d15,
 }
 
 fn main() -> std::process::ExitCode {
@@ -87,6 +108,24 @@ fn run(cli: Cli) -> Result<()> {
                 );
                 println!("results in {}", out.display());
             }
+        }
+        Command::Cantilever { cells, element, out } => {
+            let kind = match element {
+                DeckElement::C3d20 => flank::mesh::structured::BoxElement::Hex20,
+                DeckElement::C3d20r => flank::mesh::structured::BoxElement::Hex20R,
+                DeckElement::C3d15 => flank::mesh::structured::BoxElement::Wedge15,
+            };
+            if cells.len() != 3 || cells.iter().any(|&c| c == 0) {
+                anyhow::bail!("--cells needs three positive counts, e.g. --cells 100,10,10");
+            }
+            let model = flank::mesh::structured::cantilever_model([cells[0], cells[1], cells[2]], kind, 1000.0)?;
+            flank::mesh::inp::write_deck(&model, &out)?;
+            println!(
+                "wrote {} ({} nodes, {} elements)",
+                out.display(),
+                model.mesh.node_count(),
+                model.mesh.elements.len()
+            );
         }
     }
     Ok(())

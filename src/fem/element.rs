@@ -396,7 +396,9 @@ pub struct JacobianError {
 impl JacobianError {
     /// Converts to a [`FlankError`] naming the element.
     pub fn into_error(self, label: u64, kind: ElementKind) -> FlankError {
-        let what = if self.det < 0.0 || !self.det.is_finite() {
+        let what = if self.det.is_finite() && self.relative.abs() <= DEGENERATE_RELATIVE_DET {
+            "degenerate (Jacobian determinant ~ 0)"
+        } else if self.det < 0.0 || !self.det.is_finite() {
             "inverted (negative Jacobian determinant)"
         } else {
             "degenerate (Jacobian determinant ~ 0)"

@@ -852,3 +852,38 @@ mod tests {
         }
     }
 }
+
+/// The benchmark cantilever: a box 10·nx/ny × 10 × 10 mm (cubic elements when
+/// ny = nz), material E = 210 GPa, ν = 0.3, clamped on x = 0, a total force
+/// `tip_force` (N) in −y shared equally by the nodes of the face x = L.
+pub fn cantilever_model(
+    cells: [usize; 3],
+    kind: BoxElement,
+    tip_force: f64,
+) -> Result<crate::fem::model::Model, crate::FlankError> {
+    use crate::fem::model::{Dirichlet, Model, NodalForce};
+    let length = 10.0 * cells[0] as f64 / cells[1].max(1) as f64;
+    let mesh = box_mesh([length, 10.0, 10.0], cells, kind);
+    let clamped = mesh.node_sets["X0"].clone();
+    let tip = mesh.node_sets["X1"].clone();
+    let ne = mesh.elements.len();
+    let mut model = Model {
+        mesh,
+        materials: vec![crate::fem::material::Material::new("STEEL", 210e3, 0.3)?],
+        element_material: vec![0; ne],
+        ..Default::default()
+    };
+    for &n in &clamped {
+        for component in 0..3 {
+            model.dirichlet.push(Dirichlet { node: n, component, value: 0.0 });
+        }
+    }
+    for &n in &tip {
+        model.forces.push(NodalForce {
+            node: n,
+            component: 1,
+            value: -tip_force / tip.len() as f64,
+        });
+    }
+    Ok(model)
+}
