@@ -8,30 +8,14 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use flank::fem::assembly::Assembly;
 use flank::fem::constraints::DofMap;
 use flank::fem::element::{stiffness, ElementWorkspace, HEX20_NODES, WEDGE15_NODES};
-use flank::fem::material::Material;
-use flank::fem::model::{Dirichlet, Model};
+use flank::fem::model::Model;
 use flank::fem::ordering::OrderingMethod;
 use flank::fem::solver::{parallelism, SparseCholesky};
-use flank::mesh::structured::{box_mesh, BoxElement};
+use flank::mesh::structured::{cantilever_model, BoxElement};
 use flank::mesh::ElementKind;
 
-/// Cantilever box L × 10 × 10 mm, clamped at x = 0.
 fn cantilever(cells: [usize; 3]) -> Model {
-    let mesh = box_mesh([10.0 * cells[0] as f64 / cells[1] as f64 * 1.0, 10.0, 10.0], cells, BoxElement::Hex20);
-    let clamped = mesh.node_sets["X0"].clone();
-    let ne = mesh.elements.len();
-    let mut model = Model {
-        mesh,
-        materials: vec![Material::new("steel", 210e3, 0.3).unwrap()],
-        element_material: vec![0; ne],
-        ..Default::default()
-    };
-    for n in clamped {
-        for k in 0..3 {
-            model.dirichlet.push(Dirichlet { node: n, component: k, value: 0.0 });
-        }
-    }
-    model
+    cantilever_model(cells, BoxElement::Hex20, 1000.0).unwrap()
 }
 
 fn element_integration(c: &mut Criterion) {
@@ -58,8 +42,11 @@ fn assembly(c: &mut Criterion) {
         let model = cantilever(cells);
         let dofs = DofMap::new(&model).unwrap();
         let id = format!("{}x{}x{}", cells[0], cells[1], cells[2]);
-        g.bench_with_input(BenchmarkId::new("symbolic", &id), &model, |b, m| b.iter(|| Assembly::new(m, &dofs).unwrap()));
-        let asm = Assembly::new(&model, &dofs).unwrap();
+        g.bench_with_input(BenchmarkId::new("symbolic_with_metis", &id), &model, |b, m| {
+            b.iter(|| Assembly::new(m, &mut dofs.clone(), OrderingMethod::Metis).unwrap())
+        });
+        let mut dofs = dofs;
+        let asm = Assembly::new(&model, &mut dofs, OrderingMethod::Metis).unwrap();
         g.bench_with_input(BenchmarkId::new("numeric", &id), &model, |b, m| b.iter(|| asm.assemble(m, &dofs).unwrap()));
     }
     g.finish();
@@ -70,18 +57,18 @@ fn factorization(c: &mut Criterion) {
     g.sample_size(10);
     for cells in SIZES {
         let model = cantilever(cells);
-        let dofs = DofMap::new(&model).unwrap();
-        let asm = Assembly::new(&model, &dofs).unwrap();
-        let sys = asm.assemble(&model, &dofs).unwrap();
         let id = format!("{}x{}x{}", cells[0], cells[1], cells[2]);
         for ordering in [OrderingMethod::Metis, OrderingMethod::Amd] {
             if ordering == OrderingMethod::Amd && cells[0] == 100 {
                 continue; // AMD's fill on the largest box makes the run long; see benches/README.md
             }
-            let mut chol = SparseCholesky::analyze(&asm.pattern, &asm.groups, &dofs.group_start, ordering, parallelism(0)).unwrap();
-            g.bench_function(BenchmarkId::new(format!("ordering_{}", ordering.name()), &id), |b| {
-                b.iter(|| SparseCholesky::analyze(&asm.pattern, &asm.groups, &dofs.group_start, ordering, parallelism(0)).unwrap())
+            let mut dofs = DofMap::new(&model).unwrap();
+            let asm = Assembly::new(&model, &mut dofs, ordering).unwrap();
+            let sys = asm.assemble(&model, &dofs).unwrap();
+            g.bench_function(BenchmarkId::new(format!("symbolic_{}", ordering.name()), &id), |b| {
+                b.iter(|| SparseCholesky::analyze(&asm.pattern, ordering, 0.0, parallelism(0)).unwrap())
             });
+            let mut chol = SparseCholesky::analyze(&asm.pattern, ordering, 0.0, parallelism(0)).unwrap();
             g.bench_function(BenchmarkId::new(format!("numeric_{}", ordering.name()), &id), |b| {
                 b.iter(|| chol.factorize(&asm.pattern, &sys.values, &|r| r.to_string()).unwrap())
             });

@@ -1,8 +1,10 @@
 //! Global stiffness assembly: symbolic pass once, numeric passes cheap.
 //!
 //! The reduced stiffness Tᵀ K T is stored as the lower triangle of a CSC
-//! matrix. The symbolic pass computes the pattern from the graph of DOF groups
-//! (nodes and rigid couplings), an element→slot map, and a greedy colouring of
+//! matrix. The symbolic pass builds the graph of DOF groups (nodes and rigid
+//! couplings), orders it (METIS or AMD, [`crate::fem::ordering`]), renumbers
+//! the reduced DOFs in that elimination order, and computes the pattern, an
+//! element→slot map, and a greedy colouring of
 //! the elements so that elements of one colour share no node. The numeric pass
 //! then integrates element matrices in parallel (rayon) colour by colour and adds
 //! them into their slots without locks: within a colour the slots are disjoint.
@@ -15,6 +17,7 @@ use crate::error::FlankError;
 use crate::fem::constraints::{DofMap, DofTarget};
 use crate::fem::element::{stiffness, ElementWorkspace};
 use crate::fem::model::Model;
+use crate::fem::ordering::{order_groups, OrderingMethod};
 
 /// Lower-triangular CSC pattern of a symmetric matrix.
 #[derive(Clone, Debug)]
@@ -72,6 +75,9 @@ pub struct Assembly {
     pub colors: Vec<Vec<usize>>,
     /// Elements with coupled DOFs, assembled serially.
     pub serial: Vec<usize>,
+    /// The ordering that numbered the reduced DOFs, and the time it took.
+    pub ordering: OrderingMethod,
+    pub ordering_s: f64,
     slot_offset: Vec<usize>,
     slots: Vec<u32>,
 }
@@ -97,8 +103,9 @@ impl SharedMut {
 }
 
 impl Assembly {
-    /// Symbolic assembly for `model` with constraints `dofs`.
-    pub fn new(model: &Model, dofs: &DofMap) -> Result<Self, FlankError> {
+    /// Symbolic assembly for `model` with constraints `dofs`: orders the DOF
+    /// groups with `ordering` and renumbers `dofs` in that order.
+    pub fn new(model: &Model, dofs: &mut DofMap, ordering: OrderingMethod) -> Result<Self, FlankError> {
         let mesh = &model.mesh;
         let ne = mesh.elements.len();
         let nn = mesh.node_count();
@@ -168,7 +175,31 @@ impl Assembly {
                 },
             )
             .collect();
-        // CSC lower pattern
+        // group graph (no self loops), ordered; then renumber the reduced DOFs
+        let mut xadj = vec![0usize];
+        let mut adjncy = Vec::new();
+        for (g, nb) in neighbors.iter().enumerate() {
+            adjncy.extend(nb.iter().copied().filter(|&h| h != g));
+            xadj.push(adjncy.len());
+        }
+        let weight: Vec<usize> = (0..ng).map(|g| dofs.group_dofs(g).len()).collect();
+        let t = std::time::Instant::now();
+        let perm = order_groups(&GroupGraph { xadj, adjncy, weight }, ordering)?;
+        let ordering_s = t.elapsed().as_secs_f64();
+        dofs.renumber_groups(&perm);
+        let mut new_of_old = vec![0usize; ng];
+        for (new, &old) in perm.iter().enumerate() {
+            new_of_old[old] = new;
+        }
+        let neighbors: Vec<Vec<usize>> = perm
+            .par_iter()
+            .map(|&old| {
+                let mut nb: Vec<usize> = neighbors[old].iter().map(|&h| new_of_old[h]).collect();
+                nb.sort_unstable();
+                nb
+            })
+            .collect();
+        // CSC lower pattern in the new numbering
         let n = dofs.reduced_count;
         let mut col_ptr = Vec::with_capacity(n + 1);
         col_ptr.push(0usize);
@@ -194,12 +225,7 @@ impl Assembly {
                 row_idx.len()
             )));
         }
-        let pattern = SparsePattern {
-            n,
-            col_ptr,
-            row_idx,
-        };
-        // group graph for the ordering
+        let pattern = SparsePattern { n, col_ptr, row_idx };
         let mut xadj = vec![0usize];
         let mut adjncy = Vec::new();
         for (g, nb) in neighbors.iter().enumerate() {
@@ -207,11 +233,8 @@ impl Assembly {
             xadj.push(adjncy.len());
         }
         let weight = (0..ng).map(|g| dofs.group_dofs(g).len()).collect();
-        let groups = GroupGraph {
-            xadj,
-            adjncy,
-            weight,
-        };
+        let groups = GroupGraph { xadj, adjncy, weight };
+        let dofs: &DofMap = dofs;
 
         // element classification and slot map
         let is_serial: Vec<bool> = mesh
@@ -314,6 +337,8 @@ impl Assembly {
             groups,
             colors,
             serial,
+            ordering,
+            ordering_s,
             slot_offset,
             slots,
         })

@@ -176,6 +176,45 @@ impl DofMap {
         })
     }
 
+    /// Renumbers the reduced DOFs so that groups come in the order `perm`
+    /// (`perm[new] = old`), DOFs of a group staying consecutive.
+    pub fn renumber_groups(&mut self, perm: &[usize]) {
+        let ng = self.group_count();
+        debug_assert_eq!(perm.len(), ng);
+        let mut new_of_old_dof = vec![0usize; self.reduced_count];
+        let mut group_start = Vec::with_capacity(ng + 1);
+        let mut new_group = vec![0usize; ng];
+        let mut next = 0;
+        for (g_new, &g_old) in perm.iter().enumerate() {
+            new_group[g_old] = g_new;
+            group_start.push(next);
+            for d in self.group_start[g_old]..self.group_start[g_old + 1] {
+                new_of_old_dof[d] = next;
+                next += 1;
+            }
+        }
+        group_start.push(next);
+        for t in self.targets.iter_mut() {
+            if let DofTarget::Free(r) = t {
+                *r = new_of_old_dof[*r];
+            }
+        }
+        for term in self.terms.iter_mut() {
+            term.0 = new_of_old_dof[term.0];
+        }
+        for cd in self.coupling_dofs.iter_mut() {
+            for r in cd.iter_mut().flatten() {
+                *r = new_of_old_dof[*r];
+            }
+        }
+        for g in self.node_group.iter_mut().chain(self.coupling_group.iter_mut()) {
+            if *g != usize::MAX {
+                *g = new_group[*g];
+            }
+        }
+        self.group_start = group_start;
+    }
+
     pub fn group_count(&self) -> usize {
         self.group_start.len() - 1
     }

@@ -1,9 +1,11 @@
 //! Fill-reducing orderings of the reduced stiffness matrix.
 //!
-//! METIS nested dissection (`METIS_NodeND`, vendored C through `metis-sys`)
-//! runs on the graph of DOF groups (nodes, coupling points), three times
-//! smaller than the DOF graph, and the group order is expanded to DOFs. AMD
-//! (faer's) is the alternative.
+//! Both orderings run on the graph of DOF groups (nodes, coupling points),
+//! about three times smaller than the DOF graph: METIS nested dissection
+//! (`METIS_NodeND`, vendored C through `metis-sys`; the default, least fill on
+//! 3D meshes) or faer's approximate minimum degree. The reduced DOFs are then
+//! numbered in that order, so the assembled matrix is already permuted and the
+//! factorization needs no permuted copy of it.
 
 use crate::error::FlankError;
 use crate::fem::assembly::GroupGraph;
@@ -86,6 +88,33 @@ pub fn metis_group_order(graph: &GroupGraph) -> Result<Vec<usize>, FlankError> {
         )));
     }
     Ok(perm.into_iter().map(|p| p as usize).collect())
+}
+
+/// Approximate-minimum-degree order of the groups (faer's AMD on the group graph): `perm[new] = old`.
+pub fn amd_group_order(graph: &GroupGraph) -> Result<Vec<usize>, FlankError> {
+    use faer::dyn_stack::{MemBuffer, MemStack};
+    use faer::sparse::linalg::amd;
+    use faer::sparse::SymbolicSparseColMatRef;
+    let n = graph.weight.len();
+    if n == 0 {
+        return Ok(Vec::new());
+    }
+    let a = SymbolicSparseColMatRef::new_checked(n, n, &graph.xadj, None, &graph.adjncy);
+    let mut perm = vec![0usize; n];
+    let mut inv = vec![0usize; n];
+    let mut mem = MemBuffer::try_new(amd::order_scratch::<usize>(n, graph.adjncy.len()))
+        .map_err(|_| FlankError::Solver("out of memory for the AMD ordering".into()))?;
+    amd::order(&mut perm, &mut inv, a, amd::Control::default(), MemStack::new(&mut mem))
+        .map_err(|e| FlankError::Solver(format!("AMD ordering failed: {e:?}")))?;
+    Ok(perm)
+}
+
+/// Fill-reducing order of the DOF groups by `method`: `perm[new] = old`.
+pub fn order_groups(graph: &GroupGraph, method: OrderingMethod) -> Result<Vec<usize>, FlankError> {
+    match method {
+        OrderingMethod::Metis => metis_group_order(graph),
+        OrderingMethod::Amd => amd_group_order(graph),
+    }
 }
 
 /// Expands a group order to a DOF permutation (`fwd[new] = old`, `inv[old] = new`).

@@ -8,7 +8,6 @@ use std::time::Instant;
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
-use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
     SymbolicCholeskyRaw, SymmetricOrdering,
@@ -18,8 +17,8 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
 use crate::error::FlankError;
-use crate::fem::assembly::{GroupGraph, SparsePattern};
-use crate::fem::ordering::{expand_group_order, metis_group_order, OrderingMethod};
+use crate::fem::assembly::SparsePattern;
+use crate::fem::ordering::OrderingMethod;
 
 /// Figures of a factorization, for reports and benchmarks.
 #[derive(Clone, Debug, Default, serde::Serialize)]
@@ -61,80 +60,42 @@ pub fn parallelism(threads: usize) -> Par {
 }
 
 impl SparseCholesky {
-    /// Orders and analyses the pattern. `groups`/`group_start` give the DOF
-    /// groups used by METIS (see [`crate::fem::constraints::DofMap`]).
-    pub fn analyze(
-        pattern: &SparsePattern,
-        groups: &GroupGraph,
-        group_start: &[usize],
-        method: OrderingMethod,
-        par: Par,
-    ) -> Result<Self, FlankError> {
+    /// Analyses the pattern (elimination tree, supernodes). The matrix must
+    /// already be in elimination order (see [`crate::fem::assembly`]); the
+    /// ordering's name and time are recorded in the statistics.
+    pub fn analyze(pattern: &SparsePattern, ordering: OrderingMethod, ordering_s: f64, par: Par) -> Result<Self, FlankError> {
         let n = pattern.n;
         if n == 0 {
-            return Err(FlankError::Singular(
-                "the system has no free degree of freedom".into(),
-            ));
+            return Err(FlankError::Singular("the system has no free degree of freedom".into()));
         }
         let t0 = Instant::now();
-        let sym =
-            SymbolicSparseColMatRef::new_checked(n, n, &pattern.col_ptr, None, &pattern.row_idx);
+        // faer's symbolic analysis without a permutation reads the upper
+        // triangle; give it the transposed pattern (temporarily), so that the
+        // numeric factorization can then use the lower triangle in place.
+        let (col_ptr_t, row_idx_t) = transpose_pattern(pattern);
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr_t, None, &row_idx_t);
         let params = CholeskySymbolicParams {
             supernodal_flop_ratio_threshold: SupernodalThreshold::AUTO,
             ..Default::default()
         };
-        let (symbolic, ordering_s) = match method {
-            OrderingMethod::Metis => {
-                let gperm = metis_group_order(groups)?;
-                let (fwd, inv) = expand_group_order(&gperm, group_start);
-                let ordering_s = t0.elapsed().as_secs_f64();
-                let perm = PermRef::new_checked(&fwd, &inv, n);
-                let s = factorize_symbolic_cholesky(
-                    sym,
-                    Side::Lower,
-                    SymmetricOrdering::Custom(perm),
-                    params,
-                )
-                .map_err(|e| FlankError::Solver(format!("symbolic factorization: {e:?}")))?;
-                (s, ordering_s)
-            }
-            OrderingMethod::Amd => {
-                let s =
-                    factorize_symbolic_cholesky(sym, Side::Lower, SymmetricOrdering::Amd, params)
-                        .map_err(|e| FlankError::Solver(format!("symbolic factorization: {e:?}")))?;
-                (s, 0.0)
-            }
-        };
-        let total = t0.elapsed().as_secs_f64();
-        let perm_fwd = symbolic
-            .perm()
-            .map(|p| p.arrays().0.to_vec())
-            .unwrap_or_else(|| (0..n).collect());
+        let symbolic = factorize_symbolic_cholesky(sym, Side::Upper, SymmetricOrdering::Identity, params)
+            .map_err(|e| FlankError::Solver(format!("symbolic factorization: {e:?}")))?;
         let (nnz_factor, flops, supernodal) = factor_counts(&symbolic);
         let stats = FactorStats {
             n,
             nnz_matrix: pattern.nnz(),
             nnz_factor,
             flops,
-            ordering: method.name().to_string(),
+            ordering: ordering.name().to_string(),
             supernodal,
-            // AMD runs inside faer's symbolic step: count it all as ordering there.
-            ordering_s: if method == OrderingMethod::Amd {
-                total
-            } else {
-                ordering_s
-            },
-            symbolic_s: if method == OrderingMethod::Amd {
-                0.0
-            } else {
-                total - ordering_s
-            },
+            ordering_s,
+            symbolic_s: t0.elapsed().as_secs_f64(),
             ..Default::default()
         };
         Ok(SparseCholesky {
             l_values: Vec::new(),
             symbolic,
-            perm_fwd,
+            perm_fwd: (0..n).collect(),
             factorized: false,
             par,
             stats,
@@ -278,6 +239,28 @@ impl SparseCholesky {
     pub fn memory_bytes(&self) -> usize {
         self.l_values.len() * 8
     }
+}
+
+/// The transpose of a lower-triangular CSC pattern (= its upper-triangular CSC pattern).
+fn transpose_pattern(p: &SparsePattern) -> (Vec<usize>, Vec<usize>) {
+    let n = p.n;
+    let mut count = vec![0usize; n + 1];
+    for &r in &p.row_idx {
+        count[r + 1] += 1;
+    }
+    for i in 0..n {
+        count[i + 1] += count[i];
+    }
+    let mut fill = count.clone();
+    let mut rows = vec![0usize; p.row_idx.len()];
+    for c in 0..n {
+        for k in p.col_ptr[c]..p.col_ptr[c + 1] {
+            let r = p.row_idx[k];
+            rows[fill[r]] = c;
+            fill[r] += 1;
+        }
+    }
+    (count, rows)
 }
 
 /// nnz(L), factorization flops, and whether the factor is supernodal.

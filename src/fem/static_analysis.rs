@@ -323,7 +323,7 @@ pub fn solve_static(model: &Model, options: &SolveOptions) -> Result<StaticSolut
         ProgressBar::hidden()
     };
     validate(model)?;
-    let dofs = DofMap::new(model)?;
+    let mut dofs = DofMap::new(model)?;
     check_rigid_body_modes(model, &dofs)?;
     let par = parallelism(options.threads);
     let mut stats = SolveStats {
@@ -334,15 +334,18 @@ pub fn solve_static(model: &Model, options: &SolveOptions) -> Result<StaticSolut
         ..Default::default()
     };
 
-    pb.set_message(format!("symbolic assembly ({} DOFs)", dofs.reduced_count));
+    pb.set_message(format!("ordering and symbolic assembly ({} DOFs)", dofs.reduced_count));
     let t = Instant::now();
-    let assembly = Assembly::new(model, &dofs)?;
+    let assembly = Assembly::new(model, &mut dofs, options.ordering)?;
+    let dofs = dofs;
     stats.symbolic_assembly_s = t.elapsed().as_secs_f64();
 
     pb.set_message(format!("assembly ({} elements)", model.mesh.elements.len()));
     let t = Instant::now();
     let system = assembly.assemble(model, &dofs)?;
     stats.assembly_s = t.elapsed().as_secs_f64();
+    // keep the pattern, free the slot map and colouring before factorizing
+    let (pattern, ordering_s) = (assembly.pattern, assembly.ordering_s);
 
     // reduced right-hand side: Tᵀ f + coupling loads − Tᵀ K u₀
     let f_full = load_vector(model)?;
@@ -358,20 +361,14 @@ pub fn solve_static(model: &Model, options: &SolveOptions) -> Result<StaticSolut
         *bi += pi;
     }
 
-    pb.set_message(format!("ordering ({})", options.ordering.name()));
-    let mut chol = SparseCholesky::analyze(
-        &assembly.pattern,
-        &assembly.groups,
-        &dofs.group_start,
-        options.ordering,
-        par,
-    )?;
+    pb.set_message("symbolic factorization");
+    let mut chol = SparseCholesky::analyze(&pattern, options.ordering, ordering_s, par)?;
     pb.set_message(format!(
         "factorization (nnz(L) = {})",
         chol.stats.nnz_factor
     ));
     let dof_names = reduced_dof_names(model, &dofs);
-    chol.factorize(&assembly.pattern, &system.values, &|r| dof_names[r].clone())?;
+    chol.factorize(&pattern, &system.values, &|r| dof_names[r].clone())?;
     let fs: FactorStats = chol.stats.clone();
     stats.nnz_matrix = fs.nnz_matrix;
     stats.nnz_factor = fs.nnz_factor;
@@ -393,7 +390,7 @@ pub fn solve_static(model: &Model, options: &SolveOptions) -> Result<StaticSolut
     let mut q = b.clone();
     chol.solve_in_place(&mut q);
     stats.solve_s = t.elapsed().as_secs_f64();
-    let kq = assembly.pattern.sym_mul(&system.values, &q);
+    let kq = pattern.sym_mul(&system.values, &q);
     let rn: f64 = kq
         .iter()
         .zip(&b)
