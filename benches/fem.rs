@@ -10,7 +10,7 @@ use flank::fem::constraints::DofMap;
 use flank::fem::element::{stiffness, ElementWorkspace, HEX20_NODES, WEDGE15_NODES};
 use flank::fem::model::Model;
 use flank::fem::ordering::OrderingMethod;
-use flank::fem::solver::{parallelism, SparseCholesky};
+use flank::fem::solver::{parallelism, Precision, SparseCholesky};
 use flank::mesh::structured::{cantilever_model, BoxElement};
 use flank::mesh::ElementKind;
 
@@ -70,7 +70,7 @@ fn factorization(c: &mut Criterion) {
             });
             let mut chol = SparseCholesky::analyze(&asm.pattern, ordering, 0.0, parallelism(0)).unwrap();
             g.bench_function(BenchmarkId::new(format!("numeric_{}", ordering.name()), &id), |b| {
-                b.iter(|| chol.factorize(&asm.pattern, &sys.values, &|r| r.to_string()).unwrap())
+                b.iter(|| chol.factorize(&asm.pattern, &sys.values, Precision::Double, &|r| r.to_string()).unwrap())
             });
         }
     }

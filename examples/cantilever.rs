@@ -39,7 +39,7 @@ fn main() {
     for &n in &tip {
         model.forces.push(NodalForce { node: n, component: 1, value: -1000.0 / tip.len() as f64 });
     }
-    let options = SolveOptions { ordering, threads, recover_stress: true, progress: false };
+    let options = SolveOptions { ordering, threads, ..Default::default() };
     let sol = solve_static(&model, &options).unwrap();
     println!("{}", serde_json::to_string_pretty(&sol.stats).unwrap());
 }

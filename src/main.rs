@@ -6,6 +6,7 @@ use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 
 use flank::fem::ordering::OrderingMethod;
+use flank::fem::solver::Precision;
 use flank::fem::static_analysis::{solve_static, SolveOptions};
 
 #[derive(Parser)]
@@ -30,6 +31,10 @@ enum Command {
         /// Threads (0 = all cores).
         #[arg(long, default_value_t = 0)]
         threads: usize,
+        /// Arithmetic of the factorization: double, or mixed (f32 factor,
+        /// f64 iterative refinement, automatic fallback to double).
+        #[arg(long, value_enum, default_value_t = Precision::Double)]
+        precision: Precision,
         /// Skip stress recovery and reactions.
         #[arg(long)]
         no_stress: bool,
@@ -78,6 +83,7 @@ fn run(cli: Cli) -> Result<()> {
             out,
             ordering,
             threads,
+            precision,
             no_stress,
             quiet,
         } => {
@@ -93,6 +99,7 @@ fn run(cli: Cli) -> Result<()> {
                 threads,
                 recover_stress: !no_stress,
                 progress: !quiet,
+                precision,
             };
             let sol = solve_static(&parsed.model, &options).with_context(|| format!("solving {}", deck.display()))?;
             let extra = serde_json::json!({

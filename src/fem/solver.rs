@@ -20,6 +20,25 @@ use crate::error::FlankError;
 use crate::fem::assembly::SparsePattern;
 use crate::fem::ordering::OrderingMethod;
 
+/// Arithmetic of the Cholesky factor.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum Precision {
+    /// f64 factor (default): the answer needs no refinement.
+    #[default]
+    Double,
+    /// f32 factor, half the memory and about twice the speed; the caller
+    /// refines the solution against the f64 matrix (mixed-precision iterative
+    /// refinement) and falls back to `Double` if refinement does not converge.
+    Mixed,
+}
+
+/// The factor's values in the chosen precision.
+enum FactorValues {
+    Double(Vec<f64>),
+    Single(Vec<f32>),
+}
+
 /// Figures of a factorization, for reports and benchmarks.
 #[derive(Clone, Debug, Default, serde::Serialize)]
 pub struct FactorStats {
@@ -31,6 +50,7 @@ pub struct FactorStats {
     /// Floating-point operations of the numeric factorization (Σ_j c_j², c_j = nnz of column j of L).
     pub flops: f64,
     pub ordering: String,
+    pub precision: String,
     pub supernodal: bool,
     pub ordering_s: f64,
     pub symbolic_s: f64,
@@ -42,7 +62,7 @@ pub struct FactorStats {
 /// A symbolic analysis plus (after [`factorize`](Self::factorize)) the numeric factor.
 pub struct SparseCholesky {
     symbolic: SymbolicCholesky<usize>,
-    l_values: Vec<f64>,
+    l_values: FactorValues,
     /// fwd[new] = old
     perm_fwd: Vec<usize>,
     factorized: bool,
@@ -93,7 +113,7 @@ impl SparseCholesky {
             ..Default::default()
         };
         Ok(SparseCholesky {
-            l_values: Vec::new(),
+            l_values: FactorValues::Double(Vec::new()),
             symbolic,
             perm_fwd: (0..n).collect(),
             factorized: false,
@@ -108,6 +128,7 @@ impl SparseCholesky {
         &mut self,
         pattern: &SparsePattern,
         values: &[f64],
+        precision: Precision,
         dof_name: &dyn Fn(usize) -> String,
     ) -> Result<(), FlankError> {
         let n = pattern.n;
@@ -121,35 +142,31 @@ impl SparseCholesky {
             SymbolicSparseColMatRef::new_checked(n, n, &pattern.col_ptr, None, &pattern.row_idx),
             values,
         );
-        self.l_values.clear();
-        self.l_values.resize(self.symbolic.len_val(), 0.0);
-        let req = self
-            .symbolic
-            .factorize_numeric_llt_scratch::<f64>(self.par, Default::default());
-        let mut mem = MemBuffer::try_new(req)
-            .map_err(|_| FlankError::Solver("out of memory for factorization workspace".into()))?;
-        let stack = MemStack::new(&mut mem);
         self.factorized = false;
-        self.symbolic
-            .factorize_numeric_llt(
-                &mut self.l_values,
-                a,
-                Side::Lower,
-                LltRegularization::default(),
-                self.par,
-                stack,
-                Default::default(),
-            )
-            .map_err(|e| match e {
-                faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } => {
-                    let old = self.perm_fwd.get(index).copied().unwrap_or(index);
-                    FlankError::Singular(format!(
-                        "the stiffness matrix is not positive definite: zero or negative pivot at {} \
-                         (constraints missing, a mechanism, or an invalid material)",
-                        dof_name(old)
-                    ))
+        self.stats.precision = format!("{precision:?}").to_lowercase();
+        let singular = |index: usize| {
+            let old = self.perm_fwd.get(index).copied().unwrap_or(index);
+            FlankError::Singular(format!(
+                "the stiffness matrix is not positive definite: zero or negative pivot at {} \
+                 (constraints missing, a mechanism, or an invalid material)",
+                dof_name(old)
+            ))
+        };
+        self.l_values = match precision {
+            Precision::Double => FactorValues::Double(
+                numeric_llt(&self.symbolic, a, self.par).map_err(singular)?,
+            ),
+            Precision::Mixed => {
+                let v32: Vec<f32> = values.iter().map(|&v| v as f32).collect();
+                if v32.iter().any(|v| !v.is_finite()) {
+                    return Err(FlankError::Solver(
+                        "stiffness entries overflow single precision; use --precision double".into(),
+                    ));
                 }
-            })?;
+                let a32 = SparseColMatRef::new(a.symbolic(), &v32[..]);
+                FactorValues::Single(numeric_llt(&self.symbolic, a32, self.par).map_err(singular)?)
+            }
+        };
         self.stats.factorization_s = t0.elapsed().as_secs_f64();
         // pivot ratio min_j L_jj² / A_jj
         let mut diag = vec![0.0; n];
@@ -180,6 +197,14 @@ impl SparseCholesky {
         Ok(())
     }
 
+    #[inline]
+    fn l_value(&self, k: usize) -> f64 {
+        match &self.l_values {
+            FactorValues::Double(v) => v[k],
+            FactorValues::Single(v) => v[k] as f64,
+        }
+    }
+
     /// Diagonal of L in factor (permuted) order.
     fn factor_diagonal(&self) -> Vec<f64> {
         let n = self.stats.n;
@@ -192,9 +217,8 @@ impl SparseCholesky {
                 for k in 0..s.n_supernodes() {
                     let ncols = end[k] - beg[k];
                     let nrows = ncols + (rptr[k + 1] - rptr[k]);
-                    let v = &self.l_values[vptr[k]..vptr[k + 1]];
                     for j in 0..ncols {
-                        d[beg[k] + j] = v[j * nrows + j];
+                        d[beg[k] + j] = self.l_value(vptr[k] + j * nrows + j);
                     }
                 }
             }
@@ -204,7 +228,7 @@ impl SparseCholesky {
                 for j in 0..n {
                     for k in cp[j]..cp[j + 1] {
                         if ri[k] == j {
-                            d[j] = self.l_values[k];
+                            d[j] = self.l_value(k);
                         }
                     }
                 }
@@ -213,19 +237,38 @@ impl SparseCholesky {
         d
     }
 
-    /// Solves A x = b in place for every column of `rhs` (n × k).
-    pub fn solve_columns(&self, rhs: MatMut<'_, f64>) {
+    /// Solves A x = b in place for every column of `rhs` (n × k). With a
+    /// single-precision factor the solve is done in f32 (refine outside).
+    pub fn solve_columns(&self, mut rhs: MatMut<'_, f64>) {
         assert!(self.factorized, "solve before a successful factorization");
         let k = rhs.ncols();
-        let req = self.symbolic.solve_in_place_scratch::<f64>(k, self.par);
-        let mut mem = MemBuffer::new(req);
-        let stack = MemStack::new(&mut mem);
-        LltRef::new(&self.symbolic, &self.l_values).solve_in_place_with_conj(
-            Conj::No,
-            rhs,
-            self.par,
-            stack,
-        );
+        match &self.l_values {
+            FactorValues::Double(l) => {
+                let req = self.symbolic.solve_in_place_scratch::<f64>(k, self.par);
+                let mut mem = MemBuffer::new(req);
+                LltRef::new(&self.symbolic, l).solve_in_place_with_conj(Conj::No, rhs, self.par, MemStack::new(&mut mem));
+            }
+            FactorValues::Single(l) => {
+                let n = rhs.nrows();
+                let mut r32 = faer::Mat::<f32>::from_fn(n, k, |i, j| rhs[(i, j)] as f32);
+                let req = self.symbolic.solve_in_place_scratch::<f32>(k, self.par);
+                let mut mem = MemBuffer::new(req);
+                LltRef::new(&self.symbolic, l).solve_in_place_with_conj(Conj::No, r32.as_mut(), self.par, MemStack::new(&mut mem));
+                for j in 0..k {
+                    for i in 0..n {
+                        rhs[(i, j)] = r32[(i, j)] as f64;
+                    }
+                }
+            }
+        }
+    }
+
+    /// The precision of the current factor.
+    pub fn precision(&self) -> Precision {
+        match self.l_values {
+            FactorValues::Double(_) => Precision::Double,
+            FactorValues::Single(_) => Precision::Mixed,
+        }
     }
 
     /// Solves A x = b in place for one right-hand side.
@@ -237,8 +280,26 @@ impl SparseCholesky {
 
     /// Bytes held by the factor values.
     pub fn memory_bytes(&self) -> usize {
-        self.l_values.len() * 8
+        match &self.l_values {
+            FactorValues::Double(v) => v.len() * 8,
+            FactorValues::Single(v) => v.len() * 4,
+        }
     }
+}
+
+/// Numeric LLᵀ in arithmetic `T`; `Err(index)` of a non-positive pivot.
+fn numeric_llt<T: faer::traits::ComplexField + Copy>(
+    symbolic: &SymbolicCholesky<usize>,
+    a: SparseColMatRef<'_, usize, T>,
+    par: Par,
+) -> Result<Vec<T>, usize> {
+    let mut l = vec![T::zero_impl(); symbolic.len_val()];
+    let req = symbolic.factorize_numeric_llt_scratch::<T>(par, Default::default());
+    let mut mem = MemBuffer::new(req);
+    symbolic
+        .factorize_numeric_llt(&mut l, a, Side::Lower, LltRegularization::default(), par, MemStack::new(&mut mem), Default::default())
+        .map_err(|faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index }| index)?;
+    Ok(l)
 }
 
 /// The transpose of a lower-triangular CSC pattern (= its upper-triangular CSC pattern).
