@@ -108,3 +108,14 @@ fn stored_decks_match_ccx() {
         compare_deck(&name, &deck);
     }
 }
+
+/// The README's main-job deck (NAFEMS LE10, 31 144 DOFs, pressure on the top
+/// face of a curved plate): the same answer in both codes at full size.
+#[test]
+fn le10_deck_matches_ccx() {
+    if !common::ccx_available() {
+        return;
+    }
+    let deck = Path::new(env!("CARGO_MANIFEST_DIR")).join("verification/nafems_le10/le10.inp");
+    compare_deck("nafems_le10", &deck);
+}
