@@ -1,0 +1,1 @@
+//! Verification case: rigid hub coupling (to be written)
