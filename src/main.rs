@@ -47,7 +47,7 @@ enum Command {
     /// load in −y spread over the tip face nodes.
     Cantilever {
         /// Elements along x, y, z.
-        #[arg(long, num_args = 3, value_delimiter = ',', default_values_t = [100, 10, 10])]
+        #[arg(long, value_delimiter = ',', default_values_t = [100, 10, 10])]
         cells: Vec<usize>,
         /// Element type.
         #[arg(long, value_enum, default_value_t = DeckElement::C3d20)]
