@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 RUNS=${1:-3}
 CELLS=${2:-100,10,10}
 THREADS=${3:-2}
-WORK=${WORK:-target/side_by_side}
+WORK=$(realpath -m "${WORK:-target/side_by_side}")
 mkdir -p "$WORK"
 cargo build --release --quiet
 FLANK=target/release/flank
