@@ -87,9 +87,6 @@ fn run(cli: Cli) -> Result<()> {
             no_stress,
             quiet,
         } => {
-            if threads > 0 {
-                rayon::ThreadPoolBuilder::new().num_threads(threads).build_global().ok();
-            }
             let parsed = flank::mesh::inp::read_deck(&deck)?;
             for w in &parsed.warnings {
                 eprintln!("warning: {}:{}: {}", deck.display(), w.line, w.message);

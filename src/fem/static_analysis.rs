@@ -321,7 +321,21 @@ pub fn check_rigid_body_modes(model: &Model, dofs: &DofMap) -> Result<(), FlankE
 }
 
 /// Solves the linear static problem.
+///
+/// With `options.threads > 0` all parallel work (assembly, factorization,
+/// recovery) runs in a rayon pool of that many threads; 0 uses the global pool.
 pub fn solve_static(model: &Model, options: &SolveOptions) -> Result<StaticSolution, FlankError> {
+    if options.threads > 0 && options.threads != rayon::current_num_threads() {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(options.threads)
+            .build()
+            .map_err(|e| FlankError::Solver(format!("cannot start {} threads: {e}", options.threads)))?;
+        return pool.install(|| solve_static_in_pool(model, options));
+    }
+    solve_static_in_pool(model, options)
+}
+
+fn solve_static_in_pool(model: &Model, options: &SolveOptions) -> Result<StaticSolution, FlankError> {
     let t_total = Instant::now();
     let pb = if options.progress {
         let pb = ProgressBar::new_spinner();
@@ -701,6 +715,49 @@ mod tests {
             assert!(diff <= 1e-8 * umax, "ν = {nu}: mixed differs from double by {:.2e}", diff / umax);
             assert!(m.stats.precision == "mixed" || m.stats.precision_fallback);
             assert!(m.stats.backward_error < 1e-13, "backward error {}", m.stats.backward_error);
+        }
+    }
+
+    /// One thread and two threads give the same answer (the colouring makes
+    /// the assembly order-independent per slot; only the summation order of
+    /// the parallel factorization may differ at round-off).
+    #[test]
+    fn one_and_two_threads_agree() {
+        use crate::mesh::structured::{cantilever_model, BoxElement};
+        let model = cantilever_model([12, 3, 3], BoxElement::Hex20, 1000.0).unwrap();
+        let one = solve_static(&model, &SolveOptions { threads: 1, ..Default::default() }).unwrap();
+        let two = solve_static(&model, &SolveOptions { threads: 2, ..Default::default() }).unwrap();
+        assert_eq!(one.stats.threads, 1);
+        assert_eq!(two.stats.threads, 2);
+        let umax = one.displacement.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        for (a, b) in one.displacement.iter().zip(&two.displacement) {
+            assert!((a - b).abs() <= 1e-12 * umax);
+        }
+    }
+
+    /// The symbolic analysis is reused for a new matrix with the same
+    /// pattern: scaling K by 2 halves the solution.
+    #[test]
+    fn symbolic_factorization_is_reused() {
+        use crate::fem::assembly::Assembly;
+        use crate::fem::solver::parallelism;
+        use crate::mesh::structured::{cantilever_model, BoxElement};
+        let model = cantilever_model([6, 2, 2], BoxElement::Hex20, 1000.0).unwrap();
+        let mut dofs = DofMap::new(&model).unwrap();
+        let asm = Assembly::new(&model, &mut dofs, OrderingMethod::Metis).unwrap();
+        let sys = asm.assemble(&model, &dofs).unwrap();
+        let b = dofs.restrict(&load_vector(&model).unwrap());
+        let mut chol = SparseCholesky::analyze(&asm.pattern, OrderingMethod::Metis, 0.0, parallelism(1)).unwrap();
+        chol.factorize(&asm.pattern, &sys.values, Precision::Double, &|r| r.to_string()).unwrap();
+        let mut x1 = b.clone();
+        chol.solve_in_place(&mut x1);
+        let doubled: Vec<f64> = sys.values.iter().map(|v| 2.0 * v).collect();
+        chol.factorize(&asm.pattern, &doubled, Precision::Double, &|r| r.to_string()).unwrap();
+        let mut x2 = b.clone();
+        chol.solve_in_place(&mut x2);
+        let m = x1.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        for (a, b) in x1.iter().zip(&x2) {
+            assert!((a - 2.0 * b).abs() <= 1e-12 * m);
         }
     }
 
