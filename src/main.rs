@@ -10,7 +10,11 @@ use flank::fem::solver::Precision;
 use flank::fem::static_analysis::{solve_static, SolveOptions};
 
 #[derive(Parser)]
-#[command(name = "flank", version, about = "Finite-element-first gear tooth contact: native 3D elasticity, FE contact, LTCA")]
+#[command(
+    name = "flank",
+    version,
+    about = "Finite-element-first gear tooth contact: native 3D elasticity, FE contact, LTCA"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -98,7 +102,8 @@ fn run(cli: Cli) -> Result<()> {
                 progress: !quiet,
                 precision,
             };
-            let sol = solve_static(&parsed.model, &options).with_context(|| format!("solving {}", deck.display()))?;
+            let sol = solve_static(&parsed.model, &options)
+                .with_context(|| format!("solving {}", deck.display()))?;
             let extra = serde_json::json!({
                 "deck": deck.display().to_string(),
                 "warnings": parsed.warnings.len(),
@@ -113,16 +118,24 @@ fn run(cli: Cli) -> Result<()> {
                 println!("results in {}", out.display());
             }
         }
-        Command::Cantilever { cells, element, out } => {
+        Command::Cantilever {
+            cells,
+            element,
+            out,
+        } => {
             let kind = match element {
                 DeckElement::C3d20 => flank::mesh::structured::BoxElement::Hex20,
                 DeckElement::C3d20r => flank::mesh::structured::BoxElement::Hex20R,
                 DeckElement::C3d15 => flank::mesh::structured::BoxElement::Wedge15,
             };
-            if cells.len() != 3 || cells.iter().any(|&c| c == 0) {
+            if cells.len() != 3 || cells.contains(&0) {
                 anyhow::bail!("--cells needs three positive counts, e.g. --cells 100,10,10");
             }
-            let model = flank::mesh::structured::cantilever_model([cells[0], cells[1], cells[2]], kind, 1000.0)?;
+            let model = flank::mesh::structured::cantilever_model(
+                [cells[0], cells[1], cells[2]],
+                kind,
+                1000.0,
+            )?;
             flank::mesh::inp::write_deck(&model, &out)?;
             println!(
                 "wrote {} ({} nodes, {} elements)",

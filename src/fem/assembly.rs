@@ -105,7 +105,11 @@ impl SharedMut {
 impl Assembly {
     /// Symbolic assembly for `model` with constraints `dofs`: orders the DOF
     /// groups with `ordering` and renumbers `dofs` in that order.
-    pub fn new(model: &Model, dofs: &mut DofMap, ordering: OrderingMethod) -> Result<Self, FlankError> {
+    pub fn new(
+        model: &Model,
+        dofs: &mut DofMap,
+        ordering: OrderingMethod,
+    ) -> Result<Self, FlankError> {
         let mesh = &model.mesh;
         let ne = mesh.elements.len();
         let nn = mesh.node_count();
@@ -184,7 +188,14 @@ impl Assembly {
         }
         let weight: Vec<usize> = (0..ng).map(|g| dofs.group_dofs(g).len()).collect();
         let t = std::time::Instant::now();
-        let perm = order_groups(&GroupGraph { xadj, adjncy, weight }, ordering)?;
+        let perm = order_groups(
+            &GroupGraph {
+                xadj,
+                adjncy,
+                weight,
+            },
+            ordering,
+        )?;
         let ordering_s = t.elapsed().as_secs_f64();
         dofs.renumber_groups(&perm);
         let mut new_of_old = vec![0usize; ng];
@@ -225,7 +236,11 @@ impl Assembly {
                 row_idx.len()
             )));
         }
-        let pattern = SparsePattern { n, col_ptr, row_idx };
+        let pattern = SparsePattern {
+            n,
+            col_ptr,
+            row_idx,
+        };
         let mut xadj = vec![0usize];
         let mut adjncy = Vec::new();
         for (g, nb) in neighbors.iter().enumerate() {
@@ -233,7 +248,11 @@ impl Assembly {
             xadj.push(adjncy.len());
         }
         let weight = (0..ng).map(|g| dofs.group_dofs(g).len()).collect();
-        let groups = GroupGraph { xadj, adjncy, weight };
+        let groups = GroupGraph {
+            xadj,
+            adjncy,
+            weight,
+        };
         let dofs: &DofMap = dofs;
 
         // element classification and slot map

@@ -207,7 +207,11 @@ impl DofMap {
                 *r = new_of_old_dof[*r];
             }
         }
-        for g in self.node_group.iter_mut().chain(self.coupling_group.iter_mut()) {
+        for g in self
+            .node_group
+            .iter_mut()
+            .chain(self.coupling_group.iter_mut())
+        {
             if *g != usize::MAX {
                 *g = new_group[*g];
             }

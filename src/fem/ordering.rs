@@ -104,8 +104,14 @@ pub fn amd_group_order(graph: &GroupGraph) -> Result<Vec<usize>, FlankError> {
     let mut inv = vec![0usize; n];
     let mut mem = MemBuffer::try_new(amd::order_scratch::<usize>(n, graph.adjncy.len()))
         .map_err(|_| FlankError::Solver("out of memory for the AMD ordering".into()))?;
-    amd::order(&mut perm, &mut inv, a, amd::Control::default(), MemStack::new(&mut mem))
-        .map_err(|e| FlankError::Solver(format!("AMD ordering failed: {e:?}")))?;
+    amd::order(
+        &mut perm,
+        &mut inv,
+        a,
+        amd::Control::default(),
+        MemStack::new(&mut mem),
+    )
+    .map_err(|e| FlankError::Solver(format!("AMD ordering failed: {e:?}")))?;
     Ok(perm)
 }
 

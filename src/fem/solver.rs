@@ -21,7 +21,17 @@ use crate::fem::assembly::SparsePattern;
 use crate::fem::ordering::OrderingMethod;
 
 /// Arithmetic of the Cholesky factor.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize, clap::ValueEnum)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum Precision {
     /// f64 factor (default): the answer needs no refinement.
@@ -83,10 +93,17 @@ impl SparseCholesky {
     /// Analyses the pattern (elimination tree, supernodes). The matrix must
     /// already be in elimination order (see [`crate::fem::assembly`]); the
     /// ordering's name and time are recorded in the statistics.
-    pub fn analyze(pattern: &SparsePattern, ordering: OrderingMethod, ordering_s: f64, par: Par) -> Result<Self, FlankError> {
+    pub fn analyze(
+        pattern: &SparsePattern,
+        ordering: OrderingMethod,
+        ordering_s: f64,
+        par: Par,
+    ) -> Result<Self, FlankError> {
         let n = pattern.n;
         if n == 0 {
-            return Err(FlankError::Singular("the system has no free degree of freedom".into()));
+            return Err(FlankError::Singular(
+                "the system has no free degree of freedom".into(),
+            ));
         }
         let t0 = Instant::now();
         // faer's symbolic analysis without a permutation reads the upper
@@ -98,8 +115,9 @@ impl SparseCholesky {
             supernodal_flop_ratio_threshold: SupernodalThreshold::AUTO,
             ..Default::default()
         };
-        let symbolic = factorize_symbolic_cholesky(sym, Side::Upper, SymmetricOrdering::Identity, params)
-            .map_err(|e| FlankError::Solver(format!("symbolic factorization: {e:?}")))?;
+        let symbolic =
+            factorize_symbolic_cholesky(sym, Side::Upper, SymmetricOrdering::Identity, params)
+                .map_err(|e| FlankError::Solver(format!("symbolic factorization: {e:?}")))?;
         let (nnz_factor, flops, supernodal) = factor_counts(&symbolic);
         let stats = FactorStats {
             n,
@@ -153,14 +171,15 @@ impl SparseCholesky {
             ))
         };
         self.l_values = match precision {
-            Precision::Double => FactorValues::Double(
-                numeric_llt(&self.symbolic, a, self.par).map_err(singular)?,
-            ),
+            Precision::Double => {
+                FactorValues::Double(numeric_llt(&self.symbolic, a, self.par).map_err(singular)?)
+            }
             Precision::Mixed => {
                 let v32: Vec<f32> = values.iter().map(|&v| v as f32).collect();
                 if v32.iter().any(|v| !v.is_finite()) {
                     return Err(FlankError::Solver(
-                        "stiffness entries overflow single precision; use --precision double".into(),
+                        "stiffness entries overflow single precision; use --precision double"
+                            .into(),
                     ));
                 }
                 let a32 = SparseColMatRef::new(a.symbolic(), &v32[..]);
@@ -246,14 +265,24 @@ impl SparseCholesky {
             FactorValues::Double(l) => {
                 let req = self.symbolic.solve_in_place_scratch::<f64>(k, self.par);
                 let mut mem = MemBuffer::new(req);
-                LltRef::new(&self.symbolic, l).solve_in_place_with_conj(Conj::No, rhs, self.par, MemStack::new(&mut mem));
+                LltRef::new(&self.symbolic, l).solve_in_place_with_conj(
+                    Conj::No,
+                    rhs,
+                    self.par,
+                    MemStack::new(&mut mem),
+                );
             }
             FactorValues::Single(l) => {
                 let n = rhs.nrows();
                 let mut r32 = faer::Mat::<f32>::from_fn(n, k, |i, j| rhs[(i, j)] as f32);
                 let req = self.symbolic.solve_in_place_scratch::<f32>(k, self.par);
                 let mut mem = MemBuffer::new(req);
-                LltRef::new(&self.symbolic, l).solve_in_place_with_conj(Conj::No, r32.as_mut(), self.par, MemStack::new(&mut mem));
+                LltRef::new(&self.symbolic, l).solve_in_place_with_conj(
+                    Conj::No,
+                    r32.as_mut(),
+                    self.par,
+                    MemStack::new(&mut mem),
+                );
                 for j in 0..k {
                     for i in 0..n {
                         rhs[(i, j)] = r32[(i, j)] as f64;
@@ -297,8 +326,18 @@ fn numeric_llt<T: faer::traits::ComplexField + Copy>(
     let req = symbolic.factorize_numeric_llt_scratch::<T>(par, Default::default());
     let mut mem = MemBuffer::new(req);
     symbolic
-        .factorize_numeric_llt(&mut l, a, Side::Lower, LltRegularization::default(), par, MemStack::new(&mut mem), Default::default())
-        .map_err(|faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index }| index)?;
+        .factorize_numeric_llt(
+            &mut l,
+            a,
+            Side::Lower,
+            LltRegularization::default(),
+            par,
+            MemStack::new(&mut mem),
+            Default::default(),
+        )
+        .map_err(
+            |faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index }| index,
+        )?;
     Ok(l)
 }
 

@@ -329,13 +329,18 @@ pub fn solve_static(model: &Model, options: &SolveOptions) -> Result<StaticSolut
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(options.threads)
             .build()
-            .map_err(|e| FlankError::Solver(format!("cannot start {} threads: {e}", options.threads)))?;
+            .map_err(|e| {
+                FlankError::Solver(format!("cannot start {} threads: {e}", options.threads))
+            })?;
         return pool.install(|| solve_static_in_pool(model, options));
     }
     solve_static_in_pool(model, options)
 }
 
-fn solve_static_in_pool(model: &Model, options: &SolveOptions) -> Result<StaticSolution, FlankError> {
+fn solve_static_in_pool(
+    model: &Model,
+    options: &SolveOptions,
+) -> Result<StaticSolution, FlankError> {
     let t_total = Instant::now();
     let pb = if options.progress {
         let pb = ProgressBar::new_spinner();
@@ -360,7 +365,10 @@ fn solve_static_in_pool(model: &Model, options: &SolveOptions) -> Result<StaticS
         ..Default::default()
     };
 
-    pb.set_message(format!("ordering and symbolic assembly ({} DOFs)", dofs.reduced_count));
+    pb.set_message(format!(
+        "ordering and symbolic assembly ({} DOFs)",
+        dofs.reduced_count
+    ));
     let t = Instant::now();
     let assembly = Assembly::new(model, &mut dofs, options.ordering)?;
     let dofs = dofs;
@@ -423,7 +431,11 @@ fn solve_static_in_pool(model: &Model, options: &SolveOptions) -> Result<StaticS
     stats.symbolic_factorization_s = fs.symbolic_s;
     stats.factorization_s = fs.factorization_s;
     stats.factorization_gflop = fs.flops * 1e-9;
-    stats.factorization_gflops = if fs.factorization_s > 0.0 { fs.flops * 1e-9 / fs.factorization_s } else { 0.0 };
+    stats.factorization_gflops = if fs.factorization_s > 0.0 {
+        fs.flops * 1e-9 / fs.factorization_s
+    } else {
+        0.0
+    };
     stats.min_pivot_ratio = fs.min_pivot_ratio;
     if q.iter().any(|v| !v.is_finite()) {
         return Err(FlankError::Solver(
@@ -514,7 +526,11 @@ fn residual_norms(r: &[f64], k_norm: f64, q: &[f64], b: &[f64]) -> (f64, f64) {
     let bn = b.iter().map(|v| v * v).sum::<f64>().sqrt();
     let rel = if bn > 0.0 { rn / bn } else { rn };
     let denom = k_norm * inf_norm(q) + inf_norm(b);
-    let eta = if denom > 0.0 { inf_norm(r) / denom } else { inf_norm(r) };
+    let eta = if denom > 0.0 {
+        inf_norm(r) / denom
+    } else {
+        inf_norm(r)
+    };
     (rel, eta)
 }
 
@@ -704,17 +720,40 @@ mod tests {
         for nu in [0.3, 0.49999] {
             let mut model = cantilever_model([40, 2, 2], BoxElement::Hex20, 1000.0).unwrap();
             model.materials[0].poisson = nu;
-            let d = solve_static(&model, &SolveOptions { recover_stress: false, ..Default::default() }).unwrap();
+            let d = solve_static(
+                &model,
+                &SolveOptions {
+                    recover_stress: false,
+                    ..Default::default()
+                },
+            )
+            .unwrap();
             let m = solve_static(
                 &model,
-                &SolveOptions { recover_stress: false, precision: Precision::Mixed, ..Default::default() },
+                &SolveOptions {
+                    recover_stress: false,
+                    precision: Precision::Mixed,
+                    ..Default::default()
+                },
             )
             .unwrap();
             let umax = d.displacement.iter().fold(0.0f64, |a, b| a.max(b.abs()));
-            let diff = d.displacement.iter().zip(&m.displacement).fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
-            assert!(diff <= 1e-8 * umax, "ν = {nu}: mixed differs from double by {:.2e}", diff / umax);
+            let diff = d
+                .displacement
+                .iter()
+                .zip(&m.displacement)
+                .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+            assert!(
+                diff <= 1e-8 * umax,
+                "ν = {nu}: mixed differs from double by {:.2e}",
+                diff / umax
+            );
             assert!(m.stats.precision == "mixed" || m.stats.precision_fallback);
-            assert!(m.stats.backward_error < 1e-13, "backward error {}", m.stats.backward_error);
+            assert!(
+                m.stats.backward_error < 1e-13,
+                "backward error {}",
+                m.stats.backward_error
+            );
         }
     }
 
@@ -725,8 +764,22 @@ mod tests {
     fn one_and_two_threads_agree() {
         use crate::mesh::structured::{cantilever_model, BoxElement};
         let model = cantilever_model([12, 3, 3], BoxElement::Hex20, 1000.0).unwrap();
-        let one = solve_static(&model, &SolveOptions { threads: 1, ..Default::default() }).unwrap();
-        let two = solve_static(&model, &SolveOptions { threads: 2, ..Default::default() }).unwrap();
+        let one = solve_static(
+            &model,
+            &SolveOptions {
+                threads: 1,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let two = solve_static(
+            &model,
+            &SolveOptions {
+                threads: 2,
+                ..Default::default()
+            },
+        )
+        .unwrap();
         assert_eq!(one.stats.threads, 1);
         assert_eq!(two.stats.threads, 2);
         let umax = one.displacement.iter().fold(0.0f64, |a, b| a.max(b.abs()));
@@ -747,12 +800,20 @@ mod tests {
         let asm = Assembly::new(&model, &mut dofs, OrderingMethod::Metis).unwrap();
         let sys = asm.assemble(&model, &dofs).unwrap();
         let b = dofs.restrict(&load_vector(&model).unwrap());
-        let mut chol = SparseCholesky::analyze(&asm.pattern, OrderingMethod::Metis, 0.0, parallelism(1)).unwrap();
-        chol.factorize(&asm.pattern, &sys.values, Precision::Double, &|r| r.to_string()).unwrap();
+        let mut chol =
+            SparseCholesky::analyze(&asm.pattern, OrderingMethod::Metis, 0.0, parallelism(1))
+                .unwrap();
+        chol.factorize(&asm.pattern, &sys.values, Precision::Double, &|r| {
+            r.to_string()
+        })
+        .unwrap();
         let mut x1 = b.clone();
         chol.solve_in_place(&mut x1);
         let doubled: Vec<f64> = sys.values.iter().map(|v| 2.0 * v).collect();
-        chol.factorize(&asm.pattern, &doubled, Precision::Double, &|r| r.to_string()).unwrap();
+        chol.factorize(&asm.pattern, &doubled, Precision::Double, &|r| {
+            r.to_string()
+        })
+        .unwrap();
         let mut x2 = b.clone();
         chol.solve_in_place(&mut x2);
         let m = x1.iter().fold(0.0f64, |a, v| a.max(v.abs()));

@@ -119,13 +119,20 @@ struct ElementResult {
     force: Vec<[f64; 3]>,
 }
 
-/// Stresses at the integration points of element `e` for the full displacement `u`,
-/// with the points' volume weights (det J · w).
+/// Stresses at the integration points of one element, with the points'
+/// volume weights (det J · w) and the shape-function gradients (point-major).
+pub struct PointStresses {
+    pub stress: Vec<[f64; 6]>,
+    pub dvol: Vec<f64>,
+    pub grads: Vec<[f64; 3]>,
+}
+
+/// Stresses at the integration points of element `e` for the full displacement `u`.
 pub fn element_point_stresses(
     model: &Model,
     e: usize,
     u: &[f64],
-) -> Result<(Vec<[f64; 6]>, Vec<f64>, Vec<[f64; 3]>), FlankError> {
+) -> Result<PointStresses, FlankError> {
     let el = &model.mesh.elements[e];
     let re = ReferenceElement::get(el.kind);
     let x = model.mesh.element_coords(e);
@@ -149,13 +156,21 @@ pub fn element_point_stresses(
             mat.stress_from_gradient(&h)
         })
         .collect();
-    Ok((sig, dvol, grads))
+    Ok(PointStresses {
+        stress: sig,
+        dvol,
+        grads,
+    })
 }
 
 fn element_result(model: &Model, e: usize, u: &[f64]) -> Result<ElementResult, FlankError> {
     let el = &model.mesh.elements[e];
     let n = el.nodes.len();
-    let (sig, dvol, grads) = element_point_stresses(model, e, u)?;
+    let PointStresses {
+        stress: sig,
+        dvol,
+        grads,
+    } = element_point_stresses(model, e, u)?;
     let mut force = vec![[0.0; 3]; n];
     for (g, s) in sig.iter().enumerate() {
         let t = [[s[0], s[3], s[5]], [s[3], s[1], s[4]], [s[5], s[4], s[2]]];

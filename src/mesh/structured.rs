@@ -370,7 +370,11 @@ pub fn box_faces(mesh: &Mesh, set: &str) -> Vec<(usize, usize)> {
     let mut faces = Vec::new();
     for (e, el) in mesh.elements.iter().enumerate() {
         for f in 1..=el.kind.face_count() {
-            if face_nodes(el.kind, f).expect("face number within the element's faces").iter().all(|&p| member[el.nodes[p]]) {
+            if face_nodes(el.kind, f)
+                .expect("face number within the element's faces")
+                .iter()
+                .all(|&p| member[el.nodes[p]])
+            {
                 faces.push((e, f));
             }
         }
@@ -689,7 +693,8 @@ mod tests {
                     .fold([0.0; 3], |a, p| [a[0] + p[0], a[1] + p[1], a[2] + p[2]])
                     .map(|v| v / nc as f64);
                 for f in 1..=el.kind.face_count() {
-                    let local = face_nodes(el.kind, f).expect("face number within the element's faces");
+                    let local =
+                        face_nodes(el.kind, f).expect("face number within the element's faces");
                     let c = local.len() / 2;
                     let normal = cross(
                         sub(x[local[1]], x[local[0]]),
@@ -875,7 +880,11 @@ pub fn cantilever_model(
     };
     for &n in &clamped {
         for component in 0..3 {
-            model.dirichlet.push(Dirichlet { node: n, component, value: 0.0 });
+            model.dirichlet.push(Dirichlet {
+                node: n,
+                component,
+                value: 0.0,
+            });
         }
     }
     for &n in &tip {
@@ -941,7 +950,8 @@ pub fn merge_coincident_nodes(mesh: &mut Mesh, tolerance: f64) -> usize {
                     };
                     for &j in list {
                         let y = mesh.coords[j];
-                        let d2 = (x[0] - y[0]).powi(2) + (x[1] - y[1]).powi(2) + (x[2] - y[2]).powi(2);
+                        let d2 =
+                            (x[0] - y[0]).powi(2) + (x[1] - y[1]).powi(2) + (x[2] - y[2]).powi(2);
                         if d2 < tol2 {
                             // union, the smaller index becoming the root
                             let (ri, rj) = (find(&mut parent, i), find(&mut parent, j));
@@ -971,8 +981,12 @@ pub fn merge_coincident_nodes(mesh: &mut Mesh, tolerance: f64) -> usize {
     }
     let map = |i: usize| new_index[rep[i]];
     for el in &mesh.elements {
-        out.add_element(el.label, el.kind, el.nodes.iter().map(|&i| map(i)).collect())
-            .expect("element labels of a mesh are unique");
+        out.add_element(
+            el.label,
+            el.kind,
+            el.nodes.iter().map(|&i| map(i)).collect(),
+        )
+        .expect("element labels of a mesh are unique");
     }
     for (name, set) in &mesh.node_sets {
         out.extend_node_set(name, set.iter().map(|&i| map(i)));
@@ -1043,7 +1057,10 @@ pub fn annulus(
         .min(thickness / n2[2] as f64);
     let seam = mesh.node_sets["THETA360"].len();
     let merged = merge_coincident_nodes(&mut mesh, 1e-6 * spacing);
-    assert_eq!(merged, seam, "every seam node at θ = 2π merges with one at θ = 0");
+    assert_eq!(
+        merged, seam,
+        "every seam node at θ = 2π merges with one at θ = 0"
+    );
     mesh.node_sets.remove("THETA360");
     mesh
 }
@@ -1058,7 +1075,12 @@ mod merge_tests {
         for i in 0..mesh.node_count() {
             for j in 0..i {
                 let d = dist(mesh.coords[i], mesh.coords[j]);
-                assert!(d >= tol, "nodes {} and {} are {d} apart", mesh.node_labels[j], mesh.node_labels[i]);
+                assert!(
+                    d >= tol,
+                    "nodes {} and {} are {d} apart",
+                    mesh.node_labels[j],
+                    mesh.node_labels[i]
+                );
             }
         }
     }
@@ -1088,7 +1110,11 @@ mod merge_tests {
             let mesh = annulus(ri, ro, t, cells, kind);
             let lattice = box_mesh([1.0; 3], cells, kind);
             let seam = face(cells[0], cells[2]);
-            assert_eq!(mesh.node_count(), lattice.node_count() - seam, "{kind:?} {cells:?}");
+            assert_eq!(
+                mesh.node_count(),
+                lattice.node_count() - seam,
+                "{kind:?} {cells:?}"
+            );
             assert_eq!(mesh.elements.len(), lattice.elements.len());
             assert_eq!(mesh.node_sets["THETA0"].len(), seam);
             assert!(!mesh.node_sets.contains_key("THETA360"));
@@ -1121,7 +1147,11 @@ mod merge_tests {
                 let on_surface = ["INNER", "OUTER", "Z0", "Z1"]
                     .iter()
                     .any(|s| mesh.node_sets[*s].binary_search(&n).is_ok());
-                assert_eq!(boundary[n], on_surface, "node {} at {:?}", mesh.node_labels[n], mesh.coords[n]);
+                assert_eq!(
+                    boundary[n], on_surface,
+                    "node {} at {:?}",
+                    mesh.node_labels[n], mesh.coords[n]
+                );
             }
             // labels still find their nodes
             for (i, &l) in mesh.node_labels.iter().enumerate() {
@@ -1138,7 +1168,8 @@ mod merge_tests {
         let shift = a.node_count();
         let max_label = *a.node_labels.iter().max().unwrap();
         for (i, x) in a.coords.iter().enumerate() {
-            mesh.add_node(max_label + a.node_labels[i], [x[0] + 2.0, x[1], x[2]]).unwrap();
+            mesh.add_node(max_label + a.node_labels[i], [x[0] + 2.0, x[1], x[2]])
+                .unwrap();
         }
         for el in &a.elements {
             let nodes = el.nodes.iter().map(|&n| n + shift).collect();

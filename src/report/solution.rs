@@ -10,7 +10,9 @@ use crate::fem::static_analysis::StaticSolution;
 use crate::report::vtu::{write_vtu, PointField};
 
 fn create(path: &Path) -> Result<std::io::BufWriter<std::fs::File>, FlankError> {
-    Ok(std::io::BufWriter::new(std::fs::File::create(path).map_err(|e| FlankError::io(path, e))?))
+    Ok(std::io::BufWriter::new(
+        std::fs::File::create(path).map_err(|e| FlankError::io(path, e))?,
+    ))
 }
 
 /// `node,ux,uy,uz`, one row per node with the deck's node labels, full precision.
@@ -19,13 +21,25 @@ pub fn write_displacements_csv(path: &Path, model: &Model, u: &[f64]) -> Result<
     let io = |e| FlankError::io(path, e);
     writeln!(w, "node,ux,uy,uz").map_err(io)?;
     for (i, label) in model.mesh.node_labels.iter().enumerate() {
-        writeln!(w, "{label},{:e},{:e},{:e}", u[3 * i], u[3 * i + 1], u[3 * i + 2]).map_err(io)?;
+        writeln!(
+            w,
+            "{label},{:e},{:e},{:e}",
+            u[3 * i],
+            u[3 * i + 1],
+            u[3 * i + 2]
+        )
+        .map_err(io)?;
     }
     w.flush().map_err(io)
 }
 
 /// Writes every output file of a solve into `dir` (created if needed).
-pub fn write_solution(dir: &Path, model: &Model, sol: &StaticSolution, extra: serde_json::Value) -> Result<(), FlankError> {
+pub fn write_solution(
+    dir: &Path,
+    model: &Model,
+    sol: &StaticSolution,
+    extra: serde_json::Value,
+) -> Result<(), FlankError> {
     std::fs::create_dir_all(dir).map_err(|e| FlankError::io(dir, e))?;
     write_displacements_csv(&dir.join("displacements.csv"), model, &sol.displacement)?;
     let mut point_fields = vec![PointField {
@@ -41,8 +55,12 @@ pub fn write_solution(dir: &Path, model: &Model, sol: &StaticSolution, extra: se
         writeln!(w, "node,sxx,syy,szz,sxy,syz,sxz,von_mises").map_err(io)?;
         for (i, label) in model.mesh.node_labels.iter().enumerate() {
             let s = rec.stress[i];
-            writeln!(w, "{label},{:e},{:e},{:e},{:e},{:e},{:e},{:e}", s[0], s[1], s[2], s[3], s[4], s[5], rec.von_mises[i])
-                .map_err(io)?;
+            writeln!(
+                w,
+                "{label},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
+                s[0], s[1], s[2], s[3], s[4], s[5], rec.von_mises[i]
+            )
+            .map_err(io)?;
         }
         w.flush().map_err(io)?;
         stress_flat = rec.stress.iter().flat_map(|s| s.iter().copied()).collect();
@@ -65,7 +83,14 @@ pub fn write_solution(dir: &Path, model: &Model, sol: &StaticSolution, extra: se
         let constrained = constrained_nodes(model);
         for (i, label) in model.mesh.node_labels.iter().enumerate() {
             if constrained[i] {
-                writeln!(w, "{label},{:e},{:e},{:e}", reaction[3 * i], reaction[3 * i + 1], reaction[3 * i + 2]).map_err(io)?;
+                writeln!(
+                    w,
+                    "{label},{:e},{:e},{:e}",
+                    reaction[3 * i],
+                    reaction[3 * i + 1],
+                    reaction[3 * i + 2]
+                )
+                .map_err(io)?;
             }
         }
         w.flush().map_err(io)?;
@@ -82,15 +107,27 @@ pub fn write_solution(dir: &Path, model: &Model, sol: &StaticSolution, extra: se
             obj.insert(k, v);
         }
         let umax = (0..model.mesh.node_count())
-            .map(|i| (sol.displacement[3 * i].powi(2) + sol.displacement[3 * i + 1].powi(2) + sol.displacement[3 * i + 2].powi(2)).sqrt())
+            .map(|i| {
+                (sol.displacement[3 * i].powi(2)
+                    + sol.displacement[3 * i + 1].powi(2)
+                    + sol.displacement[3 * i + 2].powi(2))
+                .sqrt()
+            })
             .fold(0.0f64, f64::max);
         obj.insert("max_displacement_mm".into(), umax.into());
         if let Some(rec) = &sol.recovery {
-            obj.insert("max_von_mises_mpa".into(), rec.von_mises.iter().copied().fold(0.0f64, f64::max).into());
+            obj.insert(
+                "max_von_mises_mpa".into(),
+                rec.von_mises.iter().copied().fold(0.0f64, f64::max).into(),
+            );
         }
     }
     let path = dir.join("summary.json");
-    std::fs::write(&path, serde_json::to_string_pretty(&summary).expect("json") + "\n").map_err(|e| FlankError::io(&path, e))
+    std::fs::write(
+        &path,
+        serde_json::to_string_pretty(&summary).expect("json") + "\n",
+    )
+    .map_err(|e| FlankError::io(&path, e))
 }
 
 /// Nodes with at least one prescribed DOF or in a rigid coupling.
