@@ -20,7 +20,13 @@ fn cantilever(cells: [usize; 3]) -> Model {
 
 fn element_integration(c: &mut Criterion) {
     let mut g = c.benchmark_group("element_stiffness");
-    let distort = |p: &[f64; 3]| [p[0] + 0.05 * p[1] * p[2], p[1] + 0.03 * p[0], p[2] - 0.02 * p[0] * p[1]];
+    let distort = |p: &[f64; 3]| {
+        [
+            p[0] + 0.05 * p[1] * p[2],
+            p[1] + 0.03 * p[0],
+            p[2] - 0.02 * p[0] * p[1],
+        ]
+    };
     for kind in [ElementKind::C3D20, ElementKind::C3D20R, ElementKind::C3D15] {
         let x: Vec<[f64; 3]> = match kind {
             ElementKind::C3D15 => WEDGE15_NODES.iter().map(distort).collect(),
@@ -28,7 +34,9 @@ fn element_integration(c: &mut Criterion) {
         };
         let mut ws = ElementWorkspace::default();
         let mut k = Vec::new();
-        g.bench_function(kind.name(), |b| b.iter(|| stiffness(kind, &x, 121e3, 81e3, &mut ws, &mut k).unwrap()));
+        g.bench_function(kind.name(), |b| {
+            b.iter(|| stiffness(kind, &x, 121e3, 81e3, &mut ws, &mut k).unwrap())
+        });
     }
     g.finish();
 }
@@ -42,12 +50,16 @@ fn assembly(c: &mut Criterion) {
         let model = cantilever(cells);
         let dofs = DofMap::new(&model).unwrap();
         let id = format!("{}x{}x{}", cells[0], cells[1], cells[2]);
-        g.bench_with_input(BenchmarkId::new("symbolic_with_metis", &id), &model, |b, m| {
-            b.iter(|| Assembly::new(m, &mut dofs.clone(), OrderingMethod::Metis).unwrap())
-        });
+        g.bench_with_input(
+            BenchmarkId::new("symbolic_with_metis", &id),
+            &model,
+            |b, m| b.iter(|| Assembly::new(m, &mut dofs.clone(), OrderingMethod::Metis).unwrap()),
+        );
         let mut dofs = dofs;
         let asm = Assembly::new(&model, &mut dofs, OrderingMethod::Metis).unwrap();
-        g.bench_with_input(BenchmarkId::new("numeric", &id), &model, |b, m| b.iter(|| asm.assemble(m, &dofs).unwrap()));
+        g.bench_with_input(BenchmarkId::new("numeric", &id), &model, |b, m| {
+            b.iter(|| asm.assemble(m, &dofs).unwrap())
+        });
     }
     g.finish();
 }
@@ -65,13 +77,28 @@ fn factorization(c: &mut Criterion) {
             let mut dofs = DofMap::new(&model).unwrap();
             let asm = Assembly::new(&model, &mut dofs, ordering).unwrap();
             let sys = asm.assemble(&model, &dofs).unwrap();
-            g.bench_function(BenchmarkId::new(format!("symbolic_{}", ordering.name()), &id), |b| {
-                b.iter(|| SparseCholesky::analyze(&asm.pattern, ordering, 0.0, parallelism(0)).unwrap())
-            });
-            let mut chol = SparseCholesky::analyze(&asm.pattern, ordering, 0.0, parallelism(0)).unwrap();
-            g.bench_function(BenchmarkId::new(format!("numeric_{}", ordering.name()), &id), |b| {
-                b.iter(|| chol.factorize(&asm.pattern, &sys.values, Precision::Double, &|r| r.to_string()).unwrap())
-            });
+            g.bench_function(
+                BenchmarkId::new(format!("symbolic_{}", ordering.name()), &id),
+                |b| {
+                    b.iter(|| {
+                        SparseCholesky::analyze(&asm.pattern, ordering, 0.0, parallelism(0))
+                            .unwrap()
+                    })
+                },
+            );
+            let mut chol =
+                SparseCholesky::analyze(&asm.pattern, ordering, 0.0, parallelism(0)).unwrap();
+            g.bench_function(
+                BenchmarkId::new(format!("numeric_{}", ordering.name()), &id),
+                |b| {
+                    b.iter(|| {
+                        chol.factorize(&asm.pattern, &sys.values, Precision::Double, &|r| {
+                            r.to_string()
+                        })
+                        .unwrap()
+                    })
+                },
+            );
         }
     }
     g.finish();

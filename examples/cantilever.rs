@@ -12,7 +12,11 @@ use flank::mesh::structured::{box_mesh, BoxElement};
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let cells: [usize; 3] = if args.len() >= 4 {
-        [args[1].parse().unwrap(), args[2].parse().unwrap(), args[3].parse().unwrap()]
+        [
+            args[1].parse().unwrap(),
+            args[2].parse().unwrap(),
+            args[3].parse().unwrap(),
+        ]
     } else {
         [100, 10, 10]
     };
@@ -33,13 +37,25 @@ fn main() {
     };
     for &n in &clamped {
         for k in 0..3 {
-            model.dirichlet.push(Dirichlet { node: n, component: k, value: 0.0 });
+            model.dirichlet.push(Dirichlet {
+                node: n,
+                component: k,
+                value: 0.0,
+            });
         }
     }
     for &n in &tip {
-        model.forces.push(NodalForce { node: n, component: 1, value: -1000.0 / tip.len() as f64 });
+        model.forces.push(NodalForce {
+            node: n,
+            component: 1,
+            value: -1000.0 / tip.len() as f64,
+        });
     }
-    let options = SolveOptions { ordering, threads, ..Default::default() };
+    let options = SolveOptions {
+        ordering,
+        threads,
+        ..Default::default()
+    };
     let sol = solve_static(&model, &options).unwrap();
     println!("{}", serde_json::to_string_pretty(&sol.stats).unwrap());
 }

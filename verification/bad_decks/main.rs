@@ -42,19 +42,33 @@ fn deck(edit: impl Fn(String) -> String) -> String {
 }
 
 fn run(name: &str, text: &str) -> (bool, String) {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("bad_decks").join(name);
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("bad_decks")
+        .join(name);
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join(format!("{name}.inp"));
     std::fs::write(&path, text).unwrap();
     let out = Command::new(env!("CARGO_BIN_EXE_flank"))
-        .args(["solve", path.to_str().unwrap(), "--out", dir.join("out").to_str().unwrap(), "--quiet"])
+        .args([
+            "solve",
+            path.to_str().unwrap(),
+            "--out",
+            dir.join("out").to_str().unwrap(),
+            "--quiet",
+        ])
         .output()
         .unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr).to_string();
-    assert!(!stderr.contains("panicked"), "{name}: flank panicked:\n{stderr}");
+    assert!(
+        !stderr.contains("panicked"),
+        "{name}: flank panicked:\n{stderr}"
+    );
     if !out.status.success() {
-        assert!(!dir.join("out/displacements.csv").exists(), "{name}: results written despite the error");
+        assert!(
+            !dir.join("out/displacements.csv").exists(),
+            "{name}: results written despite the error"
+        );
     }
     (out.status.success(), stderr)
 }
@@ -64,9 +78,19 @@ fn expect_error(name: &str, text: &str, words: &[&str]) {
     assert!(!ok, "{name}: flank accepted a bad deck");
     let lower = stderr.to_lowercase();
     for w in words {
-        assert!(lower.contains(&w.to_lowercase()), "{name}: error message lacks '{w}':\n{stderr}");
+        assert!(
+            lower.contains(&w.to_lowercase()),
+            "{name}: error message lacks '{w}':\n{stderr}"
+        );
     }
-    println!("{name:<24} -> {}", stderr.lines().filter(|l| !l.trim().is_empty()).collect::<Vec<_>>().join(" | "));
+    println!(
+        "{name:<24} -> {}",
+        stderr
+            .lines()
+            .filter(|l| !l.trim().is_empty())
+            .collect::<Vec<_>>()
+            .join(" | ")
+    );
 }
 
 #[test]
@@ -77,12 +101,20 @@ fn the_valid_deck_solves() {
 
 #[test]
 fn unknown_element_type() {
-    expect_error("unknown_type", &deck(|s| s.replace("TYPE=C3D20,", "TYPE=C3D8,")), &["C3D8", ":22"]);
+    expect_error(
+        "unknown_type",
+        &deck(|s| s.replace("TYPE=C3D20,", "TYPE=C3D8,")),
+        &["C3D8", ":22"],
+    );
 }
 
 #[test]
 fn element_refers_to_missing_node() {
-    expect_error("missing_node", &deck(|s| s.replace("16, 17, 18, 19, 20\n", "16, 17, 18, 19, 99\n")), &["99"]);
+    expect_error(
+        "missing_node",
+        &deck(|s| s.replace("16, 17, 18, 19, 20\n", "16, 17, 18, 19, 99\n")),
+        &["99"],
+    );
 }
 
 #[test]
@@ -92,7 +124,8 @@ fn inverted_element() {
         s.lines()
             .map(|l| {
                 let f: Vec<&str> = l.split(',').map(str::trim).collect();
-                if f.len() == 4 && f[0].parse::<u32>().is_ok_and(|n| n <= 20) && !l.starts_with('*') {
+                if f.len() == 4 && f[0].parse::<u32>().is_ok_and(|n| n <= 20) && !l.starts_with('*')
+                {
                     let z: f64 = f[3].parse().unwrap();
                     format!("{}, {}, {}, {}", f[0], f[1], f[2], -z)
                 } else {
@@ -107,27 +140,47 @@ fn inverted_element() {
 
 #[test]
 fn no_constraints_is_singular() {
-    expect_error("no_constraints", &deck(|s| s.replace("*BOUNDARY\nBASE, 1, 3\n", "")), &["singular", "rigid-body", "translation"]);
+    expect_error(
+        "no_constraints",
+        &deck(|s| s.replace("*BOUNDARY\nBASE, 1, 3\n", "")),
+        &["singular", "rigid-body", "translation"],
+    );
 }
 
 #[test]
 fn partial_constraints_name_the_free_modes() {
-    expect_error("only_z_fixed", &deck(|s| s.replace("BASE, 1, 3", "BASE, 3, 3")), &["rotation about z", "translation x"]);
+    expect_error(
+        "only_z_fixed",
+        &deck(|s| s.replace("BASE, 1, 3", "BASE, 3, 3")),
+        &["rotation about z", "translation x"],
+    );
 }
 
 #[test]
 fn negative_youngs_modulus() {
-    expect_error("negative_e", &deck(|s| s.replace("210000., 0.3", "-210000., 0.3")), &["young", ":29"]);
+    expect_error(
+        "negative_e",
+        &deck(|s| s.replace("210000., 0.3", "-210000., 0.3")),
+        &["young", ":29"],
+    );
 }
 
 #[test]
 fn poisson_ratio_at_one_half() {
-    expect_error("nu_half", &deck(|s| s.replace("210000., 0.3", "210000., 0.5")), &["poisson", ":29"]);
+    expect_error(
+        "nu_half",
+        &deck(|s| s.replace("210000., 0.3", "210000., 0.5")),
+        &["poisson", ":29"],
+    );
 }
 
 #[test]
 fn undefined_set_name() {
-    expect_error("undefined_set", &deck(|s| s.replace("BASE, 1, 3", "BOTTOM, 1, 3")), &["BOTTOM"]);
+    expect_error(
+        "undefined_set",
+        &deck(|s| s.replace("BASE, 1, 3", "BOTTOM, 1, 3")),
+        &["BOTTOM"],
+    );
     expect_error(
         "undefined_elset",
         &deck(|s| s.replace("*SOLID SECTION, ELSET=EALL", "*SOLID SECTION, ELSET=SOLIDS")),
@@ -137,7 +190,11 @@ fn undefined_set_name() {
 
 #[test]
 fn malformed_number_names_the_line() {
-    expect_error("malformed", &deck(|s| s.replace("\n3, 1, 1, 0\n", "\n3, 1, 1.x, 0\n")), &[":4", "1.x"]);
+    expect_error(
+        "malformed",
+        &deck(|s| s.replace("\n3, 1, 1, 0\n", "\n3, 1, 1.x, 0\n")),
+        &[":4", "1.x"],
+    );
 }
 
 #[test]
@@ -148,5 +205,8 @@ fn missing_file() {
         .unwrap();
     assert!(!out.status.success());
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(stderr.contains("/nonexistent/deck.inp") && !stderr.contains("panicked"), "{stderr}");
+    assert!(
+        stderr.contains("/nonexistent/deck.inp") && !stderr.contains("panicked"),
+        "{stderr}"
+    );
 }

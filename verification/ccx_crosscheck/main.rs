@@ -33,8 +33,14 @@ const TOLERANCE: f64 = 1e-6;
 fn compare_deck(name: &str, deck: &Path) {
     let t = Instant::now();
     let parsed = read_deck(deck).unwrap_or_else(|e| panic!("{name}: {e}"));
-    let sol = solve_static(&parsed.model, &SolveOptions { recover_stress: false, ..Default::default() })
-        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    let sol = solve_static(
+        &parsed.model,
+        &SolveOptions {
+            recover_stress: false,
+            ..Default::default()
+        },
+    )
+    .unwrap_or_else(|e| panic!("{name}: {e}"));
     let t_flank = t.elapsed().as_secs_f64();
     let work = common::scratch_dir(&format!("ccx_{name}"));
     let ccx = run_ccx(deck, &work, 1).unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -45,13 +51,17 @@ fn compare_deck(name: &str, deck: &Path) {
         ccx.displacements.len(),
         parsed.model.mesh.node_count()
     );
-    let diff = relative_difference(&parsed.model.mesh, &sol.displacement, &ccx.displacements).unwrap();
+    let diff =
+        relative_difference(&parsed.model.mesh, &sol.displacement, &ccx.displacements).unwrap();
     println!(
         "VERIFY ccx_crosscheck {name:<28} nodes {:>6}  max|du|/max|u| = {diff:.2e}  (tol {TOLERANCE:.0e})  flank {t_flank:.3} s, ccx {:.3} s",
         parsed.model.mesh.node_count(),
         ccx.wall_s
     );
-    assert!(diff <= TOLERANCE, "{name}: flank and ccx differ by {diff:.3e} (relative)");
+    assert!(
+        diff <= TOLERANCE,
+        "{name}: flank and ccx differ by {diff:.3e} (relative)"
+    );
 }
 
 /// A distorted box with curved element edges, pressure on a curved face,
@@ -60,19 +70,41 @@ fn generated_deck(kind: BoxElement, name: &str) -> PathBuf {
     let mut mesh = box_mesh([4.0, 2.0, 1.5], [4, 2, 2], kind);
     // curved edges inside, and a bulged top face so the pressure acts on curved faces
     distort_interior(&mut mesh, 0.15, 7, false);
-    flank::mesh::structured::map_nodes(&mut mesh, |p| [p[0], p[1], p[2] + 0.05 * (p[0] * 0.8).sin() * p[2] * (1.0 + 0.3 * p[1])]);
+    flank::mesh::structured::map_nodes(&mut mesh, |p| {
+        [
+            p[0],
+            p[1],
+            p[2] + 0.05 * (p[0] * 0.8).sin() * p[2] * (1.0 + 0.3 * p[1]),
+        ]
+    });
     let top = box_faces(&mesh, "Z1");
     let mut model = common::model_from_mesh(mesh, 210e3, 0.3);
     common::fix_set(&mut model, "X0", &[0, 1, 2], 0.0);
     let x1 = model.mesh.node_sets["X1"].clone();
     for &n in &x1 {
-        model.dirichlet.push(Dirichlet { node: n, component: 0, value: 1e-3 });
+        model.dirichlet.push(Dirichlet {
+            node: n,
+            component: 0,
+            value: 1e-3,
+        });
     }
     for (e, f) in top {
-        model.pressures.push(Pressure { element: e, face: f, value: 5.0 });
+        model.pressures.push(Pressure {
+            element: e,
+            face: f,
+            value: 5.0,
+        });
     }
-    let corner = model.mesh.node_sets["Y0"].iter().copied().find(|&n| x1.contains(&n)).unwrap();
-    model.forces.push(NodalForce { node: corner, component: 1, value: 200.0 });
+    let corner = model.mesh.node_sets["Y0"]
+        .iter()
+        .copied()
+        .find(|&n| x1.contains(&n))
+        .unwrap();
+    model.forces.push(NodalForce {
+        node: corner,
+        component: 1,
+        value: 200.0,
+    });
     let dir = common::scratch_dir(&format!("deck_{name}"));
     let path = dir.join(format!("{name}.inp"));
     write_deck(&model, &path).unwrap();
@@ -84,7 +116,11 @@ fn generated_decks_match_ccx() {
     if !common::ccx_available() {
         return;
     }
-    for (kind, name) in [(BoxElement::Hex20, "c3d20_curved"), (BoxElement::Hex20R, "c3d20r_curved"), (BoxElement::Wedge15, "c3d15_curved")] {
+    for (kind, name) in [
+        (BoxElement::Hex20, "c3d20_curved"),
+        (BoxElement::Hex20R, "c3d20r_curved"),
+        (BoxElement::Wedge15, "c3d15_curved"),
+    ] {
         let deck = generated_deck(kind, name);
         compare_deck(name, &deck);
     }

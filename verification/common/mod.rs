@@ -18,18 +18,38 @@ pub fn model_from_mesh(mesh: Mesh, young: f64, poisson: f64) -> Model {
 
 /// Prescribes `value` on components `comps` of every node of node set `set`.
 pub fn fix_set(model: &mut Model, set: &str, comps: &[usize], value: f64) {
-    let nodes = model.mesh.node_sets.get(set).unwrap_or_else(|| panic!("node set {set}")).clone();
+    let nodes = model
+        .mesh
+        .node_sets
+        .get(set)
+        .unwrap_or_else(|| panic!("node set {set}"))
+        .clone();
     for n in nodes {
         for &k in comps {
-            model.dirichlet.push(Dirichlet { node: n, component: k, value });
+            model.dirichlet.push(Dirichlet {
+                node: n,
+                component: k,
+                value,
+            });
         }
     }
 }
 
 /// Prints one verification figure in a fixed format (visible with `--nocapture`)
 /// and asserts it is within tolerance.
-pub fn check(case: &str, quantity: &str, obtained: f64, reference: f64, tolerance: f64, seconds: f64) {
-    let err = if reference != 0.0 { ((obtained - reference) / reference).abs() } else { obtained.abs() };
+pub fn check(
+    case: &str,
+    quantity: &str,
+    obtained: f64,
+    reference: f64,
+    tolerance: f64,
+    seconds: f64,
+) {
+    let err = if reference != 0.0 {
+        ((obtained - reference) / reference).abs()
+    } else {
+        obtained.abs()
+    };
     println!(
         "VERIFY {case:<16} {quantity:<40} obtained {obtained:>14.7e}  reference {reference:>14.7e}  rel.error {err:>9.2e}  tol {tolerance:>8.1e}  {seconds:>7.3} s"
     );

@@ -144,7 +144,13 @@ fn error_rule(kind: ElementKind) -> Vec<([f64; 3], f64)> {
 #[test]
 fn error_rules_are_exact() {
     let fact = |n: u32| (1..=n).map(f64::from).product::<f64>();
-    let line = |c: u32| if c % 2 == 1 { 0.0 } else { 2.0 / (c as f64 + 1.0) };
+    let line = |c: u32| {
+        if c % 2 == 1 {
+            0.0
+        } else {
+            2.0 / (c as f64 + 1.0)
+        }
+    };
     for a in 0..=5u32 {
         for b in 0..=(5 - a) {
             for c in 0..=7u32 {
@@ -152,9 +158,14 @@ fn error_rules_are_exact() {
                 let exact = fact(a) * fact(b) / fact(a + b + 2) * line(c);
                 let q: f64 = error_rule(ElementKind::C3D15)
                     .iter()
-                    .map(|(x, w)| w * x[0].powi(a as i32) * x[1].powi(b as i32) * x[2].powi(c as i32))
+                    .map(|(x, w)| {
+                        w * x[0].powi(a as i32) * x[1].powi(b as i32) * x[2].powi(c as i32)
+                    })
                     .sum();
-                assert!((q - exact).abs() < 1e-14, "wedge r^{a} s^{b} z^{c}: {q} vs {exact}");
+                assert!(
+                    (q - exact).abs() < 1e-14,
+                    "wedge r^{a} s^{b} z^{c}: {q} vs {exact}"
+                );
             }
         }
     }
@@ -164,9 +175,14 @@ fn error_rules_are_exact() {
                 let exact = line(a) * line(b) * line(c);
                 let q: f64 = error_rule(ElementKind::C3D20)
                     .iter()
-                    .map(|(x, w)| w * x[0].powi(a as i32) * x[1].powi(b as i32) * x[2].powi(c as i32))
+                    .map(|(x, w)| {
+                        w * x[0].powi(a as i32) * x[1].powi(b as i32) * x[2].powi(c as i32)
+                    })
                     .sum();
-                assert!((q - exact).abs() < 1e-14, "hex x^{a} y^{b} z^{c}: {q} vs {exact}");
+                assert!(
+                    (q - exact).abs() < 1e-14,
+                    "hex x^{a} y^{b} z^{c}: {q} vs {exact}"
+                );
             }
         }
     }
@@ -198,10 +214,17 @@ fn solve_and_measure(kind: BoxElement, n: usize, distortion: f64) -> Errors {
     for (i, _) in boundary.iter().enumerate().filter(|(_, &b)| b) {
         let (u, _) = exact(model.mesh.coords[i]);
         for (k, &value) in u.iter().enumerate() {
-            model.dirichlet.push(Dirichlet { node: i, component: k, value });
+            model.dirichlet.push(Dirichlet {
+                node: i,
+                component: k,
+                value,
+            });
         }
     }
-    let options = SolveOptions { recover_stress: false, ..Default::default() };
+    let options = SolveOptions {
+        recover_stress: false,
+        ..Default::default()
+    };
     let sol = solve_static(&model, &options).expect("solves");
     let (lambda, mu) = Material::new("m", YOUNG, POISSON).expect("valid").lame();
 
@@ -226,7 +249,8 @@ fn solve_and_measure(kind: BoxElement, n: usize, distortion: f64) -> Errors {
             let mut gh = [[0.0; 3]; 3];
             for a in 0..nv.len() {
                 // ∂N_a/∂x_i = Σ_k ∂N_a/∂ξ_k ∂ξ_k/∂x_i
-                let g = [0, 1, 2].map(|i| dn[a][0] * ji[0][i] + dn[a][1] * ji[1][i] + dn[a][2] * ji[2][i]);
+                let g = [0, 1, 2]
+                    .map(|i| dn[a][0] * ji[0][i] + dn[a][1] * ji[1][i] + dn[a][2] * ji[2][i]);
                 for i in 0..3 {
                     p[i] += nv[a] * x[a][i];
                     uh[i] += nv[a] * ue[a][i];
@@ -260,12 +284,22 @@ fn solve_and_measure(kind: BoxElement, n: usize, distortion: f64) -> Errors {
 /// Runs the mesh sequence, prints the table and asserts the finest-pair rates.
 fn study(kind: BoxElement, sizes: &[usize], distortion: f64) {
     let name = kind.kind().name();
-    let tag = if distortion > 0.0 { format!("{name} distorted {distortion}") } else { name.to_string() };
-    let runs: Vec<Errors> = sizes.iter().map(|&n| solve_and_measure(kind, n, distortion)).collect();
+    let tag = if distortion > 0.0 {
+        format!("{name} distorted {distortion}")
+    } else {
+        name.to_string()
+    };
+    let runs: Vec<Errors> = sizes
+        .iter()
+        .map(|&n| solve_and_measure(kind, n, distortion))
+        .collect();
     println!("TABLE {tag}: n, DOFs, L2 error, rate, energy error, rate, seconds");
     for (i, r) in runs.iter().enumerate() {
         let (rl, re) = if i > 0 {
-            ((runs[i - 1].l2 / r.l2).log2(), (runs[i - 1].energy / r.energy).log2())
+            (
+                (runs[i - 1].l2 / r.l2).log2(),
+                (runs[i - 1].energy / r.energy).log2(),
+            )
         } else {
             (f64::NAN, f64::NAN)
         };
@@ -275,7 +309,12 @@ fn study(kind: BoxElement, sizes: &[usize], distortion: f64) {
         );
     }
     for w in runs.windows(2) {
-        assert!(w[1].l2 < w[0].l2 && w[1].energy < w[0].energy, "{tag}: error grows from n = {} to {}", w[0].n, w[1].n);
+        assert!(
+            w[1].l2 < w[0].l2 && w[1].energy < w[0].energy,
+            "{tag}: error grows from n = {} to {}",
+            w[0].n,
+            w[1].n
+        );
     }
     let (c, f) = (&runs[runs.len() - 2], &runs[runs.len() - 1]);
     let secs: f64 = runs.iter().map(|r| r.seconds).sum();
@@ -285,8 +324,22 @@ fn study(kind: BoxElement, sizes: &[usize], distortion: f64) {
     // super-convergence above 3.2 / 2.2 either.
     let l2_rate = (c.l2 / f.l2).log2();
     let en_rate = (c.energy / f.energy).log2();
-    common::check(&tag, &format!("L2 {q} (3 +- 0.2)"), l2_rate, 3.0, 0.2 / 3.0, secs);
-    common::check(&tag, &format!("energy {q} (2 +- 0.2)"), en_rate, 2.0, 0.2 / 2.0, secs);
+    common::check(
+        &tag,
+        &format!("L2 {q} (3 +- 0.2)"),
+        l2_rate,
+        3.0,
+        0.2 / 3.0,
+        secs,
+    );
+    common::check(
+        &tag,
+        &format!("energy {q} (2 +- 0.2)"),
+        en_rate,
+        2.0,
+        0.2 / 2.0,
+        secs,
+    );
 }
 
 /// Full sequence for the two elements the ladder requires.

@@ -64,7 +64,9 @@ mod common;
 use std::time::Instant;
 
 use flank::error::FlankError;
-use flank::fem::element::{check_jacobian, stiffness, ElementWorkspace, HEX20_NODES, WEDGE15_NODES};
+use flank::fem::element::{
+    check_jacobian, stiffness, ElementWorkspace, HEX20_NODES, WEDGE15_NODES,
+};
 use flank::fem::material::Material;
 use flank::fem::model::Dirichlet;
 use flank::fem::static_analysis::{solve_static, SolveOptions};
@@ -79,10 +81,14 @@ const POISSON: f64 = 0.3;
 /// ([-1,1]³ → [0,1]³; the wedge's ζ ∈ [-1,1] → [0,1]).
 fn unit_nodes(kind: ElementKind) -> Vec<[f64; 3]> {
     match kind {
-        ElementKind::C3D20 | ElementKind::C3D20R => {
-            HEX20_NODES.iter().map(|p| p.map(|v| 0.5 * (v + 1.0))).collect()
-        }
-        ElementKind::C3D15 => WEDGE15_NODES.iter().map(|p| [p[0], p[1], 0.5 * (p[2] + 1.0)]).collect(),
+        ElementKind::C3D20 | ElementKind::C3D20R => HEX20_NODES
+            .iter()
+            .map(|p| p.map(|v| 0.5 * (v + 1.0)))
+            .collect(),
+        ElementKind::C3D15 => WEDGE15_NODES
+            .iter()
+            .map(|p| [p[0], p[1], 0.5 * (p[2] + 1.0)])
+            .collect(),
     }
 }
 
@@ -135,7 +141,12 @@ fn shapes(kind: ElementKind) -> Vec<(&'static str, Vec<[f64; 3]>)> {
         .iter()
         .map(|&[x, y, z]| [50.0 * x + 0.3 * y, y + 0.1 * z, z + 0.05 * y])
         .collect();
-    vec![("regular", unit), ("straight", straight), ("curved", curved), ("slender 1:50", slender)]
+    vec![
+        ("regular", unit),
+        ("straight", straight),
+        ("curved", curved),
+        ("slender 1:50", slender),
+    ]
 }
 
 /// Dense element stiffness (row-major 3n×3n) as an nalgebra matrix.
@@ -151,10 +162,16 @@ fn element_matrix(kind: ElementKind, x: &[[f64; 3]], poisson: f64) -> DMatrix<f6
 /// The six rigid-body modes (3 translations, 3 rotations about the centroid).
 fn rigid_modes(x: &[[f64; 3]]) -> Vec<DVector<f64>> {
     let n = x.len();
-    let c = x.iter().fold([0.0; 3], |a, p| [a[0] + p[0], a[1] + p[1], a[2] + p[2]]).map(|v| v / n as f64);
+    let c = x
+        .iter()
+        .fold([0.0; 3], |a, p| [a[0] + p[0], a[1] + p[1], a[2] + p[2]])
+        .map(|v| v / n as f64);
     let mut modes = Vec::new();
     for k in 0..3 {
-        modes.push(DVector::from_fn(3 * n, |d, _| if d % 3 == k { 1.0 } else { 0.0 }));
+        modes.push(DVector::from_fn(
+            3 * n,
+            |d, _| if d % 3 == k { 1.0 } else { 0.0 },
+        ));
     }
     for k in 0..3 {
         // u = e_k × (x − c)
@@ -162,7 +179,11 @@ fn rigid_modes(x: &[[f64; 3]]) -> Vec<DVector<f64>> {
         e[k] = 1.0;
         modes.push(DVector::from_fn(3 * n, |d, _| {
             let r = [0, 1, 2].map(|i| x[d / 3][i] - c[i]);
-            let u = [e[1] * r[2] - e[2] * r[1], e[2] * r[0] - e[0] * r[2], e[0] * r[1] - e[1] * r[0]];
+            let u = [
+                e[1] * r[2] - e[2] * r[1],
+                e[2] * r[0] - e[0] * r[2],
+                e[0] * r[1] - e[1] * r[0],
+            ];
             u[d % 3]
         }));
     }
@@ -182,7 +203,9 @@ struct Spectrum {
 
 fn analyse(k: &DMatrix<f64>, x: &[[f64; 3]]) -> Spectrum {
     let kmax = k.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let asym = (k - k.transpose()).iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let asym = (k - k.transpose())
+        .iter()
+        .fold(0.0f64, |m, v| m.max(v.abs()));
     let eig = SymmetricEigen::new(k.clone()).eigenvalues;
     let lmax = eig.iter().fold(0.0f64, |m, &v| m.max(v));
     let rigid = rigid_modes(x)
@@ -191,8 +214,18 @@ fn analyse(k: &DMatrix<f64>, x: &[[f64; 3]]) -> Spectrum {
         .fold(0.0f64, f64::max);
     let zero_modes = eig.iter().filter(|&&v| v.abs() <= 1e-10 * lmax).count();
     let min_ratio = eig.iter().fold(f64::INFINITY, |m, &v| m.min(v)) / lmax;
-    let first_positive = eig.iter().filter(|&&v| v > 1e-10 * lmax).fold(f64::INFINITY, |m, &v| m.min(v)) / lmax;
-    Spectrum { symmetry: asym / kmax, rigid, zero_modes, min_ratio, first_positive }
+    let first_positive = eig
+        .iter()
+        .filter(|&&v| v > 1e-10 * lmax)
+        .fold(f64::INFINITY, |m, &v| m.min(v))
+        / lmax;
+    Spectrum {
+        symmetry: asym / kmax,
+        rigid,
+        zero_modes,
+        min_ratio,
+        first_positive,
+    }
 }
 
 const KINDS: [ElementKind; 3] = [ElementKind::C3D20, ElementKind::C3D20R, ElementKind::C3D15];
@@ -208,12 +241,41 @@ fn symmetry_rigid_modes_and_spectrum() {
             let s = analyse(&k, &x);
             let secs = t.elapsed().as_secs_f64();
             let case = format!("{} {shape}", kind.name());
-            common::check(&case, "symmetry max|K-K^T| / max|K|", s.symmetry, 0.0, 1e-14, secs);
-            common::check(&case, "rigid modes max ||K r|| / (||K|| ||r||)", s.rigid, 0.0, 1e-12, secs);
-            let expected = if kind == ElementKind::C3D20R { 12.0 } else { 6.0 };
-            common::check(&case, "zero-energy modes (|lambda| <= 1e-10 lmax)", s.zero_modes as f64, expected, 0.0, secs);
+            common::check(
+                &case,
+                "symmetry max|K-K^T| / max|K|",
+                s.symmetry,
+                0.0,
+                1e-14,
+                secs,
+            );
+            common::check(
+                &case,
+                "rigid modes max ||K r|| / (||K|| ||r||)",
+                s.rigid,
+                0.0,
+                1e-12,
+                secs,
+            );
+            let expected = if kind == ElementKind::C3D20R {
+                12.0
+            } else {
+                6.0
+            };
+            common::check(
+                &case,
+                "zero-energy modes (|lambda| <= 1e-10 lmax)",
+                s.zero_modes as f64,
+                expected,
+                0.0,
+                secs,
+            );
             // positive semi-definite: no eigenvalue below −1e-10 λ_max (those above are zero modes)
-            assert!(s.min_ratio >= -1e-10, "{case}: negative eigenvalue {:.3e} λmax", s.min_ratio);
+            assert!(
+                s.min_ratio >= -1e-10,
+                "{case}: negative eigenvalue {:.3e} λmax",
+                s.min_ratio
+            );
             println!(
                 "REPORT {case:<24} lambda_min/lambda_max {:.2e}  first non-zero/lambda_max {:.2e}",
                 s.min_ratio, s.first_positive
@@ -229,14 +291,23 @@ fn one_element_model(kind: ElementKind, x: &[[f64; 3]], label: u64) -> flank::fe
     for (i, p) in x.iter().enumerate() {
         mesh.add_node(i as u64 + 1, *p).expect("unique");
     }
-    mesh.add_element(label, kind, (0..x.len()).collect()).expect("unique");
+    mesh.add_element(label, kind, (0..x.len()).collect())
+        .expect("unique");
     let mut model = common::model_from_mesh(mesh, YOUNG, POISSON);
     for &a in flank::fem::element::face_nodes(kind, 1).expect("face 1") {
         for k in 0..3 {
-            model.dirichlet.push(Dirichlet { node: a, component: k, value: 0.0 });
+            model.dirichlet.push(Dirichlet {
+                node: a,
+                component: k,
+                value: 0.0,
+            });
         }
     }
-    model.forces.push(flank::fem::model::NodalForce { node: x.len() - 1, component: 2, value: 1.0 });
+    model.forces.push(flank::fem::model::NodalForce {
+        node: x.len() - 1,
+        component: 2,
+        value: 1.0,
+    });
     model
 }
 
@@ -248,7 +319,8 @@ fn assert_rejected(kind: ElementKind, x: &[[f64; 3]], label: u64, what: &[&str],
     let e = check_jacobian(kind, x).expect_err("bad element must be rejected");
     let msg = e.clone().into_error(label, kind).to_string();
     let name = format!("element {label} ({})", kind.name());
-    let says = |m: &str| m.contains(&name) && m.contains("Jacobian") && what.iter().any(|w| m.contains(w));
+    let says =
+        |m: &str| m.contains(&name) && m.contains("Jacobian") && what.iter().any(|w| m.contains(w));
     assert!(says(&msg), "check_jacobian: {msg}");
     let err = solve_static(&one_element_model(kind, x, label), &SolveOptions::default())
         .expect_err("solve must refuse a bad element");
@@ -279,7 +351,10 @@ fn inverted_and_degenerate_elements_are_rejected() {
     for kind in KINDS {
         let (_, straight) = shapes(kind).swap_remove(1);
         // the good element solves
-        let sol = solve_static(&one_element_model(kind, &straight, 42), &SolveOptions::default());
+        let sol = solve_static(
+            &one_element_model(kind, &straight, 42),
+            &SolveOptions::default(),
+        );
         assert!(sol.is_ok(), "{kind:?}: {:?}", sol.err());
         // mirror z: every Jacobian determinant changes sign
         let inverted: Vec<[f64; 3]> = straight.iter().map(|p| [p[0], p[1], -p[2]]).collect();
@@ -297,7 +372,13 @@ fn inverted_and_degenerate_elements_are_rejected() {
         // det J (≈ ±1e-18 relative): JacobianError::into_error calls a
         // negative one "inverted" even when |det J| is at round-off level
         // (reported as a wording issue, see README).
-        assert_rejected(kind, &collapsed, 44, &["degenerate", "inverted"], "top onto bottom");
+        assert_rejected(
+            kind,
+            &collapsed,
+            44,
+            &["degenerate", "inverted"],
+            "top onto bottom",
+        );
     }
     // A brick with its face x = 1 collapsed to an edge (y = 0) is a legitimate
     // wedge-shaped element: det J vanishes only on that face, not at the Gauss points.
@@ -327,11 +408,36 @@ fn near_incompressible() {
         let s = analyse(&element_matrix(kind, &x, 0.4999), &x);
         let case = format!("{} nu=0.4999", kind.name());
         let secs = t.elapsed().as_secs_f64();
-        common::check(&case, "symmetry max|K-K^T| / max|K|", s.symmetry, 0.0, 1e-14, secs);
-        let expected = if kind == ElementKind::C3D20R { 12.0 } else { 6.0 };
-        common::check(&case, "zero-energy modes (|lambda| <= 1e-10 lmax)", s.zero_modes as f64, expected, 0.0, secs);
-        assert!(s.min_ratio >= -1e-10, "{case}: negative eigenvalue {:.3e} λmax", s.min_ratio);
-        println!("REPORT {case:<24} first non-zero/lambda_max {:.2e}", s.first_positive);
+        common::check(
+            &case,
+            "symmetry max|K-K^T| / max|K|",
+            s.symmetry,
+            0.0,
+            1e-14,
+            secs,
+        );
+        let expected = if kind == ElementKind::C3D20R {
+            12.0
+        } else {
+            6.0
+        };
+        common::check(
+            &case,
+            "zero-energy modes (|lambda| <= 1e-10 lmax)",
+            s.zero_modes as f64,
+            expected,
+            0.0,
+            secs,
+        );
+        assert!(
+            s.min_ratio >= -1e-10,
+            "{case}: negative eigenvalue {:.3e} λmax",
+            s.min_ratio
+        );
+        println!(
+            "REPORT {case:<24} first non-zero/lambda_max {:.2e}",
+            s.first_positive
+        );
     }
 
     // small clamped box 2 × 1 × 1, 4×2×2 cells, X0 clamped, shear traction on X1
@@ -343,7 +449,10 @@ fn near_incompressible() {
             for &(e, face) in &faces {
                 let el = &mesh.elements[e];
                 let x = mesh.element_coords(e);
-                for (a, fa) in flank::fem::loads::traction_face_load(el.kind, &x, face, [0.0, 0.0, -10.0]).expect("face") {
+                for (a, fa) in
+                    flank::fem::loads::traction_face_load(el.kind, &x, face, [0.0, 0.0, -10.0])
+                        .expect("face")
+                {
                     f[3 * el.nodes[a] + 2] += fa[2];
                 }
             }
@@ -351,7 +460,11 @@ fn near_incompressible() {
             common::fix_set(&mut model, "X0", &[0, 1, 2], 0.0);
             for (d, &v) in f.iter().enumerate() {
                 if v != 0.0 {
-                    model.forces.push(flank::fem::model::NodalForce { node: d / 3, component: d % 3, value: v });
+                    model.forces.push(flank::fem::model::NodalForce {
+                        node: d / 3,
+                        component: d % 3,
+                        value: v,
+                    });
                 }
             }
             let t = Instant::now();
@@ -367,7 +480,14 @@ fn near_incompressible() {
             // A backward-stable Cholesky leaves a relative residual of order
             // eps·cond(K); cond(K) grows like (λ + 2μ)/μ = 2(1 − ν)/(1 − 2ν).
             let stiff_ratio = 2.0 * (1.0 - nu) / (1.0 - 2.0 * nu);
-            common::check(&case, "relative residual ||Kq-b||/||b||", sol.stats.relative_residual, 0.0, 1e-12 * stiff_ratio, secs);
+            common::check(
+                &case,
+                "relative residual ||Kq-b||/||b||",
+                sol.stats.relative_residual,
+                0.0,
+                1e-12 * stiff_ratio,
+                secs,
+            );
             assert!(sol.stats.min_pivot_ratio > 0.0 && tip < 0.0);
             println!(
                 "REPORT {case:<24} min_pivot_ratio {:.3e}  mean tip w {:.6e}  dofs {}",

@@ -135,7 +135,13 @@ struct Figures {
     seconds: f64,
 }
 
-fn run(kind: BoxElement, cells: [usize; 3], straight: bool, seed: u64, variant: Variant) -> Figures {
+fn run(
+    kind: BoxElement,
+    cells: [usize; 3],
+    straight: bool,
+    seed: u64,
+    variant: Variant,
+) -> Figures {
     let mut mesh = box_mesh(SIZE, cells, kind);
     distort_interior(&mut mesh, 0.2, seed, straight);
     let prescribed_sets: Vec<&str> = match variant {
@@ -165,13 +171,21 @@ fn run(kind: BoxElement, cells: [usize; 3], straight: bool, seed: u64, variant: 
         if prescribed[n] {
             let u = exact_u(model.mesh.coords[n]);
             for (k, &value) in u.iter().enumerate() {
-                model.dirichlet.push(Dirichlet { node: n, component: k, value });
+                model.dirichlet.push(Dirichlet {
+                    node: n,
+                    component: k,
+                    value,
+                });
             }
         }
     }
     for (d, &value) in applied.iter().enumerate() {
         if value != 0.0 {
-            model.forces.push(NodalForce { node: d / 3, component: d % 3, value });
+            model.forces.push(NodalForce {
+                node: d / 3,
+                component: d % 3,
+                value,
+            });
         }
     }
 
@@ -231,10 +245,38 @@ fn name(kind: BoxElement) -> &'static str {
 
 /// Asserts (and prints) all four figures of one run at tolerance `tol`.
 fn check_all(case: &str, f: &Figures, tol: f64) {
-    common::check(case, "max |u_h - u| / max |u|", f.displacement, 0.0, tol, f.seconds);
-    common::check(case, "worst nodal stress component", f.worst_stress.0, f.worst_stress.1, tol, f.seconds);
-    common::check(case, "reactions vs consistent tractions", f.reaction, 0.0, tol, f.seconds);
-    common::check(case, "balance |sum R + sum F| / sum |R|", f.balance, 0.0, tol, f.seconds);
+    common::check(
+        case,
+        "max |u_h - u| / max |u|",
+        f.displacement,
+        0.0,
+        tol,
+        f.seconds,
+    );
+    common::check(
+        case,
+        "worst nodal stress component",
+        f.worst_stress.0,
+        f.worst_stress.1,
+        tol,
+        f.seconds,
+    );
+    common::check(
+        case,
+        "reactions vs consistent tractions",
+        f.reaction,
+        0.0,
+        tol,
+        f.seconds,
+    );
+    common::check(
+        case,
+        "balance |sum R + sum F| / sum |R|",
+        f.balance,
+        0.0,
+        tol,
+        f.seconds,
+    );
 }
 
 /// Prints the figures of a run that is reported, not asserted.
@@ -279,14 +321,24 @@ fn traction_patch_straight_edges() {
 #[test]
 fn curved_edges() {
     for variant in [Variant::Displacement, Variant::Traction] {
-        let tag = if variant == Variant::Displacement { "A" } else { "B" };
+        let tag = if variant == Variant::Displacement {
+            "A"
+        } else {
+            "B"
+        };
         for (cells, seed) in MESHES {
             let f = run(BoxElement::Hex20, cells, false, seed, variant);
             let case = format!("{tag} C3D20 curved {}x{}x{}", cells[0], cells[1], cells[2]);
             check_all(&case, &f, TOL);
             for kind in [BoxElement::Hex20R, BoxElement::Wedge15] {
                 let f = run(kind, cells, false, seed, variant);
-                let case = format!("{tag} {} curved {}x{}x{}", name(kind), cells[0], cells[1], cells[2]);
+                let case = format!(
+                    "{tag} {} curved {}x{}x{}",
+                    name(kind),
+                    cells[0],
+                    cells[1],
+                    cells[2]
+                );
                 report(&case, &f);
             }
         }
