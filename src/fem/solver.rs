@@ -336,7 +336,13 @@ fn numeric_llt<T: faer::traits::ComplexField + Copy>(
             Default::default(),
         )
         .map_err(
-            |faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index }| index,
+            |faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index }| {
+                // faer's simplicial path reports the pivot 1-based, the supernodal one 0-based
+                match symbolic.raw() {
+                    SymbolicCholeskyRaw::Simplicial(_) => index.saturating_sub(1),
+                    SymbolicCholeskyRaw::Supernodal(_) => index,
+                }
+            },
         )?;
     Ok(l)
 }

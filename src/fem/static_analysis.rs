@@ -8,7 +8,7 @@
 use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressStyle};
-use nalgebra::{Matrix6, SymmetricEigen};
+use nalgebra::{DMatrix, SymmetricEigen};
 
 use crate::error::FlankError;
 use crate::fem::assembly::Assembly;
@@ -205,7 +205,6 @@ pub fn check_rigid_body_modes(model: &Model, dofs: &DofMap) -> Result<(), FlankE
             hi[c][k] = hi[c][k].max(mesh.coords[n][k]);
         }
     }
-    let mut gram = vec![Matrix6::<f64>::zeros(); nc];
     let size: Vec<f64> = (0..nc)
         .map(|c| {
             for k in 0..3 {
@@ -232,13 +231,47 @@ pub fn check_rigid_body_modes(model: &Model, dofs: &DofMap) -> Result<(), FlankE
             [0.0, 0.0, 1.0, r[1], -r[0], 0.0],
         ]
     };
-    let add_row = |g: &mut Matrix6<f64>, row: &[f64; 6]| {
-        for a in 0..6 {
-            for b in 0..6 {
-                g[(a, b)] += row[a] * row[b];
+    // Unknowns per body: its rigid motion m (6) and the free reference DOFs
+    // of the couplings on it. Constraints: m vanishes at Dirichlet DOFs, and at
+    // every coupled node m equals the motion the reference imposes. A null
+    // vector of these rows is a free mode (of the body, or of a reference
+    // DOF its nodes do not feel, e.g. a rotation about the line of collinear
+    // coupled nodes).
+    let mut comp_couplings: Vec<Vec<usize>> = vec![Vec::new(); nc];
+    for (k, cp) in model.couplings.iter().enumerate() {
+        if let Some(&n0) = cp.nodes.iter().find(|&&n| used[n]) {
+            comp_couplings[comp_of[n0]].push(k);
+        }
+    }
+    // column of each (coupling, reference DOF) within its body's unknowns
+    let mut column = vec![[usize::MAX; 6]; model.couplings.len()];
+    let mut width = vec![6usize; nc];
+    for c in 0..nc {
+        for &k in &comp_couplings[c] {
+            for j in 0..6 {
+                if model.couplings[k].free[j] {
+                    column[k][j] = width[c];
+                    width[c] += 1;
+                }
+            }
+        }
+    }
+    let mut gram: Vec<DMatrix<f64>> = (0..nc)
+        .map(|c| DMatrix::zeros(width[c], width[c]))
+        .collect();
+    let add_row = |g: &mut DMatrix<f64>, row: &[(usize, f64)]| {
+        for &(a, va) in row {
+            for &(b, vb) in row {
+                g[(a, b)] += va * vb;
             }
         }
     };
+    let mut coupling_of = vec![usize::MAX; nn];
+    for (k, cp) in model.couplings.iter().enumerate() {
+        for &n in &cp.nodes {
+            coupling_of[n] = k;
+        }
+    }
     for n in 0..nn {
         let c = comp_of[n];
         if c == usize::MAX {
@@ -246,29 +279,41 @@ pub fn check_rigid_body_modes(model: &Model, dofs: &DofMap) -> Result<(), FlankE
         }
         let m = mode(c, mesh.coords[n]);
         for i in 0..3 {
-            if let DofTarget::Fixed(_) = dofs.targets[3 * n + i] {
-                add_row(&mut gram[c], &m[i]);
+            let mut row: Vec<(usize, f64)> = (0..6).map(|j| (j, m[i][j])).collect();
+            match dofs.targets[3 * n + i] {
+                DofTarget::Fixed(_) => {}
+                DofTarget::Coupled { .. } => {
+                    let k = coupling_of[n];
+                    let cp = &model.couplings[k];
+                    let x = mesh.coords[n];
+                    let r = [
+                        (x[0] - cp.reference_point[0]) / size[c],
+                        (x[1] - cp.reference_point[1]) / size[c],
+                        (x[2] - cp.reference_point[2]) / size[c],
+                    ];
+                    // ∂u_i/∂(reference DOF j): translations δ_ij, rotations (e_j × r)_i
+                    let rot = [[0.0, r[2], -r[1]], [-r[2], 0.0, r[0]], [r[1], -r[0], 0.0]];
+                    for j in 0..6 {
+                        let col = column[k][j];
+                        if col == usize::MAX {
+                            continue;
+                        }
+                        let v = if j < 3 {
+                            if i == j {
+                                1.0
+                            } else {
+                                0.0
+                            }
+                        } else {
+                            rot[i][j - 3]
+                        };
+                        if v != 0.0 {
+                            row.push((col, -v));
+                        }
+                    }
+                }
+                _ => continue,
             }
-        }
-    }
-    for cp in &model.couplings {
-        let Some(&n0) = cp.nodes.iter().find(|&&n| used[n]) else {
-            continue;
-        };
-        let c = comp_of[n0];
-        let m = mode(c, cp.reference_point);
-        for j in 0..6 {
-            if cp.free[j] {
-                continue;
-            }
-            let row = if j < 3 {
-                m[j]
-            } else {
-                // rotation component j−3 of each mode (rotations are scaled by 1/size)
-                let mut r = [0.0; 6];
-                r[j] = 1.0 / size[c];
-                r
-            };
             add_row(&mut gram[c], &row);
         }
     }
@@ -280,21 +325,40 @@ pub fn check_rigid_body_modes(model: &Model, dofs: &DofMap) -> Result<(), FlankE
         "rotation about y",
         "rotation about z",
     ];
+    let ref_names = ["ux", "uy", "uz", "rx", "ry", "rz"];
     let mut problems = Vec::new();
     for c in 0..nc {
-        let eig = SymmetricEigen::new(gram[c]);
+        let eig = SymmetricEigen::new(gram[c].clone());
         let scale = eig.eigenvalues.iter().fold(1.0f64, |a, &b| a.max(b));
         let mut free = Vec::new();
-        for k in 0..6 {
+        for k in 0..width[c] {
             if eig.eigenvalues[k] <= 1e-10 * scale {
                 let v = eig.eigenvectors.column(k);
-                let mut parts: Vec<(f64, usize)> = (0..6)
-                    .map(|j| (v[j].abs(), j))
-                    .filter(|p| p.0 > 0.2)
-                    .collect();
-                parts.sort_by(|a, b| b.0.partial_cmp(&a.0).unwrap_or(std::cmp::Ordering::Equal));
-                let desc: Vec<&str> = parts.iter().map(|p| names[p.1]).collect();
-                free.push(desc.join(" + "));
+                let body: f64 = (0..6).map(|j| v[j] * v[j]).sum::<f64>().sqrt();
+                if body > 0.2 {
+                    let mut parts: Vec<(f64, usize)> = (0..6)
+                        .map(|j| (v[j].abs() / body, j))
+                        .filter(|p| p.0 > 0.2)
+                        .collect();
+                    parts
+                        .sort_by(|a, b| b.0.partial_cmp(&a.0).unwrap_or(std::cmp::Ordering::Equal));
+                    let desc: Vec<&str> = parts.iter().map(|p| names[p.1]).collect();
+                    free.push(desc.join(" + "));
+                } else {
+                    let mut desc = Vec::new();
+                    for &kc in &comp_couplings[c] {
+                        for j in 0..6 {
+                            let col = column[kc][j];
+                            if col != usize::MAX && v[col].abs() > 0.2 {
+                                desc.push(format!(
+                                    "coupling '{}' reference {} (its nodes do not feel it)",
+                                    model.couplings[kc].name, ref_names[j]
+                                ));
+                            }
+                        }
+                    }
+                    free.push(desc.join(" + "));
+                }
             }
         }
         if !free.is_empty() {
@@ -820,6 +884,69 @@ mod tests {
         for (a, b) in x1.iter().zip(&x2) {
             assert!((a - 2.0 * b).abs() <= 1e-12 * m);
         }
+    }
+
+    /// A rigid coupling on one node (or collinear nodes) does not hold the
+    /// rotations about that point (line), even with all reference DOFs fixed;
+    /// a free reference rotation its nodes cannot feel is also named.
+    #[test]
+    fn coupling_on_too_few_nodes_is_caught() {
+        use crate::fem::model::RigidCoupling;
+        let mut mesh = Mesh::new();
+        for (i, p) in HEX20_NODES.iter().enumerate() {
+            mesh.add_node(i as u64 + 1, *p).unwrap();
+        }
+        mesh.add_element(1, ElementKind::C3D20, (0..20).collect())
+            .unwrap();
+        let base = Model {
+            mesh,
+            materials: vec![Material::new("steel", 200e3, 0.3).unwrap()],
+            element_material: vec![0],
+            ..Default::default()
+        };
+        let mut pin = base.clone();
+        pin.couplings.push(RigidCoupling {
+            name: "PIN".into(),
+            reference_point: HEX20_NODES[0],
+            nodes: vec![0],
+            free: [false; 6],
+            load: [0.0; 6],
+        });
+        let err = solve_static(&pin, &SolveOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("3 free rigid-body mode") && err.contains("rotation about"),
+            "{err}"
+        );
+        // nodes 0 and 4 lie on the line x = y = −1 (parallel to z); the reference
+        // on that line with rz free: the body is held by the face z = −1 in all
+        // DOFs, so only the reference rotation is loose
+        let mut axis = base.clone();
+        for (i, p) in HEX20_NODES.iter().enumerate() {
+            if p[2] == -1.0 && i != 0 {
+                for k in 0..3 {
+                    axis.dirichlet.push(Dirichlet {
+                        node: i,
+                        component: k,
+                        value: 0.0,
+                    });
+                }
+            }
+        }
+        let mut free = [false; 6];
+        free[5] = true;
+        axis.couplings.push(RigidCoupling {
+            name: "AXIS".into(),
+            reference_point: [-1.0, -1.0, 0.0],
+            nodes: vec![0, 4, 16],
+            free,
+            load: [0.0; 6],
+        });
+        let err = solve_static(&axis, &SolveOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("coupling 'AXIS' reference rz"), "{err}");
     }
 
     #[test]

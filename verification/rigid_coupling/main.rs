@@ -131,21 +131,16 @@
 //! systems are the same, probably because the summation order differs
 //! (elements touching coupled DOFs take the serial assembly path).
 //!
-//! ## Found in src (not fixed here)
+//! ## Found in src by this case, and fixed
 //!
-//! * `SparseCholesky::factorize` names the wrong DOF in its zero-pivot error
-//!   when faer chose a *simplicial* factor: faer's simplicial LLᵀ reports
-//!   `NonPositivePivot { index: k + 1 }` for column k (its supernodal path
-//!   reports the 0-based index), and flank takes it as 0-based. A coupling
-//!   mechanism on the small mesh is reported at "node 67 ux" instead of
-//!   "coupling 'PIVOT' rz"; on [4, 32, 1] (supernodal) it is named right.
-//!   Kept as the ignored test `simplicial_pivot_names_the_right_dof`.
-//! * `check_rigid_body_modes` counts a fixed reference rotation as holding
-//!   the body's rotation whatever the coupled nodes are; a coupling on a
-//!   single node (or on collinear nodes) does not. Such a model passes the
-//!   check and is only caught by the factorization, whose message names an
-//!   arbitrary node DOF instead of the free rotations (probe, not kept as a
-//!   test: one-node all-fixed coupling on OUTER, nothing else).
+//! * The zero-pivot error named the DOF after the failing one when faer
+//!   chose a simplicial factor (faer reports that pivot 1-based, the
+//!   supernodal one 0-based); `solver.rs` now maps both.
+//! * The rigid-mode check counted a fixed reference rotation as holding the
+//!   body whatever the coupled nodes were; it now solves for the body motion
+//!   and the free reference DOFs together, so a coupling on one node or on
+//!   collinear nodes leaves the right modes free, and a reference DOF its
+//!   nodes cannot feel is named ("coupling 'PIVOT' reference rz").
 //!
 //! Run: `cargo test --release --test rigid_coupling -- --nocapture`.
 
@@ -678,16 +673,14 @@ fn c_free_modes_and_invalid_couplings() {
     );
 
     // a free rotation without lever arm: a one-node coupling whose reference
-    // point is that node, so the rotation DOF has no stiffness at all. The
-    // factorization catches it; on this small system (simplicial factor) it
-    // names the wrong DOF (src bug, see the module doc), so the name is
-    // asserted on the medium mesh, whose factor is supernodal.
+    // point is that node, so the rotation DOF has no stiffness at all; the
+    // rigid-mode check names that reference DOF before any factorization.
     let msg = expect_singular(&pivot_model(cells));
     println!("rotation without lever arm, {cells:?}: {msg}");
     let msg = expect_singular(&pivot_model([4, 32, 1]));
     println!("rotation without lever arm, [4, 32, 1]: {msg}");
     assert!(
-        msg.contains("coupling 'PIVOT' rz"),
+        msg.contains("coupling 'PIVOT'") && msg.contains("rz"),
         "the coupling DOF is not named: {msg}"
     );
 
@@ -720,15 +713,13 @@ fn c_free_modes_and_invalid_couplings() {
     assert!(msg.contains("Dirichlet") && msg.contains("HUB"), "{msg}");
 }
 
-/// The zero pivot of a coupling mechanism is named correctly whatever the
-/// factor's form. Fails: with a simplicial factor the error names the next
-/// reduced DOF (src bug, see the module doc).
+/// The free reference rotation of a one-node coupling is named on a small
+/// system too (where faer would choose a simplicial factor).
 #[test]
-#[ignore = "src bug: with a simplicial factor the zero-pivot message names the DOF after the failing one"]
 fn simplicial_pivot_names_the_right_dof() {
     let msg = expect_singular(&pivot_model([2, 16, 1]));
     assert!(
-        msg.contains("coupling 'PIVOT' rz"),
+        msg.contains("coupling 'PIVOT'") && msg.contains("rz"),
         "the coupling DOF is not named: {msg}"
     );
 }
