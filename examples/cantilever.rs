@@ -1,13 +1,11 @@
-//! Builds the C3D20 cantilever box in memory (default 100×10×10 elements,
-//! 100 × 10 × 10 mm, clamped at x = 0, tip load 1 kN in −y) and solves it,
+//! Builds the C3D20 benchmark cantilever in memory (default 100×10×10
+//! elements, 100 × 10 × 10 mm, clamped at x = 0, tip load 1 kN in −y) and solves it,
 //! printing the solver figures. Usage:
 //! `cargo run --release --example cantilever -- [nx ny nz] [metis|amd] [threads]`
 
-use flank::fem::material::Material;
-use flank::fem::model::{Dirichlet, Model, NodalForce};
 use flank::fem::ordering::OrderingMethod;
 use flank::fem::static_analysis::{solve_static, SolveOptions};
-use flank::mesh::structured::{box_mesh, BoxElement};
+use flank::mesh::structured::{cantilever_model, BoxElement};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -25,32 +23,7 @@ fn main() {
         _ => OrderingMethod::Metis,
     };
     let threads: usize = args.get(5).map(|s| s.parse().unwrap()).unwrap_or(0);
-    let mesh = box_mesh([100.0, 10.0, 10.0], cells, BoxElement::Hex20);
-    let ne = mesh.elements.len();
-    let clamped = mesh.node_sets["X0"].clone();
-    let tip = mesh.node_sets["X1"].clone();
-    let mut model = Model {
-        mesh,
-        materials: vec![Material::new("steel", 210e3, 0.3).unwrap()],
-        element_material: vec![0; ne],
-        ..Default::default()
-    };
-    for &n in &clamped {
-        for k in 0..3 {
-            model.dirichlet.push(Dirichlet {
-                node: n,
-                component: k,
-                value: 0.0,
-            });
-        }
-    }
-    for &n in &tip {
-        model.forces.push(NodalForce {
-            node: n,
-            component: 1,
-            value: -1000.0 / tip.len() as f64,
-        });
-    }
+    let model = cantilever_model(cells, BoxElement::Hex20, 1000.0).unwrap();
     let options = SolveOptions {
         ordering,
         threads,

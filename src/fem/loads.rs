@@ -13,6 +13,45 @@ use crate::fem::model::Model;
 use crate::fem::quadrature::{quad_rule, TRIANGLE_3};
 use crate::mesh::ElementKind;
 
+/// Calls `f(N, n dA · w)` at every point of CalculiX's rule for this face:
+/// the face shape functions and the (unnormalised, outward) area vector
+/// ∂x/∂ξ × ∂x/∂η times the weight.
+fn for_each_face_point(
+    kind: ElementKind,
+    x: &[[f64; 3]],
+    nodes: &[usize],
+    mut f: impl FnMut(&[f64], [f64; 3]),
+) {
+    let mut point = |n: &[f64], d: &[[f64; 2]], w: f64| {
+        let mut t1 = [0.0; 3];
+        let mut t2 = [0.0; 3];
+        for (k, &a) in nodes.iter().enumerate() {
+            for i in 0..3 {
+                t1[i] += x[a][i] * d[k][0];
+                t2[i] += x[a][i] * d[k][1];
+            }
+        }
+        let nda = [
+            (t1[1] * t2[2] - t1[2] * t2[1]) * w,
+            (t1[2] * t2[0] - t1[0] * t2[2]) * w,
+            (t1[0] * t2[1] - t1[1] * t2[0]) * w,
+        ];
+        f(n, nda);
+    };
+    if nodes.len() == 8 {
+        let order = if kind == ElementKind::C3D20 { 3 } else { 2 };
+        for (xi, w) in quad_rule(order) {
+            let (n, d) = quad8_shape(xi);
+            point(&n, &d, w);
+        }
+    } else {
+        for &(xi, w) in &TRIANGLE_3 {
+            let (n, d) = tri6_shape(xi);
+            point(&n, &d, w);
+        }
+    }
+}
+
 /// Consistent nodal forces of a uniform pressure `p` on face `face` (1-based) of
 /// an element with node coordinates `x`; returns (local node, force) pairs.
 pub fn pressure_face_load(
@@ -23,38 +62,13 @@ pub fn pressure_face_load(
 ) -> Option<Vec<(usize, [f64; 3])>> {
     let nodes = face_nodes(kind, face)?;
     let mut out: Vec<(usize, [f64; 3])> = nodes.iter().map(|&a| (a, [0.0; 3])).collect();
-    let mut add = |n: &[f64], d: &[[f64; 2]], w: f64| {
-        let mut t1 = [0.0; 3];
-        let mut t2 = [0.0; 3];
-        for (k, &a) in nodes.iter().enumerate() {
-            for i in 0..3 {
-                t1[i] += x[a][i] * d[k][0];
-                t2[i] += x[a][i] * d[k][1];
-            }
-        }
-        let nda = [
-            t1[1] * t2[2] - t1[2] * t2[1],
-            t1[2] * t2[0] - t1[0] * t2[2],
-            t1[0] * t2[1] - t1[1] * t2[0],
-        ];
+    for_each_face_point(kind, x, nodes, |n, nda| {
         for (k, o) in out.iter_mut().enumerate() {
             for i in 0..3 {
-                o.1[i] -= n[k] * p * nda[i] * w;
+                o.1[i] -= n[k] * p * nda[i];
             }
         }
-    };
-    if nodes.len() == 8 {
-        let order = if kind == ElementKind::C3D20 { 3 } else { 2 };
-        for (xi, w) in quad_rule(order) {
-            let (n, d) = quad8_shape(xi);
-            add(&n, &d, w);
-        }
-    } else {
-        for &(xi, w) in &TRIANGLE_3 {
-            let (n, d) = tri6_shape(xi);
-            add(&n, &d, w);
-        }
-    }
+    });
     Some(out)
 }
 
@@ -67,49 +81,16 @@ pub fn traction_face_load(
     t: [f64; 3],
 ) -> Option<Vec<(usize, [f64; 3])>> {
     let nodes = face_nodes(kind, face)?;
-    let weights = face_integrals(kind, x, nodes);
-    Some(
-        nodes
-            .iter()
-            .zip(weights)
-            .map(|(&a, w)| (a, [w * t[0], w * t[1], w * t[2]]))
-            .collect(),
-    )
-}
-
-/// ∫ N_a dA for each node of a face.
-fn face_integrals(kind: ElementKind, x: &[[f64; 3]], nodes: &[usize]) -> Vec<f64> {
-    let mut out = vec![0.0; nodes.len()];
-    let mut add = |n: &[f64], d: &[[f64; 2]], w: f64| {
-        let mut t1 = [0.0; 3];
-        let mut t2 = [0.0; 3];
-        for (k, &a) in nodes.iter().enumerate() {
+    let mut out: Vec<(usize, [f64; 3])> = nodes.iter().map(|&a| (a, [0.0; 3])).collect();
+    for_each_face_point(kind, x, nodes, |n, nda| {
+        let da = (nda[0] * nda[0] + nda[1] * nda[1] + nda[2] * nda[2]).sqrt();
+        for (k, o) in out.iter_mut().enumerate() {
             for i in 0..3 {
-                t1[i] += x[a][i] * d[k][0];
-                t2[i] += x[a][i] * d[k][1];
+                o.1[i] += n[k] * da * t[i];
             }
         }
-        let da = ((t1[1] * t2[2] - t1[2] * t2[1]).powi(2)
-            + (t1[2] * t2[0] - t1[0] * t2[2]).powi(2)
-            + (t1[0] * t2[1] - t1[1] * t2[0]).powi(2))
-        .sqrt();
-        for (k, o) in out.iter_mut().enumerate() {
-            *o += n[k] * da * w;
-        }
-    };
-    if nodes.len() == 8 {
-        let order = if kind == ElementKind::C3D20 { 3 } else { 2 };
-        for (xi, w) in quad_rule(order) {
-            let (n, d) = quad8_shape(xi);
-            add(&n, &d, w);
-        }
-    } else {
-        for &(xi, w) in &TRIANGLE_3 {
-            let (n, d) = tri6_shape(xi);
-            add(&n, &d, w);
-        }
-    }
-    out
+    });
+    Some(out)
 }
 
 /// Full load vector (node-major DOFs) of the model's nodal forces and pressures.
