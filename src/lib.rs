@@ -37,6 +37,7 @@
 pub mod ccx;
 pub mod error;
 pub mod fem;
+pub mod geometry;
 pub mod mesh;
 pub mod report;
 

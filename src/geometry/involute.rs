@@ -1,0 +1,1 @@
+//! Involute gear relations (ISO 21771).
