@@ -40,7 +40,7 @@ fn lagrange(pts: &[f64], x: f64) -> Vec<f64> {
         .collect()
 }
 
-/// Extrapolation matrix E (nodes × points) of an element kind: σ_node = Σ_g E[a][g] σ_g.
+/// Extrapolation matrix E (nodes × points) of an element kind: `σ_a = Σ_g E[a][g] σ_g`.
 pub fn extrapolation(kind: ElementKind) -> &'static Vec<Vec<f64>> {
     static HEX: OnceLock<Vec<Vec<f64>>> = OnceLock::new();
     static HEXR: OnceLock<Vec<Vec<f64>>> = OnceLock::new();
