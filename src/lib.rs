@@ -40,5 +40,6 @@ pub mod fem;
 pub mod geometry;
 pub mod mesh;
 pub mod report;
+pub mod scene;
 
 pub use error::{FlankError, Result};
