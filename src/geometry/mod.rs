@@ -5,6 +5,8 @@
 //! (`crate::scene`); everything here is already converted.
 
 pub mod involute;
+pub mod pair;
+pub mod rack;
 
 /// Hand of a helical gear (seen along the axis, as ISO 21771 defines it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]

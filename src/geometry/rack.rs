@@ -1,0 +1,1 @@
+//! Rack-generated tooth profile (in progress).
