@@ -325,9 +325,20 @@ impl Cx<'_> {
     fn toml_error(&self, e: &toml::de::Error) -> FlankError {
         let line = e.span().map(|s| self.line(s.start)).unwrap_or(1);
         let mut message = e.message().trim().to_string();
-        if let Some(table) = e.span().and_then(|s| self.table_at(s.start)) {
+        if let Some(start) = e.span().map(|s| s.start) {
             if message.starts_with("missing field") {
-                message = format!("[{table}]: {message}");
+                if let Some(table) = self.table_at(start) {
+                    message = format!("[{table}]: {message}");
+                }
+            } else if message.starts_with("invalid") || message.starts_with("unknown variant") {
+                // name the key: `table.key`
+                if let Some(key) = self.key_at(start) {
+                    let full = match self.table_at(start) {
+                        Some(t) => format!("{t}.{key}"),
+                        None => key,
+                    };
+                    message = format!("`{full}`: {message}");
+                }
             }
         }
         if message.is_empty() {
@@ -340,12 +351,28 @@ impl Cx<'_> {
         }
     }
 
+    /// The key of a `key = value` line that contains a byte offset, if any.
+    fn key_at(&self, offset: usize) -> Option<String> {
+        let end = offset.min(self.text.len());
+        let start = self.text.get(..end)?.rfind('\n').map_or(0, |i| i + 1);
+        let line = self.text.get(start..)?.lines().next()?;
+        let (key, _) = line.split_once('=')?;
+        let key = key.trim();
+        let simple = !key.is_empty()
+            && key
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.');
+        simple.then(|| key.to_string())
+    }
+
     /// Name of the `[table]` header at or before a byte offset, if any.
     fn table_at(&self, offset: usize) -> Option<String> {
         let end = offset.min(self.text.len());
         let head = self.text.get(..end).unwrap_or(self.text);
         // the header line that contains the offset, or the last one before it
-        let line_end = self.text[end..].find('\n').map_or(self.text.len(), |i| end + i);
+        let line_end = self.text[end..]
+            .find('\n')
+            .map_or(self.text.len(), |i| end + i);
         let upto = self.text.get(..line_end).unwrap_or(head);
         upto.lines().rev().find_map(|l| {
             let t = l.trim();
@@ -415,7 +442,10 @@ fn build(cx: &Cx, raw: RawScene) -> Res<Scene> {
             ),
         ));
     }
-    if !same(pinion.normal_pressure_angle, gear_spec.normal_pressure_angle) {
+    if !same(
+        pinion.normal_pressure_angle,
+        gear_spec.normal_pressure_angle,
+    ) {
         return Err(cx.err(
             gs.alpha.clone(),
             format!(
@@ -555,7 +585,10 @@ fn gear(cx: &Cx, g: &RawGear, name: &str, kind: PairKind) -> Res<(GearSpec, Gear
 
     let m = cx.positive(&g.normal_module_mm, &key("normal_module_mm"))?;
 
-    let alpha_deg = cx.finite(&g.normal_pressure_angle_deg, &key("normal_pressure_angle_deg"))?;
+    let alpha_deg = cx.finite(
+        &g.normal_pressure_angle_deg,
+        &key("normal_pressure_angle_deg"),
+    )?;
     if !(alpha_deg > 0.0 && alpha_deg < 45.0) {
         return Err(cx.err(
             g.normal_pressure_angle_deg.span(),
@@ -941,7 +974,12 @@ fn toml_message(e: &toml::de::Error) -> String {
     e.message().trim().to_string()
 }
 
-fn mesh_options(cx: &Cx, raw: Option<&RawMesh>, min_teeth: u32, min_module: f64) -> Res<MeshOptions> {
+fn mesh_options(
+    cx: &Cx,
+    raw: Option<&RawMesh>,
+    min_teeth: u32,
+    min_module: f64,
+) -> Res<MeshOptions> {
     let mut out = MeshOptions::default();
     let Some(m) = raw else {
         return Ok(out);
@@ -1008,8 +1046,9 @@ fn base_diameter(g: &GearSpec) -> f64 {
 
 /// d_a as given, else d + 2 m_n (h_aP* + x) (no tip shortening).
 fn tip_diameter(g: &GearSpec) -> f64 {
-    g.tip_diameter
-        .unwrap_or(reference_diameter(g) + 2.0 * g.normal_module * (g.rack.dedendum + g.profile_shift))
+    g.tip_diameter.unwrap_or(
+        reference_diameter(g) + 2.0 * g.normal_module * (g.rack.dedendum + g.profile_shift),
+    )
 }
 
 /// d_f = d − 2 m_n (h_fP* − x).
@@ -1208,7 +1247,10 @@ speed_rpm = 3000.0
         assert_eq!(g.tip_diameter, Some(135.5));
         assert!(close(p.bore_diameter, 20.0));
         assert!(close(s.pair.centre_distance, 90.0));
-        assert_eq!(s.pinion_material, Material::new("steel", 206000.0, 0.3).unwrap());
+        assert_eq!(
+            s.pinion_material,
+            Material::new("steel", 206000.0, 0.3).unwrap()
+        );
         assert_eq!(s.gear_material, s.pinion_material);
         // N·m → N·mm
         assert!(close(s.load.torque_nmm, 312_000.0));
@@ -1281,19 +1323,31 @@ speed_rpm = 3000.0
 
     #[test]
     fn unknown_key_in_rack() {
-        let t = edit(SPUR, "tip_radius = 0.38 }", "tip_radius = 0.38, root_radius = 0.2 }");
+        let t = edit(
+            SPUR,
+            "tip_radius = 0.38 }",
+            "tip_radius = 0.38, root_radius = 0.2 }",
+        );
         expect_err(&t, line_of(&t, "rack = "), &["root_radius"]);
     }
 
     #[test]
     fn unknown_key_in_micro() {
-        let t = edit(SPUR, "lead_crowning_um = 5.0\n", "lead_crowning_um = 5.0\nbarrelling_um = 2\n");
+        let t = edit(
+            SPUR,
+            "lead_crowning_um = 5.0\n",
+            "lead_crowning_um = 5.0\nbarrelling_um = 2\n",
+        );
         expect_err(&t, line_of(&t, "barrelling_um"), &["barrelling_um"]);
     }
 
     #[test]
     fn missing_required_key() {
-        let t = edit(SPUR, "face_width_mm = 13.3\nprofile_shift = 0.3\n", "profile_shift = 0.3\n");
+        let t = edit(
+            SPUR,
+            "face_width_mm = 13.3\nprofile_shift = 0.3\n",
+            "profile_shift = 0.3\n",
+        );
         let err = parse(&t).unwrap_err().to_string();
         assert!(err.contains("face_width_mm"), "{err}");
         assert!(err.contains("pinion"), "{err}");
@@ -1305,7 +1359,27 @@ speed_rpm = 3000.0
             "helix_angle_deg = 20.0\nhand = \"right\"",
             "hand = \"right\"",
         );
-        expect_err(&t, line_of(&t, "teeth = 21"), &["helix_angle_deg", "pinion"]);
+        expect_err(
+            &t,
+            line_of(&t, "teeth = 21"),
+            &["helix_angle_deg", "pinion"],
+        );
+    }
+
+    #[test]
+    fn wrong_type_names_key() {
+        let t = edit(SPUR, "teeth = 13", "teeth = 13.0");
+        expect_err(
+            &t,
+            line_of(&t, "teeth = 13.0"),
+            &["`pinion.teeth`", "invalid type"],
+        );
+        let t = edit(SPUR, "kind = \"spur\"", "kind = \"bevel\"");
+        expect_err(
+            &t,
+            line_of(&t, "bevel"),
+            &["`pair.kind`", "bevel", "helical"],
+        );
     }
 
     #[test]
@@ -1319,7 +1393,11 @@ speed_rpm = 3000.0
     #[test]
     fn spur_with_helix_angle() {
         let t = edit(SPUR, "helix_angle_deg = 0.0", "helix_angle_deg = 15.0");
-        expect_err(&t, line_of(&t, "helix_angle_deg"), &["pinion.helix_angle_deg", "spur"]);
+        expect_err(
+            &t,
+            line_of(&t, "helix_angle_deg"),
+            &["pinion.helix_angle_deg", "spur"],
+        );
         let t = edit(SPUR, "helix_angle_deg = 0.0", "hand = \"left\"");
         expect_err(&t, line_of(&t, "hand ="), &["pinion.hand", "spur"]);
     }
@@ -1327,41 +1405,96 @@ speed_rpm = 3000.0
     #[test]
     fn helical_with_same_hands() {
         let t = edit(HELICAL, "hand = \"left\"", "hand = \"right\"");
-        expect_err(&t, line_of(&t, "hand = \"right\"\nface_width_mm = 180.0\nbore_diameter_mm = 400"), &["gear.hand", "opposite"]);
+        expect_err(
+            &t,
+            line_of(
+                &t,
+                "hand = \"right\"\nface_width_mm = 180.0\nbore_diameter_mm = 400",
+            ),
+            &["gear.hand", "opposite"],
+        );
     }
 
     #[test]
     fn helical_angles_must_match_and_be_in_range() {
-        let t = edit(HELICAL, "helix_angle_deg = 20.0\nhand = \"left\"", "helix_angle_deg = 21.0\nhand = \"left\"");
-        expect_err(&t, line_of(&t, "helix_angle_deg = 21.0"), &["gear.helix_angle_deg"]);
-        let t = edit(HELICAL, "helix_angle_deg = 20.0\nhand = \"left\"", "helix_angle_deg = 45.0\nhand = \"left\"");
-        expect_err(&t, line_of(&t, "helix_angle_deg = 45.0"), &["gear.helix_angle_deg"]);
+        let t = edit(
+            HELICAL,
+            "helix_angle_deg = 20.0\nhand = \"left\"",
+            "helix_angle_deg = 21.0\nhand = \"left\"",
+        );
+        expect_err(
+            &t,
+            line_of(&t, "helix_angle_deg = 21.0"),
+            &["gear.helix_angle_deg"],
+        );
+        let t = edit(
+            HELICAL,
+            "helix_angle_deg = 20.0\nhand = \"left\"",
+            "helix_angle_deg = 45.0\nhand = \"left\"",
+        );
+        expect_err(
+            &t,
+            line_of(&t, "helix_angle_deg = 45.0"),
+            &["gear.helix_angle_deg"],
+        );
     }
 
     #[test]
     fn negative_module() {
-        let t = edit(SPUR, "normal_module_mm = 3.8\nnormal_pressure_angle_deg = 20.0\nhelix", "normal_module_mm = -3.8\nnormal_pressure_angle_deg = 20.0\nhelix");
-        expect_err(&t, line_of(&t, "-3.8"), &["pinion.normal_module_mm", "positive"]);
+        let t = edit(
+            SPUR,
+            "normal_module_mm = 3.8\nnormal_pressure_angle_deg = 20.0\nhelix",
+            "normal_module_mm = -3.8\nnormal_pressure_angle_deg = 20.0\nhelix",
+        );
+        expect_err(
+            &t,
+            line_of(&t, "-3.8"),
+            &["pinion.normal_module_mm", "positive"],
+        );
     }
 
     #[test]
     fn poisson_one_half() {
         let t = edit(SPUR, "poisson_ratio = 0.3", "poisson_ratio = 0.5");
-        expect_err(&t, line_of(&t, "poisson_ratio"), &["materials.steel.poisson_ratio", "0.5"]);
-        let t = edit(SPUR, "young_modulus_mpa = 206000.0", "young_modulus_mpa = 0.0");
+        expect_err(
+            &t,
+            line_of(&t, "poisson_ratio"),
+            &["materials.steel.poisson_ratio", "0.5"],
+        );
+        let t = edit(
+            SPUR,
+            "young_modulus_mpa = 206000.0",
+            "young_modulus_mpa = 0.0",
+        );
         expect_err(&t, line_of(&t, "young_modulus_mpa"), &["young_modulus_mpa"]);
     }
 
     #[test]
     fn unknown_material() {
-        let t = edit(SPUR, "bore_diameter_mm = 80.0\nmaterial = \"steel\"", "bore_diameter_mm = 80.0\nmaterial = \"bronze\"");
-        expect_err(&t, line_of(&t, "\"bronze\""), &["gear.material", "bronze", "steel"]);
+        let t = edit(
+            SPUR,
+            "bore_diameter_mm = 80.0\nmaterial = \"steel\"",
+            "bore_diameter_mm = 80.0\nmaterial = \"bronze\"",
+        );
+        expect_err(
+            &t,
+            line_of(&t, "\"bronze\""),
+            &["gear.material", "bronze", "steel"],
+        );
     }
 
     #[test]
     fn missing_measured_profile() {
-        let t = edit(SPUR, "end_relief_length_mm = 2.0\n", "end_relief_length_mm = 2.0\nmeasured_profile_csv = \"cmm/pinion.csv\"\n");
-        expect_err(&t, line_of(&t, "measured_profile_csv"), &["measured_profile_csv", "/nonexistent/cmm/pinion.csv"]);
+        let t = edit(
+            SPUR,
+            "end_relief_length_mm = 2.0\n",
+            "end_relief_length_mm = 2.0\nmeasured_profile_csv = \"cmm/pinion.csv\"\n",
+        );
+        expect_err(
+            &t,
+            line_of(&t, "measured_profile_csv"),
+            &["measured_profile_csv", "/nonexistent/cmm/pinion.csv"],
+        );
     }
 
     #[test]
@@ -1369,30 +1502,61 @@ speed_rpm = 3000.0
         let dir = std::env::temp_dir().join(format!("flank-scene-{}", std::process::id()));
         std::fs::create_dir_all(dir.join("cmm")).unwrap();
         std::fs::write(dir.join("cmm/pinion.csv"), "x,y\n0,0\n").unwrap();
-        let t = edit(SPUR, "end_relief_length_mm = 2.0\n", "end_relief_length_mm = 2.0\nmeasured_profile_csv = \"cmm/pinion.csv\"\n");
+        let t = edit(
+            SPUR,
+            "end_relief_length_mm = 2.0\n",
+            "end_relief_length_mm = 2.0\nmeasured_profile_csv = \"cmm/pinion.csv\"\n",
+        );
         let s = parse_scene(&t, &dir.join("scene.toml")).unwrap();
         let m = s.micro[0].as_ref().unwrap();
-        assert_eq!(m.measured_profile.as_deref(), Some(dir.join("cmm/pinion.csv").as_path()));
+        assert_eq!(
+            m.measured_profile.as_deref(),
+            Some(dir.join("cmm/pinion.csv").as_path())
+        );
         let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]
     fn micro_values_checked() {
         let t = edit(SPUR, "tip_relief_um = 10.0", "tip_relief_um = -10.0");
-        expect_err(&t, line_of(&t, "tip_relief_um"), &["pinion.micro.tip_relief_um"]);
+        expect_err(
+            &t,
+            line_of(&t, "tip_relief_um"),
+            &["pinion.micro.tip_relief_um"],
+        );
         let t = edit(SPUR, "lead_crowning_um = 5.0", "lead_crowning_um = nan");
-        expect_err(&t, line_of(&t, "lead_crowning_um"), &["pinion.micro.lead_crowning_um", "finite"]);
+        expect_err(
+            &t,
+            line_of(&t, "lead_crowning_um"),
+            &["pinion.micro.lead_crowning_um", "finite"],
+        );
         let t = edit(SPUR, "tip_relief_length_mm = 1.0\n", "");
         expect_err(&t, line_of(&t, "tip_relief_um"), &["tip_relief_length_mm"]);
-        let t = edit(SPUR, "end_relief_length_mm = 2.0", "end_relief_length_mm = 7.0");
-        expect_err(&t, line_of(&t, "end_relief_length_mm"), &["end_relief_length_mm"]);
-        let t = edit(SPUR, "tip_relief_shape = \"parabolic\"", "tip_relief_shape = \"cubic\"");
+        let t = edit(
+            SPUR,
+            "end_relief_length_mm = 2.0",
+            "end_relief_length_mm = 7.0",
+        );
+        expect_err(
+            &t,
+            line_of(&t, "end_relief_length_mm"),
+            &["end_relief_length_mm"],
+        );
+        let t = edit(
+            SPUR,
+            "tip_relief_shape = \"parabolic\"",
+            "tip_relief_shape = \"cubic\"",
+        );
         expect_err(&t, line_of(&t, "tip_relief_shape"), &["cubic"]);
     }
 
     #[test]
     fn malformed_toml_reports_line() {
-        let t = edit(SPUR, "face_width_mm = 13.3\nprofile_shift = 0.3", "face_width_mm = 13.3\nprofile_shift = = 0.3");
+        let t = edit(
+            SPUR,
+            "face_width_mm = 13.3\nprofile_shift = 0.3",
+            "face_width_mm = 13.3\nprofile_shift = = 0.3",
+        );
         let err = parse(&t).unwrap_err();
         match err {
             FlankError::Parse { line, .. } => assert_eq!(line, line_of(&t, "= = 0.3")),
@@ -1416,7 +1580,11 @@ speed_rpm = 3000.0
     #[test]
     fn mesh_options_checked() {
         let t = edit(SPUR, "teeth_in_sector = 3", "teeth_in_sector = 0");
-        expect_err(&t, line_of(&t, "teeth_in_sector"), &["mesh.teeth_in_sector"]);
+        expect_err(
+            &t,
+            line_of(&t, "teeth_in_sector"),
+            &["mesh.teeth_in_sector"],
+        );
         let t = edit(SPUR, "element = \"wedge15\"", "element = \"tet10\"");
         expect_err(&t, line_of(&t, "tet10"), &["tet10"]);
         let t = edit(SPUR, "base_size_mm = 1.0", "base_size_mm = 0.05");
@@ -1427,20 +1595,52 @@ speed_rpm = 3000.0
     fn pair_geometry_checked() {
         // bore at the root
         let t = edit(SPUR, "bore_diameter_mm = 20.0", "bore_diameter_mm = 50.0");
-        expect_err(&t, line_of(&t, "bore_diameter_mm = 50"), &["pinion.bore_diameter_mm"]);
+        expect_err(
+            &t,
+            line_of(&t, "bore_diameter_mm = 50"),
+            &["pinion.bore_diameter_mm"],
+        );
         // centre distance too small for the shifts
-        let t = edit(SPUR, "centre_distance_mm = 90.0", "centre_distance_mm = 89.0");
-        expect_err(&t, line_of(&t, "centre_distance_mm"), &["pair.centre_distance_mm", "interfere"]);
+        let t = edit(
+            SPUR,
+            "centre_distance_mm = 90.0",
+            "centre_distance_mm = 89.0",
+        );
+        expect_err(
+            &t,
+            line_of(&t, "centre_distance_mm"),
+            &["pair.centre_distance_mm", "interfere"],
+        );
         // pressure angle out of range, and different modules
-        let t = edit(SPUR, "normal_pressure_angle_deg = 20.0\nhelix", "normal_pressure_angle_deg = 45.0\nhelix");
-        expect_err(&t, line_of(&t, "= 45.0"), &["pinion.normal_pressure_angle_deg"]);
-        let t = edit(SPUR, "normal_module_mm = 3.8\nnormal_pressure_angle_deg = 20.0\nface", "normal_module_mm = 4.0\nnormal_pressure_angle_deg = 20.0\nface");
+        let t = edit(
+            SPUR,
+            "normal_pressure_angle_deg = 20.0\nhelix",
+            "normal_pressure_angle_deg = 45.0\nhelix",
+        );
+        expect_err(
+            &t,
+            line_of(&t, "= 45.0"),
+            &["pinion.normal_pressure_angle_deg"],
+        );
+        let t = edit(
+            SPUR,
+            "normal_module_mm = 3.8\nnormal_pressure_angle_deg = 20.0\nface",
+            "normal_module_mm = 4.0\nnormal_pressure_angle_deg = 20.0\nface",
+        );
         expect_err(&t, line_of(&t, "= 4.0"), &["gear.normal_module_mm"]);
         // negative speed, face width
         let t = edit(SPUR, "speed_rpm = 11758.0", "speed_rpm = -1.0");
         expect_err(&t, line_of(&t, "speed_rpm"), &["load.speed_rpm"]);
-        let t = edit(SPUR, "face_width_mm = 13.3\nprofile_shift = 0.3", "face_width_mm = 0\nprofile_shift = 0.3");
-        expect_err(&t, line_of(&t, "face_width_mm = 0"), &["pinion.face_width_mm"]);
+        let t = edit(
+            SPUR,
+            "face_width_mm = 13.3\nprofile_shift = 0.3",
+            "face_width_mm = 0\nprofile_shift = 0.3",
+        );
+        expect_err(
+            &t,
+            line_of(&t, "face_width_mm = 0"),
+            &["pinion.face_width_mm"],
+        );
         // pointed pinion tooth
         let t = edit(SPUR, "tip_diameter_mm = 58.7", "tip_diameter_mm = 62.0");
         assert!(parse(&t).is_err());
@@ -1461,7 +1661,10 @@ speed_rpm = 3000.0
         }
         for (from, to) in [
             ("teeth = 13", "teeth = 99999999999999"),
-            ("normal_module_mm = 3.8\nnormal_pressure_angle_deg = 20.0\nhelix", "normal_module_mm = inf\nnormal_pressure_angle_deg = 20.0\nhelix"),
+            (
+                "normal_module_mm = 3.8\nnormal_pressure_angle_deg = 20.0\nhelix",
+                "normal_module_mm = inf\nnormal_pressure_angle_deg = 20.0\nhelix",
+            ),
             ("centre_distance_mm = 90.0", "centre_distance_mm = nan"),
             ("torque_nm = 312.0", "torque_nm = \"lots\""),
             ("profile_shift = 0.3", "profile_shift = 1e308"),
