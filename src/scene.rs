@@ -986,7 +986,7 @@ fn mesh_options(
     };
     if let Some(n) = &m.teeth_in_sector {
         let v = *n.get_ref();
-        if !(v >= 1 && v <= i64::from(min_teeth)) {
+        if !(1..=i64::from(min_teeth)).contains(&v) {
             return Err(cx.err(
                 n.span(),
                 format!("`mesh.teeth_in_sector` = {v}: must lie in 1..={min_teeth} (the smaller tooth count)"),
