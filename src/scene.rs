@@ -368,19 +368,22 @@ impl Cx<'_> {
     /// Name of the `[table]` header at or before a byte offset, if any.
     fn table_at(&self, offset: usize) -> Option<String> {
         let end = offset.min(self.text.len());
-        let head = self.text.get(..end).unwrap_or(self.text);
         // the header line that contains the offset, or the last one before it
-        let line_end = self.text[end..]
-            .find('\n')
+        let line_end = self
+            .text
+            .get(end..)
+            .and_then(|t| t.find('\n'))
             .map_or(self.text.len(), |i| end + i);
-        let upto = self.text.get(..line_end).unwrap_or(head);
+        let upto = self.text.get(..line_end)?;
         upto.lines().rev().find_map(|l| {
             let t = l.trim();
-            if t.starts_with('[') && !t.starts_with("[[") {
-                t.find(']').map(|i| t[1..i].trim().to_string())
-            } else {
-                None
-            }
+            let name = t.strip_prefix('[')?.split_once(']')?.0.trim();
+            let plain = !t.starts_with("[[")
+                && !name.is_empty()
+                && name.chars().all(|c| {
+                    c.is_alphanumeric() || matches!(c, '_' | '-' | '.' | '"' | '\'' | ' ')
+                });
+            plain.then(|| name.to_string())
         })
     }
 
@@ -1348,9 +1351,16 @@ speed_rpm = 3000.0
             "face_width_mm = 13.3\nprofile_shift = 0.3\n",
             "profile_shift = 0.3\n",
         );
-        let err = parse(&t).unwrap_err().to_string();
-        assert!(err.contains("face_width_mm"), "{err}");
-        assert!(err.contains("pinion"), "{err}");
+        expect_err(
+            &t,
+            line_of(&t, "[pinion]"),
+            &["[pinion]", "missing field `face_width_mm`"],
+        );
+        let t = edit(SPUR, "[load]\ntorque_nm = 312.0\n", "[load]\n");
+        expect_err(&t, line_of(&t, "[load]"), &["[load]", "torque_nm"]);
+        // a missing file is an I/O error naming the path
+        let e = read_scene(Path::new("/nonexistent/scene.toml")).unwrap_err();
+        assert!(matches!(e, FlankError::Io { .. }), "{e}");
         // helical-only keys are required for a helical pair
         let t = edit(HELICAL, "hand = \"left\"\n", "");
         expect_err(&t, line_of(&t, "teeth = 37"), &["hand", "gear"]);
