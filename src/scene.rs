@@ -1705,4 +1705,35 @@ speed_rpm = 3000.0
         let eps4 = transverse_contact_ratio(&s4.pair);
         assert!((eps4 - 1.5029).abs() < 1e-4, "README value {eps4}");
     }
+
+    #[test]
+    fn no_panic_on_mutated_scenes() {
+        // deterministic mutations of a valid scene: every one parses or errors, none panics
+        let base: Vec<char> = SPUR.chars().collect();
+        let alphabet: Vec<char> = "=[]{}\"'.,-+0123456789eainf_\n #é".chars().collect();
+        let mut state: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut next = |n: usize| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % n as u64) as usize
+        };
+        for _ in 0..3000 {
+            let mut t = base.clone();
+            for _ in 0..1 + next(3) {
+                let at = next(t.len());
+                match next(3) {
+                    0 => {
+                        t.remove(at);
+                    }
+                    1 => t.insert(at, alphabet[next(alphabet.len())]),
+                    _ => t[at] = alphabet[next(alphabet.len())],
+                }
+            }
+            let text: String = t.into_iter().collect();
+            if let Err(e) = parse(&text) {
+                assert!(matches!(e, FlankError::Parse { .. }), "{e}");
+            }
+        }
+    }
 }
