@@ -50,9 +50,22 @@
 //! base_size_mm = 1.0
 //! ```
 //!
+//! `[<gear>.micro]` keys (all optional): `tip_relief_um`/`_length_mm`/`_shape`,
+//! `root_relief_um`/`_length_mm`/`_shape`, `end_relief_um`/`_length_mm`/`_shape`
+//! (amount and length go together; shape `linear` by default),
+//! `profile_crowning_um`, `lead_crowning_um` (≥ 0), `helix_slope_deviation_um`
+//! (signed), `measured_profile_csv` (relative to the scene file; must exist).
+//!
 //! Every table rejects unknown keys; every error is a
 //! [`FlankError::Parse`] with the file, the 1-based line and a message that
-//! names the key.
+//! names the key. Beyond types and ranges (5 ≤ z ≤ 1000, m_n > 0,
+//! 0 < α_n < 45°, spur β = 0 and no hand, helical 0 < β < 45° with opposite
+//! hands, b > 0, |x| ≤ 2, E > 0, −1 < ν < 0.5, torque and speed ≥ 0) the
+//! checks are geometric: both gears share m_n, α_n and β; the rack tooth tip
+//! fits its fillets; the tip lies above the base and root circles and below
+//! the pointed-tooth diameter; the bore is inside the root circle; the centre
+//! distance exceeds r_b1 + r_b2 and is not too small for x1 + x2 (no
+//! interference); no tip reaches into the mating root circle.
 
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
