@@ -20,8 +20,8 @@ pub fn inv(alpha: f64) -> f64 {
 /// Inverse of the involute function: α with tan α − α = y, for α ∈ [0, 1.5) rad.
 ///
 /// Newton's method on f(α) = tan α − α − y (f′ = tan² α), started from the
-/// series inversion α ≈ (3y)^{1/3} (small y) or atan(y + π/2)-type guess
-/// (large y), safeguarded by bisection on [0, 1.5).
+/// series inversion α ≈ (3y)^{1/3} − 2y/5 (y < 0.5) or max(1, atan(y + 1)),
+/// safeguarded by bisection on [0, 1.5).
 pub fn inv_inverse(y: f64) -> Result<f64> {
     const HI: f64 = 1.5;
     if !y.is_finite() || y < 0.0 || y > inv(HI) {
@@ -51,7 +51,7 @@ pub fn inv_inverse(y: f64) -> Result<f64> {
         let t = a.tan();
         let fp = t * t;
         let mut next = a - f / fp;
-        if !(next > lo && next < hi) || !next.is_finite() {
+        if !(next > lo && next < hi && next.is_finite()) {
             next = 0.5 * (lo + hi);
         }
         if (next - a).abs() <= 1e-15 * a.max(1e-300) {

@@ -293,6 +293,7 @@ mod tests {
         assert!((got - xs).abs() < 1e-12);
         assert!((xs + 0.299317443).abs() < 1e-8, "Σx = {xs}");
         let e = check_pair(&spec).unwrap_err().to_string();
+        println!("{e}");
         assert!(e.contains(&format!("{xs:.6}")), "{e}");
         assert!(e.contains(&format!("{:.4}°", awt.to_degrees())), "{e}");
         assert!(e.contains("91.2000 mm"), "{e}");
@@ -302,6 +303,7 @@ mod tests {
         ok.pinion.profile_shift = 0.25;
         let ok = with_gear_shift_for_centre_distance(&ok).unwrap();
         let r = check_pair(&ok).unwrap();
+        println!("{}", serde_json::to_string_pretty(&r).unwrap());
         assert!((r.working_pressure_angle_rad - awt).abs() < 1e-12);
         assert!((centre_distance_for_shifts(&ok).unwrap() - 90.0).abs() < 1e-9);
         assert!(
@@ -354,6 +356,7 @@ mod tests {
         let b = 20f64.to_radians();
         spec.centre_distance = 58.0 * 15.0 / (2.0 * b.cos());
         let r = check_pair(&spec).unwrap();
+        println!("{}", serde_json::to_string_pretty(&r).unwrap());
         let at = (20f64.to_radians().tan() / b.cos()).atan();
         assert!((r.working_pressure_angle_rad - at).abs() < 1e-9);
         assert!((r.overlap_ratio - 180.0 * b.sin() / (PI * 15.0)).abs() < 1e-12);
