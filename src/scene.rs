@@ -65,7 +65,10 @@
 //! fits its fillets; the tip lies above the base and root circles and below
 //! the pointed-tooth diameter; the bore is inside the root circle; the centre
 //! distance exceeds r_b1 + r_b2 and is not too small for x1 + x2 (no
-//! interference); no tip reaches into the mating root circle.
+//! interference); no tip reaches into the mating root circle. Last, the pair
+//! goes through [`crate::geometry::pair::check_pair`] (zero backlash: Σx within
+//! 1e-6 of what the centre distance needs; clearances; interference with the
+//! root fillet; ε_α ≥ 1), whose message is reported at the centre-distance line.
 
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
@@ -534,6 +537,24 @@ fn build(cx: &Cx, raw: RawScene) -> Res<Scene> {
         }
     }
 
+    let pair = PairSpec {
+        pinion,
+        gear: gear_spec,
+        centre_distance: a,
+    };
+    // the geometry module's pair check: zero backlash (Σx within 1e-6 of what
+    // a needs), clearances, interference, ε_α ≥ 1
+    crate::geometry::pair::check_pair(&pair).map_err(|e| {
+        let m = match e {
+            FlankError::Model(m) => m,
+            other => other.to_string(),
+        };
+        cx.err(
+            a_span.clone(),
+            format!("`pair.centre_distance_mm` = {a}: {m}"),
+        )
+    })?;
+
     // materials
     let pinion_material = material(cx, &raw.materials, &ps.material, "pinion")?;
     let gear_material = material(cx, &raw.materials, &gs.material, "gear")?;
@@ -549,27 +570,23 @@ fn build(cx: &Cx, raw: RawScene) -> Res<Scene> {
     // micro-geometry
     let micro = [
         match &raw.pinion.micro {
-            Some(m) => Some(micro_geometry(cx, m, "pinion", pinion.face_width)?),
+            Some(m) => Some(micro_geometry(cx, m, "pinion", pair.pinion.face_width)?),
             None => None,
         },
         match &raw.gear.micro {
-            Some(m) => Some(micro_geometry(cx, m, "gear", gear_spec.face_width)?),
+            Some(m) => Some(micro_geometry(cx, m, "gear", pair.gear.face_width)?),
             None => None,
         },
     ];
 
     let analyses = analyses(cx, raw.analyses.as_ref())?;
-    let min_teeth = pinion.teeth.min(gear_spec.teeth);
-    let min_module = pinion.normal_module.min(gear_spec.normal_module);
+    let min_teeth = pair.pinion.teeth.min(pair.gear.teeth);
+    let min_module = pair.pinion.normal_module.min(pair.gear.normal_module);
     let mesh = mesh_options(cx, raw.mesh.as_ref(), min_teeth, min_module)?;
 
     Ok(Scene {
         kind,
-        pair: PairSpec {
-            pinion,
-            gear: gear_spec,
-            centre_distance: a,
-        },
+        pair,
         pinion_material,
         gear_material,
         load,
@@ -1144,7 +1161,7 @@ teeth = 35
 normal_module_mm = 3.8
 normal_pressure_angle_deg = 20.0
 face_width_mm = 13.3
-profile_shift = -0.5993
+profile_shift = -0.59931744
 tip_diameter_mm = 135.5
 bore_diameter_mm = 80.0
 material = "steel"
@@ -1170,7 +1187,7 @@ base_size_mm = 1.0
     const HELICAL: &str = r#"
 [pair]
 kind = "helical"
-centre_distance_mm = 462.9173
+centre_distance_mm = 462.917331
 
 [pinion]
 teeth = 21
@@ -1257,7 +1274,7 @@ speed_rpm = 3000.0
         assert_eq!(g.helix_angle, 0.0);
         assert!(close(p.face_width, 13.3));
         assert!(close(p.profile_shift, 0.3));
-        assert!(close(g.profile_shift, -0.5993));
+        assert!(close(g.profile_shift, -0.59931744));
         assert_eq!(p.rack, RackProfile::default());
         assert_eq!(p.tip_diameter, Some(58.7));
         assert_eq!(g.tip_diameter, Some(135.5));
@@ -1664,6 +1681,17 @@ speed_rpm = 3000.0
             line_of(&t, "face_width_mm = 0"),
             &["pinion.face_width_mm"],
         );
+        // backlash: the centre distance does not match the shifts
+        let t = edit(
+            SPUR,
+            "centre_distance_mm = 90.0",
+            "centre_distance_mm = 90.1",
+        );
+        expect_err(
+            &t,
+            line_of(&t, "centre_distance_mm"),
+            &["pair.centre_distance_mm", "profile shifts"],
+        );
         // pointed pinion tooth
         let t = edit(SPUR, "tip_diameter_mm = 58.7", "tip_diameter_mm = 62.0");
         assert!(parse(&t).is_err());
@@ -1717,6 +1745,25 @@ speed_rpm = 3000.0
         assert!(close(s4.gear_material.young, 207_000.0));
         let eps4 = transverse_contact_ratio(&s4.pair);
         assert!((eps4 - 1.5029).abs() < 1e-4, "README value {eps4}");
+
+        // the geometry module's pair check accepts both and agrees on ε_α
+        let r2 = crate::geometry::pair::check_pair(&s2.pair).unwrap();
+        assert!(
+            (r2.contact_ratio - eps2).abs() < 1e-9,
+            "{}",
+            r2.contact_ratio
+        );
+        let r4 = crate::geometry::pair::check_pair(&s4.pair).unwrap();
+        assert!(
+            (r4.contact_ratio - eps4).abs() < 1e-9,
+            "{}",
+            r4.contact_ratio
+        );
+        assert!(
+            (r4.overlap_ratio - 1.3064).abs() < 1e-4,
+            "{}",
+            r4.overlap_ratio
+        );
     }
 
     #[test]
