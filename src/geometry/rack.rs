@@ -95,9 +95,10 @@ fn normalize2(v: [f64; 2]) -> [f64; 2] {
 
 impl ToothProfile {
     /// Build the profile of `g` (validated by [`GearGeometry::new`], which refuses
-    /// undercut, pointed and otherwise unrepresentable teeth).
-    pub fn new(g: &GearSpec) -> Result<Self> {
-        let geometry = GearGeometry::new(g, "gear")?;
+    /// undercut, pointed and otherwise unrepresentable teeth); `name` (e.g. "pinion")
+    /// goes into error messages.
+    pub fn new(g: &GearSpec, name: &str) -> Result<Self> {
+        let geometry = GearGeometry::new(g, name)?;
         let mn = g.normal_module;
         let an = g.normal_pressure_angle;
         let r = geometry.reference_radius;
@@ -140,7 +141,7 @@ impl ToothProfile {
         };
         if !(u_form.is_finite() && u_tip > u_form && root_angle < PI / g.teeth as f64 + 1e-12) {
             return Err(FlankError::Model(format!(
-                "gear profile: inconsistent generation (u_form = {u_form}, u_tip = {u_tip}, root angle = {root_angle} rad)"
+                "{name} profile: inconsistent generation (u_form = {u_form}, u_tip = {u_tip}, root angle = {root_angle} rad)"
             )));
         }
         Ok(out)
@@ -189,6 +190,56 @@ impl ToothProfile {
         let y = self.rack_yc - self.rho * s;
         let n = normalize2([c, s / self.cos_beta]);
         self.generate(x, y, n[0], n[1])
+    }
+
+    /// d/dt of the right fillet point, analytic: with the rack point (X, Y)(θ) and
+    /// φ(θ) = (X − Y N_X/N_Y)/r, dp/dθ = R(−φ)(X′ + φ′Y, Y′ − φ′(X − rφ)), dθ/dt = π/2 − α_n.
+    fn fillet_right_tangent(&self, t: f64) -> [f64; 2] {
+        let dth = PI / 2.0 - self.alpha_n;
+        let th = self.alpha_n + t * dth;
+        let (s, c) = th.sin_cos();
+        let cb = self.cos_beta;
+        let x = (self.rack_xc_n - self.rho * c) / cb;
+        let y = self.rack_yc - self.rho * s;
+        let (xp, yp) = (self.rho * s / cb, -self.rho * c);
+        // N_X / N_Y = cos β cot θ
+        let q = cb * c / s;
+        let qp = -cb / (s * s);
+        let phi = (x - y * q) / self.r;
+        let phip = (xp - yp * q - y * qp) / self.r;
+        let (a, b) = (xp + phip * y, yp - phip * (x - self.r * phi));
+        let (sp, cp) = phi.sin_cos();
+        [dth * (cp * a + sp * b), dth * (-sp * a + cp * b)]
+    }
+
+    /// Derivative dp/ds of a flank's transverse profile with respect to its parameter
+    /// (u on the involute: r_b u e_r(φ_T); t on the fillet). Zero at u = 0 (the cusp).
+    pub fn tangent(&self, flank: Flank, seg: Segment) -> [f64; 2] {
+        let d = match seg {
+            Segment::Involute(u) => {
+                let ph = self.base_half_angle - u;
+                let rb = self.geometry.base_radius;
+                [rb * u * ph.sin(), rb * u * ph.cos()]
+            }
+            Segment::Fillet(t) => self.fillet_right_tangent(t),
+        };
+        match flank {
+            Flank::Right => d,
+            Flank::Left => [-d[0], d[1]],
+        }
+    }
+
+    /// Partial derivatives (r_s, r_z) of the flank surface [`Self::surface`]:
+    /// r_s = R_z(φ)(p′, 0), r_z = R_z(φ)(φ′ J p, 0) + e_z, J p = (−p_y, p_x).
+    pub fn surface_derivatives(&self, flank: Flank, seg: Segment, z: f64) -> ([f64; 3], [f64; 3]) {
+        let q = self.point(flank, seg);
+        let d = self.tangent(flank, seg);
+        let k = self.twist_rate;
+        let (s, c) = (z * k).sin_cos();
+        let rot = |v: [f64; 2]| [c * v[0] - s * v[1], s * v[0] + c * v[1]];
+        let a = rot(d);
+        let b = rot([-k * q.p[1], k * q.p[0]]);
+        ([a[0], a[1], 0.0], [b[0], b[1], 1.0])
     }
 
     /// Point and outward normal of a flank's transverse profile (tooth 0, z = 0).
@@ -324,7 +375,7 @@ mod tests {
     #[test]
     fn involute_radius_normal_and_thickness() {
         for g in cases() {
-            let tp = ToothProfile::new(&g).unwrap();
+            let tp = ToothProfile::new(&g, "gear").unwrap();
             let geo = &tp.geometry;
             for i in 0..=20 {
                 let ry = geo.form_radius + (geo.tip_radius - geo.form_radius) * i as f64 / 20.0;
@@ -361,7 +412,7 @@ mod tests {
     #[test]
     fn involute_is_the_envelope_of_the_straight_rack_flank() {
         for g in cases() {
-            let tp = ToothProfile::new(&g).unwrap();
+            let tp = ToothProfile::new(&g, "gear").unwrap();
             let at = tp.geometry.transverse_pressure_angle;
             let mn = g.normal_module;
             let pt = PI * tp.geometry.transverse_module;
@@ -380,7 +431,7 @@ mod tests {
     #[test]
     fn fillet_joins_involute_and_reaches_root() {
         for g in cases() {
-            let tp = ToothProfile::new(&g).unwrap();
+            let tp = ToothProfile::new(&g, "gear").unwrap();
             for f in [Flank::Left, Flank::Right] {
                 let a = tp.point(f, Segment::Involute(tp.u_form));
                 let b = tp.point(f, Segment::Fillet(0.0));
@@ -445,7 +496,7 @@ mod tests {
     #[test]
     fn base_pitch_between_neighbouring_flanks() {
         for g in cases() {
-            let tp = ToothProfile::new(&g).unwrap();
+            let tp = ToothProfile::new(&g, "gear").unwrap();
             // From the tip of tooth 0 along −n to the right flank of tooth −1: a base
             // tangent crosses every involute of the base circle at right angles.
             let u = tp.u_tip;
@@ -463,7 +514,7 @@ mod tests {
     #[test]
     fn span_formula_vs_profile() {
         for g in cases() {
-            let tp = ToothProfile::new(&g).unwrap();
+            let tp = ToothProfile::new(&g, "gear").unwrap();
             let k = tp.geometry.span_teeth;
             let wk = involute::span(&g, k);
             assert_eq!(wk, tp.geometry.span);
@@ -475,7 +526,7 @@ mod tests {
             assert!((w - wk).abs() < 1e-9, "z = {}: {w} vs {wk}", g.teeth);
         }
         // worked example z = 20, m = 4, x = 0: W_3 = 30.641757504 mm
-        let tp = ToothProfile::new(&spec(20, 4.0, 0.0, 0.0, Hand::Right)).unwrap();
+        let tp = ToothProfile::new(&spec(20, 4.0, 0.0, 0.0, Hand::Right), "gear").unwrap();
         assert_eq!(tp.geometry.span_teeth, 3);
         assert!((tp.geometry.span - 30.641757504).abs() < 1e-8);
     }
@@ -483,7 +534,7 @@ mod tests {
     #[test]
     fn helical_surface_normal_matches_cross_product() {
         for g in cases() {
-            let tp = ToothProfile::new(&g).unwrap();
+            let tp = ToothProfile::new(&g, "gear").unwrap();
             for f in [Flank::Left, Flank::Right] {
                 for (seg, mk) in [
                     (0.5 * (tp.u_form + tp.u_tip), true),
@@ -539,13 +590,52 @@ mod tests {
     }
 
     #[test]
+    fn analytic_tangents_and_surface_derivatives() {
+        for g in cases() {
+            let tp = ToothProfile::new(&g, "gear").unwrap();
+            for f in [Flank::Left, Flank::Right] {
+                for seg in [
+                    Segment::Involute(0.5 * (tp.u_form + tp.u_tip)),
+                    Segment::Fillet(0.1),
+                    Segment::Fillet(0.5),
+                    Segment::Fillet(0.9),
+                ] {
+                    let h = 1e-4;
+                    let sh = |d: f64| match seg {
+                        Segment::Involute(u) => Segment::Involute(u + d),
+                        Segment::Fillet(t) => Segment::Fillet(t + d),
+                    };
+                    let z = 5.0;
+                    let (rs, rz) = tp.surface_derivatives(f, seg, z);
+                    let p = |d: f64, dz: f64| tp.surface(f, sh(d), z + dz).p;
+                    let fd = |g: &dyn Fn(f64) -> [f64; 3], h: f64| {
+                        let (a, b, c, e) = (g(2.0 * h), g(h), g(-h), g(-2.0 * h));
+                        [0, 1, 2].map(|i| (-a[i] + 8.0 * b[i] - 8.0 * c[i] + e[i]) / (12.0 * h))
+                    };
+                    let rs_fd = fd(&|d| p(d, 0.0), h);
+                    let rz_fd = fd(&|d| p(0.0, d), 0.1);
+                    let scale = rs.iter().map(|v| v * v).sum::<f64>().sqrt();
+                    for i in 0..3 {
+                        assert!((rs[i] - rs_fd[i]).abs() < 1e-9 * scale, "{seg:?} r_s");
+                        assert!((rz[i] - rz_fd[i]).abs() < 1e-9, "{seg:?} r_z");
+                    }
+                    // the normal is orthogonal to both
+                    let n = tp.surface(f, seg, z).n;
+                    let dn = |v: [f64; 3]| v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
+                    assert!(dn(rs).abs() < 1e-12 * scale && dn(rz).abs() < 1e-12);
+                }
+            }
+        }
+    }
+
+    #[test]
     fn bad_spec_is_an_error_not_a_panic() {
         let mut g = spec(8, 4.0, 0.0, 0.0, Hand::Right);
-        assert!(ToothProfile::new(&g).is_err());
+        assert!(ToothProfile::new(&g, "gear").is_err());
         g.teeth = 20;
         g.normal_module = f64::NAN;
-        assert!(ToothProfile::new(&g).is_err());
-        let tp = ToothProfile::new(&spec(20, 4.0, 0.0, 0.0, Hand::Right)).unwrap();
+        assert!(ToothProfile::new(&g, "gear").is_err());
+        let tp = ToothProfile::new(&spec(20, 4.0, 0.0, 0.0, Hand::Right), "gear").unwrap();
         assert!(tp.point_at_radius(Flank::Left, 1.0).is_err());
     }
 }
