@@ -324,6 +324,35 @@ mod tests {
         assert!(check_pair(&bad).is_err());
     }
 
+    /// A standard-consistent choice for seed 002 (a = 90 mm, ε_α near 1.45–1.51):
+    /// x1 = 0.25, x2 = Σx − x1 = −0.549317, gear tip shortened to d_a2 = 135.5 mm.
+    #[test]
+    fn seed_13_35_candidate_with_shortened_gear_tip() {
+        let mut spec = PairSpec {
+            pinion: gear(13, 3.8, 0.25, 0.0, Hand::Right, 13.3),
+            gear: gear(35, 3.8, 0.0, 0.0, Hand::Right, 13.3),
+            centre_distance: 90.0,
+        };
+        spec = with_gear_shift_for_centre_distance(&spec).unwrap();
+        spec.gear.tip_diameter = Some(135.5);
+        let r = check_pair(&spec).unwrap();
+        println!("{}", serde_json::to_string_pretty(&r).unwrap());
+        // ε_α = (√(r_a1² − r_b1²) + √(r_a2² − r_b2²) − a sin α_wt) / p_bt
+        let a = 20f64.to_radians();
+        let awt = (91.2 * a.cos() / 90.0).acos();
+        let (rb1, rb2) = (24.7 * a.cos(), 66.5 * a.cos());
+        let e = ((29.45f64.powi(2) - rb1 * rb1).sqrt() + (67.75f64.powi(2) - rb2 * rb2).sqrt()
+            - 90.0 * awt.sin())
+            / (PI * 3.8 * a.cos());
+        assert!((r.contact_ratio - e).abs() < 1e-12);
+        assert!(
+            (r.contact_ratio - 1.4989).abs() < 1e-4,
+            "{}",
+            r.contact_ratio
+        );
+        assert!(r.pinion.active_start_radius > r.pinion.geometry.form_radius + 0.03);
+    }
+
     /// Reference pair 20/20 (a_0), closed-form contact ratio.
     #[test]
     fn spur_contact_ratio_closed_form() {
