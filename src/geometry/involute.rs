@@ -1,4 +1,4 @@
-//! Involute gear relations (ISO 21771:2007, DIN 3960, Niemann–Winter vol. II §21).
+//! Involute gear relations (ISO 21771:2007, DIN 3960, Niemann–Winter, Maschinenelemente vol. II, spur gear geometry).
 //!
 //! All functions take a [`GearSpec`] in internal units (mm, rad). For helical
 //! gears the transverse quantities (index t) are those of the transverse
@@ -190,7 +190,7 @@ fn rack_rounding_height(g: &GearSpec) -> f64 {
 
 /// Undercut limit (smallest shift without undercut) for a rack with tip rounding:
 /// x_min = h_fP* − ρ_fP* (1 − sin α_n) − (z / (2 cos β)) sin² α_t
-/// (Niemann–Winter vol. II §21.1; ISO 21771:2007 generating-rack relations: the end of
+/// (Niemann–Winter vol. II, undercut limit; ISO 21771:2007 generating-rack relations: the end of
 /// the rack's straight flank must not pass the interference point T of the line of action).
 pub fn undercut_limit(g: &GearSpec) -> f64 {
     let at = transverse_pressure_angle(g);

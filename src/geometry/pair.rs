@@ -1,5 +1,5 @@
 //! Relations of an external cylindrical gear pair (ISO 21771:2007 "gear pairs";
-//! Niemann–Winter vol. II §21.2): working pressure angle, the shift sum a centre
+//! Niemann–Winter vol. II, gear pairs with profile shift): working pressure angle, the shift sum a centre
 //! distance needs, contact and overlap ratios, clearances, interference.
 
 use super::involute::{inv, inv_inverse, GearGeometry};

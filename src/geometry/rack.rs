@@ -3,17 +3,19 @@
 //! The transverse profile of one tooth is the envelope of the generating rack
 //! (ISO 53 type: straight flanks at α_n, tip rounding ρ_fP* m_n) rolling on the
 //! reference circle, shifted out by x m_n (ISO 21771:2007 generating rack;
-//! Litvin & Fuentes, *Gear Geometry and Applied Theory*, 2nd ed., ch. 10–11).
-//! The envelope point of each rack point is found with Willis' theorem: the
-//! common normal passes through the pitch point (Litvin §6, "method of the
-//! instantaneous centre"). The rack's straight flank generates the involute,
+//! Litvin & Fuentes, *Gear Geometry and Applied Theory*, 2nd ed., 2004,
+//! chapters on conjugated curves and on involute gears). The envelope point of
+//! each rack point is found with Willis' theorem: the common normal passes
+//! through the pitch point (Litvin & Fuentes, conjugated curves, method of the
+//! instantaneous centre). The rack's straight flank generates the involute,
 //! its tip rounding the trochoidal root fillet; both meet at the form circle
 //! with a common point and normal by construction.
 //!
 //! Helical gears: the rack tooth is a cylinder along the tooth direction, so
 //! its transverse section has flanks at α_t and its rounding is an ellipse with
 //! semi-axes ρ/cos β (along the pitch line) and ρ (height). The 3D flank is the
-//! transverse profile swept along the helix (Litvin §15).
+//! transverse profile swept along the helix (Litvin & Fuentes, involute
+//! helical gears).
 //!
 //! Frame (mm): gear axis z, transverse plane x–y. Tooth 0 is symmetric about
 //! the +y axis; its RIGHT flank lies at x > 0, its LEFT flank is the mirror
@@ -152,7 +154,7 @@ impl ToothProfile {
         2.0 * PI / self.teeth as f64
     }
 
-    /// Involute of the right flank at roll angle u (ISO 21771:2007; Litvin §10):
+    /// Involute of the right flank at roll angle u (ISO 21771:2007; Litvin & Fuentes, spur involute gears):
     /// with φ_T = ψ_b − u (base tangent point, from the centre line),
     /// p = r_b [e_r(φ_T) + u e_φ(φ_T)], n = e_φ(φ_T), e_r = (sin φ, cos φ), e_φ = (cos φ, −sin φ).
     fn involute_right(&self, u: f64) -> ProfilePoint {
@@ -303,7 +305,7 @@ impl ToothProfile {
     }
 
     /// Flank surface r(s, z) = R_z(φ(z)) p(s) + z e_z with φ(z) = z · twist_rate
-    /// (helicoid: tan β / r = tan β_b / r_b; Litvin §15), z ∈ [0, b]. Unit normal from
+    /// (helicoid: tan β / r = tan β_b / r_b; Litvin & Fuentes, helical gears), z ∈ [0, b]. Unit normal from
     /// r_s × r_z in closed form: R_z(φ)(n_x, n_y, −φ′ (p × n)_z), normalized.
     pub fn surface(&self, flank: Flank, seg: Segment, z: f64) -> SurfacePoint {
         let q = self.point(flank, seg);
