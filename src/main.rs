@@ -46,6 +46,13 @@ enum Command {
         #[arg(long, short)]
         quiet: bool,
     },
+    /// Read a gear-pair scene, check the pair (shifts vs centre distance,
+    /// undercut, pointed tips, clearance, interference, contact ratio) and
+    /// print the pair report (ε_α, ε_β, working pressure angle, W_k, …) as JSON.
+    Check {
+        /// The scene file (.toml).
+        scene: PathBuf,
+    },
     /// Write the benchmark cantilever as a CalculiX deck: a box L × 10 × 10 mm
     /// (L = 10·nx/ny mm … so elements are cubes), clamped at x = 0, 1 kN tip
     /// load in −y spread over the tip face nodes.
@@ -117,6 +124,11 @@ fn run(cli: Cli) -> Result<()> {
                 );
                 println!("results in {}", out.display());
             }
+        }
+        Command::Check { scene } => {
+            let scene = flank::scene::read_scene(&scene)?;
+            let report = flank::geometry::pair::check_pair(&scene.pair)?;
+            println!("{}", serde_json::to_string_pretty(&report)?);
         }
         Command::Cantilever {
             cells,

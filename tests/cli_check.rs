@@ -1,0 +1,59 @@
+//! `flank check SCENE.toml`: the paper scenes pass the pair checks with the
+//! contact ratios their READMEs state; a bad scene is an error with its line.
+
+use std::process::Command;
+
+fn check(path: &str) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_flank"))
+        .args(["check", path])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
+}
+
+fn field(json: &str, key: &str) -> f64 {
+    let v: serde_json::Value = serde_json::from_str(json).unwrap();
+    v[key]
+        .as_f64()
+        .unwrap_or_else(|| panic!("no {key} in {json}"))
+}
+
+#[test]
+fn seed002_spur_scene_checks() {
+    let (ok, out, err) = check("papers/seed002-spur/scene.toml");
+    assert!(ok, "{err}");
+    let eps = field(&out, "contact_ratio");
+    // the paper reports 1.45 (CALYX) to 1.51 (FE)
+    assert!((1.45..=1.51).contains(&eps), "ε_α = {eps}");
+    assert!((field(&out, "centre_distance") - 90.0).abs() < 1e-9);
+}
+
+#[test]
+fn seed004_helical_scene_checks() {
+    let (ok, out, err) = check("papers/seed004-helical/scene.toml");
+    assert!(ok, "{err}");
+    assert!(field(&out, "overlap_ratio") > 1.0);
+    assert!(field(&out, "contact_ratio") > 1.2);
+}
+
+#[test]
+fn bad_scene_names_key_and_line() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"));
+    let path = dir.join("bad_scene.toml");
+    std::fs::write(
+        &path,
+        "[pair]\nkind = \"spur\"\ncentre_distance_mm = 90\nfoo = 1\n",
+    )
+    .unwrap();
+    let (ok, _, err) = check(path.to_str().unwrap());
+    assert!(!ok);
+    assert!(
+        err.contains(":4") && err.contains("foo") && !err.contains("panicked"),
+        "{err}"
+    );
+}
