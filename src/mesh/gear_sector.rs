@@ -1,0 +1,640 @@
+//! Native gear-sector mesher, v1: structured multi-block hex20 (C3D20) meshes
+//! of `teeth` consecutive teeth of one gear, exact on the flanks.
+//!
+//! Construction (transverse plane, then extrusion along the axis):
+//! * per tooth pitch (tooth centre ± half pitch) an **upper block**, a quadratic
+//!   lattice (2n+1 points per direction) whose lines of constant `J` run across
+//!   the tooth from the left boundary to the right boundary and whose lines of
+//!   constant `I` run from the bottom up to the tip. The left boundary is the
+//!   half root arc from the sector cut (gap centre) to the left fillet end, the
+//!   left fillet and the left involute up to the tip corner; the right boundary
+//!   is its mirror; the top is the tip arc; the bottom is a Π-shaped curve: the
+//!   cut line from the root circle down to an interface radius r_i, the arc r_i
+//!   across the pitch, the other cut line back up. Boundary lattice points
+//!   (corner and midside) are placed on the exact profile by its parameter
+//!   (root-arc angle, fillet parameter t, involute roll angle u with uniform
+//!   arc length), so midside nodes lie on the exact curve. Interior points by
+//!   transfinite interpolation (Coons patch) in polar coordinates (angle,
+//!   radius), blended with a graded distribution across the tooth (first
+//!   layer ≈ `flank_size`, growth 1.25 towards the tooth centre).
+//! * per pitch a **rim block** between the bore and r_i, a polar tensor lattice
+//!   whose top row is the arc part of the upper block's bottom (the same
+//!   points), graded from the cut element size at r_i to ≤ `base_size`.
+//! * Blocks share nodes along their interfaces (identical lattice points,
+//!   merged by position); neighbouring pitches share the cut lines.
+//! * Extrusion: z ∈ [0, b] in `face_layers` quadratic layers; each transverse
+//!   section is rotated by φ(z) = twist_rate · z, which puts flank nodes exactly
+//!   on the helicoid [`ToothProfile::surface`].
+//!
+//! Conventions. Tooth `k` of the sector (sets `FLANK_L<k>`, `FLANK_R<k>`,
+//! k = 1..=teeth) is the profile's tooth k − 1, i.e. tooth 0 (symmetric about
+//! +y) rotated by −2π(k−1)/z. `FLANK_R<k>` are the nodes of the profile's
+//! [`Flank::Right`] (x > 0 for tooth 0), `FLANK_L<k>` those of [`Flank::Left`]:
+//! seen with the gear axis (+z) pointing at the viewer and the tooth pointing
+//! up, FLANK_L is on the viewer's left, FLANK_R on the right. Flank sets hold
+//! every node on the involute and on the trochoidal root fillet (not on the
+//! root arc). `CUT_A` is the cut face at the gap centre left of tooth 1 (angle
+//! −π/z from +y, positive towards +x), `CUT_B` the cut right of the last tooth.
+//! `BORE`: nodes at the bore radius. `NALL`, `EALL`.
+//!
+//! Flank parameter u (in [`GearSectorMesh::flank_uv`]): the involute roll
+//! angle for u ≥ u_form; on the fillet u = u_form − t (t ∈ [0, 1] the fillet
+//! parameter, 0 at the form circle), see [`flank_segment`].
+
+use std::collections::HashMap;
+use std::f64::consts::PI;
+
+use crate::error::FlankError;
+use crate::fem::element::{check_jacobian, det3, hex20_shape, jacobian, HEX20_EDGES};
+use crate::fem::quadrature::hex_rule;
+use crate::geometry::rack::{Flank, Segment, ToothProfile};
+use crate::geometry::GearSpec;
+use crate::mesh::{ElementKind, Mesh};
+
+/// Options of [`gear_sector`].
+#[derive(Clone, Debug)]
+pub struct SectorOptions {
+    /// Number of teeth in the sector (default 3).
+    pub teeth: usize,
+    /// Element size along and normal to the flank near the surface (mm).
+    pub flank_size: f64,
+    /// Coarse element size in the rim and body (mm).
+    pub base_size: f64,
+    /// Elements across the face width; 0 = ⌈b / base_size⌉.
+    pub face_layers: usize,
+}
+
+impl Default for SectorOptions {
+    fn default() -> Self {
+        SectorOptions {
+            teeth: 3,
+            flank_size: 0.5,
+            base_size: 2.0,
+            face_layers: 0,
+        }
+    }
+}
+
+/// Element quality figures.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Quality {
+    /// min over elements of (min det J / max det J over the 27 Gauss points).
+    pub min_scaled_jacobian: f64,
+    /// max over elements of longest / shortest corner-to-corner edge.
+    pub max_aspect_ratio: f64,
+}
+
+/// A meshed gear sector.
+#[derive(Clone, Debug)]
+pub struct GearSectorMesh {
+    pub mesh: Mesh,
+    /// For each flank node: (profile parameter u, z). See the module docs for u.
+    pub flank_uv: HashMap<usize, (f64, f64)>,
+    pub quality: Quality,
+}
+
+/// Profile segment of the unified flank parameter u (module docs).
+pub fn flank_segment(profile: &ToothProfile, u: f64) -> Segment {
+    if u >= profile.u_form {
+        Segment::Involute(u)
+    } else {
+        Segment::Fillet((profile.u_form - u).min(1.0))
+    }
+}
+
+fn err(msg: String) -> FlankError {
+    FlankError::Model(format!("gear sector mesh: {msg}"))
+}
+
+/// Sizes starting at h0, growing by q up to hmax, scaled to sum exactly to len.
+fn graded(len: f64, h0: f64, q: f64, hmax: f64) -> Vec<f64> {
+    let mut v = Vec::new();
+    let mut s = 0.0;
+    let mut h = h0.min(hmax).min(len);
+    while s + 0.5 * h < len || v.is_empty() {
+        v.push(h);
+        s += h;
+        h = (h * q).min(hmax);
+    }
+    let f = len / s;
+    v.iter().map(|x| x * f).collect()
+}
+
+/// Cumulative fractions on the half lattice (2n + 1 values) from n sizes; odd
+/// entries are the averages of their neighbours.
+fn half_lattice(sizes: &[f64]) -> Vec<f64> {
+    let tot: f64 = sizes.iter().sum();
+    let mut out = vec![0.0];
+    let mut s = 0.0;
+    for h in sizes {
+        out.push((s + 0.5 * h) / tot);
+        s += h;
+        out.push(s / tot);
+    }
+    *out.last_mut().unwrap() = 1.0;
+    out
+}
+
+fn pol(p: [f64; 2]) -> [f64; 2] {
+    [p[0].atan2(p[1]), p[0].hypot(p[1])]
+}
+
+fn cart(a: f64, r: f64) -> [f64; 2] {
+    [r * a.sin(), r * a.cos()]
+}
+
+fn rot(p: [f64; 2], a: f64) -> [f64; 2] {
+    // rotate by angle a measured from +y towards +x (clockwise)
+    let (s, c) = a.sin_cos();
+    [c * p[0] + s * p[1], -s * p[0] + c * p[1]]
+}
+
+/// Transverse 2D point registry with merging by position.
+struct Points {
+    xy: Vec<[f64; 2]>,
+    /// true if a corner lattice point (no odd index), false if midside.
+    corner: Vec<bool>,
+    /// flank info: (sector tooth 1-based, flank, u)
+    flank: Vec<Option<(usize, Flank, f64)>>,
+    bore: Vec<bool>,
+    grid: HashMap<(i64, i64), Vec<usize>>,
+    tol: f64,
+}
+
+impl Points {
+    fn key(&self, p: [f64; 2]) -> (i64, i64) {
+        ((p[0] / self.tol).floor() as i64, (p[1] / self.tol).floor() as i64)
+    }
+    fn add(&mut self, p: [f64; 2], corner: bool) -> Result<usize, FlankError> {
+        let (kx, ky) = self.key(p);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                if let Some(v) = self.grid.get(&(kx + dx, ky + dy)) {
+                    for &i in v {
+                        let q = self.xy[i];
+                        if (q[0] - p[0]).hypot(q[1] - p[1]) < self.tol {
+                            if self.corner[i] != corner {
+                                return Err(err(format!(
+                                    "lattice mismatch at ({:.6}, {:.6}): corner and midside point coincide",
+                                    p[0], p[1]
+                                )));
+                            }
+                            return Ok(i);
+                        }
+                    }
+                }
+            }
+        }
+        let i = self.xy.len();
+        self.xy.push(p);
+        self.corner.push(corner);
+        self.flank.push(None);
+        self.bore.push(false);
+        self.grid.entry((kx, ky)).or_default().push(i);
+        Ok(i)
+    }
+}
+
+/// A 2D quadratic block: point ids on a (2ni+1) × (2nj+1) lattice (usize::MAX at odd/odd).
+struct Block {
+    ni: usize,
+    nj: usize,
+    ids: Vec<usize>,
+}
+
+impl Block {
+    fn id(&self, i: usize, j: usize) -> usize {
+        self.ids[i * (2 * self.nj + 1) + j]
+    }
+}
+
+/// Mesh `opts.teeth` teeth of the gear `spec` (see the module docs).
+pub fn gear_sector(
+    spec: &GearSpec,
+    name: &str,
+    opts: &SectorOptions,
+) -> Result<GearSectorMesh, FlankError> {
+    let prof = ToothProfile::new(spec, name)?;
+    let z = spec.teeth as usize;
+    if opts.teeth == 0 || opts.teeth > z {
+        return Err(err(format!("{name}: {} teeth requested of {z}", opts.teeth)));
+    }
+    if !(opts.flank_size > 0.0 && opts.base_size >= opts.flank_size) {
+        return Err(err(format!(
+            "{name}: need 0 < flank_size ({}) ≤ base_size ({})",
+            opts.flank_size, opts.base_size
+        )));
+    }
+    let g = &prof.geometry;
+    let (rf, ra, rb) = (g.root_radius, g.tip_radius, g.base_radius);
+    let r_bore = 0.5 * spec.bore_diameter;
+    if !(r_bore > 0.0 && r_bore < rf) {
+        return Err(err(format!(
+            "{name}: bore radius {r_bore} mm must lie in (0, root radius {rf:.4} mm)"
+        )));
+    }
+    let h = PI / z as f64; // half pitch angle
+    let ar = prof.root_angle;
+    let fs = opts.flank_size;
+    let q = 1.25;
+
+    // --- across the tooth: graded sizes from both flanks to the centre.
+    let w = g.reference_thickness_transverse;
+    let half = graded(0.5 * w, fs, q, opts.base_size);
+    let mut half = half;
+    if half.len() < 2 {
+        let x = half[0] / 2.0;
+        half = vec![x, x];
+    }
+    let nh = half.len();
+    let mut sizes_s = half.clone();
+    sizes_s.extend(half.iter().rev());
+    let ns = sizes_s.len();
+    let sig = half_lattice(&sizes_s); // 2ns+1
+
+    // --- interface radius and bottom Π curve split.
+    let depth = (0.4 * (rf - r_bore)).min(1.5 * spec.normal_module);
+    let ri = rf - depth;
+    let frac = depth / (2.0 * depth + 2.0 * h * ri);
+    let mut nc = 1;
+    for i in 1..nh {
+        if (sig[2 * i] - frac).abs() < (sig[2 * nc] - frac).abs() {
+            nc = i;
+        }
+    }
+    let s_c0 = sig[2 * nc];
+    let s_c1 = sig[2 * (ns - nc)];
+
+    // --- along the left boundary: gap half arc, fillet, involute.
+    let gap_len = rf * (h - ar);
+    let ng = ((gap_len / fs).ceil() as usize).max(1);
+    let fil_len = {
+        let mut l = 0.0;
+        let mut p0 = prof.point(Flank::Right, Segment::Fillet(0.0)).p;
+        for k in 1..=64 {
+            let p = prof.point(Flank::Right, Segment::Fillet(k as f64 / 64.0)).p;
+            l += (p[0] - p0[0]).hypot(p[1] - p0[1]);
+            p0 = p;
+        }
+        l
+    };
+    let nf = ((fil_len / fs).ceil() as usize).max(1);
+    let (uf, ut) = (prof.u_form, prof.u_tip);
+    let inv_len = 0.5 * rb * (ut * ut - uf * uf);
+    let ni = ((inv_len / fs).ceil() as usize).max(1);
+    let nt = ng + nf + ni;
+    // Left boundary point at half-lattice index jj (0..=2nt), tooth-0 local,
+    // with Some(u) for flank points.
+    let left = |jj: usize| -> ([f64; 2], Option<f64>) {
+        if jj < 2 * ng {
+            let a = -h + (h - ar) * jj as f64 / (2 * ng) as f64;
+            (cart(a, rf), None)
+        } else if jj <= 2 * (ng + nf) {
+            let t = 1.0 - (jj - 2 * ng) as f64 / (2 * nf) as f64;
+            (prof.point(Flank::Left, Segment::Fillet(t)).p, Some(uf - t))
+        } else {
+            let f = (jj - 2 * (ng + nf)) as f64 / (2 * ni) as f64;
+            let u = (uf * uf + (ut * ut - uf * uf) * f).sqrt();
+            let u = if jj == 2 * nt { ut } else { u };
+            (prof.point(Flank::Left, Segment::Involute(u)).p, Some(u))
+        }
+    };
+    let lpts: Vec<([f64; 2], Option<f64>)> = (0..=2 * nt).map(left).collect();
+    // blend τ: cumulative chord length along the left boundary
+    let mut tau = vec![0.0; 2 * nt + 1];
+    for j in 1..=2 * nt {
+        let (a, b) = (lpts[j - 1].0, lpts[j].0);
+        tau[j] = tau[j - 1] + (a[0] - b[0]).hypot(a[1] - b[1]);
+    }
+    let tl = tau[2 * nt];
+    tau.iter_mut().for_each(|t| *t /= tl);
+
+    // bottom Π curve (polar) at lattice ii
+    let bottom = |ii: usize| -> [f64; 2] {
+        let s = sig[ii];
+        if ii <= 2 * nc {
+            [-h, rf - depth * s / s_c0]
+        } else if ii >= 2 * (ns - nc) {
+            [h, rf - depth * (1.0 - s) / (1.0 - s_c1)]
+        } else {
+            [-h + 2.0 * h * (s - s_c0) / (s_c1 - s_c0), ri]
+        }
+    };
+
+    // --- rim radial sizes, from r_i down to the bore.
+    let cut_h0 = depth * (sig[2 * nc] - sig[2 * nc - 2]) / s_c0;
+    let rim_sizes = graded(ri - r_bore, cut_h0, q, opts.base_size);
+    let nr = rim_sizes.len();
+    let rho = half_lattice(&rim_sizes); // from r_i (0) to bore (1)
+
+    // --- transverse points of all pitches.
+    let mut pts = Points {
+        xy: Vec::new(),
+        corner: Vec::new(),
+        flank: Vec::new(),
+        bore: Vec::new(),
+        grid: HashMap::new(),
+        tol: 1e-7 * ra,
+    };
+    let mut blocks: Vec<Block> = Vec::new();
+    let na = ns - 2 * nc; // rim elements across
+    let mut cut_a = Vec::new();
+    let mut cut_b = Vec::new();
+    for k in 0..opts.teeth {
+        let ak = 2.0 * PI * k as f64 / z as f64;
+        // upper block
+        let l1 = pol(lpts[2 * nt].0);
+        let c00 = bottom(0);
+        let c10 = bottom(2 * ns);
+        let c01 = l1;
+        let c11 = [-l1[0], l1[1]];
+        let mut ids = vec![usize::MAX; (2 * ns + 1) * (2 * nt + 1)];
+        for ii in 0..=2 * ns {
+            for jj in 0..=2 * nt {
+                if ii % 2 == 1 && jj % 2 == 1 {
+                    continue;
+                }
+                let s = sig[ii];
+                let t = tau[jj];
+                let mut fl = None;
+                let p_loc: [f64; 2] = if ii == 0 || ii == 2 * ns {
+                    let (p, u) = lpts[jj];
+                    if ii == 0 {
+                        fl = u.map(|u| (Flank::Left, u));
+                        p
+                    } else {
+                        fl = u.map(|u| (Flank::Right, u));
+                        [-p[0], p[1]]
+                    }
+                } else if jj == 2 * nt {
+                    prof.tip_arc(2.0 * s - 1.0).p
+                } else if jj == 0 {
+                    let b = bottom(ii);
+                    cart(b[0], b[1])
+                } else {
+                    let lp = pol(lpts[jj].0);
+                    let rp = [-lp[0], lp[1]];
+                    let bp = bottom(ii);
+                    let tp = pol(prof.tip_arc(2.0 * s - 1.0).p);
+                    let mut o = [0.0; 2];
+                    for c in 0..2 {
+                        o[c] = (1.0 - s) * lp[c] + s * rp[c] + (1.0 - t) * bp[c] + t * tp[c]
+                            - ((1.0 - s) * (1.0 - t) * c00[c]
+                                + s * (1.0 - t) * c10[c]
+                                + (1.0 - s) * t * c01[c]
+                                + s * t * c11[c]);
+                    }
+                    cart(o[0], o[1])
+                };
+                let p = rot(p_loc, ak);
+                let id = pts.add(p, ii % 2 == 0 && jj % 2 == 0)?;
+                if let Some((f, u)) = fl {
+                    pts.flank[id] = Some((k + 1, f, u));
+                }
+                if k == 0 && jj == 0 && ii <= 2 * nc {
+                    cut_a.push(id);
+                }
+                if k + 1 == opts.teeth && jj == 0 && ii >= 2 * (ns - nc) {
+                    cut_b.push(id);
+                }
+                ids[ii * (2 * nt + 1) + jj] = id;
+            }
+        }
+        blocks.push(Block { ni: ns, nj: nt, ids });
+        // rim block: I across (arc part), J from bore (0) to r_i (2nr)
+        let mut ids = vec![usize::MAX; (2 * na + 1) * (2 * nr + 1)];
+        for ii in 0..=2 * na {
+            let a = bottom(ii + 2 * nc)[0];
+            for jj in 0..=2 * nr {
+                if ii % 2 == 1 && jj % 2 == 1 {
+                    continue;
+                }
+                let r = if jj == 2 * nr {
+                    ri
+                } else if jj == 0 {
+                    r_bore
+                } else {
+                    ri - (ri - r_bore) * rho[2 * nr - jj]
+                };
+                let p = rot(cart(a, r), ak);
+                let id = pts.add(p, ii % 2 == 0 && jj % 2 == 0)?;
+                if jj == 0 {
+                    pts.bore[id] = true;
+                }
+                if k == 0 && ii == 0 {
+                    cut_a.push(id);
+                }
+                if k + 1 == opts.teeth && ii == 2 * na {
+                    cut_b.push(id);
+                }
+                ids[ii * (2 * nr + 1) + jj] = id;
+            }
+        }
+        blocks.push(Block { ni: na, nj: nr, ids });
+    }
+
+    // --- extrusion.
+    let b = spec.face_width;
+    let nz = if opts.face_layers > 0 {
+        opts.face_layers
+    } else {
+        ((b / opts.base_size).ceil() as usize).max(1)
+    };
+    let np = pts.xy.len();
+    let nk = 2 * nz + 1;
+    let mut node3 = vec![usize::MAX; np * nk];
+    let mut mesh = Mesh::new();
+    let mut flank_uv = HashMap::new();
+    let mut flank_sets: HashMap<String, Vec<usize>> = HashMap::new();
+    let mut bore = Vec::new();
+    for kk in 0..nk {
+        let zz = b * kk as f64 / (2 * nz) as f64;
+        let phi = prof.twist_rate * zz;
+        let (sn, cs) = phi.sin_cos();
+        for p in 0..np {
+            if kk % 2 == 1 && !pts.corner[p] {
+                continue;
+            }
+            let [x, y] = pts.xy[p];
+            let id = mesh.coords.len();
+            mesh.add_node(id as u64 + 1, [cs * x - sn * y, sn * x + cs * y, zz])
+                .map_err(|_| err("duplicate node label".into()))?;
+            node3[p * nk + kk] = id;
+            if let Some((t, f, u)) = pts.flank[p] {
+                flank_uv.insert(id, (u, zz));
+                let nm = match f {
+                    Flank::Left => format!("FLANK_L{t}"),
+                    Flank::Right => format!("FLANK_R{t}"),
+                };
+                flank_sets.entry(nm).or_default().push(id);
+            }
+            if pts.bore[p] {
+                bore.push(id);
+            }
+        }
+    }
+    let cut3 = |set: &[usize]| -> Vec<usize> {
+        let mut v = Vec::new();
+        for &p in set {
+            for kk in 0..nk {
+                let n = node3[p * nk + kk];
+                if n != usize::MAX {
+                    v.push(n);
+                }
+            }
+        }
+        v
+    };
+    let (ca, cb) = (cut3(&cut_a), cut3(&cut_b));
+
+    // --- elements.
+    let rule = hex_rule(3);
+    let shapes: Vec<[[f64; 3]; 20]> = rule.iter().map(|p| hex20_shape(p.xi).1).collect();
+    let mut quality = Quality {
+        min_scaled_jacobian: f64::INFINITY,
+        max_aspect_ratio: 0.0,
+    };
+    for blk in &blocks {
+        for i in 0..blk.ni {
+            for j in 0..blk.nj {
+                let (i0, j0) = (2 * i, 2 * j);
+                let c = [
+                    blk.id(i0, j0),
+                    blk.id(i0 + 2, j0),
+                    blk.id(i0 + 2, j0 + 2),
+                    blk.id(i0, j0 + 2),
+                ];
+                let m = [
+                    blk.id(i0 + 1, j0),
+                    blk.id(i0 + 2, j0 + 1),
+                    blk.id(i0 + 1, j0 + 2),
+                    blk.id(i0, j0 + 1),
+                ];
+                for l in 0..nz {
+                    let (k0, km, k1) = (2 * l, 2 * l + 1, 2 * l + 2);
+                    let mut nodes = Vec::with_capacity(20);
+                    for &p in &c {
+                        nodes.push(node3[p * nk + k0]);
+                    }
+                    for &p in &c {
+                        nodes.push(node3[p * nk + k1]);
+                    }
+                    for &p in &m {
+                        nodes.push(node3[p * nk + k0]);
+                    }
+                    for &p in &m {
+                        nodes.push(node3[p * nk + k1]);
+                    }
+                    for &p in &c {
+                        nodes.push(node3[p * nk + km]);
+                    }
+                    let label = mesh.elements.len() as u64 + 1;
+                    let x: Vec<[f64; 3]> = nodes.iter().map(|&n| mesh.coords[n]).collect();
+                    check_jacobian(ElementKind::C3D20, &x)
+                        .map_err(|e| e.into_error(label, ElementKind::C3D20))?;
+                    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+                    for d in &shapes {
+                        let dj = det3(&jacobian(&x, d));
+                        lo = lo.min(dj);
+                        hi = hi.max(dj);
+                    }
+                    quality.min_scaled_jacobian = quality.min_scaled_jacobian.min(lo / hi);
+                    let (mut emin, mut emax) = (f64::INFINITY, 0.0f64);
+                    for e in HEX20_EDGES.iter() {
+                        let (p, q) = (x[e[0]], x[e[1]]);
+                        let d = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt();
+                        emin = emin.min(d);
+                        emax = emax.max(d);
+                    }
+                    quality.max_aspect_ratio = quality.max_aspect_ratio.max(emax / emin);
+                    mesh.add_element(label, ElementKind::C3D20, nodes)
+                        .map_err(|_| err("duplicate element label".into()))?;
+                }
+            }
+        }
+    }
+    for (nm, v) in flank_sets {
+        mesh.extend_node_set(&nm, v);
+    }
+    mesh.extend_node_set("BORE", bore);
+    mesh.extend_node_set("CUT_A", ca);
+    mesh.extend_node_set("CUT_B", cb);
+    let n = mesh.node_count();
+    mesh.extend_node_set("NALL", 0..n);
+    let ne = mesh.elements.len();
+    mesh.extend_element_set("EALL", 0..ne);
+    Ok(GearSectorMesh {
+        mesh,
+        flank_uv,
+        quality,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Hand, RackProfile};
+    use std::time::Instant;
+
+    fn pinion() -> GearSpec {
+        GearSpec {
+            teeth: 13,
+            normal_module: 3.8,
+            normal_pressure_angle: 20f64.to_radians(),
+            helix_angle: 0.0,
+            hand: Hand::Right,
+            face_width: 13.3,
+            profile_shift: 0.3,
+            rack: RackProfile::default(),
+            tip_diameter: Some(58.7),
+            bore_diameter: 20.0,
+        }
+    }
+
+    #[allow(dead_code)]
+    fn helical() -> GearSpec {
+        GearSpec {
+            teeth: 21,
+            normal_module: 15.0,
+            normal_pressure_angle: 20f64.to_radians(),
+            helix_angle: 20f64.to_radians(),
+            hand: Hand::Right,
+            face_width: 180.0,
+            profile_shift: 0.0,
+            rack: RackProfile::default(),
+            tip_diameter: None,
+            bore_diameter: 150.0,
+        }
+    }
+
+    fn report(tag: &str, m: &GearSectorMesh, t: f64) {
+        println!(
+            "{tag}: {} nodes, {} elements, min scaled Jacobian {:.4}, max aspect ratio {:.2}, {:.3} s",
+            m.mesh.node_count(),
+            m.mesh.elements.len(),
+            m.quality.min_scaled_jacobian,
+            m.quality.max_aspect_ratio,
+            t
+        );
+    }
+
+    #[test]
+    fn gear_sector_pinion_valid() {
+        let t = Instant::now();
+        let opts = SectorOptions {
+            flank_size: 0.5,
+            base_size: 2.0,
+            ..Default::default()
+        };
+        let m = gear_sector(&pinion(), "pinion", &opts).unwrap();
+        report("pinion fs 0.5", &m, t.elapsed().as_secs_f64());
+        assert!(m.quality.min_scaled_jacobian > 0.0);
+        for e in 0..m.mesh.elements.len() {
+            check_jacobian(ElementKind::C3D20, &m.mesh.element_coords(e)).unwrap();
+        }
+        for s in ["BORE", "CUT_A", "CUT_B", "NALL", "FLANK_L1", "FLANK_R3"] {
+            assert!(!m.mesh.node_sets[s].is_empty(), "{s}");
+        }
+        assert_eq!(m.mesh.used_nodes().iter().filter(|&&u| !u).count(), 0);
+    }
+}
