@@ -847,4 +847,72 @@ mod tests {
         );
         assert!(along > 0.0 && along > 0.5 * norm, "{along} {norm}");
     }
+
+    /// Conformity: every face used once (a boundary face) lies on the bore,
+    /// a cut face, an end face or the outer surface (radius ≥ root radius);
+    /// CUT_A / CUT_B lie on their planes, BORE on the bore circle.
+    #[test]
+    fn gear_sector_conforming_and_sets() {
+        use crate::fem::element::HEX20_FACES;
+        let spec = pinion();
+        let p = ToothProfile::new(&spec, "g").unwrap();
+        let m = gear_sector(&spec, "pinion", &SectorOptions::default()).unwrap();
+        let mut faces: HashMap<[usize; 4], usize> = HashMap::new();
+        for el in &m.mesh.elements {
+            for f in HEX20_FACES.iter() {
+                let mut k = [el.nodes[f[0]], el.nodes[f[1]], el.nodes[f[2]], el.nodes[f[3]]];
+                k.sort_unstable();
+                *faces.entry(k).or_default() += 1;
+            }
+        }
+        assert!(faces.values().all(|&c| c <= 2));
+        let inset = |nm: &str, n: usize| m.mesh.node_sets[nm].binary_search(&n).is_ok();
+        let rf = p.geometry.root_radius;
+        let mut boundary = 0;
+        for (k, &c) in &faces {
+            if c == 2 {
+                continue;
+            }
+            boundary += 1;
+            let x: Vec<[f64; 3]> = k.iter().map(|&n| m.mesh.coords[n]).collect();
+            let ok = x.iter().all(|q| q[2].abs() < 1e-12)
+                || x.iter().all(|q| (q[2] - spec.face_width).abs() < 1e-9)
+                || k.iter().all(|&n| inset("BORE", n))
+                || k.iter().all(|&n| inset("CUT_A", n))
+                || k.iter().all(|&n| inset("CUT_B", n))
+                || x.iter().all(|q| q[0].hypot(q[1]) > rf - 1e-9);
+            assert!(ok, "interior crack or stray boundary face at {x:?}");
+        }
+        for &n in &m.mesh.node_sets["BORE"] {
+            let q = m.mesh.coords[n];
+            assert!((q[0].hypot(q[1]) - 10.0).abs() < 1e-9);
+        }
+        let h = PI / 13.0;
+        for (nm, a) in [("CUT_A", -h), ("CUT_B", -h + 3.0 * 2.0 * h)] {
+            for &n in &m.mesh.node_sets[nm] {
+                let q = m.mesh.coords[n];
+                assert!((q[0].atan2(q[1]) - a).abs() < 1e-9, "{nm}");
+            }
+        }
+        // first-layer thickness normal to the flank (z = 0): distance from each
+        // involute corner node to the next lattice line inside
+        let mut lo = f64::INFINITY;
+        let mut hi = 0.0f64;
+        for el in &m.mesh.elements {
+            for e in HEX20_EDGES.iter().take(4) {
+                let (a, b) = (el.nodes[e[0]], el.nodes[e[1]]);
+                for (s, t) in [(a, b), (b, a)] {
+                    if let (Some(&(u, z)), None) = (m.flank_uv.get(&s), m.flank_uv.get(&t)) {
+                        if z == 0.0 && u > p.u_form {
+                            let (x, y) = (m.mesh.coords[s], m.mesh.coords[t]);
+                            let d = (x[0] - y[0]).hypot(x[1] - y[1]);
+                            lo = lo.min(d);
+                            hi = hi.max(d);
+                        }
+                    }
+                }
+            }
+        }
+        println!("boundary faces {boundary}; first layer across the involute (fs 0.5): {lo:.3} .. {hi:.3} mm");
+    }
 }
