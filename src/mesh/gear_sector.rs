@@ -330,6 +330,42 @@ pub fn gear_sector(
         }
     };
 
+    // Distribution across the tooth per lattice row: first layer flank_size,
+    // geometric growth q ∈ [1, 1.3] to the centre (q = 1.3 and a thicker first
+    // layer where the tooth is too wide for ns elements, uniform where it is
+    // too narrow, i.e. near the tip). Rows below the form point use the form row's.
+    let jform = 2 * (ng + nf);
+    let row_dist = |width: f64| -> Vec<f64> {
+        let sum = |q: f64| (0..nh).map(|k| q.powi(k as i32)).sum::<f64>();
+        let target = 0.5 * width / fs;
+        let q = if target <= nh as f64 {
+            1.0
+        } else if target >= sum(1.3) {
+            1.3
+        } else {
+            let (mut lo, mut hi) = (1.0, 1.3);
+            for _ in 0..60 {
+                let m = 0.5 * (lo + hi);
+                if sum(m) < target {
+                    lo = m;
+                } else {
+                    hi = m;
+                }
+            }
+            0.5 * (lo + hi)
+        };
+        let half: Vec<f64> = (0..nh).map(|k| q.powi(k as i32)).collect();
+        let mut all = half.clone();
+        all.extend(half.iter().rev());
+        half_lattice(&all)
+    };
+    let row_sig: Vec<Vec<f64>> = (0..=2 * nt)
+        .map(|jj| {
+            let lp = pol(lpts[jj.max(jform)].0);
+            row_dist(2.0 * (-lp[0]) * lp[1])
+        })
+        .collect();
+
     // --- rim radial sizes, from r_i down to the bore.
     let cut_h0 = depth * (sig[2 * nc] - sig[2 * nc - 2]) / s_c0;
     let rim_sizes = graded(ri - r_bore, cut_h0, q, opts.base_size);
@@ -363,7 +399,7 @@ pub fn gear_sector(
                 if ii % 2 == 1 && jj % 2 == 1 {
                     continue;
                 }
-                let s = sig[ii];
+                let s = row_sig[jj][ii];
                 let t = tau[jj];
                 let mut fl = None;
                 let p_loc: [f64; 2] = if ii == 0 || ii == 2 * ns {
