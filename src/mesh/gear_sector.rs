@@ -35,7 +35,9 @@
 //! every node on the involute and on the trochoidal root fillet (not on the
 //! root arc). `CUT_A` is the cut face at the gap centre left of tooth 1 (angle
 //! −π/z from +y, positive towards +x), `CUT_B` the cut right of the last tooth.
-//! `BORE`: nodes at the bore radius. `NALL`, `EALL`.
+//! `BORE`: nodes at the bore radius. `NALL`, `EALL`. For helical gears the
+//! cut faces are twisted with the section (helicoidal, not planes). With
+//! `teeth` = z the ring closes: the two cuts merge and CUT_A = CUT_B.
 //!
 //! Flank parameter u (in [`GearSectorMesh::flank_uv`]): the involute roll
 //! angle for u ≥ u_form; on the fillet u = u_form − t (t ∈ [0, 1] the fillet
@@ -959,5 +961,23 @@ mod tests {
             }
         }
         println!("boundary faces {boundary}; first layer across the involute (fs 0.5): {lo:.3} .. {hi:.3} mm");
+    }
+
+    #[test]
+    fn gear_sector_full_ring_closes() {
+        let spec = pinion();
+        let opts = SectorOptions {
+            teeth: 13,
+            flank_size: 1.0,
+            base_size: 2.0,
+            face_layers: 2,
+        };
+        let m = gear_sector(&spec, "pinion", &opts).unwrap();
+        assert_eq!(m.mesh.node_sets["CUT_A"], m.mesh.node_sets["CUT_B"]);
+        let one = gear_sector(&spec, "pinion", &SectorOptions { teeth: 1, ..opts.clone() }).unwrap();
+        // 13 pitches minus the 13 shared cut lines
+        let cut = one.mesh.node_sets["CUT_A"].len();
+        assert_eq!(m.mesh.node_count(), 13 * (one.mesh.node_count() - cut));
+        println!("full ring: {} nodes, {} elements", m.mesh.node_count(), m.mesh.elements.len());
     }
 }
