@@ -15,8 +15,11 @@
 //!   (root-arc angle, fillet parameter t, involute roll angle u with uniform
 //!   arc length), so midside nodes lie on the exact curve. Interior points by
 //!   transfinite interpolation (Coons patch) in polar coordinates (angle,
-//!   radius), blended with a graded distribution across the tooth (first
-//!   layer ≈ `flank_size`, growth 1.25 towards the tooth centre).
+//!   radius), with a graded distribution across the tooth chosen per row
+//!   (first layer ≈ `flank_size`, growth ≤ 1.3 towards the tooth centre; where
+//!   the tooth is too narrow, near the tip, uniform and thinner). The bottom
+//!   curve's blend weight falls from 1 at the bottom to 0 at the form point,
+//!   so on the involute the rows are pure polar lerps between the flanks.
 //! * per pitch a **rim block** between the bore and r_i, a polar tensor lattice
 //!   whose top row is the arc part of the upper block's bottom (the same
 //!   points), graded from the cut element size at r_i to ≤ `base_size`.
