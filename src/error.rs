@@ -30,9 +30,11 @@ pub enum FlankError {
     /// The linear solver failed.
     #[error("solver: {0}")]
     Solver(String),
-    #[error("{path}: {source}")]
+    /// An I/O error on `path`; the OS error is the source (printed by `{:#}`).
+    #[error("{}", path.display())]
     Io {
         path: PathBuf,
+        #[source]
         source: std::io::Error,
     },
 }

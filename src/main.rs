@@ -53,6 +53,31 @@ enum Command {
         /// The scene file (.toml).
         scene: PathBuf,
     },
+    /// Mesh both bodies of a gear-pair scene (native hex20 sector mesher):
+    /// writes pinion.inp and gear.inp (bore clamped, nominal single-pair
+    /// normal force T/r_b1 at the working pitch point of the middle tooth),
+    /// .vtu files, <body>_flank_uv.csv (flank node parameters) and
+    /// mesh_report.json.
+    Mesh {
+        /// The scene file (.toml).
+        scene: PathBuf,
+        /// Output directory.
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+        /// Flank element size (mm); overrides the scene's [mesh] flank_size_mm.
+        #[arg(long)]
+        flank_size: Option<f64>,
+        /// Base element size (mm); overrides the scene's [mesh] base_size_mm.
+        #[arg(long)]
+        base_size: Option<f64>,
+        /// Write the decks without the nominal load.
+        #[arg(long)]
+        no_load: bool,
+        /// Element type; overrides the scene's [mesh] element (the native
+        /// mesher makes hex20 only, for now).
+        #[arg(long, value_enum)]
+        element: Option<MeshElement>,
+    },
     /// Write the benchmark cantilever as a CalculiX deck: a box L × 10 × 10 mm
     /// (L = 10·nx/ny mm … so elements are cubes), clamped at x = 0, 1 kN tip
     /// load in −y spread over the tip face nodes.
@@ -67,6 +92,12 @@ enum Command {
         #[arg(long, default_value = "cantilever.inp")]
         out: PathBuf,
     },
+}
+
+#[derive(Clone, Copy, PartialEq, clap::ValueEnum)]
+enum MeshElement {
+    Hex20,
+    Wedge15,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -125,6 +156,14 @@ fn run(cli: Cli) -> Result<()> {
                 println!("results in {}", out.display());
             }
         }
+        Command::Mesh {
+            scene,
+            out,
+            flank_size,
+            base_size,
+            no_load,
+            element,
+        } => mesh_scene(&scene, &out, flank_size, base_size, !no_load, element)?,
         Command::Check { scene } => {
             let scene = flank::scene::read_scene(&scene)?;
             let report = flank::geometry::pair::check_pair(&scene.pair)?;
@@ -157,5 +196,114 @@ fn run(cli: Cli) -> Result<()> {
             );
         }
     }
+    Ok(())
+}
+
+/// `flank mesh`: both bodies of a scene, decks, VTU, flank parameters, report.
+fn mesh_scene(
+    path: &std::path::Path,
+    out: &std::path::Path,
+    flank_size: Option<f64>,
+    base_size: Option<f64>,
+    with_load: bool,
+    element: Option<MeshElement>,
+) -> Result<()> {
+    use flank::geometry::involute::base_radius;
+    use flank::mesh::gear_body::gear_body;
+    use flank::mesh::gear_sector::SectorOptions;
+    use std::io::Write;
+    let scene = flank::scene::read_scene(path)?;
+    let report = flank::geometry::pair::check_pair(&scene.pair)?;
+    let hex20 = match element {
+        Some(e) => e == MeshElement::Hex20,
+        None => scene.mesh.element == flank::scene::ElementKind::Hex20,
+    };
+    if !hex20 {
+        anyhow::bail!(
+            "{}: wedge15 is not supported by the native mesher yet; use [mesh] element = \"hex20\" or --element hex20",
+            path.display()
+        );
+    }
+    let mn = scene.pair.pinion.normal_module;
+    let flank_size = flank_size.or(scene.mesh.flank_size).unwrap_or(mn / 8.0);
+    let base_size = base_size.or(scene.mesh.base_size).unwrap_or(mn / 2.0);
+    if !(flank_size > 0.0 && base_size >= flank_size) {
+        anyhow::bail!(
+            "element sizes must satisfy 0 < flank size ({flank_size}) ≤ base size ({base_size})"
+        );
+    }
+    let options = SectorOptions {
+        teeth: scene.mesh.teeth_in_sector as usize,
+        flank_size,
+        base_size,
+        face_layers: 0,
+    };
+    std::fs::create_dir_all(out)?;
+    let cos_aw = report.working_pressure_angle_rad.cos();
+    let force = scene.load.torque_nmm / base_radius(&scene.pair.pinion);
+    let mut bodies = serde_json::Map::new();
+    for (name, spec, material) in [
+        ("pinion", &scene.pair.pinion, &scene.pinion_material),
+        ("gear", &scene.pair.gear, &scene.gear_material),
+    ] {
+        let rb = base_radius(spec);
+        let load = (with_load && force > 0.0).then_some((force, rb / cos_aw));
+        let body = gear_body(spec, name, material, &options, load)?;
+        let mesh = &body.model.mesh;
+        flank::mesh::inp::write_deck(&body.model, &out.join(format!("{name}.inp")))?;
+        flank::report::vtu::write_vtu(&out.join(format!("{name}.vtu")), mesh, &[], &[])?;
+        let uv_path = out.join(format!("{name}_flank_uv.csv"));
+        let mut w = std::io::BufWriter::new(std::fs::File::create(&uv_path)?);
+        writeln!(w, "node,u,v_mm")?;
+        let mut uv: Vec<(&usize, &(f64, f64))> = body.sector.flank_uv.iter().collect();
+        uv.sort_by_key(|(n, _)| **n);
+        for (&n, &(u, v)) in uv {
+            writeln!(w, "{},{:e},{:e}", mesh.node_labels[n], u, v)?;
+        }
+        w.flush()?;
+        let flank_nodes: usize = mesh
+            .node_sets
+            .iter()
+            .filter(|(k, _)| k.starts_with("FLANK_"))
+            .map(|(_, v)| v.len())
+            .sum();
+        bodies.insert(
+            name.to_string(),
+            serde_json::json!({
+                "nodes": mesh.node_count(),
+                "elements": { "C3D20": mesh.elements.len() },
+                "flank_nodes": flank_nodes,
+                "teeth_in_sector": options.teeth,
+                "flank_size_mm": flank_size,
+                "base_size_mm": base_size,
+                "min_scaled_jacobian": body.sector.quality.min_scaled_jacobian,
+                "max_aspect_ratio": body.sector.quality.max_aspect_ratio,
+                "base_radius_mm": rb,
+                "nominal_load": body.load.map(|(n, f)| serde_json::json!({
+                    "node": mesh.node_labels[n], "force_n": f, "normal_force_n": force
+                })),
+            }),
+        );
+        println!(
+            "{name}: {} nodes, {} elements, min scaled Jacobian {:.3}",
+            mesh.node_count(),
+            mesh.elements.len(),
+            body.sector.quality.min_scaled_jacobian
+        );
+    }
+    let summary = serde_json::json!({
+        "scene": path.display().to_string(),
+        "bodies": bodies,
+        "pair": {
+            "contact_ratio": report.contact_ratio,
+            "overlap_ratio": report.overlap_ratio,
+            "working_pressure_angle_deg": report.working_pressure_angle_deg,
+        },
+    });
+    std::fs::write(
+        out.join("mesh_report.json"),
+        serde_json::to_string_pretty(&summary)? + "\n",
+    )?;
+    println!("wrote {}", out.display());
     Ok(())
 }

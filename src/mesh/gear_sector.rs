@@ -168,7 +168,10 @@ struct Points {
 
 impl Points {
     fn key(&self, p: [f64; 2]) -> (i64, i64) {
-        ((p[0] / self.tol).floor() as i64, (p[1] / self.tol).floor() as i64)
+        (
+            (p[0] / self.tol).floor() as i64,
+            (p[1] / self.tol).floor() as i64,
+        )
     }
     fn add(&mut self, p: [f64; 2], corner: bool) -> Result<usize, FlankError> {
         let (kx, ky) = self.key(p);
@@ -222,7 +225,10 @@ pub fn gear_sector(
     let prof = ToothProfile::new(spec, name)?;
     let z = spec.teeth as usize;
     if opts.teeth == 0 || opts.teeth > z {
-        return Err(err(format!("{name}: {} teeth requested of {z}", opts.teeth)));
+        return Err(err(format!(
+            "{name}: {} teeth requested of {z}",
+            opts.teeth
+        )));
     }
     if !(opts.flank_size > 0.0 && opts.base_size >= opts.flank_size) {
         return Err(err(format!(
@@ -285,7 +291,9 @@ pub fn gear_sector(
     {
         let mut p0 = prof.point(Flank::Right, Segment::Fillet(0.0)).p;
         for k in 1..=FT {
-            let p = prof.point(Flank::Right, Segment::Fillet(k as f64 / FT as f64)).p;
+            let p = prof
+                .point(Flank::Right, Segment::Fillet(k as f64 / FT as f64))
+                .p;
             fil_s[k] = fil_s[k - 1] + (p[0] - p0[0]).hypot(p[1] - p0[1]);
             p0 = p;
         }
@@ -337,7 +345,13 @@ pub fn gear_sector(
     // that on the involute the lines across the tooth are pure (polar) lerps
     // between the flanks and the flank-normal layers keep their thickness.
     let tau_f = tau[2 * (ng + nf)];
-    let alpha = |t: f64| if t < tau_f { (1.0 - t / tau_f).powi(2) } else { 0.0 };
+    let alpha = |t: f64| {
+        if t < tau_f {
+            (1.0 - t / tau_f).powi(2)
+        } else {
+            0.0
+        }
+    };
 
     // bottom Π curve (polar) at lattice ii
     let bottom = |ii: usize| -> [f64; 2] {
@@ -466,7 +480,11 @@ pub fn gear_sector(
                 ids[ii * (2 * nt + 1) + jj] = id;
             }
         }
-        blocks.push(Block { ni: ns, nj: nt, ids });
+        blocks.push(Block {
+            ni: ns,
+            nj: nt,
+            ids,
+        });
         // rim block: I across (arc part), J from bore (0) to r_i (2nr)
         let mut ids = vec![usize::MAX; (2 * na + 1) * (2 * nr + 1)];
         for ii in 0..=2 * na {
@@ -496,7 +514,11 @@ pub fn gear_sector(
                 ids[ii * (2 * nr + 1) + jj] = id;
             }
         }
-        blocks.push(Block { ni: na, nj: nr, ids });
+        blocks.push(Block {
+            ni: na,
+            nj: nr,
+            ids,
+        });
     }
 
     // --- extrusion.
@@ -622,7 +644,9 @@ pub fn gear_sector(
                     let (mut emin, mut emax) = (f64::INFINITY, 0.0f64);
                     for e in HEX20_EDGES.iter() {
                         let (p, q) = (x[e[0]], x[e[1]]);
-                        let d = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt();
+                        let d =
+                            ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2))
+                                .sqrt();
                         emin = emin.min(d);
                         emax = emax.max(d);
                     }
@@ -729,12 +753,16 @@ mod tests {
         let mut worst = 0.0f64;
         let mut count = 0;
         for k in 1..=teeth {
-            for (f, nm) in [(Flank::Left, format!("FLANK_L{k}")), (Flank::Right, format!("FLANK_R{k}"))] {
+            for (f, nm) in [
+                (Flank::Left, format!("FLANK_L{k}")),
+                (Flank::Right, format!("FLANK_R{k}")),
+            ] {
                 for &n in &m.mesh.node_sets[&nm] {
                     let (u, z) = m.flank_uv[&n];
                     let e = exact(&p, k, f, u, z);
                     let x = m.mesh.coords[n];
-                    let d = ((x[0] - e[0]).powi(2) + (x[1] - e[1]).powi(2) + (x[2] - e[2]).powi(2)).sqrt();
+                    let d = ((x[0] - e[0]).powi(2) + (x[1] - e[1]).powi(2) + (x[2] - e[2]).powi(2))
+                        .sqrt();
                     worst = worst.max(d);
                     count += 1;
                 }
@@ -762,20 +790,31 @@ mod tests {
                     continue;
                 }
                 let us: Vec<f64> = fl.iter().map(|f| f.unwrap().0).collect();
-                let (xa, xb, xm) = (m.mesh.coords[ns[0]], m.mesh.coords[ns[1]], m.mesh.coords[ns[2]]);
+                let (xa, xb, xm) = (
+                    m.mesh.coords[ns[0]],
+                    m.mesh.coords[ns[1]],
+                    m.mesh.coords[ns[2]],
+                );
                 let (mut lo0, mut hi0) = (us[0].min(us[1]), us[0].max(us[1]));
                 let du = 0.02 * (p.u_tip - p.u_form);
                 lo0 -= du;
                 hi0 += du;
                 for xi in [-0.5f64, 0.5] {
-                    let (na, nb, nm) = (0.5 * xi * (xi - 1.0), 0.5 * xi * (xi + 1.0), 1.0 - xi * xi);
-                    let x: Vec<f64> = (0..3).map(|c| na * xa[c] + nb * xb[c] + nm * xm[c]).collect();
+                    let (na, nb, nm) =
+                        (0.5 * xi * (xi - 1.0), 0.5 * xi * (xi + 1.0), 1.0 - xi * xi);
+                    let x: Vec<f64> = (0..3)
+                        .map(|c| na * xa[c] + nb * xb[c] + nm * xm[c])
+                        .collect();
                     // untwist, then rotate back to tooth 0
                     let q = rot([x[0], x[1]], p.twist_rate * x[2]);
                     let a = q[0].atan2(q[1]);
                     let k = (a / pitch).round();
                     let q = rot(q, -k * pitch);
-                    let f = if q[0] < 0.0 { Flank::Left } else { Flank::Right };
+                    let f = if q[0] < 0.0 {
+                        Flank::Left
+                    } else {
+                        Flank::Right
+                    };
                     let d2 = |u: f64| {
                         let e = p.point(f, flank_segment(&p, u)).p;
                         (e[0] - q[0]).powi(2) + (e[1] - q[1]).powi(2)
@@ -836,7 +875,9 @@ mod tests {
         assert!(m.quality.min_scaled_jacobian > 0.0);
         let d = check_flank_nodes(&spec, &m, 3);
         let dev = flank_edge_deviation(&spec, &m);
-        println!("helical: flank node distance max {d:.3e} mm, flank edge deviation max {dev:.3e} mm");
+        println!(
+            "helical: flank node distance max {d:.3e} mm, flank edge deviation max {dev:.3e} mm"
+        );
         assert!(d < 1e-9, "{d}");
     }
 
@@ -878,15 +919,30 @@ mod tests {
         };
         for &b in &m.mesh.node_sets["BORE"] {
             for c in 0..3 {
-                model.dirichlet.push(Dirichlet { node: b, component: c, value: 0.0 });
+                model.dirichlet.push(Dirichlet {
+                    node: b,
+                    component: c,
+                    value: 0.0,
+                });
             }
         }
         for c in 0..3 {
-            model.forces.push(NodalForce { node: n, component: c, value: dir[c] });
+            model.forces.push(NodalForce {
+                node: n,
+                component: c,
+                value: dir[c],
+            });
         }
         model.mesh = m.mesh;
         let t = Instant::now();
-        let sol = solve_static(&model, &SolveOptions { threads: 2, ..Default::default() }).unwrap();
+        let sol = solve_static(
+            &model,
+            &SolveOptions {
+                threads: 2,
+                ..Default::default()
+            },
+        )
+        .unwrap();
         let d = &sol.displacement[3 * n..3 * n + 3];
         let along = d[0] * dir[0] + d[1] * dir[1] + d[2] * dir[2];
         let norm = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
@@ -910,7 +966,12 @@ mod tests {
         let mut faces: HashMap<[usize; 4], usize> = HashMap::new();
         for el in &m.mesh.elements {
             for f in HEX20_FACES.iter() {
-                let mut k = [el.nodes[f[0]], el.nodes[f[1]], el.nodes[f[2]], el.nodes[f[3]]];
+                let mut k = [
+                    el.nodes[f[0]],
+                    el.nodes[f[1]],
+                    el.nodes[f[2]],
+                    el.nodes[f[3]],
+                ];
                 k.sort_unstable();
                 *faces.entry(k).or_default() += 1;
             }
@@ -977,10 +1038,22 @@ mod tests {
         };
         let m = gear_sector(&spec, "pinion", &opts).unwrap();
         assert_eq!(m.mesh.node_sets["CUT_A"], m.mesh.node_sets["CUT_B"]);
-        let one = gear_sector(&spec, "pinion", &SectorOptions { teeth: 1, ..opts.clone() }).unwrap();
+        let one = gear_sector(
+            &spec,
+            "pinion",
+            &SectorOptions {
+                teeth: 1,
+                ..opts.clone()
+            },
+        )
+        .unwrap();
         // 13 pitches minus the 13 shared cut lines
         let cut = one.mesh.node_sets["CUT_A"].len();
         assert_eq!(m.mesh.node_count(), 13 * (one.mesh.node_count() - cut));
-        println!("full ring: {} nodes, {} elements", m.mesh.node_count(), m.mesh.elements.len());
+        println!(
+            "full ring: {} nodes, {} elements",
+            m.mesh.node_count(),
+            m.mesh.elements.len()
+        );
     }
 }

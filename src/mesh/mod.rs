@@ -4,6 +4,7 @@
 //! everything inside flank works with dense *indices* `0..n`. Connectivity is
 //! stored in CalculiX/Abaqus node order (see [`ElementKind`]).
 
+pub mod gear_body;
 pub mod gear_sector;
 pub mod inp;
 pub mod structured;

@@ -1,0 +1,83 @@
+//! `flank mesh`: the seed 002 scene meshes into two decks that flank solves
+//! and that CalculiX solves to the same displacements (issue 3 acceptance,
+//! on a coarse mesh to keep the test short).
+
+use std::path::Path;
+use std::process::Command;
+
+use flank::ccx::{ccx_executable, relative_difference, run_ccx};
+use flank::fem::static_analysis::{solve_static, SolveOptions};
+use flank::mesh::inp::read_deck;
+
+#[test]
+fn seed002_bodies_mesh_solve_and_match_ccx() {
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("mesh_seed002");
+    let _ = std::fs::remove_dir_all(&out);
+    let status = Command::new(env!("CARGO_BIN_EXE_flank"))
+        .args([
+            "mesh",
+            "papers/seed002-spur/scene.toml",
+            "--element",
+            "hex20",
+            "--flank-size",
+            "1.0",
+            "--base-size",
+            "3.0",
+            "--out",
+        ])
+        .arg(&out)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert!(
+        status.status.success(),
+        "{}",
+        String::from_utf8_lossy(&status.stderr)
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("mesh_report.json")).unwrap())
+            .unwrap();
+    for body in ["pinion", "gear"] {
+        let b = &report["bodies"][body];
+        assert!(
+            b["min_scaled_jacobian"].as_f64().unwrap() > 0.2,
+            "{body}: {b}"
+        );
+        assert!(b["flank_nodes"].as_u64().unwrap() > 0);
+        let deck = read_deck(&out.join(format!("{body}.inp"))).unwrap();
+        for set in [
+            "BORE", "FLANK_L1", "FLANK_R1", "FLANK_L3", "FLANK_R3", "CUT_A", "CUT_B",
+        ] {
+            assert!(
+                deck.model.mesh.node_sets.contains_key(set),
+                "{body}: no set {set}"
+            );
+        }
+        let sol = solve_static(
+            &deck.model,
+            &SolveOptions {
+                recover_stress: false,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert!(sol.stats.backward_error < 1e-14);
+        if ccx_executable().is_none() {
+            assert!(std::env::var_os("CI").is_none(), "ccx missing on CI");
+            continue;
+        }
+        let ccx = run_ccx(
+            &out.join(format!("{body}.inp")),
+            &out.join(format!("ccx_{body}")),
+            2,
+        )
+        .unwrap();
+        let diff =
+            relative_difference(&deck.model.mesh, &sol.displacement, &ccx.displacements).unwrap();
+        println!(
+            "{body}: {} nodes, flank vs ccx max|du|/max|u| = {diff:.2e}",
+            deck.model.mesh.node_count()
+        );
+        assert!(diff <= 1e-6, "{body}: flank and ccx differ by {diff:.2e}");
+    }
+}
