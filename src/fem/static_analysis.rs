@@ -467,7 +467,14 @@ fn solve_static_in_pool(
     ));
     let dof_names = reduced_dof_names(model, &dofs);
     let name_of = |r: usize| dof_names[r].clone();
-    chol.factorize(&pattern, &system.values, options.precision, &name_of)?;
+    if let Err(e) = chol.factorize(&pattern, &system.values, options.precision, &name_of) {
+        if options.precision != Precision::Mixed {
+            return Err(e);
+        }
+        // the f32 factor broke down (κ beyond single precision): factorize in f64
+        stats.precision_fallback = true;
+        chol.factorize(&pattern, &system.values, Precision::Double, &name_of)?;
+    }
     let t = Instant::now();
     let k_norm = sym_inf_norm(&pattern, &system.values);
     let solved = match solve_refined(&chol, &pattern, &system.values, k_norm, &b, &mut stats) {
@@ -559,6 +566,9 @@ fn solve_static_in_pool(
 /// precision direct solve is ~1e-16); not reaching it within
 /// [`MAX_REFINEMENT`] steps makes the solve fall back to double.
 const MIXED_TOLERANCE: f64 = 1e-14;
+/// Backward error at which mixed-precision CG stops early: a few units of
+/// f64 round-off, as good as a double-precision direct solve.
+const MIXED_TARGET: f64 = 2e-16;
 /// Backward error above which a solution is rejected.
 const BACKWARD_ERROR_LIMIT: f64 = 1e-10;
 /// Maximum iterative-refinement steps.
@@ -639,7 +649,11 @@ fn solve_refined(
     let mut rz = dot(&r, &z);
     stats.refinement_steps = 0;
     let mut eta = eta0;
-    while stats.refinement_steps < MAX_REFINEMENT && eta > MIXED_TOLERANCE {
+    // iterate to f64 round-off (MIXED_TARGET) while the backward error still
+    // falls; accept the result if it reached MIXED_TOLERANCE
+    let mut best = eta;
+    let mut stalled = 0;
+    while stats.refinement_steps < MAX_REFINEMENT && eta > MIXED_TARGET && stalled < 3 {
         let kp = pattern.sym_mul(values, &p);
         let pkp = dot(&p, &kp);
         if !(pkp > 0.0) || !rz.is_finite() {
@@ -652,7 +666,13 @@ fn solve_refined(
         }
         stats.refinement_steps += 1;
         eta = residual_norms(&r, k_norm, &q, b).1;
-        if eta <= MIXED_TOLERANCE {
+        if eta < 0.5 * best {
+            best = eta;
+            stalled = 0;
+        } else {
+            stalled += 1;
+        }
+        if eta <= MIXED_TARGET {
             break;
         }
         z.copy_from_slice(&r);
@@ -807,17 +827,25 @@ mod tests {
                 .iter()
                 .zip(&m.displacement)
                 .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+            // Both answers are backward stable (η ≈ 1e-16); they may differ by
+            // up to κ·η. At ν = 0.3 that is far below 1e-8; at ν = 0.49999
+            // (λ/μ = 5·10⁴, slender beam; min pivot ratio 8.5e-8) κ is large and
+            // the mixed and double answers were seen to differ by 1e-7 to 4e-7,
+            // so there the check is 1e-5.
+            let tol = if nu < 0.4 { 1e-8 } else { 1e-5 };
             assert!(
-                diff <= 1e-8 * umax,
+                diff <= tol * umax,
                 "ν = {nu}: mixed differs from double by {:.2e}",
                 diff / umax
             );
             assert!(m.stats.precision == "mixed" || m.stats.precision_fallback);
-            assert!(
-                m.stats.backward_error < 1e-13,
-                "backward error {}",
-                m.stats.backward_error
-            );
+            for s in [&d.stats, &m.stats] {
+                assert!(
+                    s.backward_error < 1e-15,
+                    "ν = {nu}: backward error {}",
+                    s.backward_error
+                );
+            }
         }
     }
 
