@@ -167,7 +167,15 @@ fn run(cli: Cli) -> Result<()> {
         Command::Check { scene } => {
             let scene = flank::scene::read_scene(&scene)?;
             let report = flank::geometry::pair::check_pair(&scene.pair)?;
-            println!("{}", serde_json::to_string_pretty(&report)?);
+            let mut json = serde_json::to_value(&report)?;
+            // ISO 6336-1 single and mesh stiffness: the plausibility band for FE stiffness
+            let stiffness =
+                flank::geometry::iso6336::tooth_stiffness(&scene.pair, report.contact_ratio);
+            json["iso6336_stiffness_n_per_mm_um"] = match stiffness {
+                Ok(s) => serde_json::to_value(s)?,
+                Err(e) => serde_json::Value::String(format!("not applicable: {e}")),
+            };
+            println!("{}", serde_json::to_string_pretty(&json)?);
         }
         Command::Cantilever {
             cells,

@@ -31,6 +31,12 @@ fn seed002_spur_scene_checks() {
     // the paper reports 1.45 (CALYX) to 1.51 (FE)
     assert!((1.45..=1.51).contains(&eps), "ε_α = {eps}");
     assert!((field(&out, "centre_distance") - 90.0).abs() < 1e-9);
+    // ISO 6336-1 c′ of a steel spur pair: of the order of 14 N/(mm·µm)
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let c = v["iso6336_stiffness_n_per_mm_um"]["single"]
+        .as_f64()
+        .unwrap();
+    assert!((10.0..18.0).contains(&c), "c′ = {c}");
 }
 
 #[test]

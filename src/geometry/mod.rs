@@ -5,6 +5,7 @@
 //! (`crate::scene`); everything here is already converted.
 
 pub mod involute;
+pub mod iso6336;
 pub mod pair;
 pub mod rack;
 
