@@ -94,11 +94,11 @@ fn tooth_deflection(
             .surface(Flank::Right, flank_segment(&profile, u), z)
             .n;
         let d = [-(c * n0[0] - s * n0[1]), -(s * n0[0] + c * n0[1]), -n0[2]];
-        for k in 0..3 {
+        for (k, dk) in d.iter().enumerate() {
             body.model.forces.push(NodalForce {
                 node: n,
                 component: k,
-                value: force * wi / total * d[k],
+                value: force * wi / total * dk,
             });
         }
         dirs.push(d);
