@@ -207,6 +207,15 @@ fn run(cli: Cli) -> Result<()> {
     Ok(())
 }
 
+/// Element counts by CalculiX type name, e.g. {"C3D15": 1234}.
+fn elements_by_type(mesh: &flank::mesh::Mesh) -> serde_json::Value {
+    let mut counts = std::collections::BTreeMap::<String, usize>::new();
+    for e in &mesh.elements {
+        *counts.entry(e.kind.name().to_string()).or_default() += 1;
+    }
+    serde_json::json!(counts)
+}
+
 /// `flank mesh`: both bodies of a scene, decks, VTU, flank parameters, report.
 fn mesh_scene(
     path: &std::path::Path,
@@ -226,12 +235,11 @@ fn mesh_scene(
         Some(e) => e == MeshElement::Hex20,
         None => scene.mesh.element == flank::scene::ElementKind::Hex20,
     };
-    if !hex20 {
-        anyhow::bail!(
-            "{}: wedge15 is not supported by the native mesher yet; use [mesh] element = \"hex20\" or --element hex20",
-            path.display()
-        );
-    }
+    let element_kind = if hex20 {
+        flank::mesh::ElementKind::C3D20
+    } else {
+        flank::mesh::ElementKind::C3D15
+    };
     let mn = scene.pair.pinion.normal_module;
     let flank_size = flank_size.or(scene.mesh.flank_size).unwrap_or(mn / 8.0);
     let base_size = base_size.or(scene.mesh.base_size).unwrap_or(mn / 2.0);
@@ -245,6 +253,7 @@ fn mesh_scene(
         flank_size,
         base_size,
         face_layers: 0,
+        element: element_kind,
     };
     std::fs::create_dir_all(out)?;
     let cos_aw = report.working_pressure_angle_rad.cos();
@@ -279,7 +288,7 @@ fn mesh_scene(
             name.to_string(),
             serde_json::json!({
                 "nodes": mesh.node_count(),
-                "elements": { "C3D20": mesh.elements.len() },
+                "elements": elements_by_type(mesh),
                 "flank_nodes": flank_nodes,
                 "teeth_in_sector": options.teeth,
                 "flank_size_mm": flank_size,

@@ -1,6 +1,6 @@
-//! `flank mesh`: the seed 002 scene meshes into two decks that flank solves
-//! and that CalculiX solves to the same displacements (issue 3 acceptance,
-//! on a coarse mesh to keep the test short).
+//! `flank mesh`: both paper scenes mesh into two decks each, in hex20 and in
+//! wedge15, that flank solves and that CalculiX solves to the same
+//! displacements (issue 3 acceptance, on coarse meshes to keep the test short).
 
 use std::path::Path;
 use std::process::Command;
@@ -10,19 +10,79 @@ use flank::fem::static_analysis::{solve_static, SolveOptions};
 use flank::mesh::inp::read_deck;
 
 #[test]
-fn seed002_bodies_mesh_solve_and_match_ccx() {
-    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("mesh_seed002");
+fn seed002_hex20_bodies_match_ccx() {
+    mesh_solve_compare(
+        "papers/seed002-spur/scene.toml",
+        "hex20",
+        "1.0",
+        "3.0",
+        "C3D20",
+    );
+}
+
+#[test]
+fn seed002_wedge15_bodies_match_ccx() {
+    mesh_solve_compare(
+        "papers/seed002-spur/scene.toml",
+        "wedge15",
+        "1.0",
+        "3.0",
+        "C3D15",
+    );
+}
+
+#[test]
+fn seed004_hex20_bodies_match_ccx() {
+    mesh_solve_compare(
+        "papers/seed004-helical/scene.toml",
+        "hex20",
+        "6.0",
+        "20.0",
+        "C3D20",
+    );
+}
+
+#[test]
+fn seed004_wedge15_bodies_match_ccx() {
+    mesh_solve_compare(
+        "papers/seed004-helical/scene.toml",
+        "wedge15",
+        "6.0",
+        "20.0",
+        "C3D15",
+    );
+}
+
+/// Meshes `scene` with `flank mesh`, then solves each body's deck (BORE
+/// clamped, nominal load on a flank node) in flank and, if present, in ccx.
+fn mesh_solve_compare(
+    scene: &str,
+    element: &str,
+    flank_size: &str,
+    base_size: &str,
+    ccx_type: &str,
+) {
+    let tag = format!(
+        "{}_{element}",
+        Path::new(scene)
+            .parent()
+            .unwrap()
+            .file_name()
+            .unwrap()
+            .to_string_lossy()
+    );
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("mesh_{tag}"));
     let _ = std::fs::remove_dir_all(&out);
     let status = Command::new(env!("CARGO_BIN_EXE_flank"))
         .args([
             "mesh",
-            "papers/seed002-spur/scene.toml",
+            scene,
             "--element",
-            "hex20",
+            element,
             "--flank-size",
-            "1.0",
+            flank_size,
             "--base-size",
-            "3.0",
+            base_size,
             "--out",
         ])
         .arg(&out)
@@ -44,6 +104,13 @@ fn seed002_bodies_mesh_solve_and_match_ccx() {
             "{body}: {b}"
         );
         assert!(b["flank_nodes"].as_u64().unwrap() > 0);
+        let by_type = b["elements"].as_object().unwrap();
+        assert_eq!(by_type.len(), 1, "{body}: {by_type:?}");
+        assert!(
+            by_type[ccx_type].as_u64().unwrap() > 0,
+            "{body}: {by_type:?}"
+        );
+        assert!(b["base_radius_mm"].as_f64().unwrap() > 0.0);
         let deck = read_deck(&out.join(format!("{body}.inp"))).unwrap();
         for set in [
             "BORE", "FLANK_L1", "FLANK_R1", "FLANK_L3", "FLANK_R3", "CUT_A", "CUT_B",
@@ -75,9 +142,12 @@ fn seed002_bodies_mesh_solve_and_match_ccx() {
         let diff =
             relative_difference(&deck.model.mesh, &sol.displacement, &ccx.displacements).unwrap();
         println!(
-            "{body}: {} nodes, flank vs ccx max|du|/max|u| = {diff:.2e}",
+            "{tag} {body}: {} nodes, flank vs ccx max|du|/max|u| = {diff:.2e}",
             deck.model.mesh.node_count()
         );
-        assert!(diff <= 1e-6, "{body}: flank and ccx differ by {diff:.2e}");
+        assert!(
+            diff <= 1e-6,
+            "{tag} {body}: flank and ccx differ by {diff:.2e}"
+        );
     }
 }

@@ -1,5 +1,8 @@
-//! Native gear-sector mesher, v1: structured multi-block hex20 (C3D20) meshes
-//! of `teeth` consecutive teeth of one gear, exact on the flanks.
+//! Native gear-sector mesher: structured multi-block meshes of `teeth`
+//! consecutive teeth of one gear, exact on the flanks, in 20-node hexahedra
+//! (C3D20, or C3D20R) or 15-node wedges (C3D15: every transverse quadrilateral
+//! split along its shorter diagonal, so triangles in the transverse plane and
+//! quadratic layers across the face width, as in seed 002).
 //!
 //! Construction (transverse plane, then extrusion along the axis):
 //! * per tooth pitch (tooth centre ± half pitch) an **upper block**, a quadratic
@@ -50,8 +53,7 @@ use std::collections::HashMap;
 use std::f64::consts::PI;
 
 use crate::error::FlankError;
-use crate::fem::element::{check_jacobian, det3, hex20_shape, jacobian, HEX20_EDGES};
-use crate::fem::quadrature::hex_rule;
+use crate::fem::element::{check_jacobian, det3, jacobian, ReferenceElement};
 use crate::geometry::rack::{Flank, Segment, ToothProfile};
 use crate::geometry::GearSpec;
 use crate::mesh::{ElementKind, Mesh};
@@ -67,6 +69,11 @@ pub struct SectorOptions {
     pub base_size: f64,
     /// Elements across the face width; 0 = ⌈b / base_size⌉.
     pub face_layers: usize,
+    /// C3D20 (default), C3D20R (same nodes, reduced integration) or C3D15:
+    /// each transverse quadrilateral split along its shorter diagonal into two
+    /// triangles, i.e. wedges with triangles in the transverse plane and
+    /// quadratic layers across the face width (as in seed 002).
+    pub element: ElementKind,
 }
 
 impl Default for SectorOptions {
@@ -76,6 +83,7 @@ impl Default for SectorOptions {
             flank_size: 0.5,
             base_size: 2.0,
             face_layers: 0,
+            element: ElementKind::C3D20,
         }
     }
 }
@@ -214,6 +222,13 @@ impl Block {
     fn id(&self, i: usize, j: usize) -> usize {
         self.ids[i * (2 * self.nj + 1) + j]
     }
+}
+
+/// A transverse cell: quadrilateral (corners, midsides; hex20) or two
+/// triangles (wedge15), point ids in the order of the element's bottom face.
+enum Cell {
+    Quad([usize; 4], [usize; 4]),
+    Tri([([usize; 3], [usize; 3]); 2]),
 }
 
 /// Mesh `opts.teeth` teeth of the gear `spec` (see the module docs).
@@ -402,8 +417,14 @@ pub fn gear_sector(
         .collect();
 
     // --- rim radial sizes, from r_i down to the bore.
+    // First rim layer: the cut lines' last step, or more if the rim cells
+    // across the pitch are much wider (keeps the rim's aspect ratio ≤ ≈ 4).
     let cut_h0 = depth * (sig[2 * nc] - sig[2 * nc - 2]) / s_c0;
-    let rim_sizes = graded(ri - r_bore, cut_h0, q, opts.base_size);
+    let arc_cell_max = (0..ns - 2 * nc)
+        .map(|i| 2.0 * h * ri * (sig[2 * (nc + i + 1)] - sig[2 * (nc + i)]) / (s_c1 - s_c0))
+        .fold(0.0, f64::max);
+    let rim_h0 = cut_h0.max(0.25 * arc_cell_max).min(opts.base_size);
+    let rim_sizes = graded(ri - r_bore, rim_h0, q, opts.base_size);
     let nr = rim_sizes.len();
     let rho = half_lattice(&rim_sizes); // from r_i (0) to bore (1)
 
@@ -521,6 +542,65 @@ pub fn gear_sector(
         });
     }
 
+    // --- transverse cells: quadrilaterals, or two triangles each for wedges
+    // (split along the shorter diagonal; the diagonal's midside point is the
+    // serendipity centre of the quadrilateral, so it lies inside the cell).
+    if !matches!(
+        opts.element,
+        ElementKind::C3D20 | ElementKind::C3D20R | ElementKind::C3D15
+    ) {
+        return Err(err(format!("{name}: unsupported element kind")));
+    }
+    let mut cells: Vec<(usize, usize, usize, Cell)> = Vec::new();
+    for (bi, blk) in blocks.iter().enumerate() {
+        for i in 0..blk.ni {
+            for j in 0..blk.nj {
+                let (i0, j0) = (2 * i, 2 * j);
+                let c = [
+                    blk.id(i0, j0),
+                    blk.id(i0 + 2, j0),
+                    blk.id(i0 + 2, j0 + 2),
+                    blk.id(i0, j0 + 2),
+                ];
+                let m = [
+                    blk.id(i0 + 1, j0),
+                    blk.id(i0 + 2, j0 + 1),
+                    blk.id(i0 + 1, j0 + 2),
+                    blk.id(i0, j0 + 1),
+                ];
+                let cell = if opts.element == ElementKind::C3D15 {
+                    let x = |p: usize| pts.xy[p];
+                    let dist = |a: usize, b: usize| {
+                        let (p, q) = (x(a), x(b));
+                        (p[0] - q[0]).hypot(p[1] - q[1])
+                    };
+                    let mut centre = [0.0; 2];
+                    for k in 0..4 {
+                        for d in 0..2 {
+                            centre[d] += -0.25 * x(c[k])[d] + 0.5 * x(m[k])[d];
+                        }
+                    }
+                    let first_diagonal = dist(c[0], c[2]) <= dist(c[1], c[3]);
+                    let dm = pts.add(centre, false)?;
+                    if first_diagonal {
+                        Cell::Tri([
+                            ([c[0], c[1], c[2]], [m[0], m[1], dm]),
+                            ([c[0], c[2], c[3]], [dm, m[2], m[3]]),
+                        ])
+                    } else {
+                        Cell::Tri([
+                            ([c[0], c[1], c[3]], [m[0], dm, m[3]]),
+                            ([c[1], c[2], c[3]], [m[1], m[2], dm]),
+                        ])
+                    }
+                } else {
+                    Cell::Quad(c, m)
+                };
+                cells.push((bi, i, j, cell));
+            }
+        }
+    }
+
     // --- extrusion.
     let b = spec.face_width;
     let nz = if opts.face_layers > 0 {
@@ -576,84 +656,69 @@ pub fn gear_sector(
     let (ca, cb) = (cut3(&cut_a), cut3(&cut_b));
 
     // --- elements.
-    let rule = hex_rule(3);
-    let shapes: Vec<[[f64; 3]; 20]> = rule.iter().map(|p| hex20_shape(p.xi).1).collect();
+    let kind = opts.element;
+    let refel = ReferenceElement::get(kind);
+    let edges = crate::fem::element::edges(kind);
     let mut quality = Quality {
         min_scaled_jacobian: f64::INFINITY,
         max_aspect_ratio: 0.0,
     };
-    for (bi, blk) in blocks.iter().enumerate() {
-        for i in 0..blk.ni {
-            for j in 0..blk.nj {
-                let (i0, j0) = (2 * i, 2 * j);
-                let c = [
-                    blk.id(i0, j0),
-                    blk.id(i0 + 2, j0),
-                    blk.id(i0 + 2, j0 + 2),
-                    blk.id(i0, j0 + 2),
-                ];
-                let m = [
-                    blk.id(i0 + 1, j0),
-                    blk.id(i0 + 2, j0 + 1),
-                    blk.id(i0 + 1, j0 + 2),
-                    blk.id(i0, j0 + 1),
-                ];
-                for l in 0..nz {
-                    let (k0, km, k1) = (2 * l, 2 * l + 1, 2 * l + 2);
-                    let mut nodes = Vec::with_capacity(20);
-                    for &p in &c {
-                        nodes.push(node3[p * nk + k0]);
-                    }
-                    for &p in &c {
-                        nodes.push(node3[p * nk + k1]);
-                    }
-                    for &p in &m {
-                        nodes.push(node3[p * nk + k0]);
-                    }
-                    for &p in &m {
-                        nodes.push(node3[p * nk + k1]);
-                    }
-                    for &p in &c {
-                        nodes.push(node3[p * nk + km]);
-                    }
-                    let label = mesh.elements.len() as u64 + 1;
-                    let x: Vec<[f64; 3]> = nodes.iter().map(|&n| mesh.coords[n]).collect();
-                    check_jacobian(ElementKind::C3D20, &x)
-                        .map_err(|e| match e.into_error(label, ElementKind::C3D20) {
-                            FlankError::Element { label, kind, message } => FlankError::Element {
-                                label,
-                                kind,
-                                message: format!(
-                                    "{message} (gear sector {name}: tooth {} {} block, cell ({i}, {j}) of {}×{}, layer {})",
-                                    bi / 2 + 1,
-                                    if bi % 2 == 0 { "upper" } else { "rim" },
-                                    blk.ni,
-                                    blk.nj,
-                                    l + 1
-                                ),
-                            },
-                            other => other,
-                        })?;
-                    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
-                    for d in &shapes {
-                        let dj = det3(&jacobian(&x, d));
-                        lo = lo.min(dj);
-                        hi = hi.max(dj);
-                    }
-                    quality.min_scaled_jacobian = quality.min_scaled_jacobian.min(lo / hi);
-                    let (mut emin, mut emax) = (f64::INFINITY, 0.0f64);
-                    for e in HEX20_EDGES.iter() {
-                        let (p, q) = (x[e[0]], x[e[1]]);
-                        let d =
-                            ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2))
-                                .sqrt();
-                        emin = emin.min(d);
-                        emax = emax.max(d);
-                    }
-                    quality.max_aspect_ratio = quality.max_aspect_ratio.max(emax / emin);
-                    mesh.add_element(label, ElementKind::C3D20, nodes)
-                        .map_err(|_| err("duplicate element label".into()))?;
+    for (bi, i, j, cell) in cells {
+        // transverse cells → (corner, midside) point triples or quads
+        let shapes: Vec<(Vec<usize>, Vec<usize>)> = match cell {
+            Cell::Quad(c, m) => vec![(c.to_vec(), m.to_vec())],
+            Cell::Tri(t) => t.iter().map(|(c, m)| (c.to_vec(), m.to_vec())).collect(),
+        };
+        for (c, m) in &shapes {
+            for l in 0..nz {
+                let (k0, km, k1) = (2 * l, 2 * l + 1, 2 * l + 2);
+                let mut nodes = Vec::with_capacity(kind.node_count());
+                for k in [k0, k1] {
+                    nodes.extend(c.iter().map(|&p| node3[p * nk + k]));
                 }
+                for k in [k0, k1] {
+                    nodes.extend(m.iter().map(|&p| node3[p * nk + k]));
+                }
+                nodes.extend(c.iter().map(|&p| node3[p * nk + km]));
+                let label = mesh.elements.len() as u64 + 1;
+                let x: Vec<[f64; 3]> = nodes.iter().map(|&n| mesh.coords[n]).collect();
+                check_jacobian(kind, &x).map_err(|e| match e.into_error(label, kind) {
+                    FlankError::Element {
+                        label,
+                        kind,
+                        message,
+                    } => FlankError::Element {
+                        label,
+                        kind,
+                        message: format!(
+                            "{message} (gear sector {name}: tooth {} {} block, cell ({i}, {j}) of {}×{}, layer {})",
+                            bi / 2 + 1,
+                            if bi % 2 == 0 { "upper" } else { "rim" },
+                            blocks[bi].ni,
+                            blocks[bi].nj,
+                            l + 1
+                        ),
+                    },
+                    other => other,
+                })?;
+                let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+                for d in &refel.derivatives {
+                    let dj = det3(&jacobian(&x, d));
+                    lo = lo.min(dj);
+                    hi = hi.max(dj);
+                }
+                quality.min_scaled_jacobian = quality.min_scaled_jacobian.min(lo / hi);
+                let (mut emin, mut emax) = (f64::INFINITY, 0.0f64);
+                for e in edges {
+                    let (p, q) = (x[e[0]], x[e[1]]);
+                    let d = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2))
+                        .sqrt();
+                    emin = emin.min(d);
+                    emax = emax.max(d);
+                }
+                quality.max_aspect_ratio = quality.max_aspect_ratio.max(emax / emin);
+                mesh.add_element(label, kind, nodes)
+                    .map_err(|_| err("duplicate element label".into()))?;
             }
         }
     }
@@ -723,17 +788,29 @@ mod tests {
 
     #[test]
     fn gear_sector_pinion_valid() {
+        for kind in [ElementKind::C3D20, ElementKind::C3D15] {
+            pinion_valid(kind);
+        }
+    }
+
+    fn pinion_valid(kind: ElementKind) {
         let t = Instant::now();
         let opts = SectorOptions {
             flank_size: 0.5,
             base_size: 2.0,
+            element: kind,
             ..Default::default()
         };
         let m = gear_sector(&pinion(), "pinion", &opts).unwrap();
-        report("pinion fs 0.5", &m, t.elapsed().as_secs_f64());
+        report(
+            &format!("pinion {kind:?} fs 0.5"),
+            &m,
+            t.elapsed().as_secs_f64(),
+        );
         assert!(m.quality.min_scaled_jacobian > 0.0);
+        assert!(m.mesh.elements.iter().all(|e| e.kind == kind));
         for e in 0..m.mesh.elements.len() {
-            check_jacobian(ElementKind::C3D20, &m.mesh.element_coords(e)).unwrap();
+            check_jacobian(kind, &m.mesh.element_coords(e)).unwrap();
         }
         for s in ["BORE", "CUT_A", "CUT_B", "NALL", "FLANK_L1", "FLANK_R3"] {
             assert!(!m.mesh.node_sets[s].is_empty(), "{s}");
@@ -783,7 +860,7 @@ mod tests {
         let pitch = p.angular_pitch();
         let mut worst = 0.0f64;
         for el in &m.mesh.elements {
-            for e in HEX20_EDGES.iter() {
+            for e in crate::fem::element::edges(el.kind) {
                 let ns = [el.nodes[e[0]], el.nodes[e[1]], el.nodes[e[2]]];
                 let fl: Vec<_> = ns.iter().map(|n| m.flank_uv.get(n)).collect();
                 if fl.iter().any(|f| f.is_none()) {
@@ -840,18 +917,27 @@ mod tests {
     #[test]
     fn gear_sector_flank_nodes_exact() {
         let spec = pinion();
-        for fs in [0.5, 0.1] {
+        for (fs, kind) in [
+            (0.5, ElementKind::C3D20),
+            (0.1, ElementKind::C3D20),
+            (0.1, ElementKind::C3D15),
+        ] {
             let t = Instant::now();
             let opts = SectorOptions {
                 flank_size: fs,
                 base_size: 2.0,
+                element: kind,
                 ..Default::default()
             };
             let m = gear_sector(&spec, "pinion", &opts).unwrap();
-            report(&format!("pinion fs {fs}"), &m, t.elapsed().as_secs_f64());
+            report(
+                &format!("pinion {kind:?} fs {fs}"),
+                &m,
+                t.elapsed().as_secs_f64(),
+            );
             let d = check_flank_nodes(&spec, &m, 3);
             let dev = flank_edge_deviation(&spec, &m);
-            println!("fs {fs}: flank node distance max {d:.3e} mm, flank edge deviation max {dev:.3e} mm");
+            println!("{kind:?} fs {fs}: flank node distance max {d:.3e} mm, flank edge deviation max {dev:.3e} mm");
             assert!(d < 1e-9, "{d}");
             // observed: 9.1e-4 mm at fs 0.5, 5.6e-5 mm at fs 0.1
             if fs <= 0.1 {
@@ -863,22 +949,29 @@ mod tests {
     #[test]
     fn gear_sector_helical_valid() {
         let spec = helical();
-        let t = Instant::now();
-        let opts = SectorOptions {
-            flank_size: 5.0,
-            base_size: 20.0,
-            face_layers: 6,
-            ..Default::default()
-        };
-        let m = gear_sector(&spec, "gear", &opts).unwrap();
-        report("helical fs 5", &m, t.elapsed().as_secs_f64());
-        assert!(m.quality.min_scaled_jacobian > 0.0);
-        let d = check_flank_nodes(&spec, &m, 3);
-        let dev = flank_edge_deviation(&spec, &m);
-        println!(
-            "helical: flank node distance max {d:.3e} mm, flank edge deviation max {dev:.3e} mm"
-        );
-        assert!(d < 1e-9, "{d}");
+        for kind in [ElementKind::C3D20, ElementKind::C3D15] {
+            let t = Instant::now();
+            let opts = SectorOptions {
+                flank_size: 5.0,
+                base_size: 20.0,
+                face_layers: 6,
+                element: kind,
+                ..Default::default()
+            };
+            let m = gear_sector(&spec, "gear", &opts).unwrap();
+            report(
+                &format!("helical {kind:?} fs 5"),
+                &m,
+                t.elapsed().as_secs_f64(),
+            );
+            assert!(m.quality.min_scaled_jacobian > 0.0);
+            let d = check_flank_nodes(&spec, &m, 3);
+            let dev = flank_edge_deviation(&spec, &m);
+            println!(
+                "helical {kind:?}: flank node distance max {d:.3e} mm, flank edge deviation max {dev:.3e} mm"
+            );
+            assert!(d < 1e-9, "{d}");
+        }
     }
 
     #[test]
@@ -959,19 +1052,31 @@ mod tests {
     /// CUT_A / CUT_B lie on their planes, BORE on the bore circle.
     #[test]
     fn gear_sector_conforming_and_sets() {
-        use crate::fem::element::HEX20_FACES;
+        for kind in [ElementKind::C3D20, ElementKind::C3D15] {
+            conforming_and_sets(kind);
+        }
+    }
+
+    fn conforming_and_sets(kind: ElementKind) {
+        use crate::fem::element::face_nodes;
         let spec = pinion();
         let p = ToothProfile::new(&spec, "g").unwrap();
-        let m = gear_sector(&spec, "pinion", &SectorOptions::default()).unwrap();
-        let mut faces: HashMap<[usize; 4], usize> = HashMap::new();
+        let m = gear_sector(
+            &spec,
+            "pinion",
+            &SectorOptions {
+                element: kind,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let mut faces: HashMap<Vec<usize>, usize> = HashMap::new();
+        let nfaces = if kind == ElementKind::C3D15 { 5 } else { 6 };
         for el in &m.mesh.elements {
-            for f in HEX20_FACES.iter() {
-                let mut k = [
-                    el.nodes[f[0]],
-                    el.nodes[f[1]],
-                    el.nodes[f[2]],
-                    el.nodes[f[3]],
-                ];
+            for f in 1..=nfaces {
+                let fnodes = face_nodes(kind, f).unwrap();
+                let corners = fnodes.len() / 2;
+                let mut k: Vec<usize> = fnodes[..corners].iter().map(|&i| el.nodes[i]).collect();
                 k.sort_unstable();
                 *faces.entry(k).or_default() += 1;
             }
@@ -1010,7 +1115,7 @@ mod tests {
         let mut lo = f64::INFINITY;
         let mut hi = 0.0f64;
         for el in &m.mesh.elements {
-            for e in HEX20_EDGES.iter().take(4) {
+            for e in crate::fem::element::edges(kind).iter().take(nfaces - 2) {
                 let (a, b) = (el.nodes[e[0]], el.nodes[e[1]]);
                 for (s, t) in [(a, b), (b, a)] {
                     if let (Some(&(u, z)), None) = (m.flank_uv.get(&s), m.flank_uv.get(&t)) {
@@ -1024,7 +1129,7 @@ mod tests {
                 }
             }
         }
-        println!("boundary faces {boundary}; first layer across the involute (fs 0.5): {lo:.3} .. {hi:.3} mm");
+        println!("{kind:?}: boundary faces {boundary}; first layer across the involute (fs 0.5): {lo:.3} .. {hi:.3} mm");
     }
 
     #[test]
@@ -1035,6 +1140,7 @@ mod tests {
             flank_size: 1.0,
             base_size: 2.0,
             face_layers: 2,
+            ..Default::default()
         };
         let m = gear_sector(&spec, "pinion", &opts).unwrap();
         assert_eq!(m.mesh.node_sets["CUT_A"], m.mesh.node_sets["CUT_B"]);

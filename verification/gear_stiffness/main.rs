@@ -143,6 +143,7 @@ fn seed002_single_pair_stiffness_vs_iso6336() {
             flank_size,
             base_size: 2.0,
             face_layers: 0,
+            ..Default::default()
         };
         let (d1, n1, dofs1) = tooth_deflection(
             &scene.pair.pinion,
