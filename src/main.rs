@@ -77,6 +77,29 @@ enum Command {
         /// mesher makes hex20 only, for now).
         #[arg(long, value_enum)]
         element: Option<MeshElement>,
+        /// Mesher: native (structured, graded to the flank) or gmsh
+        /// (unstructured from a size field; needs a build with
+        /// `--features gmsh` and libgmsh-dev).
+        #[arg(long, value_enum, default_value_t = MesherChoice::Native)]
+        mesher: MesherChoice,
+    },
+    /// Convert a gmsh mesh (.msh 4.1 ASCII; 20-node hexahedra and 15-node
+    /// prisms, i.e. exported with Mesh.SecondOrderIncomplete = 1) into a
+    /// CalculiX deck: physical groups of dimension 0–2 become node sets,
+    /// volume groups element sets; one linear-elastic material, no boundary
+    /// conditions or loads.
+    Import {
+        /// The gmsh mesh (.msh).
+        mesh: PathBuf,
+        /// Output deck (.inp).
+        #[arg(long)]
+        out: PathBuf,
+        /// Young's modulus of the material (MPa).
+        #[arg(long, default_value_t = 206000.0)]
+        young_modulus: f64,
+        /// Poisson's ratio of the material.
+        #[arg(long, default_value_t = 0.3)]
+        poisson_ratio: f64,
     },
     /// Write the benchmark cantilever as a CalculiX deck: a box L × 10 × 10 mm
     /// (L = 10·nx/ny mm … so elements are cubes), clamped at x = 0, 1 kN tip
@@ -92,6 +115,12 @@ enum Command {
         #[arg(long, default_value = "cantilever.inp")]
         out: PathBuf,
     },
+}
+
+#[derive(Clone, Copy, PartialEq, clap::ValueEnum)]
+enum MesherChoice {
+    Native,
+    Gmsh,
 }
 
 #[derive(Clone, Copy, PartialEq, clap::ValueEnum)]
@@ -163,7 +192,45 @@ fn run(cli: Cli) -> Result<()> {
             base_size,
             no_load,
             element,
-        } => mesh_scene(&scene, &out, flank_size, base_size, !no_load, element)?,
+            mesher,
+        } => mesh_scene(
+            &scene, &out, flank_size, base_size, !no_load, element, mesher,
+        )?,
+        Command::Import {
+            mesh,
+            out,
+            young_modulus,
+            poisson_ratio,
+        } => {
+            let m = flank::mesh::msh::read_msh(&mesh)?;
+            let ne = m.elements.len();
+            let model = flank::fem::model::Model {
+                materials: vec![flank::fem::material::Material::new(
+                    "MATERIAL",
+                    young_modulus,
+                    poisson_ratio,
+                )?],
+                element_material: vec![0; ne],
+                mesh: m,
+                ..Default::default()
+            };
+            flank::mesh::inp::write_deck(&model, &out)?;
+            let mesh = &model.mesh;
+            let hex = mesh.elements.iter().filter(|e| e.kind.node_count() == 20);
+            let hex = hex.count();
+            let sets: Vec<&str> = mesh.node_sets.keys().map(|k| k.as_str()).collect();
+            println!(
+                "wrote {} ({} nodes, {hex} C3D20 + {} C3D15 elements; node sets: {})",
+                out.display(),
+                mesh.node_count(),
+                ne - hex,
+                if sets.is_empty() {
+                    "none".to_string()
+                } else {
+                    sets.join(", ")
+                }
+            );
+        }
         Command::Check { scene } => {
             let scene = flank::scene::read_scene(&scene)?;
             let report = flank::geometry::pair::check_pair(&scene.pair)?;
@@ -224,9 +291,10 @@ fn mesh_scene(
     base_size: Option<f64>,
     with_load: bool,
     element: Option<MeshElement>,
+    mesher: MesherChoice,
 ) -> Result<()> {
     use flank::geometry::involute::base_radius;
-    use flank::mesh::gear_body::gear_body;
+    use flank::mesh::gear_body::{gear_body_with, Mesher, GMSH_AVAILABLE, GMSH_MISSING};
     use flank::mesh::gear_sector::SectorOptions;
     use std::io::Write;
     let scene = flank::scene::read_scene(path)?;
@@ -240,6 +308,9 @@ fn mesh_scene(
     } else {
         flank::mesh::ElementKind::C3D15
     };
+    if mesher == MesherChoice::Gmsh && !GMSH_AVAILABLE {
+        anyhow::bail!("--mesher gmsh: {GMSH_MISSING}");
+    }
     let mn = scene.pair.pinion.normal_module;
     let flank_size = flank_size.or(scene.mesh.flank_size).unwrap_or(mn / 8.0);
     let base_size = base_size.or(scene.mesh.base_size).unwrap_or(mn / 2.0);
@@ -265,7 +336,11 @@ fn mesh_scene(
     ] {
         let rb = base_radius(spec);
         let load = (with_load && force > 0.0).then_some((force, rb / cos_aw));
-        let body = gear_body(spec, name, material, &options, load)?;
+        let mesher = match mesher {
+            MesherChoice::Native => Mesher::Native,
+            MesherChoice::Gmsh => Mesher::Gmsh(element_kind),
+        };
+        let body = gear_body_with(spec, name, material, &options, mesher, load)?;
         let mesh = &body.model.mesh;
         flank::mesh::inp::write_deck(&body.model, &out.join(format!("{name}.inp")))?;
         flank::report::vtu::write_vtu(&out.join(format!("{name}.vtu")), mesh, &[], &[])?;
@@ -293,6 +368,7 @@ fn mesh_scene(
                 "teeth_in_sector": options.teeth,
                 "flank_size_mm": flank_size,
                 "base_size_mm": base_size,
+                "mesher": if mesher == Mesher::Native { "native" } else { "gmsh" },
                 "min_scaled_jacobian": body.sector.quality.min_scaled_jacobian,
                 "max_aspect_ratio": body.sector.quality.max_aspect_ratio,
                 "base_radius_mm": rb,

@@ -7,6 +7,10 @@
 //! along the inward flank normal at the flank node nearest to the working
 //! pitch radius r_w = r_b / cos α_wt at mid face width. It makes every
 //! written deck solvable as it is; contact analyses replace it.
+//!
+//! The sector comes from the native mesher or, with [`Mesher::Gmsh`] and the
+//! Cargo feature `gmsh`, from [`crate::mesh::gmsh`] (same node sets and
+//! flank parameters, so everything below is the same).
 
 use crate::error::FlankError;
 use crate::fem::material::Material;
@@ -14,6 +18,42 @@ use crate::fem::model::{Dirichlet, Model, NodalForce};
 use crate::geometry::rack::{Flank, ToothProfile};
 use crate::geometry::GearSpec;
 use crate::mesh::gear_sector::{flank_segment, gear_sector, GearSectorMesh, SectorOptions};
+use crate::mesh::ElementKind;
+
+/// Which mesher makes the sector of [`gear_body_with`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Mesher {
+    /// The native structured mesher [`gear_sector`] (element from its options).
+    #[default]
+    Native,
+    /// gmsh ([`crate::mesh::gmsh`], Cargo feature `gmsh`) with hexahedra
+    /// (C3D20, C3D20R) or wedges (C3D15).
+    Gmsh(ElementKind),
+}
+
+/// Whether this build has the gmsh mesher (Cargo feature `gmsh`).
+pub const GMSH_AVAILABLE: bool = cfg!(feature = "gmsh");
+
+/// The error text of [`Mesher::Gmsh`] in a build without the feature.
+pub const GMSH_MISSING: &str = "the gmsh mesher is not in this build of flank: \
+     install gmsh's C library (apt-get install libgmsh-dev) and rebuild with \
+     `cargo build --release --features gmsh`";
+
+/// The sector mesh of `spec` by `mesher`.
+pub fn mesh_sector(
+    spec: &GearSpec,
+    name: &str,
+    options: &SectorOptions,
+    mesher: Mesher,
+) -> Result<GearSectorMesh, FlankError> {
+    match mesher {
+        Mesher::Native => gear_sector(spec, name, options),
+        #[cfg(feature = "gmsh")]
+        Mesher::Gmsh(kind) => crate::mesh::gmsh::gmsh_sector(spec, name, options, kind),
+        #[cfg(not(feature = "gmsh"))]
+        Mesher::Gmsh(_) => Err(FlankError::Model(format!("{name}: {GMSH_MISSING}"))),
+    }
+}
 
 /// A meshed, constrained, loaded gear body.
 pub struct GearBody {
@@ -34,7 +74,19 @@ pub fn gear_body(
     options: &SectorOptions,
     normal_force: Option<(f64, f64)>,
 ) -> Result<GearBody, FlankError> {
-    let sector = gear_sector(spec, name, options)?;
+    gear_body_with(spec, name, material, options, Mesher::Native, normal_force)
+}
+
+/// [`gear_body`] with the sector meshed by `mesher`.
+pub fn gear_body_with(
+    spec: &GearSpec,
+    name: &str,
+    material: &Material,
+    options: &SectorOptions,
+    mesher: Mesher,
+    normal_force: Option<(f64, f64)>,
+) -> Result<GearBody, FlankError> {
+    let sector = mesh_sector(spec, name, options, mesher)?;
     let mesh = sector.mesh.clone();
     let ne = mesh.elements.len();
     let bore = mesh

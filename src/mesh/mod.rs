@@ -6,7 +6,10 @@
 
 pub mod gear_body;
 pub mod gear_sector;
+#[cfg(feature = "gmsh")]
+pub mod gmsh;
 pub mod inp;
+pub mod msh;
 pub mod structured;
 
 use std::collections::{BTreeMap, HashMap};
