@@ -80,7 +80,13 @@ use toml::Spanned;
 
 use crate::error::FlankError;
 use crate::fem::material::Material;
+use crate::geometry::micro::{roll_angle_at_radius, FlankModification};
+use crate::geometry::rack::ToothProfile;
 use crate::geometry::{GearSpec, Hand, PairSpec, RackProfile};
+
+/// Flank modifications: defined in [`crate::geometry::micro`], re-exported here
+/// because a scene is where they are read.
+pub use crate::geometry::micro::{MicroGeometry, Relief, ReliefShape};
 
 // ---------------------------------------------------------------------------
 // Public types (internal units)
@@ -101,43 +107,6 @@ pub struct Load {
     pub torque_nmm: f64,
     /// Pinion speed (rev/min); ≥ 0.
     pub speed_rpm: f64,
-}
-
-/// Shape of a relief (amount as a function of the distance into the relief zone).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum ReliefShape {
-    Linear,
-    Parabolic,
-}
-
-/// One relief: the amount removed at the end of the flank (mm), the length
-/// of the zone it is spread over (mm) and its shape.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct Relief {
-    pub amount: f64,
-    pub length: f64,
-    pub shape: ReliefShape,
-}
-
-/// Flank modifications of one gear, internal units (mm). Parsed and
-/// validated; not yet used by any analysis.
-#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
-pub struct MicroGeometry {
-    /// Tip relief C_a, over a length along the profile (roll length) from the tip.
-    pub tip_relief: Option<Relief>,
-    /// Root relief C_f, over a length along the profile from the start of active profile.
-    pub root_relief: Option<Relief>,
-    /// Profile crowning C_α (mm, ≥ 0).
-    pub profile_crowning: f64,
-    /// Lead crowning C_β (mm, ≥ 0).
-    pub lead_crowning: f64,
-    /// Helix slope deviation f_Hβ (mm, signed).
-    pub helix_slope_deviation: f64,
-    /// End relief C_I/C_II at both ends of the face width, over a length along the face.
-    pub end_relief: Option<Relief>,
-    /// Measured profile (CSV), resolved against the scene file's folder; it exists.
-    pub measured_profile: Option<PathBuf>,
 }
 
 /// Options of the `mesh` analysis (none yet: `mesh = {}`).
@@ -203,6 +172,44 @@ pub struct Scene {
     pub mesh: MeshOptions,
     /// The scene file (as given); relative paths inside it are resolved against its folder.
     pub source: PathBuf,
+}
+
+impl Scene {
+    /// The flank modifications of `[pinion, gear]`, bound to their gears
+    /// ([`FlankModification::new`]): tooth profiles, the start of active
+    /// profile from [`crate::geometry::pair::check_pair`] and the face widths.
+    /// `None` where the scene has no `[<gear>.micro]`; warnings (e.g. a
+    /// measured range that does not cover the active profile) are in
+    /// [`FlankModification::warnings`].
+    pub fn flank_modifications(&self) -> Result<[Option<FlankModification>; 2], FlankError> {
+        let report = crate::geometry::pair::check_pair(&self.pair)?;
+        let mut out = [None, None];
+        for (i, (spec, name, sap)) in [
+            (
+                &self.pair.pinion,
+                "pinion",
+                report.pinion.active_start_radius,
+            ),
+            (&self.pair.gear, "gear", report.gear.active_start_radius),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            if let Some(micro) = &self.micro[i] {
+                let profile = ToothProfile::new(spec, name)?;
+                let u_sap = roll_angle_at_radius(profile.geometry.base_radius, sap)?;
+                out[i] = Some(
+                    FlankModification::new(micro, &profile, u_sap, spec.face_width).map_err(
+                        |e| match e {
+                            FlankError::Model(m) => FlankError::Model(format!("{name}: {m}")),
+                            e => e,
+                        },
+                    )?,
+                );
+            }
+        }
+        Ok(out)
+    }
 }
 
 /// Reads and validates a scene file.

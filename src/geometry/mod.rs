@@ -4,8 +4,11 @@
 //! Internal units: mm and rad. Scene files convert at their boundary
 //! (`crate::scene`); everything here is already converted.
 
+pub mod flank;
 pub mod involute;
 pub mod iso6336;
+pub mod measured;
+pub mod micro;
 pub mod pair;
 pub mod rack;
 
