@@ -430,14 +430,15 @@ impl MeasuredProfile {
     }
 
     /// Warnings, one per flank whose measured range does not cover [u_lo, u_hi]
-    /// (e.g. the active profile), naming both ranges in roll angle and diameter.
+    /// (e.g. the active profile) to within 1 µm of roll length, naming both
+    /// ranges in roll angle and diameter.
     pub fn coverage_warnings(&self, u_lo: f64, u_hi: f64, base_radius: f64) -> Vec<String> {
         let dia = |u: f64| 2.0 * base_radius * (1.0 + u * u).sqrt();
+        let tol = 1e-3 / base_radius;
         let mut out = Vec::new();
         for (f, name) in [(Flank::Right, "right"), (Flank::Left, "left")] {
             let m = self.flank(f);
             let (a, b) = m.range();
-            let tol = 1e-9;
             if a > u_lo + tol || b < u_hi - tol {
                 out.push(format!(
                     "measured profile {}: the {name} flank{} is measured over roll angles [{a:.6}, {b:.6}] rad (diameters [{:.4}, {:.4}] mm), which does not cover [{u_lo:.6}, {u_hi:.6}] rad (diameters [{:.4}, {:.4}] mm); outside the measured range the end deviation is held",

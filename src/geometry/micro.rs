@@ -317,10 +317,10 @@ impl FlankModification {
     }
 
     /// [o, ∂o/∂u, ∂o/∂z] at (u, z): the offset and its gradient (mm, mm/rad,
-    /// mm/mm). At a kink (module docs) the derivative of the branch that
-    /// contains the point is returned: the upper one in u (u ≥ u_SAP is the
-    /// active profile, u ≥ u_form the involute), the zone's interior at a
-    /// zone start in z only when strictly inside it.
+    /// mm/mm). At a kink (module docs) one side's derivative is returned: at
+    /// u_form and u_SAP the side above (u ≥ u_form is the involute, u ≥ u_SAP
+    /// the active profile); at the start of a relief zone the unmodified side;
+    /// at the ends of a measured range and at the clamps the inner side.
     pub fn offset_with_gradient(&self, flank: Flank, u: f64, z: f64) -> [f64; 3] {
         let (p, pu) = self.profile_terms(flank, u);
         let (l, lz) = self.lead_terms(flank, z);
