@@ -23,7 +23,6 @@
 //! (not on nodes), so it measures the mesh, not the exact geometry.
 
 #[path = "../common/mod.rs"]
-#[allow(dead_code)]
 mod common;
 
 use std::collections::HashSet;
@@ -117,8 +116,8 @@ fn deviations(p: &ToothProfile, m: &GearSectorMesh) -> Deviation {
                     let (sh, _) = quad8_shape([xi, eta]);
                     let mut x = [0.0; 3];
                     for (a, &n) in ns.iter().enumerate() {
-                        for c in 0..3 {
-                            x[c] += sh[a] * m.mesh.coords[n][c];
+                        for (xc, nc) in x.iter_mut().zip(m.mesh.coords[n]) {
+                            *xc += sh[a] * nc;
                         }
                     }
                     let q = rot([x[0], x[1]], p.twist_rate * x[2]);
