@@ -10,6 +10,9 @@
 //!   CalculiX/Abaqus deck reader and writer; structured meshes for verification.
 //! * [`fem`]: elements, quadrature, assembly, constraints, sparse Cholesky,
 //!   stress recovery, the linear static analysis.
+//! * [`compliance`]: nodal compliance tensors of a gear body on its flanks
+//!   (one factorization; Schur complement or blocked solves), HDF5/native
+//!   cache, interpolation at flank points and contact cells (the LTCA input).
 //! * [`report`]: VTU, CSV and JSON output.
 //!
 //! The library is usable without the command line; a cantilever solved in
@@ -35,6 +38,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod ccx;
+pub mod compliance;
 pub mod error;
 pub mod fem;
 pub mod geometry;

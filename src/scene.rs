@@ -114,15 +114,37 @@ pub struct Load {
 #[serde(deny_unknown_fields)]
 pub struct MeshAnalysis {}
 
+/// Options of the `compliance` analysis (nodal compliance tensors of both
+/// bodies, [`crate::compliance`]), e.g.
+/// `compliance = { clamp_cuts = false, flanks = "loaded", method = "schur" }`.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ComplianceAnalysis {
+    /// Clamp the sector cut faces `CUT_A`, `CUT_B` as well as the bore
+    /// (default false: the cut faces are free).
+    #[serde(default)]
+    pub clamp_cuts: bool,
+    /// Flanks carrying tensors: `loaded` (default: `FLANK_R<k>`, the side the
+    /// gear bodies load), `left`, `right` or `both`.
+    #[serde(default)]
+    pub flanks: crate::compliance::FlankSelection,
+    /// `schur` (default) or `blocked`.
+    #[serde(default)]
+    pub method: crate::compliance::Method,
+    /// Memory for the right-hand-side blocks of the blocked method (MB, > 0).
+    pub memory_budget_mb: Option<f64>,
+}
+
 /// The analyses a scene asks for; an absent entry is not computed.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct Analyses {
     pub mesh: Option<MeshAnalysis>,
+    pub compliance: Option<ComplianceAnalysis>,
 }
 
 impl Analyses {
     /// Names an `[analyses]` table accepts.
-    pub const KNOWN: &'static [&'static str] = &["mesh"];
+    pub const KNOWN: &'static [&'static str] = &["mesh", "compliance"];
 }
 
 /// Solid element family for the tooth-sector mesh.
@@ -995,6 +1017,25 @@ fn analyses(cx: &Cx, raw: Option<&RawAnalyses>) -> Res<Analyses> {
                     )
                 })?;
                 out.mesh = Some(v);
+            }
+            "compliance" => {
+                let v: ComplianceAnalysis = value.get_ref().clone().try_into().map_err(|e| {
+                    cx.err(
+                        value.span(),
+                        format!("`analyses.compliance`: {}", toml_message(&e)),
+                    )
+                })?;
+                if let Some(mb) = v.memory_budget_mb {
+                    if !(mb > 0.0 && mb.is_finite()) {
+                        return Err(cx.err(
+                            value.span(),
+                            format!(
+                                "`analyses.compliance`: memory_budget_mb must be > 0, got {mb}"
+                            ),
+                        ));
+                    }
+                }
+                out.compliance = Some(v);
             }
             other => {
                 return Err(cx.err(

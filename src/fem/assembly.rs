@@ -17,7 +17,7 @@ use crate::error::FlankError;
 use crate::fem::constraints::{DofMap, DofTarget};
 use crate::fem::element::{stiffness, ElementWorkspace};
 use crate::fem::model::Model;
-use crate::fem::ordering::{order_groups, OrderingMethod};
+use crate::fem::ordering::{order_groups_last, OrderingMethod};
 
 /// Lower-triangular CSC pattern of a symmetric matrix.
 #[derive(Clone, Debug)]
@@ -110,6 +110,19 @@ impl Assembly {
         dofs: &mut DofMap,
         ordering: OrderingMethod,
     ) -> Result<Self, FlankError> {
+        Self::with_nodes_last(model, dofs, ordering, &[])
+    }
+
+    /// As [`Assembly::new`], with the free DOFs of `last_nodes` (node
+    /// indices) numbered after all others, node by node in the order given:
+    /// the trailing block of the Cholesky factor is then the factor of the
+    /// Schur complement on those DOFs ([`crate::compliance`]).
+    pub fn with_nodes_last(
+        model: &Model,
+        dofs: &mut DofMap,
+        ordering: OrderingMethod,
+        last_nodes: &[usize],
+    ) -> Result<Self, FlankError> {
         let mesh = &model.mesh;
         let ne = mesh.elements.len();
         let nn = mesh.node_count();
@@ -187,14 +200,27 @@ impl Assembly {
             xadj.push(adjncy.len());
         }
         let weight: Vec<usize> = (0..ng).map(|g| dofs.group_dofs(g).len()).collect();
+        let mut last_groups = Vec::with_capacity(last_nodes.len());
+        for &n in last_nodes {
+            match dofs.node_group.get(n) {
+                Some(&g) if g != usize::MAX => last_groups.push(g),
+                Some(_) => {}
+                None => {
+                    return Err(FlankError::Model(format!(
+                        "node index {n} to be ordered last is beyond the mesh"
+                    )))
+                }
+            }
+        }
         let t = std::time::Instant::now();
-        let perm = order_groups(
+        let perm = order_groups_last(
             &GroupGraph {
                 xadj,
                 adjncy,
                 weight,
             },
             ordering,
+            &last_groups,
         )?;
         let ordering_s = t.elapsed().as_secs_f64();
         dofs.renumber_groups(&perm);

@@ -123,6 +123,64 @@ pub fn order_groups(graph: &GroupGraph, method: OrderingMethod) -> Result<Vec<us
     }
 }
 
+/// Fill-reducing order of the DOF groups by `method` with the groups `last`
+/// eliminated after all others, in the order given: `perm[new] = old`.
+///
+/// The other groups are ordered on the subgraph they induce, so the factor's
+/// trailing block is the Cholesky factor of the Schur complement on `last`
+/// (used by [`crate::compliance`]). An empty `last` is [`order_groups`].
+pub fn order_groups_last(
+    graph: &GroupGraph,
+    method: OrderingMethod,
+    last: &[usize],
+) -> Result<Vec<usize>, FlankError> {
+    if last.is_empty() {
+        return order_groups(graph, method);
+    }
+    let n = graph.weight.len();
+    let mut is_last = vec![false; n];
+    for &g in last {
+        if g >= n || is_last[g] {
+            return Err(FlankError::Solver(format!(
+                "constrained ordering: group {g} out of range or given twice"
+            )));
+        }
+        is_last[g] = true;
+    }
+    // the subgraph induced by the other groups, renumbered 0..k
+    let mut sub_of = vec![usize::MAX; n];
+    let mut old_of = Vec::with_capacity(n - last.len());
+    for g in 0..n {
+        if !is_last[g] {
+            sub_of[g] = old_of.len();
+            old_of.push(g);
+        }
+    }
+    let mut xadj = vec![0usize];
+    let mut adjncy = Vec::new();
+    let mut weight = Vec::with_capacity(old_of.len());
+    for &g in &old_of {
+        for &h in &graph.adjncy[graph.xadj[g]..graph.xadj[g + 1]] {
+            if sub_of[h] != usize::MAX {
+                adjncy.push(sub_of[h]);
+            }
+        }
+        xadj.push(adjncy.len());
+        weight.push(graph.weight[g]);
+    }
+    let sub = GroupGraph {
+        xadj,
+        adjncy,
+        weight,
+    };
+    let mut perm: Vec<usize> = order_groups(&sub, method)?
+        .into_iter()
+        .map(|s| old_of[s])
+        .collect();
+    perm.extend_from_slice(last);
+    Ok(perm)
+}
+
 /// Expands a group order to a DOF permutation (`fwd[new] = old`, `inv[old] = new`).
 pub fn expand_group_order(group_perm: &[usize], group_start: &[usize]) -> (Vec<usize>, Vec<usize>) {
     let n = *group_start.last().unwrap_or(&0);

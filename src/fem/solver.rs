@@ -258,29 +258,35 @@ impl SparseCholesky {
 
     /// Solves A x = b in place for every column of `rhs` (n × k). With a
     /// single-precision factor the solve is done in f32 (refine outside).
-    pub fn solve_columns(&self, mut rhs: MatMut<'_, f64>) {
+    pub fn solve_columns(&self, rhs: MatMut<'_, f64>) {
+        self.solve_columns_with(rhs, self.par);
+    }
+
+    /// [`solve_columns`](Self::solve_columns) with the parallelism `par`
+    /// (e.g. `Par::Seq` when several blocks are solved concurrently).
+    pub fn solve_columns_with(&self, mut rhs: MatMut<'_, f64>, par: Par) {
         assert!(self.factorized, "solve before a successful factorization");
         let k = rhs.ncols();
         match &self.l_values {
             FactorValues::Double(l) => {
-                let req = self.symbolic.solve_in_place_scratch::<f64>(k, self.par);
+                let req = self.symbolic.solve_in_place_scratch::<f64>(k, par);
                 let mut mem = MemBuffer::new(req);
                 LltRef::new(&self.symbolic, l).solve_in_place_with_conj(
                     Conj::No,
                     rhs,
-                    self.par,
+                    par,
                     MemStack::new(&mut mem),
                 );
             }
             FactorValues::Single(l) => {
                 let n = rhs.nrows();
                 let mut r32 = faer::Mat::<f32>::from_fn(n, k, |i, j| rhs[(i, j)] as f32);
-                let req = self.symbolic.solve_in_place_scratch::<f32>(k, self.par);
+                let req = self.symbolic.solve_in_place_scratch::<f32>(k, par);
                 let mut mem = MemBuffer::new(req);
                 LltRef::new(&self.symbolic, l).solve_in_place_with_conj(
                     Conj::No,
                     r32.as_mut(),
-                    self.par,
+                    par,
                     MemStack::new(&mut mem),
                 );
                 for j in 0..k {
@@ -305,6 +311,68 @@ impl SparseCholesky {
         let n = rhs.len();
         let m = faer::MatMut::from_column_major_slice_mut(rhs, n, 1);
         self.solve_columns(m);
+    }
+
+    /// The trailing `m × m` block L₂₂ of the factor (factor order, lower
+    /// triangle, dense): with the last `m` unknowns eliminated last, L₂₂L₂₂ᵀ
+    /// is the Schur complement S = A₂₂ − A₂₁A₁₁⁻¹A₁₂ on them.
+    pub fn trailing_factor(&self, m: usize) -> Result<faer::Mat<f64>, FlankError> {
+        let n = self.stats.n;
+        if !self.factorized {
+            return Err(FlankError::Solver(
+                "trailing factor block before a successful factorization".into(),
+            ));
+        }
+        if m > n {
+            return Err(FlankError::Solver(format!(
+                "trailing factor block of {m} columns of a {n} × {n} factor"
+            )));
+        }
+        if self.perm_fwd.iter().enumerate().any(|(i, &p)| i != p) {
+            return Err(FlankError::Solver(
+                "trailing factor block of a permuted factor".into(),
+            ));
+        }
+        let s0 = n - m;
+        let mut l = faer::Mat::<f64>::zeros(m, m);
+        match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Supernodal(s) => {
+                let (beg, end) = (s.supernode_begin(), s.supernode_end());
+                let vptr = s.col_ptr_for_val();
+                let rptr = s.col_ptr_for_row_idx();
+                let ridx = s.row_idx();
+                for k in 0..s.n_supernodes() {
+                    if end[k] <= s0 {
+                        continue;
+                    }
+                    let ncols = end[k] - beg[k];
+                    let below = &ridx[rptr[k]..rptr[k + 1]];
+                    let nrows = ncols + below.len();
+                    for j in beg[k].max(s0)..end[k] {
+                        let jl = j - beg[k];
+                        let col = vptr[k] + jl * nrows;
+                        for il in jl..ncols {
+                            l[(beg[k] + il - s0, j - s0)] = self.l_value(col + il);
+                        }
+                        for (t, &r) in below.iter().enumerate() {
+                            l[(r - s0, j - s0)] = self.l_value(col + ncols + t);
+                        }
+                    }
+                }
+            }
+            SymbolicCholeskyRaw::Simplicial(s) => {
+                let cp = s.col_ptr();
+                let ri = s.row_idx();
+                for j in s0..n {
+                    for k in cp[j]..cp[j + 1] {
+                        if ri[k] >= j {
+                            l[(ri[k] - s0, j - s0)] = self.l_value(k);
+                        }
+                    }
+                }
+            }
+        }
+        Ok(l)
     }
 
     /// Bytes held by the factor values.

@@ -1,0 +1,584 @@
+//! Compliance at any flank point and over contact cells, interpolated with
+//! the flank faces' own shape functions.
+//!
+//! A flank point p = (u, v) of one flank set lies on a flank face; inverting
+//! the face's isoparametric map in the surface parameters,
+//! (u, v) = Σ_a N_a(ξ, η) (u_a, v_a), gives its reference coordinates and the
+//! face shape functions N_a(p) (quad8 or tri6). A point force F at p is
+//! work-equivalent to the nodal forces N_a(p) F, and the displacement at p
+//! is read back as Σ_a N_a(p) u_a, so the compliance between two points is
+//!
+//! ```text
+//! C^{pq} = Σ_a Σ_b N_a(p) N_b(q) C^{ab}        (displacement at p, unit force at q)
+//! ```
+//!
+//! symmetric in the same sense as the nodal tensors (C^{pq} = (C^{qp})ᵀ),
+//! and equal to C^{ab} at the nodes (N_a(x_b) = δ_ab). This is seed 001's
+//! "bivariate interpolation in the surface parametric space", done with the
+//! finite element's own interpolation so that loads and displacements stay
+//! consistent with the FE model (seed 003 uses bilinear weights).
+//!
+//! **Contact cells.** A load spread uniformly over a cell (a rectangle or an
+//! ellipse in (u, v) around the point) is the average of point loads over
+//! the cell: its nodal weights are W_a = ∫ N_a dA / ∫ dA, integrated with a
+//! Gauss rule in (u, v) weighted by the physical area density
+//! dA/(du dv) = |x_ξ × x_η| / |det ∂(u, v)/∂(ξ, η)|; the displacement of the
+//! cell is read back with the same weights. Sample points outside the
+//! meshed flank are dropped ([`SurfaceLoad::coverage`] < 1 says so). Cells
+//! make the compliance of a finite contact area mesh-independent as the
+//! mesh is refined (a point load on the FE surface is not: its local
+//! displacement grows without bound, DESIGN.md "local contact deformation").
+//!
+//! **Directional compliances** (seed 001), for unit vectors n, t at the
+//! points k and l: c_nn = n_kᵀC^{kl}n_l, c_tt = t_kᵀC^{kl}t_l,
+//! c_nt = n_kᵀC^{kl}t_l, c_tn = t_kᵀC^{kl}n_l (c_nt ≠ c_tn in general): the
+//! displacement along the first direction at k from a unit force along the
+//! second at l.
+
+use std::collections::BTreeMap;
+
+use crate::compliance::flank::{cross, face_shape, norm};
+use crate::compliance::ComplianceTensor;
+use crate::error::FlankError;
+
+/// Nodal weights of a point or cell load on the flank (Σ weights = 1).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SurfaceLoad {
+    /// (flank node index into the tensor, weight).
+    pub weights: Vec<(u32, f64)>,
+    /// Fraction of the cell (in (u, v)) that lies on the meshed flank (1 for points).
+    pub coverage: f64,
+}
+
+/// A contact cell around a point, half-widths in the flank parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CellShape {
+    /// [u − hu, u + hu] × [v − hv, v + hv].
+    Rectangle { hu: f64, hv: f64 },
+    /// ((u' − u)/au)² + ((v' − v)/av)² ≤ 1.
+    Ellipse { au: f64, av: f64 },
+}
+
+/// The four directional compliances between two points (mm/N).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct Directional {
+    pub nn: f64,
+    pub tt: f64,
+    pub nt: f64,
+    pub tn: f64,
+}
+
+fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn mat_vec(c: &[[f64; 3]; 3], x: [f64; 3]) -> [f64; 3] {
+    [dot3(c[0], x), dot3(c[1], x), dot3(c[2], x)]
+}
+
+/// Seed 001's directional compliances of the tensor `c` = C^{kl} for the
+/// unit normal and tangent (n_k, t_k) at k and (n_l, t_l) at l.
+pub fn directional(
+    c: &[[f64; 3]; 3],
+    n_k: [f64; 3],
+    t_k: [f64; 3],
+    n_l: [f64; 3],
+    t_l: [f64; 3],
+) -> Directional {
+    let cn = mat_vec(c, n_l);
+    let ct = mat_vec(c, t_l);
+    Directional {
+        nn: dot3(n_k, cn),
+        tt: dot3(t_k, ct),
+        nt: dot3(n_k, ct),
+        tn: dot3(t_k, cn),
+    }
+}
+
+/// Gauss–Legendre points and weights on [−1, 1] (Newton on P_n).
+pub fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
+    let mut out = Vec::with_capacity(n);
+    for i in 0..n {
+        let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
+        let mut dp = 1.0;
+        for _ in 0..100 {
+            let (mut p0, mut p1) = (1.0, x);
+            for k in 2..=n {
+                let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
+                p0 = p1;
+                p1 = p2;
+            }
+            let p = if n == 0 { 1.0 } else { p1 };
+            let pm1 = if n == 0 { 0.0 } else { p0 };
+            dp = n as f64 * (x * p - pm1) / (x * x - 1.0);
+            let dx = p / dp;
+            x -= dx;
+            if dx.abs() < 1e-16 {
+                break;
+            }
+        }
+        out.push((x, 2.0 / ((1.0 - x * x) * dp * dp)));
+    }
+    out.sort_by(|a, b| a.0.total_cmp(&b.0));
+    out
+}
+
+/// Point location and load spreading on the flank of a compliance tensor.
+pub struct FlankInterpolator<'a> {
+    tensor: &'a ComplianceTensor,
+    grids: Vec<Grid>,
+}
+
+/// Faces of one flank set bucketed by their (u, v) bounding boxes.
+struct Grid {
+    lo: [f64; 2],
+    cell: [f64; 2],
+    n: [usize; 2],
+    buckets: Vec<Vec<u32>>,
+}
+
+impl Grid {
+    fn bucket(&self, u: f64, v: f64) -> Option<usize> {
+        let iu = ((u - self.lo[0]) / self.cell[0]).floor();
+        let iv = ((v - self.lo[1]) / self.cell[1]).floor();
+        if !(iu >= 0.0 && iv >= 0.0) {
+            return None;
+        }
+        let (iu, iv) = (iu as usize, iv as usize);
+        (iu < self.n[0] && iv < self.n[1]).then(|| iu * self.n[1] + iv)
+    }
+}
+
+impl<'a> FlankInterpolator<'a> {
+    pub fn new(tensor: &'a ComplianceTensor) -> Result<Self, FlankError> {
+        let flank = &tensor.flank;
+        flank.validate()?;
+        if tensor.matrix.len() != tensor.dim() * tensor.dim() {
+            return Err(FlankError::Model(format!(
+                "compliance matrix has {} entries, expected {}²",
+                tensor.matrix.len(),
+                tensor.dim()
+            )));
+        }
+        let mut grids = Vec::with_capacity(flank.sets.len());
+        for s in 0..flank.sets.len() {
+            let faces: Vec<(usize, [f64; 4])> = flank
+                .faces
+                .iter()
+                .enumerate()
+                .filter(|(_, f)| f.set as usize == s)
+                .map(|(i, f)| {
+                    let mut b = [
+                        f64::INFINITY,
+                        f64::INFINITY,
+                        f64::NEG_INFINITY,
+                        f64::NEG_INFINITY,
+                    ];
+                    for &a in &f.nodes {
+                        let [u, v] = flank.uv[a as usize];
+                        b = [b[0].min(u), b[1].min(v), b[2].max(u), b[3].max(v)];
+                    }
+                    // quadratic edges may bulge past the nodes: pad by a quarter of the size
+                    let (pu, pv) = (0.25 * (b[2] - b[0]), 0.25 * (b[3] - b[1]));
+                    (i, [b[0] - pu, b[1] - pv, b[2] + pu, b[3] + pv])
+                })
+                .collect();
+            if faces.is_empty() {
+                grids.push(Grid {
+                    lo: [0.0; 2],
+                    cell: [1.0; 2],
+                    n: [0, 0],
+                    buckets: Vec::new(),
+                });
+                continue;
+            }
+            let mut lo = [f64::INFINITY; 2];
+            let mut hi = [f64::NEG_INFINITY; 2];
+            for (_, b) in &faces {
+                lo = [lo[0].min(b[0]), lo[1].min(b[1])];
+                hi = [hi[0].max(b[2]), hi[1].max(b[3])];
+            }
+            let k = (faces.len() as f64).sqrt().ceil() as usize;
+            let n = [k.max(1), k.max(1)];
+            let cell = [
+                ((hi[0] - lo[0]) / n[0] as f64).max(f64::MIN_POSITIVE),
+                ((hi[1] - lo[1]) / n[1] as f64).max(f64::MIN_POSITIVE),
+            ];
+            let mut buckets = vec![Vec::new(); n[0] * n[1]];
+            for (i, b) in &faces {
+                let i0 = (((b[0] - lo[0]) / cell[0]).floor().max(0.0) as usize).min(n[0] - 1);
+                let i1 = (((b[2] - lo[0]) / cell[0]).floor().max(0.0) as usize).min(n[0] - 1);
+                let j0 = (((b[1] - lo[1]) / cell[1]).floor().max(0.0) as usize).min(n[1] - 1);
+                let j1 = (((b[3] - lo[1]) / cell[1]).floor().max(0.0) as usize).min(n[1] - 1);
+                for iu in i0..=i1 {
+                    for iv in j0..=j1 {
+                        buckets[iu * n[1] + iv].push(*i as u32);
+                    }
+                }
+            }
+            grids.push(Grid {
+                lo,
+                cell,
+                n,
+                buckets,
+            });
+        }
+        Ok(FlankInterpolator { tensor, grids })
+    }
+
+    fn set(&self, name: &str) -> Result<usize, FlankError> {
+        self.tensor.flank.set_index(name).ok_or_else(|| {
+            FlankError::Model(format!(
+                "no flank set {name} in the compliance tensor (sets: {})",
+                self.tensor.flank.sets.join(", ")
+            ))
+        })
+    }
+
+    /// Face and reference coordinates of (u, v) on the flank set `set`.
+    pub fn locate(&self, set: usize, u: f64, v: f64) -> Option<(usize, [f64; 2])> {
+        let grid = self.grids.get(set)?;
+        let b = grid.bucket(u, v)?;
+        let flank = &self.tensor.flank;
+        for &fi in &grid.buckets[b] {
+            let face = &flank.faces[fi as usize];
+            let k = face.nodes.len();
+            let mut xi = if k == 8 {
+                [0.0, 0.0]
+            } else {
+                [1.0 / 3.0, 1.0 / 3.0]
+            };
+            let mut ok = false;
+            for _ in 0..30 {
+                let (n, d) = face_shape(k, xi);
+                let mut r = [u, v];
+                let mut j = [[0.0; 2]; 2];
+                for (a, &node) in face.nodes.iter().enumerate() {
+                    let p = flank.uv[node as usize];
+                    for i in 0..2 {
+                        r[i] -= n[a] * p[i];
+                        j[i][0] += d[a][0] * p[i];
+                        j[i][1] += d[a][1] * p[i];
+                    }
+                }
+                let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+                if !(det.abs() > 0.0) || !det.is_finite() {
+                    break;
+                }
+                let dx = [
+                    (j[1][1] * r[0] - j[0][1] * r[1]) / det,
+                    (-j[1][0] * r[0] + j[0][0] * r[1]) / det,
+                ];
+                xi = [xi[0] + dx[0], xi[1] + dx[1]];
+                if !(xi[0].abs() < 10.0 && xi[1].abs() < 10.0) {
+                    break;
+                }
+                if dx[0].abs() + dx[1].abs() < 1e-14 {
+                    ok = true;
+                    break;
+                }
+            }
+            if !ok {
+                continue;
+            }
+            const TOL: f64 = 1e-9;
+            let inside = if k == 8 {
+                xi[0].abs() <= 1.0 + TOL && xi[1].abs() <= 1.0 + TOL
+            } else {
+                xi[0] >= -TOL && xi[1] >= -TOL && xi[0] + xi[1] <= 1.0 + TOL
+            };
+            if inside {
+                let xi = if k == 8 {
+                    [xi[0].clamp(-1.0, 1.0), xi[1].clamp(-1.0, 1.0)]
+                } else {
+                    let (a, b) = (xi[0].max(0.0), xi[1].max(0.0));
+                    let s = (a + b).max(1.0);
+                    [a / s, b / s]
+                };
+                return Some((fi as usize, xi));
+            }
+        }
+        None
+    }
+
+    /// Shape-function weights of the point (u, v) of flank set `set`.
+    pub fn point(&self, set: &str, u: f64, v: f64) -> Result<SurfaceLoad, FlankError> {
+        let s = self.set(set)?;
+        let (fi, xi) = self.locate(s, u, v).ok_or_else(|| {
+            FlankError::Model(format!(
+                "flank point (u, v) = ({u}, {v}) lies outside the meshed flank {set}"
+            ))
+        })?;
+        let face = &self.tensor.flank.faces[fi];
+        let (n, _) = face_shape(face.nodes.len(), xi);
+        Ok(SurfaceLoad {
+            weights: face.nodes.iter().zip(n).map(|(&a, w)| (a, w)).collect(),
+            coverage: 1.0,
+        })
+    }
+
+    /// Weights of a load spread uniformly over the cell `shape` around
+    /// (u, v), `samples` Gauss points per direction (≥ 1).
+    pub fn cell(
+        &self,
+        set: &str,
+        u: f64,
+        v: f64,
+        shape: CellShape,
+        samples: usize,
+    ) -> Result<SurfaceLoad, FlankError> {
+        let s = self.set(set)?;
+        if samples == 0 {
+            return Err(FlankError::Model("a contact cell needs ≥ 1 sample".into()));
+        }
+        let gl = gauss_legendre(samples);
+        let mut pts: Vec<(f64, f64, f64)> = Vec::new();
+        match shape {
+            CellShape::Rectangle { hu, hv } => {
+                if !(hu > 0.0 && hv > 0.0) {
+                    return Err(FlankError::Model(format!(
+                        "contact rectangle half-widths must be positive, got ({hu}, {hv})"
+                    )));
+                }
+                for &(a, wa) in &gl {
+                    for &(b, wb) in &gl {
+                        pts.push((u + hu * a, v + hv * b, wa * wb));
+                    }
+                }
+            }
+            CellShape::Ellipse { au, av } => {
+                if !(au > 0.0 && av > 0.0) {
+                    return Err(FlankError::Model(format!(
+                        "contact ellipse semi-axes must be positive, got ({au}, {av})"
+                    )));
+                }
+                let nt = 4 * samples;
+                for &(a, wa) in &gl {
+                    let rho = 0.5 * (a + 1.0);
+                    for j in 0..nt {
+                        let th = 2.0 * std::f64::consts::PI * (j as f64 + 0.5) / nt as f64;
+                        let w = 0.5 * wa * rho / nt as f64;
+                        pts.push((u + au * rho * th.cos(), v + av * rho * th.sin(), w));
+                    }
+                }
+            }
+        }
+        let flank = &self.tensor.flank;
+        let total: f64 = pts.iter().map(|p| p.2).sum();
+        let mut inside = 0.0;
+        let mut acc: BTreeMap<u32, f64> = BTreeMap::new();
+        let mut mass = 0.0;
+        for (pu, pv, w) in pts {
+            let Some((fi, xi)) = self.locate(s, pu, pv) else {
+                continue;
+            };
+            inside += w;
+            let face = &flank.faces[fi];
+            let (n, d) = face_shape(face.nodes.len(), xi);
+            let mut t1 = [0.0; 3];
+            let mut t2 = [0.0; 3];
+            let mut j = [[0.0; 2]; 2];
+            for (a, &node) in face.nodes.iter().enumerate() {
+                let x = flank.positions[node as usize];
+                let p = flank.uv[node as usize];
+                for i in 0..3 {
+                    t1[i] += d[a][0] * x[i];
+                    t2[i] += d[a][1] * x[i];
+                }
+                for i in 0..2 {
+                    j[i][0] += d[a][0] * p[i];
+                    j[i][1] += d[a][1] * p[i];
+                }
+            }
+            let det = (j[0][0] * j[1][1] - j[0][1] * j[1][0]).abs();
+            let density = norm(cross(t1, t2)) / det;
+            if !density.is_finite() {
+                continue;
+            }
+            let wd = w * density;
+            mass += wd;
+            for (a, &node) in face.nodes.iter().enumerate() {
+                *acc.entry(node).or_default() += wd * n[a];
+            }
+        }
+        if !(mass > 0.0) {
+            return Err(FlankError::Model(format!(
+                "contact cell around (u, v) = ({u}, {v}) lies outside the meshed flank {set}"
+            )));
+        }
+        Ok(SurfaceLoad {
+            weights: acc.into_iter().map(|(a, w)| (a, w / mass)).collect(),
+            coverage: inside / total,
+        })
+    }
+
+    /// C^{pq}: the displacement at p (read back with p's weights) from a
+    /// unit force spread with q's weights.
+    pub fn tensor(&self, p: &SurfaceLoad, q: &SurfaceLoad) -> [[f64; 3]; 3] {
+        let mut c = [[0.0; 3]; 3];
+        for &(a, wa) in &p.weights {
+            for &(b, wb) in &q.weights {
+                let cab = self.tensor.block(a as usize, b as usize);
+                let w = wa * wb;
+                for i in 0..3 {
+                    for j in 0..3 {
+                        c[i][j] += w * cab[i][j];
+                    }
+                }
+            }
+        }
+        c
+    }
+
+    /// Position (mm) of a point or cell centroid (weighted nodal positions).
+    pub fn position(&self, p: &SurfaceLoad) -> [f64; 3] {
+        let mut x = [0.0; 3];
+        for &(a, w) in &p.weights {
+            let y = self.tensor.flank.positions[a as usize];
+            for i in 0..3 {
+                x[i] += w * y[i];
+            }
+        }
+        x
+    }
+
+    /// Outward unit normal interpolated from the nodal normals.
+    pub fn normal(&self, p: &SurfaceLoad) -> [f64; 3] {
+        let mut x = [0.0; 3];
+        for &(a, w) in &p.weights {
+            let y = self.tensor.flank.normals[a as usize];
+            for i in 0..3 {
+                x[i] += w * y[i];
+            }
+        }
+        let l = norm(x);
+        [x[0] / l, x[1] / l, x[2] / l]
+    }
+
+    /// The K × K normal compliance matrix (row-major) of a set of points
+    /// with unit normals: C_nn[k][l] = n_kᵀ C^{kl} n_l.
+    pub fn normal_matrix(&self, points: &[SurfaceLoad], normals: &[[f64; 3]]) -> Vec<f64> {
+        let k = points.len();
+        let mut out = vec![0.0; k * k];
+        for i in 0..k {
+            for j in i..k {
+                let c = self.tensor(&points[i], &points[j]);
+                let v = dot3(normals[i], mat_vec(&c, normals[j]));
+                out[i * k + j] = v;
+                out[j * k + i] = v;
+            }
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::compliance::flank::tests::box_flank;
+    use crate::compliance::{compliance_tensor, ComplianceOptions};
+    use crate::mesh::structured::BoxElement;
+
+    #[test]
+    fn gauss_legendre_integrates_polynomials() {
+        for n in 1..8 {
+            let g = gauss_legendre(n);
+            for p in 0..2 * n {
+                let q: f64 = g.iter().map(|(x, w)| w * x.powi(p as i32)).sum();
+                let exact = if p % 2 == 1 {
+                    0.0
+                } else {
+                    2.0 / (p + 1) as f64
+                };
+                assert!((q - exact).abs() < 1e-13, "n {n} p {p}: {q} vs {exact}");
+            }
+        }
+    }
+
+    #[test]
+    fn interpolation_at_nodes_and_cells() {
+        for kind in [BoxElement::Hex20, BoxElement::Wedge15] {
+            let (model, flank) = box_flank(kind);
+            let (t, _) =
+                compliance_tensor("box", &model, &flank, &ComplianceOptions::default()).unwrap();
+            let it = FlankInterpolator::new(&t).unwrap();
+            // at every node: that node's tensor
+            for a in 0..t.node_count() {
+                let [u, v] = t.flank.uv[a];
+                let p = it.point("TOP", u, v).unwrap();
+                let c = it.tensor(&p, &p);
+                let ca = t.block(a, a);
+                for i in 0..3 {
+                    for j in 0..3 {
+                        assert!(
+                            (c[i][j] - ca[i][j]).abs()
+                                <= 1e-12 * ca[0][0].abs().max(ca[1][1].abs())
+                        );
+                    }
+                }
+            }
+            // partition of unity, symmetry C^{pq} = (C^{qp})ᵀ, position inside
+            let p = it.point("TOP", 3.3, 4.1).unwrap();
+            let q = it.point("top", 17.0, 8.7).unwrap();
+            let s: f64 = p.weights.iter().map(|w| w.1).sum();
+            assert!((s - 1.0).abs() < 1e-14);
+            let x = it.position(&p);
+            assert!(
+                (x[0] - 3.3).abs() < 1e-12 && (x[2] - 4.1).abs() < 1e-12,
+                "{x:?}"
+            );
+            let cpq = it.tensor(&p, &q);
+            let cqp = it.tensor(&q, &p);
+            for i in 0..3 {
+                for j in 0..3 {
+                    assert!((cpq[i][j] - cqp[j][i]).abs() < 1e-15);
+                }
+            }
+            // a cell: weights sum to 1, centroid at the centre; full coverage inside
+            let c = it
+                .cell(
+                    "TOP",
+                    10.0,
+                    5.0,
+                    CellShape::Rectangle { hu: 1.5, hv: 1.0 },
+                    5,
+                )
+                .unwrap();
+            let s: f64 = c.weights.iter().map(|w| w.1).sum();
+            assert!((s - 1.0).abs() < 1e-13 && c.coverage == 1.0);
+            let x = it.position(&c);
+            assert!((x[0] - 10.0).abs() < 1e-12 && (x[2] - 5.0).abs() < 1e-12);
+            let e = it
+                .cell("TOP", 0.0, 0.0, CellShape::Ellipse { au: 1.0, av: 1.0 }, 4)
+                .unwrap();
+            assert!((e.coverage - 0.25).abs() < 0.02, "{}", e.coverage);
+            // the cell's self-compliance is below the point's (load spread)
+            let pc = it.point("TOP", 10.0, 5.0).unwrap();
+            let n = [0.0, 1.0, 0.0];
+            assert!(
+                it.normal_matrix(std::slice::from_ref(&c), &[n])[0]
+                    < it.normal_matrix(&[pc], &[n])[0]
+            );
+            // outside and bad input are errors
+            assert!(it.point("TOP", -1.0, 5.0).is_err());
+            assert!(it.point("NOPE", 1.0, 5.0).is_err());
+            assert!(it
+                .cell(
+                    "TOP",
+                    5.0,
+                    5.0,
+                    CellShape::Rectangle { hu: 0.0, hv: 1.0 },
+                    3
+                )
+                .is_err());
+        }
+    }
+
+    #[test]
+    fn directional_definitions() {
+        let c = [[1.0, 2.0, 0.0], [3.0, 5.0, 0.0], [0.0, 0.0, 7.0]];
+        let (n, t) = ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+        let d = directional(&c, n, t, n, t);
+        assert_eq!((d.nn, d.tt, d.nt, d.tn), (1.0, 5.0, 2.0, 3.0));
+    }
+}

@@ -1,0 +1,479 @@
+//! # Nodal compliance tensors of a gear body
+//!
+//! The input of every compliance-matrix LTCA (seeds `001_…` and `003_…`:
+//! "a compliance tensor for discrete nodes on the tooth surface via a single
+//! static FEM run", interpolated at the contact points afterwards).
+//!
+//! ## What
+//!
+//! For one linear-elastic body (a gear sector with its bore clamped, see
+//! [`crate::mesh::gear_body`]) and N selected flank nodes, the **nodal
+//! compliance tensor** C^{ij} (3 × 3, mm/N) is the displacement at node i
+//! from a unit force at node j:
+//!
+//! ```text
+//! C^{ij}_{ab} = u_a(x_i) for f = e_b δ(x − x_j),   a, b ∈ {x, y, z}
+//! ```
+//!
+//! i.e. the restriction of K⁻¹ (K the stiffness with its Dirichlet conditions
+//! eliminated) to the 3N flank DOFs: C = Eᵀ K⁻¹ E with E the 0/1 columns of
+//! those DOFs. C is stored as one 3N × 3N matrix in node-major DOF order
+//! (x, y, z of node 0, then node 1, …), full and symmetric: Maxwell–Betti
+//! reciprocity gives C^{ij} = (C^{ji})ᵀ (seed 001: "by the reciprocal theorem
+//! of displacement, C^{ij} = (C^{ji})ᵀ"). Seed 001 states the component
+//! indices the other way round (c^{ij}_{mn}: displacement along n at i from a
+//! force along m at j); its directional compliances and their stated
+//! meanings (c^{kl}_{nn} is "the normal displacement at point k due to a unit
+//! normal force at point l") are those of the convention used here, which is
+//! the matrix convention of K⁻¹ (row = response DOF, column = load DOF).
+//!
+//! ## How (one factorization)
+//!
+//! Two methods, both from one sparse Cholesky factorization K = LLᵀ
+//! ([`tensor`]):
+//!
+//! * **Schur complement** (default, [`Method::Schur`]): the flank DOFs are
+//!   numbered last (METIS nested dissection of the rest,
+//!   [`crate::fem::ordering::order_groups_last`]). Then
+//!   L = [L₁₁ 0; L₂₁ L₂₂] and L₂₂L₂₂ᵀ = S = K₂₂ − K₂₁K₁₁⁻¹K₁₂, the Schur
+//!   complement (condensed stiffness) on the flank DOFs. Since the flank
+//!   block of K⁻¹ is S⁻¹ (block inverse), C = S⁻¹ = L₂₂⁻ᵀL₂₂⁻¹: a dense
+//!   triangular inverse and a triangular product, m³/3 flops each
+//!   (m = 3N), on top of a factorization whose root front is the m × m flank
+//!   block. Golub & Van Loan, *Matrix Computations*, 4th ed., the chapters on
+//!   block LU/Cholesky and the Schur complement; George & Liu, *Computer
+//!   Solution of Large Sparse Positive Definite Systems*, on orderings with
+//!   a prescribed last set.
+//! * **Blocked right-hand sides** ([`Method::Blocked`]): the standard
+//!   (unconstrained) METIS ordering, and K X = E solved for the unit columns
+//!   E in blocks of b columns (b from a memory budget), blocks solved
+//!   concurrently (one thread each); from each block only the lower
+//!   triangle rows (flank DOFs at or after the column) are kept, the upper
+//!   triangle is its mirror. Cost ≈ 4 nnz(L) flops per right-hand side.
+//!
+//! Measured on the seed 002 pinion (`benches/README.md`): the Schur
+//! complement is the faster by a wide margin, so it is the default.
+//!
+//! Symmetry is exploited in both: only one triangle is computed, the other
+//! is its mirror, so ‖C − Cᵀ‖ = 0 exactly; the native cache stores the
+//! packed lower triangle.
+//!
+//! ## Which flank nodes
+//!
+//! [`FlankSelection::Loaded`] (default): the right flank `FLANK_R<k>` of
+//! every tooth k of the sector, the flank side on which
+//! [`crate::mesh::gear_body`] places the nominal load of both bodies; `Left`,
+//! `Right` and `Both` select by side. Flank sets hold the involute and root
+//! fillet nodes (not the root arc), so the tensors cover fillet loading too.
+//!
+//! ## Storage, cache, interpolation
+//!
+//! [`cache`]: `<body>.compliance.h5` with the cargo feature `hdf5`, a
+//! versioned native binary file `<body>.compliance.bin` without it; both
+//! carry the flank (u, v), positions, outward normals, flank faces, the mesh
+//! hash, clamped sets, material and units, and a cache key (mesh hash +
+//! Dirichlet conditions + material + flank nodes) so that the same body is
+//! never computed twice. [`interpolation`]: tensors at any flank point (u, v)
+//! and over contact cells with the flank faces' own shape functions, and the
+//! directional compliances c_nn, c_tt, c_nt, c_tn of seed 001.
+
+pub mod body;
+pub mod cache;
+pub mod flank;
+pub mod interpolation;
+pub mod plot;
+pub mod run;
+pub mod tensor;
+
+pub use cache::{ComplianceCache, FileFormat};
+pub use flank::{FlankFace, FlankNodes};
+pub use interpolation::{directional, CellShape, Directional, FlankInterpolator, SurfaceLoad};
+pub use tensor::{compute_compliance, ComplianceOptions, ComplianceStats, Method};
+
+use crate::error::FlankError;
+use crate::fem::model::Model;
+use crate::mesh::Mesh;
+
+/// Which flank node sets of a gear sector carry compliance tensors.
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum FlankSelection {
+    /// `FLANK_R<k>` of every tooth: the side [`crate::mesh::gear_body`] loads.
+    #[default]
+    Loaded,
+    /// `FLANK_L<k>` of every tooth.
+    Left,
+    /// `FLANK_R<k>` of every tooth.
+    Right,
+    /// Both flanks of every tooth.
+    Both,
+}
+
+impl FlankSelection {
+    /// The node-set names for a sector of `teeth` teeth.
+    pub fn set_names(self, teeth: usize) -> Vec<String> {
+        let side = |s: &'static str| (1..=teeth).map(move |k| format!("FLANK_{s}{k}"));
+        match self {
+            FlankSelection::Loaded | FlankSelection::Right => side("R").collect(),
+            FlankSelection::Left => side("L").collect(),
+            FlankSelection::Both => side("L").chain(side("R")).collect(),
+        }
+    }
+}
+
+/// The compliance of one body on its flank nodes, with what it was computed
+/// from. `matrix` is 3N × 3N, full, symmetric, node-major (x, y, z), mm/N.
+#[derive(Clone, Debug)]
+pub struct ComplianceTensor {
+    pub meta: ComplianceMeta,
+    pub flank: FlankNodes,
+    /// Row-major (= column-major, symmetric) 3N × 3N values.
+    pub matrix: Vec<f64>,
+}
+
+/// Identification and provenance of a compliance tensor (stored as HDF5
+/// attributes or in the native header).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ComplianceMeta {
+    /// Body name (`pinion`, `gear`, …).
+    pub body: String,
+    /// [`mesh_hash`] of the body's mesh.
+    pub mesh_hash: String,
+    /// [`cache_key`]: mesh hash + Dirichlet conditions + material + flank nodes.
+    pub cache_key: String,
+    /// Names of the clamped node sets (all DOFs zero), e.g. `["BORE"]`.
+    pub clamped_sets: Vec<String>,
+    /// Material names, E (MPa) and ν, one entry per material of the model.
+    pub materials: Vec<(String, f64, f64)>,
+    /// The flank node sets, in the order of [`FlankNodes::sets`].
+    pub flank_sets: Vec<String>,
+    /// Units of every stored quantity.
+    pub units: String,
+    /// How the matrix was computed (`schur` or `blocked`).
+    pub method: String,
+}
+
+/// Units string stored with every tensor.
+pub const UNITS: &str = "matrix mm/N (DOF order node-major x,y,z); positions mm; normals unit, outward; \
+flank u: involute roll angle (rad) for u >= u_form, u_form - t on the root fillet (t in [0,1]); v: axial z (mm)";
+
+impl ComplianceTensor {
+    /// Number of flank nodes N.
+    pub fn node_count(&self) -> usize {
+        self.flank.labels.len()
+    }
+
+    /// Matrix dimension 3N.
+    pub fn dim(&self) -> usize {
+        3 * self.node_count()
+    }
+
+    /// C^{ij}: displacement at flank node i from a unit force at flank node j.
+    #[inline]
+    pub fn block(&self, i: usize, j: usize) -> [[f64; 3]; 3] {
+        let m = self.dim();
+        let mut c = [[0.0; 3]; 3];
+        for a in 0..3 {
+            let row = (3 * i + a) * m + 3 * j;
+            c[a].copy_from_slice(&self.matrix[row..row + 3]);
+        }
+        c
+    }
+
+    /// ‖C − Cᵀ‖_F / ‖C‖_F.
+    pub fn asymmetry(&self) -> f64 {
+        let m = self.dim();
+        let (mut d, mut t) = (0.0, 0.0);
+        for i in 0..m {
+            for j in 0..m {
+                let a = self.matrix[i * m + j];
+                let b = self.matrix[j * m + i];
+                d += (a - b) * (a - b);
+                t += a * a;
+            }
+        }
+        if t > 0.0 {
+            (d / t).sqrt()
+        } else {
+            0.0
+        }
+    }
+
+    /// Position of a flank node by deck label.
+    pub fn node_of_label(&self, label: u64) -> Option<usize> {
+        self.flank.labels.iter().position(|&l| l == label)
+    }
+}
+
+/// 128-bit FNV-1a over typed fields (stable across platforms and runs).
+#[derive(Clone, Copy)]
+pub(crate) struct Fnv128(u128);
+
+impl Fnv128 {
+    const OFFSET: u128 = 0x6c62272e07bb014262b821756295c58d;
+    const PRIME: u128 = 0x0000000001000000000000000000013B;
+
+    pub(crate) fn new() -> Self {
+        Fnv128(Self::OFFSET)
+    }
+    pub(crate) fn bytes(&mut self, b: &[u8]) {
+        for &x in b {
+            self.0 ^= x as u128;
+            self.0 = self.0.wrapping_mul(Self::PRIME);
+        }
+    }
+    pub(crate) fn u64(&mut self, v: u64) {
+        self.bytes(&v.to_le_bytes());
+    }
+    pub(crate) fn f64(&mut self, v: f64) {
+        self.u64(v.to_bits());
+    }
+    pub(crate) fn str(&mut self, s: &str) {
+        self.u64(s.len() as u64);
+        self.bytes(s.as_bytes());
+    }
+    pub(crate) fn hex(self) -> String {
+        format!("{:032x}", self.0)
+    }
+}
+
+/// Hash of a mesh's geometry and topology: node labels and coordinates
+/// (exact bits), element kinds, labels and connectivity. Node and element
+/// sets are not part of it (boundary conditions enter [`cache_key`]).
+pub fn mesh_hash(mesh: &Mesh) -> String {
+    let mut h = Fnv128::new();
+    h.str("flank-mesh-v1");
+    h.u64(mesh.node_count() as u64);
+    for (label, x) in mesh.node_labels.iter().zip(&mesh.coords) {
+        h.u64(*label);
+        for v in x {
+            h.f64(*v);
+        }
+    }
+    h.u64(mesh.elements.len() as u64);
+    for el in &mesh.elements {
+        h.str(el.kind.name());
+        h.u64(el.label);
+        for &n in &el.nodes {
+            h.u64(mesh.node_labels[n]);
+        }
+    }
+    h.hex()
+}
+
+/// Cache key of a compliance computation: the mesh hash, every Dirichlet
+/// condition (node label, component, value), rigid couplings, the materials
+/// and their assignment, and the flank nodes in order. Two computations with
+/// the same key give the same matrix (up to round-off of the method).
+pub fn cache_key(model: &Model, mesh_hash: &str, flank: &FlankNodes) -> String {
+    let mesh = &model.mesh;
+    let mut h = Fnv128::new();
+    h.str("flank-compliance-key-v1");
+    h.str(mesh_hash);
+    let mut bcs: Vec<(u64, usize, u64)> = model
+        .dirichlet
+        .iter()
+        .map(|d| (mesh.node_labels[d.node], d.component, d.value.to_bits()))
+        .collect();
+    bcs.sort_unstable();
+    bcs.dedup();
+    h.u64(bcs.len() as u64);
+    for (l, c, v) in bcs {
+        h.u64(l);
+        h.u64(c as u64);
+        h.u64(v);
+    }
+    h.u64(model.couplings.len() as u64);
+    for cp in &model.couplings {
+        h.str(&cp.name);
+        for v in cp.reference_point {
+            h.f64(v);
+        }
+        for f in cp.free {
+            h.u64(f as u64);
+        }
+        for &n in &cp.nodes {
+            h.u64(mesh.node_labels[n]);
+        }
+    }
+    h.u64(model.materials.len() as u64);
+    for m in &model.materials {
+        h.f64(m.young);
+        h.f64(m.poisson);
+    }
+    for &m in &model.element_material {
+        h.u64(m as u64);
+    }
+    h.u64(flank.labels.len() as u64);
+    for s in &flank.sets {
+        h.str(s);
+    }
+    for (&l, &s) in flank.labels.iter().zip(&flank.set_of) {
+        h.u64(l);
+        h.u64(s as u64);
+    }
+    h.hex()
+}
+
+/// Names of the node sets all of whose nodes have all three DOFs fixed at
+/// zero by the model's Dirichlet conditions (e.g. `BORE`), sorted.
+pub fn clamped_sets(model: &Model) -> Vec<String> {
+    let nn = model.mesh.node_count();
+    let mut fixed = vec![0u8; nn];
+    for d in &model.dirichlet {
+        if d.node < nn && d.value == 0.0 && d.component < 3 {
+            fixed[d.node] |= 1 << d.component;
+        }
+    }
+    model
+        .mesh
+        .node_sets
+        .iter()
+        .filter(|(name, nodes)| {
+            !nodes.is_empty()
+                && name.as_str() != "NALL"
+                && nodes.iter().all(|&n| n < nn && fixed[n] == 7)
+        })
+        .map(|(name, _)| name.clone())
+        .collect()
+}
+
+/// Adds Dirichlet conditions u = 0 on every node of the named sets.
+pub fn clamp_sets(model: &mut Model, sets: &[&str]) -> Result<(), FlankError> {
+    for &name in sets {
+        let nodes = model
+            .mesh
+            .node_sets
+            .get(&name.to_ascii_uppercase())
+            .cloned()
+            .ok_or_else(|| FlankError::Model(format!("no node set {name} to clamp")))?;
+        for n in nodes {
+            for component in 0..3 {
+                model.dirichlet.push(crate::fem::model::Dirichlet {
+                    node: n,
+                    component,
+                    value: 0.0,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A compliance tensor for `model` on `flank`, computed (never twice for the
+/// same key within `cache`, when one is given).
+pub fn compliance_tensor(
+    name: &str,
+    model: &Model,
+    flank: &FlankNodes,
+    options: &ComplianceOptions,
+) -> Result<(ComplianceTensor, ComplianceStats), FlankError> {
+    let hash = mesh_hash(&model.mesh);
+    let key = cache_key(model, &hash, flank);
+    let (matrix, stats) = compute_compliance(model, flank, options)?;
+    let meta = ComplianceMeta {
+        body: name.to_string(),
+        mesh_hash: hash,
+        cache_key: key,
+        clamped_sets: clamped_sets(model),
+        materials: model
+            .materials
+            .iter()
+            .map(|m| (m.name.clone(), m.young, m.poisson))
+            .collect(),
+        flank_sets: flank.sets.clone(),
+        units: UNITS.to_string(),
+        method: options.method.name().to_string(),
+    };
+    Ok((
+        ComplianceTensor {
+            meta,
+            flank: flank.clone(),
+            matrix,
+        },
+        stats,
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::compliance::flank::tests::box_flank;
+    use crate::mesh::structured::BoxElement;
+
+    #[test]
+    fn selection_hash_key_and_clamped_sets() {
+        assert_eq!(
+            FlankSelection::Both.set_names(2),
+            ["FLANK_L1", "FLANK_L2", "FLANK_R1", "FLANK_R2"]
+        );
+        assert_eq!(FlankSelection::Loaded.set_names(1), ["FLANK_R1"]);
+        let (model, flank) = box_flank(BoxElement::Hex20);
+        let h = mesh_hash(&model.mesh);
+        assert_eq!(h, mesh_hash(&model.mesh.clone()));
+        let key = cache_key(&model, &h, &flank);
+        assert_eq!(clamped_sets(&model), ["X0"]);
+        // geometry, boundary conditions and material all change the key
+        let mut m2 = model.clone();
+        m2.mesh.coords[5][0] += 1e-12;
+        assert_ne!(mesh_hash(&m2.mesh), h);
+        let mut m3 = model.clone();
+        clamp_sets(&mut m3, &["X1"]).unwrap();
+        assert_ne!(cache_key(&m3, &h, &flank), key);
+        assert_eq!(clamped_sets(&m3), ["X0", "X1"]);
+        let mut m4 = model.clone();
+        m4.materials[0].young *= 1.01;
+        assert_ne!(cache_key(&m4, &h, &flank), key);
+        assert!(clamp_sets(&mut m4, &["NOPE"]).is_err());
+    }
+
+    #[test]
+    fn scene_compliance_options() {
+        let path = std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/papers/seed002-spur/scene.toml"
+        ));
+        let text = std::fs::read_to_string(path).unwrap();
+        let with = |opts: &str| {
+            crate::scene::parse_scene(
+                &text.replace(
+                    "mesh = {}\n",
+                    &format!("mesh = {{}}\ncompliance = {opts}\n"),
+                ),
+                path,
+            )
+        };
+        let s = with(
+            r#"{ clamp_cuts = true, flanks = "both", method = "blocked", memory_budget_mb = 512 }"#,
+        )
+        .unwrap();
+        let c = s.analyses.compliance.unwrap();
+        assert!(c.clamp_cuts);
+        assert_eq!(c.flanks, FlankSelection::Both);
+        assert_eq!(c.method, Method::Blocked);
+        assert_eq!(c.memory_budget_mb, Some(512.0));
+        let d = with("{}").unwrap().analyses.compliance.unwrap();
+        assert_eq!(
+            (d.flanks, d.method, d.clamp_cuts),
+            (FlankSelection::Loaded, Method::Schur, false)
+        );
+        for (bad, what) in [
+            ("{ order = 2 }", "analyses.compliance"),
+            (r#"{ method = "lu" }"#, "analyses.compliance"),
+            ("{ memory_budget_mb = 0 }", "memory_budget_mb"),
+        ] {
+            let e = with(bad).unwrap_err().to_string();
+            assert!(e.contains(what), "{bad}: {e}");
+        }
+    }
+}

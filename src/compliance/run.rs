@@ -1,0 +1,250 @@
+//! `flank compliance SCENE.toml`: the compliance tensors of a scene's gear
+//! bodies, written beside their decks, with a summary and plots.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use nalgebra::{DMatrix, SymmetricEigen};
+
+use crate::compliance::body::{flank_nodes_on, flank_uv_on, scene_body, BodyMeshOptions};
+use crate::compliance::cache::{self, CacheOutcome, ComplianceCache, FileFormat};
+use crate::compliance::plot::plot_cnn;
+use crate::compliance::{
+    cache_key, clamp_sets, compliance_tensor, mesh_hash, ComplianceOptions, ComplianceTensor,
+    FlankInterpolator, FlankSelection, Method,
+};
+use crate::error::FlankError;
+use crate::fem::static_analysis::peak_memory_mb;
+use crate::scene::{read_scene, ComplianceAnalysis};
+
+/// Options of [`run_scene`]; `None` fields fall back to the scene's
+/// `[analyses.compliance]`, then to the defaults.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    pub out: PathBuf,
+    pub mesh: BodyMeshOptions,
+    pub bodies: Vec<String>,
+    pub method: Option<Method>,
+    pub flanks: Option<FlankSelection>,
+    pub clamp_cuts: bool,
+    pub threads: usize,
+    pub memory_budget_mb: Option<f64>,
+    pub block_size: usize,
+    /// A campaign cache directory (tensors by key), searched before computing.
+    pub cache: Option<PathBuf>,
+    pub format: Option<FileFormat>,
+    pub condition: bool,
+}
+
+/// A contact line across the face width: the nodes of the full profile row
+/// (nodes of equal u spanning the face width) nearest to a roll angle, and
+/// their normal compliance matrix.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct ContactLine {
+    pub set: String,
+    /// Flank parameter u of the row (involute roll angle).
+    pub u: f64,
+    pub points: usize,
+    /// Eigenvalues of C_nn (mm/N).
+    pub lambda_min: f64,
+    pub lambda_max: f64,
+    /// λ_max / λ_min (2-norm condition number).
+    pub condition: f64,
+    pub positive_definite: bool,
+    /// C_nn diagonal at the first and the middle point (mm/N).
+    pub c_nn_first: f64,
+    pub c_nn_middle: f64,
+}
+
+/// C_nn (row-major K × K) on the contact line of `set` nearest to roll
+/// angle `u`: point loads at the nodes of that profile row, located through
+/// the interpolator (so the row is also a check of it), normals interpolated.
+pub fn contact_line(
+    t: &ComplianceTensor,
+    set: &str,
+    u: f64,
+) -> Result<(ContactLine, Vec<f64>), FlankError> {
+    let it = FlankInterpolator::new(t)?;
+    let s = t
+        .flank
+        .set_index(set)
+        .ok_or_else(|| FlankError::Model(format!("no flank set {set}")))?;
+    let mut rows: std::collections::BTreeMap<u64, Vec<f64>> = Default::default();
+    for (p, &si) in t.flank.uv.iter().zip(&t.flank.set_of) {
+        if si as usize == s {
+            rows.entry(p[0].to_bits()).or_default().push(p[1]);
+        }
+    }
+    let full = rows.values().map(Vec::len).max().unwrap_or(0);
+    let (u_row, vs) = rows
+        .iter()
+        .filter(|(_, v)| v.len() == full)
+        .map(|(k, v)| (f64::from_bits(*k), v.clone()))
+        .min_by(|a, b| (a.0 - u).abs().total_cmp(&(b.0 - u).abs()))
+        .ok_or_else(|| FlankError::Model(format!("flank set {set} has no nodes")))?;
+    let k = vs.len();
+    let mut pts = Vec::with_capacity(k);
+    let mut normals = Vec::with_capacity(k);
+    for &v in &vs {
+        let p = it.point(set, u_row, v)?;
+        normals.push(it.normal(&p));
+        pts.push(p);
+    }
+    let c = it.normal_matrix(&pts, &normals);
+    let eig = SymmetricEigen::new(DMatrix::from_row_slice(k, k, &c));
+    let lmin = eig
+        .eigenvalues
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min);
+    let lmax = eig
+        .eigenvalues
+        .iter()
+        .copied()
+        .fold(f64::NEG_INFINITY, f64::max);
+    Ok((
+        ContactLine {
+            set: set.to_string(),
+            u: u_row,
+            points: k,
+            lambda_min: lmin,
+            lambda_max: lmax,
+            condition: lmax / lmin,
+            positive_definite: lmin > 0.0,
+            c_nn_first: c[0],
+            c_nn_middle: c[(k / 2) * k + k / 2],
+        },
+        c,
+    ))
+}
+
+/// Computes (or reuses) the tensors of the scene's bodies; writes
+/// `<body>.inp`, `<body>.compliance.{h5,bin}`, `<body>_cnn.{svg,png}` and
+/// `summary.json` into `options.out`; returns the summary.
+pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value, FlankError> {
+    let t_all = Instant::now();
+    let scene = read_scene(path)?;
+    let analysis: ComplianceAnalysis = scene.analyses.compliance.clone().unwrap_or_default();
+    let method = options.method.unwrap_or(analysis.method);
+    let flanks = options.flanks.unwrap_or(analysis.flanks);
+    let clamp_cuts = options.clamp_cuts || analysis.clamp_cuts;
+    let copts = ComplianceOptions {
+        method,
+        threads: options.threads,
+        memory_budget_mb: options
+            .memory_budget_mb
+            .or(analysis.memory_budget_mb)
+            .unwrap_or(ComplianceOptions::default().memory_budget_mb),
+        block_size: options.block_size,
+        condition: options.condition,
+        ..Default::default()
+    };
+    let format = options.format.unwrap_or_else(FileFormat::default_format);
+    let out = &options.out;
+    std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
+    let campaign = match &options.cache {
+        Some(d) => Some(ComplianceCache::in_dir(d, format)?),
+        None => None,
+    };
+    let report = crate::geometry::pair::check_pair(&scene.pair)?;
+    let u_pitch = report.working_pressure_angle_rad.tan();
+    let bodies: Vec<String> = if options.bodies.is_empty() {
+        vec!["pinion".into(), "gear".into()]
+    } else {
+        options.bodies.clone()
+    };
+    let mut summary = serde_json::Map::new();
+    for name in &bodies {
+        let t_body = Instant::now();
+        let (body, spec) = scene_body(&scene, name, &options.mesh)?;
+        let deck = out.join(format!("{name}.inp"));
+        crate::mesh::inp::write_deck(&body.model, &deck)?;
+        // the tensors belong to the mesh of the deck as written (coordinates
+        // as printed), so that the deck solved elsewhere is the same model
+        let parsed = crate::mesh::inp::read_deck(&deck)?;
+        let mut model = parsed.model;
+        let uv = flank_uv_on(&body, &model.mesh)?;
+        let flank = flank_nodes_on(&model.mesh, &uv, spec, name, flanks)?;
+        model.forces.clear();
+        model.pressures.clear();
+        if clamp_cuts {
+            clamp_sets(&mut model, &["CUT_A", "CUT_B"])?;
+        }
+        let key = cache_key(&model, &mesh_hash(&model.mesh), &flank);
+        let file = out.join(format.file_name(name));
+        let mut stats = None;
+        let mut compute = || -> Result<ComplianceTensor, FlankError> {
+            let (t, s) = compliance_tensor(name, &model, &flank, &copts)?;
+            stats = Some(s);
+            Ok(t)
+        };
+        let (tensor, outcome) =
+            if file.exists() && cache::read_key(&file).ok().as_deref() == Some(&key) {
+                (std::sync::Arc::new(cache::read(&file)?), CacheOutcome::Disk)
+            } else {
+                let (t, o) = match &campaign {
+                    Some(c) => c.get_or_compute(name, &key, compute)?,
+                    None => (std::sync::Arc::new(compute()?), CacheOutcome::Computed),
+                };
+                cache::write(&file, &t)?;
+                (t, o)
+            };
+        let teeth = scene.mesh.teeth_in_sector as usize;
+        let middle = teeth.div_ceil(2);
+        let plot_set = flank
+            .sets
+            .iter()
+            .find(|s| s.get(7..) == Some(middle.to_string().as_str()))
+            .cloned()
+            .unwrap_or_else(|| flank.sets[0].clone());
+        let plot = plot_cnn(
+            &tensor,
+            &plot_set,
+            &format!("{name} {plot_set}: normal self-compliance c_nn"),
+            &out.join(format!("{name}_cnn.svg")),
+            &out.join(format!("{name}_cnn.png")),
+        )?;
+        let line = if plot_set.starts_with("FLANK_") {
+            contact_line(&tensor, &plot_set, u_pitch).ok().map(|c| c.0)
+        } else {
+            None
+        };
+        let mut b = serde_json::json!({
+            "deck": deck.display().to_string(),
+            "file": file.display().to_string(),
+            "format": format,
+            "source": outcome,
+            "cache_key": tensor.meta.cache_key,
+            "mesh_hash": tensor.meta.mesh_hash,
+            "clamped_sets": tensor.meta.clamped_sets,
+            "flank_sets": tensor.meta.flank_sets,
+            "flank_nodes": tensor.node_count(),
+            "matrix_dim": tensor.dim(),
+            "asymmetry": tensor.asymmetry(),
+            "plot": plot,
+            "contact_line": line,
+            "body_s": t_body.elapsed().as_secs_f64(),
+        });
+        if let Some(s) = stats {
+            b["stats"] = serde_json::to_value(&s).map_err(|e| FlankError::Model(e.to_string()))?;
+        }
+        summary.insert(name.clone(), b);
+    }
+    let json = serde_json::json!({
+        "scene": path.display().to_string(),
+        "method": method,
+        "flanks": flanks,
+        "clamp_cuts": clamp_cuts,
+        "threads": options.threads,
+        "bodies": summary,
+        "total_s": t_all.elapsed().as_secs_f64(),
+        "peak_memory_mb": peak_memory_mb(),
+    });
+    let p = out.join("summary.json");
+    std::fs::write(
+        &p,
+        serde_json::to_string_pretty(&json).map_err(|e| FlankError::Model(e.to_string()))? + "\n",
+    )
+    .map_err(|e| FlankError::io(&p, e))?;
+    Ok(json)
+}
