@@ -465,18 +465,31 @@ fn mesh_scene(
     std::fs::create_dir_all(out)?;
     let cos_aw = report.working_pressure_angle_rad.cos();
     let force = scene.load.torque_nmm / base_radius(&scene.pair.pinion);
+    let modifications = scene.flank_modifications()?;
     let mut bodies = serde_json::Map::new();
-    for (name, spec, material) in [
+    for (i, (name, spec, material)) in [
         ("pinion", &scene.pair.pinion, &scene.pinion_material),
         ("gear", &scene.pair.gear, &scene.gear_material),
-    ] {
+    ]
+    .into_iter()
+    .enumerate()
+    {
         let rb = base_radius(spec);
         let load = (with_load && force > 0.0).then_some((force, rb / cos_aw));
         let mesher = match mesher {
             MesherChoice::Native => Mesher::Native,
             MesherChoice::Gmsh => Mesher::Gmsh(element_kind),
         };
-        let body = gear_body_with(spec, name, material, &options, mesher, load)?;
+        let mut body = gear_body_with(spec, name, material, &options, mesher, load)?;
+        let modified = match &modifications[i] {
+            Some(m) => {
+                for w in m.warnings() {
+                    eprintln!("warning: {name}: {w}");
+                }
+                Some(body.modify_flanks(spec, m)?)
+            }
+            None => None,
+        };
         let mesh = &body.model.mesh;
         flank::mesh::inp::write_deck(&body.model, &out.join(format!("{name}.inp")))?;
         flank::report::vtu::write_vtu(&out.join(format!("{name}.vtu")), mesh, &[], &[])?;
@@ -507,6 +520,7 @@ fn mesh_scene(
                 "mesher": if mesher == Mesher::Native { "native" } else { "gmsh" },
                 "min_scaled_jacobian": body.sector.quality.min_scaled_jacobian,
                 "max_aspect_ratio": body.sector.quality.max_aspect_ratio,
+                "flank_modification": modified,
                 "base_radius_mm": rb,
                 "nominal_load": body.load.map(|(n, f)| serde_json::json!({
                     "node": mesh.node_labels[n], "force_n": f, "normal_force_n": force

@@ -64,6 +64,27 @@ pub struct GearBody {
     pub load: Option<(usize, [f64; 3])>,
 }
 
+impl GearBody {
+    /// Applies a flank modification (micro-geometry, measured profile) to the
+    /// body's flank nodes, in the sector and in the model alike; see
+    /// [`crate::mesh::gear_sector::modify_flanks`]. `spec` is the body's gear.
+    pub fn modify_flanks(
+        &mut self,
+        spec: &GearSpec,
+        modification: &crate::geometry::micro::FlankModification,
+    ) -> Result<crate::mesh::gear_sector::FlankModificationReport, FlankError> {
+        let profile = ToothProfile::new(spec, &self.name)?;
+        let report =
+            crate::mesh::gear_sector::modify_flanks(&mut self.sector, &profile, modification)
+                .map_err(|e| match e {
+                    FlankError::Model(m) => FlankError::Model(format!("{}: {m}", self.name)),
+                    e => e,
+                })?;
+        self.model.mesh.coords.clone_from(&self.sector.mesh.coords);
+        Ok(report)
+    }
+}
+
 /// Meshes one gear as a sector, assigns `material`, clamps the set `BORE`,
 /// and, if `normal_force` (N) is given, loads the middle tooth's right flank
 /// at radius `load_radius` (mm), mid face width.
