@@ -207,6 +207,27 @@ fn compute_in_pool(
             }
         }
     }
+    let m = 3 * flank.len();
+    let matrix_mb = (m * m * 8) as f64 / 1e6;
+    // dense storage: C, plus L₂₂ and the inverse's workspace (Schur) or the
+    // right-hand-side blocks (blocked)
+    let need_mb = match options.method {
+        Method::Schur => 3.0 * matrix_mb,
+        Method::Blocked => matrix_mb + options.memory_budget_mb,
+    };
+    if let Some(avail) = available_memory_mb() {
+        if need_mb > avail {
+            return Err(FlankError::Solver(format!(
+                "{} flank nodes need a dense {m} × {m} compliance matrix: about {:.0} MB \
+                 with the {} method, but only {:.0} MB are available; use a coarser flank \
+                 mesh (--flank-size) or fewer flank sets",
+                flank.len(),
+                need_mb,
+                options.method.name(),
+                avail
+            )));
+        }
+    }
     let par = parallelism(options.threads);
     let mut stats = ComplianceStats {
         method: options.method.name().to_string(),
@@ -254,7 +275,6 @@ fn compute_in_pool(
     stats.factorization_s = fs.factorization_s;
 
     // reduced index of every output DOF (None: fixed, zero row/column)
-    let m = 3 * flank.len();
     let red: Vec<Option<usize>> = (0..m)
         .map(|a| match dofs.targets[3 * flank.nodes[a / 3] + a % 3] {
             DofTarget::Free(r) => Some(r),
@@ -263,7 +283,7 @@ fn compute_in_pool(
         .collect();
     let free: Vec<usize> = (0..m).filter(|&a| red[a].is_some()).collect();
     stats.rhs = free.len();
-    stats.matrix_mb = (m * m * 8) as f64 / 1e6;
+    stats.matrix_mb = matrix_mb;
     if free.is_empty() {
         return Err(FlankError::Model(
             "every flank DOF is fixed: the compliance is zero".into(),
@@ -301,6 +321,17 @@ fn compute_in_pool(
     stats.total_s = t_total.elapsed().as_secs_f64();
     stats.peak_memory_mb = peak_memory_mb();
     Ok((matrix, stats))
+}
+
+/// Memory available to this process (Linux `MemAvailable`, MB), if known.
+fn available_memory_mb() -> Option<f64> {
+    std::fs::read_to_string("/proc/meminfo").ok().and_then(|s| {
+        s.lines()
+            .find(|l| l.starts_with("MemAvailable:"))
+            .and_then(|l| l.split_whitespace().nth(1))
+            .and_then(|v| v.parse::<f64>().ok())
+            .map(|kb| kb / 1024.0)
+    })
 }
 
 /// Schur complement: C_free = (L₂₂L₂₂ᵀ)⁻¹, lower triangle, column-major.

@@ -1,0 +1,202 @@
+//! Compliance tensors of the seed 002 pinion (3-tooth hex20 sector, bore
+//! clamped, the loaded flank FLANK_R1..3): one plain factorization against
+//! all flank tensors by the Schur complement and by blocked right-hand sides.
+//!
+//! * `cargo bench --bench compliance`: criterion medians on the coarse mesh
+//!   (flank 1 mm, base 3 mm).
+//! * `FLANK_COMPLIANCE_FIGURES=0.475,0.25 cargo bench --bench compliance`:
+//!   the figures of benches/README.md, one child process per case (so that
+//!   each peak memory is its own), base size m_n/2 = 1.9 mm; the blocked
+//!   method is timed on a sample of `FLANK_COMPLIANCE_SAMPLE` right-hand
+//!   sides (default 600) and its rate extrapolated to all of them.
+
+use std::process::Command;
+use std::time::Instant;
+
+use criterion::{criterion_group, Criterion};
+
+use flank::compliance::body::{body_flank_nodes, scene_body, BodyMeshOptions};
+use flank::compliance::{
+    compute_compliance, ComplianceOptions, FlankNodes, FlankSelection, Method,
+};
+use flank::fem::assembly::Assembly;
+use flank::fem::constraints::DofMap;
+use flank::fem::model::Model;
+use flank::fem::ordering::OrderingMethod;
+use flank::fem::solver::{parallelism, Precision, SparseCholesky};
+use flank::fem::static_analysis::peak_memory_mb;
+
+fn pinion(flank_size: f64, base_size: f64) -> (Model, FlankNodes) {
+    let scene = flank::scene::read_scene(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/papers/seed002-spur/scene.toml"
+    )))
+    .unwrap();
+    let o = BodyMeshOptions {
+        flank_size: Some(flank_size),
+        base_size: Some(base_size),
+        with_load: false,
+        element: Some(flank::scene::ElementKind::Hex20),
+    };
+    let (body, spec) = scene_body(&scene, "pinion", &o).unwrap();
+    let flank = body_flank_nodes(&body, spec, FlankSelection::Loaded).unwrap();
+    (body.model, flank)
+}
+
+/// One plain (unconstrained METIS) factorization; returns (seconds, GFLOP, nnz(L)).
+fn plain_factorization(model: &Model) -> (f64, f64, usize) {
+    let mut dofs = DofMap::new(model).unwrap();
+    let asm = Assembly::new(model, &mut dofs, OrderingMethod::Metis).unwrap();
+    let sys = asm.assemble(model, &dofs).unwrap();
+    let mut chol =
+        SparseCholesky::analyze(&asm.pattern, OrderingMethod::Metis, 0.0, parallelism(0)).unwrap();
+    let t = Instant::now();
+    chol.factorize(&asm.pattern, &sys.values, Precision::Double, &|r| {
+        format!("dof {r}")
+    })
+    .unwrap();
+    (
+        t.elapsed().as_secs_f64(),
+        chol.stats.flops * 1e-9,
+        chol.stats.nnz_factor,
+    )
+}
+
+/// The first `n` nodes of the flank selection (for timing a sample of RHS).
+fn subset(f: &FlankNodes, n: usize) -> FlankNodes {
+    let n = n.min(f.len());
+    FlankNodes {
+        sets: f.sets.clone(),
+        nodes: f.nodes[..n].to_vec(),
+        labels: f.labels[..n].to_vec(),
+        set_of: f.set_of[..n].to_vec(),
+        uv: f.uv[..n].to_vec(),
+        positions: f.positions[..n].to_vec(),
+        normals: f.normals[..n].to_vec(),
+        faces: Vec::new(),
+    }
+}
+
+fn coarse(c: &mut Criterion) {
+    let (model, flank) = pinion(1.0, 3.0);
+    let mut g = c.benchmark_group("compliance_pinion_flank1mm");
+    g.sample_size(10);
+    g.bench_function("plain_factorization", |b| {
+        b.iter(|| plain_factorization(&model))
+    });
+    for method in [Method::Schur, Method::Blocked] {
+        let o = ComplianceOptions {
+            method,
+            condition: false,
+            ..Default::default()
+        };
+        g.bench_function(format!("all_tensors_{}", method.name()), |b| {
+            b.iter(|| compute_compliance(&model, &flank, &o).unwrap())
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, coarse);
+
+/// Child process: one case, printed as a JSON line.
+fn run_case(spec: &str) {
+    let parts: Vec<&str> = spec.split(':').collect();
+    let (what, flank_size): (&str, f64) = (parts[0], parts[1].parse().unwrap());
+    let (model, flank) = pinion(flank_size, 1.9);
+    let nodes = model.mesh.node_count();
+    let m = 3 * flank.len();
+    let out = match what {
+        "plain" => {
+            let (s, gflop, nnz) = plain_factorization(&model);
+            serde_json::json!({"case": what, "flank_size": flank_size, "nodes": nodes, "rhs": m,
+                "factorization_s": s, "gflop": gflop, "nnz_factor": nnz})
+        }
+        "schur" | "blocked" => {
+            let sample: usize = std::env::var("FLANK_COMPLIANCE_SAMPLE")
+                .ok()
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(600);
+            let (f, method) = if what == "schur" {
+                (flank.clone(), Method::Schur)
+            } else {
+                (subset(&flank, sample.div_ceil(3)), Method::Blocked)
+            };
+            let o = ComplianceOptions {
+                method,
+                condition: false,
+                ..Default::default()
+            };
+            let t = Instant::now();
+            let (_, s) = compute_compliance(&model, &f, &o).unwrap();
+            let wall = t.elapsed().as_secs_f64();
+            // blocked: the solve rate of the sample, extrapolated to every RHS
+            let solve_all = s.solve_s * m as f64 / s.rhs as f64;
+            serde_json::json!({"case": what, "flank_size": flank_size, "nodes": nodes, "rhs": m,
+                "rhs_timed": s.rhs, "factorization_s": s.factorization_s, "gflop": s.factorization_gflop,
+                "nnz_factor": s.nnz_factor, "solve_s": s.solve_s, "solve_all_s": solve_all,
+                "symmetrize_s": s.symmetrize_s, "wall_s": wall, "block_size": s.block_size})
+        }
+        _ => panic!("unknown case {what}"),
+    };
+    let mut out = out;
+    out["peak_memory_mb"] = serde_json::json!(peak_memory_mb());
+    println!("CASE {out}");
+}
+
+fn figures(sizes: &str) {
+    let exe = std::env::current_exe().unwrap();
+    println!("| flank size | pinion nodes | RHS (3N) | plain factorization | Schur: factorization + inverse | Schur / plain | Schur RHS/s | Schur peak MB | blocked RHS/s (sample) | blocked all (extrapolated) / plain | plain peak MB |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    for fs in sizes.split(',') {
+        let mut res = std::collections::BTreeMap::new();
+        for case in ["plain", "schur", "blocked"] {
+            let o = Command::new(&exe)
+                .env("FLANK_COMPLIANCE_CASE", format!("{case}:{fs}"))
+                .output()
+                .unwrap();
+            let text = String::from_utf8_lossy(&o.stdout);
+            let line = text
+                .lines()
+                .find_map(|l| l.strip_prefix("CASE "))
+                .unwrap_or_else(|| panic!("{case}: {}", String::from_utf8_lossy(&o.stderr)));
+            eprintln!("{line}");
+            let v: serde_json::Value = serde_json::from_str(line).unwrap();
+            res.insert(case, v);
+        }
+        let f = |c: &str, k: &str| res[c][k].as_f64().unwrap_or(f64::NAN);
+        let plain = f("plain", "factorization_s");
+        let schur =
+            f("schur", "factorization_s") + f("schur", "solve_s") + f("schur", "symmetrize_s");
+        let blocked = f("blocked", "factorization_s") + f("blocked", "solve_all_s");
+        println!(
+            "| {fs} mm | {} | {} | {:.2} s ({:.0} GFLOP) | {:.2} + {:.2} s ({:.0} GFLOP) | {:.2}× | {:.0} | {:.0} | {:.0} | {:.1}× | {:.0} |",
+            res["plain"]["nodes"],
+            res["plain"]["rhs"],
+            plain,
+            f("plain", "gflop"),
+            f("schur", "factorization_s"),
+            f("schur", "solve_s") + f("schur", "symmetrize_s"),
+            f("schur", "gflop"),
+            schur / plain,
+            f("schur", "rhs") / schur,
+            f("schur", "peak_memory_mb"),
+            f("blocked", "rhs_timed") / f("blocked", "solve_s"),
+            blocked / plain,
+            f("plain", "peak_memory_mb"),
+        );
+    }
+}
+
+fn main() {
+    if let Ok(spec) = std::env::var("FLANK_COMPLIANCE_CASE") {
+        run_case(&spec);
+        return;
+    }
+    if let Ok(sizes) = std::env::var("FLANK_COMPLIANCE_FIGURES") {
+        figures(&sizes);
+        return;
+    }
+    benches();
+    Criterion::default().configure_from_args().final_summary();
+}
