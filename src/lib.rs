@@ -13,6 +13,9 @@
 //! * [`compliance`]: nodal compliance tensors of a gear body on its flanks
 //!   (one factorization; Schur complement or blocked solves), HDF5/native
 //!   cache, interpolation at flank points and contact cells (the LTCA input).
+//! * [`contact`]: node-to-surface FE contact (search, projection onto
+//!   quadratic faces, hard and penalty laws by an active set on the
+//!   condensed problem; the stiffness is factorized once).
 //! * [`report`]: VTU, CSV and JSON output.
 //!
 //! The library is usable without the command line; a cantilever solved in
@@ -39,6 +42,7 @@
 
 pub mod ccx;
 pub mod compliance;
+pub mod contact;
 pub mod error;
 pub mod fem;
 pub mod geometry;

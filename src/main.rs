@@ -53,8 +53,9 @@ enum Command {
         /// The scene file (.toml).
         scene: PathBuf,
     },
-    /// Mesh both bodies of a gear-pair scene (native hex20 sector mesher):
-    /// writes pinion.inp and gear.inp (bore clamped, nominal single-pair
+    /// Mesh both bodies of a gear-pair scene (sector of N teeth, hex20 or
+    /// wedge15, flank micro-geometry applied): writes pinion.inp and
+    /// gear.inp (bore clamped, nominal single-pair
     /// normal force T/r_b1 at the working pitch point of the middle tooth),
     /// .vtu files, <body>_flank_uv.csv (flank node parameters) and
     /// mesh_report.json.
@@ -73,8 +74,7 @@ enum Command {
         /// Write the decks without the nominal load.
         #[arg(long)]
         no_load: bool,
-        /// Element type; overrides the scene's [mesh] element (the native
-        /// mesher makes hex20 only, for now).
+        /// Element type; overrides the scene's [mesh] element.
         #[arg(long, value_enum)]
         element: Option<MeshElement>,
         /// Mesher: native (structured, graded to the flank) or gmsh
@@ -220,6 +220,11 @@ fn run(cli: Cli) -> Result<()> {
             let parsed = flank::mesh::inp::read_deck(&deck)?;
             for w in &parsed.warnings {
                 eprintln!("warning: {}:{}: {}", deck.display(), w.line, w.message);
+            }
+            if !parsed.model.contact.is_empty() {
+                return solve_contact_deck(
+                    &deck, &out, &parsed, ordering, threads, !no_stress, quiet, precision,
+                );
             }
             let options = SolveOptions {
                 ordering,
@@ -548,5 +553,63 @@ fn mesh_scene(
         serde_json::to_string_pretty(&summary)? + "\n",
     )?;
     println!("wrote {}", out.display());
+    Ok(())
+}
+
+/// `flank solve` on a deck with contact pairs: the contact solve, then the
+/// usual outputs plus contact.csv, contact fields in result.vtu and the
+/// contact figures in summary.json.
+#[allow(clippy::too_many_arguments)]
+fn solve_contact_deck(
+    deck: &std::path::Path,
+    out: &std::path::Path,
+    parsed: &flank::mesh::inp::Deck,
+    ordering: OrderingMethod,
+    threads: usize,
+    recover_stress: bool,
+    quiet: bool,
+    precision: Precision,
+) -> Result<()> {
+    if precision != Precision::Double {
+        eprintln!("warning: contact solves factorize in double precision (--precision ignored)");
+    }
+    let options = flank::contact::ContactOptions {
+        ordering,
+        threads,
+        recover_stress,
+        ..Default::default()
+    };
+    let sol = flank::contact::solve_contact(&parsed.model, &options)
+        .with_context(|| format!("solving {}", deck.display()))?;
+    for w in &sol.summary.warnings {
+        eprintln!("warning: {w}");
+    }
+    let extra = serde_json::json!({
+        "deck": deck.display().to_string(),
+        "warnings": parsed.warnings.len() + sol.summary.warnings.len(),
+    });
+    flank::report::solution::write_contact_solution(out, &parsed.model, &sol, extra)?;
+    if !quiet {
+        let s = &sol.solution.stats;
+        let a = &sol.summary.active_set;
+        println!(
+            "{} nodes, {} elements, {} DOFs; factorization {:.3} s; contact: {} active-set iterations, {} closed, {} solves; law violation {:.1e} mm, complementarity {:.1e} N·mm; residual {:.1e}",
+            s.nodes, s.elements, s.dofs, s.factorization_s, a.iterations, a.active, a.columns, a.max_violation, a.complementarity, s.relative_residual
+        );
+        for p in &sol.summary.pairs {
+            let law = match p.law {
+                flank::contact::pairing::NormalLaw::Hard => "hard".to_string(),
+                flank::contact::pairing::NormalLaw::Penalty { slope, automatic } => format!(
+                    "penalty {slope:.4e} MPa/mm{}",
+                    if automatic { " (automatic)" } else { "" }
+                ),
+            };
+            println!(
+                "pair {} / {} ({law}): {} of {} candidates closed, total normal force {:.6e} N, max pressure {:.6e} MPa",
+                p.slave, p.master, p.closed, p.candidates, p.total_normal_force, p.max_pressure
+            );
+        }
+        println!("results in {}", out.display());
+    }
     Ok(())
 }

@@ -84,6 +84,8 @@ pub struct Model {
     pub forces: Vec<NodalForce>,
     pub pressures: Vec<Pressure>,
     pub couplings: Vec<RigidCoupling>,
+    /// Contact surfaces, interactions and pairs (empty: no contact).
+    pub contact: crate::contact::ContactDefinition,
 }
 
 impl Model {

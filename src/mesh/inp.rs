@@ -3,9 +3,17 @@
 //! The reader accepts the subset of the CalculiX (ccx 2.20) deck language that
 //! describes one *linear static* analysis of C3D20/C3D20R/C3D15 solids and
 //! turns it into a [`Model`]. Anything that would change the answer if it were
-//! silently ignored (equations, couplings, contact, plasticity, temperatures,
-//! other procedures, ...) is a [`FlankError::Parse`] with file and line;
-//! harmless or unknown keywords become [`DeckWarning`]s. No input panics.
+//! silently ignored (equations, couplings, plasticity, temperatures, other
+//! procedures, ...) is a [`FlankError::Parse`] with file and line; harmless
+//! or unknown keywords become [`DeckWarning`]s. No input panics.
+//!
+//! Contact (read into [`Model::contact`]): `*SURFACE` (TYPE=ELEMENT with
+//! `element or elset, Sn` lines, TYPE=NODE with `node or nset` lines),
+//! `*SURFACE INTERACTION` with `*SURFACE BEHAVIOR` (PRESSURE-OVERCLOSURE=
+//! HARD, or LINEAR with `slope[, σ∞[, c₀]]`, slope optional) and `*FRICTION`
+//! (`μ[, stick slope]`), `*CONTACT PAIR` (TYPE=NODE TO SURFACE, optional
+//! SMALL SLIDING; lines `slave, master`). Other contact types and laws are
+//! errors; `*CONTACT PRINT/FILE/OUTPUT` are accepted output requests.
 //!
 //! A keyword line ending with a comma continues on the next line when that
 //! line holds parameters (Abaqus); ccx 2.20 has no such continuation and
@@ -34,6 +42,10 @@ use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+use crate::contact::definition::{
+    ContactDefinition, ContactPair, Friction, PressureOverclosure, Surface, SurfaceInteraction,
+    SurfaceKind,
+};
 use crate::error::{FlankError, Result};
 use crate::fem::material::Material;
 use crate::fem::model::{Dirichlet, Model, NodalForce, Pressure};
@@ -94,6 +106,9 @@ const OUTPUT_KEYWORDS: &[&str] = &[
     "NODE OUTPUT",
     "ELEMENT OUTPUT",
     "OUTPUT",
+    "CONTACT PRINT",
+    "CONTACT FILE",
+    "CONTACT OUTPUT",
 ];
 
 /// Keywords that cannot be ignored without changing the answer, with the reason.
@@ -106,11 +121,10 @@ const FATAL_KEYWORDS: &[(&str, &str)] = &[
     ("DISTRIBUTING COUPLING", "distributing coupling"),
     ("RIGID BODY", "rigid bodies"),
     ("TIE", "tied surfaces"),
-    ("CONTACT PAIR", "contact"),
-    ("SURFACE INTERACTION", "contact"),
-    ("CLEARANCE", "contact"),
-    ("FRICTION", "contact"),
+    ("CLEARANCE", "contact clearances"),
     ("GAP", "gap elements"),
+    ("CONTACT DAMPING", "contact damping"),
+    ("GAP CONDUCTANCE", "thermal contact"),
     ("PLASTIC", "plasticity"),
     ("DEFORMATION PLASTICITY", "plasticity"),
     ("CREEP", "creep"),
@@ -166,8 +180,6 @@ const HARMLESS_KEYWORDS: &[&str] = &[
     "DAMPING",
     "AMPLITUDE",
     "MASS",
-    "SURFACE",
-    "SURFACE BEHAVIOR",
     "PHYSICAL CONSTANTS",
     "RESTART",
     "CONTROLS",
@@ -184,6 +196,9 @@ const MATERIAL_KEYWORDS: &[&str] = &[
     "SPECIFIC HEAT",
     "DAMPING",
 ];
+
+/// Keywords that belong to the current `*SURFACE INTERACTION`.
+const INTERACTION_KEYWORDS: &[&str] = &["SURFACE BEHAVIOR", "FRICTION"];
 
 /// Nesting limit for `*INCLUDE` (also stops include cycles).
 const MAX_INCLUDE_DEPTH: usize = 16;
@@ -266,6 +281,35 @@ enum Cmd {
         value: f64,
         loc: Loc,
     },
+    /// A data line of `*SURFACE` number `surface`: element(s) with a face,
+    /// or node(s) (`face == 0`).
+    SurfaceItem {
+        surface: usize,
+        target: Target,
+        face: usize,
+        loc: Loc,
+    },
+}
+
+struct RawSurface {
+    name: String,
+    node_type: bool,
+    loc: Loc,
+}
+
+struct RawInteraction {
+    name: String,
+    behavior: Option<PressureOverclosure>,
+    friction: Option<Friction>,
+    loc: Loc,
+}
+
+struct RawPair {
+    interaction: String,
+    slave: String,
+    master: String,
+    small_sliding: bool,
+    loc: Loc,
 }
 
 struct RawElement {
@@ -314,6 +358,24 @@ enum Block {
     Boundary,
     Cload,
     Dload,
+    Surface {
+        surface: usize,
+        node_type: bool,
+    },
+    SurfaceBehavior {
+        interaction: usize,
+        linear: bool,
+        lines: usize,
+    },
+    Friction {
+        interaction: usize,
+        lines: usize,
+        loc: Loc,
+    },
+    ContactPair {
+        interaction: String,
+        small_sliding: bool,
+    },
 }
 
 enum StepState {
@@ -352,6 +414,10 @@ struct Parser {
     materials: Vec<RawMaterial>,
     material_ids: HashMap<String, usize>,
     current_material: Option<usize>,
+    surfaces: Vec<RawSurface>,
+    interactions: Vec<RawInteraction>,
+    current_interaction: Option<usize>,
+    pairs: Vec<RawPair>,
     names: Vec<String>,
     name_ids: HashMap<String, u32>,
     cmds: Vec<Cmd>,
@@ -412,6 +478,10 @@ impl Parser {
             materials: Vec::new(),
             material_ids: HashMap::new(),
             current_material: None,
+            surfaces: Vec::new(),
+            interactions: Vec::new(),
+            current_interaction: None,
+            pairs: Vec::new(),
             names: Vec::new(),
             name_ids: HashMap::new(),
             cmds: Vec::new(),
@@ -640,6 +710,9 @@ impl Parser {
             Block::Elastic { lines: 0, loc, .. } => {
                 return Err(self.err(loc, "*ELASTIC without data line (E, nu)"))
             }
+            Block::Friction { lines: 0, loc, .. } => {
+                return Err(self.err(loc, "*FRICTION without data line (mu[, stick slope])"))
+            }
             _ => {}
         }
         Ok(())
@@ -652,6 +725,9 @@ impl Parser {
         if !MATERIAL_KEYWORDS.contains(&name.as_str()) {
             self.current_material = None;
         }
+        if !INTERACTION_KEYWORDS.contains(&name.as_str()) {
+            self.current_interaction = None;
+        }
         self.block = match name.as_str() {
             "HEADING" => Block::Heading,
             "NODE" => self.kw_node(&card)?,
@@ -661,6 +737,11 @@ impl Parser {
             "MATERIAL" => self.kw_material(&card)?,
             "ELASTIC" => self.kw_elastic(&card)?,
             "SOLID SECTION" => self.kw_section(&card)?,
+            "SURFACE" => self.kw_surface(&card)?,
+            "SURFACE INTERACTION" => self.kw_interaction(&card)?,
+            "SURFACE BEHAVIOR" => self.kw_behavior(&card)?,
+            "FRICTION" => self.kw_friction(&card)?,
+            "CONTACT PAIR" => self.kw_contact_pair(&card)?,
             "STEP" => self.kw_step(&card)?,
             "STATIC" => {
                 match &mut self.step {
@@ -864,6 +945,161 @@ impl Parser {
         Ok(Block::Ignore)
     }
 
+    fn kw_surface(&mut self, card: &Card) -> Result<Block> {
+        self.check_params(card, &["NAME", "TYPE"])?;
+        let name = norm_name(&self.required(card, "NAME")?);
+        if name.is_empty() {
+            return Err(self.err(card.loc, "empty surface name"));
+        }
+        let node_type = match self.value(card, "TYPE")?.map(|t| norm_name(&t)) {
+            None => false,
+            Some(t) if t == "ELEMENT" => false,
+            Some(t) if t == "NODE" => true,
+            Some(t) => {
+                return Err(self.err(
+                    card.loc,
+                    format!("*SURFACE, TYPE={t} is not supported (ELEMENT or NODE)"),
+                ))
+            }
+        };
+        if let Some(first) = self.surfaces.iter().find(|s| s.name == name) {
+            return Err(self.err(
+                card.loc,
+                format!(
+                    "surface {name} defined twice (first at line {})",
+                    first.loc.line
+                ),
+            ));
+        }
+        self.surfaces.push(RawSurface {
+            name,
+            node_type,
+            loc: card.loc,
+        });
+        Ok(Block::Surface {
+            surface: self.surfaces.len() - 1,
+            node_type,
+        })
+    }
+
+    fn kw_interaction(&mut self, card: &Card) -> Result<Block> {
+        self.check_params(card, &["NAME"])?;
+        let name = norm_name(&self.required(card, "NAME")?);
+        if name.is_empty() {
+            return Err(self.err(card.loc, "empty surface interaction name"));
+        }
+        if let Some(first) = self.interactions.iter().find(|s| s.name == name) {
+            return Err(self.err(
+                card.loc,
+                format!(
+                    "surface interaction {name} defined twice (first at line {})",
+                    first.loc.line
+                ),
+            ));
+        }
+        self.current_interaction = Some(self.interactions.len());
+        self.interactions.push(RawInteraction {
+            name,
+            behavior: None,
+            friction: None,
+            loc: card.loc,
+        });
+        Ok(Block::NoData(card.name.clone()))
+    }
+
+    fn kw_behavior(&mut self, card: &Card) -> Result<Block> {
+        self.check_params(card, &["PRESSURE-OVERCLOSURE"])?;
+        let Some(interaction) = self.current_interaction else {
+            return Err(self.err(
+                card.loc,
+                "*SURFACE BEHAVIOR outside of a *SURFACE INTERACTION",
+            ));
+        };
+        if self.interactions[interaction].behavior.is_some() {
+            return Err(self.err(
+                card.loc,
+                format!(
+                    "second *SURFACE BEHAVIOR for surface interaction {}",
+                    self.interactions[interaction].name
+                ),
+            ));
+        }
+        let law = self
+            .value(card, "PRESSURE-OVERCLOSURE")?
+            .map(|v| norm_name(&v))
+            .unwrap_or_else(|| "HARD".into());
+        let (behavior, linear) = match law.as_str() {
+            "HARD" => (PressureOverclosure::Hard, false),
+            "LINEAR" => (
+                PressureOverclosure::Linear {
+                    slope: None,
+                    tension: None,
+                    c0: None,
+                },
+                true,
+            ),
+            other => {
+                return Err(self.err(
+                    card.loc,
+                    format!("*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE={other} is not supported (HARD or LINEAR); ignoring it would change the answer"),
+                ))
+            }
+        };
+        self.interactions[interaction].behavior = Some(behavior);
+        Ok(Block::SurfaceBehavior {
+            interaction,
+            linear,
+            lines: 0,
+        })
+    }
+
+    fn kw_friction(&mut self, card: &Card) -> Result<Block> {
+        self.check_params(card, &[])?;
+        let Some(interaction) = self.current_interaction else {
+            return Err(self.err(card.loc, "*FRICTION outside of a *SURFACE INTERACTION"));
+        };
+        if self.interactions[interaction].friction.is_some() {
+            return Err(self.err(
+                card.loc,
+                format!(
+                    "second *FRICTION for surface interaction {}",
+                    self.interactions[interaction].name
+                ),
+            ));
+        }
+        Ok(Block::Friction {
+            interaction,
+            lines: 0,
+            loc: card.loc,
+        })
+    }
+
+    fn kw_contact_pair(&mut self, card: &Card) -> Result<Block> {
+        for (k, _) in &card.params {
+            if k == "ADJUST" {
+                return Err(self.err(
+                    card.loc,
+                    "*CONTACT PAIR, ADJUST is not supported (it moves slave nodes); ignoring it would change the answer",
+                ));
+            }
+        }
+        self.check_params(card, &["INTERACTION", "TYPE", "SMALL SLIDING"])?;
+        let interaction = norm_name(&self.required(card, "INTERACTION")?);
+        if let Some(t) = self.value(card, "TYPE")? {
+            let t = norm_keyword(&t);
+            if t != "NODE TO SURFACE" && t != "NODE TO FACE" {
+                return Err(self.err(
+                    card.loc,
+                    format!("*CONTACT PAIR, TYPE={t} is not supported (only NODE TO SURFACE)"),
+                ));
+            }
+        }
+        Ok(Block::ContactPair {
+            interaction,
+            small_sliding: Self::flag(card, "SMALL SLIDING"),
+        })
+    }
+
     fn kw_step(&mut self, card: &Card) -> Result<Block> {
         if !matches!(self.step, StepState::Before) {
             return Err(self.err(card.loc, "second *STEP: only one step is supported"));
@@ -972,6 +1208,41 @@ impl Parser {
             Block::Boundary => self.boundary_line(&f, loc)?,
             Block::Cload => self.cload_line(&f, loc)?,
             Block::Dload => self.dload_line(&f, loc)?,
+            Block::Surface { surface, node_type } => {
+                self.surface_line(*surface, *node_type, &f, loc)?
+            }
+            Block::SurfaceBehavior {
+                interaction,
+                linear,
+                lines,
+            } => {
+                *lines += 1;
+                self.behavior_line(*interaction, *linear, *lines, &f, loc)?;
+            }
+            Block::Friction {
+                interaction, lines, ..
+            } => {
+                *lines += 1;
+                self.friction_line(*interaction, *lines, &f, loc)?;
+            }
+            Block::ContactPair {
+                interaction,
+                small_sliding,
+            } => {
+                if f.len() != 2 || f.iter().any(|t| t.is_empty()) {
+                    return Err(self.err(
+                        loc,
+                        "*CONTACT PAIR data must be: slave surface, master surface",
+                    ));
+                }
+                self.pairs.push(RawPair {
+                    interaction: interaction.clone(),
+                    slave: norm_name(f[0]),
+                    master: norm_name(f[1]),
+                    small_sliding: *small_sliding,
+                    loc,
+                });
+            }
             _ => {}
         }
         Ok(())
@@ -1239,6 +1510,147 @@ impl Parser {
         Ok(())
     }
 
+    fn surface_line(
+        &mut self,
+        surface: usize,
+        node_type: bool,
+        f: &[&str],
+        loc: Loc,
+    ) -> Result<()> {
+        if node_type {
+            if f.len() != 1 {
+                return Err(self.err(
+                    loc,
+                    "*SURFACE, TYPE=NODE data must be: node or node set (one per line)",
+                ));
+            }
+            let target = self.parse_target(f[0], loc)?;
+            self.cmds.push(Cmd::SurfaceItem {
+                surface,
+                target,
+                face: 0,
+                loc,
+            });
+            return Ok(());
+        }
+        if f.len() != 2 {
+            return Err(self.err(
+                loc,
+                "*SURFACE, TYPE=ELEMENT data must be: element or element set, face S1..S6",
+            ));
+        }
+        let target = self.parse_target(f[0], loc)?;
+        let ty = f[1].to_ascii_uppercase();
+        let face = match ty.strip_prefix('S') {
+            Some(d) if !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit()) => {
+                d.parse::<usize>().unwrap_or(usize::MAX)
+            }
+            _ => return Err(self.err(loc, format!("unsupported face identifier {ty} (S1..S6)"))),
+        };
+        if !(1..=6).contains(&face) {
+            return Err(self.err(
+                loc,
+                format!("face {ty} out of range (S1..S6 for hexahedra, S1..S5 for wedges)"),
+            ));
+        }
+        self.cmds.push(Cmd::SurfaceItem {
+            surface,
+            target,
+            face,
+            loc,
+        });
+        Ok(())
+    }
+
+    fn behavior_line(
+        &mut self,
+        interaction: usize,
+        linear: bool,
+        line_no: usize,
+        f: &[&str],
+        loc: Loc,
+    ) -> Result<()> {
+        if !linear {
+            if line_no == 1 {
+                self.warn(
+                    loc,
+                    "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=HARD: data ignored (flank's hard contact is exact, no penalty)",
+                );
+            }
+            return Ok(());
+        }
+        if line_no > 1 {
+            return Err(self.err(loc, "*SURFACE BEHAVIOR, LINEAR has one data line"));
+        }
+        if f.len() > 3 {
+            return Err(self.err(
+                loc,
+                "*SURFACE BEHAVIOR, LINEAR data must be: slope[, tension at large clearance[, c0]]",
+            ));
+        }
+        let mut v = [None; 3];
+        for (k, tok) in f.iter().enumerate() {
+            if !tok.is_empty() {
+                v[k] = Some(self.parse_real(tok, loc)?);
+            }
+        }
+        if let Some(s) = v[0] {
+            if !(s > 0.0) {
+                return Err(self.err(
+                    loc,
+                    format!("pressure-overclosure slope {s} must be positive"),
+                ));
+            }
+        }
+        for (k, what) in [(1, "tension"), (2, "c0")] {
+            if let Some(x) = v[k] {
+                if x < 0.0 {
+                    return Err(self.err(loc, format!("{what} {x} must not be negative")));
+                }
+            }
+        }
+        self.interactions[interaction].behavior = Some(PressureOverclosure::Linear {
+            slope: v[0],
+            tension: v[1],
+            c0: v[2],
+        });
+        Ok(())
+    }
+
+    fn friction_line(
+        &mut self,
+        interaction: usize,
+        line_no: usize,
+        f: &[&str],
+        loc: Loc,
+    ) -> Result<()> {
+        if line_no > 1 {
+            return Err(self.err(loc, "*FRICTION has one data line (mu[, stick slope])"));
+        }
+        if f.is_empty() || f.len() > 2 || f[0].is_empty() {
+            return Err(self.err(loc, "*FRICTION data must be: mu[, stick slope]"));
+        }
+        let mu = self.parse_real(f[0], loc)?;
+        if mu < 0.0 {
+            return Err(self.err(
+                loc,
+                format!("friction coefficient mu = {mu} must not be negative"),
+            ));
+        }
+        let stick_slope = match f.get(1) {
+            Some(t) if !t.is_empty() => {
+                let k = self.parse_real(t, loc)?;
+                if !(k > 0.0) {
+                    return Err(self.err(loc, format!("stick slope {k} must be positive")));
+                }
+                Some(k)
+            }
+            _ => None,
+        };
+        self.interactions[interaction].friction = Some(Friction { mu, stick_slope });
+        Ok(())
+    }
+
     // -- tokens -------------------------------------------------------------
 
     /// A positive integer label.
@@ -1409,6 +1821,8 @@ impl Parser {
         let mut bc_index: HashMap<(usize, usize), usize> = HashMap::new();
         let mut forces = Vec::new();
         let mut pressures = Vec::new();
+        let mut surface_faces: Vec<Vec<(usize, usize)>> = vec![Vec::new(); self.surfaces.len()];
+        let mut surface_nodes: Vec<Vec<usize>> = vec![Vec::new(); self.surfaces.len()];
         for cmd in std::mem::take(&mut self.cmds) {
             match cmd {
                 Cmd::NodeRange { set, start, end } => {
@@ -1552,8 +1966,36 @@ impl Parser {
                         });
                     }
                 }
+                Cmd::SurfaceItem {
+                    surface,
+                    target,
+                    face,
+                    loc,
+                } => {
+                    if face == 0 {
+                        let nodes = self.target_nodes(&nsets, target, loc)?;
+                        surface_nodes[surface].extend(nodes);
+                        continue;
+                    }
+                    for element in self.target_elements(&esets, target, loc)? {
+                        let el = &self.mesh.elements[element];
+                        if face > el.kind.face_count() {
+                            return Err(self.err(
+                                loc,
+                                format!(
+                                    "*SURFACE face S{face} out of range for {} element {} (S1..S{})",
+                                    el.kind.name(),
+                                    el.label,
+                                    el.kind.face_count()
+                                ),
+                            ));
+                        }
+                        surface_faces[surface].push((element, face));
+                    }
+                }
             }
         }
+        let contact = self.contact_definition(surface_faces, surface_nodes)?;
 
         // Materials: keep complete ones; drop unused ones without *ELASTIC.
         let mut remap = vec![None; self.materials.len()];
@@ -1636,10 +2078,110 @@ impl Parser {
                 forces,
                 pressures,
                 couplings: Vec::new(),
+                contact,
             },
             warnings: self.warnings,
             title: (!title.is_empty()).then_some(title),
         })
+    }
+
+    /// The contact definition from the recorded surfaces, interactions and
+    /// pairs, with its cross references checked (errors at the lines that
+    /// name what is wrong).
+    fn contact_definition(
+        &self,
+        mut faces: Vec<Vec<(usize, usize)>>,
+        mut nodes: Vec<Vec<usize>>,
+    ) -> Result<ContactDefinition> {
+        let mut def = ContactDefinition::default();
+        for (k, raw) in self.surfaces.iter().enumerate() {
+            let kind = if raw.node_type {
+                let mut v = std::mem::take(&mut nodes[k]);
+                v.sort_unstable();
+                v.dedup();
+                if v.is_empty() {
+                    return Err(self.err(raw.loc, format!("surface {} names no node", raw.name)));
+                }
+                SurfaceKind::Node(v)
+            } else {
+                let mut v = std::mem::take(&mut faces[k]);
+                v.sort_unstable();
+                v.dedup();
+                if v.is_empty() {
+                    return Err(self.err(
+                        raw.loc,
+                        format!("surface {} names no element face", raw.name),
+                    ));
+                }
+                SurfaceKind::Element(v)
+            };
+            def.surfaces.push(Surface {
+                name: raw.name.clone(),
+                kind,
+            });
+        }
+        for raw in &self.interactions {
+            if raw.behavior.is_none() {
+                return Err(self.err(
+                    raw.loc,
+                    format!(
+                        "surface interaction {} has no *SURFACE BEHAVIOR (pressure-overclosure law)",
+                        raw.name
+                    ),
+                ));
+            }
+            def.interactions.push(SurfaceInteraction {
+                name: raw.name.clone(),
+                behavior: raw.behavior.clone(),
+                friction: raw.friction.clone(),
+            });
+        }
+        for raw in &self.pairs {
+            if def.interaction(&raw.interaction).is_none() {
+                return Err(self.err(
+                    raw.loc,
+                    format!(
+                        "*CONTACT PAIR: surface interaction {} is not defined",
+                        raw.interaction
+                    ),
+                ));
+            }
+            for (role, name) in [("slave", &raw.slave), ("master", &raw.master)] {
+                match def.surface(name) {
+                    None => {
+                        return Err(self.err(
+                            raw.loc,
+                            format!("*CONTACT PAIR: {role} surface {name} is not defined"),
+                        ))
+                    }
+                    Some(s) if role == "master" && matches!(s.kind, SurfaceKind::Node(_)) => {
+                        return Err(self.err(
+                            raw.loc,
+                            format!("*CONTACT PAIR: master surface {name} must be made of element faces (TYPE=ELEMENT)"),
+                        ))
+                    }
+                    _ => {}
+                }
+            }
+            if raw.slave == raw.master {
+                return Err(self.err(
+                    raw.loc,
+                    format!(
+                        "*CONTACT PAIR: surface {} against itself (self contact) is not supported",
+                        raw.slave
+                    ),
+                ));
+            }
+            def.pairs.push(ContactPair {
+                interaction: raw.interaction.clone(),
+                slave: raw.slave.clone(),
+                master: raw.master.clone(),
+                small_sliding: raw.small_sliding,
+            });
+        }
+        def.validate(&self.mesh)
+            .map_err(|e| self.err(Loc { file: 0, line: 0 }, e.to_string()))?;
+        Ok(def)
     }
 
     /// Indices of the existing labels in `first..=last` by `step`, and the
@@ -1831,6 +2373,7 @@ pub fn format_deck(model: &Model) -> Result<String> {
             material_names[*m]
         );
     }
+    write_contact(&mut out, model);
 
     w!("*STEP");
     w!("*STATIC");
@@ -1869,8 +2412,101 @@ pub fn format_deck(model: &Model) -> Result<String> {
     }
     w!("*NODE PRINT, NSET=NALL");
     w!("U");
+    if !model.contact.pairs.is_empty() {
+        w!("*CONTACT PRINT");
+        w!("CSTR, CDIS");
+    }
     w!("*END STEP");
     Ok(out)
+}
+
+/// Writes the contact definition: surfaces, interactions, pairs. Names are
+/// made deck-safe and unique per namespace; pairs use the written names.
+fn write_contact(out: &mut String, model: &Model) {
+    let def = &model.contact;
+    if def.surfaces.is_empty() && def.interactions.is_empty() && def.pairs.is_empty() {
+        return;
+    }
+    let mesh = &model.mesh;
+    let mut surface_names = Names::default();
+    let mut written_surface: HashMap<String, String> = HashMap::new();
+    for surf in &def.surfaces {
+        let dn = surface_names.claim(deck_name(&surf.name));
+        written_surface.insert(surf.name.to_ascii_uppercase(), dn.clone());
+        match &surf.kind {
+            SurfaceKind::Element(faces) => {
+                let _ = writeln!(out, "*SURFACE, NAME={dn}, TYPE=ELEMENT");
+                for &(e, f) in faces {
+                    let _ = writeln!(out, "{}, S{f}", mesh.elements[e].label);
+                }
+            }
+            SurfaceKind::Node(nodes) => {
+                let _ = writeln!(out, "*SURFACE, NAME={dn}, TYPE=NODE");
+                for &n in nodes {
+                    let _ = writeln!(out, "{}", mesh.node_labels[n]);
+                }
+            }
+        }
+    }
+    let mut interaction_names = Names::default();
+    let mut written_interaction: HashMap<String, String> = HashMap::new();
+    for it in &def.interactions {
+        let dn = interaction_names.claim(deck_name(&it.name));
+        written_interaction.insert(it.name.to_ascii_uppercase(), dn.clone());
+        let _ = writeln!(out, "*SURFACE INTERACTION, NAME={dn}");
+        match &it.behavior {
+            Some(PressureOverclosure::Hard) => {
+                let _ = writeln!(out, "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=HARD");
+            }
+            Some(PressureOverclosure::Linear { slope, tension, c0 }) => {
+                let _ = writeln!(out, "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR");
+                // trailing values may be left out; a later one needs the earlier
+                let vals = [*slope, *tension, *c0];
+                if let Some(last) = vals.iter().rposition(|v| v.is_some()) {
+                    let fields: Vec<String> = vals[..=last]
+                        .iter()
+                        .map(|v| v.map(fmt_real).unwrap_or_default())
+                        .collect();
+                    let _ = writeln!(out, "{}", fields.join(", "));
+                }
+            }
+            None => {}
+        }
+        if let Some(fr) = &it.friction {
+            let _ = writeln!(out, "*FRICTION");
+            match fr.stick_slope {
+                Some(k) => {
+                    let _ = writeln!(out, "{}, {}", fmt_real(fr.mu), fmt_real(k));
+                }
+                None => {
+                    let _ = writeln!(out, "{}", fmt_real(fr.mu));
+                }
+            }
+        }
+    }
+    let name_of = |map: &HashMap<String, String>, n: &str| {
+        map.get(&n.to_ascii_uppercase())
+            .cloned()
+            .unwrap_or_else(|| deck_name(n))
+    };
+    for p in &def.pairs {
+        let sliding = if p.small_sliding {
+            ", SMALL SLIDING"
+        } else {
+            ""
+        };
+        let _ = writeln!(
+            out,
+            "*CONTACT PAIR, INTERACTION={}, TYPE=NODE TO SURFACE{sliding}",
+            name_of(&written_interaction, &p.interaction)
+        );
+        let _ = writeln!(
+            out,
+            "{}, {}",
+            name_of(&written_surface, &p.slave),
+            name_of(&written_surface, &p.master)
+        );
+    }
 }
 
 /// Rejects models the writer cannot express faithfully (so that no index
@@ -1966,6 +2602,26 @@ fn check_writable(model: &Model) -> Result<()> {
     for (name, s) in &mesh.element_sets {
         if s.iter().any(|&e| e >= ne) {
             return bad(format!("element set {name} has an invalid element index"));
+        }
+    }
+    model.contact.validate(mesh)?;
+    for it in &model.contact.interactions {
+        let vals: Vec<f64> = match &it.behavior {
+            Some(PressureOverclosure::Linear { slope, tension, c0 }) => {
+                [*slope, *tension, *c0].iter().flatten().copied().collect()
+            }
+            _ => Vec::new(),
+        };
+        let fr: Vec<f64> = it
+            .friction
+            .iter()
+            .flat_map(|f| std::iter::once(f.mu).chain(f.stick_slope))
+            .collect();
+        if vals.iter().chain(&fr).any(|v| !v.is_finite()) {
+            return bad(format!(
+                "surface interaction {} has a non-finite value",
+                it.name
+            ));
         }
     }
     Ok(())
@@ -2767,6 +3423,25 @@ U
             "1,,,",
             "  *  node  ,  nset = a  ",
             "7, 1, 1.0",
+            "*SURFACE, NAME=S, TYPE=ELEMENT",
+            "*SURFACE,NAME=N,TYPE=NODE",
+            "*SURFACE, NAME=S",
+            "E, S2",
+            "1, S9",
+            "1, SPOS",
+            "*SURFACE INTERACTION, NAME=I",
+            "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR",
+            "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=HARD",
+            "*SURFACE BEHAVIOR",
+            "*FRICTION",
+            "-0.1",
+            "0.2, 1e5",
+            "*CONTACT PAIR, INTERACTION=I, TYPE=NODE TO SURFACE",
+            "*CONTACT PAIR, INTERACTION=J",
+            "S, N",
+            "N, S",
+            "1e7, 0.1, 1e-3",
+            "*CONTACT PRINT",
         ];
         let mut state = 0x2545_f491_4f6c_dd1du64;
         let mut next = move || {
@@ -3028,6 +3703,7 @@ U
                 },
             ],
             couplings: Vec::new(),
+            contact: Default::default(),
         }
     }
 
@@ -3192,5 +3868,199 @@ U
                 }
             }
         }
+    }
+
+    // -- contact ------------------------------------------------------------
+
+    /// Two unit C3D20 cubes stacked in z (touching at z = 1), a contact pair
+    /// of the upper cube's bottom face (slave, element face) on the lower
+    /// cube's top face (master), hard contact; the upper cube is pushed down.
+    fn two_cubes(contact: &str) -> String {
+        let mut s = String::from("*NODE, NSET=NALL\n");
+        for b in 0..2u64 {
+            for (i, p) in crate::fem::element::HEX20_NODES.iter().enumerate() {
+                let x = [
+                    0.5 * (p[0] + 1.0),
+                    0.5 * (p[1] + 1.0),
+                    0.5 * (p[2] + 1.0) + b as f64,
+                ];
+                s += &format!("{}, {}, {}, {}\n", 100 * b + i as u64 + 1, x[0], x[1], x[2]);
+            }
+        }
+        s += "*ELEMENT, TYPE=C3D20, ELSET=EALL\n";
+        for b in 0..2u64 {
+            let n: Vec<String> = (1..=20).map(|i| (100 * b + i).to_string()).collect();
+            s += &format!(
+                "{}, {},\n{}\n",
+                b + 1,
+                n[..15].join(", "),
+                n[15..].join(", ")
+            );
+        }
+        s += "*ELSET, ELSET=UPPER\n2\n*NSET, NSET=UPPER_BOTTOM\n101, 102, 103, 104, 109, 110, 111, 112\n";
+        s += "*NSET, NSET=BOT\n1, 2, 3, 4, 9, 10, 11, 12\n";
+        s += "*NSET, NSET=TOP\n105, 106, 107, 108, 113, 114, 115, 116\n";
+        s += "*MATERIAL, NAME=STEEL\n*ELASTIC\n210000., 0.3\n*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL\n";
+        s += contact;
+        s += "*BOUNDARY\nBOT, 1, 3\nTOP, 1, 2\n*STEP\n*STATIC\n*BOUNDARY\nTOP, 3, 3, -0.001\n*NODE PRINT, NSET=NALL\nU\n*CONTACT PRINT\nCSTR\n*END STEP\n";
+        s
+    }
+
+    const CONTACT: &str = "\
+*SURFACE, NAME=SLAVE, TYPE=ELEMENT
+UPPER, S1
+*SURFACE, NAME=MASTER
+1, S2
+*SURFACE, NAME=NODES, TYPE=NODE
+UPPER_BOTTOM
+*SURFACE INTERACTION, NAME=SI
+*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR
+1e7, 0.001
+*FRICTION
+0.0
+*SURFACE INTERACTION, NAME=HARD
+*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=HARD
+*CONTACT PAIR, INTERACTION=SI, TYPE=NODE TO SURFACE, SMALL SLIDING
+SLAVE, MASTER
+";
+
+    #[test]
+    fn contact_keywords_are_read() {
+        let deck = parse(&two_cubes(CONTACT)).unwrap();
+        let c = &deck.model.contact;
+        assert_eq!(c.surfaces.len(), 3);
+        assert_eq!(c.surfaces[0].kind, SurfaceKind::Element(vec![(1, 1)]));
+        assert_eq!(c.surfaces[1].kind, SurfaceKind::Element(vec![(0, 2)]));
+        match &c.surfaces[2].kind {
+            SurfaceKind::Node(n) => assert_eq!(n.len(), 8),
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(
+            c.interactions[0].behavior,
+            Some(PressureOverclosure::Linear {
+                slope: Some(1e7),
+                tension: Some(0.001),
+                c0: None
+            })
+        );
+        assert_eq!(c.interactions[0].friction.as_ref().unwrap().mu, 0.0);
+        assert_eq!(c.interactions[1].behavior, Some(PressureOverclosure::Hard));
+        assert_eq!(
+            c.pairs,
+            vec![ContactPair {
+                interaction: "SI".into(),
+                slave: "SLAVE".into(),
+                master: "MASTER".into(),
+                small_sliding: true
+            }]
+        );
+        assert!(deck.warnings.is_empty(), "{:?}", deck.warnings);
+    }
+
+    #[test]
+    fn contact_round_trip() {
+        let m = parse(&two_cubes(CONTACT)).unwrap().model;
+        let text = format_deck(&m).unwrap();
+        assert!(text.contains(
+            "*CONTACT PAIR, INTERACTION=SI, TYPE=NODE TO SURFACE, SMALL SLIDING\nSLAVE, MASTER\n"
+        ));
+        assert!(
+            text.contains("*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR\n10000000, 0.001\n"),
+            "{text}"
+        );
+        let p = parse(&text).unwrap().model;
+        assert_eq!(p.contact, m.contact);
+        // automatic slope (no data line) survives too
+        let auto = CONTACT.replace("1e7, 0.001\n", "");
+        let m = parse(&two_cubes(&auto)).unwrap().model;
+        assert_eq!(
+            m.contact.interactions[0].behavior,
+            Some(PressureOverclosure::Linear {
+                slope: None,
+                tension: None,
+                c0: None
+            })
+        );
+        let p = parse(&format_deck(&m).unwrap()).unwrap().model;
+        assert_eq!(p.contact, m.contact);
+    }
+
+    #[test]
+    fn contact_errors_name_the_line() {
+        let d = two_cubes(CONTACT);
+        // a surface that names no face (empty element set)
+        let e = with(
+            &d,
+            "*SURFACE, NAME=SLAVE, TYPE=ELEMENT\nUPPER, S1\n",
+            "*ELSET, ELSET=NONE\n*SURFACE, NAME=SLAVE, TYPE=ELEMENT\nNONE, S1\n",
+        );
+        expect_err(&e, line_of(&e, "NAME=SLAVE"), "names no element face");
+        let e = with(
+            &d,
+            "*SURFACE, NAME=SLAVE, TYPE=ELEMENT\nUPPER, S1\n",
+            "*SURFACE, NAME=SLAVE, TYPE=ELEMENT\n",
+        );
+        expect_err(&e, line_of(&e, "NAME=SLAVE"), "names no element face");
+        // unknown surface in a pair
+        let e = with(&d, "SLAVE, MASTER", "SLAVE, MASTRE");
+        expect_err(&e, line_of(&e, "SLAVE, MASTRE"), "MASTRE is not defined");
+        // pair referencing a missing interaction
+        let e = with(&d, "INTERACTION=SI,", "INTERACTION=STEEL,");
+        expect_err(
+            &e,
+            line_of(&e, "SLAVE, MASTER"),
+            "interaction STEEL is not defined",
+        );
+        // negative friction coefficient
+        let e = with(&d, "*FRICTION\n0.0", "*FRICTION\n-0.1");
+        expect_err(&e, line_of(&e, "-0.1"), "must not be negative");
+        // node surface as master
+        let e = with(&d, "SLAVE, MASTER", "SLAVE, NODES");
+        expect_err(&e, line_of(&e, "SLAVE, NODES"), "element faces");
+        // face out of range, malformed face
+        let e = with(&d, "1, S2\n", "1, S7\n");
+        expect_err(&e, line_of(&e, "1, S7"), "out of range");
+        let e = with(&d, "1, S2\n", "1, SPOS\n");
+        expect_err(&e, line_of(&e, "1, SPOS"), "SPOS");
+        // unsupported laws and types
+        let e = with(
+            &d,
+            "PRESSURE-OVERCLOSURE=LINEAR",
+            "PRESSURE-OVERCLOSURE=EXPONENTIAL",
+        );
+        expect_err(&e, line_of(&e, "EXPONENTIAL"), "EXPONENTIAL");
+        let e = with(&d, "TYPE=NODE TO SURFACE", "TYPE=SURFACE TO SURFACE");
+        expect_err(
+            &e,
+            line_of(&e, "SURFACE TO SURFACE"),
+            "only NODE TO SURFACE",
+        );
+        let e = with(&d, "SMALL SLIDING", "ADJUST=0.01");
+        expect_err(&e, line_of(&e, "ADJUST"), "ADJUST");
+        let e = with(&d, "1e7, 0.001", "-1e7");
+        expect_err(&e, line_of(&e, "-1e7"), "positive");
+        // behaviour outside an interaction; interaction without behaviour
+        let e = with(
+            &d,
+            "*SURFACE, NAME=SLAVE",
+            "*SURFACE BEHAVIOR\n*SURFACE, NAME=SLAVE",
+        );
+        expect_err(&e, line_of(&e, "*SURFACE BEHAVIOR"), "outside");
+        let e = with(&d, "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=HARD\n", "");
+        expect_err(&e, line_of(&e, "NAME=HARD"), "no *SURFACE BEHAVIOR");
+        // duplicate surface
+        let e = with(&d, "*SURFACE, NAME=MASTER", "*SURFACE, NAME=SLAVE");
+        let second = e
+            .lines()
+            .enumerate()
+            .filter(|(_, l)| l.contains("NAME=SLAVE"))
+            .nth(1)
+            .unwrap()
+            .0
+            + 1;
+        expect_err(&e, second, "defined twice");
+        // wedge faces stop at S5
+        let e = with(&d, "1, S2\n", "1, S6\n");
+        assert!(parse(&e).is_ok(), "S6 is a valid hexahedron face");
     }
 }

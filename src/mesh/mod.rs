@@ -8,6 +8,7 @@ pub mod gear_body;
 pub mod gear_sector;
 #[cfg(feature = "gmsh")]
 pub mod gmsh;
+pub mod hertz;
 pub mod inp;
 pub mod msh;
 pub mod structured;

@@ -1,9 +1,12 @@
 //! Writes the results of a static solve: `displacements.csv`, `stresses.csv`,
-//! `reactions.csv`, `result.vtu` and `summary.json`.
+//! `reactions.csv`, `result.vtu` and `summary.json`; with contact also
+//! `contact.csv`, the contact pressure and force in `result.vtu` and a
+//! `contact` section in `summary.json`.
 
 use std::io::Write;
 use std::path::Path;
 
+use crate::contact::solve::ContactSolution;
 use crate::error::FlankError;
 use crate::fem::model::Model;
 use crate::fem::static_analysis::StaticSolution;
@@ -40,6 +43,96 @@ pub fn write_solution(
     sol: &StaticSolution,
     extra: serde_json::Value,
 ) -> Result<(), FlankError> {
+    write_all(dir, model, sol, extra, Vec::new())
+}
+
+/// `contact.csv`: one row per paired slave node (deck labels): pair, slave
+/// node, position, final gap (mm, negative = penetration), normal force
+/// (N), contact pressure (MPa, face-averaged), λ/area (MPa), tributary
+/// area (mm²), master normal, status (open/closed).
+pub fn write_contact_csv(
+    path: &Path,
+    model: &Model,
+    contact: &ContactSolution,
+) -> Result<(), FlankError> {
+    let mut w = create(path)?;
+    let io = |e| FlankError::io(path, e);
+    writeln!(
+        w,
+        "pair,slave_node,x,y,z,gap,normal_force,pressure,nodal_pressure,area,nx,ny,nz,status"
+    )
+    .map_err(io)?;
+    for s in &contact.slaves {
+        let x = model.mesh.coords[s.node];
+        writeln!(
+            w,
+            "{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{}",
+            s.pair + 1,
+            model.mesh.node_labels[s.node],
+            x[0],
+            x[1],
+            x[2],
+            s.gap,
+            s.force,
+            s.pressure,
+            s.nodal_pressure,
+            s.area,
+            s.normal[0],
+            s.normal[1],
+            s.normal[2],
+            s.status.name()
+        )
+        .map_err(io)?;
+    }
+    w.flush().map_err(io)
+}
+
+/// Writes the files of a contact solve: those of [`write_solution`] plus
+/// `contact.csv`, the fields `contact_pressure` and `contact_force` in
+/// `result.vtu`, and the contact figures (iterations, active set, residuals,
+/// penalty used, ...) under `"contact"` in `summary.json`.
+pub fn write_contact_solution(
+    dir: &Path,
+    model: &Model,
+    contact: &ContactSolution,
+    extra: serde_json::Value,
+) -> Result<(), FlankError> {
+    std::fs::create_dir_all(dir).map_err(|e| FlankError::io(dir, e))?;
+    write_contact_csv(&dir.join("contact.csv"), model, contact)?;
+    let mut extra = extra;
+    if let serde_json::Value::Object(obj) = &mut extra {
+        obj.insert(
+            "contact".into(),
+            serde_json::to_value(&contact.summary).expect("contact summary serializes"),
+        );
+    }
+    write_all(
+        dir,
+        model,
+        &contact.solution,
+        extra,
+        vec![
+            PointField {
+                name: "contact_pressure",
+                components: 1,
+                values: &contact.pressure,
+            },
+            PointField {
+                name: "contact_force",
+                components: 3,
+                values: &contact.force,
+            },
+        ],
+    )
+}
+
+fn write_all(
+    dir: &Path,
+    model: &Model,
+    sol: &StaticSolution,
+    extra: serde_json::Value,
+    more_fields: Vec<PointField>,
+) -> Result<(), FlankError> {
     std::fs::create_dir_all(dir).map_err(|e| FlankError::io(dir, e))?;
     write_displacements_csv(&dir.join("displacements.csv"), model, &sol.displacement)?;
     let mut point_fields = vec![PointField {
@@ -47,6 +140,7 @@ pub fn write_solution(
         components: 3,
         values: &sol.displacement,
     }];
+    point_fields.extend(more_fields);
     let stress_flat: Vec<f64>;
     if let Some(rec) = &sol.recovery {
         let path = dir.join("stresses.csv");

@@ -1,0 +1,267 @@
+//! The bodies' stiffness, factorized once: the elastic side of a contact
+//! problem.
+//!
+//! [`ElasticSystem::new`] finds the floating modes of the model (rigid
+//! modes only contact holds, [`crate::contact::floating`]), pins them,
+//! assembles and factorizes the reduced stiffness K₀ (METIS/AMD, sparse
+//! Cholesky) and keeps the factor. Everything a contact solve then needs is
+//! a solve with that factor: the response to the external loads, and the
+//! response to unit contact forces (the columns of the Delassus matrix
+//! W = B K₀⁻¹ Bᵀ). The factor does not depend on gaps, pairings or contact
+//! states, so a driver that moves the contact (new gaps, new pairings, a new
+//! roll angle expressed in each body's own frame) reuses it: only solves
+//! are repeated.
+
+use std::time::Instant;
+
+use faer::Par;
+
+use crate::contact::floating::{floating_modes, FloatingModes};
+use crate::error::FlankError;
+use crate::fem::assembly::{Assembly, SparsePattern};
+use crate::fem::constraints::{DofMap, DofTarget};
+use crate::fem::loads::load_vector;
+use crate::fem::model::Model;
+use crate::fem::ordering::OrderingMethod;
+use crate::fem::solver::{parallelism, Precision, SparseCholesky};
+use crate::fem::static_analysis::{check_rigid_body_modes, validate};
+
+/// Figures of the factorization (for summaries).
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct SystemStats {
+    pub dofs: usize,
+    pub nnz_factor: usize,
+    pub ordering: String,
+    pub assembly_s: f64,
+    pub factorization_s: f64,
+    pub floating_modes: usize,
+}
+
+/// The factorized stiffness of a model (with its floating modes pinned).
+pub struct ElasticSystem {
+    pub floating: FloatingModes,
+    pub dofs: DofMap,
+    pattern: SparsePattern,
+    values: Vec<f64>,
+    chol: SparseCholesky,
+    /// −Tᵀ K u₀ (load of prescribed displacements).
+    prescribed_load: Vec<f64>,
+    par: Par,
+    pub stats: SystemStats,
+}
+
+impl ElasticSystem {
+    /// Validates, pins the floating modes, assembles and factorizes.
+    /// `contact_nodes` are the nodes of the contact surfaces: a floating
+    /// body without any of them is an error (nothing could hold it).
+    pub fn new(
+        model: &Model,
+        contact_nodes: &[usize],
+        ordering: OrderingMethod,
+        threads: usize,
+    ) -> Result<Self, FlankError> {
+        validate(model)?;
+        let dofs0 = DofMap::new(model)?;
+        let floating = floating_modes(model, &dofs0);
+        if !floating.modes.is_empty() {
+            let mut on_contact = vec![false; model.mesh.node_count()];
+            for &n in contact_nodes {
+                if n < on_contact.len() {
+                    on_contact[n] = true;
+                }
+            }
+            for m in &floating.modes {
+                if !m.body_nodes.iter().any(|&n| on_contact[n]) {
+                    // the body touches no contact surface: the usual message
+                    check_rigid_body_modes(model, &dofs0)?;
+                    return Err(FlankError::Singular(format!(
+                        "body containing node {} has a free rigid-body mode ({}) and no contact surface",
+                        m.body_node, m.description
+                    )));
+                }
+            }
+        }
+        let pinned = floating.pinned_model(model);
+        let mut dofs = DofMap::new(&pinned)?;
+        check_rigid_body_modes(&pinned, &dofs)?;
+        let par = parallelism(threads);
+        let t = Instant::now();
+        let asm = Assembly::new(&pinned, &mut dofs, ordering)?;
+        let sys = asm.assemble(&pinned, &dofs)?;
+        let assembly_s = t.elapsed().as_secs_f64();
+        let pattern = asm.pattern;
+        let mut chol = SparseCholesky::analyze(&pattern, ordering, asm.ordering_s, par)?;
+        let names = dof_names(&pinned, &dofs);
+        chol.factorize(&pattern, &sys.values, Precision::Double, &|r| {
+            names.get(r).cloned().unwrap_or_else(|| r.to_string())
+        })?;
+        let stats = SystemStats {
+            dofs: dofs.reduced_count,
+            nnz_factor: chol.stats.nnz_factor,
+            ordering: chol.stats.ordering.clone(),
+            assembly_s,
+            factorization_s: chol.stats.factorization_s,
+            floating_modes: floating.modes.len(),
+        };
+        Ok(ElasticSystem {
+            floating,
+            dofs,
+            pattern,
+            values: sys.values,
+            chol,
+            prescribed_load: sys.prescribed_load,
+            par,
+            stats,
+        })
+    }
+
+    pub fn reduced_count(&self) -> usize {
+        self.dofs.reduced_count
+    }
+
+    /// Reduced right-hand side of the model's external loads (forces,
+    /// pressures, coupling loads, prescribed displacements).
+    pub fn external_rhs(&self, model: &Model) -> Result<(Vec<f64>, Vec<f64>), FlankError> {
+        let f = load_vector(model)?;
+        let mut b = self.dofs.restrict(&f);
+        for (c, cp) in model.couplings.iter().enumerate() {
+            for k in 0..6 {
+                if let Some(r) = self.dofs.coupling_dofs.get(c).and_then(|d| d[k]) {
+                    b[r] += cp.load[k];
+                }
+            }
+        }
+        for (bi, pi) in b.iter_mut().zip(&self.prescribed_load) {
+            *bi += pi;
+        }
+        Ok((b, f))
+    }
+
+    /// Solves K₀ x = b in place.
+    pub fn solve(&self, b: &mut [f64]) {
+        self.chol.solve_in_place(b);
+    }
+
+    /// Solves K₀ X = B for the columns of `b` (n × k, column major).
+    pub fn solve_columns(&self, b: faer::MatMut<'_, f64>) {
+        self.chol.solve_columns_with(b, self.par);
+    }
+
+    /// Reduced vector Tᵀc of a linear form Σ cᵀu_node (sparse, merged).
+    pub fn reduced_form(&self, terms: &[(usize, [f64; 3])]) -> Vec<(usize, f64)> {
+        let mut out: Vec<(usize, f64)> = Vec::with_capacity(3 * terms.len());
+        for &(node, c) in terms {
+            for k in 0..3 {
+                if c[k] != 0.0 {
+                    self.dofs
+                        .for_each_term(3 * node + k, |r, coef| out.push((r, coef * c[k])));
+                }
+            }
+        }
+        out.sort_unstable_by_key(|e| e.0);
+        let mut merged: Vec<(usize, f64)> = Vec::with_capacity(out.len());
+        for (r, v) in out {
+            match merged.last_mut() {
+                Some(last) if last.0 == r => last.1 += v,
+                _ => merged.push((r, v)),
+            }
+        }
+        merged
+    }
+
+    /// Full displacement of a reduced solution including prescribed values.
+    pub fn expand(&self, q: &[f64]) -> Vec<f64> {
+        self.dofs.expand(q)
+    }
+
+    /// Full displacement of a reduced solution without prescribed values
+    /// (the response to a load alone).
+    pub fn expand_linear(&self, q: &[f64]) -> Vec<f64> {
+        (0..self.dofs.targets.len())
+            .map(|d| match self.dofs.targets[d] {
+                DofTarget::Free(r) => q[r],
+                DofTarget::Coupled { start, len } => self.dofs.terms[start..start + len]
+                    .iter()
+                    .map(|&(r, c)| c * q[r])
+                    .sum(),
+                DofTarget::Fixed(_) | DofTarget::Unused => 0.0,
+            })
+            .collect()
+    }
+
+    /// Relative residual ‖K₀q − b‖/‖b‖ and backward error of a solution.
+    pub fn residual(&self, q: &[f64], b: &[f64]) -> (f64, f64) {
+        let kq = self.pattern.sym_mul(&self.values, q);
+        let mut rn = 0.0;
+        let mut bn = 0.0;
+        let mut rinf = 0.0f64;
+        for (k, bi) in kq.iter().zip(b) {
+            rn += (bi - k) * (bi - k);
+            bn += bi * bi;
+            rinf = rinf.max((bi - k).abs());
+        }
+        let mut row = vec![0.0; self.pattern.n];
+        for c in 0..self.pattern.n {
+            for k in self.pattern.col_ptr[c]..self.pattern.col_ptr[c + 1] {
+                let r = self.pattern.row_idx[k];
+                row[r] += self.values[k].abs();
+                if r != c {
+                    row[c] += self.values[k].abs();
+                }
+            }
+        }
+        let knorm = row.iter().fold(0.0f64, |a, v| a.max(*v));
+        let qn = q.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let binf = b.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let rel = if bn > 0.0 {
+            (rn / bn).sqrt()
+        } else {
+            rn.sqrt()
+        };
+        let den = knorm * qn + binf;
+        (rel, if den > 0.0 { rinf / den } else { rinf })
+    }
+
+    /// Motion of each coupling's reference DOFs in a reduced solution.
+    pub fn coupling_motion(&self, q: &[f64]) -> Vec<[f64; 6]> {
+        self.dofs
+            .coupling_dofs
+            .iter()
+            .map(|cd| {
+                let mut m = [0.0; 6];
+                for k in 0..6 {
+                    if let Some(r) = cd[k] {
+                        m[k] = q[r];
+                    }
+                }
+                m
+            })
+            .collect()
+    }
+}
+
+/// "node 12 uy" / "coupling 'HUB' rz" for every reduced DOF.
+fn dof_names(model: &Model, dofs: &DofMap) -> Vec<String> {
+    let mut names = vec![String::new(); dofs.reduced_count];
+    for (d, t) in dofs.targets.iter().enumerate() {
+        if let DofTarget::Free(r) = t {
+            names[*r] = format!(
+                "node {} u{}",
+                model.mesh.node_labels[d / 3],
+                ["x", "y", "z"][d % 3]
+            );
+        }
+    }
+    for (c, cd) in dofs.coupling_dofs.iter().enumerate() {
+        for (k, r) in cd.iter().enumerate() {
+            if let Some(r) = r {
+                names[*r] = format!(
+                    "coupling '{}' {}",
+                    model.couplings[c].name,
+                    ["ux", "uy", "uz", "rx", "ry", "rz"][k]
+                );
+            }
+        }
+    }
+    names
+}
