@@ -50,7 +50,10 @@ pub fn sector_options(scene: &Scene, o: &BodyMeshOptions) -> Result<SectorOption
 }
 
 /// One body of a scene, meshed and constrained exactly as `flank mesh`
-/// writes it (`name` = "pinion" or "gear").
+/// (native mesher) writes it, flank modifications of `[<gear>.micro]`
+/// applied (`name` = "pinion" or "gear"). The exact normals of
+/// [`body_flank_nodes`] are those of the unmodified flank: modifications
+/// tilt it by their slope, micrometres over millimetres.
 pub fn scene_body<'s>(
     scene: &'s Scene,
     name: &str,
@@ -70,7 +73,12 @@ pub fn scene_body<'s>(
     let force = scene.load.torque_nmm / base_radius(&scene.pair.pinion);
     let cos_aw = report.working_pressure_angle_rad.cos();
     let load = (options.with_load && force > 0.0).then_some((force, base_radius(spec) / cos_aw));
-    let body = gear_body(spec, name, material, &sector, load)?;
+    let mut body = gear_body(spec, name, material, &sector, load)?;
+    // the scene's flank modifications move the flank nodes, as in `flank mesh`
+    let index = usize::from(name == "gear");
+    if let Some(m) = &scene.flank_modifications()?[index] {
+        body.modify_flanks(spec, m)?;
+    }
     Ok((body, spec))
 }
 
