@@ -2,8 +2,8 @@
 //! over one flank (face width z horizontally, radius r vertically), as SVG
 //! and PNG, drawn with `plotters` (pure Rust backends; text with `ab_glyph`
 //! from a TrueType font found at run time: `$FLANK_FONT` or a common system
-//! path; without one the plots are drawn without text, which the returned
-//! [`PlotInfo`] says).
+//! path; without one, or with `FLANK_FONT` set empty, the plots are drawn
+//! without text, which the returned [`PlotInfo`] says).
 
 use std::path::Path;
 use std::sync::OnceLock;
@@ -44,6 +44,9 @@ fn font_available() -> bool {
     static FONT: OnceLock<bool> = OnceLock::new();
     *FONT.get_or_init(|| {
         let env = std::env::var_os("FLANK_FONT").map(std::path::PathBuf::from);
+        if env.as_ref().is_some_and(|p| p.as_os_str().is_empty()) {
+            return false; // FLANK_FONT= (empty): plots without text
+        }
         let candidates = env
             .into_iter()
             .chain(FONT_PATHS.iter().map(std::path::PathBuf::from));
