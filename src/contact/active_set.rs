@@ -327,8 +327,12 @@ pub fn solve_active_set(
             alpha = astar;
             // gaps of the constraints outside F
             let g = gaps(prob, &cols, &free, &lambda, &alpha);
+            let mut in_free = vec![false; n];
+            for &i in &free {
+                in_free[i] = true;
+            }
             let mut viol: Vec<(f64, usize)> = (0..n)
-                .filter(|&i| lambda[i] == 0.0 && !free.contains(&i) && g[i] < -tol)
+                .filter(|&i| lambda[i] == 0.0 && !in_free[i] && g[i] < -tol)
                 .map(|i| (g[i], i))
                 .collect();
             if viol.is_empty() {

@@ -257,7 +257,12 @@ pub fn build_pair(
         )));
     }
     let face_size: Vec<f64> = face_coords.iter().map(|x| face_area(x).sqrt()).collect();
-    let grid = FaceGrid::new(&face_coords, search_distance);
+    // look far enough behind each face to see penetrations beyond the limit
+    let margins: Vec<f64> = face_size
+        .iter()
+        .map(|&s| search_distance.max(2.0 * options.max_initial_penetration.unwrap_or(s)))
+        .collect();
+    let grid = FaceGrid::with_margins(&face_coords, &margins);
     let mut constraints = Vec::new();
     let mut unpaired = Vec::new();
     let mut failed = 0usize;

@@ -21,9 +21,14 @@ impl FaceGrid {
     /// Builds the grid for faces given by their node coordinates, each box
     /// inflated by `margin` (≥ 0).
     pub fn new(faces: &[Vec<[f64; 3]>], margin: f64) -> Self {
+        Self::with_margins(faces, &vec![margin; faces.len()])
+    }
+
+    /// As [`FaceGrid::new`] with one margin per face.
+    pub fn with_margins(faces: &[Vec<[f64; 3]>], margins: &[f64]) -> Self {
         let mut boxes = Vec::with_capacity(faces.len());
         let mut sizes = Vec::with_capacity(faces.len());
-        for f in faces {
+        for (f, &margin) in faces.iter().zip(margins) {
             let mut lo = [f64::INFINITY; 3];
             let mut hi = [f64::NEG_INFINITY; 3];
             for x in f {

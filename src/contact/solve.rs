@@ -394,7 +394,8 @@ fn solve_contact_in_pool(
     })
 }
 
-/// Pressure at the paired slave nodes of a pair: each node's force is
+/// Pressure at the paired slave nodes of a pair (`lambda`: the normal
+/// force of each of `g.constraints`): each node's force is
 /// shared among its slave faces in proportion to its lumped area on each,
 /// every face gets the mean pressure (its force / its area), and the node
 /// takes the area-weighted mean of its faces. A uniform pressure is
@@ -402,7 +403,7 @@ fn solve_contact_in_pool(
 /// nodal forces (corner nodes of 8-node faces carry little or nothing) is
 /// averaged out. Without slave faces (a node surface with no face) it is
 /// λ/area.
-fn face_averaged_pressure(model: &Model, g: &PairGeometry, lambda: &[f64]) -> Vec<f64> {
+pub fn face_averaged_pressure(model: &Model, g: &PairGeometry, lambda: &[f64]) -> Vec<f64> {
     let nn = model.mesh.node_count();
     let mut node_force = vec![0.0; nn];
     let mut index = vec![usize::MAX; nn];

@@ -18,7 +18,9 @@
 //! Node sets (upper case): FLAT_TOP (y = 0), FLAT_BOTTOM, FLAT_SYM (x = 0),
 //! CYL_ARC (the circle), CYL_TOP (y = R), CYL_SYM (x = 0), Z0, Z1 (both
 //! bodies), NALL. Element sets FLAT, CYLINDER, EALL. Node labels: flat
-//! 1.., cylinder from [`CYLINDER_LABEL_OFFSET`] + 1; element labels likewise.
+//! 1.., cylinder from 10ᵏ + 1, the smallest power of ten above the flat's
+//! node count (CalculiX sizes its arrays by the largest label: keep them
+//! small); element labels likewise.
 
 use crate::contact::{
     ContactDefinition, ContactPair, PressureOverclosure, Surface, SurfaceInteraction, SurfaceKind,
@@ -28,9 +30,6 @@ use crate::fem::material::Material;
 use crate::fem::model::{Dirichlet, Model, Pressure};
 use crate::mesh::structured::{box_faces, box_mesh, map_nodes, BoxElement};
 use crate::mesh::Mesh;
-
-/// First node/element label of the cylinder is this + 1.
-pub const CYLINDER_LABEL_OFFSET: u64 = 1_000_000;
 
 /// Geometry and mesh of the Hertz slice.
 #[derive(Clone, Debug)]
@@ -214,9 +213,14 @@ impl HertzMesh {
             ],
             "FLAT",
         );
+        let count = flat.node_count().max(flat.elements.len()) as u64;
+        let mut offset = 10u64;
+        while offset < count {
+            offset *= 10;
+        }
         add(
             &cyl,
-            CYLINDER_LABEL_OFFSET,
+            offset,
             "CYL_",
             &[
                 ("Y0", "ARC"),

@@ -210,3 +210,164 @@ fn missing_file() {
         "{stderr}"
     );
 }
+
+// ---------------------------------------------------------------------------
+// Contact decks
+// ---------------------------------------------------------------------------
+
+/// Two unit C3D20 cubes: the lower one on z ∈ [0, 1] clamped at its bottom,
+/// the upper one lifted by `lift` (its bottom at z = 1 + lift), held in x and
+/// y on its top face; contact of its bottom face (slave) on the lower cube's
+/// top (master). `load` is the step's load on the upper cube, `contact` the
+/// interaction lines.
+fn contact_deck(lift: f64, load: &str, contact: &str) -> String {
+    let unit: [[f64; 3]; 20] = [
+        [0., 0., 0.],
+        [1., 0., 0.],
+        [1., 1., 0.],
+        [0., 1., 0.],
+        [0., 0., 1.],
+        [1., 0., 1.],
+        [1., 1., 1.],
+        [0., 1., 1.],
+        [0.5, 0., 0.],
+        [1., 0.5, 0.],
+        [0.5, 1., 0.],
+        [0., 0.5, 0.],
+        [0.5, 0., 1.],
+        [1., 0.5, 1.],
+        [0.5, 1., 1.],
+        [0., 0.5, 1.],
+        [0., 0., 0.5],
+        [1., 0., 0.5],
+        [1., 1., 0.5],
+        [0., 1., 0.5],
+    ];
+    let mut s = String::from("*NODE, NSET=NALL\n");
+    for b in 0..2 {
+        for (i, x) in unit.iter().enumerate() {
+            let z = x[2] + if b == 1 { 1.0 + lift } else { 0.0 };
+            s += &format!("{}, {}, {}, {}\n", 100 * b + i + 1, x[0], x[1], z);
+        }
+    }
+    s += "*ELEMENT, TYPE=C3D20, ELSET=EALL\n";
+    for b in 0..2 {
+        let n: Vec<String> = (1..=20).map(|i| (100 * b + i).to_string()).collect();
+        s += &format!(
+            "{}, {},\n{}\n",
+            b + 1,
+            n[..15].join(", "),
+            n[15..].join(", ")
+        );
+    }
+    s += "*ELSET, ELSET=UPPER\n2\n*ELSET, ELSET=LOWER\n1\n";
+    s += "*NSET, NSET=BOT\n1, 2, 3, 4, 9, 10, 11, 12\n*NSET, NSET=TOP\n105, 106, 107, 108, 113, 114, 115, 116\n";
+    s += "*MATERIAL, NAME=STEEL\n*ELASTIC\n210000., 0.3\n*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL\n";
+    s += "*SURFACE, NAME=SLAVE, TYPE=ELEMENT\nUPPER, S1\n*SURFACE, NAME=MASTER, TYPE=ELEMENT\nLOWER, S2\n";
+    s += contact;
+    s += "*CONTACT PAIR, INTERACTION=SI, TYPE=NODE TO SURFACE\nSLAVE, MASTER\n";
+    s += "*BOUNDARY\nBOT, 1, 3\nTOP, 1, 2\n*STEP\n*STATIC\n";
+    s += load;
+    s += "*NODE PRINT, NSET=NALL\nU\n*END STEP\n";
+    s
+}
+
+const HARD: &str = "*SURFACE INTERACTION, NAME=SI\n*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=HARD\n";
+/// Downward pressure on the upper cube's top face: only contact can hold it.
+const PUSH: &str = "*DLOAD\n2, P2, 10.\n";
+/// The upper cube's top face moved down by 0.001 mm.
+const MOVE: &str = "*BOUNDARY\nTOP, 3, 3, -0.001\n";
+
+#[test]
+fn valid_contact_decks_solve() {
+    for (name, load) in [("contact_push", PUSH), ("contact_move", MOVE)] {
+        let (ok, stderr) = run(name, &contact_deck(0.0, load, HARD));
+        assert!(ok, "{name} must solve:\n{stderr}");
+    }
+}
+
+#[test]
+fn bodies_that_never_touch() {
+    // pushed by a load, held only by contact that never comes: an error
+    expect_error(
+        "never_touch_force",
+        &contact_deck(5.0, PUSH, HARD),
+        &["cannot be balanced", "do not touch"],
+    );
+    // moved by a prescribed displacement: solves, with a warning
+    let (ok, stderr) = run("never_touch_move", &contact_deck(5.0, MOVE, HARD));
+    assert!(ok, "{stderr}");
+    assert!(stderr.contains("do not touch"), "no warning:\n{stderr}");
+    println!("{:<24} -> {}", "never_touch_move", stderr.trim());
+}
+
+#[test]
+fn deep_initial_interpenetration() {
+    // the upper cube starts 1.2 mm inside the lower one (faces are 1 mm)
+    expect_error(
+        "deep_penetration",
+        &contact_deck(-1.2, MOVE, HARD),
+        &["penetrates", "sanity limit"],
+    );
+}
+
+#[test]
+fn contact_surface_naming_no_face() {
+    let text = contact_deck(0.0, MOVE, HARD).replace(
+        "*SURFACE, NAME=SLAVE, TYPE=ELEMENT\nUPPER, S1\n",
+        "*ELSET, ELSET=NOTHING\n*SURFACE, NAME=SLAVE, TYPE=ELEMENT\nNOTHING, S1\n",
+    );
+    let line = text.lines().position(|l| l.contains("NAME=SLAVE")).unwrap() + 1;
+    expect_error(
+        "empty_surface",
+        &text,
+        &["names no element face", &format!(":{line}")],
+    );
+}
+
+#[test]
+fn negative_friction_coefficient() {
+    let text = contact_deck(0.0, MOVE, &format!("{HARD}*FRICTION\n-0.1\n"));
+    let line = text.lines().position(|l| l == "-0.1").unwrap() + 1;
+    expect_error(
+        "negative_mu",
+        &text,
+        &["must not be negative", &format!(":{line}")],
+    );
+    // μ > 0 is read, but friction is not implemented: an error, not ignored
+    expect_error(
+        "positive_mu",
+        &contact_deck(0.0, MOVE, &format!("{HARD}*FRICTION\n0.2\n")),
+        &["friction", "not implemented"],
+    );
+}
+
+#[test]
+fn contact_pair_with_missing_parts() {
+    expect_error(
+        "missing_interaction",
+        &contact_deck(0.0, MOVE, HARD).replace("INTERACTION=SI,", "INTERACTION=STEEL,"),
+        &["STEEL is not defined"],
+    );
+    expect_error(
+        "missing_surface",
+        &contact_deck(0.0, MOVE, HARD).replace("SLAVE, MASTER", "SLAVE, FLANK"),
+        &["FLANK is not defined"],
+    );
+}
+
+#[test]
+fn floating_body_pulled_away_or_unloaded() {
+    // the load pulls the upper cube off: contact cannot balance it
+    expect_error(
+        "pulled_away",
+        &contact_deck(0.0, "*DLOAD\n2, P2, -10.\n", HARD),
+        &["cannot be balanced", "wrong sign"],
+    );
+    // no load on a body only contact holds: its position is undetermined
+    expect_error(
+        "unloaded_floating",
+        &contact_deck(0.0, "", HARD),
+        &["not held", "undetermined"],
+    );
+}
