@@ -98,14 +98,17 @@ fn deviations(p: &ToothProfile, m: &GearSectorMesh) -> Deviation {
                 continue;
             }
             let ns: Vec<usize> = fnodes.iter().map(|&i| el.nodes[i]).collect();
-            let uv: Vec<(f64, f64)> = match ns.iter().map(|n| m.flank_uv.get(n).copied()).collect() {
+            let uv: Vec<(f64, f64)> = match ns.iter().map(|n| m.flank_uv.get(n).copied()).collect()
+            {
                 Some(v) => v,
                 None => continue,
             };
             faces += 1;
             let (umin, umax) = uv
                 .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &(u, _)| (a.min(u), b.max(u)));
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &(u, _)| {
+                    (a.min(u), b.max(u))
+                });
             let on_fillet = umin < p.u_form - 1e-12;
             let du = 0.05 * (umax - umin) + 1e-6;
             for xi in [-0.5, 0.0, 0.5] {
@@ -123,7 +126,11 @@ fn deviations(p: &ToothProfile, m: &GearSectorMesh) -> Deviation {
                     let q = rot([x[0], x[1]], p.twist_rate * x[2]);
                     let k = (q[0].atan2(q[1]) / pitch).round();
                     let q = rot(q, -k * pitch);
-                    let f = if q[0] < 0.0 { Flank::Left } else { Flank::Right };
+                    let f = if q[0] < 0.0 {
+                        Flank::Left
+                    } else {
+                        Flank::Right
+                    };
                     let d = profile_distance(p, f, q, umin - du, umax + du);
                     if on_fillet {
                         fil = fil.max(d);
@@ -150,7 +157,9 @@ fn section_edges(m: &GearSectorMesh, set: &str) -> Vec<[[f64; 2]; 3]> {
     for el in &m.mesh.elements {
         for e in edges(el.kind) {
             let ns = [el.nodes[e[0]], el.nodes[e[1]], el.nodes[e[2]]];
-            if ns.iter().all(|n| inset.contains(n) && m.mesh.coords[*n][2].abs() < 1e-12)
+            if ns
+                .iter()
+                .all(|n| inset.contains(n) && m.mesh.coords[*n][2].abs() < 1e-12)
                 && seen.insert((ns[0].min(ns[1]), ns[0].max(ns[1])))
             {
                 let c = |n: usize| [m.mesh.coords[n][0], m.mesh.coords[n][1]];
@@ -175,7 +184,10 @@ fn curve_roots(edges: &[[[f64; 2]; 3]], g: impl Fn([f64; 2]) -> f64) -> Vec<[f64
     for e in edges {
         const N: usize = 16;
         for s in 0..N {
-            let (mut a, mut b) = (-1.0 + 2.0 * s as f64 / N as f64, -1.0 + 2.0 * (s + 1) as f64 / N as f64);
+            let (mut a, mut b) = (
+                -1.0 + 2.0 * s as f64 / N as f64,
+                -1.0 + 2.0 * (s + 1) as f64 / N as f64,
+            );
             let (ga, gb) = (g(edge_point(e, a)), g(edge_point(e, b)));
             if ga == 0.0 || ga * gb > 0.0 || (gb == 0.0 && s + 1 < N) {
                 continue;
@@ -226,7 +238,9 @@ fn measures(p: &ToothProfile, m: &GearSectorMesh) -> Measures {
         let on2 = curve_roots(&r2, along);
         let dist = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
         let (Some(a), Some(b)) = (
-            on1.iter().copied().min_by(|x, y| dist(*x, e.p).total_cmp(&dist(*y, e.p))),
+            on1.iter()
+                .copied()
+                .min_by(|x, y| dist(*x, e.p).total_cmp(&dist(*y, e.p))),
             on2.iter()
                 .copied()
                 .filter(|q| (q[0] - e.p[0]) * n[0] + (q[1] - e.p[1]) * n[1] > 0.0)
@@ -309,7 +323,11 @@ fn meshed_flanks_against_exact_tooth() {
             // the mesh reproduces p_bt and s_t to within its own deviation
             assert!(ms.base_pitch_points >= 3);
             let tol = 2.0 * d.involute_faces.max(d.fillet_faces) + 1e-9;
-            assert!(ms.base_pitch_error <= tol, "{} > {tol}", ms.base_pitch_error);
+            assert!(
+                ms.base_pitch_error <= tol,
+                "{} > {tol}",
+                ms.base_pitch_error
+            );
             assert!(dt <= tol, "{dt} > {tol}");
         }
     }
