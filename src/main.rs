@@ -368,7 +368,7 @@ fn run(cli: Cli) -> Result<()> {
                             continue;
                         }
                         println!(
-                            "{name}: {} flank nodes, C {}×{} ({}); factorization {:.2} s, solve {:.2} s ({:.2}× one factorization), κ(C) ≈ {:.3e}, C_nn on the pitch line κ = {:.3e}; {}",
+                            "{name}: {} flank nodes, C {}×{} ({}); factorization {:.2} s, solve {:.2} s ({:.2}× its own factorization), κ(C) ≈ {:.3e}, C_nn on the pitch line κ = {:.3e}; {}",
                             b["flank_nodes"],
                             b["matrix_dim"],
                             b["matrix_dim"],
