@@ -116,8 +116,9 @@ pub struct ActiveSetSolution {
 
 /// Non-negative least squares min ‖Aλ − r‖, λ ≥ 0 (Lawson–Hanson) for a
 /// short wide A (rows = floating modes); ties in the entering variable go to
-/// the smallest `prefer` value. Returns λ and the residual norm.
-fn nnls(a: &DMatrix<f64>, r: &DVector<f64>, prefer: &[f64], limit: usize) -> (Vec<f64>, f64) {
+/// the smallest `prefer` value. Returns λ, the residual norm and whether the
+/// iteration limit stopped it.
+fn nnls(a: &DMatrix<f64>, r: &DVector<f64>, prefer: &[f64], limit: usize) -> (Vec<f64>, f64, bool) {
     let n = a.ncols();
     let mut x = vec![0.0; n];
     let mut passive: Vec<usize> = Vec::new();
@@ -139,9 +140,11 @@ fn nnls(a: &DMatrix<f64>, r: &DVector<f64>, prefer: &[f64], limit: usize) -> (Ve
             Err(_) => vec![0.0; set.len()],
         }
     };
+    let mut finished = false;
     for _ in 0..limit {
         let res = residual(&x);
         if res.norm() <= 1e-13 * scale {
+            finished = true;
             break;
         }
         let w = a.transpose() * (-res);
@@ -168,7 +171,10 @@ fn nnls(a: &DMatrix<f64>, r: &DVector<f64>, prefer: &[f64], limit: usize) -> (Ve
                 best = Some((j, wj));
             }
         }
-        let Some((j, _)) = best else { break };
+        let Some((j, _)) = best else {
+            finished = true;
+            break;
+        };
         passive.push(j);
         for _ in 0..limit {
             let z = solve_ls(&passive);
@@ -200,7 +206,7 @@ fn nnls(a: &DMatrix<f64>, r: &DVector<f64>, prefer: &[f64], limit: usize) -> (Ve
         }
     }
     let res = residual(&x).norm();
-    (x, res)
+    (x, res, !finished)
 }
 
 /// Solves the condensed contact problem.
@@ -255,7 +261,13 @@ pub fn solve_active_set(
     if m > 0 && rnorm > 0.0 {
         let a = DMatrix::from_fn(m, n, |i, j| prob.d[i][j]);
         let r = DVector::from_column_slice(&prob.r);
-        let (x, res) = nnls(&a, &r, &prob.q, 10 * (n + m) + 10);
+        let limit = 10 * (n + m) + 10;
+        let (x, res, hit_limit) = nnls(&a, &r, &prob.q, limit);
+        if hit_limit && !(res <= 1e-9 * rnorm) {
+            return Err(FlankError::Solver(format!(
+                "finding contact forces that balance the floating bodies' loads stopped at its iteration limit ({limit}) with residual {res:.3e} of {rnorm:.3e}"
+            )));
+        }
         if !(res <= 1e-9 * rnorm) {
             return Err(FlankError::Solver(format!(
                 "the loads on the floating bodies cannot be balanced by compressive contact forces at the {n} candidate slave nodes (residual {:.3e} of {:.3e}): the bodies do not touch within the search distance, or the load pulls them apart (wrong sign)",

@@ -699,3 +699,206 @@ fn uncovered_penetration(model: &Model, g: &PairGeometry, u: &[f64], tol: f64) -
     }
     (count, depth)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::{
+        ContactDefinition, ContactPair, PressureOverclosure, Surface, SurfaceInteraction,
+        SurfaceKind,
+    };
+    use crate::fem::material::Material;
+    use crate::fem::model::Dirichlet;
+    use crate::mesh::structured::{box_faces, box_mesh, BoxElement};
+    use crate::mesh::Mesh;
+
+    /// Two blocks L × L × H stacked in z, `n_low` and `n_up` cells across,
+    /// the upper one pressed down by δ on its top; statically determinate
+    /// lateral supports, frictionless contact of the upper block's bottom
+    /// (slave) on the lower block's top (master). Uniaxial stress: the
+    /// exact total force is E δ L² / (2H).
+    fn blocks(
+        kind: BoxElement,
+        n_low: usize,
+        n_up: usize,
+        law: PressureOverclosure,
+    ) -> (Model, f64) {
+        let (l, h, delta, e) = (2.0, 1.0, 1e-3, 210e3);
+        let low = box_mesh([l, l, h], [n_low, n_low, 1], kind);
+        let mut up = box_mesh([l, l, h], [n_up, n_up, 1], kind);
+        for x in up.coords.iter_mut() {
+            x[2] += h;
+        }
+        let mut mesh = Mesh::new();
+        let mut faces = Vec::new();
+        for (b, src) in [&low, &up].into_iter().enumerate() {
+            let base = mesh.node_count();
+            let ebase = mesh.elements.len();
+            for (label, x) in src.node_labels.iter().zip(&src.coords) {
+                mesh.add_node(10_000 * b as u64 + label, *x).unwrap();
+            }
+            for el in &src.elements {
+                mesh.add_element(
+                    10_000 * b as u64 + el.label,
+                    el.kind,
+                    el.nodes.iter().map(|&n| n + base).collect(),
+                )
+                .unwrap();
+            }
+            let set = if b == 0 { "Z1" } else { "Z0" };
+            faces.push(
+                box_faces(src, set)
+                    .into_iter()
+                    .map(|(el, f)| (el + ebase, f))
+                    .collect::<Vec<_>>(),
+            );
+            for (name, nodes) in &src.node_sets {
+                mesh.extend_node_set(&format!("B{b}_{name}"), nodes.iter().map(|&n| n + base));
+            }
+        }
+        let ne = mesh.elements.len();
+        let mut model = Model {
+            mesh,
+            materials: vec![Material::new("steel", e, 0.3).unwrap()],
+            element_material: vec![0; ne],
+            ..Default::default()
+        };
+        let at = |m: &Model, p: [f64; 3]| {
+            (0..m.mesh.node_count())
+                .find(|&n| (0..3).all(|k| (m.mesh.coords[n][k] - p[k]).abs() < 1e-12))
+                .unwrap()
+        };
+        let push = |m: &mut Model, node: usize, component: usize, value: f64| {
+            m.dirichlet.push(Dirichlet {
+                node,
+                component,
+                value,
+            })
+        };
+        for n in model.mesh.node_sets["B0_Z0"].clone() {
+            push(&mut model, n, 2, 0.0);
+        }
+        for n in model.mesh.node_sets["B1_Z1"].clone() {
+            push(&mut model, n, 2, -delta);
+        }
+        for z in [0.0, 2.0 * h] {
+            let a = at(&model, [0.0, 0.0, z]);
+            let b = at(&model, [l, 0.0, z]);
+            push(&mut model, a, 0, 0.0);
+            push(&mut model, a, 1, 0.0);
+            push(&mut model, b, 1, 0.0);
+        }
+        model.contact = ContactDefinition {
+            surfaces: vec![
+                Surface {
+                    name: "UP".into(),
+                    kind: SurfaceKind::Element(faces[1].clone()),
+                },
+                Surface {
+                    name: "LOW".into(),
+                    kind: SurfaceKind::Element(faces[0].clone()),
+                },
+            ],
+            interactions: vec![SurfaceInteraction {
+                name: "I".into(),
+                behavior: Some(law),
+                friction: None,
+            }],
+            pairs: vec![ContactPair {
+                interaction: "I".into(),
+                slave: "UP".into(),
+                master: "LOW".into(),
+                small_sliding: true,
+            }],
+        };
+        (model, e * delta * l * l / (2.0 * h))
+    }
+
+    /// The contact patch test: tri6 slave faces on a matching mesh give the
+    /// uniform pressure exactly; non-matching meshes and 8-node slave faces
+    /// (whose corner nodes would have to pull, so they open) are close and
+    /// converge with the mesh.
+    #[test]
+    fn pressed_blocks_carry_the_uniaxial_force() {
+        let mut hex = Vec::new();
+        for (kind, n_low, n_up, tol) in [
+            (BoxElement::Wedge15, 2, 2, 1e-12),
+            (BoxElement::Wedge15, 2, 3, 1e-2),
+            (BoxElement::Hex20, 2, 2, 8e-2),
+            (BoxElement::Hex20, 2, 3, 3e-2),
+            (BoxElement::Hex20, 4, 4, 3e-2),
+            (BoxElement::Hex20, 8, 8, 1e-2),
+            (BoxElement::Hex20R, 4, 4, 3e-2),
+        ] {
+            let (model, exact) = blocks(kind, n_low, n_up, PressureOverclosure::Hard);
+            let sol = solve_contact(&model, &ContactOptions::default()).unwrap();
+            let f = sol.summary.pairs[0].total_normal_force;
+            let pmax = sol.summary.pairs[0].max_pressure;
+            let pmin = sol
+                .slaves
+                .iter()
+                .fold(f64::INFINITY, |a, s| a.min(s.pressure));
+            let err = f / exact - 1.0;
+            println!(
+                "{kind:?} {n_low}/{n_up}: force {f:.9} exact {exact:.9} rel {err:.2e}; pressure {pmin:.6}..{pmax:.6} (exact {:.6})",
+                exact / 4.0
+            );
+            assert!(err.abs() <= tol, "{kind:?} {n_low}/{n_up}: {err:.3e}");
+            assert!(
+                err <= 1e-12,
+                "node-to-surface contact is never stiffer than exact"
+            );
+            let a = &sol.summary.active_set;
+            assert!(a.max_violation < 1e-12 && a.complementarity < 1e-9);
+            if kind == BoxElement::Hex20 && n_low == n_up {
+                hex.push(err.abs());
+            }
+        }
+        assert!(hex.windows(2).all(|w| w[1] < 0.5 * w[0]), "{hex:?}");
+        // the same with a penalty: converges to the hard answer
+        let (model, _) = blocks(BoxElement::Wedge15, 2, 2, PressureOverclosure::Hard);
+        let hard = solve_contact(&model, &ContactOptions::default()).unwrap();
+        let (model, _) = blocks(
+            BoxElement::Wedge15,
+            2,
+            2,
+            PressureOverclosure::Linear {
+                slope: Some(1e12),
+                tension: None,
+                c0: None,
+            },
+        );
+        let pen = solve_contact(&model, &ContactOptions::default()).unwrap();
+        let (fh, fp) = (
+            hard.summary.pairs[0].total_normal_force,
+            pen.summary.pairs[0].total_normal_force,
+        );
+        assert!(fp < fh && (fp / fh - 1.0).abs() < 1e-5, "{fp} vs {fh}");
+    }
+
+    /// Frictionless contact cannot hold the upper block's sliding and
+    /// spinning: without lateral supports it is an error, not a garbage answer.
+    #[test]
+    fn sliding_modes_are_not_held_by_frictionless_contact() {
+        let (mut model, _) = blocks(BoxElement::Hex20, 2, 2, PressureOverclosure::Hard);
+        let top: std::collections::HashSet<usize> =
+            model.mesh.node_sets["B1_Z1"].iter().copied().collect();
+        model
+            .dirichlet
+            .retain(|d| !(top.contains(&d.node) && d.component < 2));
+        // pushed by a pressure instead of a displacement: all in-plane modes float
+        model.dirichlet.retain(|d| !top.contains(&d.node));
+        let faces = box_faces(&model.mesh, "B1_Z1");
+        for (element, face) in faces {
+            model.pressures.push(crate::fem::model::Pressure {
+                element,
+                face,
+                value: 10.0,
+            });
+        }
+        let err = solve_contact(&model, &ContactOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("not held"), "{err}");
+    }
+}

@@ -77,9 +77,9 @@ pub fn write_contact_csv(
             s.pressure,
             s.nodal_pressure,
             s.area,
-            s.normal[0],
-            s.normal[1],
-            s.normal[2],
+            s.normal[0] + 0.0, // no "-0e0"
+            s.normal[1] + 0.0,
+            s.normal[2] + 0.0,
             s.status.name()
         )
         .map_err(io)?;
