@@ -284,6 +284,16 @@ fn valid_contact_decks_solve() {
         let (ok, stderr) = run(name, &contact_deck(0.0, load, HARD));
         assert!(ok, "{name} must solve:\n{stderr}");
     }
+    // a node-based slave surface (areas from the skin faces of its nodes)
+    let text = contact_deck(0.0, PUSH, HARD).replace(
+        "*SURFACE, NAME=SLAVE, TYPE=ELEMENT\nUPPER, S1\n",
+        "*NSET, NSET=UPPER_BOTTOM\n101, 102, 103, 104, 109, 110, 111, 112\n*SURFACE, NAME=SLAVE, TYPE=NODE\nUPPER_BOTTOM\n",
+    );
+    let (ok, stderr) = run("contact_node_surface", &text);
+    assert!(ok, "node surface must solve:\n{stderr}");
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("bad_decks");
+    let csv = |name: &str| std::fs::read_to_string(dir.join(name).join("out/contact.csv")).unwrap();
+    assert_eq!(csv("contact_node_surface"), csv("contact_push"));
 }
 
 #[test]
