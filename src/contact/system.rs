@@ -91,7 +91,7 @@ impl ElasticSystem {
         let assembly_s = t.elapsed().as_secs_f64();
         let pattern = asm.pattern;
         let mut chol = SparseCholesky::analyze(&pattern, ordering, asm.ordering_s, par)?;
-        let names = dof_names(&pinned, &dofs);
+        let names = crate::fem::static_analysis::reduced_dof_names(&pinned, &dofs);
         chol.factorize(&pattern, &sys.values, Precision::Double, &|r| {
             names.get(r).cloned().unwrap_or_else(|| r.to_string())
         })?;
@@ -238,30 +238,4 @@ impl ElasticSystem {
             })
             .collect()
     }
-}
-
-/// "node 12 uy" / "coupling 'HUB' rz" for every reduced DOF.
-fn dof_names(model: &Model, dofs: &DofMap) -> Vec<String> {
-    let mut names = vec![String::new(); dofs.reduced_count];
-    for (d, t) in dofs.targets.iter().enumerate() {
-        if let DofTarget::Free(r) = t {
-            names[*r] = format!(
-                "node {} u{}",
-                model.mesh.node_labels[d / 3],
-                ["x", "y", "z"][d % 3]
-            );
-        }
-    }
-    for (c, cd) in dofs.coupling_dofs.iter().enumerate() {
-        for (k, r) in cd.iter().enumerate() {
-            if let Some(r) = r {
-                names[*r] = format!(
-                    "coupling '{}' {}",
-                    model.couplings[c].name,
-                    ["ux", "uy", "uz", "rx", "ry", "rz"][k]
-                );
-            }
-        }
-    }
-    names
 }

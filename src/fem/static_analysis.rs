@@ -692,7 +692,7 @@ fn solve_refined(
 }
 
 /// Human-readable name of every reduced DOF ("node 12 uy", "coupling 'HUB' rz").
-fn reduced_dof_names(model: &Model, dofs: &DofMap) -> Vec<String> {
+pub(crate) fn reduced_dof_names(model: &Model, dofs: &DofMap) -> Vec<String> {
     let mut names = vec![String::new(); dofs.reduced_count];
     for (d, t) in dofs.targets.iter().enumerate() {
         if let DofTarget::Free(r) = t {

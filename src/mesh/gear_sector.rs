@@ -106,6 +106,35 @@ pub struct Quality {
     pub max_aspect_ratio: f64,
 }
 
+impl Quality {
+    /// No element yet: the neutral values of [`Quality::add`].
+    pub fn empty() -> Self {
+        Quality {
+            min_scaled_jacobian: f64::INFINITY,
+            max_aspect_ratio: 0.0,
+        }
+    }
+
+    /// Takes one element (`kind`, node coordinates) into the figures.
+    pub fn add(&mut self, kind: ElementKind, x: &[[f64; 3]]) {
+        let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+        for d in &ReferenceElement::get(kind).derivatives {
+            let dj = det3(&jacobian(x, d));
+            lo = lo.min(dj);
+            hi = hi.max(dj);
+        }
+        self.min_scaled_jacobian = self.min_scaled_jacobian.min(lo / hi);
+        let (mut emin, mut emax) = (f64::INFINITY, 0.0f64);
+        for e in crate::fem::element::edges(kind) {
+            let (p, q) = (x[e[0]], x[e[1]]);
+            let d = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt();
+            emin = emin.min(d);
+            emax = emax.max(d);
+        }
+        self.max_aspect_ratio = self.max_aspect_ratio.max(emax / emin);
+    }
+}
+
 /// A meshed gear sector.
 #[derive(Clone, Debug)]
 pub struct GearSectorMesh {
@@ -898,12 +927,7 @@ fn sector_mesh(
 
     // --- elements.
     let kind = opts.element;
-    let refel = ReferenceElement::get(kind);
-    let edges = crate::fem::element::edges(kind);
-    let mut quality = Quality {
-        min_scaled_jacobian: f64::INFINITY,
-        max_aspect_ratio: 0.0,
-    };
+    let mut quality = Quality::empty();
     for (bi, i, j, cell) in cells {
         // transverse cells → (corner, midside) point triples or quads
         let shapes: Vec<(Vec<usize>, Vec<usize>)> = match cell {
@@ -942,22 +966,7 @@ fn sector_mesh(
                     },
                     other => other,
                 })?;
-                let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
-                for d in &refel.derivatives {
-                    let dj = det3(&jacobian(&x, d));
-                    lo = lo.min(dj);
-                    hi = hi.max(dj);
-                }
-                quality.min_scaled_jacobian = quality.min_scaled_jacobian.min(lo / hi);
-                let (mut emin, mut emax) = (f64::INFINITY, 0.0f64);
-                for e in edges {
-                    let (p, q) = (x[e[0]], x[e[1]]);
-                    let d = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2))
-                        .sqrt();
-                    emin = emin.min(d);
-                    emax = emax.max(d);
-                }
-                quality.max_aspect_ratio = quality.max_aspect_ratio.max(emax / emin);
+                quality.add(kind, &x);
                 mesh.add_element(label, kind, nodes)
                     .map_err(|_| err("duplicate element label".into()))?;
             }

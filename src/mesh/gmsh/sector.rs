@@ -77,7 +77,7 @@ use std::time::Instant;
 
 use super::Session;
 use crate::error::FlankError;
-use crate::fem::element::{check_jacobian, det3, edges, jacobian, ReferenceElement};
+use crate::fem::element::{check_jacobian, edges};
 use crate::geometry::rack::{Flank, Segment, ToothProfile};
 use crate::geometry::GearSpec;
 use crate::mesh::gear_sector::{flank_segment, GearSectorMesh, Quality, SectorOptions};
@@ -662,11 +662,7 @@ pub fn gmsh_sector_with_msh(
     mesh.extend_element_set("EALL", 0..ne);
 
     // --- element checks and quality
-    let re = ReferenceElement::get(kind);
-    let mut quality = Quality {
-        min_scaled_jacobian: f64::INFINITY,
-        max_aspect_ratio: 0.0,
-    };
+    let mut quality = Quality::empty();
     for e in 0..ne {
         let x = mesh.element_coords(e);
         let label = mesh.elements[e].label;
@@ -694,21 +690,7 @@ pub fn gmsh_sector_with_msh(
             }
             other => other,
         })?;
-        let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
-        for d in &re.derivatives {
-            let dj = det3(&jacobian(&x, d));
-            lo = lo.min(dj);
-            hi = hi.max(dj);
-        }
-        quality.min_scaled_jacobian = quality.min_scaled_jacobian.min(lo / hi);
-        let (mut emin, mut emax) = (f64::INFINITY, 0.0f64);
-        for ed in edges(kind) {
-            let (p, q) = (x[ed[0]], x[ed[1]]);
-            let d = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt();
-            emin = emin.min(d);
-            emax = emax.max(d);
-        }
-        quality.max_aspect_ratio = quality.max_aspect_ratio.max(emax / emin);
+        quality.add(kind, &x);
     }
     let report = GmshSectorReport {
         max_snap_mm: max_snap,
