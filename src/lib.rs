@@ -47,6 +47,7 @@ pub mod error;
 pub mod fem;
 pub mod geometry;
 pub mod mesh;
+pub mod mesh_cycle;
 pub mod report;
 pub mod scene;
 

@@ -135,16 +135,54 @@ pub struct ComplianceAnalysis {
     pub memory_budget_mb: Option<f64>,
 }
 
+/// Options of the `contact` analysis (FE contact over a mesh cycle,
+/// [`crate::mesh_cycle`], run by `flank run`), e.g.
+/// `contact = { roll_step_deg = 1.0, law = "hard" }`. Roll angles are in
+/// flank's convention (0: the middle pair's kinematic contact at the pitch
+/// point, positive in the drive direction); default: the middle pair's
+/// kinematic engagement with two steps on each side.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactAnalysis {
+    pub roll_start_deg: Option<f64>,
+    pub roll_end_deg: Option<f64>,
+    /// Step of the range (deg, > 0; default 1).
+    pub roll_step_deg: Option<f64>,
+    /// Explicit roll angles (deg); instead of the range.
+    pub roll_angles_deg: Option<Vec<f64>>,
+    /// A reference angle convention (e.g. a paper's): reference = roll −
+    /// (kinematic start of single contact of the middle pair) + this value.
+    pub reference_single_contact_start_deg: Option<f64>,
+    /// Positions given in the reference convention (needs the key above).
+    pub reference_angles_deg: Option<Vec<f64>>,
+    /// `hard` (default) or `penalty`.
+    pub law: Option<crate::mesh_cycle::ContactLaw>,
+    /// Penalty slope as a multiple of the automatic default (> 0, default 1).
+    pub penalty_factor: Option<f64>,
+    /// `pinion` (default) or `gear`: the body whose flank nodes are slaves.
+    pub slave: Option<crate::mesh_cycle::SlaveBody>,
+    /// Largest initial gap of a contact candidate (mm, > 0; default 0.1).
+    pub search_distance_mm: Option<f64>,
+    /// Coulomb friction coefficient: only 0 is accepted (not implemented).
+    pub friction_mu: Option<f64>,
+    /// Write one VTU file per position (default true).
+    pub vtu: Option<bool>,
+    /// Bisect the middle pair's first and last loaded angles to 0.01°
+    /// for the contact ratio (default true).
+    pub refine_contact_limits: Option<bool>,
+}
+
 /// The analyses a scene asks for; an absent entry is not computed.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct Analyses {
     pub mesh: Option<MeshAnalysis>,
     pub compliance: Option<ComplianceAnalysis>,
+    pub contact: Option<ContactAnalysis>,
 }
 
 impl Analyses {
     /// Names an `[analyses]` table accepts.
-    pub const KNOWN: &'static [&'static str] = &["mesh", "compliance"];
+    pub const KNOWN: &'static [&'static str] = &["mesh", "compliance", "contact"];
 }
 
 /// Solid element family for the tooth-sector mesh.
@@ -1037,6 +1075,17 @@ fn analyses(cx: &Cx, raw: Option<&RawAnalyses>) -> Res<Analyses> {
                 }
                 out.compliance = Some(v);
             }
+            "contact" => {
+                let v: ContactAnalysis = value.get_ref().clone().try_into().map_err(|e| {
+                    cx.err(
+                        value.span(),
+                        format!("`analyses.contact`: {}", toml_message(&e)),
+                    )
+                })?;
+                check_contact_analysis(&v)
+                    .map_err(|m| cx.err(value.span(), format!("`analyses.contact`: {m}")))?;
+                out.contact = Some(v);
+            }
             other => {
                 return Err(cx.err(
                     name.span(),
@@ -1049,6 +1098,86 @@ fn analyses(cx: &Cx, raw: Option<&RawAnalyses>) -> Res<Analyses> {
         }
     }
     Ok(out)
+}
+
+/// Range checks of `[analyses.contact]` (types are serde's).
+fn check_contact_analysis(v: &ContactAnalysis) -> Result<(), String> {
+    let finite = |name: &str, x: Option<f64>| match x {
+        Some(x) if !x.is_finite() => Err(format!("{name} must be finite, got {x}")),
+        _ => Ok(()),
+    };
+    finite("roll_start_deg", v.roll_start_deg)?;
+    finite("roll_end_deg", v.roll_end_deg)?;
+    finite(
+        "reference_single_contact_start_deg",
+        v.reference_single_contact_start_deg,
+    )?;
+    if let Some(s) = v.roll_step_deg {
+        if !(s > 0.0 && s.is_finite()) {
+            return Err(format!("roll_step_deg must be > 0, got {s}"));
+        }
+    }
+    match (v.roll_start_deg, v.roll_end_deg) {
+        (Some(a), Some(b)) if b < a => {
+            return Err(format!("roll_end_deg ({b}) is before roll_start_deg ({a})"))
+        }
+        (Some(_), None) | (None, Some(_)) => {
+            return Err("give both roll_start_deg and roll_end_deg, or neither".into())
+        }
+        _ => {}
+    }
+    if let (Some(a), Some(b), Some(s)) = (v.roll_start_deg, v.roll_end_deg, v.roll_step_deg) {
+        if (b - a) / s > 100_000.0 {
+            return Err(format!(
+                "{:.0} positions from roll_start_deg, roll_end_deg and roll_step_deg: too many",
+                (b - a) / s
+            ));
+        }
+    }
+    let explicit = v.roll_angles_deg.is_some() as u8 + v.reference_angles_deg.is_some() as u8;
+    if explicit > 1 || (explicit == 1 && v.roll_start_deg.is_some()) {
+        return Err(
+            "give one of roll_start_deg/roll_end_deg, roll_angles_deg and reference_angles_deg"
+                .into(),
+        );
+    }
+    for (name, list) in [
+        ("roll_angles_deg", &v.roll_angles_deg),
+        ("reference_angles_deg", &v.reference_angles_deg),
+    ] {
+        if let Some(l) = list {
+            if l.is_empty() || l.iter().any(|x| !x.is_finite()) {
+                return Err(format!("{name} must be a non-empty list of finite angles"));
+            }
+        }
+    }
+    if v.reference_angles_deg.is_some() && v.reference_single_contact_start_deg.is_none() {
+        return Err("reference_angles_deg needs reference_single_contact_start_deg".into());
+    }
+    if let Some(f) = v.penalty_factor {
+        if !(f > 0.0 && f.is_finite()) {
+            return Err(format!("penalty_factor must be > 0, got {f}"));
+        }
+        if v.law != Some(crate::mesh_cycle::ContactLaw::Penalty) {
+            return Err("penalty_factor needs law = \"penalty\"".into());
+        }
+    }
+    if let Some(d) = v.search_distance_mm {
+        if !(d > 0.0 && d.is_finite()) {
+            return Err(format!("search_distance_mm must be > 0, got {d}"));
+        }
+    }
+    if let Some(mu) = v.friction_mu {
+        if !(mu >= 0.0 && mu.is_finite()) {
+            return Err(format!("friction_mu must be ≥ 0, got {mu}"));
+        }
+        if mu > 0.0 {
+            return Err(format!(
+                "friction_mu = {mu}: Coulomb friction is not implemented in flank's FE contact; remove the key (frictionless) or set it to 0"
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn toml_message(e: &toml::de::Error) -> String {

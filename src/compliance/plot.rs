@@ -40,7 +40,7 @@ const FONT_PATHS: &[&str] = &[
 ];
 
 /// Registers a sans-serif font with plotters once; true if one was found.
-fn font_available() -> bool {
+pub(crate) fn font_available() -> bool {
     static FONT: OnceLock<bool> = OnceLock::new();
     *FONT.get_or_init(|| {
         let env = std::env::var_os("FLANK_FONT").map(std::path::PathBuf::from);

@@ -66,6 +66,14 @@ pub struct Condensed {
     pub r: Vec<f64>,
 }
 
+/// Violated constraints enter the active set together only if their
+/// violation is at least this fraction of the worst one (the worst always
+/// enters). 1 would add one violation level at a time, 0 all at once.
+pub const ADDITION_FRACTION: f64 = 0.5;
+
+/// Violated constraints that may enter at once when few are active.
+pub const MIN_ADDITIONS: usize = 16;
+
 /// Options of the active-set loop.
 #[derive(Clone, Debug)]
 pub struct ActiveSetOptions {
@@ -354,6 +362,16 @@ pub fn solve_active_set(
             viol.sort_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal));
             if degenerate {
                 viol.truncate(1);
+            } else {
+                // only the clearly violated enter: each entering constraint
+                // costs a solve for its Delassus column, and the barely
+                // violated ones are mostly pushed open by the others
+                let worst = viol[0].0;
+                viol.retain(|v| v.0 <= ADDITION_FRACTION * worst);
+                // and at most as many as are active already (the set at
+                // most doubles): a start far from the answer (one node
+                // holding a floating body) violates nearly every candidate
+                viol.truncate(free.len().max(MIN_ADDITIONS));
             }
             sol.releases += viol.len();
             free.extend(viol.iter().map(|v| v.1));

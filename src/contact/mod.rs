@@ -25,6 +25,7 @@ pub mod active_set;
 pub mod definition;
 pub mod floating;
 pub mod pairing;
+pub mod placement;
 pub mod projection;
 pub mod search;
 pub mod solve;

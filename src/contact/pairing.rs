@@ -22,6 +22,7 @@
 //! are misplaced, not in contact.
 
 use crate::contact::definition::{PressureOverclosure, SurfaceKind};
+use crate::contact::placement::Placement;
 use crate::contact::projection::{project, INSIDE_TOLERANCE};
 use crate::contact::search::FaceGrid;
 use crate::contact::surface::{dot, face_area, nodal_areas, norm, surface_faces, Face};
@@ -141,6 +142,30 @@ pub fn default_penalty_slope(model: &Model, faces: &[Face]) -> (f64, f64) {
     k.sort_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal));
     let mid = k[k.len() / 2];
     (DEFAULT_PENALTY_FACTOR * mid.0, mid.1)
+}
+
+/// [`build_pair`] for bodies placed rigidly ([`Placement`]): the pairing is
+/// made in the global positions, and each term of a gap's linear form is
+/// rotated into its node's own frame (n·u_global = (Rᵀn)·u_own), so the
+/// constraints act on the DOFs of the bodies' own-frame stiffness. Normals
+/// stay global.
+pub fn build_pair_placed(
+    model: &Model,
+    placement: &Placement,
+    pair: usize,
+    options: &PairingOptions,
+) -> Result<PairGeometry, FlankError> {
+    if placement.is_identity() {
+        return build_pair(model, &model.mesh.coords, pair, options);
+    }
+    let coords = placement.positions(&model.mesh.coords);
+    let mut g = build_pair(model, &coords, pair, options)?;
+    for c in &mut g.constraints {
+        for (node, v) in &mut c.terms {
+            *v = placement.frame(*node).rotate_back(*v);
+        }
+    }
+    Ok(g)
 }
 
 /// Pairs the slave nodes of contact pair `pair` of `model` with its master

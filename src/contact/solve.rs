@@ -24,6 +24,7 @@ use crate::contact::active_set::{
     solve_active_set, ActiveSetOptions, ActiveSetSolution, Condensed, Delassus,
 };
 use crate::contact::pairing::{build_pair, NormalLaw, PairGeometry, PairingOptions};
+use crate::contact::placement::Placement;
 use crate::contact::surface::area_weight;
 use crate::contact::surface::face_area;
 use crate::contact::system::ElasticSystem;
@@ -520,6 +521,19 @@ pub fn solve_pairs(
     pairs: &[PairGeometry],
     options: &ContactOptions,
 ) -> Result<ContactState, FlankError> {
+    solve_pairs_placed(model, system, pairs, &Placement::identity(), options)
+}
+
+/// [`solve_pairs`] for bodies placed rigidly (pairs from
+/// [`crate::contact::pairing::build_pair_placed`] with the same
+/// `placement`); displacements stay in the bodies' own frames.
+pub fn solve_pairs_placed(
+    model: &Model,
+    system: &ElasticSystem,
+    pairs: &[PairGeometry],
+    placement: &Placement,
+    options: &ContactOptions,
+) -> Result<ContactState, FlankError> {
     let constraints: Vec<_> = pairs
         .iter()
         .flat_map(|g| g.constraints.iter().cloned())
@@ -635,7 +649,8 @@ pub fn solve_pairs(
     // slave nodes that were not candidates but penetrate in the deformed
     // configuration: the search distance was too small
     for g in pairs {
-        let (count, depth) = uncovered_penetration(model, g, &displacement, gap_tolerance);
+        let (count, depth) =
+            uncovered_penetration(model, g, placement, &displacement, gap_tolerance);
         if count > 0 {
             warnings.push(format!(
                 "contact pair {} / {}: {count} slave node(s) outside the candidate set penetrate the master surface after the solve (deepest {depth:.3e} mm); increase the search distance",
@@ -664,14 +679,17 @@ pub fn solve_pairs(
 
 /// Slave nodes of `g` that were not paired but, in the deformed
 /// configuration, lie behind a master face: their count and deepest gap.
-fn uncovered_penetration(model: &Model, g: &PairGeometry, u: &[f64], tol: f64) -> (usize, f64) {
+fn uncovered_penetration(
+    model: &Model,
+    g: &PairGeometry,
+    placement: &Placement,
+    u: &[f64],
+    tol: f64,
+) -> (usize, f64) {
     if g.unpaired.is_empty() {
         return (0, 0.0);
     }
-    let moved = |n: usize| {
-        let x = model.mesh.coords[n];
-        [x[0] + u[3 * n], x[1] + u[3 * n + 1], x[2] + u[3 * n + 2]]
-    };
+    let moved = |n: usize| placement.displaced(&model.mesh.coords, u, n);
     let faces: Vec<Vec<[f64; 3]>> = g
         .master_faces
         .iter()

@@ -265,6 +265,32 @@ pub fn skin_faces(mesh: &Mesh) -> Vec<Face> {
         .collect()
 }
 
+/// Element faces (element index, CalculiX face 1..) whose nodes all lie in
+/// `nodes`: the element-face surface of a node set (e.g. a gear flank),
+/// as ccx builds one from a node set. Sorted by element and face.
+pub fn faces_on_nodes(mesh: &Mesh, nodes: &[usize]) -> Vec<(usize, usize)> {
+    let mut member = vec![false; mesh.node_count()];
+    for &n in nodes {
+        if n < member.len() {
+            member[n] = true;
+        }
+    }
+    let mut out = Vec::new();
+    for (e, el) in mesh.elements.iter().enumerate() {
+        if !el.nodes.iter().any(|&n| member[n]) {
+            continue;
+        }
+        for f in 1..=el.kind.face_count() {
+            if let Some(local) = face_nodes(el.kind, f) {
+                if local.iter().all(|&p| member[el.nodes[p]]) {
+                    out.push((e, f));
+                }
+            }
+        }
+    }
+    out
+}
+
 /// The faces of a surface. For a node surface: the skin faces whose nodes
 /// all belong to the surface (used for tributary areas and slave normals;
 /// possibly none).

@@ -1,0 +1,24 @@
+//! FE contact over a mesh cycle: both gear bodies meshed and placed in
+//! mesh, one quasi-static contact solve per roll angle (seed 002's Abaqus
+//! procedure, with the stiffness factorized once).
+//!
+//! ```text
+//! kinematics  roll angle → body frames, tooth pairs, kinematic contact
+//! pair_model  both sectors in one model (own frames), pinion hub coupled
+//!             to a torque-loaded reference node, gear hub clamped,
+//!             one contact pair per tooth pair (right flanks)
+//! run         factorize once; per roll angle: place, pair, solve the
+//!             condensed contact problem; force per pair, load sharing,
+//!             transmission error, pressure, patch; contact ratio,
+//!             single-pair force; CSV, summary.json, VTU, plots
+//! plot        force per tooth and transmission error against roll angle
+//! ```
+
+pub mod kinematics;
+pub mod pair_model;
+pub mod plot;
+pub mod run;
+
+pub use kinematics::MeshKinematics;
+pub use pair_model::SlaveBody;
+pub use run::{ContactLaw, RunOptions};

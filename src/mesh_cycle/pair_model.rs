@@ -1,0 +1,237 @@
+//! The FE model of a gear pair in mesh, as seed 002 builds it in Abaqus:
+//! both tooth sectors in one model, the pinion hub kinematically coupled to
+//! a reference node on its axis that may only turn about the axis and
+//! carries the torque, the gear hub clamped, and one frictionless
+//! node-to-surface contact pair per meshing tooth pair on the drive flanks.
+//!
+//! The bodies stay in their own frames (their stiffness is then the same
+//! at every roll angle and is factorized once); [`MeshKinematics::frames`]
+//! places them for the contact geometry of each position.
+
+use crate::compliance::body::{scene_body, BodyMeshOptions};
+use crate::contact::surface::faces_on_nodes;
+use crate::contact::{
+    ContactDefinition, ContactPair, PressureOverclosure, Surface, SurfaceInteraction, SurfaceKind,
+};
+use crate::error::FlankError;
+use crate::fem::model::{Dirichlet, Model, RigidCoupling};
+use crate::mesh::gear_body::GearBody;
+use crate::mesh::Mesh;
+use crate::mesh_cycle::kinematics::MeshKinematics;
+use crate::scene::Scene;
+
+/// Which body carries the slave nodes (the other gives the master faces).
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum SlaveBody {
+    #[default]
+    Pinion,
+    Gear,
+}
+
+/// The pair model and what the driver needs to read it.
+pub struct PairModel {
+    pub model: Model,
+    /// Body of every node: 0 pinion, 1 gear.
+    pub body_of: Vec<u32>,
+    /// Nodes of all contact surfaces (flank nodes of both bodies).
+    pub contact_nodes: Vec<usize>,
+    /// Contact pair p joins pinion tooth `teeth[p].0` and gear tooth `teeth[p].1`.
+    pub teeth: Vec<(usize, usize)>,
+    /// Flank parameters (u, z) of every flank node (index into the model).
+    pub flank_uv: std::collections::HashMap<usize, (f64, f64)>,
+    pub nodes: [usize; 2],
+    pub elements: [usize; 2],
+}
+
+/// Builds the pair model of `scene` with the sector meshes of `mesh`,
+/// torque T (N·mm, > 0: drives the right flanks) and the normal law `law`.
+pub fn pair_model(
+    scene: &Scene,
+    kin: &MeshKinematics,
+    mesh: &BodyMeshOptions,
+    law: PressureOverclosure,
+    slave: SlaveBody,
+) -> Result<PairModel, FlankError> {
+    let torque = scene.load.torque_nmm;
+    if !(torque > 0.0 && torque.is_finite()) {
+        return Err(FlankError::Model(format!(
+            "FE contact needs a positive pinion torque ([load] torque_nm); got {} N·m: with no torque the teeth carry nothing and the pinion's rotation is not determined",
+            torque / 1000.0
+        )));
+    }
+    let options = BodyMeshOptions {
+        with_load: false,
+        ..*mesh
+    };
+    let (pinion, _) = scene_body(scene, "pinion", &options)?;
+    let (gear, _) = scene_body(scene, "gear", &options)?;
+    combine(scene, kin, &pinion, &gear, torque, law, slave)
+}
+
+/// Label offset that keeps the gear's labels apart from the pinion's.
+fn label_offset(max: u64) -> u64 {
+    let mut off = 10;
+    while off <= max {
+        off *= 10;
+    }
+    off
+}
+
+fn combine(
+    scene: &Scene,
+    kin: &MeshKinematics,
+    pinion: &GearBody,
+    gear: &GearBody,
+    torque: f64,
+    law: PressureOverclosure,
+    slave: SlaveBody,
+) -> Result<PairModel, FlankError> {
+    let pm = &pinion.model.mesh;
+    let gm = &gear.model.mesh;
+    let node_off = label_offset(pm.node_labels.iter().copied().max().unwrap_or(0));
+    let elem_off = label_offset(pm.elements.iter().map(|e| e.label).max().unwrap_or(0));
+    let mut mesh = Mesh::new();
+    let mut body_of = Vec::with_capacity(pm.node_count() + gm.node_count());
+    let mut flank_uv = std::collections::HashMap::new();
+    let mut base = [0usize; 2];
+    for (b, (body, src)) in [(pinion, pm), (gear, gm)].into_iter().enumerate() {
+        let nbase = mesh.node_count();
+        base[b] = nbase;
+        let (noff, eoff) = if b == 0 { (0, 0) } else { (node_off, elem_off) };
+        for (label, x) in src.node_labels.iter().zip(&src.coords) {
+            mesh.add_node(label + noff, *x).map_err(|_| {
+                FlankError::Model(format!("{}: duplicate node label {label}", body.name))
+            })?;
+            body_of.push(b as u32);
+        }
+        for el in &src.elements {
+            mesh.add_element(
+                el.label + eoff,
+                el.kind,
+                el.nodes.iter().map(|&n| n + nbase).collect(),
+            )
+            .map_err(|_| {
+                FlankError::Model(format!(
+                    "{}: duplicate element label {}",
+                    body.name, el.label
+                ))
+            })?;
+        }
+        let prefix = body.name.to_ascii_uppercase();
+        for (name, nodes) in &src.node_sets {
+            mesh.extend_node_set(
+                &format!("{prefix}_{name}"),
+                nodes.iter().map(|&n| n + nbase),
+            );
+        }
+        let ebase = if b == 0 { 0 } else { pm.elements.len() };
+        for (name, els) in &src.element_sets {
+            mesh.extend_element_set(&format!("{prefix}_{name}"), els.iter().map(|&e| e + ebase));
+        }
+        for (&n, &uv) in &body.sector.flank_uv {
+            flank_uv.insert(n + nbase, uv);
+        }
+    }
+    let ne = mesh.elements.len();
+    let mut element_material = vec![0; pm.elements.len()];
+    element_material.resize(ne, 1);
+    let mut model = Model {
+        mesh,
+        materials: vec![
+            pinion.model.materials[0].clone(),
+            gear.model.materials[0].clone(),
+        ],
+        element_material,
+        ..Default::default()
+    };
+    // gear hub clamped (the gear body's own BORE conditions), pinion hub coupled
+    for d in &gear.model.dirichlet {
+        model.dirichlet.push(Dirichlet {
+            node: d.node + base[1],
+            ..*d
+        });
+    }
+    let hub = model
+        .mesh
+        .node_sets
+        .get("PINION_BORE")
+        .cloned()
+        .ok_or_else(|| FlankError::Model("pinion: the sector mesh has no BORE set".into()))?;
+    // drive: clockwise seen from +z, i.e. a moment −T about +z
+    model.couplings.push(RigidCoupling::rotation_about(
+        "PINION_HUB",
+        [0.0, 0.0, 0.5 * kin.face_width[0]],
+        2,
+        hub,
+        -torque,
+    ));
+    // contact: right flanks, pinion tooth k against gear tooth n + 1 − k
+    let mut contact = ContactDefinition {
+        interactions: vec![SurfaceInteraction {
+            name: "TOOTH_CONTACT".into(),
+            behavior: Some(law),
+            friction: None,
+        }],
+        ..Default::default()
+    };
+    let mut contact_nodes = Vec::new();
+    let mut teeth = Vec::new();
+    for k in 1..=kin.teeth {
+        let mate = kin.mate(k);
+        let mut names = Vec::new();
+        for (body, tooth) in [("PINION", k), ("GEAR", mate)] {
+            let set = format!("{body}_FLANK_R{tooth}");
+            let nodes = model.mesh.node_sets.get(&set).cloned().ok_or_else(|| {
+                FlankError::Model(format!("the pair model has no node set {set}"))
+            })?;
+            let faces = faces_on_nodes(&model.mesh, &nodes);
+            if faces.is_empty() {
+                return Err(FlankError::Model(format!(
+                    "node set {set} is on no element face"
+                )));
+            }
+            contact_nodes.extend(&nodes);
+            let name = format!("{body}_R{tooth}");
+            contact.surfaces.push(Surface {
+                name: name.clone(),
+                kind: SurfaceKind::Element(faces),
+            });
+            names.push(name);
+        }
+        let (s, m) = match slave {
+            SlaveBody::Pinion => (names[0].clone(), names[1].clone()),
+            SlaveBody::Gear => (names[1].clone(), names[0].clone()),
+        };
+        contact.pairs.push(ContactPair {
+            interaction: "TOOTH_CONTACT".into(),
+            slave: s,
+            master: m,
+            small_sliding: true,
+        });
+        teeth.push((k, mate));
+    }
+    contact_nodes.sort_unstable();
+    contact_nodes.dedup();
+    model.contact = contact;
+    let _ = scene;
+    Ok(PairModel {
+        body_of,
+        contact_nodes,
+        teeth,
+        flank_uv,
+        nodes: [pm.node_count(), gm.node_count()],
+        elements: [pm.elements.len(), gm.elements.len()],
+        model,
+    })
+}

@@ -1,0 +1,706 @@
+//! The quasi-static mesh cycle: one contact solve per roll angle with the
+//! stiffness factorized once, and what a gear engineer reads from it
+//! (force per tooth pair, load sharing, loaded transmission error, contact
+//! pressure and patch, contact ratio, single-pair force).
+//!
+//! Reuse: the pair model keeps both bodies in their own frames, so K and
+//! its Cholesky factor ([`ElasticSystem`]) are the same at every roll
+//! angle. Per position only the contact geometry is rebuilt (bodies placed
+//! by [`MeshKinematics::frames`], search and projection) and the condensed
+//! problem is solved: one solve for the gaps under the torque, one per
+//! Delassus column of a constraint that enters the active set, one final
+//! solve. Nothing is refactorized.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use crate::compliance::body::BodyMeshOptions;
+use crate::contact::pairing::{build_pair_placed, NormalLaw, PairGeometry, PairingOptions};
+use crate::contact::placement::Placement;
+use crate::contact::solve::{face_averaged_pressure, solve_pairs_placed, ContactOptions};
+use crate::contact::system::ElasticSystem;
+use crate::contact::PressureOverclosure;
+use crate::error::FlankError;
+use crate::fem::ordering::OrderingMethod;
+use crate::fem::static_analysis::peak_memory_mb;
+use crate::mesh_cycle::kinematics::MeshKinematics;
+use crate::mesh_cycle::pair_model::{pair_model, PairModel, SlaveBody};
+use crate::report::vtu::{write_vtu, PointField};
+use crate::scene::{read_scene, ContactAnalysis, Scene};
+
+/// Normal contact law of a gear run.
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum ContactLaw {
+    /// No penetration (Lagrange multipliers), as seed 002's Abaqus "hard".
+    #[default]
+    Hard,
+    /// Linear penalty: slope × overclosure; slope = penalty_factor × the
+    /// automatic default (10 × the flank elements' normal stiffness per area).
+    Penalty,
+}
+
+/// Options of [`run_scene`]; `None` falls back to the scene's
+/// `[analyses.contact]`, then to the defaults.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    pub out: PathBuf,
+    pub mesh: BodyMeshOptions,
+    pub threads: usize,
+    /// Roll angles (deg, flank's convention); overrides the scene's.
+    pub roll_angles_deg: Option<Vec<f64>>,
+    pub law: Option<ContactLaw>,
+    pub penalty_factor: Option<f64>,
+    pub slave: Option<SlaveBody>,
+    /// Write a VTU file per position.
+    pub vtu: Option<bool>,
+    /// Bisect the middle pair's first and last loaded roll angles.
+    pub refine_contact_limits: Option<bool>,
+    pub quiet: bool,
+}
+
+/// Fraction of the nominal force T/r_b1 above which a tooth pair counts as
+/// carrying load (contact ratio, single contact).
+pub const LOADED_FRACTION: f64 = 1e-3;
+
+/// Contact patch of one tooth pair at one position (slave flank).
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct Patch {
+    /// Slave nodes in contact.
+    pub closed_nodes: usize,
+    /// Σ tributary area of the closed slave nodes (mm²).
+    pub area_mm2: f64,
+    /// Range of the slave flank's radius (own frame, mm) and of z (mm).
+    pub radius_min_mm: f64,
+    pub radius_max_mm: f64,
+    pub z_min_mm: f64,
+    pub z_max_mm: f64,
+}
+
+/// Results of one roll angle.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct StepResult {
+    pub roll_deg: f64,
+    /// The roll angle in the scene's reference convention (if it gives one).
+    pub reference_deg: Option<f64>,
+    /// Normal contact force per tooth pair (N), Σλ over its slave nodes.
+    pub pair_force_n: Vec<f64>,
+    /// Share of each pair in the total normal force.
+    pub load_share: Vec<f64>,
+    /// Kinematic contact position of each pair on the line of action, from
+    /// the start of the path of contact (mm); outside [0, g_α]: no kinematic
+    /// contact.
+    pub kinematic_position_mm: Vec<f64>,
+    /// Loaded transmission error: pinion rotation under load beyond the
+    /// rigid kinematic rotation (µrad) and that times r_b1 (µm, along the
+    /// line of action).
+    pub te_urad: f64,
+    pub te_um: f64,
+    /// Largest face-averaged contact pressure per pair (MPa) and largest
+    /// nodal pressure λ/A (MPa).
+    pub max_pressure_mpa: Vec<f64>,
+    pub max_nodal_pressure_mpa: Vec<f64>,
+    pub patch: Vec<Patch>,
+    pub candidates: usize,
+    pub active_set_iterations: usize,
+    pub delassus_columns: usize,
+    /// Contact-law violation (mm), complementarity (N·mm), equilibrium of
+    /// the pinion (relative), backward error of the final solve.
+    pub max_violation_mm: f64,
+    pub complementarity: f64,
+    pub equilibrium: f64,
+    pub backward_error: f64,
+    pub time_s: f64,
+    pub warnings: Vec<String>,
+}
+
+/// The resolved settings of a run.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct RunSettings {
+    pub law: ContactLaw,
+    pub penalty_factor: f64,
+    pub slave: SlaveBody,
+    pub search_distance_mm: f64,
+    pub roll_angles_deg: Vec<f64>,
+    pub vtu: bool,
+    pub refine_contact_limits: bool,
+    /// reference = roll − (kinematic start of single contact) + this.
+    pub reference_single_contact_start_deg: Option<f64>,
+}
+
+/// A solved roll angle with its fields.
+pub struct Solved {
+    pub step: StepResult,
+    /// Displacements in the bodies' own frames (node-major).
+    pub displacement: Vec<f64>,
+    /// Face-averaged contact pressure at the slave nodes (MPa).
+    pub pressure: Vec<f64>,
+}
+
+/// Everything a run needs between positions.
+pub struct MeshCycle {
+    pub kin: MeshKinematics,
+    pub pair: PairModel,
+    pub system: ElasticSystem,
+    pub settings: RunSettings,
+    contact: ContactOptions,
+    torque: f64,
+}
+
+impl MeshCycle {
+    /// Builds and factorizes the pair model of `scene`.
+    pub fn new(
+        scene: &Scene,
+        mesh: &BodyMeshOptions,
+        settings: RunSettings,
+        threads: usize,
+    ) -> Result<Self, FlankError> {
+        let kin = MeshKinematics::new(&scene.pair, scene.mesh.teeth_in_sector as usize)?;
+        let law = match settings.law {
+            ContactLaw::Hard => PressureOverclosure::Hard,
+            ContactLaw::Penalty => PressureOverclosure::Linear {
+                slope: None,
+                tension: None,
+                c0: None,
+            },
+        };
+        let mut pair = pair_model(scene, &kin, mesh, law, settings.slave)?;
+        if settings.law == ContactLaw::Penalty {
+            // the automatic slope of the master faces, scaled
+            let faces = crate::contact::surface::surface_faces(
+                &pair.model.mesh,
+                &pair.model.contact.surfaces[1],
+                &mut None,
+            );
+            let (slope, _) = crate::contact::pairing::default_penalty_slope(&pair.model, &faces);
+            pair.model.contact.interactions[0].behavior = Some(PressureOverclosure::Linear {
+                slope: Some(slope * settings.penalty_factor),
+                tension: None,
+                c0: None,
+            });
+        }
+        let system = ElasticSystem::new(
+            &pair.model,
+            &pair.contact_nodes,
+            OrderingMethod::Metis,
+            threads,
+        )?;
+        if system.floating.modes.len() != 1 {
+            return Err(FlankError::Model(format!(
+                "the pair model should have exactly one floating mode (the pinion's rotation), found {}",
+                system.floating.modes.len()
+            )));
+        }
+        let contact = ContactOptions {
+            ordering: OrderingMethod::Metis,
+            threads,
+            recover_stress: false,
+            pairing: PairingOptions {
+                search_distance: Some(settings.search_distance_mm),
+                max_initial_penetration: None,
+            },
+            max_iterations: 1000,
+            gap_tolerance: None,
+        };
+        Ok(MeshCycle {
+            kin,
+            pair,
+            system,
+            settings,
+            contact,
+            torque: scene.load.torque_nmm,
+        })
+    }
+
+    /// The nominal single-pair normal force T/r_b1 (N).
+    pub fn nominal_force(&self) -> f64 {
+        self.torque / self.kin.base_radius[0]
+    }
+
+    /// The placement of both bodies at `roll` (rad).
+    pub fn placement(&self, roll: f64) -> Placement {
+        Placement {
+            body_of: self.pair.body_of.clone(),
+            frames: self.kin.frames(roll).to_vec(),
+        }
+    }
+
+    /// Solves one roll angle (deg) with the factorized stiffness.
+    pub fn solve(&self, roll_deg: f64) -> Result<Solved, FlankError> {
+        let t = Instant::now();
+        let roll = roll_deg.to_radians();
+        let placement = self.placement(roll);
+        let model = &self.pair.model;
+        let pairs: Vec<PairGeometry> = (0..model.contact.pairs.len())
+            .map(|p| build_pair_placed(model, &placement, p, &self.contact.pairing))
+            .collect::<Result<_, _>>()?;
+        let state = solve_pairs_placed(model, &self.system, &pairs, &placement, &self.contact)
+            .map_err(|e| FlankError::Solver(format!("roll angle {roll_deg}°: {e}")))?;
+        let np = pairs.len();
+        let mut step = StepResult {
+            roll_deg,
+            reference_deg: self.reference_deg(roll_deg),
+            pair_force_n: vec![0.0; np],
+            load_share: vec![0.0; np],
+            kinematic_position_mm: self
+                .pair
+                .teeth
+                .iter()
+                .map(|&(k, _)| self.kin.contact_position(k, roll) - self.kin.path_start)
+                .collect(),
+            max_pressure_mpa: vec![0.0; np],
+            max_nodal_pressure_mpa: vec![0.0; np],
+            patch: vec![Patch::default(); np],
+            candidates: state.constraints.len(),
+            active_set_iterations: state.active_set.iterations,
+            delassus_columns: state.active_set.columns,
+            max_violation_mm: state.active_set.max_violation,
+            complementarity: state.active_set.complementarity,
+            equilibrium: state.active_set.equilibrium,
+            backward_error: state.backward_error,
+            warnings: state.warnings.clone(),
+            ..Default::default()
+        };
+        let nn = model.mesh.node_count();
+        let mut pressure = vec![0.0; nn];
+        let mut offset = 0;
+        for (p, g) in pairs.iter().enumerate() {
+            let k = g.constraints.len();
+            let lam = &state.active_set.lambda[offset..offset + k];
+            let smooth = face_averaged_pressure(model, g, lam);
+            let patch = &mut step.patch[p];
+            patch.radius_min_mm = f64::INFINITY;
+            patch.z_min_mm = f64::INFINITY;
+            for (i, c) in g.constraints.iter().enumerate() {
+                step.pair_force_n[p] += lam[i];
+                pressure[c.slave] = smooth[i];
+                step.max_pressure_mpa[p] = step.max_pressure_mpa[p].max(smooth[i]);
+                step.max_nodal_pressure_mpa[p] =
+                    step.max_nodal_pressure_mpa[p].max(lam[i] / c.area);
+                if lam[i] > 0.0 {
+                    let x = model.mesh.coords[c.slave];
+                    let r = x[0].hypot(x[1]);
+                    patch.closed_nodes += 1;
+                    patch.area_mm2 += c.area;
+                    patch.radius_min_mm = patch.radius_min_mm.min(r);
+                    patch.radius_max_mm = patch.radius_max_mm.max(r);
+                    patch.z_min_mm = patch.z_min_mm.min(x[2]);
+                    patch.z_max_mm = patch.z_max_mm.max(x[2]);
+                }
+            }
+            if patch.closed_nodes == 0 {
+                *patch = Patch::default();
+            }
+            offset += k;
+        }
+        let total: f64 = step.pair_force_n.iter().sum();
+        if total > 0.0 {
+            for p in 0..np {
+                step.load_share[p] = step.pair_force_n[p] / total;
+            }
+        }
+        // pinion hub rotation about +z; the drive turns it clockwise
+        let rz = state.coupling_motion[0][5];
+        step.te_urad = -rz * 1e6;
+        step.te_um = -rz * self.kin.base_radius[0] * 1e3;
+        if !(step.te_urad.is_finite()) {
+            return Err(FlankError::Solver(format!(
+                "roll angle {roll_deg}°: the pinion rotation is not finite"
+            )));
+        }
+        step.time_s = t.elapsed().as_secs_f64();
+        Ok(Solved {
+            step,
+            displacement: state.displacement,
+            pressure,
+        })
+    }
+
+    fn reference_deg(&self, roll_deg: f64) -> Option<f64> {
+        self.settings
+            .reference_single_contact_start_deg
+            .map(|r| roll_deg - self.kin.single_contact().0.to_degrees() + r)
+    }
+
+    /// Whether pair `p` carries load in `step`.
+    pub fn loaded(&self, step: &StepResult, p: usize) -> bool {
+        step.pair_force_n[p] > LOADED_FRACTION * self.nominal_force()
+    }
+
+    /// Bisects the roll angle (deg) between `off` (pair `p` unloaded) and
+    /// `on` (loaded) to `tol` degrees.
+    fn bisect(
+        &self,
+        p: usize,
+        mut off: f64,
+        mut on: f64,
+        tol: f64,
+    ) -> Result<(f64, usize), FlankError> {
+        let mut solves = 0;
+        while (on - off).abs() > tol {
+            let mid = 0.5 * (on + off);
+            let s = self.solve(mid)?;
+            solves += 1;
+            if self.loaded(&s.step, p) {
+                on = mid;
+            } else {
+                off = mid;
+            }
+        }
+        Ok((0.5 * (on + off), solves))
+    }
+}
+
+/// Default roll angles: the middle pair's kinematic engagement widened by
+/// two steps on each side, on whole multiples of the step (deg).
+pub fn default_roll_angles(kin: &MeshKinematics, step_deg: f64) -> Vec<f64> {
+    let (a, e) = kin.engagement(kin.middle);
+    let start = (a.to_degrees() / step_deg).floor() - 2.0;
+    let end = (e.to_degrees() / step_deg).ceil() + 2.0;
+    let n = (end - start).round() as i64;
+    (0..=n).map(|i| (start + i as f64) * step_deg).collect()
+}
+
+/// Resolves the run's settings from the options, the scene's
+/// `[analyses.contact]` and the defaults.
+pub fn settings(
+    scene: &Scene,
+    kin: &MeshKinematics,
+    o: &RunOptions,
+) -> Result<RunSettings, FlankError> {
+    let a = scene.analyses.contact.clone().unwrap_or_default();
+    let law = o.law.or(a.law).unwrap_or_default();
+    let penalty_factor = o.penalty_factor.or(a.penalty_factor).unwrap_or(1.0);
+    if !(penalty_factor > 0.0 && penalty_factor.is_finite()) {
+        return Err(FlankError::Model(format!(
+            "penalty factor {penalty_factor} must be positive"
+        )));
+    }
+    let roll_angles_deg = match &o.roll_angles_deg {
+        Some(v) => v.clone(),
+        None => scene_roll_angles(&a, kin)?,
+    };
+    if roll_angles_deg.is_empty() || roll_angles_deg.iter().any(|v| !v.is_finite()) {
+        return Err(FlankError::Model(
+            "the roll angles must be finite and at least one".into(),
+        ));
+    }
+    Ok(RunSettings {
+        law,
+        penalty_factor,
+        slave: o.slave.or(a.slave).unwrap_or_default(),
+        search_distance_mm: a.search_distance_mm.unwrap_or(0.1),
+        roll_angles_deg,
+        vtu: o.vtu.or(a.vtu).unwrap_or(true),
+        refine_contact_limits: o
+            .refine_contact_limits
+            .or(a.refine_contact_limits)
+            .unwrap_or(true),
+        reference_single_contact_start_deg: a.reference_single_contact_start_deg,
+    })
+}
+
+fn scene_roll_angles(a: &ContactAnalysis, kin: &MeshKinematics) -> Result<Vec<f64>, FlankError> {
+    if let Some(v) = &a.roll_angles_deg {
+        return Ok(v.clone());
+    }
+    if let Some(v) = &a.reference_angles_deg {
+        let r = a.reference_single_contact_start_deg.ok_or_else(|| {
+            FlankError::Model(
+                "reference_angles_deg needs reference_single_contact_start_deg".into(),
+            )
+        })?;
+        let lpstc = kin.single_contact().0.to_degrees();
+        return Ok(v.iter().map(|x| x - r + lpstc).collect());
+    }
+    let step = a.roll_step_deg.unwrap_or(1.0);
+    match (a.roll_start_deg, a.roll_end_deg) {
+        (Some(s), Some(e)) => {
+            let n = ((e - s) / step + 1e-9).floor() as i64;
+            Ok((0..=n).map(|i| s + i as f64 * step).collect())
+        }
+        (None, None) => Ok(default_roll_angles(kin, step)),
+        _ => Err(FlankError::Model(
+            "[analyses.contact]: give both roll_start_deg and roll_end_deg, or neither".into(),
+        )),
+    }
+}
+
+/// `flank run SCENE`: the FE contact mesh cycle of the scene, written to
+/// `options.out`. Returns the summary (also written as summary.json).
+pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value, FlankError> {
+    let scene = read_scene(path)?;
+    if scene.analyses.contact.is_none() {
+        return Err(FlankError::Model(format!(
+            "{}: the scene asks for no analysis `flank run` performs; add `contact = {{}}` under [analyses] for the FE contact mesh cycle",
+            path.display()
+        )));
+    }
+    run(&scene, options)
+}
+
+/// The mesh cycle of a parsed scene (see [`run_scene`]).
+pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, FlankError> {
+    let t_total = Instant::now();
+    let kin = MeshKinematics::new(&scene.pair, scene.mesh.teeth_in_sector as usize)?;
+    let settings = settings(scene, &kin, options)?;
+    let out = &options.out;
+    std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
+    let t = Instant::now();
+    let cycle = MeshCycle::new(scene, &options.mesh, settings, options.threads)?;
+    let setup_s = t.elapsed().as_secs_f64();
+    let nominal = cycle.nominal_force();
+    let np = cycle.pair.teeth.len();
+    let mid = cycle.kin.middle - 1;
+    let angles = cycle.settings.roll_angles_deg.clone();
+    let bar = if options.quiet {
+        indicatif::ProgressBar::hidden()
+    } else {
+        let b = indicatif::ProgressBar::new(angles.len() as u64);
+        b.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{msg} [{bar:30}] {pos}/{len} positions, {elapsed} (eta {eta})",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        b.set_message("mesh cycle");
+        b
+    };
+    let mut steps = Vec::with_capacity(angles.len());
+    for (i, &a) in angles.iter().enumerate() {
+        let solved = cycle.solve(a)?;
+        if cycle.settings.vtu {
+            write_position_vtu(&cycle, out, i, a, &solved)?;
+        }
+        steps.push(solved.step);
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    let time_per_position_s =
+        steps.iter().map(|s| s.time_s).sum::<f64>() / steps.len().max(1) as f64;
+
+    // contact ratio from the middle pair's loaded interval
+    let mut notes: Vec<String> = Vec::new();
+    let mut refine_solves = 0;
+    let mut limits: Option<(f64, f64)> = None;
+    let loaded: Vec<bool> = steps.iter().map(|s| cycle.loaded(s, mid)).collect();
+    let first = loaded.iter().position(|&l| l);
+    let last = loaded.iter().rposition(|&l| l);
+    match (first, last) {
+        (Some(f), Some(l)) if f > 0 && l + 1 < steps.len() => {
+            let (mut start, mut end) = (
+                0.5 * (steps[f - 1].roll_deg + steps[f].roll_deg),
+                0.5 * (steps[l].roll_deg + steps[l + 1].roll_deg),
+            );
+            if cycle.settings.refine_contact_limits {
+                let (s, n1) = cycle.bisect(mid, steps[f - 1].roll_deg, steps[f].roll_deg, 0.01)?;
+                let (e, n2) = cycle.bisect(mid, steps[l + 1].roll_deg, steps[l].roll_deg, 0.01)?;
+                start = s;
+                end = e;
+                refine_solves = n1 + n2;
+            }
+            limits = Some((start, end));
+        }
+        _ => notes.push(
+            "contact ratio not measured: the roll angles do not cover the middle pair's whole engagement with an unloaded position before and after"
+                .into(),
+        ),
+    }
+    let pitch_deg = cycle.kin.angular_pitch[0].to_degrees();
+    let contact_ratio = limits.map(|(s, e)| (e - s) / pitch_deg);
+    // single contact: only the middle pair loaded
+    let single: Vec<&StepResult> = steps
+        .iter()
+        .filter(|s| (0..np).all(|p| (p == mid) == cycle.loaded(s, p)))
+        .collect();
+    let single_pair_force_n = if single.is_empty() {
+        notes.push("no position with a single loaded pair".into());
+        None
+    } else {
+        Some(single.iter().map(|s| s.pair_force_n[mid]).sum::<f64>() / single.len() as f64)
+    };
+    let worst = |f: fn(&StepResult) -> f64| steps.iter().map(f).fold(0.0f64, f64::max);
+    let warnings: Vec<String> = steps
+        .iter()
+        .flat_map(|s| {
+            s.warnings
+                .iter()
+                .map(move |w| format!("{}°: {w}", s.roll_deg))
+        })
+        .collect();
+    write_steps_csv(&out.join("mesh_cycle.csv"), &steps, np)?;
+    let (lpstc, hpstc) = cycle.kin.single_contact();
+    let (eng_a, eng_e) = cycle.kin.engagement(cycle.kin.middle);
+    let te: Vec<f64> = steps.iter().map(|s| s.te_urad).collect();
+    let te_mean = te.iter().sum::<f64>() / te.len().max(1) as f64;
+    let te_pp = te.iter().fold(f64::NEG_INFINITY, |a, &v| a.max(v))
+        - te.iter().fold(f64::INFINITY, |a, &v| a.min(v));
+    let plot_files = crate::mesh_cycle::plot::plot_mesh_cycle(
+        out,
+        &steps,
+        &cycle.pair.teeth,
+        nominal,
+        cycle.kin.base_radius[0],
+    )
+    .unwrap_or_else(|e| {
+        notes.push(format!("plots not written: {e}"));
+        Vec::new()
+    });
+    let stats = &cycle.system.stats;
+    let mut summary = serde_json::json!({
+        "scene": scene.source.display().to_string(),
+        "analysis": "fe_contact_mesh_cycle",
+        "contact_ratio": contact_ratio,
+        "contact_ratio_kinematic": cycle.kin.contact_ratio,
+        "single_pair_force_n": single_pair_force_n,
+        "nominal_force_n": nominal,
+        "single_pair_force_error": single_pair_force_n.map(|f| f / nominal - 1.0),
+        "single_contact_positions": single.len(),
+        "middle_pair_loaded_deg": limits.map(|(s, e)| [s, e]),
+        "middle_pair_kinematic_deg": [eng_a.to_degrees(), eng_e.to_degrees()],
+        "kinematic_single_contact_deg": [lpstc.to_degrees(), hpstc.to_degrees()],
+        "angular_pitch_deg": pitch_deg,
+        "loaded_threshold_fraction": LOADED_FRACTION,
+        "positions": steps.len(),
+        "refinement_positions": refine_solves,
+        "time_per_position_s": time_per_position_s,
+        "setup_s": setup_s,
+        "total_s": t_total.elapsed().as_secs_f64(),
+        "nodes": cycle.pair.model.mesh.node_count(),
+    });
+    let more = serde_json::json!({
+        "nodes_per_body": cycle.pair.nodes,
+        "elements_per_body": cycle.pair.elements,
+        "dofs": stats.dofs,
+        "nnz_factor": stats.nnz_factor,
+        "ordering": stats.ordering,
+        "assembly_s": stats.assembly_s,
+        "factorization_s": stats.factorization_s,
+        "threads": crate::fem::solver::parallelism(options.threads).degree(),
+        "peak_memory_mb": peak_memory_mb(),
+    });
+    let more2 = serde_json::json!({
+        "te_mean_urad": te_mean,
+        "te_peak_to_peak_urad": te_pp,
+        "te_peak_to_peak_um": te_pp * cycle.kin.base_radius[0] * 1e-3,
+        "max_violation_mm": worst(|s| s.max_violation_mm),
+        "max_complementarity": worst(|s| s.complementarity),
+        "max_equilibrium": worst(|s| s.equilibrium),
+        "max_backward_error": worst(|s| s.backward_error),
+        "settings": cycle.settings,
+        "law": match cycle.pair.model.contact.interactions[0].behavior {
+            Some(PressureOverclosure::Linear { slope: Some(s), .. }) =>
+                serde_json::to_value(NormalLaw::Penalty { slope: s, automatic: cycle.settings.penalty_factor == 1.0 }).unwrap_or_default(),
+            _ => serde_json::to_value(NormalLaw::Hard).unwrap_or_default(),
+        },
+        "tooth_pairs": cycle.pair.teeth,
+        "kinematics": cycle.kin,
+        "files": {
+            "csv": "mesh_cycle.csv",
+            "plots": plot_files,
+            "vtu": if cycle.settings.vtu { "position_NNN.vtu" } else { "" },
+        },
+        "notes": notes,
+        "warnings": warnings,
+        "steps": steps,
+    });
+    if let (Some(m), Some(a), Some(b)) =
+        (summary.as_object_mut(), more.as_object(), more2.as_object())
+    {
+        m.extend(a.clone());
+        m.extend(b.clone());
+    }
+    let text = serde_json::to_string_pretty(&summary)
+        .map_err(|e| FlankError::Model(format!("summary: {e}")))?;
+    let p = out.join("summary.json");
+    std::fs::write(&p, text).map_err(|e| FlankError::io(&p, e))?;
+    Ok(summary)
+}
+
+/// `position_NNN.vtu`: both bodies placed at the roll angle, displacement
+/// (global frame) and contact pressure.
+fn write_position_vtu(
+    cycle: &MeshCycle,
+    out: &Path,
+    index: usize,
+    roll_deg: f64,
+    solved: &Solved,
+) -> Result<(), FlankError> {
+    let placement = cycle.placement(roll_deg.to_radians());
+    let mut mesh = cycle.pair.model.mesh.clone();
+    mesh.coords = placement.positions(&mesh.coords);
+    let u = placement.global_vectors(&solved.displacement);
+    let p = out.join(format!("position_{index:03}.vtu"));
+    write_vtu(
+        &p,
+        &mesh,
+        &[
+            PointField {
+                name: "displacement",
+                components: 3,
+                values: &u,
+            },
+            PointField {
+                name: "contact_pressure",
+                components: 1,
+                values: &solved.pressure,
+            },
+        ],
+        &[],
+    )
+}
+
+fn write_steps_csv(path: &Path, steps: &[StepResult], np: usize) -> Result<(), FlankError> {
+    use std::fmt::Write as _;
+    let mut s = String::from("roll_deg,reference_deg");
+    for p in 1..=np {
+        let _ = write!(
+            s,
+            ",force_pair{p}_n,share_pair{p},position_pair{p}_mm,max_pressure_pair{p}_mpa,closed_nodes_pair{p}"
+        );
+    }
+    s.push_str(",te_urad,te_um,candidates,iterations,columns,max_violation_mm,complementarity,equilibrium,time_s\n");
+    for st in steps {
+        let _ = write!(
+            s,
+            "{},{}",
+            st.roll_deg,
+            st.reference_deg.map_or(String::new(), |v| format!("{v}"))
+        );
+        for p in 0..np {
+            let _ = write!(
+                s,
+                ",{},{},{},{},{}",
+                st.pair_force_n[p],
+                st.load_share[p],
+                st.kinematic_position_mm[p],
+                st.max_pressure_mpa[p],
+                st.patch[p].closed_nodes
+            );
+        }
+        let _ = writeln!(
+            s,
+            ",{},{},{},{},{},{:e},{:e},{:e},{}",
+            st.te_urad,
+            st.te_um,
+            st.candidates,
+            st.active_set_iterations,
+            st.delassus_columns,
+            st.max_violation_mm,
+            st.complementarity,
+            st.equilibrium,
+            st.time_s
+        );
+    }
+    std::fs::write(path, s).map_err(|e| FlankError::io(path, e))
+}
