@@ -186,6 +186,10 @@ enum Command {
         /// point), comma-separated; overrides the scene's.
         #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
         roll_angles: Option<Vec<f64>>,
+        /// Roll angles in the scene's reference convention
+        /// (reference_single_contact_start_deg, e.g. the paper's angles).
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        reference_angles: Option<Vec<f64>>,
         /// Normal contact law; overrides the scene's.
         #[arg(long, value_enum)]
         law: Option<flank::mesh_cycle::ContactLaw>,
@@ -440,6 +444,7 @@ fn run(cli: Cli) -> Result<()> {
             base_size,
             element,
             roll_angles,
+            reference_angles,
             law,
             penalty_factor,
             slave,
@@ -462,6 +467,7 @@ fn run(cli: Cli) -> Result<()> {
                 },
                 threads,
                 roll_angles_deg: roll_angles,
+                reference_angles_deg: reference_angles,
                 law,
                 penalty_factor,
                 slave,

@@ -71,8 +71,10 @@ pub struct Condensed {
 /// enters). 1 would add one violation level at a time, 0 all at once.
 pub const ADDITION_FRACTION: f64 = 0.5;
 
-/// Violated constraints that may enter at once when few are active.
-pub const MIN_ADDITIONS: usize = 16;
+/// Violated constraints that may enter at once when few are active (one
+/// block of right-hand sides of the Delassus column solves costs about the
+/// same as a single one).
+pub const MIN_ADDITIONS: usize = 32;
 
 /// Options of the active-set loop.
 #[derive(Clone, Debug)]

@@ -59,6 +59,9 @@ pub struct RunOptions {
     pub threads: usize,
     /// Roll angles (deg, flank's convention); overrides the scene's.
     pub roll_angles_deg: Option<Vec<f64>>,
+    /// Roll angles in the scene's reference convention
+    /// (`reference_single_contact_start_deg`); overrides the scene's.
+    pub reference_angles_deg: Option<Vec<f64>>,
     pub law: Option<ContactLaw>,
     pub penalty_factor: Option<f64>,
     pub slave: Option<SlaveBody>,
@@ -386,9 +389,23 @@ pub fn settings(
             "penalty factor {penalty_factor} must be positive"
         )));
     }
-    let roll_angles_deg = match &o.roll_angles_deg {
-        Some(v) => v.clone(),
-        None => scene_roll_angles(&a, kin)?,
+    let roll_angles_deg = match (&o.roll_angles_deg, &o.reference_angles_deg) {
+        (Some(_), Some(_)) => {
+            return Err(FlankError::Model(
+                "give roll angles or reference angles, not both".into(),
+            ))
+        }
+        (Some(v), None) => v.clone(),
+        (None, Some(v)) => {
+            let r = a.reference_single_contact_start_deg.ok_or_else(|| {
+                FlankError::Model(
+                    "reference angles need reference_single_contact_start_deg in the scene's [analyses.contact]".into(),
+                )
+            })?;
+            let lpstc = kin.single_contact().0.to_degrees();
+            v.iter().map(|x| x - r + lpstc).collect()
+        }
+        (None, None) => scene_roll_angles(&a, kin)?,
     };
     if roll_angles_deg.is_empty() || roll_angles_deg.iter().any(|v| !v.is_finite()) {
         return Err(FlankError::Model(
@@ -541,7 +558,13 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
     write_steps_csv(&out.join("mesh_cycle.csv"), &steps, np)?;
     let (lpstc, hpstc) = cycle.kin.single_contact();
     let (eng_a, eng_e) = cycle.kin.engagement(cycle.kin.middle);
-    let te: Vec<f64> = steps.iter().map(|s| s.te_urad).collect();
+    // TE over the positions where the middle pair carries load (1.5
+    // pitches: a whole mesh cycle away from the sector's outer teeth)
+    let te: Vec<f64> = steps
+        .iter()
+        .filter(|s| cycle.loaded(s, mid))
+        .map(|s| s.te_urad)
+        .collect();
     let te_mean = te.iter().sum::<f64>() / te.len().max(1) as f64;
     let te_pp = te.iter().fold(f64::NEG_INFINITY, |a, &v| a.max(v))
         - te.iter().fold(f64::INFINITY, |a, &v| a.min(v));
@@ -590,6 +613,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
         "peak_memory_mb": peak_memory_mb(),
     });
     let more2 = serde_json::json!({
+        "te_positions": te.len(),
         "te_mean_urad": te_mean,
         "te_peak_to_peak_urad": te_pp,
         "te_peak_to_peak_um": te_pp * cycle.kin.base_radius[0] * 1e-3,
