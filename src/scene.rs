@@ -1657,6 +1657,69 @@ speed_rpm = 3000.0
     }
 
     #[test]
+    fn contact_analysis_keys() {
+        let ok = edit(
+            SPUR,
+            "mesh = {}\n",
+            "mesh = {}\ncontact = { roll_start_deg = -20.0, roll_end_deg = 20.0, roll_step_deg = 0.5, law = \"penalty\", penalty_factor = 10.0, slave = \"gear\", friction_mu = 0.0 }\n",
+        );
+        let s = parse(&ok).unwrap();
+        let c = s.analyses.contact.unwrap();
+        assert_eq!(c.law, Some(crate::mesh_cycle::ContactLaw::Penalty));
+        assert_eq!(c.slave, Some(crate::mesh_cycle::SlaveBody::Gear));
+        for (bad, words) in [
+            (
+                "contact = { friction_mu = -0.1 }",
+                &["friction_mu", "≥ 0"][..],
+            ),
+            (
+                "contact = { friction_mu = 0.05 }",
+                &["friction", "not implemented"][..],
+            ),
+            (
+                "contact = { roll_step_deg = 0.0 }",
+                &["roll_step_deg", "> 0"][..],
+            ),
+            ("contact = { roll_start_deg = 5.0 }", &["roll_end_deg"][..]),
+            (
+                "contact = { roll_start_deg = 5.0, roll_end_deg = -5.0 }",
+                &["before"][..],
+            ),
+            ("contact = { penalty_factor = 10.0 }", &["penalty"][..]),
+            (
+                "contact = { law = \"soft\" }",
+                &["analyses.contact", "soft"][..],
+            ),
+            (
+                "contact = { reference_angles_deg = [18.0] }",
+                &["reference_single_contact_start_deg"][..],
+            ),
+            (
+                "contact = { search_distance_mm = -1.0 }",
+                &["search_distance_mm"][..],
+            ),
+            (
+                "contact = { roll_angles_deg = [] }",
+                &["roll_angles_deg"][..],
+            ),
+            ("contact = { rpm = 3 }", &["analyses.contact", "rpm"][..]),
+        ] {
+            let t = edit(SPUR, "mesh = {}\n", &format!("mesh = {{}}\n{bad}\n"));
+            expect_err(&t, line_of(&t, "contact ="), words);
+        }
+    }
+
+    #[test]
+    fn negative_torque() {
+        let t = edit(SPUR, "torque_nm = 312.0", "torque_nm = -312.0");
+        expect_err(
+            &t,
+            line_of(&t, "torque_nm"),
+            &["load.torque_nm", "negative"],
+        );
+    }
+
+    #[test]
     fn negative_module() {
         let t = edit(
             SPUR,

@@ -244,11 +244,17 @@ impl MeshCycle {
         let roll = roll_deg.to_radians();
         let placement = self.placement(roll);
         let model = &self.pair.model;
+        let at = |e: FlankError| match e {
+            FlankError::Solver(m) => FlankError::Solver(format!("roll angle {roll_deg}°: {m}")),
+            FlankError::Model(m) => FlankError::Model(format!("roll angle {roll_deg}°: {m}")),
+            other => other,
+        };
         let pairs: Vec<PairGeometry> = (0..model.contact.pairs.len())
             .map(|p| build_pair_placed(model, &placement, p, &self.contact.pairing))
-            .collect::<Result<_, _>>()?;
+            .collect::<Result<_, _>>()
+            .map_err(at)?;
         let state = solve_pairs_placed(model, &self.system, &pairs, &placement, &self.contact)
-            .map_err(|e| FlankError::Solver(format!("roll angle {roll_deg}°: {e}")))?;
+            .map_err(at)?;
         let np = pairs.len();
         let mut step = StepResult {
             roll_deg,

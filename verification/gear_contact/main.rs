@@ -268,6 +268,26 @@ fn coarse_mesh_cycle() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+/// Bad input: a roll angle where no tooth pair is near contact (the sector
+/// has rolled out of mesh) is a clear error, not a hang or a garbage answer.
+#[test]
+fn out_of_mesh_roll_angle_is_an_error() {
+    let c = cycle(
+        &mesh(1.5, 3.0),
+        settings(ContactLaw::Hard, 1.0, SlaveBody::Pinion),
+    );
+    let err = c
+        .solve(120.0)
+        .err()
+        .expect("no contact must fail")
+        .to_string();
+    println!("{err}");
+    assert!(
+        err.contains("roll angle 120°") && err.contains("do not touch"),
+        "{err}"
+    );
+}
+
 /// Bad input: zero torque is refused before any meshing.
 #[test]
 fn zero_torque_is_an_error() {
