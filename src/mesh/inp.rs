@@ -48,7 +48,7 @@ use crate::contact::definition::{
 };
 use crate::error::{FlankError, Result};
 use crate::fem::material::Material;
-use crate::fem::model::{Dirichlet, Model, NodalForce, Pressure};
+use crate::fem::model::{Dirichlet, Model, NodalForce, Pressure, RigidCoupling};
 use crate::mesh::ElementKind;
 
 /// A non-fatal remark about a deck (something was ignored).
@@ -115,11 +115,18 @@ const OUTPUT_KEYWORDS: &[&str] = &[
 const FATAL_KEYWORDS: &[(&str, &str)] = &[
     ("EQUATION", "linear multi-point constraints"),
     ("MPC", "multi-point constraints"),
-    ("COUPLING", "kinematic/distributing coupling"),
-    ("KINEMATIC", "kinematic coupling"),
-    ("DISTRIBUTING", "distributing coupling"),
-    ("DISTRIBUTING COUPLING", "distributing coupling"),
-    ("RIGID BODY", "rigid bodies"),
+    (
+        "DISTRIBUTING",
+        "distributing coupling: the reference load is spread over the surface, the nodes are not held rigid; only *KINEMATIC maps onto flank's rigid coupling",
+    ),
+    (
+        "DISTRIBUTING COUPLING",
+        "distributing coupling: the nodes are not held rigid; only *COUPLING + *KINEMATIC or *RIGID BODY",
+    ),
+    (
+        "KINEMATIC COUPLING",
+        "Abaqus kinematic coupling; write it as *COUPLING + *KINEMATIC or *RIGID BODY",
+    ),
     ("TIE", "tied surfaces"),
     ("CLEARANCE", "contact clearances"),
     ("GAP", "gap elements"),
@@ -261,7 +268,8 @@ enum Cmd {
         material: String,
         loc: Loc,
     },
-    /// Components `first..=last` (0-based) of the target nodes.
+    /// Components `first..=last` (0-based, 0..=5: rotations 3..=5 mean
+    /// something only on a reference node) of the target nodes.
     Boundary {
         target: Target,
         first: usize,
@@ -281,6 +289,9 @@ enum Cmd {
         value: f64,
         loc: Loc,
     },
+    /// `*RIGID BODY` number `coupling`: its node or element set is taken as
+    /// it stands at this point of the deck.
+    Coupling { coupling: usize },
     /// A data line of `*SURFACE` number `surface`: element(s) with a face,
     /// or node(s) (`face == 0`).
     SurfaceItem {
@@ -289,6 +300,37 @@ enum Cmd {
         face: usize,
         loc: Loc,
     },
+}
+
+/// Which nodes a hub coupling holds.
+enum CouplingMembers {
+    NodeSet(u32),
+    /// All nodes of the elements of a set.
+    ElementSet(u32),
+    /// The nodes of a `*SURFACE` (faces: corner and midside nodes).
+    Surface(String),
+}
+
+/// A `*RIGID BODY` or a `*COUPLING` + `*KINEMATIC` as read.
+struct RawCoupling {
+    /// `RIGID BODY` or `COUPLING`.
+    keyword: &'static str,
+    /// The set name (*RIGID BODY) or CONSTRAINT NAME (*COUPLING).
+    name: String,
+    members: CouplingMembers,
+    ref_node: u64,
+    /// *RIGID BODY only: the node whose DOFs 1-3 are the rotations.
+    rot_node: Option<u64>,
+    /// *COUPLING only: translations covered by the *KINEMATIC lines.
+    kinematic: [bool; 3],
+    loc: Loc,
+}
+
+/// What a reference node's DOFs are: (coupling, `true` for a ROT NODE).
+#[derive(Clone, Copy)]
+struct RefRole {
+    coupling: usize,
+    rot: bool,
 }
 
 struct RawSurface {
@@ -376,6 +418,11 @@ enum Block {
         interaction: String,
         small_sliding: bool,
     },
+    /// DOF lines of the `*KINEMATIC` of coupling `coupling`.
+    Kinematic {
+        coupling: usize,
+        loc: Loc,
+    },
 }
 
 enum StepState {
@@ -418,6 +465,9 @@ struct Parser {
     interactions: Vec<RawInteraction>,
     current_interaction: Option<usize>,
     pairs: Vec<RawPair>,
+    couplings: Vec<RawCoupling>,
+    /// A `*COUPLING` whose `*KINEMATIC` must come next.
+    pending_coupling: Option<usize>,
     names: Vec<String>,
     name_ids: HashMap<String, u32>,
     cmds: Vec<Cmd>,
@@ -482,6 +532,8 @@ impl Parser {
             interactions: Vec::new(),
             current_interaction: None,
             pairs: Vec::new(),
+            couplings: Vec::new(),
+            pending_coupling: None,
             names: Vec::new(),
             name_ids: HashMap::new(),
             cmds: Vec::new(),
@@ -713,6 +765,28 @@ impl Parser {
             Block::Friction { lines: 0, loc, .. } => {
                 return Err(self.err(loc, "*FRICTION without data line (mu[, stick slope])"))
             }
+            Block::Kinematic { coupling, loc } => {
+                let k = self.couplings[coupling].kinematic;
+                if !k.iter().any(|&b| b) {
+                    return Err(self.err(
+                        loc,
+                        "*KINEMATIC without DOF lines couples nothing (ccx generates no constraint); give '1, 3'",
+                    ));
+                }
+                if !k.iter().all(|&b| b) {
+                    let given: Vec<String> = (0..3)
+                        .filter(|&i| k[i])
+                        .map(|i| (i + 1).to_string())
+                        .collect();
+                    return Err(self.err(
+                        loc,
+                        format!(
+                            "*KINEMATIC couples only DOF(s) {} of the surface nodes: flank's rigid coupling holds all three translations (give '1, 3'); a partial kinematic coupling is not supported",
+                            given.join(", ")
+                        ),
+                    ));
+                }
+            }
             _ => {}
         }
         Ok(())
@@ -722,6 +796,22 @@ impl Parser {
         self.end_block()?;
         let loc = card.loc;
         let name = card.name.clone();
+        let pending = self.pending_coupling.take();
+        if let Some(c) = pending {
+            if name != "KINEMATIC" {
+                let line = self.couplings[c].loc.line;
+                if name.starts_with("DISTRIBUTING") {
+                    return Err(self.err(
+                        loc,
+                        format!("*{name} after the *COUPLING of line {line} is not supported (distributing coupling: the reference load is spread over the surface by weights, the nodes are not held rigid); only *KINEMATIC, which flank maps onto its rigid coupling"),
+                    ));
+                }
+                return Err(self.err(
+                    self.couplings[c].loc,
+                    format!("*COUPLING must be followed by *KINEMATIC (found *{name} at line {})", loc.line),
+                ));
+            }
+        }
         if !MATERIAL_KEYWORDS.contains(&name.as_str()) {
             self.current_material = None;
         }
@@ -742,6 +832,9 @@ impl Parser {
             "SURFACE BEHAVIOR" => self.kw_behavior(&card)?,
             "FRICTION" => self.kw_friction(&card)?,
             "CONTACT PAIR" => self.kw_contact_pair(&card)?,
+            "RIGID BODY" => self.kw_rigid_body(&card)?,
+            "COUPLING" => self.kw_coupling(&card)?,
+            "KINEMATIC" => self.kw_kinematic(&card, pending)?,
             "STEP" => self.kw_step(&card)?,
             "STATIC" => {
                 match &mut self.step {
@@ -1100,6 +1193,173 @@ impl Parser {
         })
     }
 
+    /// Value of a parameter that ccx also accepts without blanks
+    /// (`REF NODE=` or `REFNODE=`).
+    fn value_either(&self, card: &Card, keys: [&str; 2]) -> Result<Option<String>> {
+        match self.value(card, keys[0])? {
+            Some(v) => Ok(Some(v)),
+            None => self.value(card, keys[1]),
+        }
+    }
+
+    /// Hub couplings are model data: ccx refuses them inside a step.
+    fn coupling_before_step(&self, card: &Card) -> Result<()> {
+        if matches!(self.step, StepState::Before) {
+            Ok(())
+        } else {
+            Err(self.err(
+                card.loc,
+                format!(
+                    "*{} must come before *STEP (model data; ccx refuses it too)",
+                    card.name
+                ),
+            ))
+        }
+    }
+
+    /// `*RIGID BODY, NSET=|ELSET=, REF NODE=n[, ROT NODE=m]`.
+    fn kw_rigid_body(&mut self, card: &Card) -> Result<Block> {
+        self.coupling_before_step(card)?;
+        self.check_params(
+            card,
+            &["NSET", "ELSET", "REF NODE", "REFNODE", "ROT NODE", "ROTNODE"],
+        )?;
+        let members = match (self.value(card, "NSET")?, self.value(card, "ELSET")?) {
+            (Some(n), None) => CouplingMembers::NodeSet(self.intern(&n, card.loc)?),
+            (None, Some(e)) => CouplingMembers::ElementSet(self.intern(&e, card.loc)?),
+            (Some(_), Some(_)) => {
+                return Err(self.err(card.loc, "*RIGID BODY: give NSET or ELSET, not both"))
+            }
+            (None, None) => {
+                return Err(self.err(card.loc, "*RIGID BODY needs NSET=... or ELSET=..."))
+            }
+        };
+        let name = match &members {
+            CouplingMembers::NodeSet(id) | CouplingMembers::ElementSet(id) => {
+                self.names[*id as usize].clone()
+            }
+            CouplingMembers::Surface(s) => s.clone(),
+        };
+        let Some(r) = self.value_either(card, ["REF NODE", "REFNODE"])? else {
+            return Err(self.err(
+                card.loc,
+                "*RIGID BODY needs REF NODE=... (ccx would create a reference node at the origin that no *BOUNDARY or *CLOAD can reach)",
+            ));
+        };
+        let ref_node = self.parse_label(&r, card.loc)?;
+        let rot_node = match self.value_either(card, ["ROT NODE", "ROTNODE"])? {
+            Some(r) => Some(self.parse_label(&r, card.loc)?),
+            None => None,
+        };
+        let coupling = self.couplings.len();
+        self.couplings.push(RawCoupling {
+            keyword: "RIGID BODY",
+            name,
+            members,
+            ref_node,
+            rot_node,
+            kinematic: [true; 3],
+            loc: card.loc,
+        });
+        self.cmds.push(Cmd::Coupling { coupling });
+        Ok(Block::NoData(card.name.clone()))
+    }
+
+    /// `*COUPLING, REF NODE=n, SURFACE=s, CONSTRAINT NAME=c`; the
+    /// `*KINEMATIC` must follow.
+    fn kw_coupling(&mut self, card: &Card) -> Result<Block> {
+        self.coupling_before_step(card)?;
+        if Self::flag(card, "ORIENTATION") {
+            return Err(self.err(
+                card.loc,
+                "*COUPLING, ORIENTATION=... is not supported (local directions); ignoring it would change the answer",
+            ));
+        }
+        self.check_params(
+            card,
+            &[
+                "REF NODE",
+                "REFNODE",
+                "SURFACE",
+                "CONSTRAINT NAME",
+                "CONSTRAINTNAME",
+            ],
+        )?;
+        let Some(r) = self.value_either(card, ["REF NODE", "REFNODE"])? else {
+            return Err(self.err(card.loc, "*COUPLING needs the parameter REF NODE=..."));
+        };
+        let ref_node = self.parse_label(&r, card.loc)?;
+        let surface = norm_name(&self.required(card, "SURFACE")?);
+        let Some(name) = self.value_either(card, ["CONSTRAINT NAME", "CONSTRAINTNAME"])? else {
+            return Err(self.err(
+                card.loc,
+                "*COUPLING needs the parameter CONSTRAINT NAME=... (ccx requires it)",
+            ));
+        };
+        let name = norm_name(&name);
+        if let Some(first) = self
+            .couplings
+            .iter()
+            .find(|c| c.keyword == "COUPLING" && c.name == name)
+        {
+            return Err(self.err(
+                card.loc,
+                format!(
+                    "constraint {name} defined twice (first at line {})",
+                    first.loc.line
+                ),
+            ));
+        }
+        self.pending_coupling = Some(self.couplings.len());
+        self.couplings.push(RawCoupling {
+            keyword: "COUPLING",
+            name,
+            members: CouplingMembers::Surface(surface),
+            ref_node,
+            rot_node: None,
+            kinematic: [false; 3],
+            loc: card.loc,
+        });
+        Ok(Block::NoData(card.name.clone()))
+    }
+
+    /// `*KINEMATIC` right after the `*COUPLING` number `pending`.
+    fn kw_kinematic(&mut self, card: &Card, pending: Option<usize>) -> Result<Block> {
+        let Some(coupling) = pending else {
+            return Err(self.err(card.loc, "*KINEMATIC without a preceding *COUPLING"));
+        };
+        self.check_params(card, &[])?;
+        Ok(Block::Kinematic {
+            coupling,
+            loc: card.loc,
+        })
+    }
+
+    /// A `*KINEMATIC` data line: `first[, last]` translational DOF.
+    fn kinematic_line(&mut self, coupling: usize, f: &[&str], loc: Loc) -> Result<()> {
+        if f.len() > 2 {
+            return Err(self.err(loc, "*KINEMATIC data must be: first DOF[, last DOF]"));
+        }
+        let first = self.parse_dof(f[0], loc)?;
+        let last = match f.get(1) {
+            Some(t) if !t.is_empty() => self.parse_dof(t, loc)?,
+            _ => first,
+        };
+        if last < first {
+            return Err(self.err(loc, format!("last DOF {last} is below first DOF {first}")));
+        }
+        if last > 3 {
+            return Err(self.err(
+                loc,
+                format!("*KINEMATIC DOF {last}: only the translations 1-3 of the surface nodes can be coupled (ccx limit); the rotations are DOFs 4-6 of the REF NODE"),
+            ));
+        }
+        for d in first..=last {
+            self.couplings[coupling].kinematic[d - 1] = true;
+        }
+        Ok(())
+    }
+
     fn kw_step(&mut self, card: &Card) -> Result<Block> {
         if !matches!(self.step, StepState::Before) {
             return Err(self.err(card.loc, "second *STEP: only one step is supported"));
@@ -1225,6 +1485,7 @@ impl Parser {
                 *lines += 1;
                 self.friction_line(*interaction, *lines, &f, loc)?;
             }
+            Block::Kinematic { coupling, .. } => self.kinematic_line(*coupling, &f, loc)?,
             Block::ContactPair {
                 interaction,
                 small_sliding,
@@ -1426,29 +1687,16 @@ impl Parser {
                 ),
             ));
         }
-        if last >= 4 {
-            if value != 0.0 {
-                return Err(self.err(
-                    loc,
-                    format!(
-                        "nonzero value {value} on rotational DOFs 4-6: solid elements have none"
-                    ),
-                ));
-            }
-            self.warn(
-                loc,
-                "*BOUNDARY on rotational DOFs 4-6 ignored (solid elements have none)",
-            );
-        }
-        if first <= 3 {
-            self.cmds.push(Cmd::Boundary {
-                target,
-                first: first - 1,
-                last: last.min(3) - 1,
-                value,
-                loc,
-            });
-        }
+        // DOFs 4-6 are the rotations of a *COUPLING reference node; on any
+        // other node they are ignored or an error (decided at the end, when
+        // the reference nodes are known).
+        self.cmds.push(Cmd::Boundary {
+            target,
+            first: first - 1,
+            last: last - 1,
+            value,
+            loc,
+        });
         Ok(())
     }
 
@@ -1458,7 +1706,7 @@ impl Parser {
         }
         let target = self.parse_target(f[0], loc)?;
         let dof = self.parse_dof(f[1], loc)?;
-        if dof > 3 {
+        if dof > 6 {
             return Err(self.err(
                 loc,
                 format!("*CLOAD on DOF {dof} is not supported (only forces on DOFs 1-3)"),
@@ -1771,6 +2019,12 @@ impl Parser {
     /// Resolves everything recorded in phase 1 and builds the model.
     fn finish(mut self) -> Result<Deck> {
         self.end_block()?;
+        if let Some(c) = self.pending_coupling {
+            return Err(self.err(
+                self.couplings[c].loc,
+                "*COUPLING must be followed by *KINEMATIC (end of deck reached)",
+            ));
+        }
         match self.step {
             StepState::Open {
                 loc,
@@ -1811,6 +2065,13 @@ impl Parser {
             elem_loc.push(el.loc);
         }
 
+        // Reference nodes of the hub couplings: not part of the mesh.
+        let roles = self.reference_roles()?;
+        let ncp = self.couplings.len();
+        let mut cp_nodes: Vec<Vec<usize>> = vec![Vec::new(); ncp];
+        let mut cp_fixed: Vec<[Option<Loc>; 6]> = vec![[None; 6]; ncp];
+        let mut cp_load: Vec<[(f64, Option<Loc>); 6]> = vec![[(0.0, None); 6]; ncp];
+
         // Replay of sets, sections, boundary conditions and loads.
         let nn = self.mesh.node_count();
         let ne = self.mesh.elements.len();
@@ -1818,6 +2079,7 @@ impl Parser {
         let mut esets: Vec<Option<IdxSet>> = (0..self.names.len()).map(|_| None).collect();
         let mut elem_mat: Vec<Option<usize>> = vec![None; ne];
         let mut dirichlet: Vec<Dirichlet> = Vec::new();
+        let mut dirichlet_loc: Vec<Loc> = Vec::new();
         let mut bc_index: HashMap<(usize, usize), usize> = HashMap::new();
         let mut forces = Vec::new();
         let mut pressures = Vec::new();
@@ -1910,10 +2172,44 @@ impl Parser {
                     value,
                     loc,
                 } => {
+                    let mut rotations_ignored = false;
                     for node in self.target_nodes(&nsets, target, loc)? {
-                        for component in first..=last {
+                        if let Some(&role) = roles.get(&node) {
+                            for component in first..=last {
+                                let k = self.reference_dof(role, component, "*BOUNDARY", loc)?;
+                                if value != 0.0 {
+                                    return Err(self.err(
+                                        loc,
+                                        format!(
+                                            "prescribed value {value} on DOF {} of reference node {} ({}): only zero (fixed) reference DOFs are supported",
+                                            component + 1,
+                                            self.mesh.node_labels[node],
+                                            self.coupling_title(role.coupling)
+                                        ),
+                                    ));
+                                }
+                                cp_fixed[role.coupling][k] = Some(loc);
+                            }
+                            continue;
+                        }
+                        if last >= 3 {
+                            if value != 0.0 {
+                                return Err(self.err(
+                                    loc,
+                                    format!(
+                                        "nonzero value {value} on rotational DOFs 4-6 of node {}: solid elements have none",
+                                        self.mesh.node_labels[node]
+                                    ),
+                                ));
+                            }
+                            rotations_ignored = true;
+                        }
+                        for component in first..=last.min(2) {
                             match bc_index.get(&(node, component)) {
-                                Some(&k) => dirichlet[k].value = value,
+                                Some(&k) => {
+                                    dirichlet[k].value = value;
+                                    dirichlet_loc[k] = loc;
+                                }
                                 None => {
                                     bc_index.insert((node, component), dirichlet.len());
                                     dirichlet.push(Dirichlet {
@@ -1921,9 +2217,16 @@ impl Parser {
                                         component,
                                         value,
                                     });
+                                    dirichlet_loc.push(loc);
                                 }
                             }
                         }
+                    }
+                    if rotations_ignored {
+                        self.warn(
+                            loc,
+                            "*BOUNDARY on rotational DOFs 4-6 ignored (solid elements have none)",
+                        );
                     }
                 }
                 Cmd::Cload {
@@ -1933,12 +2236,48 @@ impl Parser {
                     loc,
                 } => {
                     for node in self.target_nodes(&nsets, target, loc)? {
+                        if let Some(&role) = roles.get(&node) {
+                            let k = self.reference_dof(role, comp, "*CLOAD", loc)?;
+                            let slot = &mut cp_load[role.coupling][k];
+                            slot.0 += value;
+                            slot.1 = Some(loc);
+                            continue;
+                        }
+                        if comp > 2 {
+                            return Err(self.err(
+                                loc,
+                                format!(
+                                    "*CLOAD on DOF {} of node {} is not supported (only forces on DOFs 1-3; moments only on a *COUPLING REF NODE or a *RIGID BODY ROT NODE)",
+                                    comp + 1,
+                                    self.mesh.node_labels[node]
+                                ),
+                            ));
+                        }
                         forces.push(NodalForce {
                             node,
                             component: comp,
                             value,
                         });
                     }
+                }
+                Cmd::Coupling { coupling } => {
+                    let raw = &self.couplings[coupling];
+                    let loc = raw.loc;
+                    let nodes = match raw.members {
+                        CouplingMembers::NodeSet(id) => self.set_members(&nsets, false, id, loc)?,
+                        CouplingMembers::ElementSet(id) => {
+                            let mut v: Vec<usize> = self
+                                .set_members(&esets, true, id, loc)?
+                                .into_iter()
+                                .flat_map(|e| self.mesh.elements[e].nodes.iter().copied())
+                                .collect();
+                            v.sort_unstable();
+                            v.dedup();
+                            v
+                        }
+                        CouplingMembers::Surface(_) => Vec::new(),
+                    };
+                    cp_nodes[coupling] = nodes;
                 }
                 Cmd::Dload {
                     target,
@@ -1995,6 +2334,30 @@ impl Parser {
                 }
             }
         }
+        // *COUPLING surfaces (complete now: a surface is defined once).
+        for (c, raw) in self.couplings.iter().enumerate() {
+            let CouplingMembers::Surface(name) = &raw.members else {
+                continue;
+            };
+            let Some(s) = self.surfaces.iter().position(|s| &s.name == name) else {
+                return Err(self.err(
+                    raw.loc,
+                    format!("*COUPLING: surface {name} is not defined"),
+                ));
+            };
+            let mut v = surface_nodes[s].clone();
+            for &(e, face) in &surface_faces[s] {
+                let el = &self.mesh.elements[e];
+                if let Some(local) = crate::fem::element::face_nodes(el.kind, face) {
+                    v.extend(local.iter().map(|&i| el.nodes[i]));
+                }
+            }
+            v.sort_unstable();
+            v.dedup();
+            cp_nodes[c] = v;
+        }
+        let couplings =
+            self.build_couplings(&roles, cp_nodes, &cp_fixed, &cp_load, &dirichlet, &dirichlet_loc)?;
         let contact = self.contact_definition(surface_faces, surface_nodes)?;
 
         // Materials: keep complete ones; drop unused ones without *ELASTIC.
@@ -2060,6 +2423,61 @@ impl Parser {
             .entry("EALL".to_string())
             .or_insert_with(|| (0..ne).collect());
 
+        // The reference nodes leave the mesh: their DOFs are the couplings'.
+        let mut dropped = vec![false; nn];
+        for &n in roles.keys() {
+            dropped[n] = true;
+        }
+        for s in &contact.surfaces {
+            if let SurfaceKind::Node(nodes) = &s.kind {
+                if let Some(&n) = nodes.iter().find(|&&n| dropped[n]) {
+                    let loc = self
+                        .surfaces
+                        .iter()
+                        .find(|r| r.name == s.name)
+                        .map_or(Loc { file: 0, line: 0 }, |r| r.loc);
+                    return Err(self.err(
+                        loc,
+                        format!(
+                            "surface {} contains node {}, the reference node of {} (not a mesh node)",
+                            s.name,
+                            self.mesh.node_labels[n],
+                            self.coupling_title(roles[&n].coupling)
+                        ),
+                    ));
+                }
+            }
+        }
+        let (mesh, remap) = if roles.is_empty() {
+            (std::mem::take(&mut self.mesh), None)
+        } else {
+            let (mesh, remap) = without_nodes(&self.mesh, &dropped);
+            (mesh, Some(remap))
+        };
+        self.mesh = mesh;
+        let mut couplings = couplings;
+        let mut contact = contact;
+        if let Some(remap) = &remap {
+            for cp in couplings.iter_mut() {
+                for n in cp.nodes.iter_mut() {
+                    *n = remap[*n];
+                }
+            }
+            for d in dirichlet.iter_mut() {
+                d.node = remap[d.node];
+            }
+            for f in forces.iter_mut() {
+                f.node = remap[f.node];
+            }
+            for s in contact.surfaces.iter_mut() {
+                if let SurfaceKind::Node(nodes) = &mut s.kind {
+                    for n in nodes.iter_mut() {
+                        *n = remap[*n];
+                    }
+                }
+            }
+        }
+
         let unused = self.mesh.used_nodes().iter().filter(|u| !**u).count();
         if unused > 0 {
             self.warn(
@@ -2077,12 +2495,191 @@ impl Parser {
                 dirichlet,
                 forces,
                 pressures,
-                couplings: Vec::new(),
+                couplings,
                 contact,
             },
             warnings: self.warnings,
             title: (!title.is_empty()).then_some(title),
         })
+    }
+
+    /// "*RIGID BODY HUB (line 12)" / "*COUPLING C1 (line 20)".
+    fn coupling_title(&self, c: usize) -> String {
+        let raw = &self.couplings[c];
+        format!("*{} {} (line {})", raw.keyword, raw.name, raw.loc.line)
+    }
+
+    /// Node index → role of every REF NODE and ROT NODE, checked: defined,
+    /// in no element, not shared between couplings.
+    fn reference_roles(&self) -> Result<HashMap<usize, RefRole>> {
+        let used = self.mesh.used_nodes();
+        let mut roles: HashMap<usize, RefRole> = HashMap::new();
+        for (c, raw) in self.couplings.iter().enumerate() {
+            let nodes = [(raw.ref_node, false, "REF NODE")]
+                .into_iter()
+                .chain(raw.rot_node.map(|r| (r, true, "ROT NODE")));
+            for (label, rot, what) in nodes {
+                let Some(n) = self.mesh.node(label) else {
+                    return Err(self.err(
+                        raw.loc,
+                        format!("*{}: {what} {label} is not defined", raw.keyword),
+                    ));
+                };
+                if used[n] {
+                    return Err(self.err(
+                        raw.loc,
+                        format!(
+                            "*{}: {what} {label} belongs to an element; the reference node must be a separate node (in no element)",
+                            raw.keyword
+                        ),
+                    ));
+                }
+                if let Some(other) = roles.insert(n, RefRole { coupling: c, rot }) {
+                    return Err(self.err(
+                        raw.loc,
+                        format!(
+                            "*{}: node {label} is already the {} of {}",
+                            raw.keyword,
+                            if other.rot { "ROT NODE" } else { "REF NODE" },
+                            self.coupling_title(other.coupling)
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(roles)
+    }
+
+    /// Reference DOF (0..6: tx, ty, tz, rx, ry, rz) that DOF `component`
+    /// (0-based) of a reference node stands for.
+    fn reference_dof(&self, role: RefRole, component: usize, what: &str, loc: Loc) -> Result<usize> {
+        let raw = &self.couplings[role.coupling];
+        match (raw.keyword, role.rot, component) {
+            ("COUPLING", _, k) => Ok(k),
+            (_, false, k) if k < 3 => Ok(k),
+            (_, true, k) if k < 3 => Ok(3 + k),
+            _ => Err(self.err(
+                loc,
+                format!(
+                    "{what} on DOF {} of the {} {} of {}: a *RIGID BODY's translations are DOFs 1-3 of its REF NODE, its rotations DOFs 1-3 of its ROT NODE{}",
+                    component + 1,
+                    if role.rot { "ROT NODE" } else { "REF NODE" },
+                    if role.rot { raw.rot_node } else { Some(raw.ref_node) }.unwrap_or(0),
+                    self.coupling_title(role.coupling),
+                    if raw.rot_node.is_none() { " (this one has none: its rotations are free and unloaded)" } else { "" }
+                ),
+            )),
+        }
+    }
+
+    /// The rigid couplings, checked: nodes present and held by elements, a
+    /// node in one coupling only, no *BOUNDARY on a coupled node.
+    fn build_couplings(
+        &mut self,
+        roles: &HashMap<usize, RefRole>,
+        nodes: Vec<Vec<usize>>,
+        fixed: &[[Option<Loc>; 6]],
+        load: &[[(f64, Option<Loc>); 6]],
+        dirichlet: &[Dirichlet],
+        dirichlet_loc: &[Loc],
+    ) -> Result<Vec<RigidCoupling>> {
+        let used = self.mesh.used_nodes();
+        let mut owner: HashMap<usize, usize> = HashMap::new();
+        let mut out = Vec::with_capacity(nodes.len());
+        for (c, mut members) in nodes.into_iter().enumerate() {
+            let raw = &self.couplings[c];
+            // ccx skips a rigid body's own reference nodes in its set
+            members.retain(|n| roles.get(n).is_none_or(|r| r.coupling != c));
+            members.sort_unstable();
+            members.dedup();
+            let what = match &raw.members {
+                CouplingMembers::NodeSet(id) => format!("node set {}", self.names[*id as usize]),
+                CouplingMembers::ElementSet(id) => {
+                    format!("element set {}", self.names[*id as usize])
+                }
+                CouplingMembers::Surface(s) => format!("surface {s}"),
+            };
+            if members.is_empty() {
+                return Err(self.err(
+                    raw.loc,
+                    format!("*{}: {what} has no node to couple", raw.keyword),
+                ));
+            }
+            if let Some(&n) = members.iter().find(|n| roles.contains_key(n)) {
+                return Err(self.err(
+                    raw.loc,
+                    format!(
+                        "*{}: {what} contains node {}, the reference node of {}",
+                        raw.keyword,
+                        self.mesh.node_labels[n],
+                        self.coupling_title(roles[&n].coupling)
+                    ),
+                ));
+            }
+            if !members.iter().any(|&n| used[n]) {
+                return Err(self.err(
+                    raw.loc,
+                    format!(
+                        "*{}: no node of {what} belongs to an element; the coupling would hold nothing",
+                        raw.keyword
+                    ),
+                ));
+            }
+            for &n in &members {
+                if let Some(other) = owner.insert(n, c) {
+                    return Err(self.err(
+                        raw.loc,
+                        format!(
+                            "*{}: node {} is already coupled by {}; a node can follow one reference only",
+                            raw.keyword,
+                            self.mesh.node_labels[n],
+                            self.coupling_title(other)
+                        ),
+                    ));
+                }
+            }
+            let r = self.mesh.node(raw.ref_node).expect("checked reference node");
+            let mut free = [true; 6];
+            let mut loads = [0.0; 6];
+            for k in 0..6 {
+                free[k] = fixed[c][k].is_none();
+                let (v, at) = load[c][k];
+                if free[k] {
+                    loads[k] = v;
+                } else if let Some(at) = at {
+                    if v != 0.0 {
+                        let msg = format!(
+                            "load {v} on reference DOF {} of {} ignored: that DOF is held by the *BOUNDARY of line {}",
+                            ["ux", "uy", "uz", "rx", "ry", "rz"][k],
+                            self.coupling_title(c),
+                            fixed[c][k].map_or(0, |l| l.line)
+                        );
+                        self.warn(at, msg);
+                    }
+                }
+            }
+            let raw = &self.couplings[c];
+            out.push(RigidCoupling {
+                name: raw.name.clone(),
+                reference_point: self.mesh.coords[r],
+                nodes: members,
+                free,
+                load: loads,
+            });
+        }
+        for (d, at) in dirichlet.iter().zip(dirichlet_loc) {
+            if let Some(&c) = owner.get(&d.node) {
+                return Err(self.err(
+                    *at,
+                    format!(
+                        "*BOUNDARY on node {}, which {} couples to its reference node: constrain the reference node instead",
+                        self.mesh.node_labels[d.node],
+                        self.coupling_title(c)
+                    ),
+                ));
+            }
+        }
+        Ok(out)
     }
 
     /// The contact definition from the recorded surfaces, interactions and
@@ -2221,6 +2818,33 @@ impl Parser {
     }
 }
 
+/// The mesh without the `drop`ped nodes (which belong to no element) and
+/// the map old → new node index (`usize::MAX` for dropped nodes).
+fn without_nodes(mesh: &crate::mesh::Mesh, drop: &[bool]) -> (crate::mesh::Mesh, Vec<usize>) {
+    let mut out = crate::mesh::Mesh::new();
+    let mut remap = vec![usize::MAX; mesh.node_count()];
+    for (i, (&label, &x)) in mesh.node_labels.iter().zip(&mesh.coords).enumerate() {
+        if !drop[i] {
+            remap[i] = out.add_node(label, x).expect("labels are unique");
+        }
+    }
+    for el in &mesh.elements {
+        let nodes = el.nodes.iter().map(|&n| remap[n]).collect();
+        out.add_element(el.label, el.kind, nodes)
+            .expect("labels are unique");
+    }
+    for (name, members) in &mesh.node_sets {
+        let v: Vec<usize> = members
+            .iter()
+            .filter(|&&n| !drop[n])
+            .map(|&n| remap[n])
+            .collect();
+        out.node_sets.insert(name.clone(), v);
+    }
+    out.element_sets = mesh.element_sets.clone();
+    (out, remap)
+}
+
 // ---------------------------------------------------------------------------
 // Writer
 // ---------------------------------------------------------------------------
@@ -2243,9 +2867,17 @@ pub fn write_deck(model: &Model, path: &Path) -> Result<()> {
 /// material, and one *STEP/*STATIC with *BOUNDARY, *CLOAD, *DLOAD and a
 /// displacement *NODE PRINT. Names are upper-cased and made deck-safe.
 ///
-/// Fails with [`FlankError::Model`] for rigid couplings (not expressible in
-/// the deck subset) and for inconsistent models (bad indices, non-finite
-/// values, labels ccx cannot read), instead of writing a wrong deck.
+/// Each rigid coupling becomes `*RIGID BODY, NSET=<its nodes>, REF NODE=r,
+/// ROT NODE=q` with two extra nodes (a second `*NODE` block, not in NALL)
+/// labelled above the largest node label, both at the reference point: r's
+/// DOFs 1-3 are the reference translations, q's DOFs 1-3 its rotations;
+/// fixed reference DOFs are `*BOUNDARY` lines on them, loads `*CLOAD` lines
+/// (force N, moment N·mm). [`parse_deck`] reads it back to the same
+/// couplings (nodes sorted) and no extra mesh node.
+///
+/// Fails with [`FlankError::Model`] for inconsistent models (bad indices,
+/// non-finite values, labels ccx cannot read, a node in two couplings or a
+/// coupled node with a Dirichlet condition), instead of writing a wrong deck.
 pub fn format_deck(model: &Model) -> Result<String> {
     check_writable(model)?;
     let mesh = &model.mesh;
@@ -2272,6 +2904,20 @@ pub fn format_deck(model: &Model) -> Result<String> {
             fmt_real(*z)
         );
     }
+    // reference (translations) and rotation node of each coupling
+    let first_free = mesh.node_labels.iter().max().copied().unwrap_or(0) + 1;
+    let ref_labels: Vec<(u64, u64)> = (0..model.couplings.len() as u64)
+        .map(|c| (first_free + 2 * c, first_free + 2 * c + 1))
+        .collect();
+    if !model.couplings.is_empty() {
+        w!("** rigid-coupling reference nodes (REF NODE: translations, ROT NODE: rotations)");
+        w!("*NODE");
+        for (cp, &(r, q)) in model.couplings.iter().zip(&ref_labels) {
+            let [x, y, z] = cp.reference_point.map(fmt_real);
+            w!("{r}, {x}, {y}, {z}");
+            w!("{q}, {x}, {y}, {z}");
+        }
+    }
 
     let mut e = 0;
     while e < ne {
@@ -2293,6 +2939,7 @@ pub fn format_deck(model: &Model) -> Result<String> {
 
     let mut nset_names = Names::default();
     nset_names.claim("NALL".to_string());
+    let mut written_nsets: HashMap<String, &Vec<usize>> = HashMap::new();
     for (name, members) in &mesh.node_sets {
         let base = deck_name(name);
         if base == "NALL" {
@@ -2307,8 +2954,27 @@ pub fn format_deck(model: &Model) -> Result<String> {
             w!("** empty node set {name} omitted");
             continue;
         }
-        w!("*NSET, NSET={}", nset_names.claim(base));
+        let dn = nset_names.claim(base);
+        w!("*NSET, NSET={dn}");
         write_labels(&mut out, members.iter().map(|&n| mesh.node_labels[n]));
+        written_nsets.insert(dn, members);
+    }
+    // the node set of each coupling: an identical set of the same name is reused
+    let mut coupling_sets = Vec::with_capacity(model.couplings.len());
+    for cp in &model.couplings {
+        let mut nodes = cp.nodes.clone();
+        nodes.sort_unstable();
+        nodes.dedup();
+        let base = deck_name(&cp.name);
+        let set = if written_nsets.get(&base).is_some_and(|s| **s == nodes) {
+            base
+        } else {
+            let dn = nset_names.claim(base);
+            w!("*NSET, NSET={dn}");
+            write_labels(&mut out, nodes.iter().map(|&n| mesh.node_labels[n]));
+            dn
+        };
+        coupling_sets.push(set);
     }
 
     let mut elset_names = Names::default();
@@ -2374,10 +3040,23 @@ pub fn format_deck(model: &Model) -> Result<String> {
         );
     }
     write_contact(&mut out, model);
+    for (set, &(r, q)) in coupling_sets.iter().zip(&ref_labels) {
+        w!("*RIGID BODY, NSET={set}, REF NODE={r}, ROT NODE={q}");
+    }
 
+    // reference DOF k of coupling c: (node label, DOF 1..3)
+    let ref_dof = |c: usize, k: usize| {
+        let (r, q) = ref_labels[c];
+        if k < 3 {
+            (r, k + 1)
+        } else {
+            (q, k - 2)
+        }
+    };
     w!("*STEP");
     w!("*STATIC");
-    if !model.dirichlet.is_empty() {
+    let coupling_fixed = model.couplings.iter().any(|cp| cp.free.contains(&false));
+    if !model.dirichlet.is_empty() || coupling_fixed {
         w!("*BOUNDARY");
         for d in &model.dirichlet {
             let c = d.component + 1;
@@ -2387,8 +3066,18 @@ pub fn format_deck(model: &Model) -> Result<String> {
                 fmt_real(d.value)
             );
         }
+        for (c, cp) in model.couplings.iter().enumerate() {
+            for k in (0..6).filter(|&k| !cp.free[k]) {
+                let (node, dof) = ref_dof(c, k);
+                w!("{node}, {dof}, {dof}, 0");
+            }
+        }
     }
-    if !model.forces.is_empty() {
+    let coupling_loaded = model
+        .couplings
+        .iter()
+        .any(|cp| (0..6).any(|k| cp.free[k] && cp.load[k] != 0.0));
+    if !model.forces.is_empty() || coupling_loaded {
         w!("*CLOAD");
         for f in &model.forces {
             w!(
@@ -2397,6 +3086,12 @@ pub fn format_deck(model: &Model) -> Result<String> {
                 f.component + 1,
                 fmt_real(f.value)
             );
+        }
+        for (c, cp) in model.couplings.iter().enumerate() {
+            for k in (0..6).filter(|&k| cp.free[k] && cp.load[k] != 0.0) {
+                let (node, dof) = ref_dof(c, k);
+                w!("{node}, {dof}, {}", fmt_real(cp.load[k]));
+            }
         }
     }
     if !model.pressures.is_empty() {
@@ -2513,11 +3208,6 @@ fn write_contact(out: &mut String, model: &Model) {
 /// below can be out of range).
 fn check_writable(model: &Model) -> Result<()> {
     let bad = |m: String| Err(FlankError::Model(m));
-    if !model.couplings.is_empty() {
-        return bad(
-            "rigid couplings cannot be written to a deck (not in the supported subset)".into(),
-        );
-    }
     let mesh = &model.mesh;
     let nn = mesh.coords.len();
     let ne = mesh.elements.len();
@@ -2603,6 +3293,46 @@ fn check_writable(model: &Model) -> Result<()> {
         if s.iter().any(|&e| e >= ne) {
             return bad(format!("element set {name} has an invalid element index"));
         }
+    }
+    let max_label = mesh.node_labels.iter().max().copied().unwrap_or(0);
+    if max_label + 2 * model.couplings.len() as u64 > CCX_MAX_LABEL {
+        return bad(format!(
+            "no room above node label {max_label} for the couplings' reference nodes (ccx limit {CCX_MAX_LABEL})"
+        ));
+    }
+    let mut owner: Vec<Option<usize>> = vec![None; nn];
+    for (c, cp) in model.couplings.iter().enumerate() {
+        if cp.nodes.is_empty() {
+            return bad(format!("rigid coupling '{}' has no node", cp.name));
+        }
+        if !cp.reference_point.iter().chain(&cp.load).all(|v| v.is_finite()) {
+            return bad(format!(
+                "rigid coupling '{}' has a non-finite reference point or load",
+                cp.name
+            ));
+        }
+        for &n in &cp.nodes {
+            if n >= nn {
+                return bad(format!(
+                    "rigid coupling '{}' has an invalid node index",
+                    cp.name
+                ));
+            }
+            if let Some(o) = owner[n].filter(|&o| o != c) {
+                return bad(format!(
+                    "node {} belongs to two rigid couplings ('{}' and '{}')",
+                    mesh.node_labels[n], model.couplings[o].name, cp.name
+                ));
+            }
+            owner[n] = Some(c);
+        }
+    }
+    if let Some(d) = model.dirichlet.iter().find(|d| owner[d.node].is_some()) {
+        return bad(format!(
+            "node {} of rigid coupling '{}' also has a Dirichlet condition",
+            mesh.node_labels[d.node],
+            model.couplings[owner[d.node].unwrap_or(0)].name
+        ));
     }
     model.contact.validate(mesh)?;
     for it in &model.contact.interactions {
