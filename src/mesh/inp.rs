@@ -3508,7 +3508,6 @@ fn compact_real(sci: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fem::model::RigidCoupling;
     use crate::mesh::Mesh;
 
     /// One C3D20 element using every supported keyword, with comments, mixed
@@ -4505,6 +4504,18 @@ U
 
     #[test]
     fn writer_rejects_what_it_cannot_express() {
+        // a node in two couplings, a coupled node with a Dirichlet condition
+        let mut m = sample_model();
+        for name in ["HUB", "SECOND"] {
+            m.couplings.push(RigidCoupling::rotation_about(
+                name,
+                [0.0; 3],
+                2,
+                vec![20, 21],
+                1.0,
+            ));
+        }
+        assert!(matches!(format_deck(&m), Err(FlankError::Model(e)) if e.contains("two rigid couplings")));
         let mut m = sample_model();
         m.couplings.push(RigidCoupling::rotation_about(
             "HUB",
@@ -4513,7 +4524,7 @@ U
             vec![0, 1],
             1.0,
         ));
-        assert!(matches!(format_deck(&m), Err(FlankError::Model(_))));
+        assert!(matches!(format_deck(&m), Err(FlankError::Model(e)) if e.contains("Dirichlet")));
         let mut m = sample_model();
         m.forces[0].node = 999;
         assert!(matches!(format_deck(&m), Err(FlankError::Model(_))));
@@ -4792,5 +4803,267 @@ SLAVE, MASTER
         // wedge faces stop at S5
         let e = with(&d, "1, S2\n", "1, S6\n");
         assert!(parse(&e).is_ok(), "S6 is a valid hexahedron face");
+    }
+
+    // -- rigid couplings ------------------------------------------------------
+
+    /// The unit cube of HEX, base clamped, its top face held by a rigid body
+    /// whose reference node 100 is fixed and whose rotation node 101 may
+    /// turn about z only, loaded by a moment.
+    const RIGID: &str = "\
+*NODE, NSET=NALL
+1, 0, 0, 0
+2, 1, 0, 0
+3, 1, 1, 0
+4, 0, 1, 0
+5, 0, 0, 1
+6, 1, 0, 1
+7, 1, 1, 1
+8, 0, 1, 1
+9, 0.5, 0, 0
+10, 1, 0.5, 0
+11, 0.5, 1, 0
+12, 0, 0.5, 0
+13, 0.5, 0, 1
+14, 1, 0.5, 1
+15, 0.5, 1, 1
+16, 0, 0.5, 1
+17, 0, 0, 0.5
+18, 1, 0, 0.5
+19, 1, 1, 0.5
+20, 0, 1, 0.5
+*NODE
+100, 0.5, 0.5, 1.25
+101, 0.5, 0.5, 1.25
+*ELEMENT, TYPE=C3D20, ELSET=EALL
+1, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15,
+16, 17, 18, 19, 20
+*NSET, NSET=BASE
+1, 2, 3, 4, 9, 10, 11, 12
+*NSET, NSET=TOP
+5, 6, 7, 8, 13, 14, 15, 16
+*NSET, NSET=REFS
+100, 101
+*MATERIAL, NAME=STEEL
+*ELASTIC
+210000., 0.3
+*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL
+*RIGID BODY, NSET=TOP, REF NODE=100, ROT NODE=101
+*STEP
+*STATIC
+*BOUNDARY
+BASE, 1, 3
+100, 1, 3
+101, 1, 2
+*CLOAD
+101, 3, 1000.
+*NODE PRINT, NSET=NALL
+U
+*END STEP
+";
+
+    /// RIGID with the rigid body replaced by *COUPLING + *KINEMATIC on the
+    /// top face; the rotations are DOFs 4-6 of the reference node.
+    fn coupling_deck() -> String {
+        let d = with(
+            RIGID,
+            "*RIGID BODY, NSET=TOP, REF NODE=100, ROT NODE=101\n",
+            "*SURFACE, NAME=STOP, TYPE=ELEMENT\n1, S2\n*COUPLING, REF NODE=100, SURFACE=STOP, CONSTRAINT NAME=HUB\n*KINEMATIC\n1, 3\n",
+        );
+        let d = with(&d, "100, 1, 3\n101, 1, 2\n", "100, 1, 5\n");
+        let d = with(&d, "101, 0.5, 0.5, 1.25\n", "");
+        let d = with(&d, "100, 101\n", "100\n");
+        with(&d, "101, 3, 1000.", "100, 6, 1000.")
+    }
+
+    #[test]
+    fn rigid_body_is_read() {
+        let deck = parse(RIGID).unwrap();
+        assert!(deck.warnings.is_empty(), "{:?}", deck.warnings);
+        let m = &deck.model;
+        assert_eq!(m.mesh.node_count(), 20, "reference nodes are not mesh nodes");
+        assert!(m.mesh.node(100).is_none() && m.mesh.node(101).is_none());
+        assert_eq!(m.mesh.node_sets["NALL"].len(), 20);
+        assert!(m.mesh.node_sets["REFS"].is_empty());
+        assert_eq!(m.couplings.len(), 1);
+        let cp = &m.couplings[0];
+        assert_eq!(cp.name, "TOP");
+        assert_eq!(cp.reference_point, [0.5, 0.5, 1.25]);
+        assert_eq!(cp.nodes, idx(&m.mesh, &[5, 6, 7, 8, 13, 14, 15, 16]));
+        assert_eq!(cp.free, [false, false, false, false, false, true]);
+        assert_eq!(cp.load, [0.0, 0.0, 0.0, 0.0, 0.0, 1000.0]);
+        // only the base is a Dirichlet condition, no force on a mesh node
+        assert_eq!(m.dirichlet.len(), 24);
+        assert!(m.forces.is_empty());
+        // *COUPLING + *KINEMATIC: the same coupling under its constraint name
+        let deck = parse(&coupling_deck()).unwrap();
+        assert!(deck.warnings.is_empty(), "{:?}", deck.warnings);
+        let c2 = &deck.model.couplings[0];
+        assert_eq!(c2.name, "HUB");
+        assert_eq!(
+            (c2.reference_point, &c2.nodes, c2.free, c2.load),
+            (cp.reference_point, &cp.nodes, cp.free, cp.load)
+        );
+        assert_eq!(deck.model.mesh.node_count(), 20);
+    }
+
+    #[test]
+    fn rigid_body_variants() {
+        // ELSET: all nodes of the elements; without ROT NODE the rotations
+        // are free and unloaded (ccx creates an unreachable node)
+        let d = with(
+            RIGID,
+            "*RIGID BODY, NSET=TOP, REF NODE=100, ROT NODE=101",
+            "*RIGID BODY, ELSET=EALL, REFNODE=100",
+        );
+        let d = with(&d, "101, 1, 2\n", "");
+        let d = with(&d, "BASE, 1, 3\n", "");
+        let d = with(&d, "101, 3, 1000.", "100, 3, -50.");
+        let m = parse(&d).unwrap().model;
+        let cp = &m.couplings[0];
+        assert_eq!(cp.nodes.len(), 20);
+        assert_eq!(cp.free, [false, false, false, true, true, true]);
+        assert_eq!(cp.load, [0.0; 6], "load on a fixed DOF is ignored");
+        assert_eq!(m.mesh.node_count(), 21, "101 is now an ordinary node");
+        let w = parse(&d).unwrap().warnings;
+        assert!(
+            w.iter()
+                .any(|w| w.line == line_of(&d, "100, 3, -50.") && w.message.contains("ignored")),
+            "{w:?}"
+        );
+        // a free reference translation takes the load; loads add up
+        let e = with(&d, "100, 1, 3\n", "100, 1, 2\n");
+        let e = with(&e, "100, 3, -50.", "100, 3, -50.\n100, 3, -25.");
+        let cp = parse(&e).unwrap().model.couplings[0].clone();
+        assert_eq!(cp.free, [false, false, true, true, true, true]);
+        assert_eq!(cp.load, [0.0, 0.0, -75.0, 0.0, 0.0, 0.0]);
+        // a set *BOUNDARY on the reference node set fixes it
+        let e = with(RIGID, "100, 1, 3\n101, 1, 2\n", "REFS, 1, 3\n");
+        let cp = parse(&e).unwrap().model.couplings[0].clone();
+        assert_eq!(cp.free, [false; 6]);
+    }
+
+    #[test]
+    fn rigid_coupling_errors_name_the_line() {
+        let rb = "*RIGID BODY, NSET=TOP, REF NODE=100, ROT NODE=101";
+        let d = with(RIGID, rb, "*RIGID BODY, NSET=TOP, REF NODE=999, ROT NODE=101");
+        expect_err(&d, line_of(&d, "*RIGID BODY"), "REF NODE 999 is not defined");
+        let d = with(RIGID, rb, "*RIGID BODY, NSET=TOP, REF NODE=7, ROT NODE=101");
+        expect_err(&d, line_of(&d, "*RIGID BODY"), "belongs to an element");
+        let d = with(RIGID, rb, "*RIGID BODY, NSET=TOP, REF NODE=100, ROT NODE=100");
+        expect_err(&d, line_of(&d, "*RIGID BODY"), "already the REF NODE");
+        let d = with(RIGID, rb, "*RIGID BODY, NSET=TOP, ROT NODE=101");
+        expect_err(&d, line_of(&d, "*RIGID BODY"), "REF NODE");
+        let d = with(RIGID, rb, "*RIGID BODY, NSET=NOPE, REF NODE=100");
+        expect_err(&d, line_of(&d, "*RIGID BODY"), "NOPE is not defined");
+        let d = with(RIGID, rb, "*NSET, NSET=EMPTY\n*RIGID BODY, NSET=EMPTY, REF NODE=100");
+        expect_err(&d, line_of(&d, "*RIGID BODY"), "no node to couple");
+        let d = with(RIGID, rb, "*RIGID BODY, NSET=REFS, REF NODE=100, ROT NODE=101");
+        expect_err(&d, line_of(&d, "*RIGID BODY"), "no node to couple");
+        let d = with(RIGID, rb, "*RIGID BODY, NSET=REFS, REF NODE=100");
+        expect_err(&d, line_of(&d, "*RIGID BODY"), "no node of node set REFS belongs to an element");
+        let d = with(RIGID, rb, "*RIGID BODY, NSET=TOP, REF NODE=100, PINNSET=TOP");
+        expect_err(&d, line_of(&d, "*RIGID BODY"), "PINNSET");
+        // a node in two couplings: the second one is named
+        let d = with(
+            RIGID,
+            "*STEP\n",
+            "*NODE\n102, 0, 0, 2\n*NSET, NSET=CORNER\n5\n*RIGID BODY, NSET=CORNER, REF NODE=102\n*STEP\n",
+        );
+        expect_err(&d, line_of(&d, "NSET=CORNER, REF"), "already coupled by *RIGID BODY TOP");
+        // *BOUNDARY on a coupled node: at that line
+        let d = with(RIGID, "BASE, 1, 3\n", "BASE, 1, 3\n7, 3, 3\n");
+        expect_err(&d, line_of(&d, "7, 3, 3"), "constrain the reference node");
+        let d = with(RIGID, "BASE, 1, 3\n", "BASE, 1, 3\nTOP, 1, 1\n");
+        expect_err(&d, line_of(&d, "TOP, 1, 1"), "constrain the reference node");
+        // prescribed reference motion, DOFs a rigid body's nodes do not have
+        let d = with(RIGID, "101, 1, 2\n", "101, 1, 2, 0.001\n");
+        expect_err(&d, line_of(&d, "101, 1, 2, 0.001"), "only zero");
+        let d = with(RIGID, "101, 1, 2\n", "101, 1, 2\n100, 4, 6\n");
+        expect_err(&d, line_of(&d, "100, 4, 6"), "ROT NODE");
+        let d = with(RIGID, "101, 3, 1000.", "101, 6, 1000.");
+        expect_err(&d, line_of(&d, "101, 6"), "DOFs 1-3 of its ROT NODE");
+        let d = with(RIGID, "101, 3, 1000.", "7, 6, 1000.");
+        expect_err(&d, line_of(&d, "7, 6"), "DOF 6 of node 7");
+        // model data only
+        let d = with(RIGID, &format!("{rb}\n"), "");
+        let d = with(&d, "*STATIC\n", &format!("*STATIC\n{rb}\n"));
+        expect_err(&d, line_of(&d, "*RIGID BODY"), "before *STEP");
+        // a reference node used as a contact node surface
+        let d = with(RIGID, "*STEP\n", "*SURFACE, NAME=S, TYPE=NODE\n100\n*STEP\n");
+        expect_err(&d, line_of(&d, "*SURFACE"), "reference node");
+    }
+
+    #[test]
+    fn coupling_kinematic_errors() {
+        let d = coupling_deck();
+        let kin = "*KINEMATIC\n1, 3\n";
+        let e = with(&d, kin, "");
+        expect_err(&e, line_of(&e, "*COUPLING"), "followed by *KINEMATIC");
+        let e = with(&d, kin, "*DISTRIBUTING\n1, 3\n");
+        expect_err(&e, line_of(&e, "*DISTRIBUTING"), "distributing");
+        let e = with(&d, kin, "*KINEMATIC\n1, 2\n");
+        expect_err(&e, line_of(&e, "*KINEMATIC"), "partial");
+        let e = with(&d, kin, "*KINEMATIC\n1\n2\n3\n");
+        assert!(parse(&e).is_ok(), "DOF lines one by one");
+        let e = with(&d, kin, "*KINEMATIC\n");
+        expect_err(&e, line_of(&e, "*KINEMATIC"), "couples nothing");
+        let e = with(&d, kin, "*KINEMATIC\n1, 4\n");
+        expect_err(&e, line_of(&e, "1, 4"), "1-3");
+        let e = with(&d, "*SOLID SECTION", "*KINEMATIC\n1, 3\n*SOLID SECTION");
+        expect_err(&e, line_of(&e, "*KINEMATIC"), "without a preceding *COUPLING");
+        let e = with(&d, "SURFACE=STOP,", "SURFACE=STOP, ORIENTATION=OR1,");
+        expect_err(&e, line_of(&e, "*COUPLING"), "ORIENTATION");
+        let e = with(&d, ", CONSTRAINT NAME=HUB", "");
+        expect_err(&e, line_of(&e, "*COUPLING"), "CONSTRAINT NAME");
+        let e = with(&d, "SURFACE=STOP,", "SURFACE=OTHER,");
+        expect_err(&e, line_of(&e, "*COUPLING"), "surface OTHER is not defined");
+        // the reference node of a *COUPLING has rotations 4-6; a moment
+        // on a free rotation is kept, a prescribed rotation is refused
+        let e = with(&d, "100, 1, 5\n", "100, 1, 5\n100, 6, 6, 0.01\n");
+        expect_err(&e, line_of(&e, "100, 6, 6, 0.01"), "only zero");
+        let e = with(&d, "*STEP\n", "*DISTRIBUTING COUPLING\n*STEP\n");
+        expect_err(&e, line_of(&e, "*DISTRIBUTING COUPLING"), "not held rigid");
+    }
+
+    #[test]
+    fn coupling_round_trip() {
+        let mut m = sample_model();
+        m.couplings.push(RigidCoupling {
+            name: "HUB".into(),
+            reference_point: [0.125, -3.5, 1.0 / 3.0],
+            nodes: vec![4, 5, 6, 7, 9],
+            free: [true, false, true, false, false, true],
+            load: [12.5, 0.0, -3.0, 0.0, 0.0, 1.0e5],
+        });
+        m.couplings.push(RigidCoupling::rotation_about(
+            "second hub",
+            [1.0, 2.0, 3.0],
+            0,
+            vec![31, 32, 34],
+            -250.0,
+        ));
+        let text = format_deck(&m).unwrap();
+        let max = *m.mesh.node_labels.iter().max().unwrap();
+        assert!(text.contains(&format!(
+            "*RIGID BODY, NSET=HUB, REF NODE={}, ROT NODE={}\n",
+            max + 1,
+            max + 2
+        )));
+        let deck = parse(&text).unwrap();
+        assert!(deck.warnings.is_empty(), "{:?}", deck.warnings);
+        let p = &deck.model;
+        assert_eq!(p.mesh.node_labels, m.mesh.node_labels, "no extra mesh node");
+        assert_eq!(p.couplings[0], m.couplings[0]);
+        let mut second = m.couplings[1].clone();
+        second.name = "SECOND_HUB".into();
+        assert_eq!(p.couplings[1], second);
+        assert_eq!(p.dirichlet, m.dirichlet);
+        assert_eq!(p.forces, m.forces);
+        // a fixed point: the parsed model writes the same deck again
+        let again = format_deck(p).unwrap();
+        let twice = format_deck(&parse(&again).unwrap().model).unwrap();
+        assert_eq!(again, twice);
+        assert_eq!(again.matches("*NSET, NSET=HUB\n").count(), 1);
     }
 }
