@@ -147,12 +147,15 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+use std::collections::HashMap;
 use std::f64::consts::PI;
+use std::path::Path;
 use std::sync::Mutex;
 use std::time::Instant;
 
 use flank::fem::model::{Dirichlet, Model, NodalForce, RigidCoupling};
 use flank::fem::static_analysis::{solve_static, SolveOptions, StaticSolution};
+use flank::mesh::inp::format_deck;
 use flank::mesh::structured::{annulus, BoxElement};
 use flank::FlankError;
 
@@ -722,4 +725,176 @@ fn simplicial_pivot_names_the_right_dof() {
         msg.contains("coupling 'PIVOT'") && msg.contains("rz"),
         "the coupling DOF is not named: {msg}"
     );
+}
+
+// ---------------------------------------------------------------------------
+// (d), (e): the coupling as a CalculiX deck, in flank and in ccx
+// ---------------------------------------------------------------------------
+
+/// Displacements of `flank solve` (displacements.csv) by node label.
+fn flank_solve_deck(deck: &Path, out: &Path) -> HashMap<u64, [f64; 3]> {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_flank"))
+        .args([
+            "solve",
+            deck.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+            "--no-stress",
+        ])
+        .output()
+        .expect("run flank");
+    assert!(
+        o.status.success(),
+        "flank solve {} failed: {}",
+        deck.display(),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let csv = std::fs::read_to_string(out.join("displacements.csv")).unwrap();
+    csv.lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            let v = |k: usize| f[k].parse::<f64>().unwrap();
+            (f[0].parse::<u64>().unwrap(), [v(1), v(2), v(3)])
+        })
+        .collect()
+}
+
+/// max |u_a − u_b| / max |u_b| over the labels of `b` found in `a` (and
+/// how many there were).
+fn field_difference(a: &HashMap<u64, [f64; 3]>, b: &HashMap<u64, [f64; 3]>) -> (f64, usize) {
+    let (mut d, mut m, mut n) = (0.0f64, 0.0f64, 0usize);
+    for (l, v) in b {
+        if let Some(u) = a.get(l) {
+            n += 1;
+            d = d.max((0..3).map(|k| (u[k] - v[k]).powi(2)).sum::<f64>().sqrt());
+            m = m.max((0..3).map(|k| v[k] * v[k]).sum::<f64>().sqrt());
+        }
+    }
+    (d / m, n)
+}
+
+/// Rotation about z through the origin fitted to the displacements of
+/// `labels` (least squares of u = θ e_z × x), and the largest residual.
+fn fit_rotation_z(
+    u: &HashMap<u64, [f64; 3]>,
+    coords: &HashMap<u64, [f64; 3]>,
+    labels: &[u64],
+) -> (f64, f64) {
+    let (mut num, mut den) = (0.0, 0.0);
+    for l in labels {
+        let ([x, y, _], v) = (coords[l], u[l]);
+        num += x * v[1] - y * v[0];
+        den += x * x + y * y;
+    }
+    let theta = num / den;
+    let res = labels
+        .iter()
+        .map(|l| {
+            let ([x, y, _], v) = (coords[l], u[l]);
+            (v[0] + theta * y).abs().max((v[1] - theta * x).abs()).max(v[2].abs())
+        })
+        .fold(0.0f64, f64::max);
+    (theta, res)
+}
+
+/// (d) The torsion model written as a deck (`*RIGID BODY` with REF/ROT
+/// nodes), and the same hub as `*COUPLING` + `*KINEMATIC` (rotations on DOFs
+/// 4-6 of the reference node), solved by `flank solve` and by ccx.
+#[test]
+fn d_deck_in_flank_and_ccx() {
+    let _guard = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let cells = [4, 32, 1];
+    let model = torsion_model(cells, BoxElement::Hex20);
+    let (direct, _) = timed_solve(&model);
+    let dir = common::scratch_dir("rigid_coupling_deck");
+    let text = format_deck(&model).unwrap();
+    let max = *model.mesh.node_labels.iter().max().unwrap();
+    let (r, q) = (max + 1, max + 2);
+    let card = format!("*RIGID BODY, NSET=HUB, REF NODE={r}, ROT NODE={q}\n");
+    assert!(text.contains(&card), "the writer's *RIGID BODY line");
+    // print the reference nodes as well (ROT NODE: the rotations)
+    let rigid = text
+        .replace("*STEP\n", &format!("*NSET, NSET=HUBREF\n{r}, {q}\n*STEP\n"))
+        .replace("*END STEP", "*NODE PRINT, NSET=HUBREF\nU\n*END STEP");
+    let coupling = rigid
+        .replace(
+            &card,
+            &format!("*SURFACE, NAME=HUBS, TYPE=NODE\nHUB\n*COUPLING, REF NODE={r}, SURFACE=HUBS, CONSTRAINT NAME=HUB\n*KINEMATIC\n1, 3\n"),
+        )
+        .replace(&format!("{q}, 1, 1, 0\n"), &format!("{r}, 4, 4, 0\n"))
+        .replace(&format!("{q}, 2, 2, 0\n"), &format!("{r}, 5, 5, 0\n"))
+        .replace(&format!("{q}, 3, "), &format!("{r}, 6, "));
+    assert!(coupling.contains(&format!("{r}, 6, 100000\n")), "moment on DOF 6");
+    let coords: HashMap<u64, [f64; 3]> = model
+        .mesh
+        .node_labels
+        .iter()
+        .copied()
+        .zip(model.mesh.coords.iter().copied())
+        .collect();
+    let inner: Vec<u64> = model.mesh.node_sets["INNER"]
+        .iter()
+        .map(|&n| model.mesh.node_labels[n])
+        .collect();
+    let theta_direct = direct.coupling_motion[0][5];
+    for (name, text) in [("rigid_body", &rigid), ("coupling", &coupling)] {
+        let path = dir.join(format!("{name}.inp"));
+        std::fs::write(&path, text).unwrap();
+        // the deck is read back to the model's coupling
+        let deck = flank::mesh::inp::read_deck(&path).unwrap();
+        assert_eq!(deck.model.couplings, model.couplings, "{name}");
+        let lib = solve_static(&deck.model, &SolveOptions::default()).unwrap();
+        let t = Instant::now();
+        let u_flank = flank_solve_deck(&path, &dir.join(format!("{name}_flank")));
+        let flank_s = t.elapsed().as_secs_f64();
+        let (theta_flank, res_flank) = fit_rotation_z(&u_flank, &coords, &inner);
+        println!(
+            "{name}: flank θ = {:.9e} (library {:.9e}, in-memory model {:.9e}), INNER off the rigid rotation by {res_flank:.1e} mm, {flank_s:.2} s",
+            theta_flank, lib.coupling_motion[0][5], theta_direct
+        );
+        assert!(((lib.coupling_motion[0][5] - theta_direct) / theta_direct).abs() < 1e-12);
+        assert!(((theta_flank - theta_direct) / theta_direct).abs() < 1e-12);
+        assert!(res_flank < 1e-12 * theta_direct * A);
+        if !common::ccx_available() {
+            continue;
+        }
+        let ccx = flank::ccx::run_ccx(&path, &dir.join(format!("{name}_ccx")), 1)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let u_ccx = ccx.displacements;
+        let (theta_ccx, res_ccx) = fit_rotation_z(&u_ccx, &coords, &inner);
+        let (du, n) = field_difference(&u_flank, &u_ccx);
+        let dtheta = (theta_flank - theta_ccx) / theta_ccx;
+        println!(
+            "{name}: ccx θ = {theta_ccx:.9e} (INNER off the rigid rotation by {res_ccx:.1e} mm), flank − ccx: θ {dtheta:+.2e}, max|Δu|/max|u| {du:.2e} over {n} nodes, ccx {:.2} s",
+            ccx.wall_s
+        );
+        assert!(n >= model.mesh.node_count(), "every mesh node compared ({n})");
+        common::check(
+            "rigid_coupling",
+            &format!("deck {name}: θ flank vs ccx"),
+            theta_flank,
+            theta_ccx,
+            2e-6,
+            flank_s + ccx.wall_s,
+        );
+        assert!(du < 2e-6, "{name}: displacements differ by {du:.2e}");
+        let uref = u_ccx[&r];
+        assert!(uref.iter().all(|v| v.abs() < 1e-12), "fixed REF NODE moved: {uref:?}");
+        if name == "rigid_body" {
+            // ccx's ROT NODE carries the rotation
+            let rot = u_ccx[&q];
+            println!("rigid_body: ccx ROT NODE {q}: {rot:?}");
+            common::check(
+                "rigid_coupling",
+                "deck rigid_body: ccx ROT NODE rz vs flank θ",
+                rot[2],
+                theta_flank,
+                2e-6,
+                ccx.wall_s,
+            );
+            assert!(rot[0].abs() < 1e-15 && rot[1].abs() < 1e-15);
+        }
+    }
 }
