@@ -291,7 +291,9 @@ enum Cmd {
     },
     /// `*RIGID BODY` number `coupling`: its node or element set is taken as
     /// it stands at this point of the deck.
-    Coupling { coupling: usize },
+    Coupling {
+        coupling: usize,
+    },
     /// A data line of `*SURFACE` number `surface`: element(s) with a face,
     /// or node(s) (`face == 0`).
     SurfaceItem {
@@ -808,7 +810,10 @@ impl Parser {
                 }
                 return Err(self.err(
                     self.couplings[c].loc,
-                    format!("*COUPLING must be followed by *KINEMATIC (found *{name} at line {})", loc.line),
+                    format!(
+                        "*COUPLING must be followed by *KINEMATIC (found *{name} at line {})",
+                        loc.line
+                    ),
                 ));
             }
         }
@@ -1222,7 +1227,9 @@ impl Parser {
         self.coupling_before_step(card)?;
         self.check_params(
             card,
-            &["NSET", "ELSET", "REF NODE", "REFNODE", "ROT NODE", "ROTNODE"],
+            &[
+                "NSET", "ELSET", "REF NODE", "REFNODE", "ROT NODE", "ROTNODE",
+            ],
         )?;
         let members = match (self.value(card, "NSET")?, self.value(card, "ELSET")?) {
             (Some(n), None) => CouplingMembers::NodeSet(self.intern(&n, card.loc)?),
@@ -2340,10 +2347,7 @@ impl Parser {
                 continue;
             };
             let Some(s) = self.surfaces.iter().position(|s| &s.name == name) else {
-                return Err(self.err(
-                    raw.loc,
-                    format!("*COUPLING: surface {name} is not defined"),
-                ));
+                return Err(self.err(raw.loc, format!("*COUPLING: surface {name} is not defined")));
             };
             let mut v = surface_nodes[s].clone();
             for &(e, face) in &surface_faces[s] {
@@ -2356,8 +2360,14 @@ impl Parser {
             v.dedup();
             cp_nodes[c] = v;
         }
-        let couplings =
-            self.build_couplings(&roles, cp_nodes, &cp_fixed, &cp_load, &dirichlet, &dirichlet_loc)?;
+        let couplings = self.build_couplings(
+            &roles,
+            cp_nodes,
+            &cp_fixed,
+            &cp_load,
+            &dirichlet,
+            &dirichlet_loc,
+        )?;
         let contact = self.contact_definition(surface_faces, surface_nodes)?;
 
         // Materials: keep complete ones; drop unused ones without *ELASTIC.
@@ -2552,7 +2562,13 @@ impl Parser {
 
     /// Reference DOF (0..6: tx, ty, tz, rx, ry, rz) that DOF `component`
     /// (0-based) of a reference node stands for.
-    fn reference_dof(&self, role: RefRole, component: usize, what: &str, loc: Loc) -> Result<usize> {
+    fn reference_dof(
+        &self,
+        role: RefRole,
+        component: usize,
+        what: &str,
+        loc: Loc,
+    ) -> Result<usize> {
         let raw = &self.couplings[role.coupling];
         match (raw.keyword, role.rot, component) {
             ("COUPLING", _, k) => Ok(k),
@@ -2638,7 +2654,10 @@ impl Parser {
                     ));
                 }
             }
-            let r = self.mesh.node(raw.ref_node).expect("checked reference node");
+            let r = self
+                .mesh
+                .node(raw.ref_node)
+                .expect("checked reference node");
             let mut free = [true; 6];
             let mut loads = [0.0; 6];
             for k in 0..6 {
@@ -3305,7 +3324,12 @@ fn check_writable(model: &Model) -> Result<()> {
         if cp.nodes.is_empty() {
             return bad(format!("rigid coupling '{}' has no node", cp.name));
         }
-        if !cp.reference_point.iter().chain(&cp.load).all(|v| v.is_finite()) {
+        if !cp
+            .reference_point
+            .iter()
+            .chain(&cp.load)
+            .all(|v| v.is_finite())
+        {
             return bad(format!(
                 "rigid coupling '{}' has a non-finite reference point or load",
                 cp.name
@@ -4515,7 +4539,9 @@ U
                 1.0,
             ));
         }
-        assert!(matches!(format_deck(&m), Err(FlankError::Model(e)) if e.contains("two rigid couplings")));
+        assert!(
+            matches!(format_deck(&m), Err(FlankError::Model(e)) if e.contains("two rigid couplings"))
+        );
         let mut m = sample_model();
         m.couplings.push(RigidCoupling::rotation_about(
             "HUB",
@@ -4881,7 +4907,11 @@ U
         let deck = parse(RIGID).unwrap();
         assert!(deck.warnings.is_empty(), "{:?}", deck.warnings);
         let m = &deck.model;
-        assert_eq!(m.mesh.node_count(), 20, "reference nodes are not mesh nodes");
+        assert_eq!(
+            m.mesh.node_count(),
+            20,
+            "reference nodes are not mesh nodes"
+        );
         assert!(m.mesh.node(100).is_none() && m.mesh.node(101).is_none());
         assert_eq!(m.mesh.node_sets["NALL"].len(), 20);
         assert!(m.mesh.node_sets["REFS"].is_empty());
@@ -4946,23 +4976,51 @@ U
     #[test]
     fn rigid_coupling_errors_name_the_line() {
         let rb = "*RIGID BODY, NSET=TOP, REF NODE=100, ROT NODE=101";
-        let d = with(RIGID, rb, "*RIGID BODY, NSET=TOP, REF NODE=999, ROT NODE=101");
-        expect_err(&d, line_of(&d, "*RIGID BODY"), "REF NODE 999 is not defined");
+        let d = with(
+            RIGID,
+            rb,
+            "*RIGID BODY, NSET=TOP, REF NODE=999, ROT NODE=101",
+        );
+        expect_err(
+            &d,
+            line_of(&d, "*RIGID BODY"),
+            "REF NODE 999 is not defined",
+        );
         let d = with(RIGID, rb, "*RIGID BODY, NSET=TOP, REF NODE=7, ROT NODE=101");
         expect_err(&d, line_of(&d, "*RIGID BODY"), "belongs to an element");
-        let d = with(RIGID, rb, "*RIGID BODY, NSET=TOP, REF NODE=100, ROT NODE=100");
+        let d = with(
+            RIGID,
+            rb,
+            "*RIGID BODY, NSET=TOP, REF NODE=100, ROT NODE=100",
+        );
         expect_err(&d, line_of(&d, "*RIGID BODY"), "already the REF NODE");
         let d = with(RIGID, rb, "*RIGID BODY, NSET=TOP, ROT NODE=101");
         expect_err(&d, line_of(&d, "*RIGID BODY"), "REF NODE");
         let d = with(RIGID, rb, "*RIGID BODY, NSET=NOPE, REF NODE=100");
         expect_err(&d, line_of(&d, "*RIGID BODY"), "NOPE is not defined");
-        let d = with(RIGID, rb, "*NSET, NSET=EMPTY\n*RIGID BODY, NSET=EMPTY, REF NODE=100");
+        let d = with(
+            RIGID,
+            rb,
+            "*NSET, NSET=EMPTY\n*RIGID BODY, NSET=EMPTY, REF NODE=100",
+        );
         expect_err(&d, line_of(&d, "*RIGID BODY"), "no node to couple");
-        let d = with(RIGID, rb, "*RIGID BODY, NSET=REFS, REF NODE=100, ROT NODE=101");
+        let d = with(
+            RIGID,
+            rb,
+            "*RIGID BODY, NSET=REFS, REF NODE=100, ROT NODE=101",
+        );
         expect_err(&d, line_of(&d, "*RIGID BODY"), "no node to couple");
         let d = with(RIGID, rb, "*RIGID BODY, NSET=REFS, REF NODE=100");
-        expect_err(&d, line_of(&d, "*RIGID BODY"), "no node of node set REFS belongs to an element");
-        let d = with(RIGID, rb, "*RIGID BODY, NSET=TOP, REF NODE=100, PINNSET=TOP");
+        expect_err(
+            &d,
+            line_of(&d, "*RIGID BODY"),
+            "no node of node set REFS belongs to an element",
+        );
+        let d = with(
+            RIGID,
+            rb,
+            "*RIGID BODY, NSET=TOP, REF NODE=100, PINNSET=TOP",
+        );
         expect_err(&d, line_of(&d, "*RIGID BODY"), "PINNSET");
         // a node in two couplings: the second one is named
         let d = with(
@@ -4970,7 +5028,11 @@ U
             "*STEP\n",
             "*NODE\n102, 0, 0, 2\n*NSET, NSET=CORNER\n5\n*RIGID BODY, NSET=CORNER, REF NODE=102\n*STEP\n",
         );
-        expect_err(&d, line_of(&d, "NSET=CORNER, REF"), "already coupled by *RIGID BODY TOP");
+        expect_err(
+            &d,
+            line_of(&d, "NSET=CORNER, REF"),
+            "already coupled by *RIGID BODY TOP",
+        );
         // *BOUNDARY on a coupled node: at that line
         let d = with(RIGID, "BASE, 1, 3\n", "BASE, 1, 3\n7, 3, 3\n");
         expect_err(&d, line_of(&d, "7, 3, 3"), "constrain the reference node");
@@ -4990,7 +5052,11 @@ U
         let d = with(&d, "*STATIC\n", &format!("*STATIC\n{rb}\n"));
         expect_err(&d, line_of(&d, "*RIGID BODY"), "before *STEP");
         // a reference node used as a contact node surface
-        let d = with(RIGID, "*STEP\n", "*SURFACE, NAME=S, TYPE=NODE\n100\n*STEP\n");
+        let d = with(
+            RIGID,
+            "*STEP\n",
+            "*SURFACE, NAME=S, TYPE=NODE\n100\n*STEP\n",
+        );
         expect_err(&d, line_of(&d, "*SURFACE"), "reference node");
     }
 
@@ -5011,7 +5077,11 @@ U
         let e = with(&d, kin, "*KINEMATIC\n1, 4\n");
         expect_err(&e, line_of(&e, "1, 4"), "1-3");
         let e = with(&d, "*SOLID SECTION", "*KINEMATIC\n1, 3\n*SOLID SECTION");
-        expect_err(&e, line_of(&e, "*KINEMATIC"), "without a preceding *COUPLING");
+        expect_err(
+            &e,
+            line_of(&e, "*KINEMATIC"),
+            "without a preceding *COUPLING",
+        );
         let e = with(&d, "SURFACE=STOP,", "SURFACE=STOP, ORIENTATION=OR1,");
         expect_err(&e, line_of(&e, "*COUPLING"), "ORIENTATION");
         let e = with(&d, ", CONSTRAINT NAME=HUB", "");

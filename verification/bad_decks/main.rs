@@ -381,3 +381,117 @@ fn floating_body_pulled_away_or_unloaded() {
         &["not held", "undetermined"],
     );
 }
+
+/// The unit cube with its top face held by a `*RIGID BODY` (REF NODE 100,
+/// ROT NODE 101, both fixed but for the rotation about z, which carries a
+/// moment) instead of the pressure; `edit` breaks one thing.
+fn rigid(edit: impl Fn(String) -> String) -> String {
+    let s = deck(|s| {
+        s.replace(
+            "*ELEMENT,",
+            "*NODE\n100, 0.5, 0.5, 1.\n101, 0.5, 0.5, 1.\n*ELEMENT,",
+        )
+        .replace(
+            "*STEP\n",
+            "*NSET, NSET=TOP\n5, 6, 7, 8, 13, 14, 15, 16\n*RIGID BODY, NSET=TOP, REF NODE=100, ROT NODE=101\n*STEP\n",
+        )
+        .replace("BASE, 1, 3\n", "BASE, 1, 3\n100, 1, 3\n101, 1, 2\n")
+        .replace("*DLOAD\n1, P2, 10.\n", "*CLOAD\n101, 3, 1000.\n")
+    });
+    edit(s)
+}
+
+#[test]
+fn the_valid_rigid_body_deck_solves() {
+    let (ok, stderr) = run("valid_rigid", &rigid(|s| s));
+    assert!(ok, "the rigid-body deck must solve:\n{stderr}");
+    assert!(!stderr.contains("warning"), "{stderr}");
+}
+
+#[test]
+fn rigid_coupling_errors() {
+    let line = |text: &str, needle: &str| {
+        format!(
+            ":{}:",
+            text.lines().position(|l| l.contains(needle)).unwrap() + 1
+        )
+    };
+    let t = rigid(|s| s.replace("REF NODE=100", "REF NODE=99"));
+    expect_error(
+        "rigid_ref_missing",
+        &t,
+        &[&line(&t, "*RIGID BODY"), "REF NODE 99 is not defined"],
+    );
+    let t = rigid(|s| s.replace("REF NODE=100", "REF NODE=7"));
+    expect_error(
+        "rigid_ref_in_element",
+        &t,
+        &[&line(&t, "*RIGID BODY"), "belongs to an element"],
+    );
+    let t = rigid(|s| s.replace("BASE, 1, 3\n", "BASE, 1, 3\n7, 1, 1, 0.\n"));
+    expect_error(
+        "rigid_coupled_node_fixed",
+        &t,
+        &[&line(&t, "7, 1, 1, 0."), "constrain the reference node"],
+    );
+    let t = rigid(|s| {
+        s.replace(
+            "*STEP\n",
+            "*NODE\n102, 0, 0, 2\n*NSET, NSET=CORNER\n7\n*RIGID BODY, NSET=CORNER, REF NODE=102\n*STEP\n",
+        )
+    });
+    expect_error(
+        "rigid_node_twice",
+        &t,
+        &[&line(&t, "NSET=CORNER, REF"), "node 7 is already coupled"],
+    );
+    let t = rigid(|s| {
+        s.replace(
+            "*RIGID BODY, NSET=TOP",
+            "*NSET, NSET=NONE\n*RIGID BODY, NSET=NONE",
+        )
+    });
+    expect_error(
+        "rigid_empty_set",
+        &t,
+        &[&line(&t, "*RIGID BODY"), "node set NONE has no node"],
+    );
+    let t = rigid(|s| s.replace("101, 1, 2\n", "101, 1, 2, 0.01\n"));
+    expect_error(
+        "rigid_prescribed_rotation",
+        &t,
+        &[&line(&t, "101, 1, 2, 0.01"), "only zero"],
+    );
+    // *COUPLING + *DISTRIBUTING / a partial *KINEMATIC
+    let coupling = |kin: &'static str| {
+        rigid(move |s| {
+            s.replace(
+                "*RIGID BODY, NSET=TOP, REF NODE=100, ROT NODE=101\n",
+                &format!("*SURFACE, NAME=STOP, TYPE=ELEMENT\n1, S2\n*COUPLING, REF NODE=100, SURFACE=STOP, CONSTRAINT NAME=C1\n{kin}"),
+            )
+            .replace("101, 1, 2\n", "100, 4, 5\n")
+            .replace("101, 3, 1000.", "100, 6, 1000.")
+        })
+    };
+    let (ok, stderr) = run("valid_coupling", &coupling("*KINEMATIC\n1, 3\n"));
+    assert!(ok, "the *COUPLING deck must solve:\n{stderr}");
+    let t = coupling("*DISTRIBUTING\n1, 3\n");
+    expect_error(
+        "coupling_distributing",
+        &t,
+        &[&line(&t, "*DISTRIBUTING"), "distributing", "not held rigid"],
+    );
+    let t = coupling("*KINEMATIC\n3\n");
+    expect_error(
+        "coupling_partial",
+        &t,
+        &[&line(&t, "*KINEMATIC"), "couples only dof(s) 3", "partial"],
+    );
+    // a body held by a free reference DOF that nothing else holds
+    let t = rigid(|s| s.replace("BASE, 1, 3\n", ""));
+    expect_error(
+        "rigid_floating",
+        &t,
+        &["free rigid-body mode", "rotation about z"],
+    );
+}
