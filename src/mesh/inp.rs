@@ -3,9 +3,30 @@
 //! The reader accepts the subset of the CalculiX (ccx 2.20) deck language that
 //! describes one *linear static* analysis of C3D20/C3D20R/C3D15 solids and
 //! turns it into a [`Model`]. Anything that would change the answer if it were
-//! silently ignored (equations, couplings, plasticity, temperatures, other
+//! silently ignored (equations, distributing couplings, plasticity, temperatures, other
 //! procedures, ...) is a [`FlankError::Parse`] with file and line; harmless
 //! or unknown keywords become [`DeckWarning`]s. No input panics.
+//!
+//! Hub couplings (read into [`Model::couplings`] as [`RigidCoupling`]s):
+//! `*RIGID BODY, NSET=|ELSET=, REF NODE=r[, ROT NODE=m]` (the set's nodes,
+//! or all nodes of the element set, follow the rigid motion of r; r's DOFs
+//! 1-3 are the reference translations, m's DOFs 1-3 its rotations; without
+//! ROT NODE the rotations are free and unloaded, as in ccx, which then
+//! creates a node no card can reach; without REF NODE it is an error), and
+//! `*COUPLING, REF NODE=r, SURFACE=s, CONSTRAINT NAME=c` followed by
+//! `*KINEMATIC` with DOF lines `first[, last]` that must cover 1-3 (ccx
+//! couples translations only, DOFs ≤ 3; a partial coupling is refused); the
+//! rotations are then DOFs 4-6 of r. Both are model data (before *STEP).
+//! The reference point is r's position. `*BOUNDARY` on a reference DOF
+//! fixes it (zero only: a prescribed reference motion is an error), `*CLOAD`
+//! on it is the reference force (N) or moment (N·mm); every other reference
+//! DOF is free. REF and ROT nodes must belong to no element and serve one
+//! coupling; they are *not* mesh nodes of the model (their motion is the
+//! solution's `coupling_motion`, not a row of `displacements.csv`). Errors
+//! (with file and line): undefined or element-attached reference nodes, an
+//! empty set or surface, a node in two couplings, a `*BOUNDARY` on a coupled
+//! node, DOFs a rigid body's reference nodes do not have, `*DISTRIBUTING`
+//! (distributing coupling: not rigid), `ORIENTATION`, `PINNSET`.
 //!
 //! Contact (read into [`Model::contact`]): `*SURFACE` (TYPE=ELEMENT with
 //! `element or elset, Sn` lines, TYPE=NODE with `node or nset` lines),
@@ -29,7 +50,8 @@
 //!    are replayed in file order.
 //!
 //! The writer produces a deck that ccx runs and [`parse_deck`] reads back to
-//! the same model. ccx reads real numbers from the first 20 characters of a
+//! the same model (rigid couplings as `*RIGID BODY` with two fresh reference
+//! nodes each, see [`format_deck`]). ccx reads real numbers from the first 20 characters of a
 //! field only (`f20.0`), so every real is written in the shortest form that
 //! fits in 20 characters: exact (bit-for-bit round trip) whenever such a form
 //! exists, otherwise rounded to as many significant digits as fit: at least
