@@ -39,6 +39,13 @@ use crate::error::FlankError;
 pub trait Delassus {
     /// Columns `cols` of W, each of length n, in the order given.
     fn columns(&mut self, cols: &[usize]) -> Result<Vec<Vec<f64>>, FlankError>;
+
+    /// Columns that cost about as much together as one alone (a block of
+    /// right-hand sides): requests are padded up to a multiple of it with
+    /// the candidates most likely to be needed next.
+    fn block_size(&self) -> usize {
+        1
+    }
 }
 
 /// A dense W given in full (tests, small problems).
@@ -247,10 +254,33 @@ pub fn solve_active_set(
     let tol = options.gap_tolerance;
     let mut cols: Vec<Option<Vec<f64>>> = vec![None; n];
     let mut computed = 0usize;
-    let mut fetch = |set: &[usize], cols: &mut Vec<Option<Vec<f64>>>| -> Result<(), FlankError> {
-        let need: Vec<usize> = set.iter().copied().filter(|&j| cols[j].is_none()).collect();
+    let block = w.block_size().max(1);
+    // candidates by their last computed gap, smallest first: the padding of
+    // column requests (the next ones to close are the nearest to closing)
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&a, &b| prob.q[a].total_cmp(&prob.q[b]));
+    let mut fetch = |set: &[usize],
+                     cols: &mut Vec<Option<Vec<f64>>>,
+                     order: &[usize]|
+     -> Result<(), FlankError> {
+        let mut need: Vec<usize> = set.iter().copied().filter(|&j| cols[j].is_none()).collect();
         if need.is_empty() {
             return Ok(());
+        }
+        if need.len() % block != 0 {
+            let mut taken = vec![false; n];
+            for &j in &need {
+                taken[j] = true;
+            }
+            for &j in order {
+                if need.len() % block == 0 {
+                    break;
+                }
+                if cols[j].is_none() && !taken[j] {
+                    taken[j] = true;
+                    need.push(j);
+                }
+            }
         }
         let got = w.columns(&need)?;
         for (j, c) in need.into_iter().zip(got) {
@@ -294,7 +324,7 @@ pub fn solve_active_set(
     let mut rank_deficient = false;
     while sol.iterations < options.max_iterations {
         sol.iterations += 1;
-        fetch(&free, &mut cols)?;
+        fetch(&free, &mut cols, &order)?;
         // equality-constrained minimizer on F
         let k = free.len();
         let mut mff = DMatrix::<f64>::zeros(k, k);
@@ -349,6 +379,7 @@ pub fn solve_active_set(
             alpha = astar;
             // gaps of the constraints outside F
             let g = gaps(prob, &cols, &free, &lambda, &alpha);
+            order.sort_by(|&a, &b| g[a].total_cmp(&g[b]));
             let mut in_free = vec![false; n];
             for &i in &free {
                 in_free[i] = true;

@@ -488,6 +488,10 @@ struct SystemDelassus<'a> {
 const BLOCK: usize = 32;
 
 impl Delassus for SystemDelassus<'_> {
+    fn block_size(&self) -> usize {
+        BLOCK
+    }
+
     fn columns(&mut self, cols: &[usize]) -> Result<Vec<Vec<f64>>, FlankError> {
         let n = self.system.reduced_count();
         let mut out = Vec::with_capacity(cols.len());
