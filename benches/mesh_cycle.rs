@@ -37,6 +37,7 @@ fn cycle() -> MeshCycle {
         vtu: false,
         refine_contact_limits: false,
         reference_single_contact_start_deg: None,
+        extend_step_deg: None,
     };
     MeshCycle::new(&scene, &mesh, settings, 0).unwrap()
 }

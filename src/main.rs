@@ -166,7 +166,7 @@ enum Command {
     /// roll angle with the stiffness factorized once. Writes
     /// mesh_cycle.csv, summary.json (contact_ratio, single_pair_force_n,
     /// positions, time_per_position_s, nodes, ...), force_per_tooth and
-    /// transmission_error plots (SVG, PNG) and position_NNN.vtu.
+    /// transmission_error plots (SVG, PNG) and roll_<angle>deg.vtu.
     Run {
         /// The scene file (.toml).
         scene: PathBuf,

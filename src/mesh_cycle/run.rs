@@ -137,6 +137,11 @@ pub struct RunSettings {
     pub roll_angles_deg: Vec<f64>,
     pub vtu: bool,
     pub refine_contact_limits: bool,
+    /// Set when the roll angles are the default range: its step (deg). The
+    /// range is then extended step by step (up to one angular pitch on
+    /// each side) while the middle pair still carries load at an end, so
+    /// that load-extended contact is inside it.
+    pub extend_step_deg: Option<f64>,
     /// reference = roll − (kinematic start of single contact) + this.
     pub reference_single_contact_start_deg: Option<f64>,
 }
@@ -395,6 +400,11 @@ pub fn settings(
             "penalty factor {penalty_factor} must be positive"
         )));
     }
+    let default_range = o.roll_angles_deg.is_none()
+        && o.reference_angles_deg.is_none()
+        && a.roll_angles_deg.is_none()
+        && a.reference_angles_deg.is_none()
+        && a.roll_start_deg.is_none();
     let roll_angles_deg = match (&o.roll_angles_deg, &o.reference_angles_deg) {
         (Some(_), Some(_)) => {
             return Err(FlankError::Model(
@@ -430,6 +440,7 @@ pub fn settings(
             .or(a.refine_contact_limits)
             .unwrap_or(true),
         reference_single_contact_start_deg: a.reference_single_contact_start_deg,
+        extend_step_deg: default_range.then(|| a.roll_step_deg.unwrap_or(1.0)),
     })
 }
 
@@ -500,13 +511,40 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
         b
     };
     let mut steps = Vec::with_capacity(angles.len());
-    for (i, &a) in angles.iter().enumerate() {
+    let solve = |a: f64| -> Result<StepResult, FlankError> {
         let solved = cycle.solve(a)?;
         if cycle.settings.vtu {
-            write_position_vtu(&cycle, out, i, a, &solved)?;
+            write_position_vtu(&cycle, out, a, &solved)?;
         }
-        steps.push(solved.step);
+        Ok(solved.step)
+    };
+    for &a in &angles {
+        steps.push(solve(a)?);
         bar.inc(1);
+    }
+    // a default range grows while the middle pair is loaded at an end
+    let mut extended = 0;
+    if let Some(step) = cycle.settings.extend_step_deg {
+        let limit = (cycle.kin.angular_pitch[0].to_degrees() / step).ceil() as usize;
+        for _ in 0..limit {
+            if !cycle.loaded(&steps[0], mid) {
+                break;
+            }
+            bar.inc_length(1);
+            steps.insert(0, solve(steps[0].roll_deg - step)?);
+            bar.inc(1);
+            extended += 1;
+        }
+        for _ in 0..limit {
+            let last = steps.len() - 1;
+            if !cycle.loaded(&steps[last], mid) {
+                break;
+            }
+            bar.inc_length(1);
+            steps.push(solve(steps[last].roll_deg + step)?);
+            bar.inc(1);
+            extended += 1;
+        }
     }
     bar.finish_and_clear();
     let time_per_position_s =
@@ -602,6 +640,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
         "loaded_threshold_fraction": LOADED_FRACTION,
         "positions": steps.len(),
         "refinement_positions": refine_solves,
+        "extension_positions": extended,
         "time_per_position_s": time_per_position_s,
         "setup_s": setup_s,
         "total_s": t_total.elapsed().as_secs_f64(),
@@ -638,7 +677,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
         "files": {
             "csv": "mesh_cycle.csv",
             "plots": plot_files,
-            "vtu": if cycle.settings.vtu { "position_NNN.vtu" } else { "" },
+            "vtu": if cycle.settings.vtu { "roll_<angle>deg.vtu" } else { "" },
         },
         "notes": notes,
         "warnings": warnings,
@@ -657,12 +696,16 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
     Ok(summary)
 }
 
-/// `position_NNN.vtu`: both bodies placed at the roll angle, displacement
+/// The VTU file of a roll angle: `roll_+012.50deg.vtu`.
+pub fn vtu_name(roll_deg: f64) -> String {
+    format!("roll_{roll_deg:+08.3}deg.vtu")
+}
+
+/// `roll_…deg.vtu`: both bodies placed at the roll angle, displacement
 /// (global frame) and contact pressure.
 fn write_position_vtu(
     cycle: &MeshCycle,
     out: &Path,
-    index: usize,
     roll_deg: f64,
     solved: &Solved,
 ) -> Result<(), FlankError> {
@@ -670,7 +713,7 @@ fn write_position_vtu(
     let mut mesh = cycle.pair.model.mesh.clone();
     mesh.coords = placement.positions(&mesh.coords);
     let u = placement.global_vectors(&solved.displacement);
-    let p = out.join(format!("position_{index:03}.vtu"));
+    let p = out.join(vtu_name(roll_deg));
     write_vtu(
         &p,
         &mesh,

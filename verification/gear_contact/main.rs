@@ -71,6 +71,7 @@ fn settings(law: ContactLaw, factor: f64, slave: SlaveBody) -> RunSettings {
         vtu: false,
         refine_contact_limits: false,
         reference_single_contact_start_deg: None,
+        extend_step_deg: None,
     }
 }
 
