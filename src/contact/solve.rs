@@ -556,10 +556,8 @@ pub fn solve_pairs_placed(
         .map(|c| system.reduced_form(&c.terms))
         .collect();
     // response to the external loads
-    let (b_ext, f_full) = system.external_rhs(model)?;
-    let mut q_ext = b_ext.clone();
-    system.solve(&mut q_ext);
-    let u_ext = system.expand(&q_ext);
+    let ext = system.external_response(model)?;
+    let (b_ext, f_full, u_ext) = (ext.rhs.clone(), ext.load.clone(), &ext.displacement);
     let gap_of = |c: &crate::contact::pairing::ContactConstraint, u: &[f64]| -> f64 {
         c.terms
             .iter()
@@ -568,7 +566,7 @@ pub fn solve_pairs_placed(
     };
     let q: Vec<f64> = constraints
         .iter()
-        .map(|c| c.g0 + gap_of(c, &u_ext))
+        .map(|c| c.g0 + gap_of(c, u_ext))
         .collect();
     let fm = &system.floating;
     let d: Vec<Vec<f64>> = fm

@@ -37,8 +37,21 @@ pub struct SystemStats {
     pub floating_modes: usize,
 }
 
+/// The response of the pinned stiffness to the model's external loads
+/// (the same for every contact configuration of the same model).
+#[derive(Clone, Debug)]
+pub struct ExternalResponse {
+    /// Reduced right-hand side and full load vector.
+    pub rhs: Vec<f64>,
+    pub load: Vec<f64>,
+    /// Full displacement K₀⁻¹ b (with prescribed values).
+    pub displacement: Vec<f64>,
+}
+
 /// The factorized stiffness of a model (with its floating modes pinned).
 pub struct ElasticSystem {
+    /// Computed on first use by [`ElasticSystem::external_response`].
+    external: std::sync::OnceLock<ExternalResponse>,
     pub floating: FloatingModes,
     pub dofs: DofMap,
     pattern: SparsePattern,
@@ -104,6 +117,7 @@ impl ElasticSystem {
             floating_modes: floating.modes.len(),
         };
         Ok(ElasticSystem {
+            external: std::sync::OnceLock::new(),
             floating,
             dofs,
             pattern,
@@ -135,6 +149,25 @@ impl ElasticSystem {
             *bi += pi;
         }
         Ok((b, f))
+    }
+
+    /// The response to the external loads of `model`, solved once and kept:
+    /// a driver that solves many contact configurations (roll angles) of
+    /// the same model pays for it once. `model` must be the model the
+    /// system was built from.
+    pub fn external_response(&self, model: &Model) -> Result<&ExternalResponse, FlankError> {
+        if let Some(e) = self.external.get() {
+            return Ok(e);
+        }
+        let (rhs, load) = self.external_rhs(model)?;
+        let mut q = rhs.clone();
+        self.solve(&mut q);
+        let displacement = self.expand(&q);
+        Ok(self.external.get_or_init(|| ExternalResponse {
+            rhs,
+            load,
+            displacement,
+        }))
     }
 
     /// Solves K₀ x = b in place.
