@@ -161,7 +161,9 @@ pub struct ContactAnalysis {
     pub penalty_factor: Option<f64>,
     /// `pinion` (default) or `gear`: the body whose flank nodes are slaves.
     pub slave: Option<crate::mesh_cycle::SlaveBody>,
-    /// Largest initial gap of a contact candidate (mm, > 0; default 0.1).
+    /// Largest initial gap of a contact candidate (mm, > 0; default 0.2;
+    /// doubled automatically, up to three times, at a position where nodes
+    /// beyond it close under load).
     pub search_distance_mm: Option<f64>,
     /// Coulomb friction coefficient: only 0 is accepted (not implemented).
     pub friction_mu: Option<f64>,

@@ -476,6 +476,9 @@ pub struct ContactState {
     pub backward_error: f64,
     pub gap_tolerance: f64,
     pub warnings: Vec<String>,
+    /// Slave nodes that were not candidates but penetrate after the solve
+    /// (the search distance was too small; see the warnings).
+    pub uncovered: usize,
 }
 
 /// Columns of W = B K₀⁻¹ Bᵀ by solves with the factorized stiffness.
@@ -650,9 +653,11 @@ pub fn solve_pairs_placed(
     }
     // slave nodes that were not candidates but penetrate in the deformed
     // configuration: the search distance was too small
+    let mut uncovered = 0;
     for g in pairs {
         let (count, depth) =
             uncovered_penetration(model, g, placement, &displacement, gap_tolerance);
+        uncovered += count;
         if count > 0 {
             warnings.push(format!(
                 "contact pair {} / {}: {count} slave node(s) outside the candidate set penetrate the master surface after the solve (deepest {depth:.3e} mm); increase the search distance",
@@ -676,6 +681,7 @@ pub fn solve_pairs_placed(
         backward_error,
         gap_tolerance,
         warnings,
+        uncovered,
     })
 }
 

@@ -72,6 +72,10 @@ pub struct RunOptions {
     pub quiet: bool,
 }
 
+/// How often a position is solved again with twice the search distance
+/// when slave nodes outside the candidates penetrate after the solve.
+pub const MAX_SEARCH_RAISES: usize = 3;
+
 /// Fraction of the nominal force T/r_b1 above which a tooth pair counts as
 /// carrying load (contact ratio, single contact).
 pub const LOADED_FRACTION: f64 = 1e-3;
@@ -123,6 +127,9 @@ pub struct StepResult {
     pub complementarity: f64,
     pub equilibrium: f64,
     pub backward_error: f64,
+    /// Search distance finally used (raised automatically, see
+    /// [`MAX_SEARCH_RAISES`]).
+    pub search_distance_mm: f64,
     pub time_s: f64,
     pub warnings: Vec<String>,
 }
@@ -254,12 +261,28 @@ impl MeshCycle {
             FlankError::Model(m) => FlankError::Model(format!("roll angle {roll_deg}°: {m}")),
             other => other,
         };
-        let pairs: Vec<PairGeometry> = (0..model.contact.pairs.len())
-            .map(|p| build_pair_placed(model, &placement, p, &self.contact.pairing))
-            .collect::<Result<_, _>>()
-            .map_err(at)?;
-        let state = solve_pairs_placed(model, &self.system, &pairs, &placement, &self.contact)
-            .map_err(at)?;
+        // slave nodes beyond the search distance that close under load (the
+        // pinion turns by tens of µm): search again, twice as far
+        let mut options = self.contact.clone();
+        let mut raised = Vec::new();
+        let (pairs, state) = loop {
+            let pairs: Vec<PairGeometry> = (0..model.contact.pairs.len())
+                .map(|p| build_pair_placed(model, &placement, p, &options.pairing))
+                .collect::<Result<_, _>>()
+                .map_err(at)?;
+            let state = solve_pairs_placed(model, &self.system, &pairs, &placement, &options)
+                .map_err(at)?;
+            let d = options.pairing.search_distance.unwrap_or(0.1);
+            if state.uncovered == 0 || raised.len() >= MAX_SEARCH_RAISES {
+                break (pairs, state);
+            }
+            raised.push(format!(
+                "{} slave node(s) beyond the search distance {d} mm penetrated: solved again with {} mm",
+                state.uncovered,
+                2.0 * d
+            ));
+            options.pairing.search_distance = Some(2.0 * d);
+        };
         let np = pairs.len();
         let mut step = StepResult {
             roll_deg,
@@ -282,7 +305,11 @@ impl MeshCycle {
             complementarity: state.active_set.complementarity,
             equilibrium: state.active_set.equilibrium,
             backward_error: state.backward_error,
-            warnings: state.warnings.clone(),
+            warnings: raised
+                .into_iter()
+                .chain(state.warnings.iter().cloned())
+                .collect(),
+            search_distance_mm: options.pairing.search_distance.unwrap_or(0.1),
             ..Default::default()
         };
         let nn = model.mesh.node_count();
@@ -432,7 +459,7 @@ pub fn settings(
         law,
         penalty_factor,
         slave: o.slave.or(a.slave).unwrap_or_default(),
-        search_distance_mm: a.search_distance_mm.unwrap_or(0.1),
+        search_distance_mm: a.search_distance_mm.unwrap_or(0.2),
         roll_angles_deg,
         vtu: o.vtu.or(a.vtu).unwrap_or(true),
         refine_contact_limits: o
