@@ -267,13 +267,13 @@ pub fn solve_active_set(
         if need.is_empty() {
             return Ok(());
         }
-        if need.len() % block != 0 {
+        if !need.len().is_multiple_of(block) {
             let mut taken = vec![false; n];
             for &j in &need {
                 taken[j] = true;
             }
             for &j in order {
-                if need.len() % block == 0 {
+                if need.len().is_multiple_of(block) {
                     break;
                 }
                 if cols[j].is_none() && !taken[j] {
