@@ -489,7 +489,7 @@ fn run(cli: Cli) -> Result<()> {
                     f("peak_memory_mb")
                 );
                 println!(
-                    "contact ratio {:.4} (kinematic {:.4}); single-pair force {:.1} N vs T/r_b1 = {:.1} N ({:+.2} %); TE peak-to-peak {:.2} µrad",
+                    "contact ratio {:.4} (kinematic ε_α {:.4}); single-pair force {:.1} N vs T/(r_b1 cos β_b) = {:.1} N ({:+.2} %); TE peak-to-peak {:.2} µrad",
                     f("contact_ratio"),
                     f("contact_ratio_kinematic"),
                     f("single_pair_force_n"),

@@ -54,6 +54,8 @@ pub struct MeshKinematics {
     /// Start and end of the path of contact, distances from T₁ (mm).
     pub path_start: f64,
     pub path_end: f64,
+    /// Base helix angle β_b (rad; 0 for spur gears).
+    pub base_helix_angle: f64,
     /// Transverse base pitch p_bt and transverse contact ratio ε_α.
     pub base_pitch: f64,
     pub contact_ratio: f64,
@@ -107,6 +109,7 @@ impl MeshKinematics {
             tip_roll: [p1.u_tip, p2.u_tip],
             path_start,
             path_end,
+            base_helix_angle: crate::geometry::involute::base_helix_angle(&pair.pinion),
             base_pitch,
             contact_ratio: (path_end - path_start) / base_pitch,
             face_width: [pair.pinion.face_width, pair.gear.face_width],

@@ -1,5 +1,5 @@
 //! Plots of a mesh cycle against roll angle (SVG and PNG, `plotters`):
-//! normal force per tooth pair with the nominal single-pair force T/r_b1
+//! normal force per tooth pair with the total normal force T/(r_b1 cos β_b)
 //! (seed 002's Figure 4), and the loaded transmission error. Text needs a
 //! font found at run time, as for the compliance plots.
 
@@ -59,7 +59,10 @@ pub fn plot_mesh_cycle(
                     .collect(),
             })
             .collect(),
-        reference: Some((nominal_force, format!("T/r_b1 = {nominal_force:.0} N"))),
+        reference: Some((
+            nominal_force,
+            format!("T/(r_b1 cos β_b) = {nominal_force:.0} N"),
+        )),
     };
     let te_title = format!(
         "Loaded transmission error (1 µrad = {:.4} µm on the line of action)",

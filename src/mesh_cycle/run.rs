@@ -76,7 +76,7 @@ pub struct RunOptions {
 /// when slave nodes outside the candidates penetrate after the solve.
 pub const MAX_SEARCH_RAISES: usize = 3;
 
-/// Fraction of the nominal force T/r_b1 above which a tooth pair counts as
+/// Fraction of the nominal force T/(r_b1 cos β_b) above which a tooth pair counts as
 /// carrying load (contact ratio, single contact).
 pub const LOADED_FRACTION: f64 = 1e-3;
 
@@ -237,9 +237,10 @@ impl MeshCycle {
         })
     }
 
-    /// The nominal single-pair normal force T/r_b1 (N).
+    /// The total normal force that carries the torque, T/(r_b1 cos β_b)
+    /// (N; T/r_b1 for spur gears): the single-pair force of a spur pair.
     pub fn nominal_force(&self) -> f64 {
-        self.torque / self.kin.base_radius[0]
+        self.torque / (self.kin.base_radius[0] * self.kin.base_helix_angle.cos())
     }
 
     /// The placement of both bodies at `roll` (rad).
