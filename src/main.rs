@@ -497,6 +497,7 @@ fn run(cli: Cli) -> Result<()> {
                     100.0 * f("single_pair_force_error"),
                     f("te_peak_to_peak_urad")
                 );
+                println!("contact law: {}", s["law"]);
                 for n in s["notes"].as_array().into_iter().flatten() {
                     println!("note: {}", n.as_str().unwrap_or(""));
                 }

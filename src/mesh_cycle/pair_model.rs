@@ -76,7 +76,7 @@ pub fn pair_model(
     };
     let (pinion, _) = scene_body(scene, "pinion", &options)?;
     let (gear, _) = scene_body(scene, "gear", &options)?;
-    combine(scene, kin, &pinion, &gear, torque, law, slave)
+    combine(kin, &pinion, &gear, torque, law, slave)
 }
 
 /// Label offset that keeps the gear's labels apart from the pinion's.
@@ -89,7 +89,6 @@ fn label_offset(max: u64) -> u64 {
 }
 
 fn combine(
-    scene: &Scene,
     kin: &MeshKinematics,
     pinion: &GearBody,
     gear: &GearBody,
@@ -224,7 +223,6 @@ fn combine(
     contact_nodes.sort_unstable();
     contact_nodes.dedup();
     model.contact = contact;
-    let _ = scene;
     Ok(PairModel {
         body_of,
         contact_nodes,
