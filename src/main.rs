@@ -113,15 +113,8 @@ enum Command {
         /// Output directory.
         #[arg(long, default_value = "out")]
         out: PathBuf,
-        /// Flank element size (mm); overrides the scene's [mesh] flank_size_mm.
-        #[arg(long)]
-        flank_size: Option<f64>,
-        /// Base element size (mm); overrides the scene's [mesh] base_size_mm.
-        #[arg(long)]
-        base_size: Option<f64>,
-        /// Element type; overrides the scene's [mesh] element.
-        #[arg(long, value_enum)]
-        element: Option<MeshElement>,
+        #[command(flatten)]
+        sizes: SectorArgs,
         /// Bodies, comma-separated.
         #[arg(long, value_delimiter = ',', default_values_t = ["pinion".to_string(), "gear".to_string()])]
         bodies: Vec<String>,
@@ -173,15 +166,8 @@ enum Command {
         /// Output directory.
         #[arg(long, default_value = "out")]
         out: PathBuf,
-        /// Flank element size (mm); overrides the scene's [mesh] flank_size_mm.
-        #[arg(long)]
-        flank_size: Option<f64>,
-        /// Base element size (mm); overrides the scene's [mesh] base_size_mm.
-        #[arg(long)]
-        base_size: Option<f64>,
-        /// Element type; overrides the scene's [mesh] element.
-        #[arg(long, value_enum)]
-        element: Option<MeshElement>,
+        #[command(flatten)]
+        sizes: SectorArgs,
         /// Roll angles (deg, flank's convention: 0 = middle pair at the pitch
         /// point), comma-separated; overrides the scene's.
         #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
@@ -232,6 +218,34 @@ enum Command {
 enum MesherChoice {
     Native,
     Gmsh,
+}
+
+/// Sector mesh sizes and element of the scene's bodies, overriding its [mesh].
+#[derive(clap::Args, Clone, Copy)]
+struct SectorArgs {
+    /// Flank element size (mm); overrides the scene's [mesh] flank_size_mm.
+    #[arg(long)]
+    flank_size: Option<f64>,
+    /// Base element size (mm); overrides the scene's [mesh] base_size_mm.
+    #[arg(long)]
+    base_size: Option<f64>,
+    /// Element type; overrides the scene's [mesh] element.
+    #[arg(long, value_enum)]
+    element: Option<MeshElement>,
+}
+
+impl SectorArgs {
+    fn body_options(self, with_load: bool) -> flank::compliance::body::BodyMeshOptions {
+        flank::compliance::body::BodyMeshOptions {
+            flank_size: self.flank_size,
+            base_size: self.base_size,
+            with_load,
+            element: self.element.map(|e| match e {
+                MeshElement::Hex20 => flank::scene::ElementKind::Hex20,
+                MeshElement::Wedge15 => flank::scene::ElementKind::Wedge15,
+            }),
+        }
+    }
 }
 
 #[derive(Clone, Copy, PartialEq, clap::ValueEnum)]
@@ -363,9 +377,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Compliance {
             scene,
             out,
-            flank_size,
-            base_size,
-            element,
+            sizes,
             bodies,
             method,
             flanks,
@@ -382,15 +394,7 @@ fn run(cli: Cli) -> Result<()> {
             use flank::compliance::run::{run_scene, RunOptions};
             let options = RunOptions {
                 out: out.clone(),
-                mesh: flank::compliance::body::BodyMeshOptions {
-                    flank_size,
-                    base_size,
-                    with_load: !no_load,
-                    element: element.map(|e| match e {
-                        MeshElement::Hex20 => flank::scene::ElementKind::Hex20,
-                        MeshElement::Wedge15 => flank::scene::ElementKind::Wedge15,
-                    }),
-                },
+                mesh: sizes.body_options(!no_load),
                 bodies,
                 method,
                 flanks,
@@ -440,9 +444,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Run {
             scene,
             out,
-            flank_size,
-            base_size,
-            element,
+            sizes,
             roll_angles,
             reference_angles,
             law,
@@ -456,15 +458,7 @@ fn run(cli: Cli) -> Result<()> {
             use flank::mesh_cycle::run::{run_scene, RunOptions};
             let options = RunOptions {
                 out: out.clone(),
-                mesh: flank::compliance::body::BodyMeshOptions {
-                    flank_size,
-                    base_size,
-                    with_load: false,
-                    element: element.map(|e| match e {
-                        MeshElement::Hex20 => flank::scene::ElementKind::Hex20,
-                        MeshElement::Wedge15 => flank::scene::ElementKind::Wedge15,
-                    }),
-                },
+                mesh: sizes.body_options(false),
                 threads,
                 roll_angles_deg: roll_angles,
                 reference_angles_deg: reference_angles,
