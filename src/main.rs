@@ -188,6 +188,10 @@ enum Command {
         /// Write no VTU files.
         #[arg(long)]
         no_vtu: bool,
+        /// Also write a CalculiX deck per position (roll_<angle>deg.inp):
+        /// the pair model at its placed coordinates, for ccx.
+        #[arg(long)]
+        decks: bool,
         /// Do not bisect the middle pair's contact limits.
         #[arg(long)]
         no_refine: bool,
@@ -451,6 +455,7 @@ fn run(cli: Cli) -> Result<()> {
             penalty_factor,
             slave,
             no_vtu,
+            decks,
             no_refine,
             threads,
             quiet,
@@ -466,6 +471,7 @@ fn run(cli: Cli) -> Result<()> {
                 penalty_factor,
                 slave,
                 vtu: no_vtu.then_some(false),
+                decks,
                 refine_contact_limits: no_refine.then_some(false),
                 quiet,
             };

@@ -30,6 +30,7 @@ fn run_writes_the_mesh_cycle_files() {
         "--base-size",
         "3",
         "--roll-angles=-6,6",
+        "--decks",
         "--out",
         d,
     ]);
@@ -63,9 +64,14 @@ fn run_writes_the_mesh_cycle_files() {
         "transmission_error.png",
         "roll_-006.000deg.vtu",
         "roll_+006.000deg.vtu",
+        "roll_+006.000deg.inp",
     ] {
         assert!(dir.join(file).exists(), "{file} missing");
     }
+    // the position deck reads back with its coupling and three contact pairs
+    let deck = flank::mesh::inp::read_deck(&dir.join("roll_+006.000deg.inp")).unwrap();
+    assert_eq!(deck.model.couplings.len(), 1);
+    assert_eq!(deck.model.contact.pairs.len(), 3);
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -67,6 +67,10 @@ pub struct RunOptions {
     pub slave: Option<SlaveBody>,
     /// Write a VTU file per position.
     pub vtu: Option<bool>,
+    /// Write a CalculiX deck per position (the pair model moved to its
+    /// placed coordinates, `roll_…deg.inp`), to run the same contact problem
+    /// in ccx.
+    pub decks: bool,
     /// Bisect the middle pair's first and last loaded roll angles.
     pub refine_contact_limits: Option<bool>,
     pub quiet: bool,
@@ -544,6 +548,9 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
         if cycle.settings.vtu {
             write_position_vtu(&cycle, out, a, &solved)?;
         }
+        if options.decks {
+            write_position_deck(&cycle, out, a)?;
+        }
         Ok(solved.step)
     };
     for &a in &angles {
@@ -722,6 +729,18 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
     let p = out.join("summary.json");
     std::fs::write(&p, text).map_err(|e| FlankError::io(&p, e))?;
     Ok(summary)
+}
+
+/// `roll_…deg.inp`: the pair model with its nodes at the placed positions
+/// of `roll_deg` (coupling, clamps, contact pairs as solved), a deck ccx
+/// runs (its HARD contact is a 50 E penalty; use the penalty law to compare
+/// like with like).
+fn write_position_deck(cycle: &MeshCycle, out: &Path, roll_deg: f64) -> Result<(), FlankError> {
+    let placement = cycle.placement(roll_deg.to_radians());
+    let mut model = cycle.pair.model.clone();
+    model.mesh.coords = placement.positions(&model.mesh.coords);
+    let name = vtu_name(roll_deg).replace(".vtu", ".inp");
+    crate::mesh::inp::write_deck(&model, &out.join(name))
 }
 
 /// The VTU file of a roll angle: `roll_+012.50deg.vtu`.
