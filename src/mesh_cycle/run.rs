@@ -195,12 +195,12 @@ impl MeshCycle {
         };
         let mut pair = pair_model(scene, &kin, mesh, law, settings.slave)?;
         if settings.law == ContactLaw::Penalty {
-            // the automatic slope of the master faces, scaled
-            let faces = crate::contact::surface::surface_faces(
-                &pair.model.mesh,
-                &pair.model.contact.surfaces[1],
-                &mut None,
-            );
+            // the automatic slope of the (first pair's) master faces, scaled
+            let contact = &pair.model.contact;
+            let master = contact
+                .surface(&contact.pairs[0].master)
+                .ok_or_else(|| FlankError::Model("the pair model has no master surface".into()))?;
+            let faces = crate::contact::surface::surface_faces(&pair.model.mesh, master, &mut None);
             let (slope, _) = crate::contact::pairing::default_penalty_slope(&pair.model, &faces);
             pair.model.contact.interactions[0].behavior = Some(PressureOverclosure::Linear {
                 slope: Some(slope * settings.penalty_factor),
@@ -450,8 +450,7 @@ pub fn settings(
                     "reference angles need reference_single_contact_start_deg in the scene's [analyses.contact]".into(),
                 )
             })?;
-            let lpstc = kin.single_contact().0.to_degrees();
-            v.iter().map(|x| x - r + lpstc).collect()
+            reference_to_roll(kin, r, v)
         }
         (None, None) => scene_roll_angles(&a, kin)?,
     };
@@ -476,6 +475,13 @@ pub fn settings(
     })
 }
 
+/// Roll angles (deg) of angles given in a reference convention whose
+/// value `start` marks the kinematic start of single contact.
+fn reference_to_roll(kin: &MeshKinematics, start: f64, angles: &[f64]) -> Vec<f64> {
+    let lpstc = kin.single_contact().0.to_degrees();
+    angles.iter().map(|x| x - start + lpstc).collect()
+}
+
 fn scene_roll_angles(a: &ContactAnalysis, kin: &MeshKinematics) -> Result<Vec<f64>, FlankError> {
     if let Some(v) = &a.roll_angles_deg {
         return Ok(v.clone());
@@ -486,8 +492,7 @@ fn scene_roll_angles(a: &ContactAnalysis, kin: &MeshKinematics) -> Result<Vec<f6
                 "reference_angles_deg needs reference_single_contact_start_deg".into(),
             )
         })?;
-        let lpstc = kin.single_contact().0.to_degrees();
-        return Ok(v.iter().map(|x| x - r + lpstc).collect());
+        return Ok(reference_to_roll(kin, r, v));
     }
     let step = a.roll_step_deg.unwrap_or(1.0);
     match (a.roll_start_deg, a.roll_end_deg) {
