@@ -17,6 +17,7 @@
 //!   quadratic faces, hard and penalty laws by an active set on the
 //!   condensed problem; the stiffness is factorized once).
 //! * [`report`]: VTU, CSV and JSON output.
+//! * [`tca`]: unloaded tooth contact analysis (contact lines, separations, moment arms, velocities, curvatures: the LTCA's geometric input).
 //!
 //! The library is usable without the command line; a cantilever solved in
 //! memory:
@@ -50,5 +51,6 @@ pub mod mesh;
 pub mod mesh_cycle;
 pub mod report;
 pub mod scene;
+pub mod tca;
 
 pub use error::{FlankError, Result};

@@ -1,0 +1,910 @@
+//! Unloaded tooth contact analysis (TCA) of spur and helical pairs: the
+//! geometric input of the compliance-matrix LTCA.
+//!
+//! At a roll angle the TCA finds every tooth pair whose contact line lies on
+//! the path of contact, samples its contact line with points, and gives per
+//! point the flank parameters of both bodies (where the LTCA interpolates the
+//! compliance tensors), the initial normal separation w (micro-geometry,
+//! misalignment, centre-distance error), the moment arm r of the pinion
+//! rotation, the share of line length the point stands for, the surface
+//! velocities and the curvature of both flanks across the line. Those are the
+//! w, r of the LTCA's compatibility F p + w = θ r + d (seed `000_…`; seed
+//! `004_…` §3.2).
+//!
+//! Methods: the kinematic contact of unmodified aligned involute flanks is
+//! known in closed form (the line of action and the plane of action,
+//! ISO 21771:2007 path of contact; Litvin & Fuentes, *Gear Geometry and
+//! Applied Theory*, 2nd ed. 2004, involute spur and helical gears: the
+//! contact line of a helical pair is a straight generator of the base
+//! helicoid, inclined by β_b in the plane of action). Each sample point X₀ of
+//! that line is then put through the real (modified, misplaced) surfaces as
+//! in seed `004_…` §3.1: the normal line through X₀ is intersected with the
+//! pinion flank (M₁), and the line through M₁ along the pinion's normal there
+//! with the gear flank (M₂); w is the signed distance from M₁ to M₂ along the
+//! normal. Both intersections are Newton iterations in (u, v, t) started from
+//! the kinematic parameters (exact for unmodified aligned flanks), so a
+//! position costs microseconds per point (Litvin & Fuentes, TCA by the
+//! tangency of surfaces; here the separation topology around the contact
+//! line, as LTCA needs it).
+//!
+//! # Conventions
+//!
+//! * **Global frame and roll angle** are those of [`MeshKinematics`]: pinion
+//!   axis = z axis, gear axis at (0, a); θ = pinion rotation in the drive
+//!   direction (clockwise seen from +z), 0 when the middle pair's kinematic
+//!   contact is at the pitch point. The loaded flanks are the right flanks
+//!   (`Flank::Right`) of both bodies; pinion sector tooth k meets gear tooth
+//!   [`MeshKinematics::mate`]`(k)`. s is the distance along the transverse
+//!   line of action from the pinion's base tangent point T₁ (s = r_b1 u₁).
+//! * **Flank parameters** (u, v): those of [`FlankSurface`] in each body's
+//!   own (sector) frame: u the involute roll angle, v = the body's own z
+//!   (mm). The gear's own z is the global z less (b₁ − b₂)/2.
+//! * **Normals** are unit vectors outward from the pinion flank (pointing
+//!   from the pinion into the gear).
+//! * **Separation** w (mm) > 0: a gap (the gear surface lies beyond the
+//!   pinion surface along the normal); < 0: overlap (interference).
+//! * **Moment arm** r = ((−e_z) × x)·n (mm): the normal approach of the
+//!   pinion surface point x per unit pinion rotation in the drive direction,
+//!   r_b1 cos β_b on an ideal contact line. Rotating the pinion by θ closes
+//!   w by θ r.
+//! * **Unloaded transmission error** θ₀ = min_i w_i / r_i (rad): the pinion
+//!   rotation in the drive direction that brings the closest point into
+//!   contact (> 0: the flanks are apart, the gear lags its ideal position;
+//!   < 0: they overlap).
+//! * **Misalignment**: the gear axis is tilted about the point of its axis in
+//!   the middle of the common face width. `misalignment_rad[0]` = γ_β, a
+//!   tilt **in the plane of action**: e_z → e_z + γ_β n_t (n_t = (cos α_wt,
+//!   sin α_wt, 0), the transverse line-of-action direction), so γ_β > 0 opens
+//!   the gap at large z. `misalignment_rad[1]` = γ_δ, a tilt **normal to the
+//!   plane of action**: e_z → e_z + γ_δ m, m = (−sin α_wt, cos α_wt, 0). In
+//!   ISO 6336-1 / ISO/TR 10064-3 terms, f_Σβ (out of the plane of the axes)
+//!   and f_Σδ (in the plane of the axes) project onto these as
+//!   γ_β = (f_Σβ cos α_wt + f_Σδ sin α_wt)/L and
+//!   γ_δ = (−f_Σβ sin α_wt + f_Σδ cos α_wt)/L (L the bearing span, signs
+//!   with f_Σβ along +x and f_Σδ along +y at +z): for α_wt ≈ 20° γ_β is
+//!   mostly f_Σβ, the harmful one (ISO 6336-1, f_ma), γ_δ mostly f_Σδ.
+//! * **Centre-distance error** Δa > 0 moves the gear away along +y. The
+//!   kinematics (roll angle, sample points) stay those of the nominal
+//!   centre distance; the ideal flanks then have a uniform separation (the
+//!   involute property: backlash, w = r θ₀ at every point) and a new working
+//!   pressure angle.
+//! * **Velocities** (m/s, from the pinion speed; the gear turns at
+//!   ω₂ = ω₁ z₁/z₂): v_ti = V_ti·e_roll, the tangential surface velocity of
+//!   body i (seed `004_…` §2.2: V_ti = v_i − (v_i·n) n, v_i = ω_i × r_i)
+//!   along the rolling direction e_roll = (n × e_z)/|n × e_z| (across the
+//!   contact line, in the tangent plane; e_roll·v_t1 > 0 on the active path).
+//!   `sliding_velocity` v_s = v_t1 − v_t2 (seed 004's v_c, signed: > 0 where
+//!   the pinion surface is the faster, in the recess beyond the pitch point
+//!   for a driving pinion); `rolling_velocity` = the entraining speed
+//!   u = (v_t1 + v_t2)/2 of seed `002_…` eq. 9; `sum_velocity` = v_t1 + v_t2.
+//! * **Curvature**: `curvature_radius` = the radii of the two flanks (pinion,
+//!   gear) in the normal section across the contact line (along e_roll),
+//!   > 0 convex; for an involute helicoid ρ_n = ρ_t / cos β_b with ρ_t the
+//!   distance to the base tangent point. `equivalent_radius_mm` =
+//!   ρ₁ρ₂/(ρ₁ + ρ₂) (seed `002_…` eqs. 6–7, in the normal plane).
+//!
+//! # Corner contact
+//!
+//! FE contact shows loaded ideal involutes engaging early and leaving late
+//! through the tip corner. Beyond the kinematic path ends the TCA therefore
+//! also samples the tip edge of the tooth that would start (gear tip,
+//! before the start of the path) or end (pinion tip, after its end) the
+//! contact: the corner point is on the tip edge (u = u_tip), its partner is
+//! the closest point of the mating flank, the normal is the mating flank's
+//! normal there, and a point is kept while its separation is ≤
+//! `extension_mm`. A corner is a sharp edge (no tip rounding is modelled):
+//! its curvature radius and the equivalent radius are reported as 0.
+
+use crate::contact::placement::Frame;
+use crate::error::FlankError;
+use crate::geometry::flank::FlankSurface;
+use crate::geometry::micro::FlankModification;
+use crate::geometry::rack::{Flank, ToothProfile};
+use crate::geometry::PairSpec;
+use crate::mesh_cycle::kinematics::MeshKinematics;
+
+#[cfg(test)]
+mod tests;
+
+type Result<T> = std::result::Result<T, FlankError>;
+type V3 = [f64; 3];
+
+fn dot(a: V3, b: V3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: V3, b: V3) -> V3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn add(a: V3, s: f64, b: V3) -> V3 {
+    [a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2]]
+}
+
+fn sub(a: V3, b: V3) -> V3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn unit(a: V3) -> V3 {
+    let l = dot(a, a).sqrt();
+    [a[0] / l, a[1] / l, a[2] / l]
+}
+
+/// Rodrigues rotation by `angle` about the unit `axis`.
+fn rotation(axis: V3, angle: f64) -> [[f64; 3]; 3] {
+    let (s, c) = angle.sin_cos();
+    let [x, y, z] = axis;
+    let t = 1.0 - c;
+    [
+        [c + t * x * x, t * x * y - s * z, t * x * z + s * y],
+        [t * x * y + s * z, c + t * y * y, t * y * z - s * x],
+        [t * x * z - s * y, t * y * z + s * x, c + t * z * z],
+    ]
+}
+
+fn matmul(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    let mut r = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            r[i][j] = (0..3).map(|k| a[i][k] * b[k][j]).sum();
+        }
+    }
+    r
+}
+
+fn matvec(a: &[[f64; 3]; 3], v: V3) -> V3 {
+    [dot(a[0], v), dot(a[1], v), dot(a[2], v)]
+}
+
+/// Global point → a frame's own coordinates.
+fn own(f: &Frame, x: V3) -> V3 {
+    f.rotate_back(sub(x, f.translation))
+}
+
+/// Settings of the TCA (mm, rad).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct TcaSettings {
+    /// Gear axis tilt [γ_β in the plane of action, γ_δ normal to it] (rad);
+    /// definitions and the ISO 6336-1 f_Σβ / f_Σδ correspondence in the
+    /// module docs. |γ| ≤ 0.05 rad.
+    pub misalignment_rad: [f64; 2],
+    /// Centre-distance error Δa (mm), > 0 moves the gear away from the pinion.
+    pub centre_distance_error_mm: f64,
+    /// K ≥ 2 points along each contact line (midpoints of K equal cells).
+    pub points_per_line: usize,
+    /// Rows of points across each flank contact line (≥ 1; 1 = on the line
+    /// only), `across_spacing_mm` apart in the plane of action, centred on
+    /// the line. Corner lines are always one row.
+    pub points_across: usize,
+    pub across_spacing_mm: f64,
+    /// Largest separation (mm) of a tip-corner point kept beyond the
+    /// kinematic path ends; 0 switches corner contact off.
+    pub extension_mm: f64,
+}
+
+impl Default for TcaSettings {
+    fn default() -> Self {
+        TcaSettings {
+            misalignment_rad: [0.0; 2],
+            centre_distance_error_mm: 0.0,
+            points_per_line: 20,
+            points_across: 1,
+            across_spacing_mm: 0.1,
+            extension_mm: 0.2,
+        }
+    }
+}
+
+impl TcaSettings {
+    /// Checks the settings; errors name the field and the accepted range.
+    pub fn validate(&self) -> Result<()> {
+        let err = |m: String| Err(FlankError::Model(format!("TCA settings: {m}")));
+        for (i, g) in self.misalignment_rad.iter().enumerate() {
+            if !(g.is_finite() && g.abs() <= 0.05) {
+                return err(format!(
+                    "misalignment_rad[{i}] = {g}: a finite tilt of at most 0.05 rad is needed (small misalignment)"
+                ));
+            }
+        }
+        if !self.centre_distance_error_mm.is_finite() {
+            return err(format!(
+                "centre_distance_error_mm = {}: a finite value is needed",
+                self.centre_distance_error_mm
+            ));
+        }
+        if !(2..=100_000).contains(&self.points_per_line) {
+            return err(format!(
+                "points_per_line = {}: between 2 and 100000 points along a contact line are needed",
+                self.points_per_line
+            ));
+        }
+        if !(1..=1000).contains(&self.points_across) {
+            return err(format!(
+                "points_across = {}: between 1 and 1000 rows are needed",
+                self.points_across
+            ));
+        }
+        if self.points_across > 1
+            && !(self.across_spacing_mm.is_finite() && self.across_spacing_mm > 0.0)
+        {
+            return err(format!(
+                "across_spacing_mm = {}: a finite positive spacing is needed with points_across > 1",
+                self.across_spacing_mm
+            ));
+        }
+        if !(self.extension_mm.is_finite() && self.extension_mm >= 0.0) {
+            return err(format!(
+                "extension_mm = {}: a finite value ≥ 0 is needed",
+                self.extension_mm
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// What a contact line is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum LineKind {
+    /// On the flanks, inside the kinematic path of contact and the face.
+    Flank,
+    /// The pinion's tip edge against the gear flank, after the end of the path.
+    PinionTipCorner,
+    /// The gear's tip edge against the pinion flank, before the start of the path.
+    GearTipCorner,
+}
+
+/// One sample point of a contact line (conventions in the module docs).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct ContactPoint {
+    /// Pinion flank parameters (u, v) of [`FlankSurface`] (its own frame).
+    pub pinion_uv: [f64; 2],
+    /// Gear flank parameters (u, v) (its own frame).
+    pub gear_uv: [f64; 2],
+    /// Global position (mm): the midpoint of the two surface points.
+    pub position: [f64; 3],
+    /// Global unit normal, outward from the pinion flank.
+    pub normal: [f64; 3],
+    /// Initial normal separation w (mm), > 0 a gap.
+    pub separation_mm: f64,
+    /// r = ((−e_z) × x₁)·n (mm), r_b1 cos β_b on an ideal line.
+    pub moment_arm_mm: f64,
+    /// Length of contact line this point stands for (mm): line length / K.
+    /// With `points_across` > 1 every row carries the same width; the load
+    /// per unit length of a line section is the sum over its rows / width.
+    pub width_mm: f64,
+    /// Offset across the line in the plane of action (mm; 0 on the line).
+    pub across_mm: f64,
+    /// v_t1 − v_t2 (m/s), signed.
+    pub sliding_velocity: f64,
+    /// Entraining speed (v_t1 + v_t2)/2 (m/s), seed 002 eq. 9.
+    pub rolling_velocity: f64,
+    /// v_t1 + v_t2 (m/s).
+    pub sum_velocity: f64,
+    /// Radii of curvature of [pinion, gear] across the line, normal section
+    /// (mm, > 0 convex; 0 for a tip edge).
+    pub curvature_radius: [f64; 2],
+    /// ρ₁ρ₂/(ρ₁ + ρ₂) (mm; 0 at a corner, infinite if not convex overall).
+    pub equivalent_radius_mm: f64,
+}
+
+/// The contact line of one tooth pair at one roll angle.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct ContactLine {
+    /// Sector tooth numbers (1-based) of the pinion and of its mate.
+    pub pinion_tooth: usize,
+    pub gear_tooth: usize,
+    pub kind: LineKind,
+    /// Length of the sampled part of the line (mm): for a flank line the
+    /// part inside the path and the face (Δz / cos β_b); for a corner line
+    /// the part whose points were kept.
+    pub length_mm: f64,
+    pub points: Vec<ContactPoint>,
+}
+
+/// The TCA at one roll angle.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct TcaPosition {
+    pub roll: f64,
+    /// θ₀ = min_i w_i / r_i (rad), > 0: the pinion must turn forward by θ₀
+    /// to close the smallest separation.
+    pub unloaded_te_rad: f64,
+    pub lines: Vec<ContactLine>,
+}
+
+/// Unloaded tooth contact analysis of a pair meshed as two sectors.
+#[derive(Clone, Debug)]
+pub struct Tca {
+    kin: MeshKinematics,
+    settings: TcaSettings,
+    /// Right flanks of pinion teeth 1..=n and gear teeth 1..=n.
+    pinion: Vec<FlankSurface>,
+    gear: Vec<FlankSurface>,
+    /// ω₁, ω₂ (rad/s).
+    omega: [f64; 2],
+    /// Common face in global z.
+    z_range: (f64, f64),
+    /// ds/dz of a contact line in the plane of action (−r_b1 × twist rate).
+    slope: f64,
+    cos_beta_b: f64,
+    /// T₁ and the transverse line-of-action direction n_t.
+    t1: V3,
+    n_t: V3,
+    /// Misalignment rotation, its centre, and the Δa shift.
+    tilt: [[f64; 3]; 3],
+    tilt_centre: V3,
+    /// Windows in s beyond the path ends searched for corner contact.
+    corner_window: [f64; 2],
+    /// Working line of action with the centre-distance error: its length
+    /// L′ = (a + Δa) sin α′, the path of contact on it [s_A, s_E] (from T₁′),
+    /// and the shift s′ − s = r_b1 (α′ − α) of a pinion involute's crossing.
+    line_length: f64,
+    path: (f64, f64),
+    s_shift: f64,
+}
+
+impl Tca {
+    /// The TCA of `pair` meshed as sectors of `teeth` teeth, with the flank
+    /// modifications of [pinion, gear] (e.g. [`crate::scene::Scene::flank_modifications`]),
+    /// the pinion speed `speed_rpm` (≥ 0; for the velocities) and `settings`.
+    pub fn new(
+        pair: &PairSpec,
+        modifications: [Option<FlankModification>; 2],
+        teeth: usize,
+        speed_rpm: f64,
+        settings: TcaSettings,
+    ) -> Result<Self> {
+        settings.validate()?;
+        if !(speed_rpm.is_finite() && speed_rpm >= 0.0) {
+            return Err(FlankError::Model(format!(
+                "TCA: pinion speed {speed_rpm} rpm: a finite value ≥ 0 is needed"
+            )));
+        }
+        let kin = MeshKinematics::new(pair, teeth)?;
+        let zmax = pair.pinion.teeth.min(pair.gear.teeth) as usize;
+        if teeth > zmax {
+            return Err(FlankError::Model(format!(
+                "TCA: a sector of {teeth} teeth does not fit a gear of {zmax} teeth"
+            )));
+        }
+        let a = pair.centre_distance;
+        if settings.centre_distance_error_mm.abs() > 0.05 * a {
+            return Err(FlankError::Model(format!(
+                "TCA settings: centre_distance_error_mm = {} exceeds 5 % of the centre distance {a} mm",
+                settings.centre_distance_error_mm
+            )));
+        }
+        let p1 = ToothProfile::new(&pair.pinion, "pinion")?;
+        let p2 = ToothProfile::new(&pair.gear, "gear")?;
+        let [m1, m2] = modifications;
+        let mut pinion = Vec::with_capacity(teeth);
+        let mut gear = Vec::with_capacity(teeth);
+        for k in 1..=teeth {
+            pinion.push(FlankSurface::new(p1.clone(), Flank::Right, k, m1.clone())?);
+            gear.push(FlankSurface::new(p2.clone(), Flank::Right, k, m2.clone())?);
+        }
+        let w1 = speed_rpm * std::f64::consts::PI / 30.0;
+        let omega = [w1, w1 * kin.z1 / kin.z2];
+        let shift = kin.gear_z_shift;
+        let z_range = (
+            0.0f64.max(shift),
+            kin.face_width[0].min(shift + kin.face_width[1]),
+        );
+        if !(z_range.1 > z_range.0) {
+            return Err(FlankError::Model(
+                "TCA: the face widths of pinion and gear do not overlap".into(),
+            ));
+        }
+        // with Δa the flanks meet on the working line of action at α′:
+        // cos α′ = (r_b1 + r_b2)/(a + Δa) (ISO 21771); the pinion involute
+        // crosses it r_b1 (α′ − α) further from the (moved) T₁′
+        let rb1 = kin.base_radius[0];
+        let rbs = rb1 + kin.base_radius[1];
+        let aw = a + settings.centre_distance_error_mm;
+        if !(aw > rbs) {
+            return Err(FlankError::Model(format!(
+                "TCA settings: centre_distance_error_mm = {} leaves a centre distance {aw} mm at or below r_b1 + r_b2 = {rbs} mm",
+                settings.centre_distance_error_mm
+            )));
+        }
+        let alpha = (rbs / aw).acos();
+        let line_length = aw * alpha.sin();
+        let path = (
+            line_length - kin.base_radius[1] * kin.tip_roll[1],
+            kin.path_end,
+        );
+        let s_shift = rb1 * (alpha - kin.working_pressure_angle);
+        let (sa, ca) = alpha.sin_cos();
+        let n_t = [ca, sa, 0.0];
+        let m = [-sa, ca, 0.0];
+        let t1 = [-rb1 * sa, rb1 * ca, 0.0];
+        let [gb, gd] = settings.misalignment_rad;
+        let tilt = matmul(&rotation([-ca, -sa, 0.0], gd), &rotation(m, gb));
+        let tilt_centre = [0.0, a, 0.5 * (z_range.0 + z_range.1)];
+        let cos_beta_b = kin.base_helix_angle.cos();
+        // corner windows: a convex pair separates as Δ²/(2ρ) across the line,
+        // Δ = Δs cos β_b, ρ = ρ_t/cos β_b, ρ_t ≤ L/4 (its largest value, at
+        // the middle of the line of action: the corner's gap grows slower
+        // than the local curvatures at the path ends suggest); twice the
+        // reach of `extension_mm`. Points beyond `extension_mm` are dropped.
+        let reach = 2.0 * (0.5 * line_length * settings.extension_mm / cos_beta_b.powi(3)).sqrt();
+        let corner_window = [reach; 2];
+        Ok(Tca {
+            slope: -rb1 * p1.twist_rate,
+            kin,
+            settings,
+            pinion,
+            gear,
+            omega,
+            z_range,
+            cos_beta_b,
+            t1,
+            n_t,
+            tilt,
+            tilt_centre,
+            corner_window,
+            line_length,
+            path,
+            s_shift,
+        })
+    }
+
+    pub fn kinematics(&self) -> &MeshKinematics {
+        &self.kin
+    }
+
+    pub fn settings(&self) -> &TcaSettings {
+        &self.settings
+    }
+
+    /// Transverse contact ratio ε_α of the kinematic path ([`MeshKinematics`]).
+    pub fn kinematic_contact_ratio(&self) -> f64 {
+        self.kin.contact_ratio
+    }
+
+    /// Kinematic single-tooth contact of the middle pair (roll angles).
+    pub fn single_contact(&self) -> (f64, f64) {
+        self.kin.single_contact()
+    }
+
+    /// `positions` roll angles over one mesh cycle (one pinion angular pitch,
+    /// half-open), centred on the middle of the middle pair's kinematic
+    /// engagement.
+    pub fn roll_angles_for_cycle(&self, positions: usize) -> Vec<f64> {
+        let (a, e) = self.kin.engagement(self.kin.middle);
+        let p = self.kin.angular_pitch[0];
+        let start = 0.5 * (a + e) - 0.5 * p;
+        (0..positions)
+            .map(|i| start + p * i as f64 / positions as f64)
+            .collect()
+    }
+
+    /// Frames of the pinion and of the (misplaced) gear at `roll`.
+    pub fn frames(&self, roll: f64) -> [Frame; 2] {
+        let [f1, f2] = self.kin.frames(roll);
+        let c = self.tilt_centre;
+        let t = add(
+            add(matvec(&self.tilt, sub(f2.translation, c)), 1.0, c),
+            self.settings.centre_distance_error_mm,
+            [0.0, 1.0, 0.0],
+        );
+        [
+            f1,
+            Frame {
+                rotation: matmul(&self.tilt, &f2.rotation),
+                translation: t,
+            },
+        ]
+    }
+
+    /// Global-z interval of the line s(z) = s0 + slope·z with s in [lo, hi],
+    /// inside the common face.
+    fn z_interval(&self, s0: f64, lo: f64, hi: f64) -> Option<(f64, f64)> {
+        let (za, zb) = self.z_range;
+        let c = self.slope;
+        let (a, b) = if c.abs() < 1e-14 {
+            if s0 >= lo && s0 <= hi {
+                (za, zb)
+            } else {
+                return None;
+            }
+        } else {
+            let (x, y) = ((lo - s0) / c, (hi - s0) / c);
+            (x.min(y).max(za), x.max(y).min(zb))
+        };
+        (b - a > 1e-9 * (zb - za)).then_some((a, b))
+    }
+
+    /// The TCA at `roll` (rad, [`MeshKinematics`] convention).
+    pub fn position(&self, roll: f64) -> Result<TcaPosition> {
+        if !roll.is_finite() {
+            return Err(FlankError::Model(format!(
+                "TCA: roll angle {roll}: a finite value is needed"
+            )));
+        }
+        let frames = self.frames(roll);
+        let (ps, pe) = self.path;
+        let mut lines = Vec::new();
+        for k in 1..=self.kin.teeth {
+            let g = self.kin.mate(k);
+            let s0 = self.kin.contact_position(k, roll) + self.s_shift;
+            if let Some((za, zb)) = self.z_interval(s0, ps, pe) {
+                lines.push(self.flank_line(k, g, s0, za, zb, &frames)?);
+            }
+            if self.settings.extension_mm > 0.0 {
+                let spur = self.slope.abs() < 1e-14;
+                let w = self.corner_window;
+                if !spur || s0 < ps {
+                    if let Some((za, zb)) = self.z_interval(s0, ps - w[0], ps) {
+                        if let Some(l) =
+                            self.corner_line(k, g, s0, za, zb, LineKind::GearTipCorner, &frames)?
+                        {
+                            lines.push(l);
+                        }
+                    }
+                }
+                if !spur || s0 > pe {
+                    if let Some((za, zb)) = self.z_interval(s0, pe, pe + w[1]) {
+                        if let Some(l) =
+                            self.corner_line(k, g, s0, za, zb, LineKind::PinionTipCorner, &frames)?
+                        {
+                            lines.push(l);
+                        }
+                    }
+                }
+            }
+        }
+        let mut te = f64::INFINITY;
+        for p in lines.iter().flat_map(|l| &l.points) {
+            if p.moment_arm_mm > 1e-9 {
+                te = te.min(p.separation_mm / p.moment_arm_mm);
+            }
+        }
+        if !te.is_finite() {
+            return Err(FlankError::Model(format!(
+                "TCA: no tooth pair of the {}-tooth sectors is in mesh at roll {roll} rad (engagement of the middle pair: {:?})",
+                self.kin.teeth,
+                self.kin.engagement(self.kin.middle)
+            )));
+        }
+        Ok(TcaPosition {
+            roll,
+            unloaded_te_rad: te,
+            lines,
+        })
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn flank_line(
+        &self,
+        k: usize,
+        g: usize,
+        s0: f64,
+        za: f64,
+        zb: f64,
+        frames: &[Frame; 2],
+    ) -> Result<ContactLine> {
+        let n = self.settings.points_per_line;
+        let rows = self.settings.points_across;
+        let length = (zb - za) / self.cos_beta_b;
+        let width = length / n as f64;
+        let c = self.slope;
+        let q = (1.0 + c * c).sqrt();
+        let (ps, pe) = self.path;
+        let (z0, z1) = self.z_range;
+        let mut points = Vec::with_capacity(n * rows);
+        for i in 0..n {
+            let z = za + (zb - za) * (i as f64 + 0.5) / n as f64;
+            let s = s0 + c * z;
+            for j in 0..rows {
+                let d = (j as f64 - 0.5 * (rows - 1) as f64) * self.settings.across_spacing_mm;
+                // across the line in the (s, z) plane: (1, −c)/q
+                let (sj, zj) = (s + d / q, z - c * d / q);
+                if rows > 1 && !(sj >= ps && sj <= pe && zj >= z0 && zj <= z1) {
+                    continue;
+                }
+                let mut p = self.flank_point(k, g, sj, zj, frames)?;
+                p.width_mm = width;
+                p.across_mm = d;
+                points.push(p);
+            }
+        }
+        Ok(ContactLine {
+            pinion_tooth: k,
+            gear_tooth: g,
+            kind: LineKind::Flank,
+            length_mm: length,
+            points,
+        })
+    }
+
+    /// One point of a flank line at (s, z) of the plane of action.
+    fn flank_point(
+        &self,
+        k: usize,
+        g: usize,
+        s: f64,
+        z: f64,
+        frames: &[Frame; 2],
+    ) -> Result<ContactPoint> {
+        let [f1, f2] = frames;
+        let fs1 = &self.pinion[k - 1];
+        let fs2 = &self.gear[g - 1];
+        let rb = self.kin.base_radius;
+        let x0 = add(add(self.t1, s, self.n_t), z, [0.0, 0.0, 1.0]);
+        let (u1, v1) = (s / rb[0], z);
+        let n0 = f1.rotate(fs1.normal(u1, v1));
+        let (u1, v1, t1, [n1, pu1, pv1]) = intersect(fs1, f1, x0, n0, u1, v1)
+            .ok_or_else(|| self.no_convergence("pinion", k, s, z))?;
+        let x1 = add(x0, t1, n0);
+        let n = f1.rotate(n1);
+        let (u2, v2) = ((self.line_length - s) / rb[1], z - self.kin.gear_z_shift);
+        let (u2, v2, w, [_, pu2, pv2]) = intersect(fs2, f2, x1, n, u2, v2)
+            .ok_or_else(|| self.no_convergence("gear", g, s, z))?;
+        let x2 = add(x1, w, n);
+        let e = unit(cross(n, [0.0, 0.0, 1.0]));
+        let k1 = normal_curvature(fs1, f1, u1, v1, e, Some((pu1, pv1)));
+        let k2 = normal_curvature(fs2, f2, u2, v2, e, Some((pu2, pv2)));
+        let rho = [radius(k1), radius(k2)];
+        let eq = if k1 + k2 > 0.0 {
+            1.0 / (k1 + k2)
+        } else {
+            f64::INFINITY
+        };
+        Ok(self.point(x1, x2, n, w, [u1, v1], [u2, v2], rho, eq, frames))
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn point(
+        &self,
+        x1: V3,
+        x2: V3,
+        n: V3,
+        w: f64,
+        uv1: [f64; 2],
+        uv2: [f64; 2],
+        rho: [f64; 2],
+        eq: f64,
+        frames: &[Frame; 2],
+    ) -> ContactPoint {
+        let ez = [0.0, 0.0, 1.0];
+        let arm = dot(cross([0.0, 0.0, -1.0], x1), n);
+        // surface velocities (mm/s): pinion clockwise about z, gear
+        // counter-clockwise about its (placed) axis
+        let f2 = &frames[1];
+        let a2 = f2.rotate(ez);
+        let v1 = cross([0.0, 0.0, -self.omega[0]], x1);
+        let v2 = cross(
+            [
+                self.omega[1] * a2[0],
+                self.omega[1] * a2[1],
+                self.omega[1] * a2[2],
+            ],
+            sub(x2, f2.translation),
+        );
+        let e = unit(cross(n, ez));
+        let vt = |v: V3| dot(add(v, -dot(v, n), n), e) * 1e-3;
+        let (t1, t2) = (vt(v1), vt(v2));
+        ContactPoint {
+            pinion_uv: uv1,
+            gear_uv: uv2,
+            position: add(x1, 0.5, sub(x2, x1)),
+            normal: n,
+            separation_mm: w,
+            moment_arm_mm: arm,
+            width_mm: 0.0,
+            across_mm: 0.0,
+            sliding_velocity: t1 - t2,
+            rolling_velocity: 0.5 * (t1 + t2),
+            sum_velocity: t1 + t2,
+            curvature_radius: rho,
+            equivalent_radius_mm: eq,
+        }
+    }
+
+    /// A corner line: the tip edge of one tooth against the mating flank.
+    /// Spur: K points over the face. Helical: the part of the window
+    /// [za, zb] from the path end to where w reaches `extension_mm`
+    /// (bisection; w grows away from the path end), then K points in it.
+    /// Points with w > `extension_mm` are dropped.
+    #[allow(clippy::too_many_arguments)]
+    fn corner_line(
+        &self,
+        k: usize,
+        g: usize,
+        s0: f64,
+        za: f64,
+        zb: f64,
+        kind: LineKind,
+        frames: &[Frame; 2],
+    ) -> Result<Option<ContactLine>> {
+        let ext = self.settings.extension_mm;
+        let c = self.slope;
+        let at = |z: f64| self.corner_point(k, g, s0 + c * z, z, kind, frames);
+        let (za, zb) = if c.abs() < 1e-14 {
+            (za, zb)
+        } else {
+            // the end of the window next to the path end
+            let (sa, sb) = (s0 + c * za, s0 + c * zb);
+            let edge_first = match kind {
+                LineKind::GearTipCorner => sa > sb,
+                _ => sa < sb,
+            };
+            let (ze, zf) = if edge_first { (za, zb) } else { (zb, za) };
+            if at(ze)?.separation_mm > ext {
+                return Ok(None);
+            }
+            let zs = if at(zf)?.separation_mm <= ext {
+                zf
+            } else {
+                let (mut lo, mut hi) = (ze, zf);
+                for _ in 0..25 {
+                    let mid = 0.5 * (lo + hi);
+                    if at(mid)?.separation_mm <= ext {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                lo
+            };
+            (ze.min(zs), ze.max(zs))
+        };
+        if !(zb - za > 1e-9 * (self.z_range.1 - self.z_range.0)) {
+            return Ok(None);
+        }
+        let n = self.settings.points_per_line;
+        let width = (zb - za) / self.cos_beta_b / n as f64;
+        let mut points = Vec::new();
+        for i in 0..n {
+            let z = za + (zb - za) * (i as f64 + 0.5) / n as f64;
+            let p = at(z)?;
+            if p.separation_mm <= ext {
+                points.push(ContactPoint {
+                    width_mm: width,
+                    ..p
+                });
+            }
+        }
+        if points.is_empty() {
+            return Ok(None);
+        }
+        Ok(Some(ContactLine {
+            pinion_tooth: k,
+            gear_tooth: g,
+            kind,
+            length_mm: width * points.len() as f64,
+            points,
+        }))
+    }
+
+    /// The corner point of a corner line at (s, z): the tip edge point at
+    /// own z and the closest point of the mating flank.
+    fn corner_point(
+        &self,
+        k: usize,
+        g: usize,
+        s: f64,
+        z: f64,
+        kind: LineKind,
+        frames: &[Frame; 2],
+    ) -> Result<ContactPoint> {
+        let [f1, f2] = frames;
+        let fs1 = &self.pinion[k - 1];
+        let fs2 = &self.gear[g - 1];
+        let rb = self.kin.base_radius;
+        let shift = self.kin.gear_z_shift;
+        let ez = [0.0, 0.0, 1.0];
+        let p = match kind {
+            LineKind::GearTipCorner => {
+                let uv2 = [fs2.u_tip(), z - shift];
+                let x2 = f2.place(fs2.point(uv2[0], uv2[1]));
+                let (u, v, d) = fs1.closest_point_from(own(f1, x2), s / rb[0], z);
+                let nn = f1.rotate(fs1.normal(u, v));
+                let x1 = f1.place(fs1.point(u, v));
+                let r1 = radius(normal_curvature(fs1, f1, u, v, unit(cross(nn, ez)), None));
+                self.point(x1, x2, nn, d, [u, v], uv2, [r1, 0.0], 0.0, frames)
+            }
+            _ => {
+                let uv1 = [fs1.u_tip(), z];
+                let x1 = f1.place(fs1.point(uv1[0], uv1[1]));
+                let u0 = (self.line_length - s) / rb[1];
+                let (u, v, d) = fs2.closest_point_from(own(f2, x1), u0, z - shift);
+                let ng = f2.rotate(fs2.normal(u, v));
+                let nn = [-ng[0], -ng[1], -ng[2]];
+                let x2 = f2.place(fs2.point(u, v));
+                let r2 = radius(normal_curvature(fs2, f2, u, v, unit(cross(nn, ez)), None));
+                self.point(x1, x2, nn, d, uv1, [u, v], [0.0, r2], 0.0, frames)
+            }
+        };
+        if !p.separation_mm.is_finite() {
+            return Err(FlankError::Model(format!(
+                "TCA: corner separation not finite (pinion tooth {k}, s = {s} mm, z = {z} mm)"
+            )));
+        }
+        Ok(p)
+    }
+
+    fn no_convergence(&self, body: &str, tooth: usize, s: f64, z: f64) -> FlankError {
+        FlankError::Model(format!(
+            "TCA: the normal line did not meet the {body} flank (tooth {tooth}) at s = {s:.6} mm, z = {z:.6} mm"
+        ))
+    }
+}
+
+fn radius(kappa: f64) -> f64 {
+    if kappa != 0.0 {
+        1.0 / kappa
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// Intersection of the global line x0 + t d with the flank placed by `frame`:
+/// Newton on P(u, v) − q0 − t d′ = 0 from (u, v, 0). Returns (u, v, t) and
+/// the own-frame normal and derivatives (P_u, P_v) at the last evaluation
+/// (within 1e-12 mm of the answer).
+fn intersect(
+    fs: &FlankSurface,
+    frame: &Frame,
+    x0: V3,
+    d: V3,
+    u: f64,
+    v: f64,
+) -> Option<(f64, f64, f64, [V3; 3])> {
+    let q0 = own(frame, x0);
+    let m = frame.rotate_back(d).map(|x| -x);
+    let (mut u, mut v, mut t) = (u, v, 0.0);
+    for _ in 0..30 {
+        let (p, n, pu, pv) = fs.evaluate(u, v);
+        let r = add(sub(q0, p), -t, m);
+        // [P_u P_v −d′] (du, dv, dt) = r by Cramer's rule
+        let pvm = cross(pv, m);
+        let det = dot(pu, pvm);
+        if !(det.abs() > 0.0 && det.is_finite()) {
+            return None;
+        }
+        let du = dot(r, pvm) / det;
+        let dv = dot(pu, cross(r, m)) / det;
+        let dt = dot(pu, cross(pv, r)) / det;
+        u += du;
+        v += dv;
+        t += dt;
+        let moved = add([du * pu[0], du * pu[1], du * pu[2]], dv, pv);
+        let step = dot(moved, moved).sqrt() + dt.abs();
+        if !step.is_finite() {
+            return None;
+        }
+        if step < 1e-12 {
+            return Some((u, v, t, [n, pu, pv]));
+        }
+    }
+    None
+}
+
+/// Normal curvature (1/mm, > 0 convex) of the placed flank at (u, v) in the
+/// global tangent direction `e`: (dn/ds)·e by a central difference of the
+/// modified surface's normal over ±1e-3 mm; (P_u, P_v) own-frame derivatives at (u, v).
+fn normal_curvature(
+    fs: &FlankSurface,
+    frame: &Frame,
+    u: f64,
+    v: f64,
+    e: V3,
+    d: Option<(V3, V3)>,
+) -> f64 {
+    let (pu, pv) = d.unwrap_or_else(|| fs.derivatives(u, v));
+    let t = frame.rotate_back(e);
+    let (a, b, c) = (dot(pu, pu), dot(pu, pv), dot(pv, pv));
+    let (ru, rv) = (dot(pu, t), dot(pv, t));
+    let det = a * c - b * b;
+    let du = (c * ru - b * rv) / det;
+    let dv = (a * rv - b * ru) / det;
+    let h = 1e-3;
+    let np = fs.normal(u + h * du, v + h * dv);
+    let nm = fs.normal(u - h * du, v - h * dv);
+    dot(sub(np, nm), t) / (2.0 * h)
+}

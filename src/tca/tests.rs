@@ -1,0 +1,593 @@
+use super::*;
+use crate::geometry::involute::inv;
+use crate::geometry::micro::test_gears::{gear, papers};
+use crate::geometry::micro::{MicroGeometry, Relief, ReliefShape};
+
+const SPUR: &str = "seed002-spur";
+const HELICAL: &str = "seed004-helical";
+
+fn pair(scene: &str) -> PairSpec {
+    crate::scene::read_scene(&papers().join(scene).join("scene.toml"))
+        .unwrap()
+        .pair
+}
+
+fn modification(scene: &str, which: usize, m: &MicroGeometry) -> FlankModification {
+    let (tp, u_sap) = gear(scene, which);
+    FlankModification::new(m, &tp, u_sap, tp.face_width).unwrap()
+}
+
+fn tca(scene: &str, teeth: usize, mods: [Option<FlankModification>; 2], s: TcaSettings) -> Tca {
+    Tca::new(&pair(scene), mods, teeth, 3000.0, s).unwrap()
+}
+
+fn flank_points(p: &TcaPosition) -> impl Iterator<Item = &ContactPoint> {
+    p.lines
+        .iter()
+        .filter(|l| l.kind == LineKind::Flank)
+        .flat_map(|l| &l.points)
+}
+
+/// Distance of a global point along the transverse line of action from T₁.
+fn s_of(t: &Tca, x: V3) -> f64 {
+    dot(t.n_t, sub(x, t.t1))
+}
+
+fn spread(v: impl Iterator<Item = f64>) -> f64 {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for x in v {
+        lo = lo.min(x);
+        hi = hi.max(x);
+    }
+    hi - lo
+}
+
+/// (a) Ideal aligned spur pair: zero separation, moment arm r_b1, the pairs
+/// in mesh are those of `engagement(k)`.
+#[test]
+fn ideal_spur() {
+    let t = tca(SPUR, 3, [None, None], TcaSettings::default());
+    let kin = t.kinematics().clone();
+    let rb1 = kin.base_radius[0];
+    let mut rolls = t.roll_angles_for_cycle(16);
+    rolls.extend([-0.3, 0.0, 0.25]);
+    let mut worst_w: f64 = 0.0;
+    let mut worst_r: f64 = 0.0;
+    for roll in rolls {
+        let p = t.position(roll).unwrap();
+        let mut in_mesh: Vec<usize> = p
+            .lines
+            .iter()
+            .filter(|l| l.kind == LineKind::Flank)
+            .map(|l| l.pinion_tooth)
+            .collect();
+        in_mesh.sort();
+        let want: Vec<usize> = (1..=3)
+            .filter(|&k| {
+                let (a, e) = kin.engagement(k);
+                a <= roll && roll <= e
+            })
+            .collect();
+        assert_eq!(in_mesh, want, "roll {roll}");
+        for l in &p.lines {
+            assert_eq!(l.gear_tooth, kin.mate(l.pinion_tooth));
+            if l.kind == LineKind::Flank {
+                assert_eq!(l.points.len(), 20);
+                assert!((l.length_mm - 13.3).abs() < 1e-12);
+            } else {
+                for q in &l.points {
+                    assert!(
+                        q.separation_mm > -1e-9,
+                        "corner overlap {}",
+                        q.separation_mm
+                    );
+                }
+            }
+        }
+        for q in flank_points(&p) {
+            worst_w = worst_w.max(q.separation_mm.abs());
+            worst_r = worst_r.max((q.moment_arm_mm - rb1).abs());
+            let n = q.normal;
+            let a = kin.working_pressure_angle;
+            assert!((n[0] - a.cos()).abs() < 1e-12 && (n[1] - a.sin()).abs() < 1e-12);
+        }
+        assert!(p.unloaded_te_rad.abs() < 1e-9 / rb1);
+    }
+    eprintln!("ideal spur: |w| ≤ {worst_w:.1e} mm, |r − r_b1| ≤ {worst_r:.1e} mm");
+    assert!(worst_w < 1e-9 && worst_r < 1e-9);
+    assert!((t.kinematic_contact_ratio() - 1.484).abs() < 2e-3);
+    let (l, h) = t.single_contact();
+    assert!(l < h);
+}
+
+/// Length of pair k's contact line by sampling the placed pinion flank
+/// section by section (independent of the line-slope formula): at each z the
+/// roll u whose point lies on the transverse line of action, inside the path.
+fn sampled_length(t: &Tca, k: usize, roll: f64) -> f64 {
+    let kin = t.kinematics();
+    let f1 = kin.frames(roll)[0];
+    let fs = &t.pinion[k - 1];
+    let m = [-t.n_t[1], t.n_t[0], 0.0];
+    let b = kin.face_width[0];
+    let n = 20000;
+    let mut inside = 0;
+    for i in 0..n {
+        let z = b * (i as f64 + 0.5) / n as f64;
+        // m·(x(u) − T₁) = 0 by the secant method on u
+        let g = |u: f64| dot(m, sub(f1.place(fs.point(u, z)), t.t1));
+        let (mut a, mut c) = (0.1, 1.0);
+        let (mut ga, mut gc) = (g(a), g(c));
+        for _ in 0..60 {
+            if gc == ga {
+                break;
+            }
+            let d = c - (c - a) * gc / (gc - ga);
+            a = c;
+            ga = gc;
+            c = d;
+            gc = g(c);
+            if gc.abs() < 1e-12 {
+                break;
+            }
+        }
+        let s = s_of(t, f1.place(fs.point(c, z)));
+        let on_flank = c >= fs.u_form() && c <= fs.u_tip() + 1e-12 && gc.abs() < 1e-9;
+        if on_flank && s >= kin.path_start && s <= kin.path_end {
+            inside += 1;
+        }
+    }
+    b / n as f64 * inside as f64 / kin.base_helix_angle.cos()
+}
+
+/// (b) Ideal helical pair: zero separation, moment arm r_b1 cos β_b, line
+/// lengths against sections of the flank, and the mean total contact length
+/// over a cycle = b ε_α / cos β_b (contact lines p_bt apart in s, inclined by
+/// β_b in the plane of action: mean number of lines met at any z is ε_α).
+#[test]
+fn ideal_helical() {
+    let t = tca(HELICAL, 5, [None, None], TcaSettings::default());
+    let kin = t.kinematics().clone();
+    let cb = kin.base_helix_angle.cos();
+    let rb1 = kin.base_radius[0];
+    let mut worst_w: f64 = 0.0;
+    let mut worst_r: f64 = 0.0;
+    let mut total = 0.0;
+    let rolls = t.roll_angles_for_cycle(24);
+    for &roll in &rolls {
+        let p = t.position(roll).unwrap();
+        for q in flank_points(&p) {
+            worst_w = worst_w.max(q.separation_mm.abs());
+            worst_r = worst_r.max((q.moment_arm_mm - rb1 * cb).abs());
+        }
+        total += p
+            .lines
+            .iter()
+            .filter(|l| l.kind == LineKind::Flank)
+            .map(|l| l.length_mm)
+            .sum::<f64>();
+    }
+    eprintln!("ideal helical: |w| ≤ {worst_w:.1e} mm, |r − r_b1 cos β_b| ≤ {worst_r:.1e} mm");
+    assert!(worst_w < 1e-9 && worst_r < 1e-9);
+    let mean = total / rolls.len() as f64;
+    let want = kin.face_width[0] * kin.contact_ratio / cb;
+    eprintln!("mean total contact length {mean:.4} mm, b ε_α / cos β_b = {want:.4} mm");
+    assert!((mean / want - 1.0).abs() < 1e-3, "{mean} vs {want}");
+    // one position, every pair (including partly meshing ones)
+    let roll = rolls[5];
+    let p = t.position(roll).unwrap();
+    let mut seen = 0;
+    for k in 1..=5 {
+        let want = sampled_length(&t, k, roll);
+        let got = p
+            .lines
+            .iter()
+            .find(|l| l.pinion_tooth == k && l.kind == LineKind::Flank)
+            .map_or(0.0, |l| l.length_mm);
+        eprintln!("pair {k}: line length {got:.4} mm, sampled {want:.4} mm");
+        assert!((got - want).abs() < 0.02, "pair {k}: {got} vs {want}");
+        if got > 0.0 {
+            seen += 1;
+        }
+    }
+    assert!(seen >= 3, "{seen} pairs in mesh");
+}
+
+/// (c) Micro-geometry: w = o₁ + o₂ at the point, lead crowning a parabola.
+#[test]
+fn micro_geometry() {
+    let r = |amount, length| {
+        Some(Relief {
+            amount,
+            length,
+            shape: ReliefShape::Parabolic,
+        })
+    };
+    for (scene, teeth) in [(SPUR, 3), (HELICAL, 5)] {
+        let m1 = MicroGeometry {
+            profile_crowning: 0.004,
+            tip_relief: r(0.008, 2.0),
+            ..Default::default()
+        };
+        let m2 = MicroGeometry {
+            tip_relief: r(0.010, 3.0),
+            ..Default::default()
+        };
+        let t = tca(
+            scene,
+            teeth,
+            [
+                Some(modification(scene, 0, &m1)),
+                Some(modification(scene, 1, &m2)),
+            ],
+            TcaSettings::default(),
+        );
+        let mut worst: f64 = 0.0;
+        let mut largest: f64 = 0.0;
+        for roll in t.roll_angles_for_cycle(8) {
+            let p = t.position(roll).unwrap();
+            for q in flank_points(&p) {
+                let o1 = t.pinion[0].offset(q.pinion_uv[0], q.pinion_uv[1]);
+                let o2 = t.gear[0].offset(q.gear_uv[0], q.gear_uv[1]);
+                worst = worst.max((q.separation_mm - o1 - o2).abs());
+                largest = largest.max(o1 + o2);
+            }
+        }
+        eprintln!("{scene}: w vs o₁ + o₂: {worst:.2e} mm (largest sum {largest:.4} mm)");
+        assert!(worst < 2e-6 && largest > 0.005);
+    }
+    // lead crowning C_β on the pinion: w = C_β ζ², ζ = (z − b/2)/(b/2)
+    let cb = 0.012;
+    let m = MicroGeometry {
+        lead_crowning: cb,
+        ..Default::default()
+    };
+    let t = tca(
+        SPUR,
+        3,
+        [Some(modification(SPUR, 0, &m)), None],
+        TcaSettings::default(),
+    );
+    let b = 13.3;
+    let p = t.position(0.0).unwrap();
+    let mut worst: f64 = 0.0;
+    for q in flank_points(&p) {
+        let zeta = (q.position[2] - 0.5 * b) / (0.5 * b);
+        worst = worst.max((q.separation_mm - cb * zeta * zeta).abs());
+    }
+    eprintln!("lead crowning parabola: {worst:.2e} mm");
+    assert!(worst < 1e-7);
+    assert!(p.unloaded_te_rad > 0.0);
+}
+
+/// (d) Misalignment and centre-distance error.
+#[test]
+fn misalignment_and_centre_distance() {
+    let g = 1e-4;
+    for (scene, teeth) in [(SPUR, 3), (HELICAL, 5)] {
+        let set = |m: [f64; 2], da: f64| TcaSettings {
+            misalignment_rad: m,
+            centre_distance_error_mm: da,
+            ..Default::default()
+        };
+        // in the plane of action: w = γ (Δz n_t·n + ρ₂ n_z) to first order
+        // (spur: γ Δz, slope γ); the ρ₂ n_z term is the axial shift of a
+        // helical flank point by the tilt
+        let t = tca(scene, teeth, [None, None], set([g, 0.0], 0.0));
+        let kin = t.kinematics().clone();
+        let zm = t.tilt_centre[2];
+        let mut worst: f64 = 0.0;
+        let mut spread_in: f64 = 0.0;
+        let mut spread_out: f64 = 0.0;
+        let t_out = tca(scene, teeth, [None, None], set([0.0, g], 0.0));
+        for roll in t.roll_angles_for_cycle(6) {
+            let p = t.position(roll).unwrap();
+            for q in flank_points(&p) {
+                let x = q.position;
+                let rho2 = kin.line_length - s_of(&t, x);
+                let n = q.normal;
+                let pred = g * ((x[2] - zm) * dot(t.n_t, n) + rho2 * n[2]);
+                worst = worst.max((q.separation_mm - pred).abs());
+            }
+            spread_in = spread_in.max(spread(flank_points(&p).map(|q| q.separation_mm)));
+            let p = t_out.position(roll).unwrap();
+            spread_out = spread_out.max(spread(flank_points(&p).map(|q| q.separation_mm)));
+        }
+        eprintln!(
+            "{scene}: γ_β = {g}: |w − first order| ≤ {worst:.2e} mm, spread {spread_in:.3e} mm; γ_δ = {g}: spread {spread_out:.3e} mm"
+        );
+        assert!(worst < 2e-3 * spread_in);
+        assert!(spread_out < 2e-3 * spread_in);
+        // spur: slope exactly γ along the face
+        if scene == SPUR {
+            let p = t.position(0.0).unwrap();
+            let l = &p
+                .lines
+                .iter()
+                .find(|l| l.kind == LineKind::Flank)
+                .unwrap()
+                .points;
+            let (a, b) = (&l[0], &l[l.len() - 1]);
+            let slope = (b.separation_mm - a.separation_mm) / (b.position[2] - a.position[2]);
+            assert!((slope / g - 1.0).abs() < 1e-3, "slope {slope}");
+        }
+        // centre-distance error: uniform separation (involute property) equal
+        // to (r_b1 + r_b2)(inv α′ − inv α) along the new line of action; the
+        // moment arm stays r_b1 cos β_b; w − r θ₀ = 0 everywhere
+        let da = 0.1;
+        let t = tca(scene, teeth, [None, None], set([0.0, 0.0], da));
+        let rb = kin.base_radius;
+        let a = kin.centre_distance;
+        let alpha = kin.working_pressure_angle;
+        let alpha2 = ((rb[0] + rb[1]) / (a + da)).acos();
+        let cb = kin.base_helix_angle.cos();
+        let want = (rb[0] + rb[1]) * (inv(alpha2) - inv(alpha)) * cb;
+        let mut dev: f64 = 0.0;
+        let mut worst_r: f64 = 0.0;
+        let mut worst_te: f64 = 0.0;
+        for roll in t.roll_angles_for_cycle(6) {
+            let p = t.position(roll).unwrap();
+            for q in flank_points(&p) {
+                dev = dev.max((q.separation_mm - want).abs());
+                worst_r = worst_r.max((q.moment_arm_mm - rb[0] * cb).abs());
+                worst_te =
+                    worst_te.max((q.separation_mm - q.moment_arm_mm * p.unloaded_te_rad).abs());
+            }
+        }
+        eprintln!(
+            "{scene}: Δa = {da} mm: w = {want:.6} mm ± {dev:.1e}, |r − r_b1 cos β_b| ≤ {worst_r:.1e}, |w − r θ₀| ≤ {worst_te:.1e} (α_wt {:.4}° → {:.4}°)",
+            alpha.to_degrees(),
+            alpha2.to_degrees()
+        );
+        assert!(dev < 1e-6 && worst_r < 1e-9 && worst_te < 1e-6);
+    }
+}
+
+/// (e) Velocities and curvature: spur v_s = (ω₁ + ω₂)(s − s_C), the
+/// entraining speed (ω₁ρ₁ + ω₂ρ₂)/2, ρ_eq = ρ₁ρ₂/(ρ₁ + ρ₂) with ρ_i the
+/// distances to the base tangent points (helical: ρ_i/cos β_b).
+#[test]
+fn velocities_and_curvature() {
+    for (scene, teeth) in [(SPUR, 3), (HELICAL, 5)] {
+        let t = tca(scene, teeth, [None, None], TcaSettings::default());
+        let kin = t.kinematics().clone();
+        let [w1, w2] = t.omega;
+        let sc = kin.base_radius[0] * kin.working_pressure_angle.tan();
+        let cb = kin.base_helix_angle.cos();
+        let (mut ev, mut er): (f64, f64) = (0.0, 0.0);
+        let mut vmax: f64 = 0.0;
+        for roll in t.roll_angles_for_cycle(8) {
+            let p = t.position(roll).unwrap();
+            for q in flank_points(&p) {
+                let s = s_of(&t, q.position);
+                let (r1, r2) = (s, kin.line_length - s);
+                let vs = (w1 + w2) * (s - sc) * 1e-3;
+                let u = 0.5 * (w1 * r1 + w2 * r2) * 1e-3;
+                ev = ev
+                    .max((q.sliding_velocity - vs).abs())
+                    .max((q.rolling_velocity - u).abs())
+                    .max((q.sum_velocity - 2.0 * u).abs());
+                vmax = vmax.max(vs.abs());
+                let want = [r1 / cb, r2 / cb];
+                let eq = want[0] * want[1] / (want[0] + want[1]);
+                for i in 0..2 {
+                    er = er.max((q.curvature_radius[i] / want[i] - 1.0).abs());
+                }
+                er = er.max((q.equivalent_radius_mm / eq - 1.0).abs());
+            }
+        }
+        eprintln!(
+            "{scene}: velocities vs closed form {ev:.1e} m/s (largest |v_s| {vmax:.2} m/s), radii {er:.1e} relative"
+        );
+        assert!(ev < 1e-9 && er < 1e-6);
+        // zero sliding at the pitch point: the middle pair at roll 0, z = 0 section
+        let p = t.position(0.0).unwrap();
+        let q = flank_points(&p)
+            .min_by(|a, b| {
+                (s_of(&t, a.position) - sc)
+                    .abs()
+                    .total_cmp(&(s_of(&t, b.position) - sc).abs())
+            })
+            .unwrap();
+        let ds = s_of(&t, q.position) - sc;
+        assert!((q.sliding_velocity - (w1 + w2) * ds * 1e-3).abs() < 1e-12);
+        if scene == SPUR {
+            assert!(q.sliding_velocity.abs() < 1e-12, "{}", q.sliding_velocity);
+        }
+    }
+}
+
+/// (f) Corner contact before the start and after the end of the path (spur).
+#[test]
+fn corner_contact() {
+    let t = tca(SPUR, 3, [None, None], TcaSettings::default());
+    let kin = t.kinematics().clone();
+    // tooth 1 engages one pitch after the middle pair (tooth 2 still in
+    // mesh before its start), tooth 3 leaves one pitch before it
+    let start = kin.engagement(1).0;
+    let end = kin.engagement(3).1;
+    let corner = |roll: f64, kind: LineKind| -> Option<ContactLine> {
+        let k = if kind == LineKind::GearTipCorner {
+            1
+        } else {
+            3
+        };
+        t.position(roll)
+            .unwrap()
+            .lines
+            .into_iter()
+            .find(|l| l.pinion_tooth == k && l.kind == kind)
+    };
+    for (edge, kind, sign) in [
+        (start, LineKind::GearTipCorner, -1.0),
+        (end, LineKind::PinionTipCorner, 1.0),
+    ] {
+        let mut last = 0.0;
+        let mut gone = false;
+        let mut n_found = 0;
+        for i in 1..=60 {
+            let d = 0.002 * i as f64;
+            let roll = edge + sign * d;
+            match corner(roll, kind) {
+                Some(l) => {
+                    assert!(!gone, "{kind:?} came back at {d} rad");
+                    n_found += 1;
+                    let w = l.points[0].separation_mm;
+                    assert!(w > last && w <= 0.2, "{kind:?} at {d}: w {w}");
+                    for q in &l.points {
+                        assert!((q.separation_mm - w).abs() < 1e-9);
+                        assert!(q.moment_arm_mm > 0.0);
+                        let uv = if kind == LineKind::GearTipCorner {
+                            q.gear_uv
+                        } else {
+                            q.pinion_uv
+                        };
+                        let u_tip = if kind == LineKind::GearTipCorner {
+                            t.gear[0].u_tip()
+                        } else {
+                            t.pinion[0].u_tip()
+                        };
+                        assert_eq!(uv[0], u_tip);
+                    }
+                    if i == 1 {
+                        eprintln!(
+                            "{kind:?} {d} rad beyond the path: w = {w:.3e} mm, r = {:.4} mm",
+                            l.points[0].moment_arm_mm
+                        );
+                    }
+                    last = w;
+                }
+                None => gone = true,
+            }
+        }
+        eprintln!("{kind:?}: found at {n_found} of 60 steps of 0.002 rad, last w {last:.4} mm");
+        assert!(gone && n_found >= 3 && last > 0.1);
+    }
+    // close to the path end the corner closes continuously
+    let l = corner(start - 1e-5, LineKind::GearTipCorner).unwrap();
+    assert!(l.points[0].separation_mm < 1e-6);
+    // switched off
+    let off = tca(
+        SPUR,
+        3,
+        [None, None],
+        TcaSettings {
+            extension_mm: 0.0,
+            ..Default::default()
+        },
+    );
+    let p = off.position(start - 0.01).unwrap();
+    assert!(p.lines.iter().all(|l| l.kind == LineKind::Flank));
+}
+
+#[test]
+fn across_grid_and_speed() {
+    let s = TcaSettings {
+        points_per_line: 10,
+        points_across: 3,
+        across_spacing_mm: 0.2,
+        ..Default::default()
+    };
+    let t = tca(SPUR, 3, [None, None], s);
+    let p = t.position(0.0).unwrap();
+    let l = p.lines.iter().find(|l| l.kind == LineKind::Flank).unwrap();
+    assert_eq!(l.points.len(), 30);
+    let across: Vec<f64> = l.points[..3].iter().map(|q| q.across_mm).collect();
+    assert_eq!(across, vec![-0.2, 0.0, 0.2]);
+    // timing: 50 points a line
+    for (scene, teeth) in [(SPUR, 3), (HELICAL, 5)] {
+        let m = MicroGeometry {
+            profile_crowning: 0.004,
+            lead_crowning: 0.01,
+            ..Default::default()
+        };
+        let t = tca(
+            scene,
+            teeth,
+            [Some(modification(scene, 0, &m)), None],
+            TcaSettings {
+                points_per_line: 50,
+                misalignment_rad: [1e-4, 0.0],
+                ..Default::default()
+            },
+        );
+        let rolls = t.roll_angles_for_cycle(20);
+        let t0 = std::time::Instant::now();
+        let mut n = 0;
+        for &r in &rolls {
+            n += t
+                .position(r)
+                .unwrap()
+                .lines
+                .iter()
+                .map(|l| l.points.len())
+                .sum::<usize>();
+        }
+        let dt = t0.elapsed().as_secs_f64() / rolls.len() as f64;
+        eprintln!(
+            "{scene}: {:.0} µs a position, {:.1} points a position, {:.2} µs a point",
+            dt * 1e6,
+            n as f64 / rolls.len() as f64,
+            dt * 1e6 * rolls.len() as f64 / n as f64
+        );
+    }
+}
+
+/// (g) Bad input.
+#[test]
+fn bad_input() {
+    let pr = pair(SPUR);
+    let ok = TcaSettings::default();
+    let bad = [
+        TcaSettings {
+            misalignment_rad: [f64::NAN, 0.0],
+            ..ok.clone()
+        },
+        TcaSettings {
+            misalignment_rad: [0.0, 0.2],
+            ..ok.clone()
+        },
+        TcaSettings {
+            centre_distance_error_mm: f64::INFINITY,
+            ..ok.clone()
+        },
+        TcaSettings {
+            centre_distance_error_mm: 20.0,
+            ..ok.clone()
+        },
+        TcaSettings {
+            points_per_line: 1,
+            ..ok.clone()
+        },
+        TcaSettings {
+            points_across: 0,
+            ..ok.clone()
+        },
+        TcaSettings {
+            points_across: 3,
+            across_spacing_mm: 0.0,
+            ..ok.clone()
+        },
+        TcaSettings {
+            extension_mm: -1.0,
+            ..ok.clone()
+        },
+    ];
+    for s in bad {
+        let e = Tca::new(&pr, [None, None], 3, 1000.0, s.clone()).unwrap_err();
+        eprintln!("{e}");
+        assert!(matches!(e, FlankError::Model(_)), "{s:?}");
+    }
+    assert!(Tca::new(&pr, [None, None], 0, 1000.0, ok.clone()).is_err());
+    assert!(Tca::new(&pr, [None, None], 14, 1000.0, ok.clone()).is_err());
+    assert!(Tca::new(&pr, [None, None], 3, -1.0, ok.clone()).is_err());
+    assert!(Tca::new(&pr, [None, None], 3, f64::NAN, ok.clone()).is_err());
+    // a modification of the other gear
+    let m = modification(SPUR, 1, &MicroGeometry::default());
+    assert!(Tca::new(&pr, [Some(m), None], 3, 1000.0, ok.clone()).is_err());
+    let t = Tca::new(&pr, [None, None], 3, 1000.0, ok).unwrap();
+    assert!(t.position(f64::NAN).is_err());
+    // far outside the sector's engagement: no pair in mesh
+    let e = t.position(3.0).unwrap_err();
+    assert!(e.to_string().contains("no tooth pair"), "{e}");
+    assert!(t.roll_angles_for_cycle(0).is_empty());
+}
