@@ -79,9 +79,14 @@
 //!   u = (v_t1 + v_t2)/2 of seed `002_…` eq. 9; `sum_velocity` = v_t1 + v_t2.
 //! * **Curvature**: `curvature_radius` = the radii of the two flanks (pinion,
 //!   gear) in the normal section across the contact line (along e_roll),
-//!   > 0 convex; for an involute helicoid ρ_n = ρ_t / cos β_b with ρ_t the
+//!   positive when convex; for an involute helicoid ρ_n = ρ_t / cos β_b with ρ_t the
 //!   distance to the base tangent point. `equivalent_radius_mm` =
 //!   ρ₁ρ₂/(ρ₁ + ρ₂) (seed `002_…` eqs. 6–7, in the normal plane).
+//!
+//! Flank points are sampled inside the kinematic path; with misplacement
+//! or modifications the normal line may meet a mating flank a few µm beyond
+//! its tip, where the involute is continued (the surfaces of
+//! [`FlankSurface`] are defined there).
 //!
 //! # Corner contact
 //!
@@ -482,7 +487,8 @@ impl Tca {
             .collect()
     }
 
-    /// Frames of the pinion and of the (misplaced) gear at `roll`.
+    /// Frames (own → global) of the pinion and of the gear at `roll`, the
+    /// gear tilted by the misalignment and moved by Δa (module docs).
     pub fn frames(&self, roll: f64) -> [Frame; 2] {
         let [f1, f2] = self.kin.frames(roll);
         let c = self.tilt_centre;
