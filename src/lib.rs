@@ -47,6 +47,7 @@ pub mod contact;
 pub mod error;
 pub mod fem;
 pub mod geometry;
+pub mod ltca;
 pub mod mesh;
 pub mod mesh_cycle;
 pub mod report;
