@@ -42,6 +42,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod ccx;
+pub mod compare;
 pub mod compliance;
 pub mod contact;
 pub mod error;

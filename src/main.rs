@@ -160,6 +160,82 @@ enum Command {
     /// mesh_cycle.csv, summary.json (contact_ratio, single_pair_force_n,
     /// positions, time_per_position_s, nodes, ...), force_per_tooth and
     /// transmission_error plots (SVG, PNG) and roll_<angle>deg.vtu.
+    /// Compliance-matrix LTCA over a mesh cycle (the scene's [analyses.ltca]):
+    /// both bodies' compliance tensors (computed once, cached beside the
+    /// decks in --out), then per roll angle the unloaded TCA, the normal
+    /// compliance of the candidate points and the contact QP. Writes
+    /// ltca_cycle.csv, ltca_points.csv, summary.json and plots.
+    Ltca {
+        /// The scene file (.toml).
+        scene: PathBuf,
+        /// Output directory.
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+        /// Compliance mesh (default m_n/8 flank, m_n/2 base).
+        #[command(flatten)]
+        sizes: SectorArgs,
+        /// Roll angles (deg, flank's convention), comma-separated.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        roll_angles: Option<Vec<f64>>,
+        /// K: candidate points per contact line.
+        #[arg(long)]
+        points_per_line: Option<usize>,
+        /// QP solver: active-set or clarabel.
+        #[arg(long)]
+        solver: Option<String>,
+        /// Local contact deformation model.
+        #[arg(long, value_enum)]
+        local: Option<flank::ltca::local::LocalModel>,
+        /// FE cell half-width across the line in flank element sizes.
+        #[arg(long)]
+        fe_cell_factor: Option<f64>,
+        /// A campaign cache of compliance tensors (directory).
+        #[arg(long)]
+        cache: Option<PathBuf>,
+        /// Report the condition number of F at every position.
+        #[arg(long)]
+        condition: bool,
+        /// Threads (0 = all cores).
+        #[arg(long, default_value_t = 0)]
+        threads: usize,
+        /// Print nothing but errors.
+        #[arg(long, short)]
+        quiet: bool,
+    },
+    /// LTCA against FE contact at the same roll angles: LTCA at several K,
+    /// FE contact at several flank element sizes (the finest is the
+    /// reference). Writes compare.json, compare.md and error_vs_time plots.
+    Compare {
+        /// The scene file (.toml).
+        scene: PathBuf,
+        /// Output directory.
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+        /// K values of the LTCA runs.
+        #[arg(long, value_delimiter = ',', default_value = "5,10,20,40")]
+        points_per_line: Vec<usize>,
+        /// FE-contact flank element sizes (mm); the smallest is the reference.
+        #[arg(long, value_delimiter = ',', default_value = "1.0,0.5")]
+        fe_flank_sizes: Vec<f64>,
+        /// Roll angles (deg); default: the middle pair's engagement ± 2 steps.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        roll_angles: Option<Vec<f64>>,
+        /// Step of the default roll angles (deg).
+        #[arg(long, default_value_t = 1.0)]
+        roll_step: f64,
+        /// LTCA compliance mesh (default m_n/8 flank, m_n/2 base).
+        #[command(flatten)]
+        sizes: SectorArgs,
+        /// Local contact deformation model of the LTCA.
+        #[arg(long, value_enum)]
+        local: Option<flank::ltca::local::LocalModel>,
+        /// Threads (0 = all cores).
+        #[arg(long, default_value_t = 0)]
+        threads: usize,
+        /// Print nothing but errors.
+        #[arg(long, short)]
+        quiet: bool,
+    },
     Run {
         /// The scene file (.toml).
         scene: PathBuf,
@@ -505,6 +581,119 @@ fn run(cli: Cli) -> Result<()> {
                 if w > 0 {
                     println!("{w} warning(s) in summary.json");
                 }
+                println!("wrote {}", out.display());
+            }
+        }
+        Command::Ltca {
+            scene,
+            out,
+            sizes,
+            roll_angles,
+            points_per_line,
+            solver,
+            local,
+            fe_cell_factor,
+            cache,
+            condition,
+            threads,
+            quiet,
+        } => {
+            use flank::ltca::cycle::{run_scene, LtcaOptions};
+            let solver = match solver {
+                Some(s) => Some(
+                    s.parse::<flank::ltca::qp::QpSolver>()
+                        .map_err(|e| anyhow::anyhow!("--solver: {e}"))?,
+                ),
+                None => None,
+            };
+            let options = LtcaOptions {
+                out: out.clone(),
+                mesh: sizes.body_options(false),
+                roll_angles_deg: roll_angles,
+                points_per_line,
+                solver,
+                local,
+                fe_cell_factor,
+                cache,
+                condition,
+                threads,
+                quiet,
+            };
+            let s = run_scene(&scene, &options)
+                .with_context(|| format!("LTCA mesh cycle of {}", scene.display()))?;
+            if !quiet {
+                let f = |k: &str| s[k].as_f64().unwrap_or(f64::NAN);
+                println!(
+                    "{} positions, K = {}: {:.4} s for the cycle ({:.2} ms per position); compliance {:.1} s",
+                    s["positions"],
+                    s["points_per_line"],
+                    f("cycle_s"),
+                    1e3 * f("time_per_position_s"),
+                    s["setup"]["compliance_s"].as_f64().unwrap_or(f64::NAN)
+                );
+                println!(
+                    "contact ratio {:.4} (kinematic ε_α {:.4}); single-pair force {:.1} N vs T/(r_b1 cos β_b) = {:.1} N ({:+.2} %); max KKT residual {:.1e}",
+                    f("contact_ratio"),
+                    f("contact_ratio_kinematic"),
+                    f("single_pair_force_n"),
+                    f("nominal_force_n"),
+                    100.0 * f("single_pair_force_error"),
+                    f("max_kkt")
+                );
+                for n in s["notes"].as_array().into_iter().flatten() {
+                    println!("note: {}", n.as_str().unwrap_or(""));
+                }
+                for n in s["kkt_flagged"].as_array().into_iter().flatten() {
+                    println!("flagged: {}", n.as_str().unwrap_or(""));
+                }
+                println!("wrote {}", out.display());
+            }
+        }
+        Command::Compare {
+            scene,
+            out,
+            points_per_line,
+            fe_flank_sizes,
+            roll_angles,
+            roll_step,
+            sizes,
+            local,
+            threads,
+            quiet,
+        } => {
+            use flank::compare::{compare_scene, CompareOptions};
+            let options = CompareOptions {
+                out: out.clone(),
+                points_per_line,
+                fe_flank_sizes,
+                roll_angles_deg: roll_angles,
+                roll_step_deg: roll_step,
+                ltca: flank::ltca::cycle::LtcaOptions {
+                    mesh: sizes.body_options(false),
+                    local,
+                    threads,
+                    quiet: true,
+                    ..Default::default()
+                },
+                threads,
+                quiet,
+            };
+            let s = compare_scene(&scene, &options)
+                .with_context(|| format!("LTCA against FE contact for {}", scene.display()))?;
+            if !quiet {
+                let f = |k: &str| s[k].as_f64().unwrap_or(f64::NAN);
+                println!(
+                    "best {} against {}: load sharing {:.4}, TE {:.4}, p_max {:.4}; LTCA cycle {:.4} s, FE cycle {:.1} s (+{:.1} s setup): {:.0}×",
+                    s["best_ltca"].as_str().unwrap_or(""),
+                    s["reference"].as_str().unwrap_or(""),
+                    f("load_sharing_rel_err"),
+                    f("te_rel_err"),
+                    f("pmax_rel_err"),
+                    f("ltca_cycle_s"),
+                    f("fe_cycle_s"),
+                    f("fe_setup_s"),
+                    f("speedup")
+                );
                 println!("wrote {}", out.display());
             }
         }

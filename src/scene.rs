@@ -174,17 +174,52 @@ pub struct ContactAnalysis {
     pub refine_contact_limits: Option<bool>,
 }
 
+/// Options of the `ltca` analysis (compliance-matrix loaded tooth contact
+/// analysis over a mesh cycle, [`crate::ltca`], run by `flank ltca`), e.g.
+/// `ltca = { points_per_line = 20 }`. Roll angles as in
+/// [`ContactAnalysis`]; default: the middle pair's kinematic engagement with
+/// two 1° steps on each side, extended while it is loaded at an end.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LtcaAnalysis {
+    pub roll_start_deg: Option<f64>,
+    pub roll_end_deg: Option<f64>,
+    /// Step of the range (deg, > 0; default 1).
+    pub roll_step_deg: Option<f64>,
+    /// Explicit roll angles (deg); instead of the range.
+    pub roll_angles_deg: Option<Vec<f64>>,
+    /// K: candidate points along each contact line (2 … 2000; default 20).
+    pub points_per_line: Option<usize>,
+    /// `active-set` (default) or `clarabel`.
+    pub solver: Option<crate::ltca::qp::QpSolver>,
+    /// Local contact deformation: `half-space` (default) or `none`.
+    pub local: Option<crate::ltca::local::LocalModel>,
+    /// FE cell half-width across the line in flank element sizes (> 0; default 1).
+    pub fe_cell_factor: Option<f64>,
+    /// Misalignment of the gear axis (µrad): [in the plane of action, normal to it].
+    pub misalignment_urad: Option<[f64; 2]>,
+    /// Centre-distance error (µm, |Δa| < 1 mm).
+    pub centre_distance_error_um: Option<f64>,
+    /// Largest separation (mm) at which tip-corner points are candidates (> 0).
+    pub extension_mm: Option<f64>,
+    /// Compliance mesh: flank and base element sizes (mm); default m_n/8, m_n/2
+    /// (not the FE-contact `[mesh]` sizes, which are meant for FE contact).
+    pub flank_size_mm: Option<f64>,
+    pub base_size_mm: Option<f64>,
+}
+
 /// The analyses a scene asks for; an absent entry is not computed.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct Analyses {
     pub mesh: Option<MeshAnalysis>,
     pub compliance: Option<ComplianceAnalysis>,
     pub contact: Option<ContactAnalysis>,
+    pub ltca: Option<LtcaAnalysis>,
 }
 
 impl Analyses {
     /// Names an `[analyses]` table accepts.
-    pub const KNOWN: &'static [&'static str] = &["mesh", "compliance", "contact"];
+    pub const KNOWN: &'static [&'static str] = &["mesh", "compliance", "contact", "ltca"];
 }
 
 /// Solid element family for the tooth-sector mesh.
@@ -1088,6 +1123,17 @@ fn analyses(cx: &Cx, raw: Option<&RawAnalyses>) -> Res<Analyses> {
                     .map_err(|m| cx.err(value.span(), format!("`analyses.contact`: {m}")))?;
                 out.contact = Some(v);
             }
+            "ltca" => {
+                let v: LtcaAnalysis = value.get_ref().clone().try_into().map_err(|e| {
+                    cx.err(
+                        value.span(),
+                        format!("`analyses.ltca`: {}", toml_message(&e)),
+                    )
+                })?;
+                check_ltca_analysis(&v)
+                    .map_err(|m| cx.err(value.span(), format!("`analyses.ltca`: {m}")))?;
+                out.ltca = Some(v);
+            }
             other => {
                 return Err(cx.err(
                     name.span(),
@@ -1176,6 +1222,46 @@ fn check_contact_analysis(v: &ContactAnalysis) -> Result<(), String> {
         if mu > 0.0 {
             return Err(format!(
                 "friction_mu = {mu}: Coulomb friction is not implemented in flank's FE contact; remove the key (frictionless) or set it to 0"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Range checks of `[analyses.ltca]` (types are serde's).
+fn check_ltca_analysis(v: &LtcaAnalysis) -> Result<(), String> {
+    let range = ContactAnalysis {
+        roll_start_deg: v.roll_start_deg,
+        roll_end_deg: v.roll_end_deg,
+        roll_step_deg: v.roll_step_deg,
+        roll_angles_deg: v.roll_angles_deg.clone(),
+        ..Default::default()
+    };
+    check_contact_analysis(&range)?;
+    if let Some(k) = v.points_per_line {
+        if !(2..=2000).contains(&k) {
+            return Err(format!("points_per_line must be in 2 … 2000, got {k}"));
+        }
+    }
+    let positive = |name: &str, x: Option<f64>| match x {
+        Some(x) if !(x > 0.0 && x.is_finite()) => Err(format!("{name} must be > 0, got {x}")),
+        _ => Ok(()),
+    };
+    positive("fe_cell_factor", v.fe_cell_factor)?;
+    positive("extension_mm", v.extension_mm)?;
+    positive("flank_size_mm", v.flank_size_mm)?;
+    positive("base_size_mm", v.base_size_mm)?;
+    if let Some(m) = v.misalignment_urad {
+        if m.iter().any(|x| !(x.is_finite() && x.abs() <= 1e5)) {
+            return Err(format!(
+                "misalignment_urad must be two finite angles of at most 1e5 µrad, got {m:?}"
+            ));
+        }
+    }
+    if let Some(d) = v.centre_distance_error_um {
+        if !(d.is_finite() && d.abs() < 1000.0) {
+            return Err(format!(
+                "centre_distance_error_um must be finite and below 1000 µm in size, got {d}"
             ));
         }
     }

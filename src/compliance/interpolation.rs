@@ -36,6 +36,7 @@
 //! second at l.
 
 use std::collections::BTreeMap;
+use std::sync::Arc;
 
 use crate::compliance::flank::{cross, face_shape, norm};
 use crate::compliance::ComplianceTensor;
@@ -126,8 +127,13 @@ pub fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
 /// Point location and load spreading on the flank of a compliance tensor.
 pub struct FlankInterpolator<'a> {
     tensor: &'a ComplianceTensor,
-    grids: Vec<Grid>,
+    grids: Arc<FlankGrids>,
 }
+
+/// The face search structure of a tensor's flank sets, built once by
+/// [`FlankInterpolator::new`] and shareable between interpolators of the
+/// same tensor ([`FlankInterpolator::with_grids`]).
+pub struct FlankGrids(Vec<Grid>);
 
 /// Faces of one flank set bucketed by their (u, v) bounding boxes.
 struct Grid {
@@ -223,7 +229,23 @@ impl<'a> FlankInterpolator<'a> {
                 buckets,
             });
         }
-        Ok(FlankInterpolator { tensor, grids })
+        Ok(FlankInterpolator {
+            tensor,
+            grids: Arc::new(FlankGrids(grids)),
+        })
+    }
+
+    /// The search structure, to build further interpolators of the same
+    /// tensor without rebuilding it.
+    pub fn grids(&self) -> Arc<FlankGrids> {
+        Arc::clone(&self.grids)
+    }
+
+    /// An interpolator of `tensor` with the search structure of an earlier
+    /// [`FlankInterpolator::new`] of the same tensor (not checked: pass the
+    /// grids of this tensor).
+    pub fn with_grids(tensor: &'a ComplianceTensor, grids: Arc<FlankGrids>) -> Self {
+        FlankInterpolator { tensor, grids }
     }
 
     fn set(&self, name: &str) -> Result<usize, FlankError> {
@@ -237,7 +259,7 @@ impl<'a> FlankInterpolator<'a> {
 
     /// Face and reference coordinates of (u, v) on the flank set `set`.
     pub fn locate(&self, set: usize, u: f64, v: f64) -> Option<(usize, [f64; 2])> {
-        let grid = self.grids.get(set)?;
+        let grid = self.grids.0.get(set)?;
         let b = grid.bucket(u, v)?;
         let flank = &self.tensor.flank;
         for &fi in &grid.buckets[b] {

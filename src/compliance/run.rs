@@ -118,6 +118,82 @@ pub fn contact_line(
     ))
 }
 
+/// How [`body_tensor`] computes a body's tensor.
+pub struct BodyTensorOptions<'c> {
+    pub flanks: FlankSelection,
+    pub clamp_cuts: bool,
+    pub compliance: ComplianceOptions,
+    pub format: FileFormat,
+    /// A campaign cache searched before computing.
+    pub campaign: Option<&'c ComplianceCache>,
+}
+
+/// One body's tensor and where it came from.
+pub struct BodyTensor {
+    pub tensor: std::sync::Arc<ComplianceTensor>,
+    pub outcome: CacheOutcome,
+    /// Present when the tensor was computed here.
+    pub stats: Option<crate::compliance::ComplianceStats>,
+    /// The body's deck and tensor file in `out`.
+    pub deck: PathBuf,
+    pub file: PathBuf,
+}
+
+/// The compliance tensor of body `name` ("pinion" or "gear") of `scene`:
+/// meshed as `flank mesh` does, written to `out/<name>.inp`, read back (the
+/// tensor belongs to the deck as printed), and computed unless
+/// `out/<name>.compliance.*` or the campaign cache holds it under the same
+/// key (mesh hash, constraints, material, flank nodes).
+pub fn body_tensor(
+    scene: &crate::scene::Scene,
+    name: &str,
+    mesh: &BodyMeshOptions,
+    options: &BodyTensorOptions,
+    out: &Path,
+) -> Result<BodyTensor, FlankError> {
+    std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
+    let (body, spec) = scene_body(scene, name, mesh)?;
+    let deck = out.join(format!("{name}.inp"));
+    crate::mesh::inp::write_deck(&body.model, &deck)?;
+    // the tensors belong to the mesh of the deck as written (coordinates
+    // as printed), so that the deck solved elsewhere is the same model
+    let parsed = crate::mesh::inp::read_deck(&deck)?;
+    let mut model = parsed.model;
+    let uv = flank_uv_on(&body, &model.mesh)?;
+    let flank = flank_nodes_on(&model.mesh, &uv, spec, name, options.flanks)?;
+    model.forces.clear();
+    model.pressures.clear();
+    if options.clamp_cuts {
+        clamp_sets(&mut model, &["CUT_A", "CUT_B"])?;
+    }
+    let key = cache_key(&model, &mesh_hash(&model.mesh), &flank);
+    let file = out.join(options.format.file_name(name));
+    let mut stats = None;
+    let mut compute = || -> Result<ComplianceTensor, FlankError> {
+        let (t, s) = compliance_tensor(name, &model, &flank, &options.compliance)?;
+        stats = Some(s);
+        Ok(t)
+    };
+    let (tensor, outcome) = if file.exists() && cache::read_key(&file).ok().as_deref() == Some(&key)
+    {
+        (std::sync::Arc::new(cache::read(&file)?), CacheOutcome::Disk)
+    } else {
+        let (t, o) = match options.campaign {
+            Some(c) => c.get_or_compute(name, &key, compute)?,
+            None => (std::sync::Arc::new(compute()?), CacheOutcome::Computed),
+        };
+        cache::write(&file, &t)?;
+        (t, o)
+    };
+    Ok(BodyTensor {
+        tensor,
+        outcome,
+        stats,
+        deck,
+        file,
+    })
+}
+
 /// Computes (or reuses) the tensors of the scene's bodies; writes
 /// `<body>.inp`, `<body>.compliance.{h5,bin}`, `<body>_cnn.{svg,png}` and
 /// `summary.json` into `options.out`; returns the summary.
@@ -156,39 +232,26 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
     let mut summary = serde_json::Map::new();
     for name in &bodies {
         let t_body = Instant::now();
-        let (body, spec) = scene_body(&scene, name, &options.mesh)?;
-        let deck = out.join(format!("{name}.inp"));
-        crate::mesh::inp::write_deck(&body.model, &deck)?;
-        // the tensors belong to the mesh of the deck as written (coordinates
-        // as printed), so that the deck solved elsewhere is the same model
-        let parsed = crate::mesh::inp::read_deck(&deck)?;
-        let mut model = parsed.model;
-        let uv = flank_uv_on(&body, &model.mesh)?;
-        let flank = flank_nodes_on(&model.mesh, &uv, spec, name, flanks)?;
-        model.forces.clear();
-        model.pressures.clear();
-        if clamp_cuts {
-            clamp_sets(&mut model, &["CUT_A", "CUT_B"])?;
-        }
-        let key = cache_key(&model, &mesh_hash(&model.mesh), &flank);
-        let file = out.join(format.file_name(name));
-        let mut stats = None;
-        let mut compute = || -> Result<ComplianceTensor, FlankError> {
-            let (t, s) = compliance_tensor(name, &model, &flank, &copts)?;
-            stats = Some(s);
-            Ok(t)
-        };
-        let (tensor, outcome) =
-            if file.exists() && cache::read_key(&file).ok().as_deref() == Some(&key) {
-                (std::sync::Arc::new(cache::read(&file)?), CacheOutcome::Disk)
-            } else {
-                let (t, o) = match &campaign {
-                    Some(c) => c.get_or_compute(name, &key, compute)?,
-                    None => (std::sync::Arc::new(compute()?), CacheOutcome::Computed),
-                };
-                cache::write(&file, &t)?;
-                (t, o)
-            };
+        let BodyTensor {
+            tensor,
+            outcome,
+            stats,
+            deck,
+            file,
+        } = body_tensor(
+            &scene,
+            name,
+            &options.mesh,
+            &BodyTensorOptions {
+                flanks,
+                clamp_cuts,
+                compliance: copts.clone(),
+                format,
+                campaign: campaign.as_ref(),
+            },
+            out,
+        )?;
+        let flank = &tensor.flank;
         let teeth = scene.mesh.teeth_in_sector as usize;
         let middle = teeth.div_ceil(2);
         let plot_set = flank

@@ -5,4 +5,7 @@
 //!   as a convex QP, solved by a dedicated active-set method or by clarabel,
 //!   every answer with its KKT residual.
 
+pub mod cycle;
+pub mod local;
+pub mod model;
 pub mod qp;

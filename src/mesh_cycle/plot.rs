@@ -38,10 +38,30 @@ pub fn plot_mesh_cycle(
     nominal_force: f64,
     base_radius: f64,
 ) -> Result<Vec<String>, FlankError> {
-    if steps.is_empty() {
+    let x: Vec<f64> = steps.iter().map(|s| s.roll_deg).collect();
+    let forces: Vec<Vec<f64>> = (0..teeth.len())
+        .map(|p| steps.iter().map(|s| s.pair_force_n[p]).collect())
+        .collect();
+    let te: Vec<f64> = steps.iter().map(|s| s.te_urad).collect();
+    plot_cycle(out, "", &x, &forces, &te, teeth, nominal_force, base_radius)
+}
+
+/// [`plot_mesh_cycle`] from series: roll angles (deg), the normal force of
+/// each tooth pair (N) and the TE (µrad) at them; file names get `prefix`.
+#[allow(clippy::too_many_arguments)]
+pub fn plot_cycle(
+    out: &Path,
+    prefix: &str,
+    x: &[f64],
+    pair_force_n: &[Vec<f64>],
+    te_urad: &[f64],
+    teeth: &[(usize, usize)],
+    nominal_force: f64,
+    base_radius: f64,
+) -> Result<Vec<String>, FlankError> {
+    if x.is_empty() {
         return Ok(Vec::new());
     }
-    let x: Vec<f64> = steps.iter().map(|s| s.roll_deg).collect();
     let forces = Chart {
         title: "Normal force per tooth pair",
         x_desc: "pinion roll angle (deg)",
@@ -54,8 +74,8 @@ pub fn plot_mesh_cycle(
                 colour: p,
                 points: x
                     .iter()
-                    .zip(steps)
-                    .map(|(&a, s)| (a, s.pair_force_n[p]))
+                    .zip(&pair_force_n[p])
+                    .map(|(&a, &f)| (a, f))
                     .collect(),
             })
             .collect(),
@@ -75,14 +95,14 @@ pub fn plot_mesh_cycle(
         curves: vec![Curve {
             label: "pinion rotation beyond the rigid kinematics".into(),
             colour: 0,
-            points: x.iter().zip(steps).map(|(&a, s)| (a, s.te_urad)).collect(),
+            points: x.iter().zip(te_urad).map(|(&a, &t)| (a, t)).collect(),
         }],
         reference: None,
     };
     let mut files = Vec::new();
     for (stem, chart) in [("force_per_tooth", &forces), ("transmission_error", &te)] {
         for ext in ["svg", "png"] {
-            let name = format!("{stem}.{ext}");
+            let name = format!("{prefix}{stem}.{ext}");
             let path = out.join(&name);
             let err = |e: String| FlankError::Model(format!("plot {}: {e}", path.display()));
             let size = (900u32, 600u32);

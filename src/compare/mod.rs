@@ -1,0 +1,453 @@
+//! `flank compare SCENE`: the fast path against the reference, error
+//! against run time (DESIGN.md, verification rung 5).
+//!
+//! The LTCA (at several K, the compliance tensors computed once and then
+//! cached) and FE contact (at several flank element sizes, one
+//! factorization per size) are run at the same roll angles. The reference
+//! is FE contact on the finest mesh given. Errors, over the positions:
+//!
+//! * load sharing: max |s_L − s_F| over positions and pairs, s the pair's
+//!   share of the total normal force (a share is already relative to the
+//!   total load, so this is the error relative to the total);
+//! * TE: max |θ_L − θ_F| / |θ_F| over positions;
+//! * p_max: max |p_L − p_F| / p_F over the *flank-contact* positions, where
+//!   every loaded pair's kinematic contact lies inside its path of contact
+//!   (at a tip corner the pressure of a sharp edge is not a mesh-independent
+//!   quantity in either method: FE gives a mesh-dependent nodal value, the
+//!   LTCA's Hertz formula none);
+//!
+//! and the run time of a cycle: LTCA = Σ position solves with the tensors
+//! in memory (`ltca_cycle_s`); FE = Σ position solves (`fe_cycle_s`) plus
+//! the one factorization (`fe_setup_s`).
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use crate::compliance::body::BodyMeshOptions;
+use crate::error::FlankError;
+use crate::ltca::cycle::{LtcaCycle, LtcaOptions};
+use crate::ltca::model::PositionResult;
+use crate::mesh_cycle::kinematics::MeshKinematics;
+use crate::mesh_cycle::run::{default_roll_angles, settings, MeshCycle, RunOptions, StepResult};
+use crate::mesh_cycle::SlaveBody;
+use crate::scene::{read_scene, Scene};
+
+pub mod plot;
+
+/// Options of [`compare`].
+#[derive(Clone, Debug)]
+pub struct CompareOptions {
+    pub out: PathBuf,
+    /// K values of the LTCA runs.
+    pub points_per_line: Vec<usize>,
+    /// Flank element sizes (mm) of the FE-contact runs; the smallest is the reference.
+    pub fe_flank_sizes: Vec<f64>,
+    /// Roll angles (deg); default: the middle pair's engagement ± 2 steps.
+    pub roll_angles_deg: Option<Vec<f64>>,
+    pub roll_step_deg: f64,
+    /// LTCA compliance mesh and settings.
+    pub ltca: LtcaOptions,
+    pub threads: usize,
+    pub quiet: bool,
+}
+
+/// One run of either method over the positions.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct MethodRun {
+    pub method: String,
+    /// "K = 20" or "flank 0.25 mm".
+    pub label: String,
+    pub points_per_line: Option<usize>,
+    pub flank_size_mm: Option<f64>,
+    pub nodes: Option<usize>,
+    /// Per position: normal force per pair (N), TE (µrad), p_max (MPa).
+    pub pair_force_n: Vec<Vec<f64>>,
+    pub te_urad: Vec<f64>,
+    pub pmax_mpa: Vec<f64>,
+    pub cycle_s: f64,
+    pub setup_s: f64,
+    /// FE contact: the slave body per position (the one whose tip corner
+    /// is in contact, else the pinion).
+    #[serde(default)]
+    pub slave: Vec<String>,
+    pub load_sharing_err: f64,
+    pub te_rel_err: f64,
+    pub pmax_rel_err: f64,
+}
+
+fn shares(f: &[f64]) -> Vec<f64> {
+    let t: f64 = f.iter().sum();
+    f.iter()
+        .map(|&x| if t > 0.0 { x / t } else { 0.0 })
+        .collect()
+}
+
+/// Fills the errors of `run` against `reference` (positions where the
+/// reference's pressure counts are flagged in `flank_positions`).
+fn errors(run: &mut MethodRun, reference: &MethodRun, flank_positions: &[bool]) {
+    let mut ls: f64 = 0.0;
+    let mut te: f64 = 0.0;
+    let mut pm: f64 = 0.0;
+    for i in 0..reference.te_urad.len() {
+        let (a, b) = (
+            shares(&run.pair_force_n[i]),
+            shares(&reference.pair_force_n[i]),
+        );
+        for (x, y) in a.iter().zip(&b) {
+            ls = ls.max((x - y).abs());
+        }
+        te = te.max((run.te_urad[i] - reference.te_urad[i]).abs() / reference.te_urad[i].abs());
+        if flank_positions[i] && reference.pmax_mpa[i] > 0.0 {
+            pm = pm.max((run.pmax_mpa[i] - reference.pmax_mpa[i]).abs() / reference.pmax_mpa[i]);
+        }
+    }
+    run.load_sharing_err = ls;
+    run.te_rel_err = te;
+    run.pmax_rel_err = pm;
+}
+
+fn ltca_run(cycle: &LtcaCycle, angles: &[f64]) -> Result<MethodRun, FlankError> {
+    let t = Instant::now();
+    let results: Vec<PositionResult> = angles
+        .iter()
+        .map(|&a| cycle.solve(a))
+        .collect::<Result<_, _>>()?;
+    let cycle_s = t.elapsed().as_secs_f64();
+    Ok(MethodRun {
+        method: "ltca".into(),
+        label: format!("LTCA K = {}", cycle.points_per_line),
+        points_per_line: Some(cycle.points_per_line),
+        flank_size_mm: Some(cycle.setup.flank_size_mm),
+        nodes: None,
+        pair_force_n: results.iter().map(|r| cycle.pair_forces(r)).collect(),
+        te_urad: results.iter().map(|r| r.te_urad).collect(),
+        pmax_mpa: results.iter().map(|r| r.max_pressure_mpa).collect(),
+        cycle_s,
+        setup_s: cycle.setup.compliance_s,
+        slave: Vec::new(),
+        load_sharing_err: f64::NAN,
+        te_rel_err: f64::NAN,
+        pmax_rel_err: f64::NAN,
+    })
+}
+
+/// One FE-contact pass over `angles` with `slave` as the slave body.
+fn fe_pass(
+    scene: &Scene,
+    kin: &MeshKinematics,
+    size: f64,
+    angles: &[f64],
+    slave: SlaveBody,
+    threads: usize,
+) -> Result<(Vec<StepResult>, usize, f64, f64), FlankError> {
+    let o = RunOptions {
+        roll_angles_deg: Some(angles.to_vec()),
+        vtu: Some(false),
+        refine_contact_limits: Some(false),
+        slave: Some(slave),
+        threads,
+        quiet: true,
+        ..Default::default()
+    };
+    let s = settings(scene, kin, &o)?;
+    let mesh = BodyMeshOptions {
+        flank_size: Some(size),
+        ..Default::default()
+    };
+    let t = Instant::now();
+    let cycle = MeshCycle::new(scene, &mesh, s, threads)?;
+    let setup_s = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let steps: Vec<StepResult> = angles
+        .iter()
+        .map(|&a| cycle.solve(a).map(|s| s.step))
+        .collect::<Result<_, _>>()?;
+    Ok((
+        steps,
+        cycle.pair.model.mesh.node_count(),
+        setup_s,
+        t.elapsed().as_secs_f64(),
+    ))
+}
+
+/// FE contact at flank size `size`. Node-to-surface contact is one-sided:
+/// slave nodes slip past a *master* corner (FE-contact README), so the
+/// gear's tip corner, which loads the approaching pair before its kinematic
+/// start of contact, must be on the slave side. The pinion is the slave
+/// everywhere else (its tip corner ends the contact); at the positions
+/// where a pair lies before its kinematic start (within one angular pitch)
+/// the model is solved again with the gear as the slave and that answer
+/// is kept. Both passes' times are counted.
+fn fe_run(
+    scene: &Scene,
+    kin: &MeshKinematics,
+    size: f64,
+    angles: &[f64],
+    threads: usize,
+) -> Result<MethodRun, FlankError> {
+    let (mut steps, nodes, mut setup_s, mut cycle_s) =
+        fe_pass(scene, kin, size, angles, SlaveBody::Pinion, threads)?;
+    let mut slave = vec!["pinion".to_string(); angles.len()];
+    let approach: Vec<usize> = (0..angles.len())
+        .filter(|&i| {
+            (1..=kin.teeth).any(|k| {
+                let s = kin.contact_position(k, angles[i].to_radians());
+                s < kin.path_start && s > kin.path_start - kin.base_pitch
+            })
+        })
+        .collect();
+    if !approach.is_empty() {
+        let sub: Vec<f64> = approach.iter().map(|&i| angles[i]).collect();
+        let (g, _, s2, c2) = fe_pass(scene, kin, size, &sub, SlaveBody::Gear, threads)?;
+        setup_s += s2;
+        cycle_s += c2;
+        for (j, &i) in approach.iter().enumerate() {
+            steps[i] = g[j].clone();
+            slave[i] = "gear".into();
+        }
+    }
+    Ok(MethodRun {
+        method: "fe_contact".into(),
+        label: format!("FE flank {size} mm"),
+        points_per_line: None,
+        flank_size_mm: Some(size),
+        nodes: Some(nodes),
+        pair_force_n: steps.iter().map(|s| s.pair_force_n.clone()).collect(),
+        te_urad: steps.iter().map(|s| s.te_urad).collect(),
+        pmax_mpa: steps
+            .iter()
+            .map(|s| s.max_pressure_mpa.iter().copied().fold(0.0, f64::max))
+            .collect(),
+        cycle_s,
+        setup_s,
+        slave,
+        load_sharing_err: f64::NAN,
+        te_rel_err: f64::NAN,
+        pmax_rel_err: f64::NAN,
+    })
+}
+
+/// [`fe_run`] through a file cache in `dir`: a run is reused when the
+/// scene text, the flank size and the roll angles are the same (so the
+/// LTCA side of a comparison can be redone without the FE runs).
+fn fe_run_cached(
+    scene: &Scene,
+    kin: &MeshKinematics,
+    size: f64,
+    angles: &[f64],
+    threads: usize,
+    dir: &Path,
+) -> Result<(MethodRun, bool), FlankError> {
+    let text = std::fs::read_to_string(&scene.source).unwrap_or_default();
+    let key = format!("{text}\n{size}\n{angles:?}\n{}", env!("CARGO_PKG_VERSION"));
+    let mut h = crate::compliance::Fnv128::new();
+    h.bytes(key.as_bytes());
+    let file = dir.join(format!("fe_flank_{size}_{}.json", h.hex()));
+    if let Ok(t) = std::fs::read_to_string(&file) {
+        if let Ok(r) = serde_json::from_str::<MethodRun>(&t) {
+            return Ok((r, true));
+        }
+    }
+    let r = fe_run(scene, kin, size, angles, threads)?;
+    std::fs::create_dir_all(dir).map_err(|e| FlankError::io(dir, e))?;
+    let t = serde_json::to_string(&r).map_err(|e| FlankError::Model(e.to_string()))?;
+    std::fs::write(&file, t).map_err(|e| FlankError::io(&file, e))?;
+    Ok((r, false))
+}
+
+/// `flank compare SCENE`: reads the scene and runs [`compare`].
+pub fn compare_scene(
+    path: &Path,
+    options: &CompareOptions,
+) -> Result<serde_json::Value, FlankError> {
+    compare(&read_scene(path)?, options)
+}
+
+/// Runs both methods at the same positions, writes `compare.json`,
+/// `compare.md` and `error_vs_time.{svg,png}` into `options.out`.
+pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Value, FlankError> {
+    if options.points_per_line.is_empty() || options.fe_flank_sizes.is_empty() {
+        return Err(FlankError::Model(
+            "compare needs at least one K (--points-per-line) and one FE flank size (--fe-flank-sizes)"
+                .into(),
+        ));
+    }
+    if let Some(&k) = options
+        .points_per_line
+        .iter()
+        .find(|&&k| !(2..=2000).contains(&k))
+    {
+        return Err(FlankError::Model(format!(
+            "points per line must be in 2 … 2000, got {k}"
+        )));
+    }
+    if let Some(&h) = options
+        .fe_flank_sizes
+        .iter()
+        .find(|&&h| !(h > 0.0 && h.is_finite()))
+    {
+        return Err(FlankError::Model(format!(
+            "FE flank sizes must be > 0, got {h}"
+        )));
+    }
+    if !(options.roll_step_deg > 0.0 && options.roll_step_deg.is_finite()) {
+        return Err(FlankError::Model(format!(
+            "roll step must be > 0, got {}",
+            options.roll_step_deg
+        )));
+    }
+    let out = &options.out;
+    std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
+    let kin = MeshKinematics::new(&scene.pair, scene.mesh.teeth_in_sector as usize)?;
+    let angles = options
+        .roll_angles_deg
+        .clone()
+        .unwrap_or_else(|| default_roll_angles(&kin, options.roll_step_deg));
+    let say = |m: String| {
+        if !options.quiet {
+            eprintln!("{m}");
+        }
+    };
+    // FE contact, finest last
+    let mut sizes = options.fe_flank_sizes.clone();
+    sizes.sort_by(|a, b| b.total_cmp(a));
+    sizes.dedup();
+    let mut fe = Vec::new();
+    for &h in &sizes {
+        say(format!(
+            "FE contact, flank {h} mm, {} positions …",
+            angles.len()
+        ));
+        let (r, cached) = fe_run_cached(
+            scene,
+            &kin,
+            h,
+            &angles,
+            options.threads,
+            &out.join("fe_runs"),
+        )?;
+        if cached {
+            say(format!("  reused {}", r.label));
+        }
+        fe.push(r);
+    }
+    // LTCA: tensors once, then each K
+    say("LTCA: compliance tensors …".into());
+    let mut lo = options.ltca.clone();
+    lo.out = out.join("ltca_bodies");
+    lo.points_per_line = Some(options.points_per_line[0]);
+    let base = LtcaCycle::new(scene, &lo)?;
+    let mut ltca = Vec::new();
+    for &k in &options.points_per_line {
+        let c = base.with_points_per_line(scene, k)?;
+        // one warm-up pass (page faults, thread pool), then the timed cycle
+        let _ = c.solve(angles[angles.len() / 2])?;
+        ltca.push(ltca_run(&c, &angles)?);
+    }
+    // flank-contact positions: every loaded pair inside its path of contact
+    let reference = fe.last().cloned().expect("one FE size");
+    let nominal = base.nominal_force();
+    let flank_positions: Vec<bool> = angles
+        .iter()
+        .enumerate()
+        .map(|(i, &a)| {
+            reference.pair_force_n[i]
+                .iter()
+                .enumerate()
+                .filter(|(_, &f)| f > 1e-3 * nominal)
+                .all(|(p, _)| {
+                    let s = kin.contact_position(p + 1, a.to_radians());
+                    s > kin.path_start && s < kin.path_end
+                })
+        })
+        .collect();
+    for r in fe.iter_mut().chain(ltca.iter_mut()) {
+        errors(r, &reference, &flank_positions);
+    }
+    // best LTCA: smallest worst relative error, then fastest
+    let best = ltca
+        .iter()
+        .min_by(|a, b| {
+            let ea = a.load_sharing_err.max(a.te_rel_err);
+            let eb = b.load_sharing_err.max(b.te_rel_err);
+            ea.total_cmp(&eb)
+        })
+        .cloned()
+        .expect("one K");
+    let plots = plot::plot_error_vs_time(out, &fe, &ltca).unwrap_or_else(|e| {
+        say(format!("plots not written: {e}"));
+        Vec::new()
+    });
+    let md = markdown(scene, &angles, &fe, &ltca, &reference, &flank_positions);
+    let p = out.join("compare.md");
+    std::fs::write(&p, &md).map_err(|e| FlankError::io(&p, e))?;
+    let json = serde_json::json!({
+        "scene": scene.source.display().to_string(),
+        "positions": angles.len(),
+        "roll_angles_deg": angles,
+        "reference": reference.label,
+        "flank_contact_positions": flank_positions.iter().filter(|&&b| b).count(),
+        "best_ltca": best.label,
+        "load_sharing_rel_err": best.load_sharing_err,
+        "te_rel_err": best.te_rel_err,
+        "pmax_rel_err": best.pmax_rel_err,
+        "ltca_cycle_s": best.cycle_s,
+        "fe_cycle_s": reference.cycle_s,
+        "fe_setup_s": reference.setup_s,
+        "speedup": reference.cycle_s / best.cycle_s,
+        "targets": {
+            "load_sharing_rel_err": 0.02, "te_rel_err": 0.02, "pmax_rel_err": 0.05,
+            "ltca_cycle_s": 0.1, "speedup": 1000.0,
+        },
+        "ltca_settings": base.settings,
+        "ltca_compliance": base.setup,
+        "runs": fe.iter().chain(ltca.iter()).collect::<Vec<_>>(),
+        "files": {"markdown": "compare.md", "plots": plots},
+    });
+    let p = out.join("compare.json");
+    std::fs::write(
+        &p,
+        serde_json::to_string_pretty(&json).map_err(|e| FlankError::Model(e.to_string()))? + "\n",
+    )
+    .map_err(|e| FlankError::io(&p, e))?;
+    Ok(json)
+}
+
+fn markdown(
+    scene: &Scene,
+    angles: &[f64],
+    fe: &[MethodRun],
+    ltca: &[MethodRun],
+    reference: &MethodRun,
+    flank_positions: &[bool],
+) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    let _ = writeln!(s, "# LTCA against FE contact: {}\n", scene.source.display());
+    let _ = writeln!(
+        s,
+        "{} roll angles from {:.2}° to {:.2}°; reference: {} ({} positions with flank contact only, where p_max is compared).\n",
+        angles.len(),
+        angles.first().copied().unwrap_or(f64::NAN),
+        angles.last().copied().unwrap_or(f64::NAN),
+        reference.label,
+        flank_positions.iter().filter(|&&b| b).count()
+    );
+    let _ = writeln!(s, "| run | load sharing err | TE rel err | p_max rel err | cycle (s) | per position (s) | setup (s) |");
+    let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|---:|");
+    for r in fe.iter().chain(ltca) {
+        let _ = writeln!(
+            s,
+            "| {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.5} | {:.1} |",
+            r.label,
+            r.load_sharing_err,
+            r.te_rel_err,
+            r.pmax_rel_err,
+            r.cycle_s,
+            r.cycle_s / angles.len().max(1) as f64,
+            r.setup_s
+        );
+    }
+    let _ = writeln!(s, "\nErrors are against {}; its own row is zero by definition. Load sharing: max |share difference| (fraction of the total normal force); TE: max relative difference; p_max: max relative difference over the flank-contact positions.", reference.label);
+    s
+}

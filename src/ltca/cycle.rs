@@ -1,0 +1,495 @@
+//! The LTCA over a mesh cycle (`flank ltca`): compliance tensors of both
+//! bodies once (computed or read from a cache), then per roll angle the
+//! unloaded TCA, the compliance matrix of its candidate points and the
+//! contact QP. Outputs: `ltca_cycle.csv`, `ltca_points.csv` (load
+//! distribution along every contact line), `summary.json` and plots of the
+//! force per tooth pair and the TE (SVG, PNG).
+//!
+//! Pairs are numbered as in FE contact ([`crate::mesh_cycle`]): pair p is
+//! pinion tooth p + 1 with its mate, so the two runs compare column by
+//! column.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Instant;
+
+use crate::compliance::body::BodyMeshOptions;
+use crate::compliance::cache::{ComplianceCache, FileFormat};
+use crate::compliance::run::{body_tensor, BodyTensorOptions};
+use crate::compliance::{ComplianceOptions, FlankSelection};
+use crate::error::FlankError;
+use crate::fem::static_analysis::peak_memory_mb;
+use crate::ltca::local::{contact_modulus, LocalModel};
+use crate::ltca::model::{LtcaBodies, LtcaSettings, PositionResult};
+use crate::ltca::qp::QpSolver;
+use crate::mesh_cycle::kinematics::MeshKinematics;
+use crate::mesh_cycle::run::{default_roll_angles, LOADED_FRACTION};
+use crate::scene::{read_scene, Scene};
+use crate::tca::{Tca, TcaSettings};
+
+/// Default K (candidate points per contact line).
+pub const DEFAULT_POINTS_PER_LINE: usize = 20;
+
+/// Options of [`run`]; `None` falls back to the scene's `[analyses.ltca]`,
+/// then to the defaults.
+#[derive(Clone, Debug, Default)]
+pub struct LtcaOptions {
+    pub out: PathBuf,
+    /// Compliance mesh overrides (flank/base size, element).
+    pub mesh: BodyMeshOptions,
+    pub roll_angles_deg: Option<Vec<f64>>,
+    pub points_per_line: Option<usize>,
+    pub solver: Option<QpSolver>,
+    pub local: Option<LocalModel>,
+    pub fe_cell_factor: Option<f64>,
+    /// A campaign cache of compliance tensors (directory).
+    pub cache: Option<PathBuf>,
+    /// Report κ(F) at every position.
+    pub condition: bool,
+    pub threads: usize,
+    pub quiet: bool,
+}
+
+/// What the setup cost and produced.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Setup {
+    /// Flank nodes per body, compliance matrix dimension, whether it was
+    /// computed here (else read), seconds.
+    pub flank_nodes: [usize; 2],
+    pub computed: [bool; 2],
+    pub compliance_s: f64,
+    pub flank_size_mm: f64,
+    pub base_size_mm: f64,
+}
+
+/// A prepared LTCA: both bodies' tensors, the TCA and the settings.
+pub struct LtcaCycle {
+    pub kin: MeshKinematics,
+    pub tca: Tca,
+    pub bodies: LtcaBodies,
+    pub settings: LtcaSettings,
+    pub points_per_line: usize,
+    /// Pinion torque (N·mm).
+    pub torque: f64,
+    pub setup: Setup,
+}
+
+impl LtcaCycle {
+    /// Tensors (from `out`, the cache, or computed) and the TCA of `scene`.
+    pub fn new(scene: &Scene, options: &LtcaOptions) -> Result<Self, FlankError> {
+        let a = scene.analyses.ltca.clone().unwrap_or_default();
+        let teeth = scene.mesh.teeth_in_sector as usize;
+        let kin = MeshKinematics::new(&scene.pair, teeth)?;
+        let mn = scene.pair.pinion.normal_module;
+        let mesh = BodyMeshOptions {
+            flank_size: options
+                .mesh
+                .flank_size
+                .or(a.flank_size_mm)
+                .or(Some(mn / 8.0)),
+            base_size: options
+                .mesh
+                .base_size
+                .or(a.base_size_mm)
+                .or(scene.mesh.base_size)
+                .or(Some(mn / 2.0)),
+            with_load: false,
+            element: options.mesh.element,
+        };
+        let t = Instant::now();
+        let campaign = match &options.cache {
+            Some(d) => Some(ComplianceCache::in_dir(d, FileFormat::default_format())?),
+            None => None,
+        };
+        let topts = BodyTensorOptions {
+            flanks: FlankSelection::Loaded,
+            clamp_cuts: false,
+            compliance: ComplianceOptions {
+                threads: options.threads,
+                ..Default::default()
+            },
+            format: FileFormat::default_format(),
+            campaign: campaign.as_ref(),
+        };
+        let pinion = body_tensor(scene, "pinion", &mesh, &topts, &options.out)?;
+        let gear = body_tensor(scene, "gear", &mesh, &topts, &options.out)?;
+        let compliance_s = t.elapsed().as_secs_f64();
+        let points_per_line = options
+            .points_per_line
+            .or(a.points_per_line)
+            .unwrap_or(DEFAULT_POINTS_PER_LINE);
+        let mis = a.misalignment_urad.unwrap_or([0.0; 2]);
+        let tca_settings = TcaSettings {
+            misalignment_rad: [mis[0] * 1e-6, mis[1] * 1e-6],
+            centre_distance_error_mm: a.centre_distance_error_um.unwrap_or(0.0) * 1e-3,
+            points_per_line,
+            extension_mm: a
+                .extension_mm
+                .unwrap_or(TcaSettings::default().extension_mm),
+            ..TcaSettings::default()
+        };
+        let tca = Tca::new(
+            &scene.pair,
+            scene.flank_modifications()?,
+            teeth,
+            scene.load.speed_rpm,
+            tca_settings,
+        )?;
+        let settings = LtcaSettings {
+            local: options.local.or(a.local).unwrap_or_default(),
+            fe_cell_factor: options
+                .fe_cell_factor
+                .or(a.fe_cell_factor)
+                .unwrap_or(LtcaSettings::default().fe_cell_factor),
+            condition: options.condition,
+            qp: crate::ltca::qp::QpOptions {
+                solver: options.solver.or(a.solver).unwrap_or(QpSolver::ActiveSet),
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        let setup = Setup {
+            flank_nodes: [pinion.tensor.node_count(), gear.tensor.node_count()],
+            computed: [pinion.stats.is_some(), gear.stats.is_some()],
+            compliance_s,
+            flank_size_mm: mesh.flank_size.unwrap_or(f64::NAN),
+            base_size_mm: mesh.base_size.unwrap_or(f64::NAN),
+        };
+        let grids = [
+            crate::compliance::FlankInterpolator::new(&pinion.tensor)?.grids(),
+            crate::compliance::FlankInterpolator::new(&gear.tensor)?.grids(),
+        ];
+        let bodies = LtcaBodies {
+            tensors: [pinion.tensor, gear.tensor],
+            grids,
+            base_radius: kin.base_radius,
+            base_helix_angle: kin.base_helix_angle,
+            tip_roll: kin.tip_roll,
+            contact_modulus: contact_modulus(
+                [scene.pinion_material.young, scene.gear_material.young],
+                [scene.pinion_material.poisson, scene.gear_material.poisson],
+            ),
+        };
+        Ok(LtcaCycle {
+            kin,
+            tca,
+            bodies,
+            settings,
+            points_per_line,
+            torque: scene.load.torque_nmm,
+            setup,
+        })
+    }
+
+    /// The same prepared bodies with another K (the TCA is rebuilt).
+    pub fn with_points_per_line(&self, scene: &Scene, k: usize) -> Result<Self, FlankError> {
+        let mut settings = self.tca.settings().clone();
+        settings.points_per_line = k;
+        let tca = Tca::new(
+            &scene.pair,
+            scene.flank_modifications()?,
+            self.kin.teeth,
+            scene.load.speed_rpm,
+            settings,
+        )?;
+        Ok(LtcaCycle {
+            kin: self.kin.clone(),
+            tca,
+            bodies: LtcaBodies {
+                tensors: [
+                    Arc::clone(&self.bodies.tensors[0]),
+                    Arc::clone(&self.bodies.tensors[1]),
+                ],
+                grids: [
+                    Arc::clone(&self.bodies.grids[0]),
+                    Arc::clone(&self.bodies.grids[1]),
+                ],
+                ..self.bodies
+            },
+            settings: self.settings.clone(),
+            points_per_line: k,
+            torque: self.torque,
+            setup: self.setup.clone(),
+        })
+    }
+
+    /// Total normal force T/(r_b1 cos β_b) (N).
+    pub fn nominal_force(&self) -> f64 {
+        self.torque / (self.kin.base_radius[0] * self.kin.base_helix_angle.cos())
+    }
+
+    /// The LTCA at one roll angle (deg).
+    pub fn solve(&self, roll_deg: f64) -> Result<PositionResult, FlankError> {
+        let t = Instant::now();
+        let roll = roll_deg.to_radians();
+        let position = self.tca.position(roll)?;
+        let frames = self.tca.frames(roll);
+        let mut r = self
+            .bodies
+            .solve(&position, &frames, self.torque, &self.settings)?;
+        r.time_s = t.elapsed().as_secs_f64();
+        Ok(r)
+    }
+
+    /// Normal force per pair (pinion tooth p + 1), summed over its lines.
+    pub fn pair_forces(&self, r: &PositionResult) -> Vec<f64> {
+        let mut f = vec![0.0; self.kin.teeth];
+        for (i, (k, _, _)) in r.lines.iter().enumerate() {
+            if (1..=self.kin.teeth).contains(k) {
+                f[k - 1] += r.line_force_n[i];
+            }
+        }
+        f
+    }
+
+    fn loaded(&self, r: &PositionResult, p: usize) -> bool {
+        self.pair_forces(r)[p] > LOADED_FRACTION * self.nominal_force()
+    }
+
+    /// The middle pair's loaded interval (deg), bisected to 0.01°.
+    pub fn loaded_limits(
+        &self,
+        angles: &[f64],
+        results: &[PositionResult],
+    ) -> Result<Option<(f64, f64)>, FlankError> {
+        let mid = self.kin.middle - 1;
+        let loaded: Vec<bool> = results.iter().map(|r| self.loaded(r, mid)).collect();
+        let (Some(f), Some(l)) = (
+            loaded.iter().position(|&x| x),
+            loaded.iter().rposition(|&x| x),
+        ) else {
+            return Ok(None);
+        };
+        if f == 0 || l + 1 == angles.len() {
+            return Ok(None);
+        }
+        let start = self.limit(mid, angles[f - 1], angles[f])?;
+        let end = self.limit(mid, angles[l + 1], angles[l])?;
+        Ok(Some((start, end)))
+    }
+
+    fn limit(&self, p: usize, mut off: f64, mut on: f64) -> Result<f64, FlankError> {
+        while (on - off).abs() > 0.01 {
+            let mid = 0.5 * (on + off);
+            if self.loaded(&self.solve(mid)?, p) {
+                on = mid;
+            } else {
+                off = mid;
+            }
+        }
+        Ok(0.5 * (on + off))
+    }
+}
+
+/// Roll angles of the scene's `[analyses.ltca]` (or the options'), and
+/// whether they are the default range (then extended while loaded).
+pub fn roll_angles(scene: &Scene, kin: &MeshKinematics, o: &LtcaOptions) -> (Vec<f64>, bool) {
+    let a = scene.analyses.ltca.clone().unwrap_or_default();
+    if let Some(r) = o.roll_angles_deg.clone().or(a.roll_angles_deg) {
+        return (r, false);
+    }
+    let step = a.roll_step_deg.unwrap_or(1.0);
+    if let (Some(s), Some(e)) = (a.roll_start_deg, a.roll_end_deg) {
+        let n = ((e - s) / step + 1e-9).floor() as i64;
+        return ((0..=n).map(|i| s + i as f64 * step).collect(), false);
+    }
+    (default_roll_angles(kin, step), true)
+}
+
+/// `flank ltca SCENE`: reads the scene and runs [`run`].
+pub fn run_scene(path: &Path, options: &LtcaOptions) -> Result<serde_json::Value, FlankError> {
+    let scene = read_scene(path)?;
+    run(&scene, options)
+}
+
+/// The LTCA over the scene's roll angles; writes the outputs into
+/// `options.out` and returns the summary.
+pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, FlankError> {
+    let t_total = Instant::now();
+    let out = &options.out;
+    std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
+    let cycle = LtcaCycle::new(scene, options)?;
+    let (mut angles, default_range) = roll_angles(scene, &cycle.kin, options);
+    let mid = cycle.kin.middle - 1;
+    let t_cycle = Instant::now();
+    let mut results: Vec<PositionResult> = angles
+        .iter()
+        .map(|&a| cycle.solve(a))
+        .collect::<Result<_, _>>()?;
+    let cycle_s = t_cycle.elapsed().as_secs_f64();
+    let mut extended = 0;
+    if default_range {
+        let step = scene
+            .analyses
+            .ltca
+            .as_ref()
+            .and_then(|a| a.roll_step_deg)
+            .unwrap_or(1.0);
+        let limit = (cycle.kin.angular_pitch[0].to_degrees() / step).ceil() as usize;
+        for _ in 0..limit {
+            if !cycle.loaded(&results[0], mid) {
+                break;
+            }
+            let a = angles[0] - step;
+            results.insert(0, cycle.solve(a)?);
+            angles.insert(0, a);
+            extended += 1;
+        }
+        for _ in 0..limit {
+            if !cycle.loaded(&results[results.len() - 1], mid) {
+                break;
+            }
+            let a = angles[angles.len() - 1] + step;
+            results.push(cycle.solve(a)?);
+            angles.push(a);
+            extended += 1;
+        }
+    }
+    let mut notes = Vec::new();
+    let limits = cycle.loaded_limits(&angles, &results)?;
+    if limits.is_none() {
+        notes.push("contact ratio not measured: the roll angles do not cover the middle pair's whole engagement with an unloaded position before and after".to_string());
+    }
+    let pitch_deg = cycle.kin.angular_pitch[0].to_degrees();
+    let contact_ratio = limits.map(|(s, e)| (e - s) / pitch_deg);
+    let nominal = cycle.nominal_force();
+    let np = cycle.kin.teeth;
+    let forces: Vec<Vec<f64>> = results.iter().map(|r| cycle.pair_forces(r)).collect();
+    let single: Vec<usize> = (0..results.len())
+        .filter(|&i| (0..np).all(|p| (p == mid) == (forces[i][p] > LOADED_FRACTION * nominal)))
+        .collect();
+    let single_pair_force_n = (!single.is_empty())
+        .then(|| single.iter().map(|&i| forces[i][mid]).sum::<f64>() / single.len() as f64);
+    let flagged: Vec<String> = results
+        .iter()
+        .filter(|r| !r.kkt_within_tolerance)
+        .map(|r| {
+            format!(
+                "{}°: KKT residual {:.2e} above tolerance",
+                r.roll_deg, r.kkt_max
+            )
+        })
+        .collect();
+    write_cycle_csv(&out.join("ltca_cycle.csv"), &results, &forces, nominal)?;
+    write_points_csv(&out.join("ltca_points.csv"), &results)?;
+    let teeth: Vec<(usize, usize)> = (1..=np).map(|k| (k, cycle.kin.mate(k))).collect();
+    let series: Vec<Vec<f64>> = (0..np)
+        .map(|p| forces.iter().map(|f| f[p]).collect())
+        .collect();
+    let te: Vec<f64> = results.iter().map(|r| r.te_urad).collect();
+    let plots = crate::mesh_cycle::plot::plot_cycle(
+        out,
+        "ltca_",
+        &angles,
+        &series,
+        &te,
+        &teeth,
+        nominal,
+        cycle.kin.base_radius[0],
+    )
+    .unwrap_or_else(|e| {
+        notes.push(format!("plots not written: {e}"));
+        Vec::new()
+    });
+    let time_per_position_s =
+        results.iter().map(|r| r.time_s).sum::<f64>() / results.len().max(1) as f64;
+    let worst = |f: fn(&PositionResult) -> f64| results.iter().map(f).fold(0.0f64, f64::max);
+    let summary = serde_json::json!({
+        "scene": scene.source.display().to_string(),
+        "analysis": "ltca_mesh_cycle",
+        "contact_ratio": contact_ratio,
+        "contact_ratio_kinematic": cycle.kin.contact_ratio,
+        "middle_pair_loaded_deg": limits.map(|(s, e)| [s, e]),
+        "single_pair_force_n": single_pair_force_n,
+        "nominal_force_n": nominal,
+        "single_pair_force_error": single_pair_force_n.map(|f| f / nominal - 1.0),
+        "positions": results.len(),
+        "extension_positions": extended,
+        "points_per_line": cycle.points_per_line,
+        "cycle_s": cycle_s,
+        "time_per_position_s": time_per_position_s,
+        "total_s": t_total.elapsed().as_secs_f64(),
+        "setup": cycle.setup,
+        "settings": cycle.settings,
+        "max_kkt": worst(|r| r.kkt_max),
+        "kkt_flagged": flagged,
+        "max_pressure_mpa": worst(|r| r.max_pressure_mpa),
+        "peak_memory_mb": peak_memory_mb(),
+        "tooth_pairs": teeth,
+        "files": {"csv": ["ltca_cycle.csv", "ltca_points.csv"], "plots": plots},
+        "notes": notes,
+        "steps": results,
+    });
+    let p = out.join("summary.json");
+    std::fs::write(
+        &p,
+        serde_json::to_string_pretty(&summary)
+            .map_err(|e| FlankError::Model(format!("summary: {e}")))?
+            + "\n",
+    )
+    .map_err(|e| FlankError::io(&p, e))?;
+    Ok(summary)
+}
+
+fn write_cycle_csv(
+    path: &Path,
+    results: &[PositionResult],
+    forces: &[Vec<f64>],
+    nominal: f64,
+) -> Result<(), FlankError> {
+    use std::fmt::Write;
+    let np = forces.first().map_or(0, Vec::len);
+    let mut s = String::from("roll_deg");
+    for p in 1..=np {
+        let _ = write!(s, ",force_pair{p}_n,share_pair{p}");
+    }
+    s.push_str(",te_urad,te_um,unloaded_te_urad,mesh_stiffness_n_per_um,max_pressure_mpa,candidates,qp_iterations,local_iterations,kkt,time_s\n");
+    for (r, f) in results.iter().zip(forces) {
+        let _ = write!(s, "{}", r.roll_deg);
+        let total: f64 = f.iter().sum::<f64>().max(1e-300);
+        for &x in f {
+            let _ = write!(s, ",{x},{}", if nominal > 0.0 { x / total } else { 0.0 });
+        }
+        let _ = writeln!(
+            s,
+            ",{},{},{},{},{},{},{},{},{:e},{}",
+            r.te_urad,
+            r.te_um,
+            r.unloaded_te_urad,
+            r.mesh_stiffness_n_per_um,
+            r.max_pressure_mpa,
+            r.candidates,
+            r.qp_iterations,
+            r.local_iterations,
+            r.kkt_max,
+            r.time_s
+        );
+    }
+    std::fs::write(path, s).map_err(|e| FlankError::io(path, e))
+}
+
+fn write_points_csv(path: &Path, results: &[PositionResult]) -> Result<(), FlankError> {
+    use std::fmt::Write;
+    let mut s = String::from("roll_deg,pinion_tooth,gear_tooth,kind,along_mm,x_mm,y_mm,z_mm,separation_um,force_n,load_per_length_n_per_mm,pressure_mpa,half_width_mm,gap_um\n");
+    for r in results {
+        for p in &r.points {
+            let (k, m, kind) = &r.lines[p.line];
+            let _ = writeln!(
+                s,
+                "{},{k},{m},{kind},{},{},{},{},{},{},{},{},{},{}",
+                r.roll_deg,
+                p.along_mm,
+                p.position[0],
+                p.position[1],
+                p.position[2],
+                p.separation_mm * 1e3,
+                p.force_n,
+                p.load_per_length,
+                p.pressure_mpa,
+                p.half_width_mm,
+                p.gap_mm * 1e3
+            );
+        }
+    }
+    std::fs::write(path, s).map_err(|e| FlankError::io(path, e))
+}

@@ -1,0 +1,217 @@
+//! Local contact deformation: the near field the FE compliance cannot see.
+//!
+//! A load spread over a contact cell of half-width c across the contact
+//! line makes the FE surface displace by what the mesh resolves: scales
+//! below the element size h are missing, and a point load (c → 0) would
+//! give a mesh-dependent, unbounded displacement (DESIGN.md, "local contact
+//! deformation"). flank therefore evaluates the FE compliance with cells no
+//! narrower than the mesh resolves, c_FE = max(a, κ h), and adds the
+//! difference of two elastic half-space solutions,
+//!
+//! ```text
+//! F = F_FE(c_FE) + H,   H_ij = B_ij(a) − B_ij(c_FE)
+//! ```
+//!
+//! where B_ij(c) is the normal approach at cell i (averaged over the cell)
+//! from a unit load spread uniformly over cell j, both cells of half-width c
+//! across the line and their own length along it, on a half-space with the
+//! pair's contact modulus 1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂, and a the
+//! Hertz half-width of the local load. The far field of the two half-space
+//! solutions is the same (a resultant at the same place), so H only acts
+//! where the cells are close: the near field is counted once, by the
+//! half-space, and the bulk once, by the FE. With a ≥ κ h (a contact wider
+//! than the elements) H vanishes and the FE alone carries it.
+//!
+//! The half-space influence of a uniformly loaded rectangle is Love's
+//! (1929) closed form (Johnson, Contact Mechanics, 1985, eq. 3.25):
+//! with I(X, Y) = X ln(Y + r) + Y ln(X + r), r = √(X² + Y²),
+//! u_z(x, y) = (1/(π E*)) p [I(x + c, y + l) − I(x − c, y + l)
+//! − I(x + c, y − l) + I(x − c, y − l)] for pressure p on |ξ| ≤ c, |η| ≤ l.
+//!
+//! Hertz line contact (Johnson eq. 4.43): a = √(4 P′ R / (π E*)),
+//! p_max = √(P′ E* / (π R)) with P′ the load per unit length and R the
+//! equivalent radius.
+
+use std::f64::consts::PI;
+
+use crate::compliance::interpolation::gauss_legendre;
+
+/// How the LTCA treats the local contact deformation.
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum LocalModel {
+    /// FE cells of half-width max(a, κ h) plus the half-space correction H.
+    #[default]
+    HalfSpace,
+    /// FE cells of half-width max(a, κ h) only (near field below κ h missing).
+    None,
+}
+
+impl LocalModel {
+    pub fn name(self) -> &'static str {
+        match self {
+            LocalModel::HalfSpace => "half-space",
+            LocalModel::None => "none",
+        }
+    }
+}
+
+/// ∬ dX dY / √(X² + Y²): the antiderivative with ∂²I/∂X∂Y = 1/r.
+fn antiderivative(x: f64, y: f64) -> f64 {
+    let r = x.hypot(y);
+    // ln(Y + r) loses everything for Y < 0, |X| ≪ |Y|: use X²/(r − Y)
+    let ln_plus = |a: f64, b: f64| -> f64 {
+        if a >= 0.0 {
+            (a + r).ln()
+        } else {
+            (b * b / (r - a)).ln()
+        }
+    };
+    let tx = if x == 0.0 { 0.0 } else { x * ln_plus(y, x) };
+    let ty = if y == 0.0 { 0.0 } else { y * ln_plus(x, y) };
+    tx + ty
+}
+
+/// ∬ over the rectangle |ξ| ≤ c, |η| ≤ l of 1/|(x, y) − (ξ, η)|: the normal
+/// displacement at (x, y) times π E*/p of a uniform pressure p.
+pub fn rectangle_influence(x: f64, y: f64, c: f64, l: f64) -> f64 {
+    antiderivative(x + c, y + l) - antiderivative(x - c, y + l) - antiderivative(x + c, y - l)
+        + antiderivative(x - c, y - l)
+}
+
+/// A contact cell on the plane of contact: centre (across, along) in mm,
+/// half-widths across (c) and along (l) the line.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cell {
+    pub across: f64,
+    pub along: f64,
+    pub c: f64,
+    pub l: f64,
+}
+
+/// Normal approach (mm) at cell `i`, averaged over it, from a unit force
+/// (N) spread uniformly over cell `j`, on the half-space pair with contact
+/// modulus `e_star` (MPa). The average uses `samples`² Gauss points.
+pub fn cell_influence(i: &Cell, j: &Cell, e_star: f64, samples: usize) -> f64 {
+    let g = gauss_legendre(samples);
+    let p = 1.0 / (4.0 * j.c * j.l);
+    let mut sum = 0.0;
+    for &(s, ws) in &g {
+        for &(t, wt) in &g {
+            let x = i.across + s * i.c - j.across;
+            let y = i.along + t * i.l - j.along;
+            sum += 0.25 * ws * wt * rectangle_influence(x, y, j.c, j.l);
+        }
+    }
+    p * sum / (PI * e_star)
+}
+
+/// Hertz line contact: half-width a (mm) and peak pressure (MPa) for load
+/// per length `p_line` (N/mm), equivalent radius `radius` (mm), contact
+/// modulus `e_star` (MPa).
+pub fn hertz_line(p_line: f64, radius: f64, e_star: f64) -> (f64, f64) {
+    if !(p_line > 0.0 && radius > 0.0) {
+        return (0.0, 0.0);
+    }
+    (
+        (4.0 * p_line * radius / (PI * e_star)).sqrt(),
+        (p_line * e_star / (PI * radius)).sqrt(),
+    )
+}
+
+/// Contact modulus E* of two bodies (MPa).
+pub fn contact_modulus(e: [f64; 2], nu: [f64; 2]) -> f64 {
+    1.0 / ((1.0 - nu[0] * nu[0]) / e[0] + (1.0 - nu[1] * nu[1]) / e[1])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The centre of a uniformly loaded square: u = 4 ln(1 + √2) c p/(π E*)·…
+    /// (Johnson eq. 3.26: ū at the centre of a square of side 2c is
+    /// (4/π) ln(1 + √2) · 2c p / E* · … with 1/E* the contact modulus).
+    #[test]
+    fn square_centre_matches_closed_form() {
+        let c = 0.7;
+        let v = rectangle_influence(0.0, 0.0, c, c);
+        let exact = 8.0 * c * (1.0 + 2f64.sqrt()).ln();
+        assert!((v - exact).abs() < 1e-12 * exact, "{v} vs {exact}");
+    }
+
+    /// Far from the cell the influence is that of a point force: 1/(π E* d).
+    #[test]
+    fn far_field_is_a_point_force() {
+        let i = Cell {
+            across: 0.0,
+            along: 40.0,
+            c: 0.1,
+            l: 0.3,
+        };
+        let j = Cell {
+            across: 0.0,
+            along: 0.0,
+            c: 0.2,
+            l: 0.3,
+        };
+        let b = cell_influence(&i, &j, 1.0, 4);
+        let point = 1.0 / (PI * 40.0);
+        assert!((b - point).abs() < 1e-4 * point, "{b} vs {point}");
+        // and the correction between two widths vanishes there
+        let j2 = Cell { c: 0.05, ..j };
+        let i2 = Cell { c: 0.05, ..i };
+        let h = cell_influence(&i2, &j2, 1.0, 4) - b;
+        assert!(h.abs() < 1e-5 * point, "{h}");
+    }
+
+    /// A long strip (l ≫ c): the centre displacement difference between
+    /// half-widths a and c is (2/(π E*)) P′ ln(c/a) (2D plane strain).
+    #[test]
+    fn long_strip_difference_is_logarithmic() {
+        let (a, c, l) = (0.2, 0.5, 200.0);
+        let ua = rectangle_influence(0.0, 0.0, a, l) / (4.0 * a * l);
+        let uc = rectangle_influence(0.0, 0.0, c, l) / (4.0 * c * l);
+        // per unit force; P′ = 1/(2 l)
+        let expect = 2.0 / PI * (1.0 / (2.0 * l)) * (c / a).ln() * PI;
+        assert!(
+            ((ua - uc) - expect).abs() < 1e-3 * expect,
+            "{} vs {expect}",
+            ua - uc
+        );
+    }
+
+    #[test]
+    fn antiderivative_is_finite_on_axes() {
+        for (x, y) in [
+            (0.0, -1.0),
+            (-1.0, 0.0),
+            (0.0, 0.0),
+            (-1e-9, -3.0),
+            (2.0, -1e12),
+        ] {
+            assert!(antiderivative(x, y).is_finite(), "({x}, {y})");
+        }
+    }
+
+    #[test]
+    fn hertz_line_values() {
+        // P′ = 1000 N/mm, R = 10 mm, E* = 113 187 MPa (steel/steel, ν 0.3)
+        let e = contact_modulus([206e3, 206e3], [0.3, 0.3]);
+        let (a, p) = hertz_line(1000.0, 10.0, e);
+        assert!((a - (4.0 * 1e4 / (PI * e)).sqrt()).abs() < 1e-15);
+        assert!(
+            (p * a * PI / 2.0 - 1000.0).abs() < 1e-9,
+            "P′ = π a p_max / 2"
+        );
+    }
+}
