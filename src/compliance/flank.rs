@@ -74,14 +74,19 @@ pub(crate) fn face_node_xi(count: usize) -> &'static [[f64; 2]] {
     }
 }
 
-/// Face shape functions and their reference derivatives (8 or 6 nodes).
-pub(crate) fn face_shape(count: usize, xi: [f64; 2]) -> (Vec<f64>, Vec<[f64; 2]>) {
+/// Face shape functions and their reference derivatives (8 or 6 nodes; a
+/// tri6 face fills the first six entries). Fixed-size arrays: this sits in
+/// the inner loops of point location and cell integration.
+pub(crate) fn face_shape(count: usize, xi: [f64; 2]) -> ([f64; 8], [[f64; 2]; 8]) {
     if count == 8 {
-        let (n, d) = quad8_shape(xi);
-        (n.to_vec(), d.to_vec())
+        quad8_shape(xi)
     } else {
         let (n, d) = tri6_shape(xi);
-        (n.to_vec(), d.to_vec())
+        let mut nn = [0.0; 8];
+        let mut dd = [[0.0; 2]; 8];
+        nn[..6].copy_from_slice(&n);
+        dd[..6].copy_from_slice(&d);
+        (nn, dd)
     }
 }
 

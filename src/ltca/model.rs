@@ -300,33 +300,12 @@ impl LtcaBodies {
         }
         let cells_s = t0.elapsed().as_secs_f64();
         let t_f = Instant::now();
-        // bulk compliance from the tensors (upper triangle, mirrored)
+        // bulk compliance from the tensors
         let mut f_fe = vec![0.0; n * n];
-        {
-            use rayon::prelude::*;
-            let rows: Vec<Vec<f64>> = (0..n)
-                .into_par_iter()
-                .map(|i| {
-                    (i..n)
-                        .map(|j| {
-                            let mut v = 0.0;
-                            for b in 0..2 {
-                                let c = its[b].tensor(&cands[i].loads[b], &cands[j].loads[b]);
-                                let nj = cands[j].normals[b];
-                                let cn = [dot(c[0], nj), dot(c[1], nj), dot(c[2], nj)];
-                                v += dot(cands[i].normals[b], cn);
-                            }
-                            v
-                        })
-                        .collect()
-                })
-                .collect();
-            for (i, row) in rows.into_iter().enumerate() {
-                for (k, v) in row.into_iter().enumerate() {
-                    let j = i + k;
-                    f_fe[i * n + j] = v;
-                    f_fe[j * n + i] = v;
-                }
+        for b in 0..2 {
+            let part = normal_compliance(&self.tensors[b], &cands, b);
+            for (x, y) in f_fe.iter_mut().zip(part) {
+                *x += y;
             }
         }
         let compliance_s = t_f.elapsed().as_secs_f64();
@@ -509,4 +488,66 @@ fn half_space_influence(
         .par_iter()
         .map(|&(i, j)| cell_influence(&cell(i), &cell(j), e_star, 2))
         .collect()
+}
+
+/// n₍b₎ᵢᵀ C(i, j) n₍b₎ⱼ of one body for all candidate pairs (n × n,
+/// row-major): for each j the displacement u_j = C (Σ_c w_c n_j e_c) is
+/// formed on the union U of the cells' nodes, reading C by rows of the
+/// loaded nodes c (C is symmetric) so that each row is streamed over the
+/// sorted U; then F_ij = Σ_{a ∈ i} w_a n_iᵀ u_j(a).
+fn normal_compliance(t: &ComplianceTensor, cands: &[Candidate], b: usize) -> Vec<f64> {
+    use rayon::prelude::*;
+    let n = cands.len();
+    let dim = t.dim();
+    let mut nodes: Vec<u32> = cands
+        .iter()
+        .flat_map(|c| c.loads[b].weights.iter().map(|&(a, _)| a))
+        .collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    let index = |a: u32| nodes.binary_search(&a).expect("node of a cell");
+    let columns: Vec<Vec<f64>> = (0..n)
+        .into_par_iter()
+        .map(|j| {
+            let nj = cands[j].normals[b];
+            let mut u = vec![0.0; 3 * nodes.len()];
+            for &(c, w) in &cands[j].loads[b].weights {
+                for (s, &ns) in nj.iter().enumerate() {
+                    let f = w * ns;
+                    if f == 0.0 {
+                        continue;
+                    }
+                    let row = &t.matrix[(3 * c as usize + s) * dim..][..dim];
+                    for (k, &a) in nodes.iter().enumerate() {
+                        let x = &row[3 * a as usize..3 * a as usize + 3];
+                        u[3 * k] += f * x[0];
+                        u[3 * k + 1] += f * x[1];
+                        u[3 * k + 2] += f * x[2];
+                    }
+                }
+            }
+            // F_ij for all i
+            (0..n)
+                .map(|i| {
+                    let ni = cands[i].normals[b];
+                    cands[i].loads[b]
+                        .weights
+                        .iter()
+                        .map(|&(a, w)| {
+                            let k = index(a);
+                            w * (ni[0] * u[3 * k] + ni[1] * u[3 * k + 1] + ni[2] * u[3 * k + 2])
+                        })
+                        .sum::<f64>()
+                })
+                .collect()
+        })
+        .collect();
+    // column j holds F_ij; symmetrise the round-off
+    let mut f = vec![0.0; n * n];
+    for i in 0..n {
+        for j in 0..n {
+            f[i * n + j] = 0.5 * (columns[j][i] + columns[i][j]);
+        }
+    }
+    f
 }

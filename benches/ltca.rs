@@ -1,0 +1,79 @@
+//! LTCA of the seed 002 pair with the compliance tensors in memory
+//! (`flank::ltca`): one roll position in double and in single contact, and
+//! a whole mesh cycle of 30 positions (issue target: < 0.1 s), at K = 20.
+//!
+//! `cargo bench --bench ltca`. The tensors are computed once before timing
+//! (flank 0.475 mm, base 1 mm, hex20 as the scene's LTCA default would be
+//! with these sizes; cached in target/ltca-bench). The breakdown of a
+//! position (cells, tensor part of F, half-space correction, QP) is printed.
+
+use std::path::Path;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+
+use flank::compliance::body::BodyMeshOptions;
+use flank::ltca::cycle::{LtcaCycle, LtcaOptions};
+
+fn bench(c: &mut Criterion) {
+    let scene = flank::scene::read_scene(Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/papers/seed002-spur/scene.toml"
+    )))
+    .unwrap();
+    let work = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/ltca-bench");
+    let o = LtcaOptions {
+        out: work.join("bodies"),
+        mesh: BodyMeshOptions {
+            flank_size: Some(0.475),
+            base_size: Some(1.0),
+            ..Default::default()
+        },
+        points_per_line: Some(20),
+        cache: Some(work.join("cache")),
+        quiet: true,
+        ..Default::default()
+    };
+    let cycle = LtcaCycle::new(&scene, &o).unwrap();
+    println!(
+        "tensors: {:?} flank nodes, {:.1} s (computed {:?})",
+        cycle.setup.flank_nodes, cycle.setup.compliance_s, cycle.setup.computed
+    );
+    let (a, e) = cycle.kin.engagement(cycle.kin.middle);
+    let (l, h) = cycle.kin.single_contact();
+    let double = 0.5 * (a + l).to_degrees();
+    let single = 0.5 * (l + h).to_degrees();
+    for (name, roll) in [("double", double), ("single", single)] {
+        let r = cycle.solve(roll).unwrap();
+        println!(
+            "{name} contact {roll:.3}°: {} candidates, {:.2} ms (cells {:.2}, F {:.2}, H {:.2}, QP {:.2})",
+            r.candidates,
+            1e3 * r.time_s,
+            1e3 * r.cells_s,
+            1e3 * r.compliance_s,
+            1e3 * r.local_s,
+            1e3 * r.qp_s
+        );
+    }
+    let pitch = cycle.kin.angular_pitch[0].to_degrees();
+    let start = 0.5 * (a + e).to_degrees() - 0.5 * pitch;
+    let angles: Vec<f64> = (0..30).map(|i| start + pitch * i as f64 / 30.0).collect();
+    let mut g = c.benchmark_group("ltca_seed002_K20");
+    g.sample_size(10);
+    g.bench_function("position_double_contact", |b| {
+        b.iter(|| cycle.solve(double).unwrap())
+    });
+    g.bench_function("position_single_contact", |b| {
+        b.iter(|| cycle.solve(single).unwrap())
+    });
+    g.bench_function("cycle_30_positions", |b| {
+        b.iter(|| {
+            for &x in &angles {
+                cycle.solve(x).unwrap();
+            }
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
