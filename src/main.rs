@@ -217,6 +217,9 @@ enum Command {
         /// FE-contact flank element sizes (mm); the smallest is the reference.
         #[arg(long, value_delimiter = ',', default_value = "1.0,0.5")]
         fe_flank_sizes: Vec<f64>,
+        /// FE-contact base element size (mm); default the scene's [mesh].
+        #[arg(long)]
+        fe_base_size: Option<f64>,
         /// Roll angles (deg); default: the middle pair's engagement ± 2 steps.
         #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
         roll_angles: Option<Vec<f64>>,
@@ -654,6 +657,7 @@ fn run(cli: Cli) -> Result<()> {
             out,
             points_per_line,
             fe_flank_sizes,
+            fe_base_size,
             roll_angles,
             roll_step,
             sizes,
@@ -666,6 +670,7 @@ fn run(cli: Cli) -> Result<()> {
                 out: out.clone(),
                 points_per_line,
                 fe_flank_sizes,
+                fe_base_size,
                 roll_angles_deg: roll_angles,
                 roll_step_deg: roll_step,
                 ltca: flank::ltca::cycle::LtcaOptions {

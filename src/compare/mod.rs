@@ -42,6 +42,8 @@ pub struct CompareOptions {
     pub points_per_line: Vec<usize>,
     /// Flank element sizes (mm) of the FE-contact runs; the smallest is the reference.
     pub fe_flank_sizes: Vec<f64>,
+    /// Base element size of the FE-contact runs (mm); default the scene's.
+    pub fe_base_size: Option<f64>,
     /// Roll angles (deg); default: the middle pair's engagement ± 2 steps.
     pub roll_angles_deg: Option<Vec<f64>>,
     pub roll_step_deg: f64,
@@ -70,9 +72,18 @@ pub struct MethodRun {
     /// is in contact, else the pinion).
     #[serde(default)]
     pub slave: Vec<String>,
+    #[serde(deserialize_with = "null_as_nan")]
     pub load_sharing_err: f64,
+    #[serde(deserialize_with = "null_as_nan")]
     pub te_rel_err: f64,
+    #[serde(deserialize_with = "null_as_nan")]
     pub pmax_rel_err: f64,
+}
+
+/// JSON has no NaN (serde_json writes null): read null back as NaN.
+fn null_as_nan<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    use serde::Deserialize;
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 
 fn shares(f: &[f64]) -> Vec<f64> {
@@ -135,7 +146,7 @@ fn ltca_run(cycle: &LtcaCycle, angles: &[f64]) -> Result<MethodRun, FlankError> 
 fn fe_pass(
     scene: &Scene,
     kin: &MeshKinematics,
-    size: f64,
+    (size, base): (f64, Option<f64>),
     angles: &[f64],
     slave: SlaveBody,
     threads: usize,
@@ -152,6 +163,7 @@ fn fe_pass(
     let s = settings(scene, kin, &o)?;
     let mesh = BodyMeshOptions {
         flank_size: Some(size),
+        base_size: base,
         ..Default::default()
     };
     let t = Instant::now();
@@ -181,12 +193,12 @@ fn fe_pass(
 fn fe_run(
     scene: &Scene,
     kin: &MeshKinematics,
-    size: f64,
+    (size, base): (f64, Option<f64>),
     angles: &[f64],
     threads: usize,
 ) -> Result<MethodRun, FlankError> {
     let (mut steps, nodes, mut setup_s, mut cycle_s) =
-        fe_pass(scene, kin, size, angles, SlaveBody::Pinion, threads)?;
+        fe_pass(scene, kin, (size, base), angles, SlaveBody::Pinion, threads)?;
     let mut slave = vec!["pinion".to_string(); angles.len()];
     let approach: Vec<usize> = (0..angles.len())
         .filter(|&i| {
@@ -198,7 +210,7 @@ fn fe_run(
         .collect();
     if !approach.is_empty() {
         let sub: Vec<f64> = approach.iter().map(|&i| angles[i]).collect();
-        let (g, _, s2, c2) = fe_pass(scene, kin, size, &sub, SlaveBody::Gear, threads)?;
+        let (g, _, s2, c2) = fe_pass(scene, kin, (size, base), &sub, SlaveBody::Gear, threads)?;
         setup_s += s2;
         cycle_s += c2;
         for (j, &i) in approach.iter().enumerate() {
@@ -233,13 +245,17 @@ fn fe_run(
 fn fe_run_cached(
     scene: &Scene,
     kin: &MeshKinematics,
-    size: f64,
+    (size, base): (f64, Option<f64>),
     angles: &[f64],
     threads: usize,
     dir: &Path,
 ) -> Result<(MethodRun, bool), FlankError> {
     let text = std::fs::read_to_string(&scene.source).unwrap_or_default();
-    let key = format!("{text}\n{size}\n{angles:?}\n{}", env!("CARGO_PKG_VERSION"));
+    let base_key = base.map(|b| format!("\nbase {b}")).unwrap_or_default();
+    let key = format!(
+        "{text}\n{size}\n{angles:?}\n{}{base_key}",
+        env!("CARGO_PKG_VERSION")
+    );
     let mut h = crate::compliance::Fnv128::new();
     h.bytes(key.as_bytes());
     let file = dir.join(format!("fe_flank_{size}_{}.json", h.hex()));
@@ -248,7 +264,7 @@ fn fe_run_cached(
             return Ok((r, true));
         }
     }
-    let r = fe_run(scene, kin, size, angles, threads)?;
+    let r = fe_run(scene, kin, (size, base), angles, threads)?;
     std::fs::create_dir_all(dir).map_err(|e| FlankError::io(dir, e))?;
     let t = serde_json::to_string(&r).map_err(|e| FlankError::Model(e.to_string()))?;
     std::fs::write(&file, t).map_err(|e| FlankError::io(&file, e))?;
@@ -321,7 +337,7 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
         let (r, cached) = fe_run_cached(
             scene,
             &kin,
-            h,
+            (h, options.fe_base_size),
             &angles,
             options.threads,
             &out.join("fe_runs"),

@@ -1,0 +1,183 @@
+//! `flank ltca SCENE.toml` and `flank compare SCENE.toml` from the command
+//! line (seed 002 scene, coarse meshes): their files and summary keys; bad
+//! `[analyses.ltca]` keys and bad options are clear errors.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn flank(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_flank"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
+}
+
+fn dir(name: &str) -> PathBuf {
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("cli_ltca_{name}"));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+#[test]
+fn ltca_writes_the_cycle_files() {
+    let d = dir("cycle");
+    let (ok, out, err) = flank(&[
+        "ltca",
+        "papers/seed002-spur/scene.toml",
+        "--flank-size",
+        "1.5",
+        "--base-size",
+        "3",
+        "--points-per-line",
+        "10",
+        "--condition",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(out.contains("contact ratio"), "{out}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap()).unwrap();
+    // the default range covers the middle pair's engagement: a contact ratio
+    let eps = s["contact_ratio"].as_f64().expect("contact ratio measured");
+    assert!(eps > 1.3 && eps < 1.9, "ε = {eps}");
+    let f = s["single_pair_force_n"].as_f64().unwrap();
+    let nominal = s["nominal_force_n"].as_f64().unwrap();
+    assert!((f / nominal - 1.0).abs() < 1e-6, "{f} vs {nominal}");
+    assert!(s["max_kkt"].as_f64().unwrap() < 1e-9);
+    assert!(s["steps"][0]["condition"].as_f64().unwrap() > 1.0);
+    for f in [
+        "ltca_cycle.csv",
+        "ltca_points.csv",
+        "ltca_force_per_tooth.svg",
+        "ltca_transmission_error.png",
+        "pinion.inp",
+        "gear.inp",
+    ] {
+        assert!(d.join(f).exists(), "{f} missing");
+    }
+    let csv = std::fs::read_to_string(d.join("ltca_cycle.csv")).unwrap();
+    assert_eq!(
+        csv.lines().count() - 1,
+        s["positions"].as_u64().unwrap() as usize
+    );
+}
+
+#[test]
+fn compare_writes_json_markdown_and_plot() {
+    let d = dir("compare");
+    let (ok, out, err) = flank(&[
+        "compare",
+        "papers/seed002-spur/scene.toml",
+        "--fe-flank-sizes",
+        "1.5",
+        "--fe-base-size",
+        "3",
+        "--points-per-line",
+        "5,10",
+        "--roll-angles=-8,5,19",
+        "--flank-size",
+        "1.5",
+        "--base-size",
+        "3",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(out.contains("best LTCA"), "{out}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("compare.json")).unwrap()).unwrap();
+    for key in [
+        "load_sharing_rel_err",
+        "te_rel_err",
+        "pmax_rel_err",
+        "ltca_cycle_s",
+        "fe_cycle_s",
+    ] {
+        assert!(s[key].as_f64().is_some(), "compare.json lacks {key}");
+    }
+    assert_eq!(s["positions"].as_u64(), Some(3));
+    assert_eq!(s["runs"].as_array().unwrap().len(), 3);
+    assert!(d.join("compare.md").exists() && d.join("error_vs_time.svg").exists());
+    // the FE run is cached: a second call reuses it
+    let (ok, _, err) = flank(&[
+        "compare",
+        "papers/seed002-spur/scene.toml",
+        "--fe-flank-sizes",
+        "1.5",
+        "--fe-base-size",
+        "3",
+        "--points-per-line",
+        "5",
+        "--roll-angles=-8,5,19",
+        "--flank-size",
+        "1.5",
+        "--base-size",
+        "3",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!(ok && err.contains("reused"), "{err}");
+}
+
+#[test]
+fn bad_ltca_keys_and_options_are_clear_errors() {
+    let d = dir("bad");
+    std::fs::create_dir_all(&d).unwrap();
+    let text = std::fs::read_to_string(
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("papers/seed002-spur/scene.toml"),
+    )
+    .unwrap();
+    for (bad, expect) in [
+        ("ltca = { points_per_line = 1 }", "points_per_line"),
+        ("ltca = { fe_cell_factor = -1.0 }", "fe_cell_factor"),
+        ("ltca = { solver = \"newton\" }", "newton"),
+        (
+            "ltca = { misalignment_urad = [1e9, 0.0] }",
+            "misalignment_urad",
+        ),
+        ("ltca = { local = \"hertz\" }", "hertz"),
+    ] {
+        let scene = d.join("scene.toml");
+        std::fs::write(
+            &scene,
+            text.replace("mesh = {}", &format!("mesh = {{}}\n{bad}")),
+        )
+        .unwrap();
+        let (ok, _, err) = flank(&[
+            "ltca",
+            scene.to_str().unwrap(),
+            "--out",
+            d.to_str().unwrap(),
+        ]);
+        assert!(!ok, "{bad} accepted");
+        assert!(
+            err.contains(expect) && err.contains("scene.toml:"),
+            "{bad}: {err}"
+        );
+    }
+    let (ok, _, err) = flank(&[
+        "compare",
+        "papers/seed002-spur/scene.toml",
+        "--points-per-line",
+        "1",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!(!ok && err.contains("points per line"), "{err}");
+    let (ok, _, err) = flank(&[
+        "ltca",
+        "papers/seed002-spur/scene.toml",
+        "--solver",
+        "simplex",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!(!ok && err.contains("solver"), "{err}");
+}
