@@ -30,7 +30,7 @@ fn main() -> anyhow::Result<()> {
         .map(|a| a.parse())
         .collect::<Result<_, _>>()?;
     let (flank_mm, base_mm) = match args.as_slice() {
-        [] => (3.75, 15.0),
+        [] => (1.875, 7.5),
         [f, b] => (*f, *b),
         _ => anyhow::bail!("usage: seed004_tables [FLANK_MM BASE_MM]"),
     };
@@ -55,46 +55,24 @@ fn main() -> anyhow::Result<()> {
     );
     let kin = &cycle.kin;
     let k = kin.middle;
-    // roll at which the middle pair's contact line crosses mid face at s
+    // the contact line of pair k runs s(z) = s0(roll) + slope·z across the
+    // face (s the transverse position on the line of action, slope
+    // −r_b1 dφ/dz of the pinion's helix): the roll at which it crosses
+    // mid face at s
     let mid_face = 0.5 * kin.face_width[0];
-    let roll_at = |s: f64| -> anyhow::Result<f64> {
-        // s(z) = s0(roll) + slope z; find roll with s(mid_face) = s by the secant
-        let f = |roll: f64| -> anyhow::Result<f64> {
-            let p = cycle.tca.position(roll)?;
-            let line = p
-                .lines
-                .iter()
-                .find(|l| l.pinion_tooth == k && l.kind == flank::tca::LineKind::Flank)
-                .ok_or_else(|| anyhow::anyhow!("middle pair not in mesh at {roll}"))?;
-            let q = line
-                .points
-                .iter()
-                .min_by(|a, b| {
-                    (a.position[2] - mid_face)
-                        .abs()
-                        .total_cmp(&(b.position[2] - mid_face).abs())
-                })
-                .expect("points");
-            // transverse distance from T1 along the line of action
-            let a = kin.working_pressure_angle;
-            let t1 = [-kin.base_radius[0] * a.sin(), kin.base_radius[0] * a.cos()];
-            Ok((q.position[0] - t1[0]) * a.cos() + (q.position[1] - t1[1]) * a.sin() - s)
-        };
-        let mut x0 = kin.roll_at(k, s);
-        let mut x1 = x0 + 1e-3;
-        let (mut f0, mut f1) = (f(x0)?, f(x1)?);
-        for _ in 0..30 {
-            if f1.abs() < 1e-9 {
-                break;
-            }
-            let x2 = x1 - f1 * (x1 - x0) / (f1 - f0);
-            x0 = x1;
-            f0 = f1;
-            x1 = x2;
-            f1 = f(x1)?;
-        }
-        Ok(x1)
-    };
+    let twist = flank::geometry::rack::ToothProfile::new(&scene.pair.pinion, "pinion")?.twist_rate;
+    let slope = -kin.base_radius[0] * twist;
+    let roll_at = |s: f64| -> anyhow::Result<f64> { Ok(kin.roll_at(k, s - slope * mid_face)) };
+    // a dense TCA for the velocities at mid face
+    let mut dense = cycle.tca.settings().clone();
+    dense.points_per_line = 2001;
+    let tca = flank::tca::Tca::new(
+        &scene.pair,
+        scene.flank_modifications()?,
+        kin.teeth,
+        scene.load.speed_rpm,
+        dense,
+    )?;
     let s_pitch = kin.base_radius[0] * kin.working_pressure_angle.tan();
     // Table 1
     let paper1 = [
@@ -114,7 +92,7 @@ fn main() -> anyhow::Result<()> {
     let _ = writeln!(md, "|---:|---:|---:|---:|---:|---:|---:|");
     for &(d, a, b, c) in &paper1 {
         let roll = roll_at(s_pitch + d)?;
-        let p = cycle.tca.position(roll)?;
+        let p = tca.position(roll)?;
         let line = p
             .lines
             .iter()

@@ -36,7 +36,6 @@ fn ltca_writes_the_cycle_files() {
         "3",
         "--points-per-line",
         "10",
-        "--condition",
         "--out",
         d.to_str().unwrap(),
     ]);

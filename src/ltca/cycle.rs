@@ -224,10 +224,11 @@ impl LtcaCycle {
         let roll = roll_deg.to_radians();
         let position = self.tca.position(roll)?;
         let frames = self.tca.frames(roll);
+        let tca_s = t.elapsed().as_secs_f64();
         let mut r = self
             .bodies
             .solve(&position, &frames, self.torque, &self.settings)?;
-        r.time_s = t.elapsed().as_secs_f64();
+        r.time_s += tca_s;
         Ok(r)
     }
 
@@ -412,6 +413,7 @@ pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, Fl
         "setup": cycle.setup,
         "settings": cycle.settings,
         "max_kkt": worst(|r| r.kkt_max),
+        "max_condition": results.iter().filter_map(|r| r.condition).reduce(f64::max),
         "kkt_flagged": flagged,
         "max_pressure_mpa": worst(|r| r.max_pressure_mpa),
         "peak_memory_mb": peak_memory_mb(),
@@ -443,7 +445,7 @@ fn write_cycle_csv(
     for p in 1..=np {
         let _ = write!(s, ",force_pair{p}_n,share_pair{p}");
     }
-    s.push_str(",te_urad,te_um,unloaded_te_urad,mesh_stiffness_n_per_um,max_pressure_mpa,candidates,qp_iterations,local_iterations,kkt,time_s\n");
+    s.push_str(",te_urad,te_um,unloaded_te_urad,mesh_stiffness_n_per_um,max_pressure_mpa,candidates,qp_iterations,local_iterations,kkt,condition,time_s\n");
     for (r, f) in results.iter().zip(forces) {
         let _ = write!(s, "{}", r.roll_deg);
         let total: f64 = f.iter().sum::<f64>().max(1e-300);
@@ -452,7 +454,7 @@ fn write_cycle_csv(
         }
         let _ = writeln!(
             s,
-            ",{},{},{},{},{},{},{},{},{:e},{}",
+            ",{},{},{},{},{},{},{},{},{:e},{},{}",
             r.te_urad,
             r.te_um,
             r.unloaded_te_urad,
@@ -462,6 +464,7 @@ fn write_cycle_csv(
             r.qp_iterations,
             r.local_iterations,
             r.kkt_max,
+            r.condition.map_or(String::new(), |c| format!("{c:e}")),
             r.time_s
         );
     }

@@ -387,6 +387,8 @@ impl LtcaBodies {
             }
         }
         let s = solution.expect("at least one iteration");
+        let time_s = t0.elapsed().as_secs_f64();
+        // reported, not part of the solve: outside the timed part
         let condition = settings.condition.then(|| condition_number(&f, n));
         // per line and per point
         let nl = tca.lines.len();
@@ -443,7 +445,7 @@ impl LtcaBodies {
             kkt_max: s.kkt.max,
             kkt_within_tolerance: s.within_tolerance,
             condition,
-            time_s: t0.elapsed().as_secs_f64(),
+            time_s,
             cells_s,
             compliance_s,
             local_s,
