@@ -56,6 +56,7 @@ fn ltca_writes_the_cycle_files() {
         "ltca_points.csv",
         "ltca_force_per_tooth.svg",
         "ltca_transmission_error.png",
+        "ltca_contact_pattern.svg",
         "pinion.inp",
         "gear.inp",
     ] {

@@ -392,6 +392,16 @@ pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, Fl
         notes.push(format!("plots not written: {e}"));
         Vec::new()
     });
+    let pattern = crate::ltca::pattern::plot_contact_pattern(
+        out,
+        &results,
+        cycle.kin.middle,
+        cycle.kin.face_width[0],
+    )
+    .unwrap_or_else(|e| {
+        notes.push(format!("contact pattern not plotted: {e}"));
+        Vec::new()
+    });
     let time_per_position_s =
         results.iter().map(|r| r.time_s).sum::<f64>() / results.len().max(1) as f64;
     let worst = |f: fn(&PositionResult) -> f64| results.iter().map(f).fold(0.0f64, f64::max);
@@ -418,7 +428,7 @@ pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, Fl
         "max_pressure_mpa": worst(|r| r.max_pressure_mpa),
         "peak_memory_mb": peak_memory_mb(),
         "tooth_pairs": teeth,
-        "files": {"csv": ["ltca_cycle.csv", "ltca_points.csv"], "plots": plots},
+        "files": {"csv": ["ltca_cycle.csv", "ltca_points.csv"], "plots": plots, "contact_pattern": pattern},
         "notes": notes,
         "steps": results,
     });

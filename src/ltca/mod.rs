@@ -8,4 +8,5 @@
 pub mod cycle;
 pub mod local;
 pub mod model;
+pub mod pattern;
 pub mod qp;
