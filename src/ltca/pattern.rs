@@ -24,15 +24,16 @@ pub fn plot_contact_pattern(
     let pts: Vec<(f64, f64, f64)> = results
         .iter()
         .flat_map(|r| {
-            r.points.iter().filter_map(move |p| {
-                (r.lines[p.line].0 == tooth && p.force_n > 0.0).then(|| {
+            r.points
+                .iter()
+                .filter(move |p| r.lines[p.line].0 == tooth && p.force_n > 0.0)
+                .map(|p| {
                     (
                         p.position[2],
                         p.position[0].hypot(p.position[1]),
                         p.pressure_mpa,
                     )
                 })
-            })
         })
         .collect();
     if pts.is_empty() {
