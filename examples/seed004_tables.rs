@@ -36,7 +36,8 @@ fn main() -> anyhow::Result<()> {
     };
     let mut scene = read_scene(&root.join("scene.toml"))?;
     let options = LtcaOptions {
-        out: out.join("bodies"),
+        // decks and tensors (large) go to target/, not into the paper folder
+        out: Path::new(env!("CARGO_MANIFEST_DIR")).join("target/seed004_bodies"),
         mesh: BodyMeshOptions {
             flank_size: Some(flank_mm),
             base_size: Some(base_mm),
