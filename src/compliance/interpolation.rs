@@ -35,7 +35,6 @@
 //! displacement along the first direction at k from a unit force along the
 //! second at l.
 
-use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use crate::compliance::flank::{cross, face_shape, norm};
@@ -259,68 +258,91 @@ impl<'a> FlankInterpolator<'a> {
 
     /// Face and reference coordinates of (u, v) on the flank set `set`.
     pub fn locate(&self, set: usize, u: f64, v: f64) -> Option<(usize, [f64; 2])> {
-        let grid = self.grids.0.get(set)?;
-        let b = grid.bucket(u, v)?;
-        let flank = &self.tensor.flank;
-        for &fi in &grid.buckets[b] {
-            let face = &flank.faces[fi as usize];
-            let k = face.nodes.len();
-            let mut xi = if k == 8 {
-                [0.0, 0.0]
-            } else {
-                [1.0 / 3.0, 1.0 / 3.0]
-            };
-            let mut ok = false;
-            for _ in 0..30 {
-                let (n, d) = face_shape(k, xi);
-                let mut r = [u, v];
-                let mut j = [[0.0; 2]; 2];
-                for (a, &node) in face.nodes.iter().enumerate() {
-                    let p = flank.uv[node as usize];
-                    for i in 0..2 {
-                        r[i] -= n[a] * p[i];
-                        j[i][0] += d[a][0] * p[i];
-                        j[i][1] += d[a][1] * p[i];
-                    }
+        self.locate_near(set, u, v, None)
+    }
+
+    /// [`Self::locate`], trying face `hint` first (the face of a nearby
+    /// point: cells sample neighbouring points).
+    pub fn locate_near(
+        &self,
+        set: usize,
+        u: f64,
+        v: f64,
+        hint: Option<usize>,
+    ) -> Option<(usize, [f64; 2])> {
+        if let Some(fi) = hint {
+            if self.tensor.flank.faces.get(fi).map(|f| f.set as usize) == Some(set) {
+                if let Some(xi) = self.on_face(fi, u, v) {
+                    return Some((fi, xi));
                 }
-                let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
-                if !(det.abs() > 0.0) || !det.is_finite() {
-                    break;
-                }
-                let dx = [
-                    (j[1][1] * r[0] - j[0][1] * r[1]) / det,
-                    (-j[1][0] * r[0] + j[0][0] * r[1]) / det,
-                ];
-                xi = [xi[0] + dx[0], xi[1] + dx[1]];
-                if !(xi[0].abs() < 10.0 && xi[1].abs() < 10.0) {
-                    break;
-                }
-                if dx[0].abs() + dx[1].abs() < 1e-14 {
-                    ok = true;
-                    break;
-                }
-            }
-            if !ok {
-                continue;
-            }
-            const TOL: f64 = 1e-9;
-            let inside = if k == 8 {
-                xi[0].abs() <= 1.0 + TOL && xi[1].abs() <= 1.0 + TOL
-            } else {
-                xi[0] >= -TOL && xi[1] >= -TOL && xi[0] + xi[1] <= 1.0 + TOL
-            };
-            if inside {
-                let xi = if k == 8 {
-                    [xi[0].clamp(-1.0, 1.0), xi[1].clamp(-1.0, 1.0)]
-                } else {
-                    let (a, b) = (xi[0].max(0.0), xi[1].max(0.0));
-                    let s = (a + b).max(1.0);
-                    [a / s, b / s]
-                };
-                return Some((fi as usize, xi));
             }
         }
-        None
+        let grid = self.grids.0.get(set)?;
+        let b = grid.bucket(u, v)?;
+        grid.buckets[b]
+            .iter()
+            .find_map(|&fi| self.on_face(fi as usize, u, v).map(|xi| (fi as usize, xi)))
+    }
+
+    /// Reference coordinates of (u, v) on face `fi` if it lies on it
+    /// (Newton on the face's isoparametric map in (u, v)).
+    fn on_face(&self, fi: usize, u: f64, v: f64) -> Option<[f64; 2]> {
+        let flank = &self.tensor.flank;
+        let face = &flank.faces[fi];
+        let k = face.nodes.len();
+        let mut xi = if k == 8 {
+            [0.0, 0.0]
+        } else {
+            [1.0 / 3.0, 1.0 / 3.0]
+        };
+        let mut ok = false;
+        for _ in 0..30 {
+            let (n, d) = face_shape(k, xi);
+            let mut r = [u, v];
+            let mut j = [[0.0; 2]; 2];
+            for (a, &node) in face.nodes.iter().enumerate() {
+                let p = flank.uv[node as usize];
+                for i in 0..2 {
+                    r[i] -= n[a] * p[i];
+                    j[i][0] += d[a][0] * p[i];
+                    j[i][1] += d[a][1] * p[i];
+                }
+            }
+            let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+            if !(det.abs() > 0.0) || !det.is_finite() {
+                break;
+            }
+            let dx = [
+                (j[1][1] * r[0] - j[0][1] * r[1]) / det,
+                (-j[1][0] * r[0] + j[0][0] * r[1]) / det,
+            ];
+            xi = [xi[0] + dx[0], xi[1] + dx[1]];
+            if !(xi[0].abs() < 10.0 && xi[1].abs() < 10.0) {
+                break;
+            }
+            if dx[0].abs() + dx[1].abs() < 1e-14 {
+                ok = true;
+                break;
+            }
+        }
+        if !ok {
+            return None;
+        }
+        const TOL: f64 = 1e-9;
+        let inside = if k == 8 {
+            xi[0].abs() <= 1.0 + TOL && xi[1].abs() <= 1.0 + TOL
+        } else {
+            xi[0] >= -TOL && xi[1] >= -TOL && xi[0] + xi[1] <= 1.0 + TOL
+        };
+        inside.then(|| {
+            if k == 8 {
+                [xi[0].clamp(-1.0, 1.0), xi[1].clamp(-1.0, 1.0)]
+            } else {
+                let (a, b) = (xi[0].max(0.0), xi[1].max(0.0));
+                let s = (a + b).max(1.0);
+                [a / s, b / s]
+            }
+        })
     }
 
     /// Shape-function weights of the point (u, v) of flank set `set`.
@@ -388,12 +410,15 @@ impl<'a> FlankInterpolator<'a> {
         let flank = &self.tensor.flank;
         let total: f64 = pts.iter().map(|p| p.2).sum();
         let mut inside = 0.0;
-        let mut acc: BTreeMap<u32, f64> = BTreeMap::new();
+        // a handful of nodes: a small vector beats a map here
+        let mut acc: Vec<(u32, f64)> = Vec::with_capacity(24);
         let mut mass = 0.0;
+        let mut hint = None;
         for (pu, pv, w) in pts {
-            let Some((fi, xi)) = self.locate(s, pu, pv) else {
+            let Some((fi, xi)) = self.locate_near(s, pu, pv, hint) else {
                 continue;
             };
+            hint = Some(fi);
             inside += w;
             let face = &flank.faces[fi];
             let (n, d) = face_shape(face.nodes.len(), xi);
@@ -420,9 +445,13 @@ impl<'a> FlankInterpolator<'a> {
             let wd = w * density;
             mass += wd;
             for (a, &node) in face.nodes.iter().enumerate() {
-                *acc.entry(node).or_default() += wd * n[a];
+                match acc.iter_mut().find(|e| e.0 == node) {
+                    Some(e) => e.1 += wd * n[a],
+                    None => acc.push((node, wd * n[a])),
+                }
             }
         }
+        acc.sort_unstable_by_key(|e| e.0);
         if !(mass > 0.0) {
             return Err(FlankError::Model(format!(
                 "contact cell around (u, v) = ({u}, {v}) lies outside the meshed flank {set}"
