@@ -95,8 +95,17 @@ pub fn directional(
     }
 }
 
-/// Gauss–Legendre points and weights on [−1, 1] (Newton on P_n).
+/// Gauss–Legendre points and weights on [−1, 1] (Newton on P_n); the
+/// rules up to 8 points are computed once and then copied.
 pub fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
+    static RULES: std::sync::OnceLock<Vec<Vec<(f64, f64)>>> = std::sync::OnceLock::new();
+    if n <= 8 {
+        return RULES.get_or_init(|| (0..=8).map(gauss_legendre_rule).collect())[n].clone();
+    }
+    gauss_legendre_rule(n)
+}
+
+fn gauss_legendre_rule(n: usize) -> Vec<(f64, f64)> {
     let mut out = Vec::with_capacity(n);
     for i in 0..n {
         let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
