@@ -12,7 +12,7 @@
 //!   peak of the distribution along it.
 //!
 //! Run (writes papers/seed004-helical/results/):
-//! `cargo run --release --example seed004_tables -- [FLANK_MM BASE_MM]`
+//! `cargo run --release --example seed004_tables -- [FLANK_MM BASE_MM [half-space|none]]`
 
 use std::fmt::Write;
 use std::path::Path;
@@ -25,14 +25,21 @@ fn main() -> anyhow::Result<()> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("papers/seed004-helical");
     let out = root.join("results");
     std::fs::create_dir_all(&out)?;
-    let args: Vec<f64> = std::env::args()
-        .skip(1)
+    let words: Vec<String> = std::env::args().skip(1).collect();
+    let local = match words.get(2).map(String::as_str) {
+        None | Some("half-space") => flank::ltca::local::LocalModel::HalfSpace,
+        Some("none") => flank::ltca::local::LocalModel::None,
+        Some(o) => anyhow::bail!("local model {o}: half-space or none"),
+    };
+    let args: Vec<f64> = words
+        .iter()
+        .take(2)
         .map(|a| a.parse())
         .collect::<Result<_, _>>()?;
     let (flank_mm, base_mm) = match args.as_slice() {
         [] => (1.875, 7.5),
         [f, b] => (*f, *b),
-        _ => anyhow::bail!("usage: seed004_tables [FLANK_MM BASE_MM]"),
+        _ => anyhow::bail!("usage: seed004_tables [FLANK_MM BASE_MM [half-space|none]]"),
     };
     let mut scene = read_scene(&root.join("scene.toml"))?;
     let options = LtcaOptions {
@@ -44,6 +51,7 @@ fn main() -> anyhow::Result<()> {
             ..Default::default()
         },
         points_per_line: Some(40),
+        local: Some(local),
         quiet: true,
         ..Default::default()
     };
