@@ -328,7 +328,10 @@ impl LtcaBodies {
             half[i] = if corner[i] {
                 fe_half(i)
             } else {
-                hertz_line(p0, radius[i], e_star).0
+                // a contact wider than the FE cell (near a tip, where the
+                // cell is narrowed) gets no correction: the FE cell already
+                // concentrates the load more than Hertz would
+                hertz_line(p0, radius[i], e_star).0.min(fe_half(i))
             };
         }
         let mut f = f_fe.clone();
@@ -377,7 +380,9 @@ impl LtcaBodies {
                 let a = if corner[i] {
                     fe_half(i)
                 } else if s.load[i] > 0.0 {
-                    hertz_line(s.load[i] / width[i], radius[i], e_star).0
+                    hertz_line(s.load[i] / width[i], radius[i], e_star)
+                        .0
+                        .min(fe_half(i))
                 } else {
                     half[i]
                 };
