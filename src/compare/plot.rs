@@ -81,6 +81,8 @@ fn draw<DB: DrawingBackend>(
             .configure_mesh()
             .x_desc("run time of the cycle (s)")
             .y_desc("error against the reference")
+            .y_label_formatter(&|v| format!("{v:.3}"))
+            .x_label_formatter(&|v| format!("{v}"))
             .label_style(("sans-serif", 15))
             .draw()
             .map_err(e)?;
