@@ -1939,8 +1939,12 @@ speed_rpm = 3000.0
 
     #[test]
     fn unknown_analysis() {
-        let t = edit(SPUR, "mesh = {}\n", "mesh = {}\nltca = {}\n");
-        expect_err(&t, line_of(&t, "ltca"), &["ltca", "known analyses: mesh"]);
+        let t = edit(SPUR, "mesh = {}\n", "mesh = {}\nlubrication = {}\n");
+        expect_err(
+            &t,
+            line_of(&t, "lubrication"),
+            &["lubrication", "known analyses: mesh", "ltca"],
+        );
         let t = edit(SPUR, "mesh = {}\n", "mesh = { order = 2 }\n");
         expect_err(&t, line_of(&t, "order"), &["analyses.mesh", "order"]);
     }
