@@ -37,26 +37,10 @@ use crate::error::FlankError;
 
 type Result<T> = std::result::Result<T, FlankError>;
 
-type V3 = [f64; 3];
-
-fn dot(a: V3, b: V3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: V3, b: V3) -> V3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
+use crate::geometry::vec3::{cross, dot, norm, V3};
 
 fn axpy(a: f64, x: V3, y: V3) -> V3 {
     [a * x[0] + y[0], a * x[1] + y[1], a * x[2] + y[2]]
-}
-
-fn norm(a: V3) -> f64 {
-    dot(a, a).sqrt()
 }
 
 /// Surface quantities at one parameter, in one frame.

@@ -11,6 +11,7 @@ pub mod measured;
 pub mod micro;
 pub mod pair;
 pub mod rack;
+pub mod vec3;
 
 /// Hand of a helical gear (seen along the axis, as ISO 21771 defines it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]

@@ -35,6 +35,7 @@ use crate::compliance::interpolation::{CellShape, FlankGrids, FlankInterpolator,
 use crate::compliance::ComplianceTensor;
 use crate::contact::placement::Frame;
 use crate::error::FlankError;
+use crate::geometry::vec3::dot;
 use crate::ltca::local::{cell_influence, hertz_line, Cell, LocalModel};
 use crate::ltca::qp::{condition_number, solve_contact_qp, ContactQp, QpOptions, QpSolution};
 use crate::tca::{LineKind, TcaPosition};
@@ -147,10 +148,6 @@ struct Candidate {
     c: f64,
     loads: [SurfaceLoad; 2],
     normals: [[f64; 3]; 2],
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 impl LtcaBodies {

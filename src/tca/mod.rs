@@ -112,32 +112,7 @@ use crate::mesh_cycle::kinematics::MeshKinematics;
 mod tests;
 
 type Result<T> = std::result::Result<T, FlankError>;
-type V3 = [f64; 3];
-
-fn dot(a: V3, b: V3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: V3, b: V3) -> V3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn add(a: V3, s: f64, b: V3) -> V3 {
-    [a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2]]
-}
-
-fn sub(a: V3, b: V3) -> V3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn unit(a: V3) -> V3 {
-    let l = dot(a, a).sqrt();
-    [a[0] / l, a[1] / l, a[2] / l]
-}
+use crate::geometry::vec3::{add, cross, dot, sub, unit, V3};
 
 /// Rodrigues rotation by `angle` about the unit `axis`.
 fn rotation(axis: V3, angle: f64) -> [[f64; 3]; 3] {
