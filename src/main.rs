@@ -153,13 +153,6 @@ enum Command {
         #[arg(long, short)]
         quiet: bool,
     },
-    /// FE contact over a mesh cycle (the scene's [analyses.contact]): both
-    /// sectors meshed and placed in mesh, pinion hub coupled to a reference
-    /// node loaded by the torque, gear hub clamped, one contact solve per
-    /// roll angle with the stiffness factorized once. Writes
-    /// mesh_cycle.csv, summary.json (contact_ratio, single_pair_force_n,
-    /// positions, time_per_position_s, nodes, ...), force_per_tooth and
-    /// transmission_error plots (SVG, PNG) and roll_<angle>deg.vtu.
     /// Compliance-matrix LTCA over a mesh cycle (the scene's [analyses.ltca]):
     /// both bodies' compliance tensors (computed once, cached beside the
     /// decks in --out), then per roll angle the unloaded TCA, the normal
@@ -240,6 +233,13 @@ enum Command {
         #[arg(long, short)]
         quiet: bool,
     },
+    /// FE contact over a mesh cycle (the scene's [analyses.contact]): both
+    /// sectors meshed and placed in mesh, pinion hub coupled to a reference
+    /// node loaded by the torque, gear hub clamped, one contact solve per
+    /// roll angle with the stiffness factorized once. Writes
+    /// mesh_cycle.csv, summary.json (contact_ratio, single_pair_force_n,
+    /// positions, time_per_position_s, nodes, ...), force_per_tooth and
+    /// transmission_error plots (SVG, PNG) and roll_<angle>deg.vtu.
     Run {
         /// The scene file (.toml).
         scene: PathBuf,
@@ -262,7 +262,8 @@ enum Command {
         /// Penalty slope as a multiple of the automatic default.
         #[arg(long)]
         penalty_factor: Option<f64>,
-        /// Body carrying the slave nodes; overrides the scene's.
+        /// Body carrying the slave nodes (auto: the body whose tip edge can touch,
+        /// per tooth pair and position); overrides the scene's.
         #[arg(long, value_enum)]
         slave: Option<flank::mesh_cycle::SlaveBody>,
         /// Write no VTU files.

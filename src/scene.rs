@@ -159,7 +159,9 @@ pub struct ContactAnalysis {
     pub law: Option<crate::mesh_cycle::ContactLaw>,
     /// Penalty slope as a multiple of the automatic default (> 0, default 1).
     pub penalty_factor: Option<f64>,
-    /// `pinion` (default) or `gear`: the body whose flank nodes are slaves.
+    /// `auto` (default: the gear while a pair is before its kinematic start
+    /// of contact, the pinion from then on), `pinion` or `gear`: the body
+    /// whose flank nodes are slaves.
     pub slave: Option<crate::mesh_cycle::SlaveBody>,
     /// Largest initial gap of a contact candidate (mm, > 0; default 0.2;
     /// doubled automatically, up to three times, at a position where nodes

@@ -21,6 +21,18 @@ use crate::mesh_cycle::kinematics::MeshKinematics;
 use crate::scene::Scene;
 
 /// Which body carries the slave nodes (the other gives the master faces).
+///
+/// Node-to-surface contact is one-sided: slave nodes cannot pass through
+/// master faces, but a master *corner* (a tooth tip edge) can cut between
+/// slave nodes. At the start of engagement the gear's tip edge meets the
+/// pinion's root flank, at the end the pinion's tip edge meets the gear's
+/// root flank, so each tip edge must be on the slave side while it is in
+/// play. `Auto` (the default) does that per tooth pair and position: the
+/// gear is the slave while the pair is before its kinematic start of
+/// contact (load-extended contact of the gear's tip edge), the pinion from
+/// the kinematic start on. Inside the path both flanks are smooth and the
+/// pinion as slave agreed better with the LTCA at 1° after the start
+/// (verification/ltca: TE 2.6 % against 6.2 % with the gear as slave).
 #[derive(
     Clone,
     Copy,
@@ -35,8 +47,19 @@ use crate::scene::Scene;
 #[serde(rename_all = "lowercase")]
 pub enum SlaveBody {
     #[default]
+    Auto,
     Pinion,
     Gear,
+}
+
+impl SlaveBody {
+    pub fn name(self) -> &'static str {
+        match self {
+            SlaveBody::Auto => "auto",
+            SlaveBody::Pinion => "pinion",
+            SlaveBody::Gear => "gear",
+        }
+    }
 }
 
 /// The pair model and what the driver needs to read it.
@@ -46,8 +69,12 @@ pub struct PairModel {
     pub body_of: Vec<u32>,
     /// Nodes of all contact surfaces (flank nodes of both bodies).
     pub contact_nodes: Vec<usize>,
-    /// Contact pair p joins pinion tooth `teeth[p].0` and gear tooth `teeth[p].1`.
+    /// Tooth pair p joins pinion tooth `teeth[p].0` and gear tooth `teeth[p].1`.
     pub teeth: Vec<(usize, usize)>,
+    /// Indices into `model.contact.pairs` of tooth pair p with the pinion
+    /// as slave (`[p][0]`) and with the gear as slave (`[p][1]`); `None`
+    /// where the model was built for one slave body only.
+    pub pairings: Vec<[Option<usize>; 2]>,
     /// Flank parameters (u, z) of every flank node (index into the model).
     pub flank_uv: std::collections::HashMap<usize, (f64, f64)>,
     pub nodes: [usize; 2],
@@ -186,6 +213,7 @@ fn combine(
     };
     let mut contact_nodes = Vec::new();
     let mut teeth = Vec::new();
+    let mut pairings = Vec::new();
     for k in 1..=kin.teeth {
         let mate = kin.mate(k);
         let mut names = Vec::new();
@@ -208,16 +236,20 @@ fn combine(
             });
             names.push(name);
         }
-        let (s, m) = match slave {
-            SlaveBody::Pinion => (names[0].clone(), names[1].clone()),
-            SlaveBody::Gear => (names[1].clone(), names[0].clone()),
-        };
-        contact.pairs.push(ContactPair {
-            interaction: "TOOTH_CONTACT".into(),
-            slave: s,
-            master: m,
-            small_sliding: true,
-        });
+        let mut pairing = [None, None];
+        for (side, body) in [(0, SlaveBody::Pinion), (1, SlaveBody::Gear)] {
+            if slave != SlaveBody::Auto && slave != body {
+                continue;
+            }
+            pairing[side] = Some(contact.pairs.len());
+            contact.pairs.push(ContactPair {
+                interaction: "TOOTH_CONTACT".into(),
+                slave: names[side].clone(),
+                master: names[1 - side].clone(),
+                small_sliding: true,
+            });
+        }
+        pairings.push(pairing);
         teeth.push((k, mate));
     }
     contact_nodes.sort_unstable();
@@ -227,6 +259,7 @@ fn combine(
         body_of,
         contact_nodes,
         teeth,
+        pairings,
         flank_uv,
         nodes: [pm.node_count(), gm.node_count()],
         elements: [pm.elements.len(), gm.elements.len()],

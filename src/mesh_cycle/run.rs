@@ -134,6 +134,8 @@ pub struct StepResult {
     /// Search distance finally used (raised automatically, see
     /// [`MAX_SEARCH_RAISES`]).
     pub search_distance_mm: f64,
+    /// Slave body of each tooth pair at this position.
+    pub slave: Vec<SlaveBody>,
     pub time_s: f64,
     pub warnings: Vec<String>,
 }
@@ -270,9 +272,13 @@ impl MeshCycle {
         // pinion turns by tens of µm): search again, twice as far
         let mut options = self.contact.clone();
         let mut raised = Vec::new();
+        let pairing: Vec<(usize, SlaveBody)> = (0..self.pair.teeth.len())
+            .map(|p| self.pairing_at(p, roll))
+            .collect();
         let (pairs, state) = loop {
-            let pairs: Vec<PairGeometry> = (0..model.contact.pairs.len())
-                .map(|p| build_pair_placed(model, &placement, p, &options.pairing))
+            let pairs: Vec<PairGeometry> = pairing
+                .iter()
+                .map(|&(p, _)| build_pair_placed(model, &placement, p, &options.pairing))
                 .collect::<Result<_, _>>()
                 .map_err(at)?;
             let state = solve_pairs_placed(model, &self.system, &pairs, &placement, &options)
@@ -315,6 +321,7 @@ impl MeshCycle {
                 .chain(state.warnings.iter().cloned())
                 .collect(),
             search_distance_mm: options.pairing.search_distance.unwrap_or(0.1),
+            slave: pairing.iter().map(|&(_, b)| b).collect(),
             ..Default::default()
         };
         let nn = model.mesh.node_count();
@@ -370,6 +377,28 @@ impl MeshCycle {
             displacement: state.displacement,
             pressure,
         })
+    }
+
+    /// The contact pair (index into the model's pairs) that represents
+    /// tooth pair `p` at `roll` (rad), and its slave body: with
+    /// [`SlaveBody::Auto`] the gear while the pair is before its kinematic
+    /// start of contact (only the gear's tip edge can touch the pinion's
+    /// flank there), the pinion from then on (its tip edge carries the end
+    /// of contact and the load-extended contact beyond it).
+    pub fn pairing_at(&self, p: usize, roll: f64) -> (usize, SlaveBody) {
+        match self.pair.pairings[p] {
+            [Some(i), None] => (i, SlaveBody::Pinion),
+            [None, Some(i)] => (i, SlaveBody::Gear),
+            [Some(pin), Some(gear)] => {
+                let s = self.kin.contact_position(self.pair.teeth[p].0, roll);
+                if s < self.kin.path_start {
+                    (gear, SlaveBody::Gear)
+                } else {
+                    (pin, SlaveBody::Pinion)
+                }
+            }
+            [None, None] => unreachable!("every tooth pair has a contact pair"),
+        }
     }
 
     fn reference_deg(&self, roll_deg: f64) -> Option<f64> {
@@ -741,9 +770,14 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
 /// runs (its HARD contact is a 50 E penalty; use the penalty law to compare
 /// like with like).
 fn write_position_deck(cycle: &MeshCycle, out: &Path, roll_deg: f64) -> Result<(), FlankError> {
-    let placement = cycle.placement(roll_deg.to_radians());
+    let roll = roll_deg.to_radians();
+    let placement = cycle.placement(roll);
     let mut model = cycle.pair.model.clone();
     model.mesh.coords = placement.positions(&model.mesh.coords);
+    // only the pairings solved at this position
+    model.contact.pairs = (0..cycle.pair.teeth.len())
+        .map(|p| model.contact.pairs[cycle.pairing_at(p, roll).0].clone())
+        .collect();
     let name = vtu_name(roll_deg).replace(".vtu", ".inp");
     crate::mesh::inp::write_deck(&model, &out.join(name))
 }
@@ -794,7 +828,11 @@ fn write_steps_csv(path: &Path, steps: &[StepResult], np: usize) -> Result<(), F
             ",force_pair{p}_n,share_pair{p},position_pair{p}_mm,max_pressure_pair{p}_mpa,closed_nodes_pair{p}"
         );
     }
-    s.push_str(",te_urad,te_um,candidates,iterations,columns,max_violation_mm,complementarity,equilibrium,time_s\n");
+    s.push_str(",te_urad,te_um,candidates,iterations,columns,max_violation_mm,complementarity,equilibrium,time_s");
+    for p in 1..=np {
+        let _ = write!(s, ",slave_pair{p}");
+    }
+    s.push('\n');
     for st in steps {
         let _ = write!(
             s,
@@ -813,7 +851,7 @@ fn write_steps_csv(path: &Path, steps: &[StepResult], np: usize) -> Result<(), F
                 st.patch[p].closed_nodes
             );
         }
-        let _ = writeln!(
+        let _ = write!(
             s,
             ",{},{},{},{},{},{:e},{:e},{:e},{}",
             st.te_urad,
@@ -826,6 +864,10 @@ fn write_steps_csv(path: &Path, steps: &[StepResult], np: usize) -> Result<(), F
             st.equilibrium,
             st.time_s
         );
+        for b in &st.slave {
+            let _ = write!(s, ",{}", b.name());
+        }
+        s.push('\n');
     }
     std::fs::write(path, s).map_err(|e| FlankError::io(path, e))
 }

@@ -207,7 +207,12 @@ fn slave_choice_changes_little() {
     assert!((a.te_urad / b.te_urad - 1.0).abs() < 0.05);
 }
 
-/// 5: a coarse mesh cycle through `flank run`'s driver.
+/// Seed 002's loaded contact ratio from the LTCA's load sharing (stored
+/// reference: `flank ltca` on papers/seed002-spur/scene.toml, default
+/// compliance mesh flank 0.475 mm, K = 20).
+const LTCA_CONTACT_RATIO: f64 = 1.711;
+
+/// 5: a coarse mesh cycle through `flank run`'s driver (slave body `auto`).
 #[test]
 fn coarse_mesh_cycle() {
     let sc = scene();
@@ -238,7 +243,13 @@ fn coarse_mesh_cycle() {
         s["time_per_position_s"]
     );
     assert_eq!(s["positions"].as_u64(), Some(angles.len() as u64));
-    assert!((1.35..=1.70).contains(&cr), "{cr}");
+    // Loaded ideal involutes engage early and leave late: ε above the
+    // kinematic value, and near the LTCA's loaded contact ratio of the same
+    // scene (an independent method: `flank ltca papers/seed002-spur/scene.toml`
+    // with its default compliance mesh gives 1.711; tolerance 0.03).
+    let kinematic = s["contact_ratio_kinematic"].as_f64().unwrap();
+    assert!(cr > kinematic + 0.1, "{cr} vs kinematic {kinematic}");
+    assert!((cr - LTCA_CONTACT_RATIO).abs() < 0.03, "{cr}");
     assert!(f.abs() < 0.03, "{f}");
     let steps = s["steps"].as_array().unwrap();
     for st in steps {
