@@ -9,8 +9,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::compare::MethodRun;
-use crate::compliance::plot::font_available;
 use crate::error::FlankError;
+use crate::report::figure::{font_available, write_svg_png, Figure};
 
 /// Writes `error_vs_time.{svg,png}` into `out`; returns the file names.
 pub fn plot_error_vs_time(
@@ -18,24 +18,21 @@ pub fn plot_error_vs_time(
     fe: &[MethodRun],
     ltca: &[MethodRun],
 ) -> Result<Vec<String>, FlankError> {
-    let mut files = Vec::new();
-    for ext in ["svg", "png"] {
-        let name = format!("error_vs_time.{ext}");
-        let path = out.join(&name);
-        let err = |e: String| FlankError::Model(format!("plot {}: {e}", path.display()));
-        let size = (900u32, 600u32);
-        if ext == "svg" {
-            let root = SVGBackend::new(&path, size).into_drawing_area();
-            draw(&root, fe, ltca).map_err(err)?;
-            root.present().map_err(|e| err(e.to_string()))?;
-        } else {
-            let root = BitMapBackend::new(&path, size).into_drawing_area();
-            draw(&root, fe, ltca).map_err(err)?;
-            root.present().map_err(|e| err(e.to_string()))?;
-        }
-        files.push(name);
+    write_svg_png(out, "error_vs_time", &ErrorVsTime { fe, ltca })
+}
+
+struct ErrorVsTime<'a> {
+    fe: &'a [MethodRun],
+    ltca: &'a [MethodRun],
+}
+
+impl Figure for ErrorVsTime<'_> {
+    fn size(&self) -> (u32, u32) {
+        (900, 600)
     }
-    Ok(files)
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        draw(root, self.fe, self.ltca)
+    }
 }
 
 fn draw<DB: DrawingBackend>(

@@ -6,7 +6,6 @@
 //! without text, which the returned [`PlotInfo`] says).
 
 use std::path::Path;
-use std::sync::OnceLock;
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -14,6 +13,7 @@ use plotters::prelude::*;
 use crate::compliance::flank::face_shape;
 use crate::compliance::ComplianceTensor;
 use crate::error::FlankError;
+use crate::report::figure::{font_available, write_pair, Figure};
 
 /// What was plotted.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -26,40 +26,6 @@ pub struct PlotInfo {
     pub c_nn_median_um_per_n: f64,
     /// False if no font was found: the plots carry no text.
     pub text: bool,
-}
-
-const FONT_PATHS: &[&str] = &[
-    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
-    "/usr/share/fonts/TTF/DejaVuSans.ttf",
-    "/usr/share/fonts/dejavu/DejaVuSans.ttf",
-    "/usr/share/fonts/truetype/liberation/LiberationSans-Regular.ttf",
-    "/usr/share/fonts/liberation/LiberationSans-Regular.ttf",
-    "/usr/share/fonts/truetype/freefont/FreeSans.ttf",
-    "/System/Library/Fonts/Supplemental/Arial.ttf",
-    "C:\\Windows\\Fonts\\arial.ttf",
-];
-
-/// Registers a sans-serif font with plotters once; true if one was found.
-pub(crate) fn font_available() -> bool {
-    static FONT: OnceLock<bool> = OnceLock::new();
-    *FONT.get_or_init(|| {
-        let env = std::env::var_os("FLANK_FONT").map(std::path::PathBuf::from);
-        if env.as_ref().is_some_and(|p| p.as_os_str().is_empty()) {
-            return false; // FLANK_FONT= (empty): plots without text
-        }
-        let candidates = env
-            .into_iter()
-            .chain(FONT_PATHS.iter().map(std::path::PathBuf::from));
-        for p in candidates {
-            if let Ok(bytes) = std::fs::read(&p) {
-                let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
-                if plotters::style::register_font("sans-serif", FontStyle::Normal, bytes).is_ok() {
-                    return true;
-                }
-            }
-        }
-        false
-    })
 }
 
 /// Nodal c_nn (mm/N) of every flank node.
@@ -175,18 +141,12 @@ pub fn plot_cnn(
         )));
     }
     let text = font_available();
-    let size = (900u32, 700u32);
-    let err = |p: &Path, e: String| FlankError::Model(format!("plot {}: {e}", p.display()));
-    {
-        let root = SVGBackend::new(svg, size).into_drawing_area();
-        draw(&root, &cells, title, text).map_err(|e| err(svg, e))?;
-        root.present().map_err(|e| err(svg, e.to_string()))?;
-    }
-    {
-        let root = BitMapBackend::new(png, size).into_drawing_area();
-        draw(&root, &cells, title, text).map_err(|e| err(png, e))?;
-        root.present().map_err(|e| err(png, e.to_string()))?;
-    }
+    let figure = CnnMap {
+        cells: &cells,
+        title,
+        text,
+    };
+    write_pair(svg, png, &figure)?;
     Ok(PlotInfo {
         set: set.to_string(),
         c_nn_min_um_per_n: vmin,
@@ -276,4 +236,19 @@ fn draw<DB: DrawingBackend>(
     }))
     .map_err(e)?;
     Ok(())
+}
+
+struct CnnMap<'a> {
+    cells: &'a Cells,
+    title: &'a str,
+    text: bool,
+}
+
+impl Figure for CnnMap<'_> {
+    fn size(&self) -> (u32, u32) {
+        (900, 700)
+    }
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        draw(root, self.cells, self.title, self.text)
+    }
 }

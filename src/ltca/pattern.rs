@@ -8,9 +8,9 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::compliance::plot::font_available;
 use crate::error::FlankError;
 use crate::ltca::model::PositionResult;
+use crate::report::figure::{font_available, write_svg_png, Figure};
 
 /// Writes `ltca_contact_pattern.{svg,png}` for pinion tooth `tooth`;
 /// returns the file names (none if no point of it carries load).
@@ -39,24 +39,27 @@ pub fn plot_contact_pattern(
     if pts.is_empty() {
         return Ok(Vec::new());
     }
-    let mut files = Vec::new();
-    for ext in ["svg", "png"] {
-        let name = format!("ltca_contact_pattern.{ext}");
-        let path = out.join(&name);
-        let err = |e: String| FlankError::Model(format!("plot {}: {e}", path.display()));
-        let size = (700u32, 700u32);
-        if ext == "svg" {
-            let root = SVGBackend::new(&path, size).into_drawing_area();
-            draw(&root, &pts, tooth, face_width).map_err(err)?;
-            root.present().map_err(|e| err(e.to_string()))?;
-        } else {
-            let root = BitMapBackend::new(&path, size).into_drawing_area();
-            draw(&root, &pts, tooth, face_width).map_err(err)?;
-            root.present().map_err(|e| err(e.to_string()))?;
-        }
-        files.push(name);
+    let figure = Pattern {
+        pts: &pts,
+        tooth,
+        face_width,
+    };
+    write_svg_png(out, "ltca_contact_pattern", &figure)
+}
+
+struct Pattern<'a> {
+    pts: &'a [(f64, f64, f64)],
+    tooth: usize,
+    face_width: f64,
+}
+
+impl Figure for Pattern<'_> {
+    fn size(&self) -> (u32, u32) {
+        (700, 700)
     }
-    Ok(files)
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        draw(root, self.pts, self.tooth, self.face_width)
+    }
 }
 
 fn draw<DB: DrawingBackend>(

@@ -8,9 +8,9 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::compliance::plot::font_available;
 use crate::error::FlankError;
 use crate::mesh_cycle::run::StepResult;
+use crate::report::figure::{font_available, write_svg_png, Figure};
 
 /// One curve: label, colour index, points.
 struct Curve {
@@ -101,24 +101,18 @@ pub fn plot_cycle(
     };
     let mut files = Vec::new();
     for (stem, chart) in [("force_per_tooth", &forces), ("transmission_error", &te)] {
-        for ext in ["svg", "png"] {
-            let name = format!("{prefix}{stem}.{ext}");
-            let path = out.join(&name);
-            let err = |e: String| FlankError::Model(format!("plot {}: {e}", path.display()));
-            let size = (900u32, 600u32);
-            if ext == "svg" {
-                let root = SVGBackend::new(&path, size).into_drawing_area();
-                draw(&root, chart).map_err(err)?;
-                root.present().map_err(|e| err(e.to_string()))?;
-            } else {
-                let root = BitMapBackend::new(&path, size).into_drawing_area();
-                draw(&root, chart).map_err(err)?;
-                root.present().map_err(|e| err(e.to_string()))?;
-            }
-            files.push(name);
-        }
+        files.extend(write_svg_png(out, &format!("{prefix}{stem}"), chart)?);
     }
     Ok(files)
+}
+
+impl Figure for Chart<'_> {
+    fn size(&self) -> (u32, u32) {
+        (900, 600)
+    }
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        draw(root, self)
+    }
 }
 
 fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, c: &Chart) -> Result<(), String> {
