@@ -11,6 +11,9 @@ FLANK="cargo run --release --quiet --"
 mkdir -p "$OUT"
 # the mesh cycle: 1° steps over the middle pair's engagement, contact limits bisected
 $FLANK run $SCENE --flank-size 0.5 --no-vtu --out "$OUT/cycle-0.5" -q
+# the calibrated variant (tips shortened to the paper's loaded contact ratio)
+$FLANK run papers/seed002-spur/scene_contact_ratio.toml --flank-size 0.5 --no-vtu \
+  --out "$OUT/contact-ratio-0.5" -q
 # mesh sensitivity (paper's Figure 6): four positions per flank size
 for h in 0.75 0.5 0.25 0.1; do
   $FLANK run $SCENE --flank-size $h --reference-angles 18,25,36,48 --no-vtu --no-refine \

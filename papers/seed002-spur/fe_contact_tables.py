@@ -2,7 +2,7 @@
 """Markdown tables of the seed 002 FE contact study (fe_contact_study.sh).
 
 Usage: python3 papers/seed002-spur/fe_contact_tables.py [OUT [PLOTS]]   (default out/seed002-fe)
-Reads OUT/cycle-*/summary.json and OUT/sensitivity-*/summary.json.
+Reads OUT/cycle-*/, OUT/contact-ratio-*/ and OUT/sensitivity-*/summary.json.
 """
 import glob
 import json
@@ -17,7 +17,9 @@ def load(path):
         return json.load(f)
 
 
-for path in sorted(glob.glob(os.path.join(out, "cycle-*", "summary.json"))):
+cycles = sorted(glob.glob(os.path.join(out, "cycle-*", "summary.json")))
+cycles += sorted(glob.glob(os.path.join(out, "contact-ratio-*", "summary.json")))
+for path in cycles:
     s = load(path)
     name = os.path.basename(os.path.dirname(path))
     print(f"### {name}\n")
