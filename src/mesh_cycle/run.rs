@@ -272,9 +272,11 @@ impl MeshCycle {
         // pinion turns by tens of µm): search again, twice as far
         let mut options = self.contact.clone();
         let mut raised = Vec::new();
-        let pairing: Vec<(usize, SlaveBody)> = (0..self.pair.teeth.len())
+        let mut pairing: Vec<(usize, SlaveBody)> = (0..self.pair.teeth.len())
             .map(|p| self.pairing_at(p, roll))
             .collect();
+        let mut raises = 0;
+        let mut switched = false;
         let (pairs, state) = loop {
             let pairs: Vec<PairGeometry> = pairing
                 .iter()
@@ -283,16 +285,45 @@ impl MeshCycle {
                 .map_err(at)?;
             let state = solve_pairs_placed(model, &self.system, &pairs, &placement, &options)
                 .map_err(at)?;
-            let d = options.pairing.search_distance.unwrap_or(0.1);
-            if state.uncovered == 0 || raised.len() >= MAX_SEARCH_RAISES {
+            if state.uncovered == 0 {
                 break (pairs, state);
             }
+            // pinion nodes cut by the gear's tip edge just after a pair's
+            // kinematic start (load-extended corner contact): that pair is
+            // solved with the gear as the slave
+            if !switched && self.settings.slave == SlaveBody::Auto {
+                let mid = 0.5 * (self.kin.path_start + self.kin.path_end);
+                let near_gear_tip: Vec<usize> = (0..pairing.len())
+                    .filter(|&p| {
+                        pairing[p].1 == SlaveBody::Pinion
+                            && self.pair.pairings[p][1].is_some()
+                            && self.kin.contact_position(self.pair.teeth[p].0, roll) < mid
+                    })
+                    .collect();
+                if !near_gear_tip.is_empty() {
+                    for &p in &near_gear_tip {
+                        pairing[p] = (self.pair.pairings[p][1].unwrap_or(0), SlaveBody::Gear);
+                    }
+                    raised.push(format!(
+                        "{} pinion slave node(s) outside the candidates penetrated: tooth pair(s) {:?} (contact in the first half of the path, near the gear's tip edge) solved again with the gear as the slave",
+                        state.uncovered,
+                        near_gear_tip.iter().map(|p| p + 1).collect::<Vec<_>>()
+                    ));
+                    switched = true;
+                    continue;
+                }
+            }
+            if raises >= MAX_SEARCH_RAISES {
+                break (pairs, state);
+            }
+            let d = options.pairing.search_distance.unwrap_or(0.1);
             raised.push(format!(
                 "{} slave node(s) beyond the search distance {d} mm penetrated: solved again with {} mm",
                 state.uncovered,
                 2.0 * d
             ));
             options.pairing.search_distance = Some(2.0 * d);
+            raises += 1;
         };
         let np = pairs.len();
         let mut step = StepResult {
@@ -384,7 +415,10 @@ impl MeshCycle {
     /// [`SlaveBody::Auto`] the gear while the pair is before its kinematic
     /// start of contact (only the gear's tip edge can touch the pinion's
     /// flank there), the pinion from then on (its tip edge carries the end
-    /// of contact and the load-extended contact beyond it).
+    /// of contact and the load-extended contact beyond it). [`Self::solve`]
+    /// switches a pair in the first half of its path to the gear as slave
+    /// when pinion nodes outside the candidates penetrate (the gear's tip
+    /// edge still bearing just after the kinematic start).
     pub fn pairing_at(&self, p: usize, roll: f64) -> (usize, SlaveBody) {
         match self.pair.pairings[p] {
             [Some(i), None] => (i, SlaveBody::Pinion),
