@@ -927,6 +927,32 @@ fn solve_contact_deck(
                 "pair {} / {} ({law}): {} of {} candidates closed, total normal force {:.6e} N, max pressure {:.6e} MPa",
                 p.slave, p.master, p.closed, p.candidates, p.total_normal_force, p.max_pressure
             );
+            if let Some(f) = &p.friction {
+                println!(
+                    "  friction μ = {}{}: {} stick, {} slip; tangential force {:.6e} N ({:.6e}, {:.6e}, {:.6e}); max slip {:.3e} mm",
+                    f.mu,
+                    f.stick_slope
+                        .map_or(" (hard stick)".to_string(), |k| format!(", stick slope {k:.4e} MPa/mm")),
+                    f.stick,
+                    f.slip,
+                    f.total_tangential_force,
+                    f.tangential_resultant[0],
+                    f.tangential_resultant[1],
+                    f.tangential_resultant[2],
+                    f.max_slip
+                );
+            }
+        }
+        if let Some(f) = &sol.summary.friction {
+            println!(
+                "friction: {} fixed-point iterations ({}), polish {}; Coulomb residual {:.1e} N, stick/slip complementarity {:.1e} N·mm; {} stiffness solves",
+                f.iterations,
+                if f.converged { "converged" } else { "ITERATION LIMIT" },
+                if f.polished { "exact" } else { "not applied" },
+                f.coulomb_residual,
+                f.stick_slip_complementarity,
+                f.columns
+            );
         }
         println!("results in {}", out.display());
     }

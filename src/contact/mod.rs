@@ -24,6 +24,7 @@
 pub mod active_set;
 pub mod definition;
 pub mod floating;
+pub mod friction;
 pub mod pairing;
 pub mod placement;
 pub mod projection;

@@ -74,6 +74,16 @@ pub struct ContactConstraint {
     pub area: f64,
     /// g = g₀ + Σ cᵀ u_node over these (node, c) terms.
     pub terms: Vec<(usize, [f64; 3])>,
+    /// Two unit tangents of the master surface at the projection point,
+    /// orthonormal with `normal` (t₁ along ∂x/∂ξ₁ of the master face,
+    /// t₂ = n × t₁).
+    pub tangents: [[f64; 3]; 2],
+    /// Linear forms of the tangential relative displacements
+    /// sₐ = tₐ·(u_s − Σ_k N_k(ξ) u_k), a = 1, 2 (the total slip of the slave
+    /// node against its master point, small sliding), in the same (node, c)
+    /// form as `terms`. Empty for a frictionless pair (μ = 0): friction
+    /// terms are then left out entirely.
+    pub tangent_terms: [Vec<(usize, [f64; 3])>; 2],
 }
 
 /// The geometry of one contact pair.
@@ -85,6 +95,11 @@ pub struct PairGeometry {
     pub law: NormalLaw,
     /// Friction coefficient (0: frictionless).
     pub mu: f64,
+    /// Stick slope of the friction law (MPa/mm, tangential traction per
+    /// slip: CalculiX's *FRICTION second value, force/volume); each slave
+    /// node is a tangential spring of stiffness slope × its tributary area.
+    /// `None`: hard stick (no slip while sticking).
+    pub stick_slope: Option<f64>,
     pub slave_nodes: Vec<usize>,
     /// Faces of the slave surface (for node surfaces: the skin faces whose
     /// nodes all belong to it; may be empty).
@@ -99,6 +114,37 @@ pub struct PairGeometry {
     pub failed_projections: usize,
     /// Median underlying element size h = V/A of the master faces used.
     pub element_size: f64,
+}
+
+/// Two unit tangents orthonormal with the unit normal `n` at a face point:
+/// t₁ = ∂x/∂ξ₁ (from the shape derivatives `d`) with its normal part
+/// removed, t₂ = n × t₁. Falls back to ∂x/∂ξ₂, then to any vector
+/// orthogonal to n, if ∂x/∂ξ₁ is degenerate.
+pub fn tangent_pair(face: &[[f64; 3]], d: &[[f64; 2]], n: [f64; 3]) -> [[f64; 3]; 2] {
+    let along = |k: usize| {
+        let mut a = [0.0; 3];
+        for (x, dk) in face.iter().zip(d) {
+            for c in 0..3 {
+                a[c] += dk[k] * x[c];
+            }
+        }
+        let an = dot(a, n);
+        [a[0] - an * n[0], a[1] - an * n[1], a[2] - an * n[2]]
+    };
+    let mut t = along(0);
+    if norm(t) <= 1e-12 * norm(along(1)).max(f64::MIN_POSITIVE) {
+        t = along(1);
+    }
+    if !(norm(t) > 0.0) {
+        // any direction orthogonal to n
+        let e = if n[0].abs() < 0.9 { [1.0, 0.0, 0.0] } else { [0.0, 1.0, 0.0] };
+        let en = dot(e, n);
+        t = [e[0] - en * n[0], e[1] - en * n[1], e[2] - en * n[2]];
+    }
+    let l = norm(t);
+    let t1 = [t[0] / l, t[1] / l, t[2] / l];
+    let t2 = crate::contact::surface::cross(n, t1);
+    [t1, t2]
 }
 
 /// Constrained (oedometric) modulus E(1−ν)/((1+ν)(1−2ν)) of element `e`.
@@ -161,7 +207,7 @@ pub fn build_pair_placed(
     let coords = placement.positions(&model.mesh.coords);
     let mut g = build_pair(model, &coords, pair, options)?;
     for c in &mut g.constraints {
-        for (node, v) in &mut c.terms {
+        for (node, v) in c.terms.iter_mut().chain(c.tangent_terms.iter_mut().flatten()) {
             *v = placement.frame(*node).rotate_back(*v);
         }
     }
@@ -364,6 +410,21 @@ pub fn build_pair(
                         terms.push((m, [-c * n[0], -c * n[1], -c * n[2]]));
                     }
                 }
+                let tangents = tangent_pair(&face_coords[fi], &shape.d, n);
+                let tangent_terms = if mu > 0.0 {
+                    tangents.map(|t| {
+                        let mut v = vec![(s, t)];
+                        for (k, &m) in master_faces[fi].nodes.iter().enumerate() {
+                            let c = shape.n[k];
+                            if c != 0.0 {
+                                v.push((m, [-c * t[0], -c * t[1], -c * t[2]]));
+                            }
+                        }
+                        v
+                    })
+                } else {
+                    [Vec::new(), Vec::new()]
+                };
                 let a = if area[s] > 0.0 { area[s] } else { 1.0 };
                 constraints.push(ContactConstraint {
                     pair,
@@ -374,6 +435,8 @@ pub fn build_pair(
                     g0: pr.gap,
                     area: a,
                     terms,
+                    tangents,
+                    tangent_terms,
                 });
             }
             None => {
@@ -401,6 +464,7 @@ pub fn build_pair(
         master_name: master.name.clone(),
         law,
         mu,
+        stick_slope: interaction.friction.as_ref().and_then(|f| f.stick_slope),
         slave_nodes,
         slave_faces,
         master_faces,

@@ -23,6 +23,9 @@ use faer::Mat;
 use crate::contact::active_set::{
     solve_active_set, ActiveSetOptions, ActiveSetSolution, Condensed, Delassus,
 };
+use crate::contact::friction::{
+    solve_friction, FrictionOptions, FrictionProblem, FrictionSolution, FrictionStatus,
+};
 use crate::contact::pairing::{build_pair, NormalLaw, PairGeometry, PairingOptions};
 use crate::contact::placement::Placement;
 use crate::contact::surface::area_weight;
@@ -98,6 +101,38 @@ pub struct SlaveResult {
     /// Master normal (unit).
     pub normal: [f64; 3],
     pub status: ContactStatus,
+    /// Friction results (pairs with μ > 0 only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub friction: Option<SlaveFriction>,
+}
+
+/// Friction results at one slave node.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SlaveFriction {
+    /// Tangential contact force on the slave node (N, global components).
+    pub tangential_force: [f64; 3],
+    /// ‖tangential force‖ / tributary area (MPa).
+    pub shear: f64,
+    /// Total tangential displacement of the slave node relative to its
+    /// master point (mm, global components; includes the elastic stick
+    /// part when a stick slope is given).
+    pub slip: [f64; 3],
+    pub slip_magnitude: f64,
+    pub status: FrictionStatus,
+}
+
+/// Friction figures of one pair.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct PairFriction {
+    pub mu: f64,
+    pub stick_slope: Option<f64>,
+    /// Σ of the tangential forces on the slave side (N) and its magnitude.
+    pub tangential_resultant: [f64; 3],
+    pub total_tangential_force: f64,
+    pub stick: usize,
+    pub slip: usize,
+    pub max_shear: f64,
+    pub max_slip: f64,
 }
 
 /// Figures of one contact pair.
@@ -119,6 +154,8 @@ pub struct PairSummary {
     pub search_distance: f64,
     /// Median depth V/A of the master elements (used by the default penalty).
     pub element_size: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub friction: Option<PairFriction>,
 }
 
 /// Figures of the whole contact solve (summary.json "contact").
@@ -126,6 +163,10 @@ pub struct PairSummary {
 pub struct ContactSummary {
     pub pairs: Vec<PairSummary>,
     pub active_set: ActiveSetSolution,
+    /// Friction solve (iterations, Coulomb residual, stick/slip
+    /// complementarity), when a pair has μ > 0.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub friction: Option<FrictionSolution>,
     /// Floating modes held by contact: description and amplitude.
     pub floating_modes: Vec<(String, f64)>,
     /// ‖K₀q − b‖/‖b‖ and backward error of the final full solve.
@@ -195,12 +236,6 @@ fn solve_contact_in_pool(
     let pairing_s = t.elapsed().as_secs_f64();
     let mut warnings = Vec::new();
     for g in &pairs {
-        if g.mu > 0.0 {
-            return Err(FlankError::Model(format!(
-                "contact pair {} / {}: Coulomb friction (μ = {}) is not implemented; ignoring it would change the answer (use μ = 0 or leave out *FRICTION)",
-                g.slave_name, g.master_name, g.mu
-            )));
-        }
         if g.constraints.is_empty() {
             warnings.push(format!(
                 "contact pair {} / {}: no slave node lies within the search distance {:.4e} mm of the master surface: the bodies do not touch",
@@ -244,6 +279,19 @@ fn solve_contact_in_pool(
             }
         }
     }
+    if let Some(fr) = &state.friction {
+        for (c, lt) in state.constraints.iter().zip(&fr.lambda_t) {
+            for a in 0..2 {
+                if lt[a] != 0.0 {
+                    for &(node, v) in &c.tangent_terms[a] {
+                        for k in 0..3 {
+                            force[3 * node + k] += lt[a] * v[k];
+                        }
+                    }
+                }
+            }
+        }
+    }
     let mut slaves = Vec::with_capacity(state.constraints.len());
     let mut pressure = vec![0.0; nn];
     let mut pair_summaries = Vec::new();
@@ -268,6 +316,16 @@ fn solve_contact_in_pool(
             max_penetration: 0.0,
             search_distance: g.search_distance,
             element_size: g.element_size,
+            friction: state.friction.as_ref().map(|_| PairFriction {
+                mu: g.mu,
+                stick_slope: g.stick_slope,
+                tangential_resultant: [0.0; 3],
+                total_tangential_force: 0.0,
+                stick: 0,
+                slip: 0,
+                max_shear: 0.0,
+                max_slip: 0.0,
+            }),
         };
         for (i, c) in g.constraints.iter().enumerate() {
             let status = if lam[i] > 0.0 {
@@ -286,6 +344,32 @@ fn solve_contact_in_pool(
             summary.max_pressure = summary.max_pressure.max(p);
             summary.max_nodal_pressure = summary.max_nodal_pressure.max(np);
             summary.max_penetration = summary.max_penetration.max(-gap[i]);
+            let friction = state.friction.as_ref().map(|fr| {
+                let j = offset + i;
+                let (lt, sl) = (fr.lambda_t[j], fr.slip[j]);
+                let mut tf = [0.0; 3];
+                let mut sv = [0.0; 3];
+                for kk in 0..3 {
+                    tf[kk] = lt[0] * c.tangents[0][kk] + lt[1] * c.tangents[1][kk];
+                    sv[kk] = sl[0] * c.tangents[0][kk] + sl[1] * c.tangents[1][kk];
+                }
+                SlaveFriction {
+                    tangential_force: tf,
+                    shear: lt[0].hypot(lt[1]) / c.area,
+                    slip: sv,
+                    slip_magnitude: sl[0].hypot(sl[1]),
+                    status: fr.status[j],
+                }
+            });
+            if let (Some(pf), Some(sf)) = (summary.friction.as_mut(), friction.as_ref()) {
+                for kk in 0..3 {
+                    pf.tangential_resultant[kk] += sf.tangential_force[kk];
+                }
+                pf.stick += (sf.status == FrictionStatus::Stick) as usize;
+                pf.slip += (sf.status == FrictionStatus::Slip) as usize;
+                pf.max_shear = pf.max_shear.max(sf.shear);
+                pf.max_slip = pf.max_slip.max(sf.slip_magnitude);
+            }
             slaves.push(SlaveResult {
                 pair: g.pair,
                 node: c.slave,
@@ -296,6 +380,7 @@ fn solve_contact_in_pool(
                 area: c.area,
                 normal: c.normal,
                 status,
+                friction,
             });
         }
         if k > 0 && summary.closed == 0 {
@@ -306,6 +391,10 @@ fn solve_contact_in_pool(
                 k,
                 gap.iter().copied().fold(f64::INFINITY, f64::min)
             ));
+        }
+        if let Some(pf) = summary.friction.as_mut() {
+            let r = pf.tangential_resultant;
+            pf.total_tangential_force = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
         }
         pair_summaries.push(summary);
         offset += k;
@@ -359,6 +448,7 @@ fn solve_contact_in_pool(
     let summary = ContactSummary {
         pairs: pair_summaries,
         active_set: state.active_set.clone(),
+        friction: state.friction.clone(),
         floating_modes: system
             .floating
             .modes
@@ -466,7 +556,11 @@ pub fn face_averaged_pressure(model: &Model, g: &PairGeometry, lambda: &[f64]) -
 pub struct ContactState {
     /// All candidate constraints in pair order.
     pub constraints: Vec<crate::contact::pairing::ContactConstraint>,
+    /// Normal contact (with friction: the normal part of the frictional
+    /// answer; its `iterations` are those of the frictionless start).
     pub active_set: ActiveSetSolution,
+    /// Tangential forces, slips and states when a pair has μ > 0.
+    pub friction: Option<FrictionSolution>,
     /// Full displacement (with prescribed values and floating motions).
     pub displacement: Vec<f64>,
     pub coupling_motion: Vec<[f64; 6]>,
@@ -603,9 +697,12 @@ pub fn solve_pairs_placed(
         d,
         r,
     };
+    let frictional = pairs.iter().any(|g| g.mu > 0.0);
+    let mut friction = None;
+    let mut tangent_forms: Vec<[Vec<(usize, f64)>; 2]> = Vec::new();
     let active_set = if constraints.is_empty() && fm.modes.is_empty() {
         ActiveSetSolution::default()
-    } else {
+    } else if !frictional {
         let mut w = SystemDelassus {
             system,
             forms: &forms,
@@ -618,6 +715,70 @@ pub fn solve_pairs_placed(
                 gap_tolerance,
             },
         )?
+    } else {
+        // Coulomb friction: normal and two tangential rows per candidate
+        tangent_forms = constraints
+            .iter()
+            .map(|c| c.tangent_terms.clone().map(|t| system.reduced_form(&t)))
+            .collect();
+        let mut forms3 = Vec::with_capacity(3 * constraints.len());
+        for (f, t) in forms.iter().zip(&tangent_forms) {
+            forms3.push(f.clone());
+            forms3.push(t[0].clone());
+            forms3.push(t[1].clone());
+        }
+        let slip_of = |c: &crate::contact::pairing::ContactConstraint, u: &[f64]| -> [f64; 2] {
+            c.tangent_terms.clone().map(|t| {
+                t.iter()
+                    .map(|&(n, v)| v[0] * u[3 * n] + v[1] * u[3 * n + 1] + v[2] * u[3 * n + 2])
+                    .sum()
+            })
+        };
+        let mut mu = Vec::with_capacity(constraints.len());
+        let mut stick_compliance = Vec::with_capacity(constraints.len());
+        for g in pairs {
+            for c in &g.constraints {
+                mu.push(g.mu);
+                stick_compliance.push(match g.stick_slope {
+                    Some(k) if g.mu > 0.0 => 1.0 / (k * c.area),
+                    _ => 0.0,
+                });
+            }
+        }
+        let fprob = FrictionProblem {
+            qt: constraints.iter().map(|c| slip_of(c, u_ext)).collect(),
+            dt: fm
+                .modes
+                .iter()
+                .map(|m| {
+                    constraints
+                        .iter()
+                        .map(|c| slip_of(c, &m.displacement))
+                        .collect()
+                })
+                .collect(),
+            normal: prob.clone(),
+            mu,
+            stick_compliance,
+        };
+        let mut w = SystemDelassus {
+            system,
+            forms: &forms3,
+        };
+        let (fr, normal) = solve_friction(
+            &mut w,
+            &fprob,
+            &FrictionOptions {
+                active_set: ActiveSetOptions {
+                    max_iterations: options.max_iterations,
+                    gap_tolerance,
+                },
+                ..Default::default()
+            },
+        )?;
+        warnings.extend(fr.warnings.iter().cloned());
+        friction = Some(fr);
+        normal
     };
     // final solve with the contact forces
     let mut b = b_ext;
@@ -625,6 +786,17 @@ pub fn solve_pairs_placed(
         if l != 0.0 {
             for &(rr, v) in form {
                 b[rr] += l * v;
+            }
+        }
+    }
+    if let Some(fr) = &friction {
+        for (tf, lt) in tangent_forms.iter().zip(&fr.lambda_t) {
+            for a in 0..2 {
+                if lt[a] != 0.0 {
+                    for &(rr, v) in &tf[a] {
+                        b[rr] += lt[a] * v;
+                    }
+                }
             }
         }
     }
@@ -674,6 +846,7 @@ pub fn solve_pairs_placed(
     Ok(ContactState {
         constraints,
         active_set,
+        friction,
         displacement,
         coupling_motion,
         external_force: f_full,

@@ -49,7 +49,12 @@ pub fn write_solution(
 /// `contact.csv`: one row per paired slave node (deck labels): pair, slave
 /// node, position, final gap (mm, negative = penetration), normal force
 /// (N), contact pressure (MPa, face-averaged), λ/area (MPa), tributary
-/// area (mm²), master normal, status (open/closed).
+/// area (mm²), master normal, status (open/closed). With friction (a pair
+/// with μ > 0) the columns go on: tangential force on the slave node
+/// `ft_x, ft_y, ft_z` (N, global), `shear` (‖tangential force‖/area, MPa),
+/// the total tangential relative displacement `slip_x, slip_y, slip_z` and
+/// its magnitude `slip` (mm), and `friction_status` (stick/slip/open); a
+/// frictionless solve writes the file exactly as before.
 pub fn write_contact_csv(
     path: &Path,
     model: &Model,
@@ -57,16 +62,22 @@ pub fn write_contact_csv(
 ) -> Result<(), FlankError> {
     let mut w = create(path)?;
     let io = |e| FlankError::io(path, e);
+    let friction = contact.summary.friction.is_some();
     writeln!(
         w,
-        "pair,slave_node,x,y,z,gap,normal_force,pressure,nodal_pressure,area,nx,ny,nz,status"
+        "pair,slave_node,x,y,z,gap,normal_force,pressure,nodal_pressure,area,nx,ny,nz,status{}",
+        if friction {
+            ",ft_x,ft_y,ft_z,shear,slip_x,slip_y,slip_z,slip,friction_status"
+        } else {
+            ""
+        }
     )
     .map_err(io)?;
     for s in &contact.slaves {
         let x = model.mesh.coords[s.node];
         writeln!(
             w,
-            "{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{}",
+            "{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{}{}",
             s.pair + 1,
             model.mesh.node_labels[s.node],
             x[0],
@@ -80,7 +91,23 @@ pub fn write_contact_csv(
             s.normal[0] + 0.0, // no "-0e0"
             s.normal[1] + 0.0,
             s.normal[2] + 0.0,
-            s.status.name()
+            s.status.name(),
+            match &s.friction {
+                Some(f) => format!(
+                    ",{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{}",
+                    f.tangential_force[0] + 0.0,
+                    f.tangential_force[1] + 0.0,
+                    f.tangential_force[2] + 0.0,
+                    f.shear,
+                    f.slip[0] + 0.0,
+                    f.slip[1] + 0.0,
+                    f.slip[2] + 0.0,
+                    f.slip_magnitude,
+                    f.status.name()
+                ),
+                None if friction => ",0e0,0e0,0e0,0e0,0e0,0e0,0e0,0e0,open".to_string(),
+                None => String::new(),
+            }
         )
         .map_err(io)?;
     }
