@@ -36,7 +36,9 @@
 //! multiplier); clarabel solves it (non-negative, second-order and zero
 //! cones; scaled to O(1) entries). Then sᵢ ← μλₙ,ᵢ, until the largest
 //! change of the bounds is below `tolerance` × the largest bound, or the
-//! iteration limit (reported, not an error). The start is the frictionless
+//! iteration limit (reported, not an error); once the change is below
+//! [`POLISH_TRIGGER`] the polish below is tried, and when it settles on an
+//! exact Coulomb answer the iteration stops there. The start is the frictionless
 //! solution from the active set ([`crate::contact::active_set`]) when it
 //! exists (sᵢ = μλₙ,ᵢ of frictionless contact), else unbounded friction
 //! (full stick) for the first iterate.
@@ -87,6 +89,11 @@ pub struct FrictionProblem {
     pub mu: Vec<f64>,
     /// 1/(kₜ A) per candidate; 0 for hard stick.
     pub stick_compliance: Vec<f64>,
+    /// Tangential rows (index 3i+1, 3i+2) that no free DOF and no floating
+    /// mode moves (e.g. a tangent along a symmetry plane's held direction):
+    /// their W row and column vanish and their force is set to 0. Length
+    /// 3n or empty (none).
+    pub inert: Vec<bool>,
 }
 
 /// Options of the friction solve.
@@ -154,8 +161,9 @@ pub struct FrictionSolution {
     pub alpha: Vec<f64>,
     /// Fixed-point iterations (Tresca problems solved), all rounds.
     pub iterations: usize,
-    /// Whether the last fixed point met its tolerance (false: the
-    /// iteration limit was hit; see the warnings).
+    /// Whether the answer satisfies the Coulomb law: the fixed point met
+    /// its tolerance or the polish settled on an exact answer (false: the
+    /// iteration limit was hit and the polish failed; see the warnings).
     pub converged: bool,
     /// Last relative change of the slip bounds.
     pub bound_change: f64,
@@ -189,6 +197,10 @@ pub struct FrictionSolution {
     pub equilibrium: f64,
     pub warnings: Vec<String>,
 }
+
+/// Relative change of the slip bounds below which the polish is tried
+/// before the fixed point meets its tolerance.
+pub const POLISH_TRIGGER: f64 = 1e-4;
 
 /// Cached columns of the 3n-row Delassus matrix.
 struct Columns<'a> {
@@ -374,13 +386,17 @@ fn tresca(
     let qv: Vec<f64> = (0..k).map(|a| q_entry(prob, var(a)) / (f0 * w0)).collect();
     // constraint rows: [zero: Dᵀ (m), zero tangents (2 per zero-bound
     // node)], [non-negative: −λₙ], [SOC 3 per bounded node]
-    let zero_nodes: Vec<usize> = (0..set.len())
-        .filter(|&a| bound[set[a]].is_some_and(|s| s <= 0.0))
+    // tangential variables held at zero: μ = 0, inert, or a zero bound
+    let fixed: Vec<usize> = (0..k)
+        .filter(|&a| {
+            a % 3 != 0
+                && (cols.zero[var(a)] || bound[set[a / 3]].is_some_and(|s| s <= 0.0))
+        })
         .collect();
     let soc_nodes: Vec<usize> = (0..set.len())
         .filter(|&a| bound[set[a]].is_some_and(|s| s > 0.0))
         .collect();
-    let nz = m + 2 * zero_nodes.len();
+    let nz = m + fixed.len();
     let rows = nz + set.len() + 3 * soc_nodes.len();
     let mut a_rows: Vec<Vec<(usize, f64)>> = vec![Vec::new(); k]; // per column: (row, value)
     let mut b = vec![0.0; rows];
@@ -393,9 +409,8 @@ fn tresca(
         }
         b[c] = prob.normal.r[c] / f0;
     }
-    for (z, &a) in zero_nodes.iter().enumerate() {
-        a_rows[3 * a + 1].push((m + 2 * z, 1.0));
-        a_rows[3 * a + 2].push((m + 2 * z + 1, 1.0));
+    for (z, &a) in fixed.iter().enumerate() {
+        a_rows[a].push((m + z, 1.0));
     }
     for a in 0..set.len() {
         a_rows[3 * a].push((nz + a, -1.0));
@@ -527,6 +542,9 @@ fn polish(
             let node = set[closed[a / 3]];
             let comp = a % 3;
             match (st[closed[a / 3]], comp) {
+                _ if comp > 0 && cols.zero[row] => {
+                    mat[(a, a)] = 1.0;
+                }
                 (St::Slip(e), 1 | 2) => {
                     mat[(a, a)] = 1.0;
                     mat[(a, a - comp)] = -prob.mu[node] * e[comp - 1];
@@ -609,6 +627,16 @@ fn polish(
             }
             st[a] = new;
         }
+        if std::env::var_os("FLANK_DEBUG_FRICTION").is_some() {
+            let c = |f: &dyn Fn(&St) -> bool| st.iter().filter(|s| f(s)).count();
+            eprintln!(
+                "polish {it}: open {} stick {} slip {} changed {changed} turn {turn:.3e} min λn {:.3e}",
+                c(&|s| *s == St::Open),
+                c(&|s| *s == St::Stick),
+                c(&|s| matches!(s, St::Slip(_))),
+                set.iter().map(|&i| lam[3 * i]).fold(f64::INFINITY, f64::min)
+            );
+        }
         if !changed && turn <= 1e-13 {
             return Some((lam, alpha, it));
         }
@@ -652,11 +680,15 @@ pub fn solve_friction(
         ));
     }
     let tol = options.active_set.gap_tolerance;
+    if !prob.inert.is_empty() && prob.inert.len() != 3 * n {
+        return Err(FlankError::Solver(
+            "frictional contact problem: inconsistent dimensions".into(),
+        ));
+    }
     let mut zero = vec![false; 3 * n];
     for i in 0..n {
-        if prob.mu[i] == 0.0 {
-            zero[3 * i + 1] = true;
-            zero[3 * i + 2] = true;
+        for a in 1..3 {
+            zero[3 * i + a] = prob.mu[i] == 0.0 || prob.inert.get(3 * i + a) == Some(&true);
         }
     }
     let mut cols = Columns {
@@ -713,6 +745,8 @@ pub fn solve_friction(
         let idx: Vec<usize> = set.iter().flat_map(|&i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
         cols.fetch(&idx)?;
         let mut round_iterations = 0;
+        let mut polished = None;
+        let mut last_try = f64::INFINITY;
         loop {
             let (l, a, it) = tresca(prob, &cols, &set, &bound)?;
             out.iterations += 1;
@@ -737,24 +771,38 @@ pub fn solve_friction(
                 out.converged = true;
                 break;
             }
+            // near the fixed point: the polish may already settle on the
+            // exact Coulomb answer (tried again after 100× progress)
+            if out.bound_change <= POLISH_TRIGGER && out.bound_change <= 1e-2 * last_try {
+                last_try = out.bound_change;
+                polished = polish(prob, &cols, &set, &lambda, tol);
+                if polished.is_some() {
+                    out.converged = true;
+                    break;
+                }
+            }
             if round_iterations >= options.max_iterations {
                 out.converged = false;
                 break;
             }
         }
-        if !out.converged {
-            out.warnings.push(format!(
-                "friction fixed point stopped at its iteration limit ({}) with a relative change of the slip bounds {:.3e} (tolerance {:.1e})",
-                options.max_iterations, out.bound_change, options.tolerance
-            ));
+        if polished.is_none() {
+            polished = polish(prob, &cols, &set, &lambda, tol);
         }
-        if let Some((l, a, it)) = polish(prob, &cols, &set, &lambda, tol) {
+        if let Some((l, a, it)) = polished {
             lambda = l;
             alpha = a;
             out.polished = true;
             out.polish_iterations += it;
+            out.converged = true;
         } else {
             out.polished = false;
+        }
+        if !out.converged {
+            out.warnings.push(format!(
+                "friction fixed point stopped at its iteration limit ({}) with a relative change of the slip bounds {:.3e} (tolerance {:.1e}), and the polish found no exact Coulomb answer from its states: the answer is the last Tresca iterate",
+                options.max_iterations, out.bound_change, options.tolerance
+            ));
         }
         let g = all_gaps(prob, &cols, &set, &lambda, &alpha);
         let entering: Vec<usize> = (0..n)

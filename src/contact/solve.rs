@@ -745,7 +745,19 @@ pub fn solve_pairs_placed(
                 });
             }
         }
+        let mut inert = vec![false; 3 * constraints.len()];
+        for (i, t) in tangent_forms.iter().enumerate() {
+            for a in 0..2 {
+                inert[3 * i + 1 + a] = t[a].iter().all(|e| e.1 == 0.0)
+                    && fm.modes.iter().all(|m| {
+                        constraints[i].tangent_terms[a].iter().all(|&(nd, v)| {
+                            (0..3).all(|k| v[k] * m.displacement[3 * nd + k] == 0.0)
+                        })
+                    });
+            }
+        }
         let fprob = FrictionProblem {
+            inert,
             qt: constraints.iter().map(|c| slip_of(c, u_ext)).collect(),
             dt: fm
                 .modes
