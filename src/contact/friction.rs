@@ -609,9 +609,19 @@ fn polish(
                     } else if w[0] * e[0] + w[1] * e[1] > tol {
                         St::Stick
                     } else if nw > 0.0 {
-                        let e2 = [-w[0] / nw, -w[1] / nw];
-                        turn = turn.max((e2[0] - e[0]).hypot(e2[1] - e[1]));
-                        St::Slip(e2)
+                        // slip across the force direction beyond the
+                        // tolerance turns it; below it the direction stands
+                        // (the slip of a node at the stick/slip transition
+                        // is tiny and its direction mere round-off)
+                        let along = w[0] * e[0] + w[1] * e[1];
+                        let across = (w[0] - along * e[0]).hypot(w[1] - along * e[1]);
+                        if across > tol {
+                            let e2 = [-w[0] / nw, -w[1] / nw];
+                            turn = turn.max((e2[0] - e[0]).hypot(e2[1] - e[1]));
+                            St::Slip(e2)
+                        } else {
+                            St::Slip(e)
+                        }
                     } else {
                         St::Slip(e)
                     }

@@ -3,7 +3,8 @@
 //! the same deck in CalculiX.
 //!
 //! Geometry: two elastic blocks L × W × H (x, y, z), the upper one on the
-//! lower one; C3D20 cells; the upper block's bottom is the slave surface,
+//! lower one, which is one cell longer at both ends in x (the slave nodes
+//! never slide off the master surface's edge); C3D20 cells; the upper block's bottom is the slave surface,
 //! the lower block's top the master; the lower block is clamped at its
 //! bottom. Plane strain in y (u_y = 0 on the faces y = 0 and y = W of both
 //! blocks): the loads are uniform in y, so the solution does not depend
@@ -40,7 +41,7 @@ use flank::contact::{
     ContactDefinition, ContactPair, Friction, PressureOverclosure, Surface, SurfaceInteraction,
     SurfaceKind,
 };
-use flank::fem::model::{Dirichlet, Model, NodalForce, Pressure};
+use flank::fem::model::{Model, NodalForce, Pressure};
 use flank::mesh::structured::{box_faces, box_mesh, BoxElement};
 use flank::mesh::Mesh;
 
@@ -58,7 +59,17 @@ fn blocks(
     friction: Option<Friction>,
     nu: f64,
 ) -> (Model, Vec<(usize, usize)>) {
-    let low = box_mesh(size, cells, BoxElement::Hex20);
+    // the lower block one cell longer at both ends in x (matching nodes):
+    // the upper block's slave nodes do not slide off the master's edge
+    let ext = size[0] / cells[0] as f64;
+    let mut low = box_mesh(
+        [size[0] + 2.0 * ext, size[1], size[2]],
+        [cells[0] + 2, cells[1], cells[2]],
+        BoxElement::Hex20,
+    );
+    for x in low.coords.iter_mut() {
+        x[0] -= ext;
+    }
     let mut up = box_mesh(size, cells, BoxElement::Hex20);
     for x in up.coords.iter_mut() {
         x[2] += size[2];
@@ -367,4 +378,97 @@ fn vanishing_mu_reproduces_frictionless_contact() {
     }
     common::check("friction d", "max |Δu| / max |u|", diff / umax, 0.0, 1e-6, a.seconds);
     assert!(a.rows[0].get("ft_x").is_none(), "frictionless contact.csv unchanged");
+}
+
+/// `total force` blocks of a ccx .dat file: set name → (fx, fy, fz).
+fn ccx_totals(text: &str) -> HashMap<String, [f64; 3]> {
+    let mut out = HashMap::new();
+    let mut set: Option<String> = None;
+    for line in text.lines() {
+        let t = line.trim();
+        if t.starts_with("total force") {
+            set = t
+                .split("for set ")
+                .nth(1)
+                .and_then(|s| s.split_whitespace().next())
+                .map(str::to_string);
+            continue;
+        }
+        if t.is_empty() {
+            continue;
+        }
+        if let Some(name) = set.take() {
+            let v: Vec<f64> = t.split_whitespace().filter_map(|x| x.parse().ok()).collect();
+            if v.len() == 3 {
+                out.insert(name, [v[0], v[1], v[2]]);
+            }
+        }
+    }
+    out
+}
+
+/// Case (f): the full-slip deck with a linear normal penalty and a stick
+/// slope, in flank and CalculiX. Compared: the reaction totals of the
+/// lower block's clamped bottom (= the contact force it receives, normal z
+/// and tangential x) and u_x of the upper block's bottom centre node.
+#[test]
+fn same_deck_in_calculix() {
+    let kn = 50.0 * E; // CalculiX's HARD, written as LINEAR
+    let kt = 5.0 * E;
+    let m = displaced(
+        Some(MU),
+        5.0 * DELTA,
+        PressureOverclosure::Linear {
+            slope: Some(kn),
+            tension: Some(0.01),
+            c0: Some(0.3),
+        },
+        Some(kt),
+    );
+    let r = flank_solve(&m, "f").expect("solve");
+    let centre = (0..m.mesh.node_count())
+        .find(|&n| {
+            let x = m.mesh.coords[n];
+            m.mesh.node_labels[n] > 10_000
+                && (x[0] - 0.5 * SIZE[0]).abs() < 1e-12
+                && (x[1] - 0.5 * SIZE[1]).abs() < 1e-12
+                && (x[2] - SIZE[2]).abs() < 1e-12
+        })
+        .unwrap();
+    let label = m.mesh.node_labels[centre];
+    let fz = r.reaction_sum(&m, "B0_Z0", 2);
+    let fx = r.reaction_sum(&m, "B0_Z0", 0);
+    let ux = r.displacements[&label][0];
+    println!(
+        "flank: bottom reaction x {fx:.9e} z {fz:.9e} N; contact Σλn {:.9e}, Σλt,x {:.9e}; u_x(node {label}) {ux:.9e} mm; {:.2} s",
+        r.sum("normal_force"),
+        r.sum("ft_x"),
+        r.seconds
+    );
+    if !common::ccx_available() {
+        return;
+    }
+    let dir = common::scratch_dir("friction_f_ccx");
+    let mut text = flank::mesh::inp::format_deck(&m).unwrap();
+    text = text.replace(
+        "*STATIC\n",
+        "*STATIC\n0.1, 1.0, 1e-6, 0.1\n*CONTROLS, PARAMETERS=TIME INCREMENTATION\n30, 40, 9, 200, 10, 4, 0, 5\n",
+    );
+    text = text.replace(
+        "*END STEP",
+        "*NODE PRINT, NSET=B0_Z0, TOTALS=ONLY\nRF\n*END STEP",
+    );
+    let deck = dir.join("ccx.inp");
+    std::fs::write(&deck, text).unwrap();
+    let c = flank::ccx::run_ccx(&deck, &dir.join("run"), 1).expect("ccx run");
+    let dat = std::fs::read_to_string(dir.join("run/job.dat")).unwrap();
+    let tot = ccx_totals(&dat)["B0_Z0"];
+    let ux_ccx = c.displacements[&label][0];
+    println!(
+        "ccx: bottom reaction x {:.9e} z {:.9e} N; u_x(node {label}) {ux_ccx:.9e} mm; {:.2} s",
+        tot[0], tot[2], c.wall_s
+    );
+    common::check("friction f", "ccx: normal contact force", fz, tot[2], 1e-3, r.seconds);
+    common::check("friction f", "ccx: tangential contact force", fx, tot[0], 1e-3, c.wall_s);
+    common::check("friction f", "ccx: u_x of the slave centre node", ux, ux_ccx, 1e-2, 0.0);
 }
