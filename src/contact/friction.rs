@@ -389,8 +389,7 @@ fn tresca(
     // tangential variables held at zero: μ = 0, inert, or a zero bound
     let fixed: Vec<usize> = (0..k)
         .filter(|&a| {
-            a % 3 != 0
-                && (cols.zero[var(a)] || bound[set[a / 3]].is_some_and(|s| s <= 0.0))
+            a % 3 != 0 && (cols.zero[var(a)] || bound[set[a / 3]].is_some_and(|s| s <= 0.0))
         })
         .collect();
     let soc_nodes: Vec<usize> = (0..set.len())
@@ -752,7 +751,10 @@ pub fn solve_friction(
     loop {
         out.rounds += 1;
         let set: Vec<usize> = (0..n).filter(|&i| in_set[i]).collect();
-        let idx: Vec<usize> = set.iter().flat_map(|&i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
+        let idx: Vec<usize> = set
+            .iter()
+            .flat_map(|&i| [3 * i, 3 * i + 1, 3 * i + 2])
+            .collect();
         cols.fetch(&idx)?;
         let mut round_iterations = 0;
         let mut polished = None;
@@ -815,9 +817,7 @@ pub fn solve_friction(
             ));
         }
         let g = all_gaps(prob, &cols, &set, &lambda, &alpha);
-        let entering: Vec<usize> = (0..n)
-            .filter(|&i| !in_set[i] && g[3 * i] < -tol)
-            .collect();
+        let entering: Vec<usize> = (0..n).filter(|&i| !in_set[i] && g[3 * i] < -tol).collect();
         if entering.is_empty() {
             break;
         }
@@ -853,9 +853,7 @@ pub fn solve_friction(
         out.coulomb_residual = out.coulomb_residual.max(nt - cap);
         let cn = prob.normal.compliance[i];
         out.max_violation = out.max_violation.max(-(out.gap[i] + cn * ln));
-        out.complementarity = out
-            .complementarity
-            .max((ln * (out.gap[i] + cn * ln)).abs());
+        out.complementarity = out.complementarity.max((ln * (out.gap[i] + cn * ln)).abs());
         let status = if ln <= 0.0 {
             FrictionStatus::Open
         } else if nt < cap * (1.0 - 1e-9) {
@@ -883,11 +881,17 @@ pub fn solve_friction(
         let rnorm = prob.normal.r.iter().map(|v| v * v).sum::<f64>().sqrt();
         let mut e = 0.0;
         for c in 0..m {
-            let s: f64 = (0..3 * n).map(|r| d_entry(prob, c, r) * lambda[r]).sum::<f64>()
+            let s: f64 = (0..3 * n)
+                .map(|r| d_entry(prob, c, r) * lambda[r])
+                .sum::<f64>()
                 - prob.normal.r[c];
             e += s * s;
         }
-        out.equilibrium = if rnorm > 0.0 { e.sqrt() / rnorm } else { e.sqrt() };
+        out.equilibrium = if rnorm > 0.0 {
+            e.sqrt() / rnorm
+        } else {
+            e.sqrt()
+        };
     }
     out.alpha = alpha.clone();
     let normal = ActiveSetSolution {

@@ -11,11 +11,15 @@
 //!      q (gaps under the loads), penalty compliances, floating-mode rows
 //!   └► active_set: primal active-set QP (hard = Lagrange multipliers,
 //!      penalty = the same problem with W + 1/k) → λ, α, KKT residuals
+//!   └► with μ > 0 (*FRICTION): friction — two tangential rows per node,
+//!      Tresca fixed point (clarabel SOCP) + Coulomb polish → λₙ, λₜ, slip
 //!   └► final solve, stresses, pressures (face-averaged), contact.csv
 //! ```
 //!
 //! Kinematics: small displacements and small sliding (pairing, normals and
-//! face parameters fixed in the initial configuration), frictionless.
+//! face parameters fixed in the initial configuration); Coulomb friction
+//! in one static step (the slip is the total tangential displacement),
+//! [`friction`]; friction terms are left out entirely when μ = 0.
 //! A driver that moves the contact between solves (gear roll angles) keeps
 //! the [`system::ElasticSystem`] and calls [`solve::solve_pairs`] with new
 //! pair geometries ([`pairing::build_pair`] takes the node positions

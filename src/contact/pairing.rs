@@ -137,7 +137,11 @@ pub fn tangent_pair(face: &[[f64; 3]], d: &[[f64; 2]], n: [f64; 3]) -> [[f64; 3]
     }
     if !(norm(t) > 0.0) {
         // any direction orthogonal to n
-        let e = if n[0].abs() < 0.9 { [1.0, 0.0, 0.0] } else { [0.0, 1.0, 0.0] };
+        let e = if n[0].abs() < 0.9 {
+            [1.0, 0.0, 0.0]
+        } else {
+            [0.0, 1.0, 0.0]
+        };
         let en = dot(e, n);
         t = [e[0] - en * n[0], e[1] - en * n[1], e[2] - en * n[2]];
     }
@@ -207,7 +211,11 @@ pub fn build_pair_placed(
     let coords = placement.positions(&model.mesh.coords);
     let mut g = build_pair(model, &coords, pair, options)?;
     for c in &mut g.constraints {
-        for (node, v) in c.terms.iter_mut().chain(c.tangent_terms.iter_mut().flatten()) {
+        for (node, v) in c
+            .terms
+            .iter_mut()
+            .chain(c.tangent_terms.iter_mut().flatten())
+        {
             *v = placement.frame(*node).rotate_back(*v);
         }
     }

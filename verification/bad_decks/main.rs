@@ -344,11 +344,11 @@ fn negative_friction_coefficient() {
         &text,
         &["must not be negative", &format!(":{line}")],
     );
-    // μ > 0 is read, but friction is not implemented: an error, not ignored
+    // a non-positive stick slope is refused (μ > 0 is solved: verification/friction)
     expect_error(
-        "positive_mu",
-        &contact_deck(0.0, MOVE, &format!("{HARD}*FRICTION\n0.2\n")),
-        &["friction", "not implemented"],
+        "nonpositive_stick_slope",
+        &contact_deck(0.0, MOVE, &format!("{HARD}*FRICTION\n0.2, 0\n")),
+        &["stick slope"],
     );
 }
 
