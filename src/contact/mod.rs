@@ -7,7 +7,9 @@
 //!   └► pairing: search (grid of face boxes) + projection (Newton on the
 //!      quadratic face) → candidate constraints g = g₀ + Σ cᵀu, slave areas
 //! system: floating modes pinned, K₀ assembled and factorized ONCE
-//!   └► condensed problem on the candidates: W = B K₀⁻¹ Bᵀ (lazy columns),
+//!   └► condensed problem on the candidates: W = B K₀⁻¹ Bᵀ (lazy columns,
+//!      blocks of 32; the substitutions restricted to the reach of the
+//!      candidates' DOFs in the factor's elimination tree, exact),
 //!      q (gaps under the loads), penalty compliances, floating-mode rows
 //!   └► active_set: primal active-set QP (hard = Lagrange multipliers,
 //!      penalty = the same problem with W + 1/k) → λ, α, KKT residuals

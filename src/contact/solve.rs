@@ -576,13 +576,43 @@ pub struct ContactState {
 }
 
 /// Columns of W = B K₀⁻¹ Bᵀ by solves with the factorized stiffness.
+///
+/// The right-hand sides Bⱼᵀ are non-zero only at the DOFs of constraint j
+/// and only the rows of K₀⁻¹Bⱼᵀ at the candidates' DOFs are needed: with a
+/// supernodal factor the substitutions are restricted to the reach of those
+/// DOFs in the elimination tree (computed once per set of pairs), exact
+/// like the full ones; a simplicial factor (small models) solves in full.
 struct SystemDelassus<'a> {
     system: &'a ElasticSystem,
     forms: &'a [Vec<(usize, f64)>],
+    /// The reach of all candidates' DOFs and the forms in its rows.
+    restricted: Option<(crate::fem::solver::SolveReach, Vec<Vec<(usize, f64)>>)>,
 }
 
 /// Right-hand sides solved together.
 const BLOCK: usize = 32;
+
+impl<'a> SystemDelassus<'a> {
+    fn new(system: &'a ElasticSystem, forms: &'a [Vec<(usize, f64)>]) -> Self {
+        let dofs: Vec<usize> = forms.iter().flatten().map(|&(r, _)| r).collect();
+        let restricted = system.solve_reach(&dofs).map(|reach| {
+            let local = forms
+                .iter()
+                .map(|f| {
+                    f.iter()
+                        .map(|&(r, v)| (reach.local(r).expect("a form's DOF in its reach"), v))
+                        .collect()
+                })
+                .collect();
+            (reach, local)
+        });
+        SystemDelassus {
+            system,
+            forms,
+            restricted,
+        }
+    }
+}
 
 impl Delassus for SystemDelassus<'_> {
     fn block_size(&self) -> usize {
@@ -593,6 +623,21 @@ impl Delassus for SystemDelassus<'_> {
         let n = self.system.reduced_count();
         let mut out = Vec::with_capacity(cols.len());
         for chunk in cols.chunks(BLOCK) {
+            if let Some((reach, local)) = &self.restricted {
+                let rhs: Vec<&[(usize, f64)]> =
+                    chunk.iter().map(|&j| &self.forms[j][..]).collect();
+                let x = self.system.solve_restricted(reach, &rhs);
+                for k in 0..chunk.len() {
+                    let col = x.col(k);
+                    out.push(
+                        local
+                            .iter()
+                            .map(|f| f.iter().map(|&(r, v)| v * col[r]).sum())
+                            .collect(),
+                    );
+                }
+                continue;
+            }
             let mut x = Mat::<f64>::zeros(n, chunk.len());
             for (k, &j) in chunk.iter().enumerate() {
                 for &(r, v) in &self.forms[j] {
@@ -703,10 +748,7 @@ pub fn solve_pairs_placed(
     let active_set = if constraints.is_empty() && fm.modes.is_empty() {
         ActiveSetSolution::default()
     } else if !frictional {
-        let mut w = SystemDelassus {
-            system,
-            forms: &forms,
-        };
+        let mut w = SystemDelassus::new(system, &forms);
         solve_active_set(
             &mut w,
             &prob,
@@ -773,10 +815,7 @@ pub fn solve_pairs_placed(
             mu,
             stick_compliance,
         };
-        let mut w = SystemDelassus {
-            system,
-            forms: &forms3,
-        };
+        let mut w = SystemDelassus::new(system, &forms3);
         let (fr, normal) = solve_friction(
             &mut w,
             &fprob,

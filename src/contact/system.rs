@@ -10,7 +10,10 @@
 //! W = B K₀⁻¹ Bᵀ). The factor does not depend on gaps, pairings or contact
 //! states, so a driver that moves the contact (new gaps, new pairings, a new
 //! roll angle expressed in each body's own frame) reuses it: only solves
-//! are repeated.
+//! are repeated. The Delassus columns are needed only at the candidate
+//! constraints' DOFs and their right-hand sides live there too, so they use
+//! substitutions restricted to those DOFs' ancestors in the elimination
+//! tree ([`ElasticSystem::solve_reach`], [`ElasticSystem::solve_restricted`]).
 
 use std::time::Instant;
 
@@ -23,7 +26,7 @@ use crate::fem::constraints::{DofMap, DofTarget};
 use crate::fem::loads::load_vector;
 use crate::fem::model::Model;
 use crate::fem::ordering::OrderingMethod;
-use crate::fem::solver::{parallelism, Precision, SparseCholesky};
+use crate::fem::solver::{parallelism, Precision, SolveReach, SparseCholesky};
 use crate::fem::static_analysis::{check_rigid_body_modes, validate};
 
 /// Figures of the factorization (for summaries).
@@ -178,6 +181,25 @@ impl ElasticSystem {
     /// Solves K₀ X = B for the columns of `b` (n × k, column major).
     pub fn solve_columns(&self, b: faer::MatMut<'_, f64>) {
         self.chol.solve_columns_with(b, self.par);
+    }
+
+    /// The reach of reduced DOFs `dofs` in the factor's elimination tree,
+    /// for [`solve_restricted`](Self::solve_restricted); `None` if the
+    /// factor is simplicial (small systems): solve in full then.
+    pub fn solve_reach(&self, dofs: &[usize]) -> Option<SolveReach> {
+        self.chol.reach(dofs)
+    }
+
+    /// K₀⁻¹ B on the rows of `reach` for sparse columns of B (`(dof,
+    /// value)` lists, every DOF in the reach): restricted forward and
+    /// backward substitutions ([`SparseCholesky::solve_restricted`]), the
+    /// same numbers as [`solve_columns`](Self::solve_columns) on those rows.
+    pub fn solve_restricted(
+        &self,
+        reach: &SolveReach,
+        columns: &[&[(usize, f64)]],
+    ) -> faer::Mat<f64> {
+        self.chol.solve_restricted(reach, columns, self.par)
     }
 
     /// Reduced vector Tᵀc of a linear form Σ cᵀu_node (sparse, merged).
