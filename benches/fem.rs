@@ -1,7 +1,9 @@
 //! Criterion benchmarks of the FE core: element integration, assembly
 //! (symbolic and numeric), ordering + factorization, at three mesh sizes of a
 //! C3D20 cantilever box (the side-by-side run against CalculiX is
-//! `benches/ccx_side_by_side.sh`).
+//! `benches/ccx_side_by_side.sh`), and a block of 32 sparse right-hand
+//! sides at the tip face solved in full and restricted to the reach of the
+//! tip's DOFs (the Delassus columns of FE contact).
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 
@@ -104,5 +106,61 @@ fn factorization(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, element_integration, assembly, factorization);
+fn substitution(c: &mut Criterion) {
+    let mut g = c.benchmark_group("substitution_32_rhs");
+    g.sample_size(10);
+    for cells in [[50, 6, 6], [100, 10, 10]] {
+        let model = cantilever(cells);
+        let id = format!("{}x{}x{}", cells[0], cells[1], cells[2]);
+        let mut dofs = DofMap::new(&model).unwrap();
+        let asm = Assembly::new(&model, &mut dofs, OrderingMethod::Metis).unwrap();
+        let sys = asm.assemble(&model, &dofs).unwrap();
+        let mut chol =
+            SparseCholesky::analyze(&asm.pattern, OrderingMethod::Metis, 0.0, parallelism(0))
+                .unwrap();
+        chol.factorize(&asm.pattern, &sys.values, Precision::Double, &|r| {
+            r.to_string()
+        })
+        .unwrap();
+        // unit loads in y at the tip nodes (a contact zone's right-hand sides)
+        let tip: Vec<usize> = model.mesh.node_sets["X1"]
+            .iter()
+            .filter_map(|&node| match dofs.targets[3 * node + 1] {
+                flank::fem::constraints::DofTarget::Free(r) => Some(r),
+                _ => None,
+            })
+            .collect();
+        let columns: Vec<Vec<(usize, f64)>> =
+            tip.iter().take(32).map(|&r| vec![(r, 1.0)]).collect();
+        let refs: Vec<&[(usize, f64)]> = columns.iter().map(|c| &c[..]).collect();
+        let n = asm.pattern.n;
+        g.bench_function(BenchmarkId::new("full", &id), |b| {
+            b.iter(|| {
+                let mut x = faer::Mat::<f64>::zeros(n, refs.len());
+                for (j, col) in columns.iter().enumerate() {
+                    x[(col[0].0, j)] = 1.0;
+                }
+                chol.solve_columns(x.as_mut());
+                x
+            })
+        });
+        let reach = chol.reach(&tip).expect("a supernodal factor");
+        println!(
+            "{id}: the reach of the tip's y DOFs holds {:.1} % of nnz(L)",
+            100.0 * reach.touched_fraction()
+        );
+        g.bench_function(BenchmarkId::new("restricted", &id), |b| {
+            b.iter(|| chol.solve_restricted(&reach, &refs, parallelism(0)))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(
+    benches,
+    element_integration,
+    assembly,
+    factorization,
+    substitution
+);
 criterion_main!(benches);

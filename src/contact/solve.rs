@@ -624,8 +624,7 @@ impl Delassus for SystemDelassus<'_> {
         let mut out = Vec::with_capacity(cols.len());
         for chunk in cols.chunks(BLOCK) {
             if let Some((reach, local)) = &self.restricted {
-                let rhs: Vec<&[(usize, f64)]> =
-                    chunk.iter().map(|&j| &self.forms[j][..]).collect();
+                let rhs: Vec<&[(usize, f64)]> = chunk.iter().map(|&j| &self.forms[j][..]).collect();
                 let x = self.system.solve_restricted(reach, &rhs);
                 for k in 0..chunk.len() {
                     let col = x.col(k);

@@ -12,6 +12,7 @@ use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
 };
+use faer::prelude::{Reborrow, ReborrowMut};
 use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
@@ -19,7 +20,6 @@ use faer::sparse::linalg::cholesky::{
 };
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::prelude::{Reborrow, ReborrowMut};
 use faer::{Accum, Conj, MatMut, MatRef, Par, Side};
 
 use crate::error::FlankError;
@@ -452,7 +452,9 @@ impl SparseCholesky {
             parent.push(if p == NONE {
                 NONE
             } else {
-                supernodes.binary_search(&p).expect("the reach is closed under parent")
+                supernodes
+                    .binary_search(&p)
+                    .expect("the reach is closed under parent")
             });
         }
         offsets.push(rows);
@@ -709,11 +711,7 @@ fn restricted_substitutions<T>(
                 kpar,
             );
         }
-        solve_upper_triangular_in_place(
-            top.transpose(),
-            w.rb_mut().subrows_mut(off, nc),
-            kpar,
-        );
+        solve_upper_triangular_in_place(top.transpose(), w.rb_mut().subrows_mut(off, nc), kpar);
     }
 }
 
@@ -883,14 +881,9 @@ mod tests {
         precision: Precision,
         supernodal: SupernodalThreshold,
     ) -> SparseCholesky {
-        let mut chol = SparseCholesky::analyze_with(
-            pattern,
-            OrderingMethod::Metis,
-            0.0,
-            Par::Seq,
-            supernodal,
-        )
-        .unwrap();
+        let mut chol =
+            SparseCholesky::analyze_with(pattern, OrderingMethod::Metis, 0.0, Par::Seq, supernodal)
+                .unwrap();
         chol.factorize(pattern, values, precision, &|r| r.to_string())
             .unwrap();
         chol
