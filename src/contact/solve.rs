@@ -586,8 +586,11 @@ struct SystemDelassus<'a> {
     system: &'a ElasticSystem,
     forms: &'a [Vec<(usize, f64)>],
     /// The reach of all candidates' DOFs and the forms in its rows.
-    restricted: Option<(crate::fem::solver::SolveReach, Vec<Vec<(usize, f64)>>)>,
+    restricted: Option<RestrictedForms>,
 }
+
+/// A reach and the constraint forms with their DOFs as rows of it.
+type RestrictedForms = (crate::fem::solver::SolveReach, Vec<Vec<(usize, f64)>>);
 
 /// Right-hand sides solved together.
 const BLOCK: usize = 32;
