@@ -29,6 +29,7 @@ fn cycle() -> MeshCycle {
         element: Some(flank::scene::ElementKind::Wedge15),
     };
     let settings = RunSettings {
+        friction_mu: 0.0,
         law: ContactLaw::Hard,
         penalty_factor: 1.0,
         slave: SlaveBody::Pinion,

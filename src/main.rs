@@ -266,6 +266,10 @@ enum Command {
         /// per tooth pair and position); overrides the scene's.
         #[arg(long, value_enum)]
         slave: Option<flank::mesh_cycle::SlaveBody>,
+        /// Coulomb friction coefficient of the flanks (0…1); overrides the
+        /// scene's friction_mu.
+        #[arg(long)]
+        friction_mu: Option<f64>,
         /// Write no VTU files.
         #[arg(long)]
         no_vtu: bool,
@@ -535,6 +539,7 @@ fn run(cli: Cli) -> Result<()> {
             law,
             penalty_factor,
             slave,
+            friction_mu,
             no_vtu,
             decks,
             no_refine,
@@ -551,6 +556,7 @@ fn run(cli: Cli) -> Result<()> {
                 law,
                 penalty_factor,
                 slave,
+                friction_mu,
                 vtu: no_vtu.then_some(false),
                 decks,
                 refine_contact_limits: no_refine.then_some(false),

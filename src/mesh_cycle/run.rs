@@ -19,7 +19,7 @@ use crate::contact::pairing::{build_pair_placed, NormalLaw, PairGeometry, Pairin
 use crate::contact::placement::Placement;
 use crate::contact::solve::{face_averaged_pressure, solve_pairs_placed, ContactOptions};
 use crate::contact::system::ElasticSystem;
-use crate::contact::PressureOverclosure;
+use crate::contact::{Friction, PressureOverclosure};
 use crate::error::FlankError;
 use crate::fem::ordering::OrderingMethod;
 use crate::fem::static_analysis::peak_memory_mb;
@@ -65,6 +65,8 @@ pub struct RunOptions {
     pub law: Option<ContactLaw>,
     pub penalty_factor: Option<f64>,
     pub slave: Option<SlaveBody>,
+    /// Coulomb friction coefficient; overrides the scene's `friction_mu`.
+    pub friction_mu: Option<f64>,
     /// Write a VTU file per position.
     pub vtu: Option<bool>,
     /// Write a CalculiX deck per position (the pair model moved to its
@@ -136,6 +138,15 @@ pub struct StepResult {
     pub search_distance_mm: f64,
     /// Slave body of each tooth pair at this position.
     pub slave: Vec<SlaveBody>,
+    /// With friction (μ > 0): magnitude of the resultant tangential contact
+    /// force per tooth pair (N), stick and slip node counts, and whether the
+    /// frictional solve met the Coulomb law (fixed point or exact polish)
+    /// with its cone violation max(0, ‖λₜ‖ − μλₙ) (N).
+    pub friction_force_n: Vec<f64>,
+    pub stick_nodes: usize,
+    pub slip_nodes: usize,
+    pub friction_converged: Option<bool>,
+    pub coulomb_residual: f64,
     pub time_s: f64,
     pub warnings: Vec<String>,
 }
@@ -146,6 +157,8 @@ pub struct RunSettings {
     pub law: ContactLaw,
     pub penalty_factor: f64,
     pub slave: SlaveBody,
+    /// Coulomb friction coefficient (0: frictionless).
+    pub friction_mu: f64,
     pub search_distance_mm: f64,
     pub roll_angles_deg: Vec<f64>,
     pub vtu: bool,
@@ -208,6 +221,12 @@ impl MeshCycle {
                 slope: Some(slope * settings.penalty_factor),
                 tension: None,
                 c0: None,
+            });
+        }
+        if settings.friction_mu > 0.0 {
+            pair.model.contact.interactions[0].friction = Some(Friction {
+                mu: settings.friction_mu,
+                stick_slope: None,
             });
         }
         let system = ElasticSystem::new(
@@ -353,6 +372,11 @@ impl MeshCycle {
                 .collect(),
             search_distance_mm: options.pairing.search_distance.unwrap_or(0.1),
             slave: pairing.iter().map(|&(_, b)| b).collect(),
+            friction_force_n: vec![0.0; pairing.len()],
+            stick_nodes: state.friction.as_ref().map_or(0, |f| f.stick),
+            slip_nodes: state.friction.as_ref().map_or(0, |f| f.slipping),
+            friction_converged: state.friction.as_ref().map(|f| f.converged),
+            coulomb_residual: state.friction.as_ref().map_or(0.0, |f| f.coulomb_residual),
             ..Default::default()
         };
         let nn = model.mesh.node_count();
@@ -361,6 +385,15 @@ impl MeshCycle {
         for (p, g) in pairs.iter().enumerate() {
             let k = g.constraints.len();
             let lam = &state.active_set.lambda[offset..offset + k];
+            if let Some(fr) = &state.friction {
+                let mut f = [0.0; 3];
+                for (c, lt) in g.constraints.iter().zip(&fr.lambda_t[offset..offset + k]) {
+                    for (d, fd) in f.iter_mut().enumerate() {
+                        *fd += lt[0] * c.tangents[0][d] + lt[1] * c.tangents[1][d];
+                    }
+                }
+                step.friction_force_n[p] = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
+            }
             let smooth = face_averaged_pressure(model, g, lam);
             let patch = &mut step.patch[p];
             patch.radius_min_mm = f64::INFINITY;
@@ -490,6 +523,12 @@ pub fn settings(
     let a = scene.analyses.contact.clone().unwrap_or_default();
     let law = o.law.or(a.law).unwrap_or_default();
     let penalty_factor = o.penalty_factor.or(a.penalty_factor).unwrap_or(1.0);
+    let friction_mu = o.friction_mu.or(a.friction_mu).unwrap_or(0.0);
+    if !(0.0..=1.0).contains(&friction_mu) {
+        return Err(FlankError::Model(format!(
+            "friction coefficient {friction_mu} must be in 0…1"
+        )));
+    }
     if !(penalty_factor > 0.0 && penalty_factor.is_finite()) {
         return Err(FlankError::Model(format!(
             "penalty factor {penalty_factor} must be positive"
@@ -525,6 +564,7 @@ pub fn settings(
     Ok(RunSettings {
         law,
         penalty_factor,
+        friction_mu,
         slave: o.slave.or(a.slave).unwrap_or_default(),
         search_distance_mm: a.search_distance_mm.unwrap_or(0.2),
         roll_angles_deg,
@@ -866,6 +906,9 @@ fn write_steps_csv(path: &Path, steps: &[StepResult], np: usize) -> Result<(), F
     for p in 1..=np {
         let _ = write!(s, ",slave_pair{p}");
     }
+    for p in 1..=np {
+        let _ = write!(s, ",friction_pair{p}_n");
+    }
     s.push('\n');
     for st in steps {
         let _ = write!(
@@ -900,6 +943,9 @@ fn write_steps_csv(path: &Path, steps: &[StepResult], np: usize) -> Result<(), F
         );
         for b in &st.slave {
             let _ = write!(s, ",{}", b.name());
+        }
+        for f in &st.friction_force_n {
+            let _ = write!(s, ",{f}");
         }
         s.push('\n');
     }

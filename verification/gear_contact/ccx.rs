@@ -79,6 +79,7 @@ fn cycle(penalty_factor: f64) -> MeshCycle {
         element: Some(ElementKind::Wedge15),
     };
     let settings = RunSettings {
+        friction_mu: 0.0,
         law: ContactLaw::Penalty,
         penalty_factor,
         slave: SlaveBody::Pinion,

@@ -63,6 +63,7 @@ fn mesh(flank: f64, base: f64) -> BodyMeshOptions {
 
 fn settings(law: ContactLaw, factor: f64, slave: SlaveBody) -> RunSettings {
     RunSettings {
+        friction_mu: 0.0,
         law,
         penalty_factor: factor,
         slave,
@@ -366,4 +367,44 @@ fn helical_pair_carries_the_torque() {
     }
     // the middle pair's contact line moves along the face width with roll
     assert!((z_mid[2] - z_mid[0]).abs() > 10.0, "{z_mid:?}");
+}
+
+/// 7: Coulomb friction on the flanks (μ = 0.05, hard stick), flank 1.5 mm:
+/// the frictional answer meets the Coulomb law, each pair's tangential
+/// resultant is at most μ times its normal force, the pinion is in
+/// equilibrium with the torque, and μ → 0 gives back the frictionless
+/// answer.
+#[test]
+fn friction_on_the_flanks() {
+    let m = mesh(1.5, 3.0);
+    let with_mu = |mu: f64| {
+        let mut s = settings(ContactLaw::Hard, 1.0, SlaveBody::Auto);
+        s.friction_mu = mu;
+        cycle(&m, s)
+    };
+    let free = with_mu(0.0);
+    let rough = with_mu(0.05);
+    let tiny = with_mu(1e-9);
+    let nominal = free.nominal_force();
+    for roll in [-6.0, 5.415] {
+        let f = free.solve(roll).unwrap().step;
+        let r = rough.solve(roll).unwrap().step;
+        let t = tiny.solve(roll).unwrap().step;
+        println!(
+            "roll {roll}°: frictionless {:?} N, TE {:.1} µrad; μ 0.05: normal {:?} N, tangential {:?} N, TE {:.1} µrad, stick/slip {}/{}, Coulomb residual {:.1e} N, equilibrium {:.1e}",
+            f.pair_force_n, f.te_urad, r.pair_force_n, r.friction_force_n, r.te_urad,
+            r.stick_nodes, r.slip_nodes, r.coulomb_residual, r.equilibrium
+        );
+        assert_eq!(r.friction_converged, Some(true));
+        assert!(r.coulomb_residual <= 1e-9 * nominal);
+        assert!(r.equilibrium < 1e-10);
+        assert!(r.stick_nodes + r.slip_nodes > 0);
+        for p in 0..3 {
+            assert!(r.friction_force_n[p] <= 0.05 * r.pair_force_n[p] * (1.0 + 1e-9) + 1e-9);
+            assert!((t.pair_force_n[p] - f.pair_force_n[p]).abs() < 1e-6 * nominal);
+        }
+        assert!(f.friction_force_n.iter().all(|&v| v == 0.0));
+        assert!(f.friction_converged.is_none());
+        assert!((t.te_urad / f.te_urad - 1.0).abs() < 1e-6);
+    }
 }
