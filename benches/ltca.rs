@@ -38,8 +38,8 @@ fn bench(c: &mut Criterion) {
         "tensors: {:?} flank nodes, {:.1} s (computed {:?})",
         cycle.setup.flank_nodes, cycle.setup.compliance_s, cycle.setup.computed
     );
-    let (a, e) = cycle.kin.engagement(cycle.kin.middle);
-    let (l, h) = cycle.kin.single_contact();
+    let (a, e) = cycle.pair.engagement(cycle.pair.middle());
+    let (l, h) = cycle.pair.single_contact();
     let double = 0.5 * (a + l).to_degrees();
     let single = 0.5 * (l + h).to_degrees();
     for (name, roll) in [("double", double), ("single", single)] {
@@ -54,7 +54,7 @@ fn bench(c: &mut Criterion) {
             1e3 * r.qp_s
         );
     }
-    let pitch = cycle.kin.angular_pitch[0].to_degrees();
+    let pitch = cycle.pair.pinion().angular_pitch().to_degrees();
     let start = 0.5 * (a + e).to_degrees() - 0.5 * pitch;
     let angles: Vec<f64> = (0..30).map(|i| start + pitch * i as f64 / 30.0).collect();
     let mut g = c.benchmark_group("ltca_seed002_K20");

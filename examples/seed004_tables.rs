@@ -62,7 +62,8 @@ fn main() -> anyhow::Result<()> {
         cycle.setup.flank_nodes,
         t.elapsed().as_secs_f64()
     );
-    let kin = &cycle.kin;
+    let kin =
+        &flank::geometry::cylindrical::MeshKinematics::new(&scene.pair, cycle.pair.sector_teeth())?;
     let k = kin.middle;
     // the contact line of pair k runs s(z) = s0(roll) + slope·z across the
     // face (s the transverse position on the line of action, slope
@@ -75,13 +76,7 @@ fn main() -> anyhow::Result<()> {
     // a dense TCA for the velocities at mid face
     let mut dense = cycle.tca.settings().clone();
     dense.points_per_line = 2001;
-    let tca = flank::tca::Tca::new(
-        &scene.pair,
-        scene.flank_modifications()?,
-        kin.teeth,
-        scene.load.speed_rpm,
-        dense,
-    )?;
+    let tca = cycle.tca.with_settings(dense)?;
     let s_pitch = kin.base_radius[0] * kin.working_pressure_angle.tan();
     // Table 1
     let paper1 = [

@@ -48,6 +48,7 @@ pub mod contact;
 pub mod error;
 pub mod fem;
 pub mod geometry;
+pub mod load_sharing;
 pub mod ltca;
 pub mod mesh;
 pub mod mesh_cycle;

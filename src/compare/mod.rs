@@ -25,10 +25,12 @@ use std::time::Instant;
 
 use crate::compliance::body::BodyMeshOptions;
 use crate::error::FlankError;
+use crate::geometry::gear_pair::GearPair;
 use crate::ltca::cycle::{LtcaCycle, LtcaOptions};
 use crate::ltca::model::PositionResult;
-use crate::mesh_cycle::kinematics::MeshKinematics;
-use crate::mesh_cycle::run::{default_roll_angles, settings, MeshCycle, RunOptions, StepResult};
+use crate::mesh_cycle::run::{
+    default_roll_angles, scene_pair, settings, MeshCycle, RunOptions, StepResult,
+};
 use crate::mesh_cycle::SlaveBody;
 use crate::scene::{read_scene, Scene};
 
@@ -142,25 +144,30 @@ fn ltca_run(cycle: &LtcaCycle, angles: &[f64]) -> Result<MethodRun, FlankError> 
     })
 }
 
-/// One FE-contact pass over `angles` with `slave` as the slave body.
-fn fe_pass(
+/// FE contact at flank size `size` over `angles`, with the FE driver's
+/// slave rule `auto` ([`SlaveBody::Auto`]): node-to-surface contact is
+/// one-sided (slave nodes slip past a master corner, FE-contact README), so
+/// each tooth pair's slave is the body whose tip edge is in play, the gear
+/// before the pair's kinematic start and the pinion from then on, with the
+/// driver's retry when pinion nodes are cut just after the start. The
+/// slave of every pair at every position is recorded.
+fn fe_run(
     scene: &Scene,
-    kin: &MeshKinematics,
+    pair: &dyn GearPair,
     (size, base): (f64, Option<f64>),
     angles: &[f64],
-    slave: SlaveBody,
     threads: usize,
-) -> Result<(Vec<StepResult>, usize, f64, f64), FlankError> {
+) -> Result<MethodRun, FlankError> {
     let o = RunOptions {
         roll_angles_deg: Some(angles.to_vec()),
         vtu: Some(false),
         refine_contact_limits: Some(false),
-        slave: Some(slave),
+        slave: Some(SlaveBody::Auto),
         threads,
         quiet: true,
         ..Default::default()
     };
-    let s = settings(scene, kin, &o)?;
+    let s = settings(scene, pair, &o)?;
     let mesh = BodyMeshOptions {
         flank_size: Some(size),
         base_size: base,
@@ -174,50 +181,21 @@ fn fe_pass(
         .iter()
         .map(|&a| cycle.solve(a).map(|s| s.step))
         .collect::<Result<_, _>>()?;
-    Ok((
-        steps,
-        cycle.pair.model.mesh.node_count(),
-        setup_s,
-        t.elapsed().as_secs_f64(),
-    ))
-}
-
-/// FE contact at flank size `size`. Node-to-surface contact is one-sided:
-/// slave nodes slip past a *master* corner (FE-contact README), so the
-/// gear's tip corner, which loads the approaching pair before its kinematic
-/// start of contact, must be on the slave side. The pinion is the slave
-/// everywhere else (its tip corner ends the contact); at the positions
-/// where a pair lies before its kinematic start (within one angular pitch)
-/// the model is solved again with the gear as the slave and that answer
-/// is kept. Both passes' times are counted.
-fn fe_run(
-    scene: &Scene,
-    kin: &MeshKinematics,
-    (size, base): (f64, Option<f64>),
-    angles: &[f64],
-    threads: usize,
-) -> Result<MethodRun, FlankError> {
-    let (mut steps, nodes, mut setup_s, mut cycle_s) =
-        fe_pass(scene, kin, (size, base), angles, SlaveBody::Pinion, threads)?;
-    let mut slave = vec!["pinion".to_string(); angles.len()];
-    let approach: Vec<usize> = (0..angles.len())
-        .filter(|&i| {
-            (1..=kin.teeth).any(|k| {
-                let s = kin.contact_position(k, angles[i].to_radians());
-                s < kin.path_start && s > kin.path_start - kin.base_pitch
-            })
+    let cycle_s = t.elapsed().as_secs_f64();
+    let nodes = cycle.pair.model.mesh.node_count();
+    let slave = steps
+        .iter()
+        .map(|s| {
+            s.slave
+                .iter()
+                .map(|b| match b {
+                    SlaveBody::Gear => "gear",
+                    _ => "pinion",
+                })
+                .collect::<Vec<_>>()
+                .join("/")
         })
         .collect();
-    if !approach.is_empty() {
-        let sub: Vec<f64> = approach.iter().map(|&i| angles[i]).collect();
-        let (g, _, s2, c2) = fe_pass(scene, kin, (size, base), &sub, SlaveBody::Gear, threads)?;
-        setup_s += s2;
-        cycle_s += c2;
-        for (j, &i) in approach.iter().enumerate() {
-            steps[i] = g[j].clone();
-            slave[i] = "gear".into();
-        }
-    }
     Ok(MethodRun {
         method: "fe_contact".into(),
         label: format!("FE flank {size} mm"),
@@ -240,11 +218,12 @@ fn fe_run(
 }
 
 /// [`fe_run`] through a file cache in `dir`: a run is reused when the
-/// scene text, the flank size and the roll angles are the same (so the
-/// LTCA side of a comparison can be redone without the FE runs).
+/// scene text, the flank size, the roll angles and the slave rule are the
+/// same (so the LTCA side of a comparison can be redone without the FE
+/// runs; runs cached under an older slave rule are not reused).
 fn fe_run_cached(
     scene: &Scene,
-    kin: &MeshKinematics,
+    pair: &dyn GearPair,
     (size, base): (f64, Option<f64>),
     angles: &[f64],
     threads: usize,
@@ -253,7 +232,7 @@ fn fe_run_cached(
     let text = std::fs::read_to_string(&scene.source).unwrap_or_default();
     let base_key = base.map(|b| format!("\nbase {b}")).unwrap_or_default();
     let key = format!(
-        "{text}\n{size}\n{angles:?}\n{}{base_key}",
+        "{text}\n{size}\n{angles:?}\n{}{base_key}\nslave auto",
         env!("CARGO_PKG_VERSION")
     );
     let mut h = crate::compliance::Fnv128::new();
@@ -264,7 +243,7 @@ fn fe_run_cached(
             return Ok((r, true));
         }
     }
-    let r = fe_run(scene, kin, (size, base), angles, threads)?;
+    let r = fe_run(scene, pair, (size, base), angles, threads)?;
     std::fs::create_dir_all(dir).map_err(|e| FlankError::io(dir, e))?;
     let t = serde_json::to_string(&r).map_err(|e| FlankError::Model(e.to_string()))?;
     std::fs::write(&file, t).map_err(|e| FlankError::io(&file, e))?;
@@ -314,11 +293,12 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
     }
     let out = &options.out;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
-    let kin = MeshKinematics::new(&scene.pair, scene.mesh.teeth_in_sector as usize)?;
+    let gear_pair = scene_pair(scene)?;
+    let pair = gear_pair.as_ref();
     let angles = options
         .roll_angles_deg
         .clone()
-        .unwrap_or_else(|| default_roll_angles(&kin, options.roll_step_deg));
+        .unwrap_or_else(|| default_roll_angles(pair, options.roll_step_deg));
     let say = |m: String| {
         if !options.quiet {
             eprintln!("{m}");
@@ -336,7 +316,7 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
         ));
         let (r, cached) = fe_run_cached(
             scene,
-            &kin,
+            pair,
             (h, options.fe_base_size),
             &angles,
             options.threads,
@@ -372,8 +352,8 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
                 .enumerate()
                 .filter(|(_, &f)| f > 1e-3 * nominal)
                 .all(|(p, _)| {
-                    let s = kin.contact_position(p + 1, a.to_radians());
-                    s > kin.path_start && s < kin.path_end
+                    let s = pair.path_position(p + 1, a.to_radians());
+                    s > 0.0 && s < pair.path_length()
                 })
         })
         .collect();

@@ -1,16 +1,23 @@
-//! Tooth geometry: what a gear is (specs, in internal units) and the exact
-//! surfaces of its flanks.
+//! Tooth geometry: what a gear is (specs, in internal units), the exact
+//! surfaces of its flanks, and the gear-pair interface every analysis uses
+//! ([`gear_pair`]: tooth surfaces, gear bodies, the pair's assembly,
+//! kinematics and misalignment; [`cylindrical`]: spur and helical gears
+//! behind it).
 //!
 //! Internal units: mm and rad. Scene files convert at their boundary
 //! (`crate::scene`); everything here is already converted.
 
+pub mod cylindrical;
 pub mod flank;
+pub mod frame;
+pub mod gear_pair;
 pub mod involute;
 pub mod iso6336;
 pub mod measured;
 pub mod micro;
 pub mod pair;
 pub mod rack;
+pub mod surface;
 pub mod vec3;
 
 /// Hand of a helical gear (seen along the axis, as ISO 21771 defines it).

@@ -19,11 +19,12 @@ use crate::compliance::run::{body_tensor, BodyTensorOptions};
 use crate::compliance::{ComplianceOptions, FlankSelection};
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
+use crate::geometry::cylindrical::CylindricalPair;
+use crate::geometry::gear_pair::{engagement_roll_angles, GearPair};
+use crate::load_sharing::LOADED_FRACTION;
 use crate::ltca::local::{contact_modulus, LocalModel};
 use crate::ltca::model::{LtcaBodies, LtcaSettings, PositionResult};
 use crate::ltca::qp::QpSolver;
-use crate::mesh_cycle::kinematics::MeshKinematics;
-use crate::mesh_cycle::run::{default_roll_angles, LOADED_FRACTION};
 use crate::scene::{read_scene, Scene};
 use crate::tca::{Tca, TcaSettings};
 
@@ -64,7 +65,8 @@ pub struct Setup {
 
 /// A prepared LTCA: both bodies' tensors, the TCA and the settings.
 pub struct LtcaCycle {
-    pub kin: MeshKinematics,
+    /// The pair (the TCA's).
+    pub pair: Arc<dyn GearPair>,
     pub tca: Tca,
     pub bodies: LtcaBodies,
     pub settings: LtcaSettings,
@@ -79,7 +81,6 @@ impl LtcaCycle {
     pub fn new(scene: &Scene, options: &LtcaOptions) -> Result<Self, FlankError> {
         let a = scene.analyses.ltca.clone().unwrap_or_default();
         let teeth = scene.mesh.teeth_in_sector as usize;
-        let kin = MeshKinematics::new(&scene.pair, teeth)?;
         let mn = scene.pair.pinion.normal_module;
         let mesh = BodyMeshOptions {
             flank_size: options
@@ -120,21 +121,21 @@ impl LtcaCycle {
             .unwrap_or(DEFAULT_POINTS_PER_LINE);
         let mis = a.misalignment_urad.unwrap_or([0.0; 2]);
         let tca_settings = TcaSettings {
-            misalignment_rad: [mis[0] * 1e-6, mis[1] * 1e-6],
-            centre_distance_error_mm: a.centre_distance_error_um.unwrap_or(0.0) * 1e-3,
             points_per_line,
             extension_mm: a
                 .extension_mm
                 .unwrap_or(TcaSettings::default().extension_mm),
             ..TcaSettings::default()
         };
-        let tca = Tca::new(
-            &scene.pair,
-            scene.flank_modifications()?,
-            teeth,
-            scene.load.speed_rpm,
-            tca_settings,
-        )?;
+        tca_settings.validate()?;
+        let pair: Arc<dyn GearPair> = Arc::new(
+            CylindricalPair::new(&scene.pair, scene.flank_modifications()?, teeth)?
+                .with_plane_of_action_misalignment(
+                    [mis[0] * 1e-6, mis[1] * 1e-6],
+                    a.centre_distance_error_um.unwrap_or(0.0) * 1e-3,
+                )?,
+        );
+        let tca = Tca::new(Arc::clone(&pair), scene.load.speed_rpm, tca_settings)?;
         let settings = LtcaSettings {
             local: options.local.or(a.local).unwrap_or_default(),
             fe_cell_factor: options
@@ -162,16 +163,14 @@ impl LtcaCycle {
         let bodies = LtcaBodies {
             tensors: [pinion.tensor, gear.tensor],
             grids,
-            base_radius: kin.base_radius,
-            base_helix_angle: kin.base_helix_angle,
-            tip_roll: kin.tip_roll,
+            pair: Arc::clone(&pair),
             contact_modulus: contact_modulus(
                 [scene.pinion_material.young, scene.gear_material.young],
                 [scene.pinion_material.poisson, scene.gear_material.poisson],
             ),
         };
         Ok(LtcaCycle {
-            kin,
+            pair,
             tca,
             bodies,
             settings,
@@ -182,18 +181,12 @@ impl LtcaCycle {
     }
 
     /// The same prepared bodies with another K (the TCA is rebuilt).
-    pub fn with_points_per_line(&self, scene: &Scene, k: usize) -> Result<Self, FlankError> {
+    pub fn with_points_per_line(&self, _scene: &Scene, k: usize) -> Result<Self, FlankError> {
         let mut settings = self.tca.settings().clone();
         settings.points_per_line = k;
-        let tca = Tca::new(
-            &scene.pair,
-            scene.flank_modifications()?,
-            self.kin.teeth,
-            scene.load.speed_rpm,
-            settings,
-        )?;
+        let tca = self.tca.with_settings(settings)?;
         Ok(LtcaCycle {
-            kin: self.kin.clone(),
+            pair: Arc::clone(&self.pair),
             tca,
             bodies: LtcaBodies {
                 tensors: [
@@ -204,7 +197,8 @@ impl LtcaCycle {
                     Arc::clone(&self.bodies.grids[0]),
                     Arc::clone(&self.bodies.grids[1]),
                 ],
-                ..self.bodies
+                pair: Arc::clone(&self.bodies.pair),
+                contact_modulus: self.bodies.contact_modulus,
             },
             settings: self.settings.clone(),
             points_per_line: k,
@@ -215,7 +209,7 @@ impl LtcaCycle {
 
     /// Total normal force T/(r_b1 cos β_b) (N).
     pub fn nominal_force(&self) -> f64 {
-        self.torque / (self.kin.base_radius[0] * self.kin.base_helix_angle.cos())
+        self.torque / self.pair.nominal_moment_arm()
     }
 
     /// The LTCA at one roll angle (deg).
@@ -234,9 +228,9 @@ impl LtcaCycle {
 
     /// Normal force per pair (pinion tooth p + 1), summed over its lines.
     pub fn pair_forces(&self, r: &PositionResult) -> Vec<f64> {
-        let mut f = vec![0.0; self.kin.teeth];
+        let mut f = vec![0.0; self.pair.sector_teeth()];
         for (i, (k, _, _)) in r.lines.iter().enumerate() {
-            if (1..=self.kin.teeth).contains(k) {
+            if (1..=self.pair.sector_teeth()).contains(k) {
                 f[k - 1] += r.line_force_n[i];
             }
         }
@@ -253,7 +247,7 @@ impl LtcaCycle {
         angles: &[f64],
         results: &[PositionResult],
     ) -> Result<Option<(f64, f64)>, FlankError> {
-        let mid = self.kin.middle - 1;
+        let mid = self.pair.middle() - 1;
         let loaded: Vec<bool> = results.iter().map(|r| self.loaded(r, mid)).collect();
         let (Some(f), Some(l)) = (
             loaded.iter().position(|&x| x),
@@ -284,7 +278,7 @@ impl LtcaCycle {
 
 /// Roll angles of the scene's `[analyses.ltca]` (or the options'), and
 /// whether they are the default range (then extended while loaded).
-pub fn roll_angles(scene: &Scene, kin: &MeshKinematics, o: &LtcaOptions) -> (Vec<f64>, bool) {
+pub fn roll_angles(scene: &Scene, pair: &dyn GearPair, o: &LtcaOptions) -> (Vec<f64>, bool) {
     let a = scene.analyses.ltca.clone().unwrap_or_default();
     if let Some(r) = o.roll_angles_deg.clone().or(a.roll_angles_deg) {
         return (r, false);
@@ -294,7 +288,7 @@ pub fn roll_angles(scene: &Scene, kin: &MeshKinematics, o: &LtcaOptions) -> (Vec
         let n = ((e - s) / step + 1e-9).floor() as i64;
         return ((0..=n).map(|i| s + i as f64 * step).collect(), false);
     }
-    (default_roll_angles(kin, step), true)
+    (engagement_roll_angles(pair, step), true)
 }
 
 /// `flank ltca SCENE`: reads the scene and runs [`run`].
@@ -310,8 +304,8 @@ pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, Fl
     let out = &options.out;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
     let cycle = LtcaCycle::new(scene, options)?;
-    let (mut angles, default_range) = roll_angles(scene, &cycle.kin, options);
-    let mid = cycle.kin.middle - 1;
+    let (mut angles, default_range) = roll_angles(scene, cycle.pair.as_ref(), options);
+    let mid = cycle.pair.middle() - 1;
     let t_cycle = Instant::now();
     let mut results: Vec<PositionResult> = angles
         .iter()
@@ -326,7 +320,7 @@ pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, Fl
             .as_ref()
             .and_then(|a| a.roll_step_deg)
             .unwrap_or(1.0);
-        let limit = (cycle.kin.angular_pitch[0].to_degrees() / step).ceil() as usize;
+        let limit = (cycle.pair.pinion().angular_pitch().to_degrees() / step).ceil() as usize;
         for _ in 0..limit {
             if !cycle.loaded(&results[0], mid) {
                 break;
@@ -351,10 +345,10 @@ pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, Fl
     if limits.is_none() {
         notes.push("contact ratio not measured: the roll angles do not cover the middle pair's whole engagement with an unloaded position before and after".to_string());
     }
-    let pitch_deg = cycle.kin.angular_pitch[0].to_degrees();
+    let pitch_deg = cycle.pair.pinion().angular_pitch().to_degrees();
     let contact_ratio = limits.map(|(s, e)| (e - s) / pitch_deg);
     let nominal = cycle.nominal_force();
-    let np = cycle.kin.teeth;
+    let np = cycle.pair.sector_teeth();
     let forces: Vec<Vec<f64>> = results.iter().map(|r| cycle.pair_forces(r)).collect();
     let single: Vec<usize> = (0..results.len())
         .filter(|&i| (0..np).all(|p| (p == mid) == (forces[i][p] > LOADED_FRACTION * nominal)))
@@ -373,7 +367,7 @@ pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, Fl
         .collect();
     write_cycle_csv(&out.join("ltca_cycle.csv"), &results, &forces, nominal)?;
     write_points_csv(&out.join("ltca_points.csv"), &results)?;
-    let teeth: Vec<(usize, usize)> = (1..=np).map(|k| (k, cycle.kin.mate(k))).collect();
+    let teeth: Vec<(usize, usize)> = (1..=np).map(|k| (k, cycle.pair.mate(k))).collect();
     let series: Vec<Vec<f64>> = (0..np)
         .map(|p| forces.iter().map(|f| f[p]).collect())
         .collect();
@@ -386,18 +380,16 @@ pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, Fl
         &te,
         &teeth,
         nominal,
-        cycle.kin.base_radius[0],
+        cycle.pair.transmission_error_radius(),
     )
     .unwrap_or_else(|e| {
         notes.push(format!("plots not written: {e}"));
         Vec::new()
     });
-    let pattern = crate::ltca::pattern::plot_contact_pattern(
-        out,
-        &results,
-        cycle.kin.middle,
-        cycle.kin.face_width[0],
-    )
+    let pattern = crate::ltca::pattern::plot_contact_pattern(out, &results, cycle.pair.middle(), {
+        let (z0, z1) = cycle.pair.pinion().blank().axial_range;
+        z1 - z0
+    })
     .unwrap_or_else(|e| {
         notes.push(format!("contact pattern not plotted: {e}"));
         Vec::new()
@@ -409,7 +401,7 @@ pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, Fl
         "scene": scene.source.display().to_string(),
         "analysis": "ltca_mesh_cycle",
         "contact_ratio": contact_ratio,
-        "contact_ratio_kinematic": cycle.kin.contact_ratio,
+        "contact_ratio_kinematic": cycle.pair.kinematic_contact_ratio(),
         "middle_pair_loaded_deg": limits.map(|(s, e)| [s, e]),
         "single_pair_force_n": single_pair_force_n,
         "nominal_force_n": nominal,

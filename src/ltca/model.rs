@@ -35,6 +35,8 @@ use crate::compliance::interpolation::{CellShape, FlankGrids, FlankInterpolator,
 use crate::compliance::ComplianceTensor;
 use crate::contact::placement::Frame;
 use crate::error::FlankError;
+use crate::geometry::gear_pair::{Flank, GearPair};
+use crate::geometry::surface::ToothSurface;
 use crate::geometry::vec3::dot;
 use crate::ltca::local::{cell_influence, hertz_line, Cell, LocalModel};
 use crate::ltca::qp::{condition_number, solve_contact_qp, ContactQp, QpOptions, QpSolution};
@@ -73,13 +75,11 @@ pub struct LtcaBodies {
     pub tensors: [Arc<ComplianceTensor>; 2],
     /// Face search structures of the two tensors (built once).
     pub grids: [Arc<FlankGrids>; 2],
-    /// Base radii r_b1, r_b2 (mm) and the base helix angle β_b (rad).
-    pub base_radius: [f64; 2],
-    pub base_helix_angle: f64,
+    /// The pair: the flank surfaces (profile lengths of the cells, tip
+    /// edges), the nominal moment arm and the TE radius.
+    pub pair: Arc<dyn GearPair>,
     /// Contact modulus E* (MPa) of the pair.
     pub contact_modulus: f64,
-    /// Roll angles of the tips u_tip (rad) of pinion and gear.
-    pub tip_roll: [f64; 2],
 }
 
 /// One loaded point of a solved position.
@@ -151,9 +151,27 @@ struct Candidate {
 }
 
 impl LtcaBodies {
+    /// The right (drive) flank of sector tooth `k` of body `b`.
+    fn flank(&self, b: usize, k: usize) -> Result<&dyn ToothSurface, FlankError> {
+        self.pair.body(b).flank(Flank::Right, k).ok_or_else(|| {
+            FlankError::Model(format!(
+                "LTCA: the {} sector has no tooth {k}",
+                self.pair.body(b).name()
+            ))
+        })
+    }
+
     /// Flank element size across the contact line at (u, v) of `set` on
-    /// body `b`: the face's u-extent times ds/du = r_b u.
-    fn element_size(&self, it: &FlankInterpolator, b: usize, set: usize, uv: [f64; 2]) -> f64 {
+    /// body `b`: the profile length of the face's u-extent at u
+    /// ([`ToothSurface::profile_length`]; r_b u du on an involute).
+    fn element_size(
+        &self,
+        it: &FlankInterpolator,
+        flank: &dyn ToothSurface,
+        b: usize,
+        set: usize,
+        uv: [f64; 2],
+    ) -> f64 {
         let t = &self.tensors[b];
         let Some((fi, _)) = it.locate(set, uv[0], uv[1]) else {
             return 0.0;
@@ -165,7 +183,7 @@ impl LtcaBodies {
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), u| {
                 (l.min(u), h.max(u))
             });
-        (hi - lo) * self.base_radius[b] * uv[0].max(1e-3)
+        flank.profile_length(hi - lo, uv[0], uv[1])
     }
 
     /// Solves the LTCA at one TCA position with torque `torque` (N·mm); the
@@ -188,7 +206,6 @@ impl LtcaBodies {
             FlankInterpolator::with_grids(&self.tensors[0], Arc::clone(&self.grids[0])),
             FlankInterpolator::with_grids(&self.tensors[1], Arc::clone(&self.grids[1])),
         ];
-        let cos_b = self.base_helix_angle.cos();
         // candidates and their cells (in parallel over the points)
         let mut jobs = Vec::new();
         for (li, line) in tca.lines.iter().enumerate() {
@@ -204,18 +221,22 @@ impl LtcaBodies {
                     FlankError::Model(format!("gear tensor has no flank set {}", sets[1]))
                 })?,
             ];
+            let flanks = [
+                self.flank(0, line.pinion_tooth)?,
+                self.flank(1, line.gear_tooth)?,
+            ];
             let first = line.points.first().map(|p| p.position).unwrap_or([0.0; 3]);
             for p in &line.points {
-                jobs.push((li, line, p, sets.clone(), set_index, first));
+                jobs.push((li, line, p, sets.clone(), set_index, first, flanks));
             }
         }
         let built: Vec<Option<(Candidate, [f64; 4])>> = {
             use rayon::prelude::*;
             jobs.par_iter()
-                .map(|(li, line, p, sets, set_index, first)| {
+                .map(|(li, line, p, sets, set_index, first, flanks)| {
                     let uv = [p.pinion_uv, p.gear_uv];
                     let h = (0..2)
-                        .map(|b| self.element_size(&its[b], b, set_index[b], uv[b]))
+                        .map(|b| self.element_size(&its[b], flanks[b], b, set_index[b], uv[b]))
                         .fold(0.0, f64::max);
                     if !(h > 0.0) {
                         // the point lies off a meshed flank: no candidate
@@ -228,14 +249,15 @@ impl LtcaBodies {
                     let mut c = settings.fe_cell_factor * h;
                     if line.kind == LineKind::Flank {
                         for b in 0..2 {
-                            let d = (self.tip_roll[b] - uv[b][0]) * self.base_radius[b] * uv[b][0];
+                            let [u, v] = uv[b];
+                            let d = flanks[b].profile_length(flanks[b].u_tip(v) - u, u, v);
                             c = c.min(d.max(0.2 * h));
                         }
                     }
                     let l = 0.5 * p.width_mm;
                     let cell = |b: usize| {
-                        let hu = c / (self.base_radius[b] * uv[b][0].max(1e-3));
-                        let hv = (l * cos_b).max(1e-6);
+                        let hu = flanks[b].profile_step(c, uv[b][0], uv[b][1]);
+                        let hv = (l * line.param_per_mm).max(1e-6);
                         its[b].cell(
                             &sets[b],
                             uv[b][0],
@@ -312,7 +334,7 @@ impl LtcaBodies {
             .filter(|l| l.kind == LineKind::Flank)
             .map(|l| l.length_mm)
             .sum();
-        let nominal = torque / (self.base_radius[0] * cos_b);
+        let nominal = torque / self.pair.nominal_moment_arm();
         let p0 = nominal / flank_length.max(1e-9);
         let e_star = self.contact_modulus;
         // a tip corner is a sharp edge (radius 0, no Hertz width): its cell
@@ -421,8 +443,8 @@ impl LtcaBodies {
         }
         let total: f64 = line_force.iter().sum();
         let theta0 = tca.unloaded_te_rad;
-        let rb1 = self.base_radius[0];
-        let approach = rb1 * cos_b * (s.rotation - theta0);
+        let rb1 = self.pair.transmission_error_radius();
+        let approach = self.pair.nominal_moment_arm() * (s.rotation - theta0);
         Ok(PositionResult {
             roll_deg: tca.roll.to_degrees(),
             lines: tca

@@ -3,7 +3,6 @@
 //! procedure, with the stiffness factorized once).
 //!
 //! ```text
-//! kinematics  roll angle → body frames, tooth pairs, kinematic contact
 //! pair_model  both sectors in one model (own frames), pinion hub coupled
 //!             to a torque-loaded reference node, gear hub clamped,
 //!             one contact pair per tooth pair (right flanks)
@@ -14,11 +13,9 @@
 //! plot        force per tooth and transmission error against roll angle
 //! ```
 
-pub mod kinematics;
 pub mod pair_model;
 pub mod plot;
 pub mod run;
 
-pub use kinematics::MeshKinematics;
 pub use pair_model::SlaveBody;
 pub use run::{ContactLaw, RunOptions};

@@ -15,9 +15,9 @@ use crate::contact::{
 };
 use crate::error::FlankError;
 use crate::fem::model::{Dirichlet, Model, RigidCoupling};
+use crate::geometry::gear_pair::GearPair;
 use crate::mesh::gear_body::GearBody;
 use crate::mesh::Mesh;
-use crate::mesh_cycle::kinematics::MeshKinematics;
 use crate::scene::Scene;
 
 /// Which body carries the slave nodes (the other gives the master faces).
@@ -85,7 +85,7 @@ pub struct PairModel {
 /// torque T (N·mm, > 0: drives the right flanks) and the normal law `law`.
 pub fn pair_model(
     scene: &Scene,
-    kin: &MeshKinematics,
+    kin: &dyn GearPair,
     mesh: &BodyMeshOptions,
     law: PressureOverclosure,
     slave: SlaveBody,
@@ -116,7 +116,7 @@ fn label_offset(max: u64) -> u64 {
 }
 
 fn combine(
-    kin: &MeshKinematics,
+    kin: &dyn GearPair,
     pinion: &GearBody,
     gear: &GearBody,
     torque: f64,
@@ -197,7 +197,10 @@ fn combine(
     // drive: clockwise seen from +z, i.e. a moment −T about +z
     model.couplings.push(RigidCoupling::rotation_about(
         "PINION_HUB",
-        [0.0, 0.0, 0.5 * kin.face_width[0]],
+        [0.0, 0.0, {
+            let (z0, z1) = kin.pinion().blank().axial_range;
+            0.5 * (z1 - z0)
+        }],
         2,
         hub,
         -torque,
@@ -214,7 +217,7 @@ fn combine(
     let mut contact_nodes = Vec::new();
     let mut teeth = Vec::new();
     let mut pairings = Vec::new();
-    for k in 1..=kin.teeth {
+    for k in 1..=kin.sector_teeth() {
         let mate = kin.mate(k);
         let mut names = Vec::new();
         for (body, tooth) in [("PINION", k), ("GEAR", mate)] {

@@ -23,7 +23,10 @@ use crate::contact::{Friction, PressureOverclosure};
 use crate::error::FlankError;
 use crate::fem::ordering::OrderingMethod;
 use crate::fem::static_analysis::peak_memory_mb;
-use crate::mesh_cycle::kinematics::MeshKinematics;
+use std::sync::Arc;
+
+use crate::geometry::cylindrical::CylindricalPair;
+use crate::geometry::gear_pair::{engagement_roll_angles, GearPair};
 use crate::mesh_cycle::pair_model::{pair_model, PairModel, SlaveBody};
 use crate::report::vtu::{write_vtu, PointField};
 use crate::scene::{read_scene, ContactAnalysis, Scene};
@@ -82,9 +85,7 @@ pub struct RunOptions {
 /// when slave nodes outside the candidates penetrate after the solve.
 pub const MAX_SEARCH_RAISES: usize = 3;
 
-/// Fraction of the nominal force T/(r_b1 cos β_b) above which a tooth pair counts as
-/// carrying load (contact ratio, single contact).
-pub const LOADED_FRACTION: f64 = 1e-3;
+pub use crate::load_sharing::LOADED_FRACTION;
 
 /// Contact patch of one tooth pair at one position (slave flank).
 #[derive(Clone, Debug, Default, serde::Serialize)]
@@ -183,7 +184,8 @@ pub struct Solved {
 
 /// Everything a run needs between positions.
 pub struct MeshCycle {
-    pub kin: MeshKinematics,
+    /// The gear pair (kinematics, nominal placement).
+    pub gear_pair: Arc<dyn GearPair>,
     pub pair: PairModel,
     pub system: ElasticSystem,
     pub settings: RunSettings,
@@ -199,7 +201,7 @@ impl MeshCycle {
         settings: RunSettings,
         threads: usize,
     ) -> Result<Self, FlankError> {
-        let kin = MeshKinematics::new(&scene.pair, scene.mesh.teeth_in_sector as usize)?;
+        let gear_pair = scene_pair(scene)?;
         let law = match settings.law {
             ContactLaw::Hard => PressureOverclosure::Hard,
             ContactLaw::Penalty => PressureOverclosure::Linear {
@@ -208,7 +210,7 @@ impl MeshCycle {
                 c0: None,
             },
         };
-        let mut pair = pair_model(scene, &kin, mesh, law, settings.slave)?;
+        let mut pair = pair_model(scene, gear_pair.as_ref(), mesh, law, settings.slave)?;
         if settings.law == ContactLaw::Penalty {
             // the automatic slope of the (first pair's) master faces, scaled
             let contact = &pair.model.contact;
@@ -253,7 +255,7 @@ impl MeshCycle {
             gap_tolerance: None,
         };
         Ok(MeshCycle {
-            kin,
+            gear_pair,
             pair,
             system,
             settings,
@@ -265,14 +267,14 @@ impl MeshCycle {
     /// The total normal force that carries the torque, T/(r_b1 cos β_b)
     /// (N; T/r_b1 for spur gears): the single-pair force of a spur pair.
     pub fn nominal_force(&self) -> f64 {
-        self.torque / (self.kin.base_radius[0] * self.kin.base_helix_angle.cos())
+        self.torque / self.gear_pair.nominal_moment_arm()
     }
 
     /// The placement of both bodies at `roll` (rad).
     pub fn placement(&self, roll: f64) -> Placement {
         Placement {
             body_of: self.pair.body_of.clone(),
-            frames: self.kin.frames(roll).to_vec(),
+            frames: self.gear_pair.nominal_frames(roll).to_vec(),
         }
     }
 
@@ -311,12 +313,12 @@ impl MeshCycle {
             // kinematic start (load-extended corner contact): that pair is
             // solved with the gear as the slave
             if !switched && self.settings.slave == SlaveBody::Auto {
-                let mid = 0.5 * (self.kin.path_start + self.kin.path_end);
+                let mid = 0.5 * self.gear_pair.path_length();
                 let near_gear_tip: Vec<usize> = (0..pairing.len())
                     .filter(|&p| {
                         pairing[p].1 == SlaveBody::Pinion
                             && self.pair.pairings[p][1].is_some()
-                            && self.kin.contact_position(self.pair.teeth[p].0, roll) < mid
+                            && self.gear_pair.path_position(self.pair.teeth[p].0, roll) < mid
                     })
                     .collect();
                 if !near_gear_tip.is_empty() {
@@ -354,7 +356,7 @@ impl MeshCycle {
                 .pair
                 .teeth
                 .iter()
-                .map(|&(k, _)| self.kin.contact_position(k, roll) - self.kin.path_start)
+                .map(|&(k, _)| self.gear_pair.path_position(k, roll))
                 .collect(),
             max_pressure_mpa: vec![0.0; np],
             max_nodal_pressure_mpa: vec![0.0; np],
@@ -429,7 +431,7 @@ impl MeshCycle {
         // pinion hub rotation about +z; the drive turns it clockwise
         let rz = state.coupling_motion[0][5];
         step.te_urad = -rz * 1e6;
-        step.te_um = -rz * self.kin.base_radius[0] * 1e3;
+        step.te_um = -rz * self.gear_pair.transmission_error_radius() * 1e3;
         if !(step.te_urad.is_finite()) {
             return Err(FlankError::Solver(format!(
                 "roll angle {roll_deg}°: the pinion rotation is not finite"
@@ -457,8 +459,7 @@ impl MeshCycle {
             [Some(i), None] => (i, SlaveBody::Pinion),
             [None, Some(i)] => (i, SlaveBody::Gear),
             [Some(pin), Some(gear)] => {
-                let s = self.kin.contact_position(self.pair.teeth[p].0, roll);
-                if s < self.kin.path_start {
+                if self.gear_pair.path_position(self.pair.teeth[p].0, roll) < 0.0 {
                     (gear, SlaveBody::Gear)
                 } else {
                     (pin, SlaveBody::Pinion)
@@ -471,7 +472,7 @@ impl MeshCycle {
     fn reference_deg(&self, roll_deg: f64) -> Option<f64> {
         self.settings
             .reference_single_contact_start_deg
-            .map(|r| roll_deg - self.kin.single_contact().0.to_degrees() + r)
+            .map(|r| roll_deg - self.gear_pair.single_contact().0.to_degrees() + r)
     }
 
     /// Whether pair `p` carries load in `step`.
@@ -503,21 +504,26 @@ impl MeshCycle {
     }
 }
 
-/// Default roll angles: the middle pair's kinematic engagement widened by
-/// two steps on each side, on whole multiples of the step (deg).
-pub fn default_roll_angles(kin: &MeshKinematics, step_deg: f64) -> Vec<f64> {
-    let (a, e) = kin.engagement(kin.middle);
-    let start = (a.to_degrees() / step_deg).floor() - 2.0;
-    let end = (e.to_degrees() / step_deg).ceil() + 2.0;
-    let n = (end - start).round() as i64;
-    (0..=n).map(|i| (start + i as f64) * step_deg).collect()
+/// The gear pair of `scene` (spur/helical: [`CylindricalPair`]) as sectors
+/// of the scene's `teeth_in_sector`.
+pub fn scene_pair(scene: &Scene) -> Result<Arc<dyn GearPair>, FlankError> {
+    Ok(Arc::new(CylindricalPair::new(
+        &scene.pair,
+        scene.flank_modifications()?,
+        scene.mesh.teeth_in_sector as usize,
+    )?))
+}
+
+/// Default roll angles: [`engagement_roll_angles`].
+pub fn default_roll_angles(pair: &dyn GearPair, step_deg: f64) -> Vec<f64> {
+    engagement_roll_angles(pair, step_deg)
 }
 
 /// Resolves the run's settings from the options, the scene's
 /// `[analyses.contact]` and the defaults.
 pub fn settings(
     scene: &Scene,
-    kin: &MeshKinematics,
+    pair: &dyn GearPair,
     o: &RunOptions,
 ) -> Result<RunSettings, FlankError> {
     let a = scene.analyses.contact.clone().unwrap_or_default();
@@ -552,9 +558,9 @@ pub fn settings(
                     "reference angles need reference_single_contact_start_deg in the scene's [analyses.contact]".into(),
                 )
             })?;
-            reference_to_roll(kin, r, v)
+            reference_to_roll(pair, r, v)
         }
-        (None, None) => scene_roll_angles(&a, kin)?,
+        (None, None) => scene_roll_angles(&a, pair)?,
     };
     if roll_angles_deg.is_empty() || roll_angles_deg.iter().any(|v| !v.is_finite()) {
         return Err(FlankError::Model(
@@ -580,12 +586,12 @@ pub fn settings(
 
 /// Roll angles (deg) of angles given in a reference convention whose
 /// value `start` marks the kinematic start of single contact.
-fn reference_to_roll(kin: &MeshKinematics, start: f64, angles: &[f64]) -> Vec<f64> {
-    let lpstc = kin.single_contact().0.to_degrees();
+fn reference_to_roll(pair: &dyn GearPair, start: f64, angles: &[f64]) -> Vec<f64> {
+    let lpstc = pair.single_contact().0.to_degrees();
     angles.iter().map(|x| x - start + lpstc).collect()
 }
 
-fn scene_roll_angles(a: &ContactAnalysis, kin: &MeshKinematics) -> Result<Vec<f64>, FlankError> {
+fn scene_roll_angles(a: &ContactAnalysis, pair: &dyn GearPair) -> Result<Vec<f64>, FlankError> {
     if let Some(v) = &a.roll_angles_deg {
         return Ok(v.clone());
     }
@@ -595,7 +601,7 @@ fn scene_roll_angles(a: &ContactAnalysis, kin: &MeshKinematics) -> Result<Vec<f6
                 "reference_angles_deg needs reference_single_contact_start_deg".into(),
             )
         })?;
-        return Ok(reference_to_roll(kin, r, v));
+        return Ok(reference_to_roll(pair, r, v));
     }
     let step = a.roll_step_deg.unwrap_or(1.0);
     match (a.roll_start_deg, a.roll_end_deg) {
@@ -603,7 +609,7 @@ fn scene_roll_angles(a: &ContactAnalysis, kin: &MeshKinematics) -> Result<Vec<f6
             let n = ((e - s) / step + 1e-9).floor() as i64;
             Ok((0..=n).map(|i| s + i as f64 * step).collect())
         }
-        (None, None) => Ok(default_roll_angles(kin, step)),
+        (None, None) => Ok(default_roll_angles(pair, step)),
         _ => Err(FlankError::Model(
             "[analyses.contact]: give both roll_start_deg and roll_end_deg, or neither".into(),
         )),
@@ -626,8 +632,8 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
 /// The mesh cycle of a parsed scene (see [`run_scene`]).
 pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, FlankError> {
     let t_total = Instant::now();
-    let kin = MeshKinematics::new(&scene.pair, scene.mesh.teeth_in_sector as usize)?;
-    let settings = settings(scene, &kin, options)?;
+    let gear_pair = scene_pair(scene)?;
+    let settings = settings(scene, gear_pair.as_ref(), options)?;
     let out = &options.out;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
     let t = Instant::now();
@@ -635,7 +641,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
     let setup_s = t.elapsed().as_secs_f64();
     let nominal = cycle.nominal_force();
     let np = cycle.pair.teeth.len();
-    let mid = cycle.kin.middle - 1;
+    let mid = cycle.gear_pair.middle() - 1;
     let angles = cycle.settings.roll_angles_deg.clone();
     let bar = if options.quiet {
         indicatif::ProgressBar::hidden()
@@ -668,7 +674,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
     // a default range grows while the middle pair is loaded at an end
     let mut extended = 0;
     if let Some(step) = cycle.settings.extend_step_deg {
-        let limit = (cycle.kin.angular_pitch[0].to_degrees() / step).ceil() as usize;
+        let limit = (cycle.gear_pair.pinion().angular_pitch().to_degrees() / step).ceil() as usize;
         for _ in 0..limit {
             if !cycle.loaded(&steps[0], mid) {
                 break;
@@ -720,7 +726,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
                 .into(),
         ),
     }
-    let pitch_deg = cycle.kin.angular_pitch[0].to_degrees();
+    let pitch_deg = cycle.gear_pair.pinion().angular_pitch().to_degrees();
     let contact_ratio = limits.map(|(s, e)| (e - s) / pitch_deg);
     // single contact: only the middle pair loaded
     let single: Vec<&StepResult> = steps
@@ -743,8 +749,8 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
         })
         .collect();
     write_steps_csv(&out.join("mesh_cycle.csv"), &steps, np)?;
-    let (lpstc, hpstc) = cycle.kin.single_contact();
-    let (eng_a, eng_e) = cycle.kin.engagement(cycle.kin.middle);
+    let (lpstc, hpstc) = cycle.gear_pair.single_contact();
+    let (eng_a, eng_e) = cycle.gear_pair.engagement(cycle.gear_pair.middle());
     // TE over the positions where the middle pair carries load (1.5
     // pitches: a whole mesh cycle away from the sector's outer teeth)
     let te: Vec<f64> = steps
@@ -760,7 +766,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
         &steps,
         &cycle.pair.teeth,
         nominal,
-        cycle.kin.base_radius[0],
+        cycle.gear_pair.transmission_error_radius(),
     )
     .unwrap_or_else(|e| {
         notes.push(format!("plots not written: {e}"));
@@ -771,7 +777,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
         "scene": scene.source.display().to_string(),
         "analysis": "fe_contact_mesh_cycle",
         "contact_ratio": contact_ratio,
-        "contact_ratio_kinematic": cycle.kin.contact_ratio,
+        "contact_ratio_kinematic": cycle.gear_pair.kinematic_contact_ratio(),
         "single_pair_force_n": single_pair_force_n,
         "nominal_force_n": nominal,
         "single_pair_force_error": single_pair_force_n.map(|f| f / nominal - 1.0),
@@ -804,7 +810,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
         "te_positions": te.len(),
         "te_mean_urad": te_mean,
         "te_peak_to_peak_urad": te_pp,
-        "te_peak_to_peak_um": te_pp * cycle.kin.base_radius[0] * 1e-3,
+        "te_peak_to_peak_um": te_pp * cycle.gear_pair.transmission_error_radius() * 1e-3,
         "max_violation_mm": worst(|s| s.max_violation_mm),
         "max_complementarity": worst(|s| s.complementarity),
         "max_equilibrium": worst(|s| s.equilibrium),
@@ -816,7 +822,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
             _ => serde_json::to_value(NormalLaw::Hard).unwrap_or_default(),
         },
         "tooth_pairs": cycle.pair.teeth,
-        "kinematics": cycle.kin,
+        "kinematics": cycle.gear_pair.describe(),
         "files": {
             "csv": "mesh_cycle.csv",
             "plots": plot_files,

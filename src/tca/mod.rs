@@ -100,13 +100,16 @@
 //! `extension_mm`. A corner is a sharp edge (no tip rounding is modelled):
 //! its curvature radius and the equivalent radius are reported as 0.
 
-use crate::contact::placement::Frame;
+use std::sync::Arc;
+
 use crate::error::FlankError;
-use crate::geometry::flank::FlankSurface;
+use crate::geometry::cylindrical::CylindricalPair;
+use crate::geometry::frame::Frame;
+pub use crate::geometry::gear_pair::LineKind;
+use crate::geometry::gear_pair::{ContactSeed, Flank, GearPair, KinematicLine};
 use crate::geometry::micro::FlankModification;
-use crate::geometry::rack::{Flank, ToothProfile};
+use crate::geometry::surface::ToothSurface;
 use crate::geometry::PairSpec;
-use crate::mesh_cycle::kinematics::MeshKinematics;
 
 #[cfg(test)]
 mod tests;
@@ -114,46 +117,16 @@ mod tests;
 type Result<T> = std::result::Result<T, FlankError>;
 use crate::geometry::vec3::{add, cross, dot, sub, unit, V3};
 
-/// Rodrigues rotation by `angle` about the unit `axis`.
-fn rotation(axis: V3, angle: f64) -> [[f64; 3]; 3] {
-    let (s, c) = angle.sin_cos();
-    let [x, y, z] = axis;
-    let t = 1.0 - c;
-    [
-        [c + t * x * x, t * x * y - s * z, t * x * z + s * y],
-        [t * x * y + s * z, c + t * y * y, t * y * z - s * x],
-        [t * x * z - s * y, t * y * z + s * x, c + t * z * z],
-    ]
-}
-
-fn matmul(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
-    let mut r = [[0.0; 3]; 3];
-    for i in 0..3 {
-        for j in 0..3 {
-            r[i][j] = (0..3).map(|k| a[i][k] * b[k][j]).sum();
-        }
-    }
-    r
-}
-
-fn matvec(a: &[[f64; 3]; 3], v: V3) -> V3 {
-    [dot(a[0], v), dot(a[1], v), dot(a[2], v)]
-}
-
 /// Global point → a frame's own coordinates.
 fn own(f: &Frame, x: V3) -> V3 {
     f.rotate_back(sub(x, f.translation))
 }
 
-/// Settings of the TCA (mm, rad).
+/// Sampling settings of the TCA (mm). The misalignment belongs to the
+/// pair ([`GearPair::misalignment`]; for spur and helical pairs
+/// [`CylindricalPair::with_plane_of_action_misalignment`]).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct TcaSettings {
-    /// Gear axis tilt [γ_β in the plane of action, γ_δ normal to it] (rad);
-    /// definitions and the ISO 6336-1 f_Σβ / f_Σδ correspondence in the
-    /// module docs. |γ| ≤ 0.05 rad.
-    pub misalignment_rad: [f64; 2],
-    /// Centre-distance error Δa (mm), > 0 moves the gear away from the pinion.
-    pub centre_distance_error_mm: f64,
     /// K ≥ 2 points along each contact line (midpoints of K equal cells).
     pub points_per_line: usize,
     /// Rows of points across each flank contact line (≥ 1; 1 = on the line
@@ -169,8 +142,6 @@ pub struct TcaSettings {
 impl Default for TcaSettings {
     fn default() -> Self {
         TcaSettings {
-            misalignment_rad: [0.0; 2],
-            centre_distance_error_mm: 0.0,
             points_per_line: 20,
             points_across: 1,
             across_spacing_mm: 0.1,
@@ -183,19 +154,6 @@ impl TcaSettings {
     /// Checks the settings; errors name the field and the accepted range.
     pub fn validate(&self) -> Result<()> {
         let err = |m: String| Err(FlankError::Model(format!("TCA settings: {m}")));
-        for (i, g) in self.misalignment_rad.iter().enumerate() {
-            if !(g.is_finite() && g.abs() <= 0.05) {
-                return err(format!(
-                    "misalignment_rad[{i}] = {g}: a finite tilt of at most 0.05 rad is needed (small misalignment)"
-                ));
-            }
-        }
-        if !self.centre_distance_error_mm.is_finite() {
-            return err(format!(
-                "centre_distance_error_mm = {}: a finite value is needed",
-                self.centre_distance_error_mm
-            ));
-        }
         if !(2..=100_000).contains(&self.points_per_line) {
             return err(format!(
                 "points_per_line = {}: between 2 and 100000 points along a contact line are needed",
@@ -224,17 +182,6 @@ impl TcaSettings {
         }
         Ok(())
     }
-}
-
-/// What a contact line is.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-pub enum LineKind {
-    /// On the flanks, inside the kinematic path of contact and the face.
-    Flank,
-    /// The pinion's tip edge against the gear flank, after the end of the path.
-    PinionTipCorner,
-    /// The gear's tip edge against the pinion flank, before the start of the path.
-    GearTipCorner,
 }
 
 /// One sample point of a contact line (conventions in the module docs).
@@ -282,6 +229,9 @@ pub struct ContactLine {
     /// part inside the path and the face (Δz / cos β_b); for a corner line
     /// the part whose points were kept.
     pub length_mm: f64,
+    /// Face parameter v per mm along the line (cos β_b on a cylindrical
+    /// pair, where v = z): turns a length along the line into a v-extent.
+    pub param_per_mm: f64,
     pub points: Vec<ContactPoint>,
 }
 
@@ -295,167 +245,89 @@ pub struct TcaPosition {
     pub lines: Vec<ContactLine>,
 }
 
-/// Unloaded tooth contact analysis of a pair meshed as two sectors.
+/// Unloaded tooth contact analysis of a gear pair (any type behind
+/// [`GearPair`]).
 #[derive(Clone, Debug)]
 pub struct Tca {
-    kin: MeshKinematics,
+    pair: Arc<dyn GearPair>,
     settings: TcaSettings,
-    /// Right flanks of pinion teeth 1..=n and gear teeth 1..=n.
-    pinion: Vec<FlankSurface>,
-    gear: Vec<FlankSurface>,
     /// ω₁, ω₂ (rad/s).
     omega: [f64; 2],
-    /// Common face in global z.
-    z_range: (f64, f64),
-    /// ds/dz of a contact line in the plane of action (−r_b1 × twist rate).
-    slope: f64,
-    cos_beta_b: f64,
-    /// T₁ and the transverse line-of-action direction n_t.
-    t1: V3,
-    n_t: V3,
-    /// Misalignment rotation, its centre, and the Δa shift.
-    tilt: [[f64; 3]; 3],
-    tilt_centre: V3,
-    /// Windows in s beyond the path ends searched for corner contact.
-    corner_window: [f64; 2],
-    /// Working line of action with the centre-distance error: its length
-    /// L′ = (a + Δa) sin α′, the path of contact on it [s_A, s_E] (from T₁′),
-    /// and the shift s′ − s = r_b1 (α′ − α) of a pinion involute's crossing.
-    line_length: f64,
-    path: (f64, f64),
-    s_shift: f64,
 }
 
 impl Tca {
-    /// The TCA of `pair` meshed as sectors of `teeth` teeth, with the flank
-    /// modifications of [pinion, gear] (e.g. [`crate::scene::Scene::flank_modifications`]),
-    /// the pinion speed `speed_rpm` (≥ 0; for the velocities) and `settings`.
-    pub fn new(
-        pair: &PairSpec,
-        modifications: [Option<FlankModification>; 2],
-        teeth: usize,
-        speed_rpm: f64,
-        settings: TcaSettings,
-    ) -> Result<Self> {
+    /// The TCA of `pair` at the pinion speed `speed_rpm` (≥ 0; for the
+    /// velocities) with `settings`.
+    pub fn new(pair: Arc<dyn GearPair>, speed_rpm: f64, settings: TcaSettings) -> Result<Self> {
         settings.validate()?;
         if !(speed_rpm.is_finite() && speed_rpm >= 0.0) {
             return Err(FlankError::Model(format!(
                 "TCA: pinion speed {speed_rpm} rpm: a finite value ≥ 0 is needed"
             )));
         }
-        let kin = MeshKinematics::new(pair, teeth)?;
-        let zmax = pair.pinion.teeth.min(pair.gear.teeth) as usize;
-        if teeth > zmax {
-            return Err(FlankError::Model(format!(
-                "TCA: a sector of {teeth} teeth does not fit a gear of {zmax} teeth"
-            )));
-        }
-        let a = pair.centre_distance;
-        if settings.centre_distance_error_mm.abs() > 0.05 * a {
-            return Err(FlankError::Model(format!(
-                "TCA settings: centre_distance_error_mm = {} exceeds 5 % of the centre distance {a} mm",
-                settings.centre_distance_error_mm
-            )));
-        }
-        let p1 = ToothProfile::new(&pair.pinion, "pinion")?;
-        let p2 = ToothProfile::new(&pair.gear, "gear")?;
-        let [m1, m2] = modifications;
-        let mut pinion = Vec::with_capacity(teeth);
-        let mut gear = Vec::with_capacity(teeth);
-        for k in 1..=teeth {
-            pinion.push(FlankSurface::new(p1.clone(), Flank::Right, k, m1.clone())?);
-            gear.push(FlankSurface::new(p2.clone(), Flank::Right, k, m2.clone())?);
-        }
         let w1 = speed_rpm * std::f64::consts::PI / 30.0;
-        let omega = [w1, w1 * kin.z1 / kin.z2];
-        let shift = kin.gear_z_shift;
-        let z_range = (
-            0.0f64.max(shift),
-            kin.face_width[0].min(shift + kin.face_width[1]),
-        );
-        if !(z_range.1 > z_range.0) {
-            return Err(FlankError::Model(
-                "TCA: the face widths of pinion and gear do not overlap".into(),
-            ));
-        }
-        // with Δa the flanks meet on the working line of action at α′:
-        // cos α′ = (r_b1 + r_b2)/(a + Δa) (ISO 21771); the pinion involute
-        // crosses it r_b1 (α′ − α) further from the (moved) T₁′
-        let rb1 = kin.base_radius[0];
-        let rbs = rb1 + kin.base_radius[1];
-        let aw = a + settings.centre_distance_error_mm;
-        if !(aw > rbs) {
-            return Err(FlankError::Model(format!(
-                "TCA settings: centre_distance_error_mm = {} leaves a centre distance {aw} mm at or below r_b1 + r_b2 = {rbs} mm",
-                settings.centre_distance_error_mm
-            )));
-        }
-        let alpha = (rbs / aw).acos();
-        let line_length = aw * alpha.sin();
-        let path = (
-            line_length - kin.base_radius[1] * kin.tip_roll[1],
-            kin.path_end,
-        );
-        let s_shift = rb1 * (alpha - kin.working_pressure_angle);
-        let (sa, ca) = alpha.sin_cos();
-        let n_t = [ca, sa, 0.0];
-        let m = [-sa, ca, 0.0];
-        let t1 = [-rb1 * sa, rb1 * ca, 0.0];
-        let [gb, gd] = settings.misalignment_rad;
-        let tilt = matmul(&rotation([-ca, -sa, 0.0], gd), &rotation(m, gb));
-        let tilt_centre = [0.0, a, 0.5 * (z_range.0 + z_range.1)];
-        let cos_beta_b = kin.base_helix_angle.cos();
-        // corner windows: a convex pair separates as Δ²/(2ρ) across the line,
-        // Δ = Δs cos β_b, ρ = ρ_t/cos β_b, ρ_t ≤ L/4 (its largest value, at
-        // the middle of the line of action: the corner's gap grows slower
-        // than the local curvatures at the path ends suggest); twice the
-        // reach of `extension_mm`. Points beyond `extension_mm` are dropped.
-        let reach = 2.0 * (0.5 * line_length * settings.extension_mm / cos_beta_b.powi(3)).sqrt();
-        let corner_window = [reach; 2];
+        let omega = [w1, w1 * pair.ratio()];
         Ok(Tca {
-            slope: -rb1 * p1.twist_rate,
-            kin,
+            pair,
             settings,
-            pinion,
-            gear,
             omega,
-            z_range,
-            cos_beta_b,
-            t1,
-            n_t,
-            tilt,
-            tilt_centre,
-            corner_window,
-            line_length,
-            path,
-            s_shift,
         })
     }
 
-    pub fn kinematics(&self) -> &MeshKinematics {
-        &self.kin
+    /// The TCA of a spur or helical pair `spec` meshed as sectors of
+    /// `teeth` teeth with the flank modifications of [pinion, gear], the
+    /// gear axis tilted by `misalignment_rad` = [γ_β, γ_δ] and the centre
+    /// distance changed by `centre_distance_error_mm`
+    /// ([`CylindricalPair::with_plane_of_action_misalignment`]).
+    pub fn cylindrical(
+        spec: &PairSpec,
+        modifications: [Option<FlankModification>; 2],
+        teeth: usize,
+        speed_rpm: f64,
+        misalignment_rad: [f64; 2],
+        centre_distance_error_mm: f64,
+        settings: TcaSettings,
+    ) -> Result<Self> {
+        settings.validate()?;
+        let pair = CylindricalPair::new(spec, modifications, teeth)?
+            .with_plane_of_action_misalignment(misalignment_rad, centre_distance_error_mm)?;
+        Tca::new(Arc::new(pair), speed_rpm, settings)
+    }
+
+    /// The pair analysed.
+    pub fn pair(&self) -> &Arc<dyn GearPair> {
+        &self.pair
     }
 
     pub fn settings(&self) -> &TcaSettings {
         &self.settings
     }
 
-    /// Transverse contact ratio ε_α of the kinematic path ([`MeshKinematics`]).
+    /// The same pair with other settings.
+    pub fn with_settings(&self, settings: TcaSettings) -> Result<Self> {
+        settings.validate()?;
+        Ok(Tca {
+            settings,
+            ..self.clone()
+        })
+    }
+
+    /// Kinematic contact ratio of the pair.
     pub fn kinematic_contact_ratio(&self) -> f64 {
-        self.kin.contact_ratio
+        self.pair.kinematic_contact_ratio()
     }
 
     /// Kinematic single-tooth contact of the middle pair (roll angles).
     pub fn single_contact(&self) -> (f64, f64) {
-        self.kin.single_contact()
+        self.pair.single_contact()
     }
 
     /// `positions` roll angles over one mesh cycle (one pinion angular pitch,
     /// half-open), centred on the middle of the middle pair's kinematic
     /// engagement.
     pub fn roll_angles_for_cycle(&self, positions: usize) -> Vec<f64> {
-        let (a, e) = self.kin.engagement(self.kin.middle);
-        let p = self.kin.angular_pitch[0];
+        let (a, e) = self.pair.engagement(self.pair.middle());
+        let p = self.pair.pinion().angular_pitch();
         let start = 0.5 * (a + e) - 0.5 * p;
         (0..positions)
             .map(|i| start + p * i as f64 / positions as f64)
@@ -463,43 +335,22 @@ impl Tca {
     }
 
     /// Frames (own → global) of the pinion and of the gear at `roll`, the
-    /// gear tilted by the misalignment and moved by Δa (module docs).
+    /// gear misaligned as the pair says.
     pub fn frames(&self, roll: f64) -> [Frame; 2] {
-        let [f1, f2] = self.kin.frames(roll);
-        let c = self.tilt_centre;
-        let t = add(
-            add(matvec(&self.tilt, sub(f2.translation, c)), 1.0, c),
-            self.settings.centre_distance_error_mm,
-            [0.0, 1.0, 0.0],
-        );
-        [
-            f1,
-            Frame {
-                rotation: matmul(&self.tilt, &f2.rotation),
-                translation: t,
-            },
-        ]
+        self.pair.frames(roll)
     }
 
-    /// Global-z interval of the line s(z) = s0 + slope·z with s in [lo, hi],
-    /// inside the common face.
-    fn z_interval(&self, s0: f64, lo: f64, hi: f64) -> Option<(f64, f64)> {
-        let (za, zb) = self.z_range;
-        let c = self.slope;
-        let (a, b) = if c.abs() < 1e-14 {
-            if s0 >= lo && s0 <= hi {
-                (za, zb)
-            } else {
-                return None;
-            }
-        } else {
-            let (x, y) = ((lo - s0) / c, (hi - s0) / c);
-            (x.min(y).max(za), x.max(y).min(zb))
-        };
-        (b - a > 1e-9 * (zb - za)).then_some((a, b))
+    /// The right flank of sector tooth `k` of body `b`.
+    fn flank(&self, b: usize, k: usize) -> Result<&dyn ToothSurface> {
+        self.pair.body(b).flank(Flank::Right, k).ok_or_else(|| {
+            FlankError::Model(format!(
+                "TCA: the {} sector has no tooth {k}",
+                self.pair.body(b).name()
+            ))
+        })
     }
 
-    /// The TCA at `roll` (rad, [`MeshKinematics`] convention).
+    /// The TCA at `roll` (rad, the pair's convention).
     pub fn position(&self, roll: f64) -> Result<TcaPosition> {
         if !roll.is_finite() {
             return Err(FlankError::Model(format!(
@@ -507,33 +358,13 @@ impl Tca {
             )));
         }
         let frames = self.frames(roll);
-        let (ps, pe) = self.path;
         let mut lines = Vec::new();
-        for k in 1..=self.kin.teeth {
-            let g = self.kin.mate(k);
-            let s0 = self.kin.contact_position(k, roll) + self.s_shift;
-            if let Some((za, zb)) = self.z_interval(s0, ps, pe) {
-                lines.push(self.flank_line(k, g, s0, za, zb, &frames)?);
-            }
-            if self.settings.extension_mm > 0.0 {
-                let spur = self.slope.abs() < 1e-14;
-                let w = self.corner_window;
-                if !spur || s0 < ps {
-                    if let Some((za, zb)) = self.z_interval(s0, ps - w[0], ps) {
-                        if let Some(l) =
-                            self.corner_line(k, g, s0, za, zb, LineKind::GearTipCorner, &frames)?
-                        {
-                            lines.push(l);
-                        }
-                    }
-                }
-                if !spur || s0 > pe {
-                    if let Some((za, zb)) = self.z_interval(s0, pe, pe + w[1]) {
-                        if let Some(l) =
-                            self.corner_line(k, g, s0, za, zb, LineKind::PinionTipCorner, &frames)?
-                        {
-                            lines.push(l);
-                        }
+        for line in self.pair.contact_lines(roll, self.settings.extension_mm) {
+            match line.kind {
+                LineKind::Flank => lines.push(self.flank_line(&line, &frames)?),
+                _ => {
+                    if let Some(l) = self.corner_line(&line, &frames)? {
+                        lines.push(l);
                     }
                 }
             }
@@ -547,8 +378,8 @@ impl Tca {
         if !te.is_finite() {
             return Err(FlankError::Model(format!(
                 "TCA: no tooth pair of the {}-tooth sectors is in mesh at roll {roll} rad (engagement of the middle pair: {:?})",
-                self.kin.teeth,
-                self.kin.engagement(self.kin.middle)
+                self.pair.sector_teeth(),
+                self.pair.engagement(self.pair.middle())
             )));
         }
         Ok(TcaPosition {
@@ -558,75 +389,62 @@ impl Tca {
         })
     }
 
-    #[allow(clippy::too_many_arguments)]
-    fn flank_line(
-        &self,
-        k: usize,
-        g: usize,
-        s0: f64,
-        za: f64,
-        zb: f64,
-        frames: &[Frame; 2],
-    ) -> Result<ContactLine> {
+    fn flank_line(&self, line: &KinematicLine, frames: &[Frame; 2]) -> Result<ContactLine> {
         let n = self.settings.points_per_line;
         let rows = self.settings.points_across;
-        let length = (zb - za) / self.cos_beta_b;
+        let (za, zb) = line.range;
+        let length = (zb - za) / line.param_per_mm;
         let width = length / n as f64;
-        let c = self.slope;
-        let q = (1.0 + c * c).sqrt();
-        let (ps, pe) = self.path;
-        let (z0, z1) = self.z_range;
         let mut points = Vec::with_capacity(n * rows);
         for i in 0..n {
             let z = za + (zb - za) * (i as f64 + 0.5) / n as f64;
-            let s = s0 + c * z;
             for j in 0..rows {
                 let d = (j as f64 - 0.5 * (rows - 1) as f64) * self.settings.across_spacing_mm;
-                // across the line in the (s, z) plane: (1, −c)/q
-                let (sj, zj) = (s + d / q, z - c * d / q);
-                if rows > 1 && !(sj >= ps && sj <= pe && zj >= z0 && zj <= z1) {
+                let seed = self.pair.line_seed(line, z, d);
+                if rows > 1 && !seed.inside {
                     continue;
                 }
-                let mut p = self.flank_point(k, g, sj, zj, frames)?;
+                let mut p = self.flank_point(line, &seed, frames)?;
                 p.width_mm = width;
                 p.across_mm = d;
                 points.push(p);
             }
         }
         Ok(ContactLine {
-            pinion_tooth: k,
-            gear_tooth: g,
+            pinion_tooth: line.pinion_tooth,
+            gear_tooth: line.gear_tooth,
             kind: LineKind::Flank,
             length_mm: length,
+            param_per_mm: line.param_per_mm,
             points,
         })
     }
 
-    /// One point of a flank line at (s, z) of the plane of action.
+    /// One point of a flank line from its seed: the normal line through
+    /// the seed point meets the pinion flank (M₁), the line through M₁
+    /// along the pinion's normal meets the gear flank (M₂).
     fn flank_point(
         &self,
-        k: usize,
-        g: usize,
-        s: f64,
-        z: f64,
+        line: &KinematicLine,
+        seed: &ContactSeed,
         frames: &[Frame; 2],
     ) -> Result<ContactPoint> {
         let [f1, f2] = frames;
-        let fs1 = &self.pinion[k - 1];
-        let fs2 = &self.gear[g - 1];
-        let rb = self.kin.base_radius;
-        let x0 = add(add(self.t1, s, self.n_t), z, [0.0, 0.0, 1.0]);
-        let (u1, v1) = (s / rb[0], z);
+        let (k, g) = (line.pinion_tooth, line.gear_tooth);
+        let fs1 = self.flank(0, k)?;
+        let fs2 = self.flank(1, g)?;
+        let x0 = seed.point;
+        let [u1, v1] = seed.pinion_uv;
         let n0 = f1.rotate(fs1.normal(u1, v1));
         let (u1, v1, t1, [n1, pu1, pv1]) = intersect(fs1, f1, x0, n0, u1, v1)
-            .ok_or_else(|| self.no_convergence("pinion", k, s, z))?;
+            .ok_or_else(|| self.no_convergence("pinion", k, x0))?;
         let x1 = add(x0, t1, n0);
         let n = f1.rotate(n1);
-        let (u2, v2) = ((self.line_length - s) / rb[1], z - self.kin.gear_z_shift);
-        let (u2, v2, w, [_, pu2, pv2]) = intersect(fs2, f2, x1, n, u2, v2)
-            .ok_or_else(|| self.no_convergence("gear", g, s, z))?;
+        let [u2, v2] = seed.gear_uv;
+        let (u2, v2, w, [_, pu2, pv2]) =
+            intersect(fs2, f2, x1, n, u2, v2).ok_or_else(|| self.no_convergence("gear", g, x0))?;
         let x2 = add(x1, w, n);
-        let e = unit(cross(n, [0.0, 0.0, 1.0]));
+        let e = self.rolling_direction(n, frames);
         let k1 = normal_curvature(fs1, f1, u1, v1, e, Some((pu1, pv1)));
         let k2 = normal_curvature(fs2, f2, u2, v2, e, Some((pu2, pv2)));
         let rho = [radius(k1), radius(k2)];
@@ -636,6 +454,13 @@ impl Tca {
             f64::INFINITY
         };
         Ok(self.point(x1, x2, n, w, [u1, v1], [u2, v2], rho, eq, frames))
+    }
+
+    /// e_roll = (n × a₁)/|n × a₁|, a₁ the pinion axis: across the contact
+    /// line in the tangent plane.
+    fn rolling_direction(&self, n: V3, frames: &[Frame; 2]) -> V3 {
+        let (_, axis) = self.pair.pinion().axis();
+        unit(cross(n, frames[0].rotate(axis)))
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -651,13 +476,20 @@ impl Tca {
         eq: f64,
         frames: &[Frame; 2],
     ) -> ContactPoint {
-        let ez = [0.0, 0.0, 1.0];
-        let arm = dot(cross([0.0, 0.0, -1.0], x1), n);
-        // surface velocities (mm/s): pinion clockwise about z, gear
-        // counter-clockwise about its (placed) axis
-        let f2 = &frames[1];
-        let a2 = f2.rotate(ez);
-        let v1 = cross([0.0, 0.0, -self.omega[0]], x1);
+        let [f1, f2] = frames;
+        let [w1, w2] = self.pair.rotation_axes();
+        let (a1, a2) = (f1.rotate(w1), f2.rotate(w2));
+        let r1 = sub(x1, f1.translation);
+        let arm = dot(cross(a1, r1), n);
+        // surface velocities (mm/s) about the placed axes
+        let v1 = cross(
+            [
+                self.omega[0] * a1[0],
+                self.omega[0] * a1[1],
+                self.omega[0] * a1[2],
+            ],
+            r1,
+        );
         let v2 = cross(
             [
                 self.omega[1] * a2[0],
@@ -666,7 +498,7 @@ impl Tca {
             ],
             sub(x2, f2.translation),
         );
-        let e = unit(cross(n, ez));
+        let e = self.rolling_direction(n, frames);
         let vt = |v: V3| dot(add(v, -dot(v, n), n), e) * 1e-3;
         let (t1, t2) = (vt(v1), vt(v2));
         ContactPoint {
@@ -686,35 +518,22 @@ impl Tca {
         }
     }
 
-    /// A corner line: the tip edge of one tooth against the mating flank.
-    /// Spur: K points over the face. Helical: the part of the window
-    /// [za, zb] from the path end to where w reaches `extension_mm`
-    /// (bisection; w grows away from the path end), then K points in it.
-    /// Points with w > `extension_mm` are dropped.
-    #[allow(clippy::too_many_arguments)]
+    /// A corner line: the tip edge of one tooth against the mating flank,
+    /// over the pair's corner window. A whole window (spur): K points over
+    /// it. Otherwise the part from the path end to where w reaches
+    /// `extension_mm` (bisection; w grows away from the path end), then K
+    /// points in it. Points with w > `extension_mm` are dropped.
     fn corner_line(
         &self,
-        k: usize,
-        g: usize,
-        s0: f64,
-        za: f64,
-        zb: f64,
-        kind: LineKind,
+        line: &KinematicLine,
         frames: &[Frame; 2],
     ) -> Result<Option<ContactLine>> {
         let ext = self.settings.extension_mm;
-        let c = self.slope;
-        let at = |z: f64| self.corner_point(k, g, s0 + c * z, z, kind, frames);
-        let (za, zb) = if c.abs() < 1e-14 {
-            (za, zb)
+        let at = |z: f64| self.corner_point(line, z, frames);
+        let (ze, zf) = line.range;
+        let (za, zb) = if line.whole_window {
+            (ze, zf)
         } else {
-            // the end of the window next to the path end
-            let (sa, sb) = (s0 + c * za, s0 + c * zb);
-            let edge_first = match kind {
-                LineKind::GearTipCorner => sa > sb,
-                _ => sa < sb,
-            };
-            let (ze, zf) = if edge_first { (za, zb) } else { (zb, za) };
             if at(ze)?.separation_mm > ext {
                 return Ok(None);
             }
@@ -734,11 +553,11 @@ impl Tca {
             };
             (ze.min(zs), ze.max(zs))
         };
-        if !(zb - za > 1e-9 * (self.z_range.1 - self.z_range.0)) {
+        if !(zb - za > 1e-9 * line.face_span) {
             return Ok(None);
         }
         let n = self.settings.points_per_line;
-        let width = (zb - za) / self.cos_beta_b / n as f64;
+        let width = (zb - za) / line.param_per_mm / n as f64;
         let mut points = Vec::new();
         for i in 0..n {
             let z = za + (zb - za) * (i as f64 + 0.5) / n as f64;
@@ -754,64 +573,79 @@ impl Tca {
             return Ok(None);
         }
         Ok(Some(ContactLine {
-            pinion_tooth: k,
-            gear_tooth: g,
-            kind,
+            pinion_tooth: line.pinion_tooth,
+            gear_tooth: line.gear_tooth,
+            kind: line.kind,
             length_mm: width * points.len() as f64,
+            param_per_mm: line.param_per_mm,
             points,
         }))
     }
 
-    /// The corner point of a corner line at (s, z): the tip edge point at
-    /// own z and the closest point of the mating flank.
+    /// The corner point of a corner line at ξ: the tip edge point of the
+    /// edge body and the closest point of the mating flank.
     fn corner_point(
         &self,
-        k: usize,
-        g: usize,
-        s: f64,
-        z: f64,
-        kind: LineKind,
+        line: &KinematicLine,
+        xi: f64,
         frames: &[Frame; 2],
     ) -> Result<ContactPoint> {
         let [f1, f2] = frames;
-        let fs1 = &self.pinion[k - 1];
-        let fs2 = &self.gear[g - 1];
-        let rb = self.kin.base_radius;
-        let shift = self.kin.gear_z_shift;
-        let ez = [0.0, 0.0, 1.0];
-        let p = match kind {
+        let (k, g) = (line.pinion_tooth, line.gear_tooth);
+        let fs1 = self.flank(0, k)?;
+        let fs2 = self.flank(1, g)?;
+        let seed = self.pair.line_seed(line, xi, 0.0);
+        let p = match line.kind {
             LineKind::GearTipCorner => {
-                let uv2 = [fs2.u_tip(), z - shift];
-                let x2 = f2.place(fs2.point(uv2[0], uv2[1]));
-                let (u, v, d) = fs1.closest_point_from(own(f1, x2), s / rb[0], z);
+                let v = seed.gear_uv[1];
+                let uv2 = [fs2.u_tip(v), v];
+                let x2 = f2.place(fs2.tip_edge(v));
+                let [u0, v0] = seed.pinion_uv;
+                let (u, v, d) = fs1.closest_point_from(own(f1, x2), u0, v0);
                 let nn = f1.rotate(fs1.normal(u, v));
                 let x1 = f1.place(fs1.point(u, v));
-                let r1 = radius(normal_curvature(fs1, f1, u, v, unit(cross(nn, ez)), None));
+                let r1 = radius(normal_curvature(
+                    fs1,
+                    f1,
+                    u,
+                    v,
+                    self.rolling_direction(nn, frames),
+                    None,
+                ));
                 self.point(x1, x2, nn, d, [u, v], uv2, [r1, 0.0], 0.0, frames)
             }
             _ => {
-                let uv1 = [fs1.u_tip(), z];
-                let x1 = f1.place(fs1.point(uv1[0], uv1[1]));
-                let u0 = (self.line_length - s) / rb[1];
-                let (u, v, d) = fs2.closest_point_from(own(f2, x1), u0, z - shift);
+                let v = seed.pinion_uv[1];
+                let uv1 = [fs1.u_tip(v), v];
+                let x1 = f1.place(fs1.tip_edge(v));
+                let [u0, v0] = seed.gear_uv;
+                let (u, v, d) = fs2.closest_point_from(own(f2, x1), u0, v0);
                 let ng = f2.rotate(fs2.normal(u, v));
                 let nn = [-ng[0], -ng[1], -ng[2]];
                 let x2 = f2.place(fs2.point(u, v));
-                let r2 = radius(normal_curvature(fs2, f2, u, v, unit(cross(nn, ez)), None));
+                let r2 = radius(normal_curvature(
+                    fs2,
+                    f2,
+                    u,
+                    v,
+                    self.rolling_direction(nn, frames),
+                    None,
+                ));
                 self.point(x1, x2, nn, d, uv1, [u, v], [0.0, r2], 0.0, frames)
             }
         };
         if !p.separation_mm.is_finite() {
             return Err(FlankError::Model(format!(
-                "TCA: corner separation not finite (pinion tooth {k}, s = {s} mm, z = {z} mm)"
+                "TCA: corner separation not finite (pinion tooth {k}, line parameter {xi})"
             )));
         }
         Ok(p)
     }
 
-    fn no_convergence(&self, body: &str, tooth: usize, s: f64, z: f64) -> FlankError {
+    fn no_convergence(&self, body: &str, tooth: usize, x0: V3) -> FlankError {
         FlankError::Model(format!(
-            "TCA: the normal line did not meet the {body} flank (tooth {tooth}) at s = {s:.6} mm, z = {z:.6} mm"
+            "TCA: the normal line did not meet the {body} flank (tooth {tooth}) at ({:.6}, {:.6}, {:.6}) mm",
+            x0[0], x0[1], x0[2]
         ))
     }
 }
@@ -829,7 +663,7 @@ fn radius(kappa: f64) -> f64 {
 /// the own-frame normal and derivatives (P_u, P_v) at the last evaluation
 /// (within 1e-12 mm of the answer).
 fn intersect(
-    fs: &FlankSurface,
+    fs: &dyn ToothSurface,
     frame: &Frame,
     x0: V3,
     d: V3,
@@ -870,7 +704,7 @@ fn intersect(
 /// global tangent direction `e`: (dn/ds)·e by a central difference of the
 /// modified surface's normal over ±1e-3 mm; (P_u, P_v) own-frame derivatives at (u, v).
 fn normal_curvature(
-    fs: &FlankSurface,
+    fs: &dyn ToothSurface,
     frame: &Frame,
     u: f64,
     v: f64,

@@ -17,8 +17,100 @@ fn modification(scene: &str, which: usize, m: &MicroGeometry) -> FlankModificati
     FlankModification::new(m, &tp, u_sap, tp.face_width).unwrap()
 }
 
-fn tca(scene: &str, teeth: usize, mods: [Option<FlankModification>; 2], s: TcaSettings) -> Tca {
-    Tca::new(&pair(scene), mods, teeth, 3000.0, s).unwrap()
+/// A test case's settings: the TCA's sampling and the cylindrical pair's
+/// plane-of-action misalignment.
+#[derive(Clone, Debug)]
+struct Case {
+    misalignment_rad: [f64; 2],
+    centre_distance_error_mm: f64,
+    points_per_line: usize,
+    points_across: usize,
+    across_spacing_mm: f64,
+    extension_mm: f64,
+}
+
+impl Default for Case {
+    fn default() -> Self {
+        let d = TcaSettings::default();
+        Case {
+            misalignment_rad: [0.0; 2],
+            centre_distance_error_mm: 0.0,
+            points_per_line: d.points_per_line,
+            points_across: d.points_across,
+            across_spacing_mm: d.across_spacing_mm,
+            extension_mm: d.extension_mm,
+        }
+    }
+}
+
+/// The TCA of a cylindrical pair with the pair's internals at hand.
+#[derive(Debug)]
+struct T {
+    tca: Tca,
+    cp: Arc<CylindricalPair>,
+    t1: V3,
+    n_t: V3,
+    tilt_centre: V3,
+    pinion: Vec<crate::geometry::flank::FlankSurface>,
+    gear: Vec<crate::geometry::flank::FlankSurface>,
+}
+
+impl std::ops::Deref for T {
+    type Target = Tca;
+    fn deref(&self) -> &Tca {
+        &self.tca
+    }
+}
+
+impl T {
+    fn kinematics(&self) -> &crate::geometry::cylindrical::MeshKinematics {
+        self.cp.kinematics()
+    }
+}
+
+fn build(
+    pr: &PairSpec,
+    mods: [Option<FlankModification>; 2],
+    teeth: usize,
+    rpm: f64,
+    s: Case,
+) -> Result<T> {
+    let settings = TcaSettings {
+        points_per_line: s.points_per_line,
+        points_across: s.points_across,
+        across_spacing_mm: s.across_spacing_mm,
+        extension_mm: s.extension_mm,
+    };
+    settings.validate()?;
+    let cp = Arc::new(
+        CylindricalPair::new(pr, mods, teeth)?
+            .with_plane_of_action_misalignment(s.misalignment_rad, s.centre_distance_error_mm)?,
+    );
+    let tca = Tca::new(cp.clone(), rpm, settings)?;
+    let (t1, n_t) = cp.line_of_action();
+    let side = |b: usize| {
+        (1..=teeth)
+            .map(|k| {
+                cp.cylindrical(b)
+                    .flank_surface(Flank::Right, k)
+                    .unwrap()
+                    .clone()
+            })
+            .collect()
+    };
+    Ok(T {
+        tca,
+        t1,
+        n_t,
+        tilt_centre: cp.tilt_centre(),
+        pinion: side(0),
+        gear: side(1),
+        cp,
+    })
+}
+
+fn tca(scene: &str, teeth: usize, mods: [Option<FlankModification>; 2], s: Case) -> T {
+    build(&pair(scene), mods, teeth, 3000.0, s).unwrap()
 }
 
 fn flank_points(p: &TcaPosition) -> impl Iterator<Item = &ContactPoint> {
@@ -29,7 +121,7 @@ fn flank_points(p: &TcaPosition) -> impl Iterator<Item = &ContactPoint> {
 }
 
 /// Distance of a global point along the transverse line of action from T₁.
-fn s_of(t: &Tca, x: V3) -> f64 {
+fn s_of(t: &T, x: V3) -> f64 {
     dot(t.n_t, sub(x, t.t1))
 }
 
@@ -46,7 +138,7 @@ fn spread(v: impl Iterator<Item = f64>) -> f64 {
 /// in mesh are those of `engagement(k)`.
 #[test]
 fn ideal_spur() {
-    let t = tca(SPUR, 3, [None, None], TcaSettings::default());
+    let t = tca(SPUR, 3, [None, None], Case::default());
     let kin = t.kinematics().clone();
     let rb1 = kin.base_radius[0];
     let mut rolls = t.roll_angles_for_cycle(16);
@@ -103,7 +195,7 @@ fn ideal_spur() {
 /// Length of pair k's contact line by sampling the placed pinion flank
 /// section by section (independent of the line-slope formula): at each z the
 /// roll u whose point lies on the transverse line of action, inside the path.
-fn sampled_length(t: &Tca, k: usize, roll: f64) -> f64 {
+fn sampled_length(t: &T, k: usize, roll: f64) -> f64 {
     let kin = t.kinematics();
     let f1 = kin.frames(roll)[0];
     let fs = &t.pinion[k - 1];
@@ -145,7 +237,7 @@ fn sampled_length(t: &Tca, k: usize, roll: f64) -> f64 {
 /// β_b in the plane of action: mean number of lines met at any z is ε_α).
 #[test]
 fn ideal_helical() {
-    let t = tca(HELICAL, 5, [None, None], TcaSettings::default());
+    let t = tca(HELICAL, 5, [None, None], Case::default());
     let kin = t.kinematics().clone();
     let cb = kin.base_helix_angle.cos();
     let rb1 = kin.base_radius[0];
@@ -219,7 +311,7 @@ fn micro_geometry() {
                 Some(modification(scene, 0, &m1)),
                 Some(modification(scene, 1, &m2)),
             ],
-            TcaSettings::default(),
+            Case::default(),
         );
         let mut worst: f64 = 0.0;
         let mut largest: f64 = 0.0;
@@ -245,7 +337,7 @@ fn micro_geometry() {
         SPUR,
         3,
         [Some(modification(SPUR, 0, &m)), None],
-        TcaSettings::default(),
+        Case::default(),
     );
     let b = 13.3;
     let p = t.position(0.0).unwrap();
@@ -264,7 +356,7 @@ fn micro_geometry() {
 fn misalignment_and_centre_distance() {
     let g = 1e-4;
     for (scene, teeth) in [(SPUR, 3), (HELICAL, 5)] {
-        let set = |m: [f64; 2], da: f64| TcaSettings {
+        let set = |m: [f64; 2], da: f64| Case {
             misalignment_rad: m,
             centre_distance_error_mm: da,
             ..Default::default()
@@ -348,7 +440,7 @@ fn misalignment_and_centre_distance() {
 #[test]
 fn velocities_and_curvature() {
     for (scene, teeth) in [(SPUR, 3), (HELICAL, 5)] {
-        let t = tca(scene, teeth, [None, None], TcaSettings::default());
+        let t = tca(scene, teeth, [None, None], Case::default());
         let kin = t.kinematics().clone();
         let [w1, w2] = t.omega;
         let sc = kin.base_radius[0] * kin.working_pressure_angle.tan();
@@ -399,7 +491,7 @@ fn velocities_and_curvature() {
 /// (f) Corner contact before the start and after the end of the path (spur).
 #[test]
 fn corner_contact() {
-    let t = tca(SPUR, 3, [None, None], TcaSettings::default());
+    let t = tca(SPUR, 3, [None, None], Case::default());
     let kin = t.kinematics().clone();
     // tooth 1 engages one pitch after the middle pair (tooth 2 still in
     // mesh before its start), tooth 3 leaves one pitch before it
@@ -470,7 +562,7 @@ fn corner_contact() {
         SPUR,
         3,
         [None, None],
-        TcaSettings {
+        Case {
             extension_mm: 0.0,
             ..Default::default()
         },
@@ -481,7 +573,7 @@ fn corner_contact() {
 
 #[test]
 fn across_grid_and_speed() {
-    let s = TcaSettings {
+    let s = Case {
         points_per_line: 10,
         points_across: 3,
         across_spacing_mm: 0.2,
@@ -504,7 +596,7 @@ fn across_grid_and_speed() {
             scene,
             teeth,
             [Some(modification(scene, 0, &m)), None],
-            TcaSettings {
+            Case {
                 points_per_line: 50,
                 misalignment_rad: [1e-4, 0.0],
                 ..Default::default()
@@ -536,55 +628,55 @@ fn across_grid_and_speed() {
 #[test]
 fn bad_input() {
     let pr = pair(SPUR);
-    let ok = TcaSettings::default();
+    let ok = Case::default();
     let bad = [
-        TcaSettings {
+        Case {
             misalignment_rad: [f64::NAN, 0.0],
             ..ok.clone()
         },
-        TcaSettings {
+        Case {
             misalignment_rad: [0.0, 0.2],
             ..ok.clone()
         },
-        TcaSettings {
+        Case {
             centre_distance_error_mm: f64::INFINITY,
             ..ok.clone()
         },
-        TcaSettings {
+        Case {
             centre_distance_error_mm: 20.0,
             ..ok.clone()
         },
-        TcaSettings {
+        Case {
             points_per_line: 1,
             ..ok.clone()
         },
-        TcaSettings {
+        Case {
             points_across: 0,
             ..ok.clone()
         },
-        TcaSettings {
+        Case {
             points_across: 3,
             across_spacing_mm: 0.0,
             ..ok.clone()
         },
-        TcaSettings {
+        Case {
             extension_mm: -1.0,
             ..ok.clone()
         },
     ];
     for s in bad {
-        let e = Tca::new(&pr, [None, None], 3, 1000.0, s.clone()).unwrap_err();
+        let e = build(&pr, [None, None], 3, 1000.0, s.clone()).unwrap_err();
         eprintln!("{e}");
         assert!(matches!(e, FlankError::Model(_)), "{s:?}");
     }
-    assert!(Tca::new(&pr, [None, None], 0, 1000.0, ok.clone()).is_err());
-    assert!(Tca::new(&pr, [None, None], 14, 1000.0, ok.clone()).is_err());
-    assert!(Tca::new(&pr, [None, None], 3, -1.0, ok.clone()).is_err());
-    assert!(Tca::new(&pr, [None, None], 3, f64::NAN, ok.clone()).is_err());
+    assert!(build(&pr, [None, None], 0, 1000.0, ok.clone()).is_err());
+    assert!(build(&pr, [None, None], 14, 1000.0, ok.clone()).is_err());
+    assert!(build(&pr, [None, None], 3, -1.0, ok.clone()).is_err());
+    assert!(build(&pr, [None, None], 3, f64::NAN, ok.clone()).is_err());
     // a modification of the other gear
     let m = modification(SPUR, 1, &MicroGeometry::default());
-    assert!(Tca::new(&pr, [Some(m), None], 3, 1000.0, ok.clone()).is_err());
-    let t = Tca::new(&pr, [None, None], 3, 1000.0, ok).unwrap();
+    assert!(build(&pr, [Some(m), None], 3, 1000.0, ok.clone()).is_err());
+    let t = build(&pr, [None, None], 3, 1000.0, ok).unwrap();
     assert!(t.position(f64::NAN).is_err());
     // far outside the sector's engagement: no pair in mesh
     let e = t.position(3.0).unwrap_err();

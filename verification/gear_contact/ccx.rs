@@ -355,7 +355,7 @@ fn compare(penalty_factor: f64) {
         c.pair.nodes,
         c.pair.model.mesh.elements.len()
     );
-    let (lpstc, hpstc) = c.kin.single_contact();
+    let (lpstc, hpstc) = c.gear_pair.single_contact();
     let single = 0.5 * (lpstc + hpstc).to_degrees();
     let mut rows = Vec::new();
     for (name, roll) in [("double", -6.0), ("single", single)] {

@@ -39,7 +39,7 @@ use std::path::Path;
 
 use flank::compliance::body::BodyMeshOptions;
 use flank::contact::{solve_contact, ContactOptions};
-use flank::mesh_cycle::kinematics::MeshKinematics;
+use flank::geometry::cylindrical::MeshKinematics;
 use flank::mesh_cycle::run::{MeshCycle, RunSettings};
 use flank::mesh_cycle::{ContactLaw, SlaveBody};
 use flank::scene::{read_scene, ElementKind, Scene};
@@ -86,7 +86,7 @@ fn frames_equilibrium_and_single_contact() {
     let m = mesh(1.0, 2.0);
     let c = cycle(&m, settings(ContactLaw::Hard, 1.0, SlaveBody::Pinion));
     let nominal = c.nominal_force();
-    let (lpstc, hpstc) = c.kin.single_contact();
+    let (lpstc, hpstc) = c.gear_pair.single_contact();
     let single = 0.5 * (lpstc + hpstc).to_degrees();
     for roll in [-6.0, single] {
         let own = c.solve(roll).unwrap();
@@ -127,7 +127,7 @@ fn frames_equilibrium_and_single_contact() {
         assert!(total > 0.9 * nominal && total < 1.1 * nominal);
     }
     let s = c.solve(single).unwrap();
-    let mid = c.kin.middle - 1;
+    let mid = c.gear_pair.middle() - 1;
     let loaded: Vec<bool> = (0..3).map(|p| c.loaded(&s.step, p)).collect();
     assert_eq!(
         loaded,
@@ -217,8 +217,10 @@ const LTCA_CONTACT_RATIO: f64 = 1.711;
 #[test]
 fn coarse_mesh_cycle() {
     let sc = scene();
-    let kin = MeshKinematics::new(&sc.pair, 3).unwrap();
-    let angles = flank::mesh_cycle::run::default_roll_angles(&kin, 2.0);
+    let angles = flank::mesh_cycle::run::default_roll_angles(
+        &flank::geometry::cylindrical::CylindricalPair::new(&sc.pair, [None, None], 3).unwrap(),
+        2.0,
+    );
     let out = std::env::temp_dir().join(format!("flank_gear_contact_{}", std::process::id()));
     let options = flank::mesh_cycle::RunOptions {
         out: out.clone(),
@@ -343,7 +345,7 @@ fn helical_pair_carries_the_torque() {
     )
     .unwrap();
     let nominal = c.nominal_force();
-    let bb = c.kin.base_helix_angle;
+    let bb = MeshKinematics::new(&sc.pair, 3).unwrap().base_helix_angle;
     assert!(
         (bb.to_degrees() - 18.75).abs() < 0.05,
         "β_b = {}",
@@ -361,7 +363,7 @@ fn helical_pair_carries_the_torque() {
         );
         assert!((total / nominal - 1.0).abs() < 0.01);
         assert!(s.te_urad > 0.0 && s.equilibrium < 1e-10);
-        let p = &s.patch[c.kin.middle - 1];
+        let p = &s.patch[c.gear_pair.middle() - 1];
         assert!(p.closed_nodes > 0);
         z_mid.push(0.5 * (p.z_min_mm + p.z_max_mm));
     }

@@ -110,8 +110,8 @@ fn check(r: &PositionResult, what: &str) {
 /// Roll angles (deg): early double contact, single contact, late double
 /// contact, and the two ends of the kinematic engagement of the middle pair.
 fn angles(c: &LtcaCycle) -> Vec<f64> {
-    let (a, e) = c.kin.engagement(c.kin.middle);
-    let (l, h) = c.kin.single_contact();
+    let (a, e) = c.pair.engagement(c.pair.middle());
+    let (l, h) = c.pair.single_contact();
     vec![
         a.to_degrees() + 1.0,
         0.5 * (a + l).to_degrees(),
@@ -131,7 +131,7 @@ fn against_fe(scene: &Scene, c: &LtcaCycle, roll: &[f64]) -> (f64, f64) {
         quiet: true,
         ..Default::default()
     };
-    let s = settings(scene, &c.kin, &o).unwrap();
+    let s = settings(scene, c.pair.as_ref(), &o).unwrap();
     let fe = MeshCycle::new(scene, &mesh(), s, 0).unwrap();
     println!(
         "roll (deg) | FE shares | LTCA shares | FE TE (µrad) | LTCA TE | LTCA ms (cells, F, H, QP)"

@@ -24,8 +24,8 @@
 
 use std::f64::consts::PI;
 
-use crate::contact::placement::Frame;
 use crate::error::FlankError;
+use crate::geometry::frame::Frame;
 use crate::geometry::involute::inv;
 use crate::geometry::pair::check_pair;
 use crate::geometry::rack::ToothProfile;

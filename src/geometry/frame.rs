@@ -1,0 +1,62 @@
+//! Rigid frames: where a body meshed (or described) in its own frame sits.
+//!
+//! A gear body's surfaces, mesh and stiffness live in the body's own frame
+//! (the frame that turns with it); an assembly places each body by a frame,
+//! x_global = R x + t. Defined here, at the bottom of the layers, because
+//! the geometry (gear-pair kinematics) and the analyses above it (FE
+//! contact, TCA, LTCA) all place bodies the same way.
+
+/// A rigid frame: x_global = rotation · x + translation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frame {
+    /// Row-major 3 × 3 rotation matrix.
+    pub rotation: [[f64; 3]; 3],
+    pub translation: [f64; 3],
+}
+
+impl Frame {
+    pub const IDENTITY: Frame = Frame {
+        rotation: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        translation: [0.0; 3],
+    };
+
+    /// Rotation by `angle` (rad, counter-clockwise seen from +z) about the
+    /// z axis, then a translation.
+    pub fn about_z(angle: f64, translation: [f64; 3]) -> Frame {
+        let (s, c) = angle.sin_cos();
+        Frame {
+            rotation: [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]],
+            translation,
+        }
+    }
+
+    /// R v.
+    pub fn rotate(&self, v: [f64; 3]) -> [f64; 3] {
+        let r = &self.rotation;
+        [
+            r[0][0] * v[0] + r[0][1] * v[1] + r[0][2] * v[2],
+            r[1][0] * v[0] + r[1][1] * v[1] + r[1][2] * v[2],
+            r[2][0] * v[0] + r[2][1] * v[1] + r[2][2] * v[2],
+        ]
+    }
+
+    /// Rᵀ v (a global vector in the body's own frame).
+    pub fn rotate_back(&self, v: [f64; 3]) -> [f64; 3] {
+        let r = &self.rotation;
+        [
+            r[0][0] * v[0] + r[1][0] * v[1] + r[2][0] * v[2],
+            r[0][1] * v[0] + r[1][1] * v[1] + r[2][1] * v[2],
+            r[0][2] * v[0] + r[1][2] * v[1] + r[2][2] * v[2],
+        ]
+    }
+
+    /// R x + t.
+    pub fn place(&self, x: [f64; 3]) -> [f64; 3] {
+        let y = self.rotate(x);
+        [
+            y[0] + self.translation[0],
+            y[1] + self.translation[1],
+            y[2] + self.translation[2],
+        ]
+    }
+}
