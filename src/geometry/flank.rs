@@ -453,6 +453,55 @@ impl FlankSurface {
     }
 }
 
+/// The involute flank behind the gear-pair interface: every method is the
+/// inherent one of [`FlankSurface`] (u the roll angle, v = z), and the
+/// profile length is closed-form: ds = r_b u du (the involute's arc, |P_u|
+/// of the helicoid).
+impl crate::geometry::surface::ToothSurface for FlankSurface {
+    fn u_range(&self) -> (f64, f64) {
+        FlankSurface::u_range(self)
+    }
+    fn v_range(&self) -> (f64, f64) {
+        FlankSurface::v_range(self)
+    }
+    fn u_tip(&self, _v: f64) -> f64 {
+        FlankSurface::u_tip(self)
+    }
+    fn u_form(&self, _v: f64) -> f64 {
+        FlankSurface::u_form(self)
+    }
+    fn u_root(&self, _v: f64) -> f64 {
+        FlankSurface::u_root(self)
+    }
+    fn point(&self, u: f64, v: f64) -> V3 {
+        FlankSurface::point(self, u, v)
+    }
+    fn normal(&self, u: f64, v: f64) -> V3 {
+        FlankSurface::normal(self, u, v)
+    }
+    fn derivatives(&self, u: f64, v: f64) -> (V3, V3) {
+        FlankSurface::derivatives(self, u, v)
+    }
+    fn evaluate(&self, u: f64, v: f64) -> (V3, V3, V3, V3) {
+        FlankSurface::evaluate(self, u, v)
+    }
+    fn tip_edge(&self, v: f64) -> V3 {
+        FlankSurface::tip_edge(self, v)
+    }
+    fn closest_point(&self, p: V3) -> (f64, f64, f64) {
+        FlankSurface::closest_point(self, p)
+    }
+    fn closest_point_from(&self, p: V3, u0: f64, v0: f64) -> (f64, f64, f64) {
+        FlankSurface::closest_point_from(self, p, u0, v0)
+    }
+    fn profile_length(&self, du: f64, u: f64, _v: f64) -> f64 {
+        du * self.profile().geometry.base_radius * u.max(1e-3)
+    }
+    fn profile_step(&self, length: f64, u: f64, _v: f64) -> f64 {
+        length / (self.profile().geometry.base_radius * u.max(1e-3))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::micro::test_gears::gear;
@@ -778,54 +827,5 @@ mod tests {
         let e = FlankSurface::new(tp.clone(), Flank::Left, 1, Some(fm)).unwrap_err();
         assert!(e.to_string().contains("another gear"), "{e}");
         let _ = u_sap;
-    }
-}
-
-/// The involute flank behind the gear-pair interface: every method is the
-/// inherent one of [`FlankSurface`] (u the roll angle, v = z), and the
-/// profile length is closed-form: ds = r_b u du (the involute's arc, |P_u|
-/// of the helicoid).
-impl crate::geometry::surface::ToothSurface for FlankSurface {
-    fn u_range(&self) -> (f64, f64) {
-        FlankSurface::u_range(self)
-    }
-    fn v_range(&self) -> (f64, f64) {
-        FlankSurface::v_range(self)
-    }
-    fn u_tip(&self, _v: f64) -> f64 {
-        FlankSurface::u_tip(self)
-    }
-    fn u_form(&self, _v: f64) -> f64 {
-        FlankSurface::u_form(self)
-    }
-    fn u_root(&self, _v: f64) -> f64 {
-        FlankSurface::u_root(self)
-    }
-    fn point(&self, u: f64, v: f64) -> V3 {
-        FlankSurface::point(self, u, v)
-    }
-    fn normal(&self, u: f64, v: f64) -> V3 {
-        FlankSurface::normal(self, u, v)
-    }
-    fn derivatives(&self, u: f64, v: f64) -> (V3, V3) {
-        FlankSurface::derivatives(self, u, v)
-    }
-    fn evaluate(&self, u: f64, v: f64) -> (V3, V3, V3, V3) {
-        FlankSurface::evaluate(self, u, v)
-    }
-    fn tip_edge(&self, v: f64) -> V3 {
-        FlankSurface::tip_edge(self, v)
-    }
-    fn closest_point(&self, p: V3) -> (f64, f64, f64) {
-        FlankSurface::closest_point(self, p)
-    }
-    fn closest_point_from(&self, p: V3, u0: f64, v0: f64) -> (f64, f64, f64) {
-        FlankSurface::closest_point_from(self, p, u0, v0)
-    }
-    fn profile_length(&self, du: f64, u: f64, _v: f64) -> f64 {
-        du * self.profile().geometry.base_radius * u.max(1e-3)
-    }
-    fn profile_step(&self, length: f64, u: f64, _v: f64) -> f64 {
-        length / (self.profile().geometry.base_radius * u.max(1e-3))
     }
 }
