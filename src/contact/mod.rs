@@ -28,7 +28,9 @@
 //! separately from the mesh).
 
 pub mod active_set;
-pub mod definition;
+/// The contact definition is model data (surfaces, interactions, pairs as
+/// a deck states them): it lives with the model in [`crate::fem`].
+pub use crate::fem::contact_definition as definition;
 pub mod floating;
 pub mod friction;
 pub mod pairing;

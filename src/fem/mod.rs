@@ -3,10 +3,13 @@
 //! `element` (shape functions, quadrature, element stiffness) →
 //! `assembly` (CSC pattern once, numeric passes) → `constraints`
 //! (Dirichlet elimination, rigid hub coupling) → `solver` (ordering,
-//! sparse Cholesky) → `stress` (recovery at nodes).
+//! sparse Cholesky) → `stress` (recovery at nodes). `model` holds what a
+//! deck defines, `contact_definition` its contact surfaces and pairs (the
+//! contact *solution* is [`crate::contact`]'s).
 
 pub mod assembly;
 pub mod constraints;
+pub mod contact_definition;
 pub mod element;
 pub mod loads;
 pub mod material;

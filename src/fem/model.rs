@@ -85,7 +85,7 @@ pub struct Model {
     pub pressures: Vec<Pressure>,
     pub couplings: Vec<RigidCoupling>,
     /// Contact surfaces, interactions and pairs (empty: no contact).
-    pub contact: crate::contact::ContactDefinition,
+    pub contact: crate::fem::contact_definition::ContactDefinition,
 }
 
 impl Model {

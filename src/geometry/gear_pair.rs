@@ -73,18 +73,8 @@ pub trait GearBody: Debug + Send + Sync {
     fn blank(&self) -> Blank;
     /// The concrete type, for the parts of flank that need more than the
     /// surfaces (the structured cylindrical mesher needs the transverse
-    /// section).
-    fn family(&self) -> GearFamily<'_>;
-}
-
-/// The concrete gear types behind [`GearBody`].
-#[derive(Clone, Copy, Debug)]
-pub enum GearFamily<'a> {
-    /// Spur or helical (rack-generated involute).
-    Cylindrical(&'a crate::geometry::cylindrical::CylindricalGear),
-    /// Any other implementation (tests, future types) that offers only the
-    /// surfaces.
-    Other,
+    /// section): `body.as_any().downcast_ref::<CylindricalGear>()`.
+    fn as_any(&self) -> &dyn std::any::Any;
 }
 
 /// Relative position of the two axes (mm, rad).

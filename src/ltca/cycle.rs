@@ -372,7 +372,7 @@ pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, Fl
         .map(|p| forces.iter().map(|f| f[p]).collect())
         .collect();
     let te: Vec<f64> = results.iter().map(|r| r.te_urad).collect();
-    let plots = crate::mesh_cycle::plot::plot_cycle(
+    let plots = crate::report::cycle_plot::plot_cycle(
         out,
         "ltca_",
         &angles,

@@ -22,10 +22,10 @@
 //! node count (CalculiX sizes its arrays by the largest label: keep them
 //! small); element labels likewise.
 
-use crate::contact::{
+use crate::error::FlankError;
+use crate::fem::contact_definition::{
     ContactDefinition, ContactPair, PressureOverclosure, Surface, SurfaceInteraction, SurfaceKind,
 };
-use crate::error::FlankError;
 use crate::fem::material::Material;
 use crate::fem::model::{Dirichlet, Model, Pressure};
 use crate::mesh::structured::{box_faces, box_mesh, map_nodes, BoxElement};

@@ -64,11 +64,11 @@ use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use crate::contact::definition::{
+use crate::error::{FlankError, Result};
+use crate::fem::contact_definition::{
     ContactDefinition, ContactPair, Friction, PressureOverclosure, Surface, SurfaceInteraction,
     SurfaceKind,
 };
-use crate::error::{FlankError, Result};
 use crate::fem::material::Material;
 use crate::fem::model::{Dirichlet, Model, NodalForce, Pressure, RigidCoupling};
 use crate::mesh::ElementKind;

@@ -10,11 +10,13 @@
 //!             condensed contact problem; force per pair, load sharing,
 //!             transmission error, pressure, patch; contact ratio,
 //!             single-pair force; CSV, summary.json, VTU, plots
-//! plot        force per tooth and transmission error against roll angle
+//!             (`report::cycle_plot`)
 //! ```
+//!
+//! The pair's kinematics (frames, tooth pairs, kinematic contact) come
+//! from the gear-pair interface ([`crate::geometry::gear_pair`]).
 
 pub mod pair_model;
-pub mod plot;
 pub mod run;
 
 pub use pair_model::SlaveBody;

@@ -761,9 +761,17 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
     let te_mean = te.iter().sum::<f64>() / te.len().max(1) as f64;
     let te_pp = te.iter().fold(f64::NEG_INFINITY, |a, &v| a.max(v))
         - te.iter().fold(f64::INFINITY, |a, &v| a.min(v));
-    let plot_files = crate::mesh_cycle::plot::plot_mesh_cycle(
+    let roll_deg: Vec<f64> = steps.iter().map(|s| s.roll_deg).collect();
+    let pair_forces: Vec<Vec<f64>> = (0..cycle.pair.teeth.len())
+        .map(|p| steps.iter().map(|s| s.pair_force_n[p]).collect())
+        .collect();
+    let te_series: Vec<f64> = steps.iter().map(|s| s.te_urad).collect();
+    let plot_files = crate::report::cycle_plot::plot_cycle(
         out,
-        &steps,
+        "",
+        &roll_deg,
+        &pair_forces,
+        &te_series,
         &cycle.pair.teeth,
         nominal,
         cycle.gear_pair.transmission_error_radius(),

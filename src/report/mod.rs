@@ -1,4 +1,5 @@
-//! Output: VTU, CSV and JSON writers.
+//! Output: VTU, CSV and JSON writers, the plots shared by the analyses.
+pub mod cycle_plot;
 pub mod figure;
 pub mod solution;
 pub mod vtu;

@@ -14,8 +14,7 @@ use std::sync::Arc;
 
 use flank::geometry::frame::Frame;
 use flank::geometry::gear_pair::{
-    Assembly, Blank, ContactSeed, Flank, GearBody, GearFamily, GearPair, KinematicLine, LineKind,
-    Misalignment,
+    Assembly, Blank, ContactSeed, Flank, GearBody, GearPair, KinematicLine, LineKind, Misalignment,
 };
 use flank::geometry::surface::{principal_curvatures, ToothSurface};
 use flank::tca::{Tca, TcaSettings};
@@ -107,13 +106,13 @@ impl ToothSurface for Pin {
 
 /// A one-tooth sector of a body whose right flank is `flank`.
 #[derive(Debug)]
-struct Body<S: ToothSurface> {
+struct Body<S: ToothSurface + 'static> {
     name: &'static str,
     teeth: u32,
     flank: S,
 }
 
-impl<S: ToothSurface> GearBody for Body<S> {
+impl<S: ToothSurface + 'static> GearBody for Body<S> {
     fn name(&self) -> &str {
         self.name
     }
@@ -137,8 +136,8 @@ impl<S: ToothSurface> GearBody for Body<S> {
             axial_range: (0.0, B),
         }
     }
-    fn family(&self) -> GearFamily<'_> {
-        GearFamily::Other
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
     }
 }
 
@@ -331,7 +330,12 @@ fn tca_of_a_plane_against_a_pin() {
         for (i, q) in line.points.iter().enumerate() {
             let z = B * (i as f64 + 0.5) / 6.0;
             let e = exact(&pair, roll, z);
-            check(&format!("roll {roll:+.2}: separation w (mm)"), q.separation_mm, e.w, 1e-11);
+            check(
+                &format!("roll {roll:+.2}: separation w (mm)"),
+                q.separation_mm,
+                e.w,
+                1e-11,
+            );
             check("moment arm r (mm)", q.moment_arm_mm, e.arm, 1e-11);
             check("pinion flank u (mm)", q.pinion_uv[0], e.arm, 1e-11);
             check("width (mm)", q.width_mm, B / 6.0, 1e-12);
@@ -346,19 +350,44 @@ fn tca_of_a_plane_against_a_pin() {
             }
             assert!(q.curvature_radius[0].is_infinite(), "plane: ρ₁ = ∞");
             check("pin radius ρ₂ (mm)", q.curvature_radius[1], RHO, 1e-6 * RHO);
-            check("equivalent radius (mm)", q.equivalent_radius_mm, RHO, 1e-6 * RHO);
+            check(
+                "equivalent radius (mm)",
+                q.equivalent_radius_mm,
+                RHO,
+                1e-6 * RHO,
+            );
             // v_t1 = 0: the plane's points move along its normal
             let [vt1, vt2] = e.v_t;
-            check("sliding v_t1 − v_t2 (m/s)", q.sliding_velocity, vt1 - vt2, 1e-9);
-            check("rolling (v_t1 + v_t2)/2 (m/s)", q.rolling_velocity, 0.5 * (vt1 + vt2), 1e-9);
+            check(
+                "sliding v_t1 − v_t2 (m/s)",
+                q.sliding_velocity,
+                vt1 - vt2,
+                1e-9,
+            );
+            check(
+                "rolling (v_t1 + v_t2)/2 (m/s)",
+                q.rolling_velocity,
+                0.5 * (vt1 + vt2),
+                1e-9,
+            );
             check("sum v_t1 + v_t2 (m/s)", q.sum_velocity, vt1 + vt2, 1e-9);
             te = te.min(e.w / e.arm);
         }
-        check(&format!("roll {roll:+.2}: unloaded TE (rad)"), p.unloaded_te_rad, te, 1e-12);
+        check(
+            &format!("roll {roll:+.2}: unloaded TE (rad)"),
+            p.unloaded_te_rad,
+            te,
+            1e-12,
+        );
     }
     // the interface's own figures agree with the closed forms
     let q = principal_curvatures(&pair.gear.flank, 1.0, 3.0);
-    check("pin κ₁ from the fundamental forms", q.principal[0], 1.0 / RHO, 1e-7);
+    check(
+        "pin κ₁ from the fundamental forms",
+        q.principal[0],
+        1.0 / RHO,
+        1e-7,
+    );
     check("pin κ₂ (along the axis)", q.principal[1], 0.0, 1e-7);
     // the cycle's positions come from the pair's engagement and pitch
     let rolls = tca.roll_angles_for_cycle(4);

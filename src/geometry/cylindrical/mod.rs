@@ -43,8 +43,7 @@ use crate::error::FlankError;
 use crate::geometry::flank::FlankSurface;
 use crate::geometry::frame::Frame;
 use crate::geometry::gear_pair::{
-    Assembly, Blank, ContactSeed, Flank, GearBody, GearFamily, GearPair, KinematicLine, LineKind,
-    Misalignment,
+    Assembly, Blank, ContactSeed, Flank, GearBody, GearPair, KinematicLine, LineKind, Misalignment,
 };
 use crate::geometry::involute::{root_radius, tip_radius};
 use crate::geometry::micro::FlankModification;
@@ -185,8 +184,8 @@ impl GearBody for CylindricalGear {
             axial_range: (0.0, self.spec.face_width),
         }
     }
-    fn family(&self) -> GearFamily<'_> {
-        GearFamily::Cylindrical(self)
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
     }
 }
 

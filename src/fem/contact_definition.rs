@@ -34,7 +34,7 @@ pub enum PressureOverclosure {
     /// Penalty: pressure = slope × overclosure (MPa/mm); each slave node acts
     /// as a spring of stiffness slope × its tributary area. `slope = None`
     /// takes flank's automatic default (reported; see
-    /// [`crate::contact::pairing::default_penalty_slope`]). `tension` and
+    /// `contact::pairing::default_penalty_slope`). `tension` and
     /// `c0` are CalculiX's σ∞ and c₀ (kept for the deck round trip; flank
     /// has no tension at open contacts, which is their limit σ∞ → 0).
     Linear {

@@ -1,4 +1,4 @@
-//! Plots of a mesh cycle against roll angle (SVG and PNG, `plotters`):
+//! Plots of a mesh cycle (FE contact or LTCA) against roll angle (SVG and PNG, `plotters`):
 //! normal force per tooth pair with the total normal force T/(r_b1 cos β_b)
 //! (seed 002's Figure 4), and the loaded transmission error. Text needs a
 //! font found at run time, as for the compliance plots.
@@ -9,7 +9,6 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::error::FlankError;
-use crate::mesh_cycle::run::StepResult;
 use crate::report::figure::{font_available, write_svg_png, Figure};
 
 /// One curve: label, colour index, points.
@@ -29,25 +28,10 @@ struct Chart<'a> {
     reference: Option<(f64, String)>,
 }
 
-/// Writes `force_per_tooth.{svg,png}` and `transmission_error.{svg,png}`
-/// into `out`; returns the file names.
-pub fn plot_mesh_cycle(
-    out: &Path,
-    steps: &[StepResult],
-    teeth: &[(usize, usize)],
-    nominal_force: f64,
-    base_radius: f64,
-) -> Result<Vec<String>, FlankError> {
-    let x: Vec<f64> = steps.iter().map(|s| s.roll_deg).collect();
-    let forces: Vec<Vec<f64>> = (0..teeth.len())
-        .map(|p| steps.iter().map(|s| s.pair_force_n[p]).collect())
-        .collect();
-    let te: Vec<f64> = steps.iter().map(|s| s.te_urad).collect();
-    plot_cycle(out, "", &x, &forces, &te, teeth, nominal_force, base_radius)
-}
-
-/// [`plot_mesh_cycle`] from series: roll angles (deg), the normal force of
-/// each tooth pair (N) and the TE (µrad) at them; file names get `prefix`.
+/// Writes `<prefix>force_per_tooth.{svg,png}` and
+/// `<prefix>transmission_error.{svg,png}` into `out` from series: roll
+/// angles (deg), the normal force of each tooth pair (N) and the TE (µrad)
+/// at them (FE contact and LTCA alike); returns the file names.
 #[allow(clippy::too_many_arguments)]
 pub fn plot_cycle(
     out: &Path,
