@@ -38,8 +38,8 @@ fn pinion(flank_size: f64, base_size: f64) -> (Model, FlankNodes) {
         with_load: false,
         element: Some(flank::scene::ElementKind::Hex20),
     };
-    let (body, spec) = scene_body(&scene, "pinion", &o).unwrap();
-    let flank = body_flank_nodes(&body, spec, FlankSelection::Loaded).unwrap();
+    let body = scene_body(&scene, "pinion", &o).unwrap();
+    let flank = body_flank_nodes(&body, FlankSelection::Loaded).unwrap();
     (body.model, flank)
 }
 

@@ -43,8 +43,8 @@ fn seed002_compliance_checks() {
         ("pinion", ElementKind::Hex20),
         ("gear", ElementKind::Wedge15),
     ] {
-        let (body, spec) = scene_body(&scene, body_name, &coarse(element)).unwrap();
-        let flank = body_flank_nodes(&body, spec, FlankSelection::Loaded).unwrap();
+        let body = scene_body(&scene, body_name, &coarse(element)).unwrap();
+        let flank = body_flank_nodes(&body, FlankSelection::Loaded).unwrap();
         let (t, stats) = compliance_tensor(
             body_name,
             &body.model,

@@ -3,11 +3,11 @@
 
 use crate::compliance::{FlankNodes, FlankSelection};
 use crate::error::FlankError;
+use crate::geometry::cylindrical::CylindricalGear;
+use crate::geometry::gear_pair::{Flank, GearBody};
 use crate::geometry::involute::base_radius;
-use crate::geometry::rack::{Flank, ToothProfile};
-use crate::geometry::GearSpec;
-use crate::mesh::gear_body::{gear_body, GearBody};
-use crate::mesh::gear_sector::{flank_segment, SectorOptions};
+use crate::mesh::gear_body::{body_model, BodyModel, Mesher};
+use crate::mesh::gear_sector::SectorOptions;
 use crate::mesh::Mesh;
 use crate::scene::{ElementKind, Scene};
 use std::collections::HashMap;
@@ -54,15 +54,15 @@ pub fn sector_options(scene: &Scene, o: &BodyMeshOptions) -> Result<SectorOption
 /// applied (`name` = "pinion" or "gear"). The exact normals of
 /// [`body_flank_nodes`] are those of the unmodified flank: modifications
 /// tilt it by their slope, micrometres over millimetres.
-pub fn scene_body<'s>(
-    scene: &'s Scene,
+pub fn scene_body(
+    scene: &Scene,
     name: &str,
     options: &BodyMeshOptions,
-) -> Result<(GearBody, &'s GearSpec), FlankError> {
+) -> Result<BodyModel, FlankError> {
     let report = crate::geometry::pair::check_pair(&scene.pair)?;
-    let (spec, material) = match name {
-        "pinion" => (&scene.pair.pinion, &scene.pinion_material),
-        "gear" => (&scene.pair.gear, &scene.gear_material),
+    let (spec, material, index) = match name {
+        "pinion" => (&scene.pair.pinion, &scene.pinion_material, 0),
+        "gear" => (&scene.pair.gear, &scene.gear_material, 1),
         other => {
             return Err(FlankError::Model(format!(
                 "unknown body '{other}' (pinion or gear)"
@@ -70,31 +70,29 @@ pub fn scene_body<'s>(
         }
     };
     let sector = sector_options(scene, options)?;
+    // the scene's gear behind the gear-pair interface, with its flank
+    // modification (applied to the flank nodes, as in `flank mesh`)
+    let [m1, m2] = scene.flank_modifications()?;
+    let modification = if index == 0 { m1 } else { m2 };
+    let gear = CylindricalGear::new(spec, name, sector.teeth, modification)?;
+    // the deck's nominal load of `flank mesh`: T/r_b1 at the working pitch
+    // radius r_b/cos α_wt (ISO 6336-1 single-pair normal force)
     let force = scene.load.torque_nmm / base_radius(&scene.pair.pinion);
     let cos_aw = report.working_pressure_angle_rad.cos();
     let load = (options.with_load && force > 0.0).then_some((force, base_radius(spec) / cos_aw));
-    let mut body = gear_body(spec, name, material, &sector, load)?;
-    // the scene's flank modifications move the flank nodes, as in `flank mesh`
-    let index = usize::from(name == "gear");
-    if let Some(m) = &scene.flank_modifications()?[index] {
-        body.modify_flanks(spec, m)?;
-    }
-    Ok((body, spec))
+    body_model(&gear, material, &sector, Mesher::Native, load)
 }
 
 /// The flank nodes of `selection` of a gear body, with the exact outward
-/// normals of the tooth surface (sector tooth k is the profile's tooth
-/// k − 1, rotated by −2π(k − 1)/z; see [`crate::mesh::gear_sector`]).
+/// normals of its nominal tooth surfaces ([`BodyModel::flank_normal`]).
 pub fn body_flank_nodes(
-    body: &GearBody,
-    spec: &GearSpec,
+    body: &BodyModel,
     selection: FlankSelection,
 ) -> Result<FlankNodes, FlankError> {
     flank_nodes_on(
         &body.model.mesh,
         &body.sector.flank_uv,
-        spec,
-        &body.name,
+        body.surfaces.as_ref(),
         selection,
     )
 }
@@ -105,10 +103,10 @@ pub fn body_flank_nodes(
 pub fn flank_nodes_on(
     mesh: &Mesh,
     flank_uv: &HashMap<usize, (f64, f64)>,
-    spec: &GearSpec,
-    name: &str,
+    surfaces: &dyn GearBody,
     selection: FlankSelection,
 ) -> Result<FlankNodes, FlankError> {
+    let name = surfaces.name();
     let teeth = (1..)
         .take_while(|k| mesh.node_sets.contains_key(&format!("FLANK_R{k}")))
         .count();
@@ -118,7 +116,6 @@ pub fn flank_nodes_on(
         )));
     }
     let sets = selection.set_names(teeth);
-    let profile = ToothProfile::new(spec, name)?;
     let parsed: Vec<(Flank, usize)> = sets
         .iter()
         .map(|s| {
@@ -133,17 +130,22 @@ pub fn flank_nodes_on(
         .collect();
     let normal = |set: usize, u: f64, v: f64| -> Result<[f64; 3], FlankError> {
         let (side, k) = parsed[set];
-        let n0 = profile.surface(side, flank_segment(&profile, u), v).n;
-        let a = -((k - 1) as f64) * profile.angular_pitch();
-        let (s, c) = a.sin_cos();
-        Ok([c * n0[0] - s * n0[1], s * n0[0] + c * n0[1], n0[2]])
+        let flank = surfaces.flank(side, k).ok_or_else(|| {
+            FlankError::Model(format!(
+                "{name}: the gear has no flank {side:?} of tooth {k}"
+            ))
+        })?;
+        Ok(flank.normal(u, v))
     };
     FlankNodes::from_mesh(mesh, &sets, flank_uv, Some(&normal))
 }
 
 /// The flank parameters of `body` re-keyed to the node indices of `mesh`
 /// (matched by node label), e.g. the body's deck read back.
-pub fn flank_uv_on(body: &GearBody, mesh: &Mesh) -> Result<HashMap<usize, (f64, f64)>, FlankError> {
+pub fn flank_uv_on(
+    body: &BodyModel,
+    mesh: &Mesh,
+) -> Result<HashMap<usize, (f64, f64)>, FlankError> {
     body.sector
         .flank_uv
         .iter()
@@ -174,7 +176,7 @@ mod tests {
             with_load: true,
             element: Some(ElementKind::Hex20),
         };
-        let (body, spec) = scene_body(&scene, "pinion", &o).unwrap();
+        let body = scene_body(&scene, "pinion", &o).unwrap();
         assert!(body.load.is_some());
         assert!(body
             .model
@@ -183,7 +185,7 @@ mod tests {
             .iter()
             .all(|e| e.kind == crate::mesh::ElementKind::C3D20));
         for sel in [FlankSelection::Loaded, FlankSelection::Left] {
-            let f = body_flank_nodes(&body, spec, sel).unwrap();
+            let f = body_flank_nodes(&body, sel).unwrap();
             assert_eq!(f.sets.len(), 3);
             assert!(!f.faces.is_empty());
             let mesh_normals = f.face_normals().unwrap();
@@ -198,14 +200,14 @@ mod tests {
         assert!(scene_body(&scene, "wheel", &o).is_err());
         // the scene's own element (seed 002: wedge15): quad8 flank faces, normals as well
         let o = BodyMeshOptions { element: None, ..o };
-        let (body, spec) = scene_body(&scene, "gear", &o).unwrap();
+        let body = scene_body(&scene, "gear", &o).unwrap();
         assert!(body
             .model
             .mesh
             .elements
             .iter()
             .all(|e| e.kind == crate::mesh::ElementKind::C3D15));
-        let f = body_flank_nodes(&body, spec, FlankSelection::Loaded).unwrap();
+        let f = body_flank_nodes(&body, FlankSelection::Loaded).unwrap();
         assert!(!f.faces.is_empty() && f.faces.iter().all(|x| x.nodes.len() == 8));
         let mesh_normals = f.face_normals().unwrap();
         for (a, b) in f.normals.iter().zip(&mesh_normals) {

@@ -152,7 +152,7 @@ pub fn body_tensor(
     out: &Path,
 ) -> Result<BodyTensor, FlankError> {
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
-    let (body, spec) = scene_body(scene, name, mesh)?;
+    let body = scene_body(scene, name, mesh)?;
     let deck = out.join(format!("{name}.inp"));
     crate::mesh::inp::write_deck(&body.model, &deck)?;
     // the tensors belong to the mesh of the deck as written (coordinates
@@ -160,7 +160,7 @@ pub fn body_tensor(
     let parsed = crate::mesh::inp::read_deck(&deck)?;
     let mut model = parsed.model;
     let uv = flank_uv_on(&body, &model.mesh)?;
-    let flank = flank_nodes_on(&model.mesh, &uv, spec, name, options.flanks)?;
+    let flank = flank_nodes_on(&model.mesh, &uv, body.surfaces.as_ref(), options.flanks)?;
     model.forces.clear();
     model.pressures.clear();
     if options.clamp_cuts {

@@ -11,11 +11,23 @@
 //! The sector comes from the native mesher or, with [`Mesher::Gmsh`] and the
 //! Cargo feature `gmsh`, from [`crate::mesh::gmsh`] (same node sets and
 //! flank parameters, so everything below is the same).
+//!
+//! [`body_model`] meshes a gear given through the gear-pair interface
+//! ([`crate::geometry::gear_pair::GearBody`]): it picks the mesher of the
+//! gear's type (spur/helical: the structured sector mesher, which works on
+//! the transverse section of [`CylindricalGear`]) and applies the gear's
+//! flank modification. The model keeps the nominal (unmodified) tooth
+//! surfaces for the exact normals at its flank nodes.
+
+use std::sync::Arc;
 
 use crate::error::FlankError;
 use crate::fem::material::Material;
 use crate::fem::model::{Dirichlet, Model, NodalForce};
+use crate::geometry::cylindrical::CylindricalGear;
+use crate::geometry::gear_pair::GearBody;
 use crate::geometry::rack::{Flank, ToothProfile};
+use crate::geometry::vec3::V3;
 use crate::geometry::GearSpec;
 use crate::mesh::gear_sector::{flank_segment, gear_sector, GearSectorMesh, SectorOptions};
 use crate::mesh::ElementKind;
@@ -56,15 +68,64 @@ pub fn mesh_sector(
 }
 
 /// A meshed, constrained, loaded gear body.
-pub struct GearBody {
+pub struct BodyModel {
     pub name: String,
     pub sector: GearSectorMesh,
     pub model: Model,
     /// The loaded node (index) and force vector, if a nominal load was applied.
     pub load: Option<(usize, [f64; 3])>,
+    /// The nominal (unmodified) tooth surfaces of the sector.
+    pub surfaces: Arc<dyn GearBody>,
 }
 
-impl GearBody {
+impl std::fmt::Debug for BodyModel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("BodyModel")
+            .field("name", &self.name)
+            .field("nodes", &self.model.mesh.node_count())
+            .field("load", &self.load)
+            .finish()
+    }
+}
+
+/// Meshes `body` (any gear type behind the interface) as `flank mesh`
+/// does: its type's sector mesher, the bore clamped, the nominal load if
+/// `normal_force` = (F, radius) is given (see [`gear_body_with`]), then its
+/// flank modification.
+pub fn body_model(
+    body: &dyn GearBody,
+    material: &Material,
+    options: &SectorOptions,
+    mesher: Mesher,
+    normal_force: Option<(f64, f64)>,
+) -> Result<BodyModel, FlankError> {
+    let name = body.name();
+    let Some(cyl) = body.as_any().downcast_ref::<CylindricalGear>() else {
+        return Err(FlankError::Model(format!(
+            "{name}: flank has no sector mesher for this gear type (spur and helical gears are meshed)"
+        )));
+    };
+    if cyl.sector_teeth() != options.teeth {
+        return Err(FlankError::Model(format!(
+            "{name}: the gear is a sector of {} teeth, the mesh asks for {}",
+            cyl.sector_teeth(),
+            options.teeth
+        )));
+    }
+    let mut model = gear_body_with(cyl.spec(), name, material, options, mesher, normal_force)?;
+    if let Some(m) = cyl.modification() {
+        model.modify_flanks(cyl.spec(), m)?;
+    }
+    Ok(model)
+}
+
+impl BodyModel {
+    /// Exact outward unit normal of the nominal flank `side` of sector tooth
+    /// `tooth` at the flank parameters (u, v) of a flank node.
+    pub fn flank_normal(&self, side: Flank, tooth: usize, u: f64, v: f64) -> Option<V3> {
+        self.surfaces.flank(side, tooth).map(|f| f.normal(u, v))
+    }
+
     /// Applies a flank modification (micro-geometry, measured profile) to the
     /// body's flank nodes, in the sector and in the model alike; see
     /// [`crate::mesh::gear_sector::modify_flanks`]. `spec` is the body's gear.
@@ -94,7 +155,7 @@ pub fn gear_body(
     material: &Material,
     options: &SectorOptions,
     normal_force: Option<(f64, f64)>,
-) -> Result<GearBody, FlankError> {
+) -> Result<BodyModel, FlankError> {
     gear_body_with(spec, name, material, options, Mesher::Native, normal_force)
 }
 
@@ -106,7 +167,7 @@ pub fn gear_body_with(
     options: &SectorOptions,
     mesher: Mesher,
     normal_force: Option<(f64, f64)>,
-) -> Result<GearBody, FlankError> {
+) -> Result<BodyModel, FlankError> {
     let sector = mesh_sector(spec, name, options, mesher)?;
     let mesh = sector.mesh.clone();
     let ne = mesh.elements.len();
@@ -174,10 +235,11 @@ pub fn gear_body_with(
         }
         load = Some((node, f));
     }
-    Ok(GearBody {
+    Ok(BodyModel {
         name: name.to_string(),
         sector,
         model,
         load,
+        surfaces: Arc::new(CylindricalGear::new(spec, name, options.teeth, None)?),
     })
 }

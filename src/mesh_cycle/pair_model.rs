@@ -16,7 +16,7 @@ use crate::contact::{
 use crate::error::FlankError;
 use crate::fem::model::{Dirichlet, Model, RigidCoupling};
 use crate::geometry::gear_pair::GearPair;
-use crate::mesh::gear_body::GearBody;
+use crate::mesh::gear_body::BodyModel;
 use crate::mesh::Mesh;
 use crate::scene::Scene;
 
@@ -101,8 +101,8 @@ pub fn pair_model(
         with_load: false,
         ..*mesh
     };
-    let (pinion, _) = scene_body(scene, "pinion", &options)?;
-    let (gear, _) = scene_body(scene, "gear", &options)?;
+    let pinion = scene_body(scene, "pinion", &options)?;
+    let gear = scene_body(scene, "gear", &options)?;
     combine(kin, &pinion, &gear, torque, law, slave)
 }
 
@@ -117,8 +117,8 @@ fn label_offset(max: u64) -> u64 {
 
 fn combine(
     kin: &dyn GearPair,
-    pinion: &GearBody,
-    gear: &GearBody,
+    pinion: &BodyModel,
+    gear: &BodyModel,
     torque: f64,
     law: PressureOverclosure,
     slave: SlaveBody,
