@@ -345,8 +345,8 @@ fn tca_of_a_plane_against_a_pin() {
                 e.foot[1] - 0.5 * e.w * roll.sin(),
                 z,
             ];
-            for k in 0..3 {
-                check("position (mm)", q.position[k], mid[k], 1e-10);
+            for (got, want) in q.position.iter().zip(mid) {
+                check("position (mm)", *got, want, 1e-10);
             }
             assert!(q.curvature_radius[0].is_infinite(), "plane: ρ₁ = ∞");
             check("pin radius ρ₂ (mm)", q.curvature_radius[1], RHO, 1e-6 * RHO);
