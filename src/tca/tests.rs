@@ -68,6 +68,17 @@ impl T {
     }
 }
 
+impl Case {
+    fn settings(&self) -> TcaSettings {
+        TcaSettings {
+            points_per_line: self.points_per_line,
+            points_across: self.points_across,
+            across_spacing_mm: self.across_spacing_mm,
+            extension_mm: self.extension_mm,
+        }
+    }
+}
+
 fn build(
     pr: &PairSpec,
     mods: [Option<FlankModification>; 2],
@@ -75,12 +86,7 @@ fn build(
     rpm: f64,
     s: Case,
 ) -> Result<T> {
-    let settings = TcaSettings {
-        points_per_line: s.points_per_line,
-        points_across: s.points_across,
-        across_spacing_mm: s.across_spacing_mm,
-        extension_mm: s.extension_mm,
-    };
+    let settings = s.settings();
     settings.validate()?;
     let cp = Arc::new(
         CylindricalPair::new(pr, mods, teeth)?
@@ -682,4 +688,41 @@ fn bad_input() {
     let e = t.position(3.0).unwrap_err();
     assert!(e.to_string().contains("no tooth pair"), "{e}");
     assert!(t.roll_angles_for_cycle(0).is_empty());
+}
+
+/// (h) Axial displacements ΔP, ΔG through the generic misalignment set:
+/// moving a helicoid along its axis by δ moves its surface along its normal
+/// by δ sin β_b (|n_z| = sin β_b), so a helical pair's separation becomes
+/// uniform ±(ΔG − ΔP) sin β_b; a spur pair's stays 0.
+#[test]
+fn axial_displacements() {
+    for (scene, teeth) in [(SPUR, 3), (HELICAL, 5)] {
+        let pr = pair(scene);
+        let m = crate::geometry::gear_pair::Misalignment {
+            pinion_axial_mm: -0.02,
+            gear_axial_mm: 0.03,
+            ..Default::default()
+        };
+        let cp = CylindricalPair::new(&pr, [None, None], teeth)
+            .unwrap()
+            .with_misalignment(m)
+            .unwrap();
+        let bb = cp.kinematics().base_helix_angle;
+        let t = Tca::new(Arc::new(cp), 3000.0, Case::default().settings()).unwrap();
+        let want = 0.05 * bb.sin();
+        let mut n = 0;
+        for roll in t.roll_angles_for_cycle(8) {
+            let p = t.position(roll).unwrap();
+            for q in flank_points(&p) {
+                assert!(
+                    (q.separation_mm.abs() - want).abs() < 1e-9,
+                    "{scene} roll {roll}: w = {} vs ±{want}",
+                    q.separation_mm
+                );
+                n += 1;
+            }
+        }
+        assert!(n > 100, "{scene}: {n} points");
+        eprintln!("{scene}: |w| = {want:.3e} mm at {n} points");
+    }
 }

@@ -604,3 +604,168 @@ impl GearPair for CylindricalPair {
         serde_json::to_value(&self.kin).unwrap_or_default()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::involute::{base_helix_angle, reference_radius};
+    use crate::geometry::surface::{normal_curvature, principal_curvatures};
+    use crate::geometry::vec3::{cross, norm, unit};
+    use crate::geometry::{Hand, RackProfile};
+
+    /// Seed 004's helical pinion (z 21, m_n 15 mm, α_n 20°, β 20°).
+    fn helical(teeth: u32) -> GearSpec {
+        GearSpec {
+            teeth,
+            normal_module: 15.0,
+            normal_pressure_angle: 20f64.to_radians(),
+            helix_angle: 20f64.to_radians(),
+            hand: Hand::Right,
+            face_width: 180.0,
+            profile_shift: 0.0,
+            rack: RackProfile::default(),
+            tip_diameter: None,
+            bore_diameter: 100.0,
+        }
+    }
+
+    /// The involute helicoid through the generic surface machinery: a
+    /// developable surface whose principal curvatures are cos β_b/ρ_t, in
+    /// the transverse direction e_roll = n × e_z, and 0 along the straight
+    /// generator (the contact line, inclined by β_b to the axis), ρ_t = r_b u
+    /// (Litvin & Fuentes, involute helical gears; the TCA's ρ_n = ρ_t/cos β_b).
+    #[test]
+    fn involute_curvatures_from_the_fundamental_forms() {
+        let spec = helical(21);
+        let g = CylindricalGear::new(&spec, "pinion", 3, None).unwrap();
+        let bb = base_helix_angle(&spec);
+        let rb = g.profile().geometry.base_radius;
+        for k in [1, 2] {
+            let f = g.flank(Flank::Right, k).unwrap();
+            let (u0, u1) = (f.u_form(0.0), f.u_tip(0.0));
+            for t in [0.2, 0.5, 0.9] {
+                let u = u0 + t * (u1 - u0);
+                let v = 60.0;
+                let n = f.normal(u, v);
+                let e = unit(cross(n, [0.0, 0.0, 1.0]));
+                let rho_t = rb * u;
+                let kn = normal_curvature(f, u, v, e);
+                let want = bb.cos() / rho_t;
+                assert!((kn - want).abs() < 1e-6 * want, "κ_n {kn} vs {want}");
+                let c = principal_curvatures(f, u, v);
+                let k1 = want;
+                assert!((dot(c.directions[0], e).abs() - 1.0).abs() < 1e-6);
+                assert!(
+                    (c.principal[0] - k1).abs() < 1e-6 * k1,
+                    "{:?} vs {k1}",
+                    c.principal
+                );
+                assert!(c.principal[1].abs() < 1e-6 * k1, "{:?}", c.principal);
+                let axial = c.directions[1][2].abs();
+                assert!((axial - bb.cos()).abs() < 1e-6, "generator: {axial}");
+            }
+        }
+    }
+
+    /// The tip edge is the helix on the tip cylinder: its tangent makes the
+    /// angle β_a with the axis, tan β_a = tan β r_a/r (ISO 21771).
+    #[test]
+    fn tip_edge_is_the_tip_helix() {
+        let spec = helical(21);
+        let g = CylindricalGear::new(&spec, "pinion", 1, None).unwrap();
+        let f = g.flank(Flank::Right, 1).unwrap();
+        let ra = tip_radius(&spec);
+        let beta_a = (spec.helix_angle.tan() * ra / reference_radius(&spec)).atan();
+        for v in [0.0, 45.0, 180.0] {
+            let x = f.tip_edge(v);
+            assert!(((x[0] * x[0] + x[1] * x[1]).sqrt() - ra).abs() < 1e-9);
+            let t = f.tip_edge_tangent(v);
+            assert!((norm(t) - 1.0).abs() < 1e-12);
+            assert!(
+                (t[2] - beta_a.cos()).abs() < 1e-9,
+                "{t:?} vs cos β_a {}",
+                beta_a.cos()
+            );
+        }
+    }
+
+    /// The misalignment set and the plane-of-action form convert both ways;
+    /// out-of-range values are errors naming the value.
+    #[test]
+    fn misalignment_conversions() {
+        let pinion = helical(21);
+        let gear = helical(37);
+        let gear = GearSpec {
+            hand: Hand::Left,
+            ..gear
+        };
+        let spec = PairSpec {
+            pinion,
+            gear,
+            centre_distance: 0.5 * 15.0 * 58.0 / 20f64.to_radians().cos(),
+        };
+        let spec = crate::geometry::pair::with_gear_shift_for_centre_distance(&spec).unwrap();
+        let m = Misalignment {
+            offset_error_mm: 0.05,
+            pinion_axial_mm: 0.0,
+            gear_axial_mm: 0.3,
+            shaft_angle_error_rad: 2e-4,
+            out_of_plane_tilt_rad: -1e-4,
+        };
+        let p = CylindricalPair::new(&spec, [None, None], 3)
+            .unwrap()
+            .with_misalignment(m)
+            .unwrap();
+        let back = p.misalignment();
+        assert!((back.shaft_angle_error_rad - m.shaft_angle_error_rad).abs() < 1e-18);
+        assert!((back.out_of_plane_tilt_rad - m.out_of_plane_tilt_rad).abs() < 1e-18);
+        assert_eq!(back.offset_error_mm, 0.05);
+        assert_eq!(back.gear_axial_mm, 0.3);
+        let ([gb, gd], da) = p.plane_of_action_misalignment();
+        let a = p.kinematics().working_pressure_angle;
+        assert!((gb - (-1e-4 * a.cos() + 2e-4 * a.sin())).abs() < 1e-18);
+        assert!((gd - (1e-4 * a.sin() + 2e-4 * a.cos())).abs() < 1e-18);
+        assert_eq!(da, 0.05);
+        // ΔP, ΔG move the frames along the axes
+        let aligned = CylindricalPair::new(&spec, [None, None], 3).unwrap();
+        let shifted = aligned
+            .clone()
+            .with_misalignment(Misalignment {
+                pinion_axial_mm: -0.2,
+                gear_axial_mm: 0.3,
+                ..Default::default()
+            })
+            .unwrap();
+        let [a1, a2] = aligned.frames(0.1);
+        let [s1, s2] = shifted.frames(0.1);
+        assert_eq!(sub(s1.translation, a1.translation), [0.0, 0.0, -0.2]);
+        let d = sub(s2.translation, a2.translation);
+        assert!(norm(sub(d, [0.0, 0.0, 0.3])) < 1e-15, "{d:?}");
+        for bad in [
+            Misalignment {
+                shaft_angle_error_rad: 0.1,
+                ..Default::default()
+            },
+            Misalignment {
+                gear_axial_mm: f64::NAN,
+                ..Default::default()
+            },
+            Misalignment {
+                offset_error_mm: 1e3,
+                ..Default::default()
+            },
+        ] {
+            let e = CylindricalPair::new(&spec, [None, None], 3)
+                .unwrap()
+                .with_misalignment(bad)
+                .unwrap_err();
+            assert!(e.to_string().contains("misalignment"), "{e}");
+        }
+        // the pair through the interface
+        let q: &dyn GearPair = &p;
+        assert_eq!(q.assembly().shaft_angle_rad, 0.0);
+        assert_eq!(q.mate(1), 3);
+        assert!((q.ratio() - 21.0 / 37.0).abs() < 1e-15);
+        assert!((q.path_length() / q.path_pitch() - q.kinematic_contact_ratio()).abs() < 1e-12);
+    }
+}
