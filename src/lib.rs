@@ -1,23 +1,63 @@
 //! # flank — finite-element-first gear tooth contact
 //!
-//! Data flow (see DESIGN.md):
+//! Data flow (see DESIGN.md), with the module that does each step:
 //!
 //! ```text
-//! deck.inp / scene.toml ─► mesh ─► fem (K, constraints, Cholesky) ─► results ─► report
+//! scene.toml ──► scene ──► geometry ──────────────► mesh ──────────► fem
+//!   (TOML, units     (gear-pair interface:   (sector mesher,   (K, constraints,
+//!    converted)       surfaces, bodies,       node sets,         Cholesky once
+//!                     pair kinematics)        flank (u, v))      per body)
+//!                          │                                      │
+//!                          │              ┌───────────────────────┴─────────┐
+//!                          │              ▼                                 ▼
+//!                          │        compliance                       contact, mesh_cycle
+//!                          │        (nodal tensors C^ij,             (FE contact of the
+//!                          │         cache, interpolation)            placed pair per roll)
+//!                          ▼              │                                 │
+//!                         tca ──────────► ltca (QP per position)            │
+//!                  (contact lines,        │                                 │
+//!                   separations, arms)    └──────────► compare ◄────────────┘
+//!                                                  (error against run time)
+//!                                                          │
+//!                                                       report
+//!                                             (CSV, JSON, VTU, SVG/PNG plots)
+//! deck.inp ─► mesh::inp ─► fem ─► (contact) ─► report         (`flank solve`)
 //! ```
 //!
-//! * [`mesh`]: nodes, quadratic solid elements (C3D20, C3D20R, C3D15), sets;
-//!   CalculiX/Abaqus deck reader and writer; structured meshes for verification.
+//! * [`scene`]: scene files (TOML): the pair, gears and micro-geometry,
+//!   materials, load, the analyses asked for; errors name file:line.
+//! * [`geometry`]: what a gear is. The **gear-pair interface**
+//!   ([`geometry::gear_pair`]: [`geometry::surface::ToothSurface`] r(u, v)
+//!   with normals, derivatives, boundaries and tip edge;
+//!   [`geometry::gear_pair::GearBody`]; [`geometry::gear_pair::GearPair`]
+//!   with assembly, misalignment, frames, engagement and kinematic contact
+//!   lines) and its spur/helical implementation
+//!   ([`geometry::cylindrical`], exact rack-generated involute helicoids,
+//!   micro-geometry). Every analysis below sees gears only through it.
+//! * [`mesh`]: nodes, quadratic solid elements (C3D20, C3D20R, C3D15),
+//!   sets; the gear-sector mesher ([`mesh::gear_body::body_model`] picks the
+//!   mesher of the gear's type); CalculiX deck reader/writer; .msh import;
+//!   structured meshes for verification.
 //! * [`fem`]: elements, quadrature, assembly, constraints, sparse Cholesky,
-//!   stress recovery, the linear static analysis.
+//!   stress recovery, the linear static analysis; the model data a deck
+//!   defines (including its contact definition).
 //! * [`compliance`]: nodal compliance tensors of a gear body on its flanks
 //!   (one factorization; Schur complement or blocked solves), HDF5/native
 //!   cache, interpolation at flank points and contact cells (the LTCA input).
 //! * [`contact`]: node-to-surface FE contact (search, projection onto
-//!   quadratic faces, hard and penalty laws by an active set on the
-//!   condensed problem; the stiffness is factorized once).
-//! * [`report`]: VTU, CSV and JSON output.
-//! * [`tca`]: unloaded tooth contact analysis (contact lines, separations, moment arms, velocities, curvatures: the LTCA's geometric input).
+//!   quadratic faces, hard and penalty laws, Coulomb friction, by an active
+//!   set on the condensed problem; the stiffness is factorized once).
+//! * [`mesh_cycle`]: FE contact of a gear pair over roll angles (`flank run`).
+//! * [`tca`]: unloaded tooth contact analysis through the interface
+//!   (contact lines, separations, moment arms, velocities, curvatures).
+//! * [`ltca`]: compliance-matrix LTCA, the contact QP per position (`flank ltca`).
+//! * [`compare`]: LTCA against FE contact, error against run time (`flank compare`).
+//! * [`load_sharing`]: when a tooth pair counts as loaded (shared by FE and LTCA).
+//! * [`report`]: VTU, CSV and JSON output, the plots shared by the analyses.
+//!
+//! Layers: geometry, mesh and fem never import from contact, compliance,
+//! tca, ltca, mesh_cycle or compare; ltca does not import from the FE-contact
+//! driver (mesh_cycle).
 //!
 //! The library is usable without the command line; a cantilever solved in
 //! memory:
