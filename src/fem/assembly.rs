@@ -18,6 +18,8 @@ use crate::fem::constraints::{DofMap, DofTarget};
 use crate::fem::element::{stiffness, ElementWorkspace};
 use crate::fem::model::Model;
 use crate::fem::ordering::{order_groups_last, OrderingMethod};
+// defined beside the orderings that consume it; re-exported at its old path
+pub use crate::fem::ordering::GroupGraph;
 
 /// Lower-triangular CSC pattern of a symmetric matrix.
 #[derive(Clone, Debug)]
@@ -54,15 +56,6 @@ impl SparsePattern {
         }
         y
     }
-}
-
-/// Graph of DOF groups in CSR form (no self loops), for the ordering.
-#[derive(Clone, Debug)]
-pub struct GroupGraph {
-    pub xadj: Vec<usize>,
-    pub adjncy: Vec<usize>,
-    /// Number of reduced DOFs in each group (vertex weight).
-    pub weight: Vec<usize>,
 }
 
 const NO_SLOT: u32 = u32::MAX;

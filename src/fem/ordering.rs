@@ -8,7 +8,15 @@
 //! factorization needs no permuted copy of it.
 
 use crate::error::FlankError;
-use crate::fem::assembly::GroupGraph;
+
+/// Graph of DOF groups in CSR form (no self loops), for the ordering.
+#[derive(Clone, Debug)]
+pub struct GroupGraph {
+    pub xadj: Vec<usize>,
+    pub adjncy: Vec<usize>,
+    /// Number of reduced DOFs in each group (vertex weight).
+    pub weight: Vec<usize>,
+}
 
 /// Which fill-reducing ordering the Cholesky factorization uses.
 #[derive(

@@ -1,0 +1,43 @@
+//! Pieces shared by the subcommands: the sector mesh options of the scene
+//! commands and the printing of a summary's notes.
+
+/// Sector mesh sizes and element of the scene's bodies, overriding its [mesh].
+#[derive(clap::Args, Clone, Copy)]
+pub struct SectorArgs {
+    /// Flank element size (mm); overrides the scene's [mesh] flank_size_mm.
+    #[arg(long)]
+    flank_size: Option<f64>,
+    /// Base element size (mm); overrides the scene's [mesh] base_size_mm.
+    #[arg(long)]
+    base_size: Option<f64>,
+    /// Element type; overrides the scene's [mesh] element.
+    #[arg(long, value_enum)]
+    element: Option<MeshElement>,
+}
+
+impl SectorArgs {
+    pub fn body_options(self, with_load: bool) -> flank::compliance::body::BodyMeshOptions {
+        flank::compliance::body::BodyMeshOptions {
+            flank_size: self.flank_size,
+            base_size: self.base_size,
+            with_load,
+            element: self.element.map(|e| match e {
+                MeshElement::Hex20 => flank::scene::ElementKind::Hex20,
+                MeshElement::Wedge15 => flank::scene::ElementKind::Wedge15,
+            }),
+        }
+    }
+}
+
+#[derive(Clone, Copy, PartialEq, clap::ValueEnum)]
+pub enum MeshElement {
+    Hex20,
+    Wedge15,
+}
+
+/// Prints the `notes` of a run summary, one `note: …` line each.
+pub fn print_notes(summary: &serde_json::Value) {
+    for n in summary["notes"].as_array().into_iter().flatten() {
+        println!("note: {}", n.as_str().unwrap_or(""));
+    }
+}

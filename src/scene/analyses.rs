@@ -1,0 +1,388 @@
+//! The `[analyses]` table: which analyses to run (`mesh`, `compliance`,
+//! `contact`, `ltca`) and their options, range-checked.
+
+use std::collections::BTreeMap;
+
+use serde::Deserialize;
+use toml::Spanned;
+
+use super::location::{toml_message, Cx, Res};
+
+/// Options of the `mesh` analysis (none yet: `mesh = {}`).
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshAnalysis {}
+
+/// Options of the `compliance` analysis (nodal compliance tensors of both
+/// bodies, [`crate::compliance`]), e.g.
+/// `compliance = { clamp_cuts = false, flanks = "loaded", method = "schur" }`.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ComplianceAnalysis {
+    /// Clamp the sector cut faces `CUT_A`, `CUT_B` as well as the bore
+    /// (default false: the cut faces are free).
+    #[serde(default)]
+    pub clamp_cuts: bool,
+    /// Flanks carrying tensors: `loaded` (default: `FLANK_R<k>`, the side the
+    /// gear bodies load), `left`, `right` or `both`.
+    #[serde(default)]
+    pub flanks: crate::compliance::FlankSelection,
+    /// `schur` (default) or `blocked`.
+    #[serde(default)]
+    pub method: crate::compliance::Method,
+    /// Memory for the right-hand-side blocks of the blocked method (MB, > 0).
+    pub memory_budget_mb: Option<f64>,
+}
+
+/// Options of the `contact` analysis (FE contact over a mesh cycle,
+/// [`crate::mesh_cycle`], run by `flank run`), e.g.
+/// `contact = { roll_step_deg = 1.0, law = "hard" }`. Roll angles are in
+/// flank's convention (0: the middle pair's kinematic contact at the pitch
+/// point, positive in the drive direction); default: the middle pair's
+/// kinematic engagement with two steps on each side.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactAnalysis {
+    pub roll_start_deg: Option<f64>,
+    pub roll_end_deg: Option<f64>,
+    /// Step of the range (deg, > 0; default 1).
+    pub roll_step_deg: Option<f64>,
+    /// Explicit roll angles (deg); instead of the range.
+    pub roll_angles_deg: Option<Vec<f64>>,
+    /// A reference angle convention (e.g. a paper's): reference = roll −
+    /// (kinematic start of single contact of the middle pair) + this value.
+    pub reference_single_contact_start_deg: Option<f64>,
+    /// Positions given in the reference convention (needs the key above).
+    pub reference_angles_deg: Option<Vec<f64>>,
+    /// `hard` (default) or `penalty`.
+    pub law: Option<crate::mesh_cycle::ContactLaw>,
+    /// Penalty slope as a multiple of the automatic default (> 0, default 1).
+    pub penalty_factor: Option<f64>,
+    /// `auto` (default: the gear while a pair is before its kinematic start
+    /// of contact, the pinion from then on), `pinion` or `gear`: the body
+    /// whose flank nodes are slaves.
+    pub slave: Option<crate::mesh_cycle::SlaveBody>,
+    /// Largest initial gap of a contact candidate (mm, > 0; default 0.2;
+    /// doubled automatically, up to three times, at a position where nodes
+    /// beyond it close under load).
+    pub search_distance_mm: Option<f64>,
+    /// Coulomb friction coefficient μ of the flanks (0…1; absent or 0:
+    /// frictionless, no tangential terms at all). Stick is hard (no
+    /// tangential penalty); each position is one static step, so the
+    /// friction direction comes from the elastic tangential mismatch of the
+    /// step, not from the kinematic sliding velocity.
+    pub friction_mu: Option<f64>,
+    /// Write one VTU file per position (default true).
+    pub vtu: Option<bool>,
+    /// Bisect the middle pair's first and last loaded angles to 0.01°
+    /// for the contact ratio (default true).
+    pub refine_contact_limits: Option<bool>,
+}
+
+/// Options of the `ltca` analysis (compliance-matrix loaded tooth contact
+/// analysis over a mesh cycle, [`crate::ltca`], run by `flank ltca`), e.g.
+/// `ltca = { points_per_line = 20 }`. Roll angles as in
+/// [`ContactAnalysis`]; default: the middle pair's kinematic engagement with
+/// two 1° steps on each side, extended while it is loaded at an end.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LtcaAnalysis {
+    pub roll_start_deg: Option<f64>,
+    pub roll_end_deg: Option<f64>,
+    /// Step of the range (deg, > 0; default 1).
+    pub roll_step_deg: Option<f64>,
+    /// Explicit roll angles (deg); instead of the range.
+    pub roll_angles_deg: Option<Vec<f64>>,
+    /// K: candidate points along each contact line (2 … 2000; default 20).
+    pub points_per_line: Option<usize>,
+    /// `active-set` (default) or `clarabel`.
+    pub solver: Option<crate::ltca::qp::QpSolver>,
+    /// Local contact deformation: `half-space` (default) or `none`.
+    pub local: Option<crate::ltca::local::LocalModel>,
+    /// FE cell half-width across the line in flank element sizes (> 0; default 1).
+    pub fe_cell_factor: Option<f64>,
+    /// Misalignment of the gear axis (µrad): [in the plane of action, normal to it].
+    pub misalignment_urad: Option<[f64; 2]>,
+    /// Centre-distance error (µm, |Δa| < 1 mm).
+    pub centre_distance_error_um: Option<f64>,
+    /// Largest separation (mm) at which tip-corner points are candidates (> 0).
+    pub extension_mm: Option<f64>,
+    /// Compliance mesh: flank and base element sizes (mm); default m_n/8, m_n/2
+    /// (not the FE-contact `[mesh]` sizes, which are meant for FE contact).
+    pub flank_size_mm: Option<f64>,
+    pub base_size_mm: Option<f64>,
+}
+
+/// The analyses a scene asks for; an absent entry is not computed.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct Analyses {
+    pub mesh: Option<MeshAnalysis>,
+    pub compliance: Option<ComplianceAnalysis>,
+    pub contact: Option<ContactAnalysis>,
+    pub ltca: Option<LtcaAnalysis>,
+}
+
+impl Analyses {
+    /// Names an `[analyses]` table accepts.
+    pub const KNOWN: &'static [&'static str] = &["mesh", "compliance", "contact", "ltca"];
+}
+
+pub(super) type RawAnalyses = Spanned<BTreeMap<Spanned<String>, Spanned<toml::Value>>>;
+
+pub(super) fn analyses(cx: &Cx, raw: Option<&RawAnalyses>) -> Res<Analyses> {
+    let mut out = Analyses::default();
+    let Some(raw) = raw else {
+        return Ok(out);
+    };
+    for (name, value) in raw.get_ref() {
+        match name.get_ref().as_str() {
+            "mesh" => {
+                let v: MeshAnalysis = value.get_ref().clone().try_into().map_err(|e| {
+                    cx.err(
+                        value.span(),
+                        format!("`analyses.mesh`: {}", toml_message(&e)),
+                    )
+                })?;
+                out.mesh = Some(v);
+            }
+            "compliance" => {
+                let v: ComplianceAnalysis = value.get_ref().clone().try_into().map_err(|e| {
+                    cx.err(
+                        value.span(),
+                        format!("`analyses.compliance`: {}", toml_message(&e)),
+                    )
+                })?;
+                if let Some(mb) = v.memory_budget_mb {
+                    if !(mb > 0.0 && mb.is_finite()) {
+                        return Err(cx.err(
+                            value.span(),
+                            format!(
+                                "`analyses.compliance`: memory_budget_mb must be > 0, got {mb}"
+                            ),
+                        ));
+                    }
+                }
+                out.compliance = Some(v);
+            }
+            "contact" => {
+                let v: ContactAnalysis = value.get_ref().clone().try_into().map_err(|e| {
+                    cx.err(
+                        value.span(),
+                        format!("`analyses.contact`: {}", toml_message(&e)),
+                    )
+                })?;
+                check_contact_analysis(&v)
+                    .map_err(|m| cx.err(value.span(), format!("`analyses.contact`: {m}")))?;
+                out.contact = Some(v);
+            }
+            "ltca" => {
+                let v: LtcaAnalysis = value.get_ref().clone().try_into().map_err(|e| {
+                    cx.err(
+                        value.span(),
+                        format!("`analyses.ltca`: {}", toml_message(&e)),
+                    )
+                })?;
+                check_ltca_analysis(&v)
+                    .map_err(|m| cx.err(value.span(), format!("`analyses.ltca`: {m}")))?;
+                out.ltca = Some(v);
+            }
+            other => {
+                return Err(cx.err(
+                    name.span(),
+                    format!(
+                        "unknown analysis `{other}` in [analyses]; known analyses: {}",
+                        Analyses::KNOWN.join(", ")
+                    ),
+                ))
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Range checks of `[analyses.contact]` (types are serde's).
+fn check_contact_analysis(v: &ContactAnalysis) -> Result<(), String> {
+    let finite = |name: &str, x: Option<f64>| match x {
+        Some(x) if !x.is_finite() => Err(format!("{name} must be finite, got {x}")),
+        _ => Ok(()),
+    };
+    finite("roll_start_deg", v.roll_start_deg)?;
+    finite("roll_end_deg", v.roll_end_deg)?;
+    finite(
+        "reference_single_contact_start_deg",
+        v.reference_single_contact_start_deg,
+    )?;
+    if let Some(s) = v.roll_step_deg {
+        if !(s > 0.0 && s.is_finite()) {
+            return Err(format!("roll_step_deg must be > 0, got {s}"));
+        }
+    }
+    match (v.roll_start_deg, v.roll_end_deg) {
+        (Some(a), Some(b)) if b < a => {
+            return Err(format!("roll_end_deg ({b}) is before roll_start_deg ({a})"))
+        }
+        (Some(_), None) | (None, Some(_)) => {
+            return Err("give both roll_start_deg and roll_end_deg, or neither".into())
+        }
+        _ => {}
+    }
+    if let (Some(a), Some(b), Some(s)) = (v.roll_start_deg, v.roll_end_deg, v.roll_step_deg) {
+        if (b - a) / s > 100_000.0 {
+            return Err(format!(
+                "{:.0} positions from roll_start_deg, roll_end_deg and roll_step_deg: too many",
+                (b - a) / s
+            ));
+        }
+    }
+    let explicit = v.roll_angles_deg.is_some() as u8 + v.reference_angles_deg.is_some() as u8;
+    if explicit > 1 || (explicit == 1 && v.roll_start_deg.is_some()) {
+        return Err(
+            "give one of roll_start_deg/roll_end_deg, roll_angles_deg and reference_angles_deg"
+                .into(),
+        );
+    }
+    for (name, list) in [
+        ("roll_angles_deg", &v.roll_angles_deg),
+        ("reference_angles_deg", &v.reference_angles_deg),
+    ] {
+        if let Some(l) = list {
+            if l.is_empty() || l.iter().any(|x| !x.is_finite()) {
+                return Err(format!("{name} must be a non-empty list of finite angles"));
+            }
+        }
+    }
+    if v.reference_angles_deg.is_some() && v.reference_single_contact_start_deg.is_none() {
+        return Err("reference_angles_deg needs reference_single_contact_start_deg".into());
+    }
+    if let Some(f) = v.penalty_factor {
+        if !(f > 0.0 && f.is_finite()) {
+            return Err(format!("penalty_factor must be > 0, got {f}"));
+        }
+        if v.law != Some(crate::mesh_cycle::ContactLaw::Penalty) {
+            return Err("penalty_factor needs law = \"penalty\"".into());
+        }
+    }
+    if let Some(d) = v.search_distance_mm {
+        if !(d > 0.0 && d.is_finite()) {
+            return Err(format!("search_distance_mm must be > 0, got {d}"));
+        }
+    }
+    if let Some(mu) = v.friction_mu {
+        if !(0.0..=1.0).contains(&mu) {
+            return Err(format!(
+                "friction_mu must be in 0…1 (lubricated steel flanks: 0.02–0.1), got {mu}"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Range checks of `[analyses.ltca]` (types are serde's).
+fn check_ltca_analysis(v: &LtcaAnalysis) -> Result<(), String> {
+    let range = ContactAnalysis {
+        roll_start_deg: v.roll_start_deg,
+        roll_end_deg: v.roll_end_deg,
+        roll_step_deg: v.roll_step_deg,
+        roll_angles_deg: v.roll_angles_deg.clone(),
+        ..Default::default()
+    };
+    check_contact_analysis(&range)?;
+    if let Some(k) = v.points_per_line {
+        if !(2..=2000).contains(&k) {
+            return Err(format!("points_per_line must be in 2 … 2000, got {k}"));
+        }
+    }
+    let positive = |name: &str, x: Option<f64>| match x {
+        Some(x) if !(x > 0.0 && x.is_finite()) => Err(format!("{name} must be > 0, got {x}")),
+        _ => Ok(()),
+    };
+    positive("fe_cell_factor", v.fe_cell_factor)?;
+    positive("extension_mm", v.extension_mm)?;
+    positive("flank_size_mm", v.flank_size_mm)?;
+    positive("base_size_mm", v.base_size_mm)?;
+    if let Some(m) = v.misalignment_urad {
+        if m.iter().any(|x| !(x.is_finite() && x.abs() <= 1e5)) {
+            return Err(format!(
+                "misalignment_urad must be two finite angles of at most 1e5 µrad, got {m:?}"
+            ));
+        }
+    }
+    if let Some(d) = v.centre_distance_error_um {
+        if !(d.is_finite() && d.abs() < 1000.0) {
+            return Err(format!(
+                "centre_distance_error_um must be finite and below 1000 µm in size, got {d}"
+            ));
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::scene::test_support::*;
+
+    #[test]
+    fn contact_analysis_keys() {
+        let ok = edit(
+            SPUR,
+            "mesh = {}\n",
+            "mesh = {}\ncontact = { roll_start_deg = -20.0, roll_end_deg = 20.0, roll_step_deg = 0.5, law = \"penalty\", penalty_factor = 10.0, slave = \"gear\", friction_mu = 0.0 }\n",
+        );
+        let s = parse(&ok).unwrap();
+        let c = s.analyses.contact.unwrap();
+        assert_eq!(c.law, Some(crate::mesh_cycle::ContactLaw::Penalty));
+        assert_eq!(c.slave, Some(crate::mesh_cycle::SlaveBody::Gear));
+        for (bad, words) in [
+            (
+                "contact = { friction_mu = -0.1 }",
+                &["friction_mu", "0…1"][..],
+            ),
+            (
+                "contact = { friction_mu = 1.5 }",
+                &["friction_mu", "0…1"][..],
+            ),
+            (
+                "contact = { roll_step_deg = 0.0 }",
+                &["roll_step_deg", "> 0"][..],
+            ),
+            ("contact = { roll_start_deg = 5.0 }", &["roll_end_deg"][..]),
+            (
+                "contact = { roll_start_deg = 5.0, roll_end_deg = -5.0 }",
+                &["before"][..],
+            ),
+            ("contact = { penalty_factor = 10.0 }", &["penalty"][..]),
+            (
+                "contact = { law = \"soft\" }",
+                &["analyses.contact", "soft"][..],
+            ),
+            (
+                "contact = { reference_angles_deg = [18.0] }",
+                &["reference_single_contact_start_deg"][..],
+            ),
+            (
+                "contact = { search_distance_mm = -1.0 }",
+                &["search_distance_mm"][..],
+            ),
+            (
+                "contact = { roll_angles_deg = [] }",
+                &["roll_angles_deg"][..],
+            ),
+            ("contact = { rpm = 3 }", &["analyses.contact", "rpm"][..]),
+        ] {
+            let t = edit(SPUR, "mesh = {}\n", &format!("mesh = {{}}\n{bad}\n"));
+            expect_err(&t, line_of(&t, "contact ="), words);
+        }
+    }
+
+    #[test]
+    fn unknown_analysis() {
+        let t = edit(SPUR, "mesh = {}\n", "mesh = {}\nlubrication = {}\n");
+        expect_err(
+            &t,
+            line_of(&t, "lubrication"),
+            &["lubrication", "known analyses: mesh", "ltca"],
+        );
+        let t = edit(SPUR, "mesh = {}\n", "mesh = { order = 2 }\n");
+        expect_err(&t, line_of(&t, "order"), &["analyses.mesh", "order"]);
+    }
+}

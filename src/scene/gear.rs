@@ -1,0 +1,529 @@
+//! The `[pinion]` and `[gear]` sections (one gear each: teeth, module,
+//! angles, face width, shift, rack, tip and bore) and their micro-geometry
+//! `[<gear>.micro]`.
+
+use std::f64::consts::PI;
+use std::path::Path;
+
+use serde::Deserialize;
+use toml::Spanned;
+
+use super::involute::{base_diameter, root_diameter, tip_diameter, tip_thickness};
+use super::location::{Cx, Res};
+use super::pair::{GearSpans, PairKind};
+use crate::geometry::micro::{MicroGeometry, Relief, ReliefShape};
+use crate::geometry::{GearSpec, Hand, RackProfile};
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawGear {
+    teeth: Spanned<i64>,
+    normal_module_mm: Spanned<f64>,
+    normal_pressure_angle_deg: Spanned<f64>,
+    helix_angle_deg: Option<Spanned<f64>>,
+    hand: Option<Spanned<Hand>>,
+    face_width_mm: Spanned<f64>,
+    profile_shift: Option<Spanned<f64>>,
+    rack: Option<RawRack>,
+    tip_diameter_mm: Option<Spanned<f64>>,
+    bore_diameter_mm: Spanned<f64>,
+    material: Spanned<String>,
+    pub(super) micro: Option<RawMicro>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRack {
+    addendum: Option<Spanned<f64>>,
+    dedendum: Option<Spanned<f64>>,
+    tip_radius: Option<Spanned<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawMicro {
+    tip_relief_um: Option<Spanned<f64>>,
+    tip_relief_length_mm: Option<Spanned<f64>>,
+    tip_relief_shape: Option<Spanned<ReliefShape>>,
+    root_relief_um: Option<Spanned<f64>>,
+    root_relief_length_mm: Option<Spanned<f64>>,
+    root_relief_shape: Option<Spanned<ReliefShape>>,
+    profile_crowning_um: Option<Spanned<f64>>,
+    lead_crowning_um: Option<Spanned<f64>>,
+    helix_slope_deviation_um: Option<Spanned<f64>>,
+    end_relief_um: Option<Spanned<f64>>,
+    end_relief_length_mm: Option<Spanned<f64>>,
+    end_relief_shape: Option<Spanned<ReliefShape>>,
+    measured_profile_csv: Option<Spanned<String>>,
+}
+
+pub(super) fn gear(cx: &Cx, g: &RawGear, name: &str, kind: PairKind) -> Res<(GearSpec, GearSpans)> {
+    let key = |k: &str| format!("{name}.{k}");
+
+    let z = *g.teeth.get_ref();
+    if !(5..=1000).contains(&z) {
+        return Err(cx.err(
+            g.teeth.span(),
+            format!("`{}` = {z}: must lie in 5..=1000", key("teeth")),
+        ));
+    }
+    let teeth = z as u32;
+
+    let m = cx.positive(&g.normal_module_mm, &key("normal_module_mm"))?;
+
+    let alpha_deg = cx.finite(
+        &g.normal_pressure_angle_deg,
+        &key("normal_pressure_angle_deg"),
+    )?;
+    if !(alpha_deg > 0.0 && alpha_deg < 45.0) {
+        return Err(cx.err(
+            g.normal_pressure_angle_deg.span(),
+            format!(
+                "`{}` = {alpha_deg}: must lie in (0, 45) degrees",
+                key("normal_pressure_angle_deg")
+            ),
+        ));
+    }
+
+    let (beta_deg, helix_span) = match (&g.helix_angle_deg, kind) {
+        (None, PairKind::Spur) => (0.0, g.teeth.span()),
+        (Some(b), PairKind::Spur) => {
+            let beta = cx.finite(b, &key("helix_angle_deg"))?;
+            if beta != 0.0 {
+                return Err(cx.err(
+                    b.span(),
+                    format!(
+                        "`{}` = {beta}: a spur pair has no helix angle (0 or absent); use kind = \"helical\"",
+                        key("helix_angle_deg")
+                    ),
+                ));
+            }
+            (0.0, b.span())
+        }
+        (None, PairKind::Helical) => {
+            return Err(cx.err(
+                g.teeth.span(),
+                format!("[{name}]: missing field `helix_angle_deg` (required for a helical pair)"),
+            ))
+        }
+        (Some(b), PairKind::Helical) => {
+            let beta = cx.finite(b, &key("helix_angle_deg"))?;
+            if !(beta > 0.0 && beta < 45.0) {
+                return Err(cx.err(
+                    b.span(),
+                    format!(
+                        "`{}` = {beta}: a helical gear needs 0 < β < 45 degrees (the direction is given by `hand`)",
+                        key("helix_angle_deg")
+                    ),
+                ));
+            }
+            (beta, b.span())
+        }
+    };
+
+    let hand = match (&g.hand, kind) {
+        (None, PairKind::Spur) => Hand::Right,
+        (Some(h), PairKind::Spur) => {
+            return Err(cx.err(
+                h.span(),
+                format!("`{}`: a spur gear has no hand (helical only)", key("hand")),
+            ))
+        }
+        (None, PairKind::Helical) => {
+            return Err(cx.err(
+                g.teeth.span(),
+                format!("[{name}]: missing field `hand` (\"left\" or \"right\", required for a helical pair)"),
+            ))
+        }
+        (Some(h), PairKind::Helical) => *h.get_ref(),
+    };
+
+    let b = cx.positive(&g.face_width_mm, &key("face_width_mm"))?;
+
+    let x = match &g.profile_shift {
+        Some(v) => {
+            let x = cx.finite(v, &key("profile_shift"))?;
+            if !(x.abs() <= 2.0) {
+                return Err(cx.err(
+                    v.span(),
+                    format!("`{}` = {x}: must lie in [-2, 2]", key("profile_shift")),
+                ));
+            }
+            x
+        }
+        None => 0.0,
+    };
+
+    let mut rack = RackProfile::default();
+    if let Some(r) = &g.rack {
+        if let Some(v) = &r.addendum {
+            rack.addendum = cx.positive(v, &key("rack.addendum"))?;
+        }
+        if let Some(v) = &r.dedendum {
+            rack.dedendum = cx.positive(v, &key("rack.dedendum"))?;
+        }
+        if let Some(v) = &r.tip_radius {
+            rack.tip_radius = cx.non_negative(v, &key("rack.tip_radius"))?;
+        }
+        // the generating rack's tooth tip must be wide enough for both fillets
+        let alpha = alpha_deg.to_radians();
+        let half_tip = PI / 4.0 - rack.addendum * alpha.tan();
+        let rho_max = half_tip * alpha.cos() / (1.0 - alpha.sin());
+        let span = r
+            .tip_radius
+            .as_ref()
+            .or(r.addendum.as_ref())
+            .or(r.dedendum.as_ref())
+            .map_or(g.teeth.span(), |v| v.span());
+        if !(half_tip > 0.0) {
+            return Err(cx.err(
+                span,
+                format!(
+                    "`{}` = {}: the generating rack's tooth is pointed (addendum × tan α_n ≥ π/4)",
+                    key("rack.addendum"),
+                    rack.addendum
+                ),
+            ));
+        }
+        if rack.tip_radius > rho_max {
+            return Err(cx.err(
+                span,
+                format!(
+                    "`{}` = {}: larger than the {:.4} the rack tooth tip allows at addendum {} and α_n = {alpha_deg}°",
+                    key("rack.tip_radius"),
+                    rack.tip_radius,
+                    rho_max,
+                    rack.addendum
+                ),
+            ));
+        }
+    }
+
+    let mut spec = GearSpec {
+        teeth,
+        normal_module: m,
+        normal_pressure_angle: alpha_deg.to_radians(),
+        helix_angle: beta_deg.to_radians(),
+        hand,
+        face_width: b,
+        profile_shift: x,
+        rack,
+        tip_diameter: None,
+        bore_diameter: 0.0,
+    };
+
+    let df = root_diameter(&spec);
+    let db = base_diameter(&spec);
+    let tip_span = match &g.tip_diameter_mm {
+        Some(v) => {
+            let da = cx.positive(v, &key("tip_diameter_mm"))?;
+            if !(da > df) || !(da > db) {
+                return Err(cx.err(
+                    v.span(),
+                    format!(
+                        "`{}` = {da}: must exceed the root diameter {df:.4} mm and the base diameter {db:.4} mm",
+                        key("tip_diameter_mm")
+                    ),
+                ));
+            }
+            spec.tip_diameter = Some(da);
+            v.span()
+        }
+        None => g.teeth.span(),
+    };
+    let da = tip_diameter(&spec);
+    if da > db {
+        let s = tip_thickness(&spec, da);
+        if !(s > 0.0) {
+            let span = tip_span.clone();
+            return Err(cx.err(
+                span,
+                format!(
+                    "{name}: the tooth is pointed below the tip diameter {da:.4} mm \
+                     (tooth thickness there {s:.4} mm); reduce `{}` or `{}`",
+                    key("tip_diameter_mm"),
+                    key("profile_shift")
+                ),
+            ));
+        }
+    } else {
+        return Err(cx.err(
+            tip_span,
+            format!(
+                "{name}: tip diameter {da:.4} mm does not exceed the base diameter {db:.4} mm (no involute flank)"
+            ),
+        ));
+    }
+
+    let bore = cx.positive(&g.bore_diameter_mm, &key("bore_diameter_mm"))?;
+    if !(bore < df) || !(bore < da) {
+        return Err(cx.err(
+            g.bore_diameter_mm.span(),
+            format!(
+                "`{}` = {bore}: must be smaller than the root diameter {df:.4} mm (tip diameter {da:.4} mm)",
+                key("bore_diameter_mm")
+            ),
+        ));
+    }
+    spec.bore_diameter = bore;
+
+    Ok((
+        spec,
+        GearSpans {
+            module: g.normal_module_mm.span(),
+            alpha: g.normal_pressure_angle_deg.span(),
+            helix: helix_span,
+            hand: g.hand.as_ref().map(|h| h.span()),
+            tip: tip_span,
+            material: g.material.clone(),
+        },
+    ))
+}
+
+pub(super) fn micro_geometry(
+    cx: &Cx,
+    m: &RawMicro,
+    name: &str,
+    face_width: f64,
+) -> Res<MicroGeometry> {
+    let key = |k: &str| format!("{name}.micro.{k}");
+    let um = |v: &Option<Spanned<f64>>, k: &str| -> Res<f64> {
+        match v {
+            Some(v) => Ok(cx.non_negative(v, &key(k))? * 1e-3),
+            None => Ok(0.0),
+        }
+    };
+    let relief = |amount: &Option<Spanned<f64>>,
+                  length: &Option<Spanned<f64>>,
+                  shape: &Option<Spanned<ReliefShape>>,
+                  stem: &str|
+     -> Res<Option<Relief>> {
+        let a_key = format!("{stem}_um");
+        let l_key = format!("{stem}_length_mm");
+        let s_key = format!("{stem}_shape");
+        match (amount, length) {
+            (None, None) => {
+                if let Some(s) = shape {
+                    return Err(cx.err(
+                        s.span(),
+                        format!("`{}` given without `{}`", key(&s_key), key(&a_key)),
+                    ));
+                }
+                Ok(None)
+            }
+            (Some(a), None) => Err(cx.err(
+                a.span(),
+                format!("`{}` needs `{}`", key(&a_key), key(&l_key)),
+            )),
+            (None, Some(l)) => Err(cx.err(
+                l.span(),
+                format!("`{}` needs `{}`", key(&l_key), key(&a_key)),
+            )),
+            (Some(a), Some(l)) => {
+                let amount = cx.non_negative(a, &key(&a_key))? * 1e-3;
+                let length = cx.positive(l, &key(&l_key))?;
+                Ok(Some(Relief {
+                    amount,
+                    length,
+                    shape: shape.as_ref().map_or(ReliefShape::Linear, |s| *s.get_ref()),
+                }))
+            }
+        }
+    };
+
+    let tip_relief = relief(
+        &m.tip_relief_um,
+        &m.tip_relief_length_mm,
+        &m.tip_relief_shape,
+        "tip_relief",
+    )?;
+    let root_relief = relief(
+        &m.root_relief_um,
+        &m.root_relief_length_mm,
+        &m.root_relief_shape,
+        "root_relief",
+    )?;
+    let end_relief = relief(
+        &m.end_relief_um,
+        &m.end_relief_length_mm,
+        &m.end_relief_shape,
+        "end_relief",
+    )?;
+    if let (Some(r), Some(l)) = (&end_relief, &m.end_relief_length_mm) {
+        if r.length > 0.5 * face_width {
+            return Err(cx.err(
+                l.span(),
+                format!(
+                    "`{}` = {}: end reliefs at both ends must fit the face width {face_width} mm (≤ b/2)",
+                    key("end_relief_length_mm"),
+                    r.length
+                ),
+            ));
+        }
+    }
+    let helix_slope_deviation = match &m.helix_slope_deviation_um {
+        Some(v) => cx.finite(v, &key("helix_slope_deviation_um"))? * 1e-3,
+        None => 0.0,
+    };
+    let measured_profile = match &m.measured_profile_csv {
+        Some(p) => {
+            let rel = Path::new(p.get_ref());
+            let base = cx.file.parent().unwrap_or(Path::new(""));
+            let full = base.join(rel);
+            if !full.is_file() {
+                return Err(cx.err(
+                    p.span(),
+                    format!(
+                        "`{}`: measured profile file not found: {}",
+                        key("measured_profile_csv"),
+                        full.display()
+                    ),
+                ));
+            }
+            Some(full)
+        }
+        None => None,
+    };
+    Ok(MicroGeometry {
+        tip_relief,
+        root_relief,
+        profile_crowning: um(&m.profile_crowning_um, "profile_crowning_um")?,
+        lead_crowning: um(&m.lead_crowning_um, "lead_crowning_um")?,
+        helix_slope_deviation,
+        end_relief,
+        measured_profile,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::scene::parse_scene;
+    use crate::scene::test_support::*;
+
+    #[test]
+    fn unknown_key_in_pinion() {
+        let t = edit(SPUR, "teeth = 13\n", "teeth = 13\ntooth_count = 13\n");
+        expect_err(&t, line_of(&t, "tooth_count"), &["tooth_count"]);
+    }
+
+    #[test]
+    fn unknown_key_in_rack() {
+        let t = edit(
+            SPUR,
+            "tip_radius = 0.38 }",
+            "tip_radius = 0.38, root_radius = 0.2 }",
+        );
+        expect_err(&t, line_of(&t, "rack = "), &["root_radius"]);
+    }
+
+    #[test]
+    fn unknown_key_in_micro() {
+        let t = edit(
+            SPUR,
+            "lead_crowning_um = 5.0\n",
+            "lead_crowning_um = 5.0\nbarrelling_um = 2\n",
+        );
+        expect_err(&t, line_of(&t, "barrelling_um"), &["barrelling_um"]);
+    }
+
+    #[test]
+    fn too_few_teeth() {
+        let t = edit(SPUR, "teeth = 13", "teeth = 3");
+        expect_err(&t, line_of(&t, "teeth = 3"), &["pinion.teeth", "3"]);
+        let t = edit(SPUR, "teeth = 13", "teeth = -13");
+        expect_err(&t, line_of(&t, "teeth = -13"), &["pinion.teeth"]);
+    }
+
+    #[test]
+    fn spur_with_helix_angle() {
+        let t = edit(SPUR, "helix_angle_deg = 0.0", "helix_angle_deg = 15.0");
+        expect_err(
+            &t,
+            line_of(&t, "helix_angle_deg"),
+            &["pinion.helix_angle_deg", "spur"],
+        );
+        let t = edit(SPUR, "helix_angle_deg = 0.0", "hand = \"left\"");
+        expect_err(&t, line_of(&t, "hand ="), &["pinion.hand", "spur"]);
+    }
+
+    #[test]
+    fn negative_module() {
+        let t = edit(
+            SPUR,
+            "normal_module_mm = 3.8\nnormal_pressure_angle_deg = 20.0\nhelix",
+            "normal_module_mm = -3.8\nnormal_pressure_angle_deg = 20.0\nhelix",
+        );
+        expect_err(
+            &t,
+            line_of(&t, "-3.8"),
+            &["pinion.normal_module_mm", "positive"],
+        );
+    }
+
+    #[test]
+    fn missing_measured_profile() {
+        let t = edit(
+            SPUR,
+            "end_relief_length_mm = 2.0\n",
+            "end_relief_length_mm = 2.0\nmeasured_profile_csv = \"cmm/pinion.csv\"\n",
+        );
+        expect_err(
+            &t,
+            line_of(&t, "measured_profile_csv"),
+            &["measured_profile_csv", "/nonexistent/cmm/pinion.csv"],
+        );
+    }
+
+    #[test]
+    fn measured_profile_relative_to_scene() {
+        let dir = std::env::temp_dir().join(format!("flank-scene-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("cmm")).unwrap();
+        std::fs::write(dir.join("cmm/pinion.csv"), "x,y\n0,0\n").unwrap();
+        let t = edit(
+            SPUR,
+            "end_relief_length_mm = 2.0\n",
+            "end_relief_length_mm = 2.0\nmeasured_profile_csv = \"cmm/pinion.csv\"\n",
+        );
+        let s = parse_scene(&t, &dir.join("scene.toml")).unwrap();
+        let m = s.micro[0].as_ref().unwrap();
+        assert_eq!(
+            m.measured_profile.as_deref(),
+            Some(dir.join("cmm/pinion.csv").as_path())
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn micro_values_checked() {
+        let t = edit(SPUR, "tip_relief_um = 10.0", "tip_relief_um = -10.0");
+        expect_err(
+            &t,
+            line_of(&t, "tip_relief_um"),
+            &["pinion.micro.tip_relief_um"],
+        );
+        let t = edit(SPUR, "lead_crowning_um = 5.0", "lead_crowning_um = nan");
+        expect_err(
+            &t,
+            line_of(&t, "lead_crowning_um"),
+            &["pinion.micro.lead_crowning_um", "finite"],
+        );
+        let t = edit(SPUR, "tip_relief_length_mm = 1.0\n", "");
+        expect_err(&t, line_of(&t, "tip_relief_um"), &["tip_relief_length_mm"]);
+        let t = edit(
+            SPUR,
+            "end_relief_length_mm = 2.0",
+            "end_relief_length_mm = 7.0",
+        );
+        expect_err(
+            &t,
+            line_of(&t, "end_relief_length_mm"),
+            &["end_relief_length_mm"],
+        );
+        let t = edit(
+            SPUR,
+            "tip_relief_shape = \"parabolic\"",
+            "tip_relief_shape = \"cubic\"",
+        );
+        expect_err(&t, line_of(&t, "tip_relief_shape"), &["cubic"]);
+    }
+}
