@@ -28,9 +28,7 @@ use crate::error::FlankError;
 use crate::geometry::gear_pair::GearPair;
 use crate::ltca::cycle::{LtcaCycle, LtcaOptions};
 use crate::ltca::model::PositionResult;
-use crate::mesh_cycle::run::{
-    default_roll_angles, scene_pair, settings, MeshCycle, RunOptions, StepResult,
-};
+use crate::mesh_cycle::run::{default_roll_angles, settings, MeshCycle, RunOptions, StepResult};
 use crate::mesh_cycle::SlaveBody;
 use crate::scene::{read_scene, Scene};
 
@@ -293,7 +291,7 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
     }
     let out = &options.out;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
-    let gear_pair = scene_pair(scene)?;
+    let gear_pair = scene.gear_pair()?;
     let pair = gear_pair.as_ref();
     let angles = options
         .roll_angles_deg

@@ -19,7 +19,6 @@ use crate::compliance::run::{body_tensor, BodyTensorOptions};
 use crate::compliance::{ComplianceOptions, FlankSelection};
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
-use crate::geometry::cylindrical::CylindricalPair;
 use crate::geometry::gear_pair::{engagement_roll_angles, GearPair};
 use crate::load_sharing::LOADED_FRACTION;
 use crate::ltca::local::{contact_modulus, LocalModel};
@@ -80,7 +79,6 @@ impl LtcaCycle {
     /// Tensors (from `out`, the cache, or computed) and the TCA of `scene`.
     pub fn new(scene: &Scene, options: &LtcaOptions) -> Result<Self, FlankError> {
         let a = scene.analyses.ltca.clone().unwrap_or_default();
-        let teeth = scene.mesh.teeth_in_sector as usize;
         let mn = scene.pair.pinion.normal_module;
         let mesh = BodyMeshOptions {
             flank_size: options
@@ -129,7 +127,8 @@ impl LtcaCycle {
         };
         tca_settings.validate()?;
         let pair: Arc<dyn GearPair> = Arc::new(
-            CylindricalPair::new(&scene.pair, scene.flank_modifications()?, teeth)?
+            scene
+                .cylindrical_pair()?
                 .with_plane_of_action_misalignment(
                     [mis[0] * 1e-6, mis[1] * 1e-6],
                     a.centre_distance_error_um.unwrap_or(0.0) * 1e-3,

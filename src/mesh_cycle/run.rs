@@ -25,7 +25,6 @@ use crate::fem::ordering::OrderingMethod;
 use crate::fem::static_analysis::peak_memory_mb;
 use std::sync::Arc;
 
-use crate::geometry::cylindrical::CylindricalPair;
 use crate::geometry::gear_pair::{engagement_roll_angles, GearPair};
 use crate::mesh_cycle::pair_model::{pair_model, PairModel, SlaveBody};
 use crate::report::vtu::{write_vtu, PointField};
@@ -201,7 +200,7 @@ impl MeshCycle {
         settings: RunSettings,
         threads: usize,
     ) -> Result<Self, FlankError> {
-        let gear_pair = scene_pair(scene)?;
+        let gear_pair = scene.gear_pair()?;
         let law = match settings.law {
             ContactLaw::Hard => PressureOverclosure::Hard,
             ContactLaw::Penalty => PressureOverclosure::Linear {
@@ -504,16 +503,6 @@ impl MeshCycle {
     }
 }
 
-/// The gear pair of `scene` (spur/helical: [`CylindricalPair`]) as sectors
-/// of the scene's `teeth_in_sector`.
-pub fn scene_pair(scene: &Scene) -> Result<Arc<dyn GearPair>, FlankError> {
-    Ok(Arc::new(CylindricalPair::new(
-        &scene.pair,
-        scene.flank_modifications()?,
-        scene.mesh.teeth_in_sector as usize,
-    )?))
-}
-
 /// Default roll angles: [`engagement_roll_angles`].
 pub fn default_roll_angles(pair: &dyn GearPair, step_deg: f64) -> Vec<f64> {
     engagement_roll_angles(pair, step_deg)
@@ -632,7 +621,7 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
 /// The mesh cycle of a parsed scene (see [`run_scene`]).
 pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, FlankError> {
     let t_total = Instant::now();
-    let gear_pair = scene_pair(scene)?;
+    let gear_pair = scene.gear_pair()?;
     let settings = settings(scene, gear_pair.as_ref(), options)?;
     let out = &options.out;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;

@@ -81,6 +81,10 @@ mod pair;
 #[cfg(test)]
 mod test_support;
 
+use std::sync::Arc;
+
+use crate::geometry::cylindrical::CylindricalPair;
+use crate::geometry::gear_pair::GearPair;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -160,6 +164,23 @@ impl Scene {
             }
         }
         Ok(out)
+    }
+
+    /// The scene's spur/helical pair behind the gear-pair interface, as
+    /// sectors of `[mesh] teeth_in_sector` teeth with the flank
+    /// modifications, aligned.
+    pub fn cylindrical_pair(&self) -> Result<CylindricalPair, FlankError> {
+        CylindricalPair::new(
+            &self.pair,
+            self.flank_modifications()?,
+            self.mesh.teeth_in_sector as usize,
+        )
+    }
+
+    /// The scene's pair behind the gear-pair interface
+    /// ([`crate::geometry::gear_pair::GearPair`]): what every analysis uses.
+    pub fn gear_pair(&self) -> Result<Arc<dyn GearPair>, FlankError> {
+        Ok(Arc::new(self.cylindrical_pair()?))
     }
 }
 
