@@ -324,6 +324,7 @@ mod tests {
     use super::*;
     use crate::mesh::inp::read_deck;
     use crate::mesh::inp::test_decks::*;
+    use crate::testing::Rng;
 
     #[test]
     fn trailing_comma_on_keyword_before_data() {
@@ -493,17 +494,11 @@ mod tests {
             "1e7, 0.1, 1e-3",
             "*CONTACT PRINT",
         ];
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut rng = Rng::new(0x2545_f491_4f6c_dd1d);
         for _ in 0..3000 {
             let mut deck = String::new();
-            for _ in 0..(next() % 40) {
-                deck.push_str(fragments[(next() % fragments.len() as u64) as usize]);
+            for _ in 0..rng.below(40) {
+                deck.push_str(fragments[rng.below(fragments.len())]);
                 deck.push('\n');
             }
             let _ = parse(&deck);

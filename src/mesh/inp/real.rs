@@ -99,6 +99,7 @@ fn compact_real(sci: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::testing::Rng;
 
     #[test]
     fn reals_fit_twenty_characters() {
@@ -130,13 +131,10 @@ mod tests {
         assert_eq!(fmt_real(-1.2345678901234567e-5), "-1.23456789012346e-5");
         // Random bit patterns: always short; exact or rounded to at least 15
         // significant digits in 1e-9..1e10, 13 anywhere.
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rng = Rng::new(0x9e37_79b9_7f4a_7c15);
         let mut inexact = 0;
         for _ in 0..200_000 {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            let x = f64::from_bits(state);
+            let x = f64::from_bits(rng.next());
             if !x.is_finite() {
                 continue;
             }
