@@ -43,7 +43,7 @@ use flank::contact::{
 };
 use flank::fem::model::{Model, NodalForce, Pressure};
 use flank::mesh::structured::{box_faces, box_mesh, BoxElement};
-use flank::mesh::Mesh;
+use flank::mesh::{Mesh, SetKind};
 
 const E: f64 = 210_000.0;
 const NU: f64 = 0.3;
@@ -78,19 +78,13 @@ fn blocks(
     let mut faces = Vec::new();
     let mut top_faces = Vec::new();
     for (b, src) in [&low, &up].into_iter().enumerate() {
-        let base = mesh.node_count();
-        let ebase = mesh.elements.len();
-        for (label, x) in src.node_labels.iter().zip(&src.coords) {
-            mesh.add_node(10_000 * b as u64 + label, *x).unwrap();
-        }
-        for el in &src.elements {
-            mesh.add_element(
-                10_000 * b as u64 + el.label,
-                el.kind,
-                el.nodes.iter().map(|&n| n + base).collect(),
-            )
+        // labels + 10 000 b; node sets B0_X0, B1_Z1, ... (no NALL), no element sets
+        let offset = 10_000 * b as u64;
+        let (_, ebase) = mesh
+            .append(src, offset, offset, |kind, name| {
+                (kind == SetKind::Node && name != "NALL").then(|| format!("B{b}_{name}"))
+            })
             .unwrap();
-        }
         let set = if b == 0 { "Z1" } else { "Z0" };
         faces.push(
             box_faces(src, set)
@@ -103,12 +97,6 @@ fn blocks(
                 .into_iter()
                 .map(|(el, f)| (el + ebase, f))
                 .collect();
-        }
-        for (name, nodes) in &src.node_sets {
-            if name == "NALL" {
-                continue;
-            }
-            mesh.extend_node_set(&format!("B{b}_{name}"), nodes.iter().map(|&n| n + base));
         }
     }
     let mut model = common::model_from_mesh(mesh, E, nu);
