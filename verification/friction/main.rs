@@ -433,36 +433,6 @@ fn vanishing_mu_reproduces_frictionless_contact() {
     );
 }
 
-/// `total force` blocks of a ccx .dat file: set name → (fx, fy, fz).
-fn ccx_totals(text: &str) -> HashMap<String, [f64; 3]> {
-    let mut out = HashMap::new();
-    let mut set: Option<String> = None;
-    for line in text.lines() {
-        let t = line.trim();
-        if t.starts_with("total force") {
-            set = t
-                .split("for set ")
-                .nth(1)
-                .and_then(|s| s.split_whitespace().next())
-                .map(str::to_string);
-            continue;
-        }
-        if t.is_empty() {
-            continue;
-        }
-        if let Some(name) = set.take() {
-            let v: Vec<f64> = t
-                .split_whitespace()
-                .filter_map(|x| x.parse().ok())
-                .collect();
-            if v.len() == 3 {
-                out.insert(name, [v[0], v[1], v[2]]);
-            }
-        }
-    }
-    out
-}
-
 /// Case (f): the full-slip deck with a linear normal penalty and a stick
 /// slope, in flank and CalculiX. Compared: the reaction totals of the
 /// lower block's clamped bottom (= the contact force it receives, normal z
@@ -516,9 +486,8 @@ fn same_deck_in_calculix() {
     );
     let deck = dir.join("ccx.inp");
     std::fs::write(&deck, text).unwrap();
-    let c = flank::ccx::run_ccx(&deck, &dir.join("run"), 1).expect("ccx run");
-    let dat = std::fs::read_to_string(dir.join("run/job.dat")).unwrap();
-    let tot = ccx_totals(&dat)["B0_Z0"];
+    let c = common::run_ccx(&deck, &dir.join("run"));
+    let tot = c.totals()["B0_Z0"];
     let ux_ccx = c.displacements[&label][0];
     println!(
         "ccx: bottom reaction x {:.9e} z {:.9e} N; u_x(node {label}) {ux_ccx:.9e} mm; {:.2} s",
