@@ -25,6 +25,7 @@ pub(super) enum StepState {
 }
 
 impl Parser {
+    /// `*STEP[, NLGEOM=NO]`: opens the one step.
     pub(super) fn kw_step(&mut self, card: &Card) -> Result<Block> {
         if !matches!(self.step, StepState::Before) {
             return Err(self.err(card.loc, "second *STEP: only one step is supported"));
@@ -55,6 +56,7 @@ impl Parser {
         Ok(Block::Ignore)
     }
 
+    /// `*END STEP`: closes the step, which needs its `*STATIC`.
     pub(super) fn kw_end_step(&mut self, card: &Card) -> Result<Block> {
         let loc = card.loc;
         match self.step {
