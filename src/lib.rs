@@ -95,5 +95,7 @@ pub mod mesh_cycle;
 pub mod report;
 pub mod scene;
 pub mod tca;
+#[cfg(test)]
+pub(crate) mod testing;
 
 pub use error::{FlankError, Result};

@@ -962,7 +962,7 @@ mod tests {
     use crate::fem::material::Material;
     use crate::fem::model::Dirichlet;
     use crate::mesh::structured::{box_faces, box_mesh, BoxElement};
-    use crate::mesh::Mesh;
+    use crate::mesh::{Mesh, SetKind};
 
     /// Two blocks L × L × H stacked in z, `n_low` and `n_up` cells across,
     /// the upper one pressed down by δ on its top; statically determinate
@@ -984,19 +984,13 @@ mod tests {
         let mut mesh = Mesh::new();
         let mut faces = Vec::new();
         for (b, src) in [&low, &up].into_iter().enumerate() {
-            let base = mesh.node_count();
-            let ebase = mesh.elements.len();
-            for (label, x) in src.node_labels.iter().zip(&src.coords) {
-                mesh.add_node(10_000 * b as u64 + label, *x).unwrap();
-            }
-            for el in &src.elements {
-                mesh.add_element(
-                    10_000 * b as u64 + el.label,
-                    el.kind,
-                    el.nodes.iter().map(|&n| n + base).collect(),
-                )
+            // labels + 10 000 b; node sets B0_Z0, B1_Z1, ..., no element sets
+            let offset = 10_000 * b as u64;
+            let (_, ebase) = mesh
+                .append(src, offset, offset, |kind, name| {
+                    (kind == SetKind::Node).then(|| format!("B{b}_{name}"))
+                })
                 .unwrap();
-            }
             let set = if b == 0 { "Z1" } else { "Z0" };
             faces.push(
                 box_faces(src, set)
@@ -1004,9 +998,6 @@ mod tests {
                     .map(|(el, f)| (el + ebase, f))
                     .collect::<Vec<_>>(),
             );
-            for (name, nodes) in &src.node_sets {
-                mesh.extend_node_set(&format!("B{b}_{name}"), nodes.iter().map(|&n| n + base));
-            }
         }
         let ne = mesh.elements.len();
         let mut model = Model {

@@ -804,23 +804,7 @@ mod tests {
     use crate::fem::assembly::Assembly;
     use crate::fem::constraints::DofMap;
     use crate::mesh::structured::{cantilever_model, BoxElement};
-
-    /// Deterministic pseudo-random numbers (xorshift), no dependency.
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> u64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            self.0
-        }
-        fn below(&mut self, n: usize) -> usize {
-            (self.next() % n as u64) as usize
-        }
-        fn unit(&mut self) -> f64 {
-            (self.next() >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        }
-    }
+    use crate::testing::Rng;
 
     /// Lower-triangle CSC of a shifted 7-point Laplacian on an
     /// `a × b × c` grid with random couplings (SPD: diagonally dominant),
@@ -943,7 +927,7 @@ mod tests {
 
     #[test]
     fn restricted_solve_matches_full_solve() {
-        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        let mut rng = Rng::new(0x9e37_79b9_7f4a_7c15);
         let systems = [
             grid_system(6, 5, 4, &mut rng),
             grid_system(14, 13, 12, &mut rng),
@@ -999,7 +983,7 @@ mod tests {
 
     #[test]
     fn simplicial_factor_has_no_reach() {
-        let mut rng = Rng(3);
+        let mut rng = Rng::new(3);
         let (pattern, values) = grid_system(4, 4, 3, &mut rng);
         let chol = factor(
             &pattern,

@@ -653,6 +653,7 @@ fn parse_elements(
 mod tests {
     use super::*;
     use crate::fem::element::{check_jacobian, det3, edges, jacobian, ReferenceElement};
+    use crate::testing::Rng;
 
     const FIXTURE: &str = include_str!("../../tests/data/blocks.msh");
 
@@ -844,20 +845,6 @@ mod tests {
         assert_eq!(line, line_of(FIXTURE, "1 5 \"EDGE\""));
     }
 
-    /// Deterministic xorshift generator for the fuzz test.
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> u64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            self.0
-        }
-        fn below(&mut self, n: usize) -> usize {
-            (self.next() % n.max(1) as u64) as usize
-        }
-    }
-
     /// Mutated and truncated files never panic: they parse or give an error.
     #[test]
     fn fuzz_mutated_files_never_panic() {
@@ -870,7 +857,7 @@ mod tests {
             }
         }
         assert!(errors > 200);
-        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        let mut rng = Rng::new(0x9e37_79b9_7f4a_7c15);
         let alphabet = b"0123456789 -.e$\n\"+EndNodesElements17x";
         let (mut ok, mut err) = (0, 0);
         for _ in 0..4000 {

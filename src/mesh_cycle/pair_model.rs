@@ -132,39 +132,14 @@ fn combine(
     let mut flank_uv = std::collections::HashMap::new();
     let mut base = [0usize; 2];
     for (b, (body, src)) in [(pinion, pm), (gear, gm)].into_iter().enumerate() {
-        let nbase = mesh.node_count();
-        base[b] = nbase;
         let (noff, eoff) = if b == 0 { (0, 0) } else { (node_off, elem_off) };
-        for (label, x) in src.node_labels.iter().zip(&src.coords) {
-            mesh.add_node(label + noff, *x).map_err(|_| {
-                FlankError::Model(format!("{}: duplicate node label {label}", body.name))
-            })?;
-            body_of.push(b as u32);
-        }
-        for el in &src.elements {
-            mesh.add_element(
-                el.label + eoff,
-                el.kind,
-                el.nodes.iter().map(|&n| n + nbase).collect(),
-            )
-            .map_err(|_| {
-                FlankError::Model(format!(
-                    "{}: duplicate element label {}",
-                    body.name, el.label
-                ))
-            })?;
-        }
+        // every set of the body, prefixed with its name (PINION_BORE, ...)
         let prefix = body.name.to_ascii_uppercase();
-        for (name, nodes) in &src.node_sets {
-            mesh.extend_node_set(
-                &format!("{prefix}_{name}"),
-                nodes.iter().map(|&n| n + nbase),
-            );
-        }
-        let ebase = if b == 0 { 0 } else { pm.elements.len() };
-        for (name, els) in &src.element_sets {
-            mesh.extend_element_set(&format!("{prefix}_{name}"), els.iter().map(|&e| e + ebase));
-        }
+        let (nbase, _) = mesh
+            .append(src, noff, eoff, |_, name| Some(format!("{prefix}_{name}")))
+            .map_err(|e| FlankError::Model(format!("{}: {e}", body.name)))?;
+        base[b] = nbase;
+        body_of.resize(mesh.node_count(), b as u32);
         for (&n, &uv) in &body.sector.flank_uv {
             flank_uv.insert(n + nbase, uv);
         }

@@ -1,6 +1,9 @@
 //! Helpers shared by the verification programs (included with `#[path]`).
 #![allow(dead_code)]
 
+use std::collections::HashMap;
+use std::path::Path;
+
 use flank::fem::material::Material;
 use flank::fem::model::{Dirichlet, Model};
 use flank::mesh::Mesh;
@@ -67,6 +70,67 @@ pub fn ccx_available() -> bool {
     }
     eprintln!("ccx not found: cross-code comparison skipped (apt-get install calculix-ccx)");
     false
+}
+
+/// What ccx printed for one deck: the displacements by node label (the
+/// deck's `*NODE PRINT` / `U`), the whole `.dat` text, and the wall time of
+/// the ccx run.
+pub struct CcxRun {
+    pub displacements: HashMap<u64, [f64; 3]>,
+    pub dat: String,
+    pub wall_s: f64,
+}
+
+impl CcxRun {
+    /// The `total force` blocks of the `.dat` (`*NODE PRINT, NSET=set,
+    /// TOTALS=ONLY` / `RF`): set name → (fx, fy, fz).
+    pub fn totals(&self) -> HashMap<String, [f64; 3]> {
+        ccx_totals(&self.dat)
+    }
+}
+
+/// Runs ccx (one thread) on the deck file `deck` in `workdir` (created; the
+/// deck is copied there as `job.inp`) and reads what it printed to
+/// `job.dat`. Panics if ccx fails; call [`ccx_available`] first.
+pub fn run_ccx(deck: &Path, workdir: &Path) -> CcxRun {
+    let run = flank::ccx::run_ccx(deck, workdir, 1).unwrap_or_else(|e| panic!("{e}"));
+    let path = workdir.join("job.dat");
+    let dat = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    CcxRun {
+        displacements: run.displacements,
+        dat,
+        wall_s: run.wall_s,
+    }
+}
+
+/// `total force` blocks of a ccx .dat file: set name → (fx, fy, fz).
+pub fn ccx_totals(text: &str) -> HashMap<String, [f64; 3]> {
+    let mut out = HashMap::new();
+    let mut set: Option<String> = None;
+    for line in text.lines() {
+        let t = line.trim();
+        if t.starts_with("total force") {
+            set = t
+                .split("for set ")
+                .nth(1)
+                .and_then(|s| s.split_whitespace().next())
+                .map(str::to_string);
+            continue;
+        }
+        if t.is_empty() {
+            continue;
+        }
+        if let Some(name) = set.take() {
+            let v: Vec<f64> = t
+                .split_whitespace()
+                .filter_map(|x| x.parse().ok())
+                .collect();
+            if v.len() == 3 {
+                out.insert(name, [v[0], v[1], v[2]]);
+            }
+        }
+    }
+    out
 }
 
 /// A scratch directory under the target dir for one case.

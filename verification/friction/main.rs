@@ -43,7 +43,7 @@ use flank::contact::{
 };
 use flank::fem::model::{Model, NodalForce, Pressure};
 use flank::mesh::structured::{box_faces, box_mesh, BoxElement};
-use flank::mesh::Mesh;
+use flank::mesh::{Mesh, SetKind};
 
 const E: f64 = 210_000.0;
 const NU: f64 = 0.3;
@@ -78,19 +78,13 @@ fn blocks(
     let mut faces = Vec::new();
     let mut top_faces = Vec::new();
     for (b, src) in [&low, &up].into_iter().enumerate() {
-        let base = mesh.node_count();
-        let ebase = mesh.elements.len();
-        for (label, x) in src.node_labels.iter().zip(&src.coords) {
-            mesh.add_node(10_000 * b as u64 + label, *x).unwrap();
-        }
-        for el in &src.elements {
-            mesh.add_element(
-                10_000 * b as u64 + el.label,
-                el.kind,
-                el.nodes.iter().map(|&n| n + base).collect(),
-            )
+        // labels + 10 000 b; node sets B0_X0, B1_Z1, ... (no NALL), no element sets
+        let offset = 10_000 * b as u64;
+        let (_, ebase) = mesh
+            .append(src, offset, offset, |kind, name| {
+                (kind == SetKind::Node && name != "NALL").then(|| format!("B{b}_{name}"))
+            })
             .unwrap();
-        }
         let set = if b == 0 { "Z1" } else { "Z0" };
         faces.push(
             box_faces(src, set)
@@ -103,12 +97,6 @@ fn blocks(
                 .into_iter()
                 .map(|(el, f)| (el + ebase, f))
                 .collect();
-        }
-        for (name, nodes) in &src.node_sets {
-            if name == "NALL" {
-                continue;
-            }
-            mesh.extend_node_set(&format!("B{b}_{name}"), nodes.iter().map(|&n| n + base));
         }
     }
     let mut model = common::model_from_mesh(mesh, E, nu);
@@ -445,36 +433,6 @@ fn vanishing_mu_reproduces_frictionless_contact() {
     );
 }
 
-/// `total force` blocks of a ccx .dat file: set name → (fx, fy, fz).
-fn ccx_totals(text: &str) -> HashMap<String, [f64; 3]> {
-    let mut out = HashMap::new();
-    let mut set: Option<String> = None;
-    for line in text.lines() {
-        let t = line.trim();
-        if t.starts_with("total force") {
-            set = t
-                .split("for set ")
-                .nth(1)
-                .and_then(|s| s.split_whitespace().next())
-                .map(str::to_string);
-            continue;
-        }
-        if t.is_empty() {
-            continue;
-        }
-        if let Some(name) = set.take() {
-            let v: Vec<f64> = t
-                .split_whitespace()
-                .filter_map(|x| x.parse().ok())
-                .collect();
-            if v.len() == 3 {
-                out.insert(name, [v[0], v[1], v[2]]);
-            }
-        }
-    }
-    out
-}
-
 /// Case (f): the full-slip deck with a linear normal penalty and a stick
 /// slope, in flank and CalculiX. Compared: the reaction totals of the
 /// lower block's clamped bottom (= the contact force it receives, normal z
@@ -528,9 +486,8 @@ fn same_deck_in_calculix() {
     );
     let deck = dir.join("ccx.inp");
     std::fs::write(&deck, text).unwrap();
-    let c = flank::ccx::run_ccx(&deck, &dir.join("run"), 1).expect("ccx run");
-    let dat = std::fs::read_to_string(dir.join("run/job.dat")).unwrap();
-    let tot = ccx_totals(&dat)["B0_Z0"];
+    let c = common::run_ccx(&deck, &dir.join("run"));
+    let tot = c.totals()["B0_Z0"];
     let ux_ccx = c.displacements[&label][0];
     println!(
         "ccx: bottom reaction x {:.9e} z {:.9e} N; u_x(node {label}) {ux_ccx:.9e} mm; {:.2} s",

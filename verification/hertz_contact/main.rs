@@ -273,22 +273,20 @@ fn hertz_convergence_refined() {
 // Cross-code: the same deck in flank (`flank solve`) and CalculiX
 // ---------------------------------------------------------------------------
 
-/// Contact stresses and set totals printed by ccx in a .dat file.
+/// Contact stresses printed by ccx in a .dat file (set totals:
+/// [`common::CcxRun::totals`]).
 struct CcxDat {
     /// slave node label → (pressure, normal overclosure)
     cstr: HashMap<u64, f64>,
     cdis: HashMap<u64, f64>,
-    totals: HashMap<String, [f64; 3]>,
 }
 
 fn parse_ccx_dat(text: &str) -> CcxDat {
     let mut out = CcxDat {
         cstr: HashMap::new(),
         cdis: HashMap::new(),
-        totals: HashMap::new(),
     };
     let mut mode = 0;
-    let mut set = String::new();
     for line in text.lines() {
         let t = line.trim();
         if t.starts_with("contact stress") {
@@ -302,13 +300,7 @@ fn parse_ccx_dat(text: &str) -> CcxDat {
             continue;
         }
         if t.starts_with("total force") {
-            mode = 3;
-            set = t
-                .split("for set ")
-                .nth(1)
-                .and_then(|s| s.split_whitespace().next())
-                .unwrap_or("")
-                .to_string();
+            mode = 0;
             continue;
         }
         if t.is_empty() {
@@ -324,13 +316,6 @@ fn parse_ccx_dat(text: &str) -> CcxDat {
                         out.cdis.insert(n, v);
                     }
                     continue;
-                }
-                mode = 0;
-            }
-            3 if f.len() == 3 => {
-                let v: Vec<f64> = f.iter().filter_map(|x| x.parse().ok()).collect();
-                if v.len() == 3 {
-                    out.totals.insert(set.clone(), [v[0], v[1], v[2]]);
                 }
                 mode = 0;
             }
@@ -509,18 +494,15 @@ fn cross_code(fine: usize, law: PressureOverclosure, name: &str) -> Option<[f64;
     let f_flank = pair["total_normal_force"].as_f64().unwrap();
     let pn_flank = pair["max_nodal_pressure"].as_f64().unwrap();
     let p_flank = pair["max_pressure"].as_f64().unwrap();
-    if flank::ccx::ccx_executable().is_none() {
-        if std::env::var_os("CI").is_some() {
-            panic!("ccx not found on CI");
-        }
-        eprintln!("ccx not found: {name}: flank {f_flank:.6} N only");
+    if !common::ccx_available() {
+        eprintln!("{name}: flank {f_flank:.6} N only");
         return None;
     }
     let t = Instant::now();
-    flank::ccx::run_ccx(&deck, &dir.join("ccx"), 1).expect("ccx run");
+    let run = common::run_ccx(&deck, &dir.join("ccx"));
     let ccx_s = t.elapsed().as_secs_f64();
-    let dat = parse_ccx_dat(&std::fs::read_to_string(dir.join("ccx/job.dat")).unwrap());
-    let f_ccx = dat.totals["FLAT_BOTTOM"][1];
+    let dat = parse_ccx_dat(&run.dat);
+    let f_ccx = run.totals()["FLAT_BOTTOM"][1];
     let pn_ccx = dat.cstr.values().fold(0.0f64, |a, &b| a.max(b));
     let mut worst = 0.0f64;
     for (label, &p) in &dat.cstr {

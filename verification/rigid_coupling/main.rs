@@ -874,8 +874,7 @@ fn d_deck_in_flank_and_ccx() {
         if !common::ccx_available() {
             continue;
         }
-        let ccx = flank::ccx::run_ccx(&path, &dir.join(format!("{name}_ccx")), 1)
-            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let ccx = common::run_ccx(&path, &dir.join(format!("{name}_ccx")));
         let u_ccx = ccx.displacements;
         let (theta_ccx, res_ccx) = fit_rotation_z(&u_ccx, &coords, &inner);
         let (du, n) = field_difference(&u_flank, &u_ccx);
@@ -1074,13 +1073,10 @@ fn e_contact_deck_held_by_a_reference_node() {
     if !common::ccx_available() {
         return;
     }
-    let ccx = match flank::ccx::run_ccx(&path, &dir.join("ccx"), 1) {
-        Ok(c) => c,
-        Err(e) => panic!("ccx did not solve the contact deck: {e}"),
-    };
+    let ccx = common::run_ccx(&path, &dir.join("ccx"));
     let tz_ccx = ccx.displacements[&r][2];
     let (du, n) = field_difference(&u_flank, &ccx.displacements);
-    let dat = std::fs::read_to_string(dir.join("ccx/job.dat")).unwrap();
+    let dat = &ccx.dat;
     println!(
         "ccx: reference tz = {tz_ccx:.6e} mm; flank − ccx: tz {:+.2e}, max|Δu|/max|u| {du:.2e} over {n} nodes; flank {flank_s:.2} s, ccx {:.2} s",
         (tz - tz_ccx) / tz_ccx,

@@ -1,0 +1,239 @@
+//! `*MATERIAL`, `*ELASTIC` and `*SOLID SECTION`.
+//!
+//! `*MATERIAL, NAME=name` followed by `*ELASTIC[, TYPE=ISO]` with one data
+//! line `E, ν[, temperature]` (further temperature lines: only the first is
+//! used, with a warning); `*DENSITY`, `*EXPANSION`, ... stay inside the
+//! material and are ignored with a warning (see [`super::keywords`]).
+//! `*SOLID SECTION, ELSET=set, MATERIAL=name` gives the elements of the set
+//! their material (replayed in file order; a later section reassigns, with
+//! a warning). At the end every element needs a material; materials without
+//! `*ELASTIC` that no section uses are dropped with a warning.
+
+use super::lexer::{norm_name, Card, Loc};
+use super::{Block, Cmd, Parser};
+use crate::error::Result;
+use crate::fem::material::Material;
+
+pub(super) struct RawMaterial {
+    pub(super) name: String,
+    pub(super) elastic: Option<(f64, f64)>,
+    pub(super) loc: Loc,
+}
+
+impl Parser {
+    pub(super) fn kw_material(&mut self, card: &Card) -> Result<Block> {
+        self.check_params(card, &["NAME"])?;
+        let name = norm_name(&self.required(card, "NAME")?);
+        if name.is_empty() {
+            return Err(self.err(card.loc, "empty material name"));
+        }
+        if let Some(&m) = self.material_ids.get(&name) {
+            let first = self.materials[m].loc.line;
+            return Err(self.err(
+                card.loc,
+                format!("material {name} defined twice (first at line {first})"),
+            ));
+        }
+        self.material_ids.insert(name.clone(), self.materials.len());
+        self.current_material = Some(self.materials.len());
+        self.materials.push(RawMaterial {
+            name,
+            elastic: None,
+            loc: card.loc,
+        });
+        Ok(Block::NoData(card.name.clone()))
+    }
+
+    pub(super) fn kw_elastic(&mut self, card: &Card) -> Result<Block> {
+        self.check_params(card, &["TYPE"])?;
+        if let Some(t) = self.value(card, "TYPE")? {
+            let t = norm_name(&t);
+            if t != "ISO" && t != "ISOTROPIC" {
+                return Err(self.err(
+                    card.loc,
+                    format!("*ELASTIC, TYPE={t} is not supported (only isotropic); ignoring it would change the answer"),
+                ));
+            }
+        }
+        let Some(material) = self.current_material else {
+            return Err(self.err(card.loc, "*ELASTIC outside of a *MATERIAL"));
+        };
+        if self.materials[material].elastic.is_some() {
+            return Err(self.err(
+                card.loc,
+                format!(
+                    "second *ELASTIC for material {}",
+                    self.materials[material].name
+                ),
+            ));
+        }
+        Ok(Block::Elastic {
+            material,
+            lines: 0,
+            loc: card.loc,
+        })
+    }
+
+    pub(super) fn kw_section(&mut self, card: &Card) -> Result<Block> {
+        if Self::flag(card, "ORIENTATION") {
+            return Err(self.err(
+                card.loc,
+                "*SOLID SECTION, ORIENTATION=... is not supported; ignoring it would change the answer",
+            ));
+        }
+        self.check_params(card, &["ELSET", "MATERIAL"])?;
+        let elset = self.required(card, "ELSET")?;
+        let elset = self.intern(&elset, card.loc)?;
+        let material = norm_name(&self.required(card, "MATERIAL")?);
+        self.cmds.push(Cmd::Section {
+            elset,
+            material,
+            loc: card.loc,
+        });
+        // A data line (plane-element thickness) is meaningless for solids.
+        Ok(Block::Ignore)
+    }
+
+    pub(super) fn elastic_line(
+        &mut self,
+        material: usize,
+        line_no: usize,
+        f: &[&str],
+        loc: Loc,
+    ) -> Result<()> {
+        if line_no > 1 {
+            if line_no == 2 {
+                self.warn(
+                    loc,
+                    "*ELASTIC with several (temperature) lines: only the first is used",
+                );
+            }
+            return Ok(());
+        }
+        if f.len() < 2 {
+            return Err(self.err(loc, "*ELASTIC data must be: E, nu[, temperature]"));
+        }
+        if f.len() > 3 {
+            return Err(self.err(
+                loc,
+                "too many values for isotropic *ELASTIC (expected E, nu[, temperature])",
+            ));
+        }
+        let young = self.parse_real(f[0], loc)?;
+        let poisson = self.parse_real(f[1], loc)?;
+        if let Some(t) = f.get(2) {
+            self.parse_real(t, loc)?;
+        }
+        let m = Material {
+            name: self.materials[material].name.clone(),
+            young,
+            poisson,
+        };
+        m.validate().map_err(|e| self.err(loc, e.to_string()))?;
+        self.materials[material].elastic = Some((young, poisson));
+        Ok(())
+    }
+
+    /// The materials with an `*ELASTIC` (unused ones without it are dropped
+    /// with a warning) and each element's index among them; an element
+    /// without a section is an error at its line.
+    pub(super) fn element_materials(
+        &mut self,
+        elem_mat: &[Option<usize>],
+        elem_loc: &[Loc],
+    ) -> Result<(Vec<Material>, Vec<usize>)> {
+        let ne = elem_mat.len();
+        let mut remap = vec![None; self.materials.len()];
+        let mut materials = Vec::new();
+        let mut dropped = Vec::new();
+        for (i, m) in self.materials.iter().enumerate() {
+            match m.elastic {
+                Some((young, poisson)) => {
+                    remap[i] = Some(materials.len());
+                    materials.push(Material {
+                        name: m.name.clone(),
+                        young,
+                        poisson,
+                    });
+                }
+                None => dropped.push((m.loc, m.name.clone())),
+            }
+        }
+        for (loc, name) in dropped {
+            self.warn(
+                loc,
+                format!("material {name} has no *ELASTIC and is unused: dropped"),
+            );
+        }
+        let mut element_material = Vec::with_capacity(ne);
+        for (e, m) in elem_mat.iter().enumerate() {
+            match m.and_then(|m| remap[m]) {
+                Some(m) => element_material.push(m),
+                None => {
+                    return Err(self.err(
+                        elem_loc[e],
+                        format!(
+                            "element {} has no *SOLID SECTION (no material)",
+                            self.mesh.elements[e].label
+                        ),
+                    ))
+                }
+            }
+        }
+        Ok((materials, element_material))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::mesh::inp::test_decks::*;
+
+    #[test]
+    fn negative_young_modulus() {
+        let d = with(HEX, "210000., 0.3", "-210000., 0.3");
+        expect_err(&d, line_of(&d, "-210000."), "Young");
+    }
+
+    #[test]
+    fn poisson_ratio_half() {
+        let d = with(HEX, "210000., 0.3", "210000., 0.5");
+        expect_err(&d, line_of(&d, "210000., 0.5"), "Poisson");
+    }
+
+    #[test]
+    fn undefined_set_in_solid_section() {
+        let d = with(HEX, "ELSET=BLOCK, MATERIAL", "ELSET=BLOK, MATERIAL");
+        expect_err(&d, line_of(&d, "ELSET=BLOK"), "BLOK");
+    }
+
+    #[test]
+    fn undefined_material() {
+        let d = with(HEX, "MATERIAL=steel", "MATERIAL=brass");
+        expect_err(&d, line_of(&d, "MATERIAL=brass"), "BRASS");
+    }
+
+    #[test]
+    fn element_without_section() {
+        let d = with(HEX, "*SOLID SECTION, ELSET=BLOCK, MATERIAL=steel\n", "");
+        expect_err(
+            &d,
+            line_of(&d, "1, 1, 2, 3, 4"),
+            "element 1 has no *SOLID SECTION",
+        );
+    }
+
+    #[test]
+    fn temperature_dependent_elastic_uses_first_line() {
+        let d = with(
+            HEX,
+            "210000., 0.3",
+            "210000., 0.3, 20.\n200000., 0.31, 300.",
+        );
+        let deck = parse(&d).unwrap();
+        assert_eq!(deck.model.materials[0].young, 210000.0);
+        assert!(deck
+            .warnings
+            .iter()
+            .any(|w| w.line == line_of(&d, "200000.")));
+    }
+}
