@@ -144,9 +144,15 @@ pub fn read(path: &Path) -> Result<ComplianceTensor, FlankError> {
     Ok(t)
 }
 
+/// A temporary name beside `path` that no other writer uses: the process
+/// id and a per-process sequence number (two writers of the same tensor in
+/// one process, e.g. parallel tests on a cold cache, must not share it).
 fn tmp_path(path: &Path) -> PathBuf {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static SEQUENCE: AtomicU64 = AtomicU64::new(0);
+    let n = SEQUENCE.fetch_add(1, Ordering::Relaxed);
     let mut name = path.file_name().unwrap_or_default().to_os_string();
-    name.push(format!(".tmp{}", std::process::id()));
+    name.push(format!(".tmp{}.{n}", std::process::id()));
     path.with_file_name(name)
 }
 

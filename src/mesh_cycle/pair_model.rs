@@ -85,7 +85,7 @@ pub struct PairModel {
 /// torque T (N·mm, > 0: drives the right flanks) and the normal law `law`.
 pub fn pair_model(
     scene: &Scene,
-    kin: &dyn GearPair,
+    gears: &dyn GearPair,
     mesh: &BodyMeshOptions,
     law: PressureOverclosure,
     slave: SlaveBody,
@@ -103,7 +103,7 @@ pub fn pair_model(
     };
     let pinion = scene_body(scene, "pinion", &options)?;
     let gear = scene_body(scene, "gear", &options)?;
-    combine(kin, &pinion, &gear, torque, law, slave)
+    combine(gears, &pinion, &gear, torque, law, slave)
 }
 
 /// Label offset that keeps the gear's labels apart from the pinion's.
@@ -116,7 +116,7 @@ fn label_offset(max: u64) -> u64 {
 }
 
 fn combine(
-    kin: &dyn GearPair,
+    gears: &dyn GearPair,
     pinion: &BodyModel,
     gear: &BodyModel,
     torque: f64,
@@ -173,7 +173,7 @@ fn combine(
     model.couplings.push(RigidCoupling::rotation_about(
         "PINION_HUB",
         [0.0, 0.0, {
-            let (z0, z1) = kin.pinion().blank().axial_range;
+            let (z0, z1) = gears.pinion().blank().axial_range;
             0.5 * (z1 - z0)
         }],
         2,
@@ -192,8 +192,8 @@ fn combine(
     let mut contact_nodes = Vec::new();
     let mut teeth = Vec::new();
     let mut pairings = Vec::new();
-    for k in 1..=kin.sector_teeth() {
-        let mate = kin.mate(k);
+    for k in 1..=gears.sector_teeth() {
+        let mate = gears.mate(k);
         let mut names = Vec::new();
         for (body, tooth) in [("PINION", k), ("GEAR", mate)] {
             let set = format!("{body}_FLANK_R{tooth}");
