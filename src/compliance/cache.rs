@@ -128,7 +128,7 @@ pub fn write(path: &Path, tensor: &ComplianceTensor) -> Result<(), FlankError> {
     std::fs::rename(&tmp, path).map_err(|e| FlankError::io(path, e))
 }
 
-/// Reads a compliance file written by [`write`].
+/// Reads a compliance file written by [`write()`].
 pub fn read(path: &Path) -> Result<ComplianceTensor, FlankError> {
     let t = match FileFormat::of_path(path) {
         Some(FileFormat::Native) => read_native(path)?,

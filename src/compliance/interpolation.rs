@@ -516,7 +516,7 @@ impl<'a> FlankInterpolator<'a> {
     }
 
     /// The K × K normal compliance matrix (row-major) of a set of points
-    /// with unit normals: C_nn[k][l] = n_kᵀ C^{kl} n_l.
+    /// with unit normals: `C_nn[k][l] = n_kᵀ C^{kl} n_l`.
     pub fn normal_matrix(&self, points: &[SurfaceLoad], normals: &[[f64; 3]]) -> Vec<f64> {
         let k = points.len();
         let mut out = vec![0.0; k * k];

@@ -1009,7 +1009,7 @@ pub struct FlankModificationReport {
 /// touches a moved node is Jacobian-checked again; an inverted one is an
 /// error naming it (the modification is then too large for that mesh).
 /// Works on meshes from either mesher (it only needs `flank_uv` and the
-/// FLANK_L<k>/FLANK_R<k> sets with the sector's tooth numbering).
+/// `FLANK_L<k>`/`FLANK_R<k>` sets with the sector's tooth numbering).
 pub fn modify_flanks(
     sector: &mut GearSectorMesh,
     profile: &ToothProfile,

@@ -1,92 +1,83 @@
-//! Unloaded tooth contact analysis (TCA) of spur and helical pairs: the
-//! geometric input of the compliance-matrix LTCA.
+//! Unloaded tooth contact analysis (TCA) of a gear pair given through the
+//! gear-pair interface ([`GearPair`]): the geometric input of the
+//! compliance-matrix LTCA.
 //!
-//! At a roll angle the TCA finds every tooth pair whose contact line lies on
-//! the path of contact, samples its contact line with points, and gives per
-//! point the flank parameters of both bodies (where the LTCA interpolates the
-//! compliance tensors), the initial normal separation w (micro-geometry,
-//! misalignment, centre-distance error), the moment arm r of the pinion
-//! rotation, the share of line length the point stands for, the surface
-//! velocities and the curvature of both flanks across the line. Those are the
-//! w, r of the LTCA's compatibility F p + w = θ r + d (seed `000_…`; seed
-//! `004_…` §3.2).
+//! At a roll angle the TCA takes the pair's kinematic contact lines
+//! ([`GearPair::contact_lines`]: the tooth pairs in mesh, each line as a
+//! parameter range with seeds), samples each line with points, and gives
+//! per point the flank parameters of both bodies (where the LTCA
+//! interpolates the compliance tensors), the initial normal separation w
+//! (micro-geometry, misalignment), the moment arm r of the pinion rotation,
+//! the share of line length the point stands for, the surface velocities
+//! and the curvature of both flanks across the line. Those are the w, r of
+//! the LTCA's compatibility F p + w = θ r + d (seed `000_…`; seed `004_…`
+//! §3.2).
 //!
-//! Methods: the kinematic contact of unmodified aligned involute flanks is
-//! known in closed form (the line of action and the plane of action,
-//! ISO 21771:2007 path of contact; Litvin & Fuentes, *Gear Geometry and
-//! Applied Theory*, 2nd ed. 2004, involute spur and helical gears: the
-//! contact line of a helical pair is a straight generator of the base
-//! helicoid, inclined by β_b in the plane of action). Each sample point X₀ of
-//! that line is then put through the real (modified, misplaced) surfaces as
-//! in seed `004_…` §3.1: the normal line through X₀ is intersected with the
-//! pinion flank (M₁), and the line through M₁ along the pinion's normal there
-//! with the gear flank (M₂); w is the signed distance from M₁ to M₂ along the
-//! normal. Both intersections are Newton iterations in (u, v, t) started from
-//! the kinematic parameters (exact for unmodified aligned flanks), so a
-//! position costs microseconds per point (Litvin & Fuentes, TCA by the
-//! tangency of surfaces; here the separation topology around the contact
-//! line, as LTCA needs it).
+//! Methods: each sample point X₀ of a kinematic line (for spur and helical
+//! pairs the closed-form line in the plane of action,
+//! [`crate::geometry::cylindrical`]) is put through the real (modified,
+//! misplaced) surfaces as in seed `004_…` §3.1: the normal line through X₀
+//! is intersected with the pinion flank (M₁), and the line through M₁ along
+//! the pinion's normal there with the gear flank (M₂); w is the signed
+//! distance from M₁ to M₂ along the normal. Both intersections are Newton
+//! iterations in (u, v, t) started from the pair's seeds (exact for
+//! unmodified aligned flanks), so a position costs microseconds per point
+//! (Litvin & Fuentes, *Gear Geometry and Applied Theory*, 2nd ed. 2004, TCA
+//! by the tangency of surfaces; here the separation topology around the
+//! contact line, as LTCA needs it). Nothing here depends on the gear type:
+//! `verification/gear_pair_interface` runs it on a plane against a pin.
 //!
 //! # Conventions
 //!
-//! * **Global frame and roll angle** are those of [`MeshKinematics`]: pinion
-//!   axis = z axis, gear axis at (0, a); θ = pinion rotation in the drive
-//!   direction (clockwise seen from +z), 0 when the middle pair's kinematic
-//!   contact is at the pitch point. The loaded flanks are the right flanks
-//!   (`Flank::Right`) of both bodies; pinion sector tooth k meets gear tooth
-//!   [`MeshKinematics::mate`]`(k)`. s is the distance along the transverse
-//!   line of action from the pinion's base tangent point T₁ (s = r_b1 u₁).
-//! * **Flank parameters** (u, v): those of [`FlankSurface`] in each body's
-//!   own (sector) frame: u the involute roll angle, v = the body's own z
-//!   (mm). The gear's own z is the global z less (b₁ − b₂)/2.
+//! * **Global frame and roll angle** are the pair's ([`GearPair::frames`]);
+//!   for spur and helical pairs: pinion axis = z axis, gear axis at (0, a);
+//!   θ = pinion rotation in the drive direction (clockwise seen from +z), 0
+//!   when the middle pair's kinematic contact is at the pitch point. The
+//!   loaded flanks are the right flanks ([`Flank::Right`]) of both bodies;
+//!   pinion sector tooth k meets gear tooth [`GearPair::mate`]`(k)`.
+//! * **Flank parameters** (u, v): those of each body's [`ToothSurface`] in
+//!   its own (sector) frame (spur/helical: u the involute roll angle, v the
+//!   body's own z in mm).
 //! * **Normals** are unit vectors outward from the pinion flank (pointing
 //!   from the pinion into the gear).
 //! * **Separation** w (mm) > 0: a gap (the gear surface lies beyond the
 //!   pinion surface along the normal); < 0: overlap (interference).
-//! * **Moment arm** r = ((−e_z) × x)·n (mm): the normal approach of the
-//!   pinion surface point x per unit pinion rotation in the drive direction,
-//!   r_b1 cos β_b on an ideal contact line. Rotating the pinion by θ closes
-//!   w by θ r.
+//! * **Moment arm** r = (ω̂₁ × (x − o₁))·n (mm), ω̂₁ the pinion's unit
+//!   angular velocity for a drive rotation and o₁ its axis point: the normal
+//!   approach of the pinion surface point x per unit pinion rotation,
+//!   r_b1 cos β_b on an ideal involute contact line. Rotating the pinion by
+//!   θ closes w by θ r.
 //! * **Unloaded transmission error** θ₀ = min_i w_i / r_i (rad): the pinion
 //!   rotation in the drive direction that brings the closest point into
 //!   contact (> 0: the flanks are apart, the gear lags its ideal position;
 //!   < 0: they overlap).
-//! * **Misalignment**: the gear axis is tilted about the point of its axis in
-//!   the middle of the common face width. `misalignment_rad[0]` = γ_β, a
-//!   tilt **in the plane of action**: e_z → e_z + γ_β n_t (n_t = (cos α_wt,
-//!   sin α_wt, 0), the transverse line-of-action direction), so γ_β > 0 opens
-//!   the gap at large z. `misalignment_rad[1]` = γ_δ, a tilt **normal to the
-//!   plane of action**: e_z → e_z + γ_δ m, m = (−sin α_wt, cos α_wt, 0). In
-//!   ISO 6336-1 / ISO/TR 10064-3 terms, f_Σβ (out of the plane of the axes)
-//!   and f_Σδ (in the plane of the axes) project onto these as
-//!   γ_β = (f_Σβ cos α_wt + f_Σδ sin α_wt)/L and
-//!   γ_δ = (−f_Σβ sin α_wt + f_Σδ cos α_wt)/L (L the bearing span, signs
-//!   with f_Σβ along +x and f_Σδ along +y at +z): for α_wt ≈ 20° γ_β is
-//!   mostly f_Σβ, the harmful one (ISO 6336-1, f_ma), γ_δ mostly f_Σδ.
-//! * **Centre-distance error** Δa > 0 moves the gear away along +y. The
-//!   kinematics (roll angle, sample points) stay those of the nominal
-//!   centre distance; the ideal flanks then have a uniform separation (the
-//!   involute property: backlash, w = r θ₀ at every point) and a new working
-//!   pressure angle.
+//! * **Misalignment** is the pair's ([`GearPair::misalignment`]); spur and
+//!   helical pairs take it as tilts in and normal to the plane of action
+//!   and a centre-distance error
+//!   ([`CylindricalPair::with_plane_of_action_misalignment`], whose docs
+//!   give the ISO 6336-1 f_Σβ / f_Σδ correspondence), or as the bevel
+//!   set ΔE, ΔP, ΔG, ΔΣ ([`CylindricalPair::with_misalignment`]).
 //! * **Velocities** (m/s, from the pinion speed; the gear turns at
-//!   ω₂ = ω₁ z₁/z₂): v_ti = V_ti·e_roll, the tangential surface velocity of
-//!   body i (seed `004_…` §2.2: V_ti = v_i − (v_i·n) n, v_i = ω_i × r_i)
-//!   along the rolling direction e_roll = (n × e_z)/|n × e_z| (across the
-//!   contact line, in the tangent plane; e_roll·v_t1 > 0 on the active path).
+//!   ω₂ = ω₁ [`GearPair::ratio`]): v_ti = V_ti·e_roll, the tangential
+//!   surface velocity of body i (seed `004_…` §2.2: V_ti = v_i − (v_i·n) n,
+//!   v_i = ω_i × r_i) along the rolling direction e_roll = (n × a₁)/|n × a₁|
+//!   (a₁ the pinion axis; across the contact line of a parallel-axis pair,
+//!   in the tangent plane; e_roll·v_t1 > 0 on the active path).
 //!   `sliding_velocity` v_s = v_t1 − v_t2 (seed 004's v_c, signed: > 0 where
 //!   the pinion surface is the faster, in the recess beyond the pitch point
 //!   for a driving pinion); `rolling_velocity` = the entraining speed
 //!   u = (v_t1 + v_t2)/2 of seed `002_…` eq. 9; `sum_velocity` = v_t1 + v_t2.
 //! * **Curvature**: `curvature_radius` = the radii of the two flanks (pinion,
-//!   gear) in the normal section across the contact line (along e_roll),
-//!   positive when convex; for an involute helicoid ρ_n = ρ_t / cos β_b with ρ_t the
-//!   distance to the base tangent point. `equivalent_radius_mm` =
-//!   ρ₁ρ₂/(ρ₁ + ρ₂) (seed `002_…` eqs. 6–7, in the normal plane).
+//!   gear) in the normal section along e_roll, positive when convex (for an
+//!   involute helicoid ρ_n = ρ_t / cos β_b with ρ_t the distance to the
+//!   base tangent point), by a central difference of the normal over
+//!   ±1e-3 mm. `equivalent_radius_mm` = ρ₁ρ₂/(ρ₁ + ρ₂) (seed `002_…`
+//!   eqs. 6–7, in the normal plane).
 //!
 //! Flank points are sampled inside the kinematic path; with misplacement
 //! or modifications the normal line may meet a mating flank a few µm beyond
 //! its tip, where the involute is continued (the surfaces of
-//! [`FlankSurface`] are defined there).
+//! [`crate::geometry::flank::FlankSurface`] are defined there).
 //!
 //! # Corner contact
 //!
@@ -94,7 +85,8 @@
 //! through the tip corner. Beyond the kinematic path ends the TCA therefore
 //! also samples the tip edge of the tooth that would start (gear tip,
 //! before the start of the path) or end (pinion tip, after its end) the
-//! contact: the corner point is on the tip edge (u = u_tip), its partner is
+//! contact, over the pair's corner windows: the corner point is on the tip
+//! edge ([`ToothSurface::tip_edge`]), its partner is
 //! the closest point of the mating flank, the normal is the mating flank's
 //! normal there, and a point is kept while its separation is ≤
 //! `extension_mm`. A corner is a sharp edge (no tip rounding is modelled):
@@ -187,7 +179,7 @@ impl TcaSettings {
 /// One sample point of a contact line (conventions in the module docs).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct ContactPoint {
-    /// Pinion flank parameters (u, v) of [`FlankSurface`] (its own frame).
+    /// Pinion flank parameters (u, v) of its [`ToothSurface`] (own frame).
     pub pinion_uv: [f64; 2],
     /// Gear flank parameters (u, v) (its own frame).
     pub gear_uv: [f64; 2],
