@@ -73,7 +73,7 @@ fn mesh_scene(
     mesher: MesherChoice,
 ) -> Result<()> {
     use flank::geometry::involute::base_radius;
-    use flank::mesh::gear_body::{gear_body_with, Mesher, GMSH_AVAILABLE, GMSH_MISSING};
+    use flank::mesh::gear_body::{body_model, Mesher, GMSH_AVAILABLE, GMSH_MISSING};
     use flank::mesh::gear_sector::SectorOptions;
     use std::io::Write;
     let scene = flank::scene::read_scene(path)?;
@@ -109,6 +109,8 @@ fn mesh_scene(
     let cos_aw = report.working_pressure_angle_rad.cos();
     let force = scene.load.torque_nmm / base_radius(&scene.pair.pinion);
     let modifications = scene.flank_modifications()?;
+    // the gears through the gear-pair interface (with their modifications)
+    let pair = scene.gear_pair()?;
     let mut bodies = serde_json::Map::new();
     for (i, (name, spec, material)) in [
         ("pinion", &scene.pair.pinion, &scene.pinion_material),
@@ -123,16 +125,13 @@ fn mesh_scene(
             MesherChoice::Native => Mesher::Native,
             MesherChoice::Gmsh => Mesher::Gmsh(element_kind),
         };
-        let mut body = gear_body_with(spec, name, material, &options, mesher, load)?;
-        let modified = match &modifications[i] {
-            Some(m) => {
-                for w in m.warnings() {
-                    eprintln!("warning: {name}: {w}");
-                }
-                Some(body.modify_flanks(spec, m)?)
+        if let Some(m) = &modifications[i] {
+            for w in m.warnings() {
+                eprintln!("warning: {name}: {w}");
             }
-            None => None,
-        };
+        }
+        let body = body_model(pair.body(i), material, &options, mesher, load)?;
+        let modified = &body.modification;
         let mesh = &body.model.mesh;
         flank::mesh::inp::write_deck(&body.model, &out.join(format!("{name}.inp")))?;
         flank::report::vtu::write_vtu(&out.join(format!("{name}.vtu")), mesh, &[], &[])?;

@@ -76,6 +76,8 @@ pub struct BodyModel {
     pub load: Option<(usize, [f64; 3])>,
     /// The nominal (unmodified) tooth surfaces of the sector.
     pub surfaces: Arc<dyn GearBody>,
+    /// What [`body_model`] did with the gear's flank modification.
+    pub modification: Option<crate::mesh::gear_sector::FlankModificationReport>,
 }
 
 impl std::fmt::Debug for BodyModel {
@@ -114,7 +116,7 @@ pub fn body_model(
     }
     let mut model = gear_body_with(cyl.spec(), name, material, options, mesher, normal_force)?;
     if let Some(m) = cyl.modification() {
-        model.modify_flanks(cyl.spec(), m)?;
+        model.modification = Some(model.modify_flanks(cyl.spec(), m)?);
     }
     Ok(model)
 }
@@ -241,5 +243,6 @@ pub fn gear_body_with(
         model,
         load,
         surfaces: Arc::new(CylindricalGear::new(spec, name, options.teeth, None)?),
+        modification: None,
     })
 }
