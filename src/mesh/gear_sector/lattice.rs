@@ -1,0 +1,185 @@
+//! 2D building blocks of the transverse section: graded element sizes and
+//! their half-lattice fractions (corner and midside positions), polar
+//! coordinates, the point registry that merges points by position, the
+//! quadratic blocks and the transverse cells (quadrilaterals, or two
+//! triangles for wedges) in point ids and in lattice coordinates.
+
+use std::collections::HashMap;
+
+use super::err;
+use crate::error::FlankError;
+use crate::geometry::rack::Flank;
+
+/// Sizes starting at h0, growing by q up to hmax, scaled to sum exactly to len.
+pub(super) fn graded(len: f64, h0: f64, q: f64, hmax: f64) -> Vec<f64> {
+    let mut v = Vec::new();
+    let mut s = 0.0;
+    let mut h = h0.min(hmax).min(len);
+    while s + 0.5 * h < len || v.is_empty() {
+        v.push(h);
+        s += h;
+        h = (h * q).min(hmax);
+    }
+    let f = len / s;
+    v.iter().map(|x| x * f).collect()
+}
+
+/// Cumulative fractions on the half lattice (2n + 1 values) from n sizes; odd
+/// entries are the averages of their neighbours.
+pub(super) fn half_lattice(sizes: &[f64]) -> Vec<f64> {
+    let tot: f64 = sizes.iter().sum();
+    let mut out = vec![0.0];
+    let mut s = 0.0;
+    for h in sizes {
+        out.push((s + 0.5 * h) / tot);
+        s += h;
+        out.push(s / tot);
+    }
+    *out.last_mut().unwrap() = 1.0;
+    out
+}
+
+pub(super) fn pol(p: [f64; 2]) -> [f64; 2] {
+    [p[0].atan2(p[1]), p[0].hypot(p[1])]
+}
+
+pub(super) fn cart(a: f64, r: f64) -> [f64; 2] {
+    [r * a.sin(), r * a.cos()]
+}
+
+pub(super) fn rot(p: [f64; 2], a: f64) -> [f64; 2] {
+    // rotate by angle a measured from +y towards +x (clockwise)
+    let (s, c) = a.sin_cos();
+    [c * p[0] + s * p[1], -s * p[0] + c * p[1]]
+}
+
+/// Transverse 2D point registry with merging by position.
+pub(super) struct Points {
+    pub(super) xy: Vec<[f64; 2]>,
+    /// true if a corner lattice point (no odd index), false if midside.
+    pub(super) corner: Vec<bool>,
+    /// flank info: (sector tooth 1-based, flank, u)
+    pub(super) flank: Vec<Option<(usize, Flank, f64)>>,
+    pub(super) bore: Vec<bool>,
+    pub(super) grid: HashMap<(i64, i64), Vec<usize>>,
+    pub(super) tol: f64,
+}
+
+impl Points {
+    fn key(&self, p: [f64; 2]) -> (i64, i64) {
+        (
+            (p[0] / self.tol).floor() as i64,
+            (p[1] / self.tol).floor() as i64,
+        )
+    }
+    pub(super) fn add(&mut self, p: [f64; 2], corner: bool) -> Result<usize, FlankError> {
+        let (kx, ky) = self.key(p);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                if let Some(v) = self.grid.get(&(kx + dx, ky + dy)) {
+                    for &i in v {
+                        let q = self.xy[i];
+                        if (q[0] - p[0]).hypot(q[1] - p[1]) < self.tol {
+                            if self.corner[i] != corner {
+                                return Err(err(format!(
+                                    "lattice mismatch at ({:.6}, {:.6}): corner and midside point coincide",
+                                    p[0], p[1]
+                                )));
+                            }
+                            return Ok(i);
+                        }
+                    }
+                }
+            }
+        }
+        let i = self.xy.len();
+        self.xy.push(p);
+        self.corner.push(corner);
+        self.flank.push(None);
+        self.bore.push(false);
+        self.grid.entry((kx, ky)).or_default().push(i);
+        Ok(i)
+    }
+}
+
+/// A 2D quadratic block: point ids on a (2ni+1) × (2nj+1) lattice (usize::MAX at odd/odd).
+pub(super) struct Block {
+    pub(super) ni: usize,
+    pub(super) nj: usize,
+    pub(super) ids: Vec<usize>,
+}
+
+/// A transverse cell: quadrilateral (corners, midsides; hex20) or two
+/// triangles (wedge15), point ids in the order of the element's bottom face.
+pub(super) enum Cell {
+    Quad([usize; 4], [usize; 4]),
+    Tris(Vec<([usize; 3], [usize; 3])>),
+}
+
+/// A lattice point (half-index I, J) of an upper block.
+pub(super) type Lp = (usize, usize);
+
+/// The midside point of an edge of a lattice cell: a lattice point (edges
+/// along a row, and edges one row long: shared with fine neighbours and,
+/// on the boundary, on the exact curve), or the straight midpoint of the
+/// corners (edges spanning several rows and diagonals of coarse or
+/// transition cells, which never lie on the boundary: where rows are
+/// unevenly spaced a lattice point would sit far off the edge's middle).
+#[derive(Clone, Copy)]
+pub(super) enum Mid {
+    Lattice(Lp),
+    Straight(Lp, Lp),
+}
+
+/// Midside of the edge a–b (lattice corners).
+pub(super) fn edge_mid(a: Lp, b: Lp) -> Mid {
+    let m = ((a.0 + b.0) / 2, (a.1 + b.1) / 2);
+    if a.1 == b.1 || (a.0 == b.0 && a.1.abs_diff(b.1) == 2) {
+        Mid::Lattice(m)
+    } else {
+        Mid::Straight(a, b)
+    }
+}
+
+/// A transverse cell in lattice coordinates (corners, midsides).
+pub(super) enum LatticeCell {
+    Quad([Lp; 4], [Mid; 4]),
+    Tris(Vec<([Lp; 3], [Mid; 3])>),
+}
+
+/// A quadrilateral cell, or for wedges its two triangles (split along the
+/// shorter diagonal, whose midside point, the serendipity centre, is added).
+pub(super) fn quad_cell(
+    pts: &mut Points,
+    c: [usize; 4],
+    m: [usize; 4],
+    wedges: bool,
+) -> Result<Cell, FlankError> {
+    if !wedges {
+        return Ok(Cell::Quad(c, m));
+    }
+    let x = |p: usize| pts.xy[p];
+    let dist = |a: usize, b: usize| {
+        let (p, q) = (x(a), x(b));
+        (p[0] - q[0]).hypot(p[1] - q[1])
+    };
+    let mut centre = [0.0; 2];
+    for k in 0..4 {
+        for d in 0..2 {
+            centre[d] += -0.25 * x(c[k])[d] + 0.5 * x(m[k])[d];
+        }
+    }
+    let first_diagonal = dist(c[0], c[2]) <= dist(c[1], c[3]);
+    let dm = pts.add(centre, false)?;
+    Ok(Cell::Tris(if first_diagonal {
+        vec![
+            ([c[0], c[1], c[2]], [m[0], m[1], dm]),
+            ([c[0], c[2], c[3]], [dm, m[2], m[3]]),
+        ]
+    } else {
+        vec![
+            ([c[0], c[1], c[3]], [m[0], dm, m[3]]),
+            ([c[1], c[2], c[3]], [m[1], m[2], dm]),
+        ]
+    }))
+}
