@@ -54,9 +54,9 @@
 //! * **Misalignment** is the pair's ([`GearPair::misalignment`]); spur and
 //!   helical pairs take it as tilts in and normal to the plane of action
 //!   and a centre-distance error
-//!   ([`CylindricalPair::with_plane_of_action_misalignment`], whose docs
+//!   ([`crate::geometry::cylindrical::CylindricalPair::with_plane_of_action_misalignment`], whose docs
 //!   give the ISO 6336-1 f_Σβ / f_Σδ correspondence), or as the bevel
-//!   set ΔE, ΔP, ΔG, ΔΣ ([`CylindricalPair::with_misalignment`]).
+//!   set ΔE, ΔP, ΔG, ΔΣ ([`crate::geometry::cylindrical::CylindricalPair::with_misalignment`]).
 //! * **Velocities** (m/s, from the pinion speed; the gear turns at
 //!   ω₂ = ω₁ [`GearPair::ratio`]): v_ti = V_ti·e_roll, the tangential
 //!   surface velocity of body i (seed `004_…` §2.2: V_ti = v_i − (v_i·n) n,
@@ -95,13 +95,10 @@
 use std::sync::Arc;
 
 use crate::error::FlankError;
-use crate::geometry::cylindrical::CylindricalPair;
 use crate::geometry::frame::Frame;
 pub use crate::geometry::gear_pair::LineKind;
 use crate::geometry::gear_pair::{ContactSeed, Flank, GearPair, KinematicLine};
-use crate::geometry::micro::FlankModification;
 use crate::geometry::surface::ToothSurface;
-use crate::geometry::PairSpec;
 
 #[cfg(test)]
 mod tests;
@@ -116,7 +113,7 @@ fn own(f: &Frame, x: V3) -> V3 {
 
 /// Sampling settings of the TCA (mm). The misalignment belongs to the
 /// pair ([`GearPair::misalignment`]; for spur and helical pairs
-/// [`CylindricalPair::with_plane_of_action_misalignment`]).
+/// [`crate::geometry::cylindrical::CylindricalPair::with_plane_of_action_misalignment`]).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct TcaSettings {
     /// K ≥ 2 points along each contact line (midpoints of K equal cells).
@@ -264,26 +261,6 @@ impl Tca {
             settings,
             omega,
         })
-    }
-
-    /// The TCA of a spur or helical pair `spec` meshed as sectors of
-    /// `teeth` teeth with the flank modifications of [pinion, gear], the
-    /// gear axis tilted by `misalignment_rad` = [γ_β, γ_δ] and the centre
-    /// distance changed by `centre_distance_error_mm`
-    /// ([`CylindricalPair::with_plane_of_action_misalignment`]).
-    pub fn cylindrical(
-        spec: &PairSpec,
-        modifications: [Option<FlankModification>; 2],
-        teeth: usize,
-        speed_rpm: f64,
-        misalignment_rad: [f64; 2],
-        centre_distance_error_mm: f64,
-        settings: TcaSettings,
-    ) -> Result<Self> {
-        settings.validate()?;
-        let pair = CylindricalPair::new(spec, modifications, teeth)?
-            .with_plane_of_action_misalignment(misalignment_rad, centre_distance_error_mm)?;
-        Tca::new(Arc::new(pair), speed_rpm, settings)
     }
 
     /// The pair analysed.

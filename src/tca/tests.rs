@@ -1,7 +1,10 @@
 use super::*;
+use crate::geometry::cylindrical::CylindricalPair;
 use crate::geometry::involute::inv;
 use crate::geometry::micro::test_gears::{gear, papers};
+use crate::geometry::micro::FlankModification;
 use crate::geometry::micro::{MicroGeometry, Relief, ReliefShape};
+use crate::geometry::PairSpec;
 
 const SPUR: &str = "seed002-spur";
 const HELICAL: &str = "seed004-helical";
