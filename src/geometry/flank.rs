@@ -263,77 +263,11 @@ impl FlankSurface {
         (best.1, v0)
     }
 
+    /// Bounded Gauss–Newton in the tooth-0 frame:
+    /// [`crate::geometry::surface::closest_point_newton`] on this flank's
+    /// tooth-0 view.
     fn newton(&self, q: V3, u0: f64, v0: f64) -> (f64, f64, f64) {
-        let (lo, hi) = self.u_range();
-        let b = self.profile.face_width;
-        let (mut u, mut v) = (u0, v0);
-        let dist2 = |u: f64, v: f64| {
-            let e = self.local_point(u, v);
-            let r = [e[0] - q[0], e[1] - q[1], e[2] - q[2]];
-            dot(r, r)
-        };
-        for _ in 0..200 {
-            let e = self.eval_local(u, v);
-            let r = [e.p[0] - q[0], e.p[1] - q[1], e.p[2] - q[2]];
-            let f = dot(r, r);
-            let g = [dot(e.pu, r), dot(e.pv, r)];
-            let a = [dot(e.pu, e.pu), dot(e.pu, e.pv), dot(e.pv, e.pv)];
-            let free_u = !((u <= lo && g[0] > 0.0) || (u >= hi && g[0] < 0.0));
-            let free_v = !((v <= 0.0 && g[1] > 0.0) || (v >= b && g[1] < 0.0));
-            let step = match (free_u, free_v) {
-                (true, true) => {
-                    let det = a[0] * a[2] - a[1] * a[1];
-                    if det > 0.0 {
-                        [
-                            -(a[2] * g[0] - a[1] * g[1]) / det,
-                            -(a[0] * g[1] - a[1] * g[0]) / det,
-                        ]
-                    } else {
-                        [-g[0] / a[0], -g[1] / a[2]]
-                    }
-                }
-                (true, false) => [-g[0] / a[0], 0.0],
-                (false, true) => [0.0, -g[1] / a[2]],
-                (false, false) => break,
-            };
-            if !(step[0].is_finite() && step[1].is_finite()) {
-                break;
-            }
-            // full steps near the solution (f can no longer resolve them: its
-            // round-off exceeds the square of a 1e-8 mm tangential error)
-            let small = norm(axpy(
-                step[1],
-                e.pv,
-                [step[0] * e.pu[0], step[0] * e.pu[1], step[0] * e.pu[2]],
-            )) < 1e-6;
-            let mut lambda = 1.0;
-            let mut accepted = None;
-            for _ in 0..40 {
-                let un = (u + lambda * step[0]).clamp(lo, hi);
-                let vn = (v + lambda * step[1]).clamp(0.0, b);
-                if small || dist2(un, vn) <= f {
-                    accepted = Some((un, vn));
-                    break;
-                }
-                lambda *= 0.5;
-            }
-            let Some((un, vn)) = accepted else { break };
-            let moved = norm(axpy(
-                vn - v,
-                e.pv,
-                [(un - u) * e.pu[0], (un - u) * e.pu[1], (un - u) * e.pu[2]],
-            ));
-            u = un;
-            v = vn;
-            if moved < 1e-13 {
-                break;
-            }
-        }
-        let e = self.eval_local(u, v);
-        let r = [q[0] - e.p[0], q[1] - e.p[1], q[2] - e.p[2]];
-        let d = norm(r);
-        let d = if dot(r, e.n) < 0.0 { -d } else { d };
-        (u, v, d)
+        crate::geometry::surface::closest_point_newton(&ToothZero(self), q, u0, v0)
     }
 
     /// Modified point in the tooth-0 frame (cheaper than [`Self::eval_local`]).
@@ -450,6 +384,43 @@ impl FlankSurface {
         }
         let (s, c) = self.rot;
         [c * w[0] + s * w[1], -s * w[0] + c * w[1], w[2]]
+    }
+}
+
+/// A flank seen in its tooth-0 frame (no rotation to the sector tooth):
+/// the frame of the closest-point search.
+#[derive(Debug)]
+struct ToothZero<'a>(&'a FlankSurface);
+
+impl crate::geometry::surface::ToothSurface for ToothZero<'_> {
+    fn u_range(&self) -> (f64, f64) {
+        self.0.u_range()
+    }
+    fn v_range(&self) -> (f64, f64) {
+        self.0.v_range()
+    }
+    fn u_tip(&self, _v: f64) -> f64 {
+        self.0.u_tip()
+    }
+    fn u_form(&self, _v: f64) -> f64 {
+        self.0.u_form()
+    }
+    fn u_root(&self, _v: f64) -> f64 {
+        self.0.u_root()
+    }
+    fn point(&self, u: f64, v: f64) -> V3 {
+        self.0.local_point(u, v)
+    }
+    fn normal(&self, u: f64, v: f64) -> V3 {
+        self.0.eval_local(u, v).n
+    }
+    fn derivatives(&self, u: f64, v: f64) -> (V3, V3) {
+        let e = self.0.eval_local(u, v);
+        (e.pu, e.pv)
+    }
+    fn evaluate(&self, u: f64, v: f64) -> (V3, V3, V3, V3) {
+        let e = self.0.eval_local(u, v);
+        (e.p, e.n, e.pu, e.pv)
     }
 }
 

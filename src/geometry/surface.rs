@@ -223,11 +223,10 @@ pub fn closest_point_newton<S: ToothSurface + ?Sized>(
             break;
         }
     }
-    let x = s.point(u, v);
-    let n = s.normal(u, v);
+    let (x, n, _, _) = s.evaluate(u, v);
     let r = sub(p, x);
     let d = norm(r);
-    (u, v, if dot(r, n) >= 0.0 { d } else { -d })
+    (u, v, if dot(r, n) < 0.0 { -d } else { d })
 }
 
 /// Principal curvatures of a surface at one parameter (module docs for the
