@@ -10,7 +10,9 @@
 //! surfaces to come (issue target there: a full 100 × 50 flank grid in
 //! under 10 ms).
 
-use criterion::{black_box, criterion_group, criterion_main, Criterion};
+use std::hint::black_box;
+
+use criterion::{criterion_group, criterion_main, Criterion};
 
 use flank::geometry::cylindrical::CylindricalGear;
 use flank::geometry::gear_pair::{Flank, GearBody};
