@@ -268,43 +268,24 @@ pub fn hobbing(
 /// Bound of every iteration here.
 pub const MAX_ITERATIONS: usize = 100;
 
-/// Two-variable Newton with a finite-difference Jacobian, bounded.
-fn newton2(
-    what: &str,
-    mut x: [f64; 2],
-    f: impl Fn([f64; 2]) -> Option<[f64; 2]>,
-) -> Result<[f64; 2]> {
-    let fail = |why: String| FlankError::Model(format!("blank design, {what}: {why}"));
+/// Newton on the wheel axial position h of the mean point for a fixed
+/// angle φ (finite-difference derivative, steps limited to `h_step`,
+/// bounded); None if it does not converge.
+fn solve_h(mut h: f64, h_step: f64, f: impl Fn(f64) -> Option<f64>) -> Option<f64> {
     for _ in 0..MAX_ITERATIONS {
-        let r = f(x).ok_or_else(|| fail("left the valid geometry".into()))?;
-        let mut j = [[0.0; 2]; 2];
-        for col in 0..2 {
-            let step = 1e-7 * x[col].abs().max(1.0);
-            let mut xp = x;
-            xp[col] += step;
-            let rp = f(xp).ok_or_else(|| fail("left the valid geometry".into()))?;
-            for row in 0..2 {
-                j[row][col] = (rp[row] - r[row]) / step;
-            }
+        let r = f(h)?;
+        let e = 1e-6 * h.abs().max(1.0);
+        let d = (f(h + e)? - f(h - e)?) / (2.0 * e);
+        if !(d.is_finite() && d != 0.0) {
+            return None;
         }
-        let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
-        if !det.is_finite() || det.abs() < 1e-300 {
-            return Err(fail("singular Jacobian".into()));
-        }
-        let dx = [
-            (j[1][1] * r[0] - j[0][1] * r[1]) / det,
-            (-j[1][0] * r[0] + j[0][0] * r[1]) / det,
-        ];
-        // Damped: never move φ by more than 0.2 rad per step.
-        let s = (0.2 / dx[0].abs().max(1e-300)).min(1.0);
-        x = [x[0] - s * dx[0], x[1] - s * dx[1]];
-        if dx[0].abs() < 1e-13 && dx[1].abs() < 1e-10 * x[1].abs().max(1.0) {
-            return Ok(x);
+        let dh = (r / d).clamp(-h_step, h_step);
+        h -= dh;
+        if dh.abs() < 1e-10 * h.abs().max(1.0) {
+            return Some(h);
         }
     }
-    Err(fail(format!(
-        "no convergence in {MAX_ITERATIONS} iterations"
-    )))
+    None
 }
 
 /// Methods 1–3, clause 6.3.
@@ -341,25 +322,99 @@ pub fn hypoid(c: &ConeInputs) -> Result<PitchCones> {
                 alpha_lim,
             })
         };
-        let x = newton2("hypoid pitch cones", seed, |x| {
-            let p = cones_at(x)?;
-            let kin = (u * p.dm1 * p.beta_m1.cos() - p.dm2 * beta2.cos()) / p.dm2;
-            let close = match (c.method, c.beta_m1_desired, c.z0) {
+        // The kinematic condition fixes h for each φ; the method's closure
+        // is then a function of φ alone. Scan φ outwards from the seed for
+        // a sign change of the closure (the nearest one), then bisect.
+        let kin = |phi: f64, h: f64| {
+            let p = cones_at([phi, h])?;
+            Some((u * p.dm1 * p.beta_m1.cos() - p.dm2 * beta2.cos()) / p.dm2)
+        };
+        let closure = |p: &PitchCones| -> Option<f64> {
+            let r = match (c.method, c.beta_m1_desired, c.z0) {
                 (1, Some(b1), _) => p.beta_m1 - b1,
                 (_, _, Some(z0)) => {
                     let hob = hobbing(z0, c.z2, c.rc0, p.m_mn, p.rm2, p.delta2, beta2).ok()?;
-                    (limit_curvature_radius(&p) - hob.rho_trace) / c.rc0
+                    (limit_curvature_radius(p) - hob.rho_trace) / c.rc0
                 }
-                _ => (limit_curvature_radius(&p) - c.rc0) / c.rc0,
+                _ => (limit_curvature_radius(p) - c.rc0) / c.rc0,
             };
-            Some([kin, close])
-        })?;
-        Ok((cones_at(x).expect("converged point is valid"), x))
+            r.is_finite().then_some(r)
+        };
+        let h_step = 0.1 * rm2;
+        let at = |phi: f64, h0: f64| -> Option<(f64, f64, PitchCones)> {
+            let h = solve_h(h0, h_step, |h| kin(phi, h))?;
+            let p = cones_at([phi, h])?;
+            Some((closure(&p)?, h, p))
+        };
+        let fail =
+            |why: String| FlankError::Model(format!("blank design, hypoid pitch cones: {why}"));
+        // Bisection on [φa, φb] where the closure changes sign; None if the
+        // change is a pole, not a root.
+        let bisect = |phi_a: f64,
+                      phi_b: f64,
+                      f_a: f64,
+                      h_a: f64|
+         -> Result<Option<(PitchCones, [f64; 2])>> {
+            let (mut lo, mut hi, mut f_lo, mut h) = (phi_a, phi_b, f_a, h_a);
+            for _ in 0..MAX_ITERATIONS {
+                let mid = 0.5 * (lo + hi);
+                let (f_m, h_m, p) =
+                    at(mid, h).ok_or_else(|| fail("left the valid geometry".into()))?;
+                h = h_m;
+                if (hi - lo).abs() < 1e-14 {
+                    return Ok((f_m.abs() < 1e-6).then_some((p, [mid, h])));
+                }
+                if f_lo * f_m <= 0.0 {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                    f_lo = f_m;
+                }
+            }
+            Err(fail(format!(
+                "bisection did not converge in {MAX_ITERATIONS} steps"
+            )))
+        };
+        let step = 0.25f64.to_radians();
+        let n_scan = 240;
+        // Two walkers, one each way, stepped alternately: the root nearest
+        // to the seed wins.
+        let mut walkers: Vec<(f64, f64, f64, f64)> = Vec::new(); // (dir, φ, h, f)
+        if let Some((f0, h0, _)) = at(seed[0], seed[1]) {
+            walkers.push((1.0, seed[0], h0, f0));
+            walkers.push((-1.0, seed[0], h0, f0));
+        }
+        for _ in 0..n_scan {
+            if walkers.is_empty() {
+                break;
+            }
+            let mut alive = Vec::new();
+            for (dir, phi_a, h_a, f_a) in walkers {
+                let phi_b = phi_a + dir * step;
+                let Some((f_b, h_b, _)) = at(phi_b, h_a) else {
+                    continue;
+                };
+                if f_a * f_b <= 0.0 {
+                    if let Some(found) = bisect(phi_a, phi_b, f_a, h_a)? {
+                        return Ok(found);
+                    }
+                }
+                alive.push((dir, phi_b, h_b, f_b));
+            }
+            walkers = alive;
+        }
+        Err(fail(format!(
+            "no root of the method {} closure within ±{}° of the seed",
+            c.method,
+            (step * n_scan as f64).to_degrees()
+        )))
     };
-    // Seed: the offset seen from the wheel axis, the wheel's pitch apex.
+    // Seed: P a little inside the plane x = a through the pinion axis
+    // (on it the pinion pitch cone degenerates), at the wheel's method-0
+    // pitch apex height.
     let rm2_0 = base.dm2 / 2.0;
-    let phi0 = std::f64::consts::FRAC_PI_2 - (c.a / rm2_0).clamp(-0.9, 0.9).asin();
-    let h0 = -c.a.signum() * rm2_0 / base.delta2.tan() * 0.3;
+    let phi0 = std::f64::consts::FRAC_PI_2 - 0.85 * (c.a / rm2_0).clamp(-0.9, 0.9).asin();
+    let h0 = -c.a.signum() * rm2_0 / base.delta2.tan();
     let seed = [phi0, h0];
     match (c.dm2, c.de2) {
         (Some(dm2), _) => Ok(solve(dm2 / 2.0, seed)?.0),
