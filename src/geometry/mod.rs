@@ -7,6 +7,7 @@
 //! Internal units: mm and rad. Scene files convert at their boundary
 //! (`crate::scene`); everything here is already converted.
 
+pub mod bevel;
 pub mod cylindrical;
 pub mod flank;
 pub mod frame;
