@@ -67,6 +67,10 @@ enum Command {
     /// (L = 10·nx/ny mm … so elements are cubes), clamped at x = 0, 1 kN tip
     /// load in −y spread over the tip face nodes.
     Cantilever(cli::cantilever::Args),
+    /// ISO 23509 blank design of a spiral bevel or hypoid pair (methods
+    /// 0–3) from a JSON input set with the Annex F key names; prints the
+    /// outputs (mm, degrees) as JSON.
+    Blank(cli::blank::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -91,5 +95,6 @@ fn run(cli: Cli) -> Result<()> {
         Command::Compare(args) => cli::compare::run(args),
         Command::Run(args) => cli::run::run(args),
         Command::Cantilever(args) => cli::cantilever::run(args),
+        Command::Blank(args) => cli::blank::run(args),
     }
 }

@@ -1,6 +1,7 @@
 //! The subcommands of the `flank` binary, one module each: its clap
 //! arguments (`Args`) and its `run`. Shared pieces are in `common`.
 
+pub mod blank;
 pub mod cantilever;
 pub mod check;
 pub mod common;
