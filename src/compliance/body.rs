@@ -84,7 +84,7 @@ pub fn scene_body(
 }
 
 /// The flank nodes of `selection` of a gear body, with the exact outward
-/// normals of its nominal tooth surfaces ([`BodyModel::flank_normal`]).
+/// normals of its nominal tooth surfaces (`BodyModel::surfaces`).
 pub fn body_flank_nodes(
     body: &BodyModel,
     selection: FlankSelection,

@@ -118,16 +118,6 @@ pub struct Misalignment {
     pub out_of_plane_tilt_rad: f64,
 }
 
-impl Misalignment {
-    pub fn is_zero(&self) -> bool {
-        self.offset_error_mm == 0.0
-            && self.pinion_axial_mm == 0.0
-            && self.gear_axial_mm == 0.0
-            && self.shaft_angle_error_rad == 0.0
-            && self.out_of_plane_tilt_rad == 0.0
-    }
-}
-
 /// What a kinematic contact line is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum LineKind {

@@ -27,7 +27,6 @@ use crate::fem::model::{Dirichlet, Model, NodalForce};
 use crate::geometry::cylindrical::CylindricalGear;
 use crate::geometry::gear_pair::GearBody;
 use crate::geometry::rack::{Flank, ToothProfile};
-use crate::geometry::vec3::V3;
 use crate::geometry::GearSpec;
 use crate::mesh::gear_sector::{flank_segment, gear_sector, GearSectorMesh, SectorOptions};
 use crate::mesh::ElementKind;
@@ -122,12 +121,6 @@ pub fn body_model(
 }
 
 impl BodyModel {
-    /// Exact outward unit normal of the nominal flank `side` of sector tooth
-    /// `tooth` at the flank parameters (u, v) of a flank node.
-    pub fn flank_normal(&self, side: Flank, tooth: usize, u: f64, v: f64) -> Option<V3> {
-        self.surfaces.flank(side, tooth).map(|f| f.normal(u, v))
-    }
-
     /// Applies a flank modification (micro-geometry, measured profile) to the
     /// body's flank nodes, in the sector and in the model alike; see
     /// [`crate::mesh::gear_sector::modify_flanks`]. `spec` is the body's gear.

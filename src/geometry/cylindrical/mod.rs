@@ -395,11 +395,6 @@ impl CylindricalPair {
         self.tilt_centre
     }
 
-    /// Common face in global z (mm).
-    pub fn common_face(&self) -> (f64, f64) {
-        self.z_range
-    }
-
     /// Global-z interval of the line s(z) = s0 + slope·z with s in [lo, hi],
     /// inside the common face.
     fn z_interval(&self, s0: f64, lo: f64, hi: f64) -> Option<(f64, f64)> {
