@@ -9,11 +9,13 @@
 
 pub mod bevel;
 pub mod cylindrical;
+pub mod deviation;
 pub mod flank;
 pub mod frame;
 pub mod gear_pair;
 pub mod involute;
 pub mod iso6336;
+pub mod measurement_grid;
 pub mod measured;
 pub mod micro;
 pub mod pair;
