@@ -71,6 +71,11 @@ enum Command {
     /// 0–3) from a JSON input set with the Annex F key names; prints the
     /// outputs (mm, degrees) as JSON.
     Blank(cli::blank::Args),
+    /// One flank of a scene's member as the measuring machine's grid (points
+    /// and unit normals on FACE × PROFILE points over the active flank, CSV,
+    /// `deviation_um` column to fill in): the file a measured deviation grid
+    /// is read back from.
+    Grid(cli::grid::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -96,5 +101,6 @@ fn run(cli: Cli) -> Result<()> {
         Command::Run(args) => cli::run::run(args),
         Command::Cantilever(args) => cli::cantilever::run(args),
         Command::Blank(args) => cli::blank::run(args),
+        Command::Grid(args) => cli::grid::run(args),
     }
 }

@@ -7,6 +7,7 @@ pub mod check;
 pub mod common;
 pub mod compare;
 pub mod compliance;
+pub mod grid;
 pub mod import;
 pub mod ltca;
 pub mod mesh;

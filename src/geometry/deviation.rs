@@ -120,10 +120,7 @@ impl ToothSurface for DeviatedSurface {
         }
         let n = self.surface.normal(u, v);
         let (nu, nv) = self.normal_derivatives(u, v);
-        (
-            add(add(ru, du, n), d, nu),
-            add(add(rv, dv, n), d, nv),
-        )
+        (add(add(ru, du, n), d, nu), add(add(rv, dv, n), d, nv))
     }
 }
 
@@ -203,8 +200,18 @@ pub(crate) mod tests {
             for k in 0..3 {
                 // The nominal second derivatives are central differences:
                 // n_u carries their O(h²) error times δ ~ 1e-3.
-                assert!((ru[k] - fu[k]).abs() < 1e-7, "r_u {k}: {} vs {}", ru[k], fu[k]);
-                assert!((rv[k] - fv[k]).abs() < 1e-7, "r_v {k}: {} vs {}", rv[k], fv[k]);
+                assert!(
+                    (ru[k] - fu[k]).abs() < 1e-7,
+                    "r_u {k}: {} vs {}",
+                    ru[k],
+                    fu[k]
+                );
+                assert!(
+                    (rv[k] - fv[k]).abs() < 1e-7,
+                    "r_v {k}: {} vs {}",
+                    rv[k],
+                    fv[k]
+                );
             }
             let n = s.normal(u, v);
             assert!(dot(n, fu).abs() < 1e-7 && dot(n, fv).abs() < 1e-7);

@@ -300,7 +300,11 @@ impl MeasurementGrid {
             if cells.len() != names.len() {
                 return Err(err(
                     ln,
-                    format!("{} values, the header has {} columns", cells.len(), names.len()),
+                    format!(
+                        "{} values, the header has {} columns",
+                        cells.len(),
+                        names.len()
+                    ),
                 ));
             }
             let num = |k: usize| -> Result<f64> {
@@ -308,7 +312,10 @@ impl MeasurementGrid {
                     err(ln, format!("{}: '{}' is not a number", names[k], cells[k]))
                 })?;
                 if !x.is_finite() {
-                    return Err(err(ln, format!("{}: '{}' is not finite", names[k], cells[k])));
+                    return Err(err(
+                        ln,
+                        format!("{}: '{}' is not finite", names[k], cells[k]),
+                    ));
                 }
                 Ok(x)
             };
@@ -329,7 +336,10 @@ impl MeasurementGrid {
             let normal = vec3(nxyz)?;
             if let Some(n) = normal {
                 if (norm(n) - 1.0).abs() > 1e-6 {
-                    return Err(err(ln, format!("normal ({}, {}, {}) is not unit", n[0], n[1], n[2])));
+                    return Err(err(
+                        ln,
+                        format!("normal ({}, {}, {}) is not unit", n[0], n[1], n[2]),
+                    ));
                 }
             }
             rows.push((
@@ -392,7 +402,10 @@ impl MeasurementGrid {
                 if (g.v - v).abs() > 1e-9 * (1.0 + v.abs()) {
                     return Err(err(
                         *ln,
-                        format!("v = {} differs from v = {v} of column {j}'s first point", g.v),
+                        format!(
+                            "v = {} differs from v = {v} of column {j}'s first point",
+                            g.v
+                        ),
                     ));
                 }
             }
@@ -406,7 +419,10 @@ impl MeasurementGrid {
             }
             if j > 0 {
                 if !(v > slots[(j - 1) * np].1.v) {
-                    return Err(err(col[0].0, format!("v must increase with the column index (column {j})")));
+                    return Err(err(
+                        col[0].0,
+                        format!("v must increase with the column index (column {j})"),
+                    ));
                 }
                 for i in 0..np {
                     if (rel(j, i) - rel(0, i)).abs() > 1e-6 {
@@ -614,7 +630,11 @@ mod tests {
         for g in &grid.points {
             let p = s.point(g.u, g.v);
             let d = dot(sub(p, g.point.unwrap()), g.normal.unwrap());
-            assert!((d - quadratic(g.u, g.v)).abs() < 1e-8, "{d} vs {}", quadratic(g.u, g.v));
+            assert!(
+                (d - quadratic(g.u, g.v)).abs() < 1e-8,
+                "{d} vs {}",
+                quadratic(g.u, g.v)
+            );
         }
         // Between them the quadratic is reproduced (the torus grid's u limits
         // are linear in v).
@@ -624,7 +644,10 @@ mod tests {
             let h = 1e-6;
             let fu = (quadratic(u + h, v) - quadratic(u - h, v)) / (2.0 * h);
             let fv = (quadratic(u, v + h) - quadratic(u, v - h)) / (2.0 * h);
-            assert!((du - fu).abs() < 1e-7 && (dv - fv).abs() < 1e-7, "{du} {fu} {dv} {fv}");
+            assert!(
+                (du - fu).abs() < 1e-7 && (dv - fv).abs() < 1e-7,
+                "{du} {fu} {dv} {fv}"
+            );
         }
     }
 
@@ -645,7 +668,10 @@ mod tests {
         assert!(e(&missing).contains("is missing"), "{}", e(&missing));
         let bad = csv.replacen(",0.000000\n", ",abc\n", 1);
         let msg = e(&bad);
-        assert!(msg.starts_with("m.csv:5:") && msg.contains("deviation_um"), "{msg}");
+        assert!(
+            msg.starts_with("m.csv:5:") && msg.contains("deviation_um"),
+            "{msg}"
+        );
         assert!(e("face,profile,u\n").contains("missing column 'v'"));
         assert!(e("face,profile,u,v,deviation_um,foo\n").contains("unknown column 'foo'"));
         assert!(e("").contains("empty"));

@@ -35,7 +35,12 @@ fn scene_path() -> PathBuf {
 
 /// Signed normal distance (mm) of the deviated flank from the nominal one at
 /// (u, v): the deviated point projected onto the nominal flank.
-fn measured_deviation(nominal: &dyn ToothSurface, deviated: &dyn ToothSurface, u: f64, v: f64) -> f64 {
+fn measured_deviation(
+    nominal: &dyn ToothSurface,
+    deviated: &dyn ToothSurface,
+    u: f64,
+    v: f64,
+) -> f64 {
     let p = deviated.point(u, v);
     let (uc, vc, _) = nominal.closest_point_from(p, u, v);
     let (q, n, _, _) = nominal.evaluate(uc, vc);
@@ -92,8 +97,12 @@ fn measurement_grid_round_trip() {
     println!("|---|---|---|---|");
     let mut worst: f64 = 0.0;
     for (b, name) in [(0, "pinion"), (1, "gear")] {
-        let nominal: Arc<dyn ToothSurface> =
-            Arc::new(pair.cylindrical(b).flank_surface(Flank::Right, 1).unwrap().clone());
+        let nominal: Arc<dyn ToothSurface> = Arc::new(
+            pair.cylindrical(b)
+                .flank_surface(Flank::Right, 1)
+                .unwrap()
+                .clone(),
+        );
         let (u0, u1) = nominal.u_range();
         let (v0, v1) = nominal.v_range();
         // ξ, η ∈ [−1, 1] over the parameter box.
