@@ -1,4 +1,6 @@
-//! `flank check`: the pair report of a scene as JSON.
+//! `flank check`: the pair report of a scene as JSON: for spur and helical
+//! pairs the pair checks and ISO 6336 stiffness, for bevel and hypoid pairs
+//! the ISO 23509 blank design (the standard's output keys, mm and degrees).
 
 use std::path::PathBuf;
 
@@ -12,7 +14,10 @@ pub struct Args {
 
 pub fn run(args: Args) -> Result<()> {
     let Args { scene } = args;
-    let scene = flank::scene::read_scene(&scene)?;
+    let scene = match flank::scene::read_any_scene(&scene)? {
+        flank::scene::AnyScene::Cylindrical(s) => s,
+        flank::scene::AnyScene::Bevel(b) => return bevel(&b),
+    };
     let report = flank::geometry::pair::check_pair(&scene.pair)?;
     let mut json = serde_json::to_value(&report)?;
     // ISO 6336-1 single and mesh stiffness: the plausibility band for FE stiffness
@@ -21,6 +26,18 @@ pub fn run(args: Args) -> Result<()> {
         Ok(s) => serde_json::to_value(s)?,
         Err(e) => serde_json::Value::String(format!("not applicable: {e}")),
     };
+    println!("{}", serde_json::to_string_pretty(&json)?);
+    Ok(())
+}
+
+/// The blank table of a bevel/hypoid scene.
+fn bevel(scene: &flank::scene::BevelScene) -> Result<()> {
+    let json = serde_json::json!({
+        "kind": scene.kind,
+        "method": scene.blank.method,
+        "pinion_hand": scene.pinion_hand,
+        "blank": scene.blank.outputs(),
+    });
     println!("{}", serde_json::to_string_pretty(&json)?);
     Ok(())
 }

@@ -71,6 +71,7 @@
 //! root fillet; ε_α ≥ 1), whose message is reported at the centre-distance line.
 
 mod analyses;
+mod bevel;
 mod gear;
 mod involute;
 mod load;
@@ -104,6 +105,7 @@ use mesh::RawMesh;
 use pair::RawPair;
 
 pub use analyses::{Analyses, ComplianceAnalysis, ContactAnalysis, LtcaAnalysis, MeshAnalysis};
+pub use bevel::{BevelKind, BevelScene};
 pub use load::Load;
 pub use mesh::{ElementKind, MeshOptions};
 pub use pair::PairKind;
@@ -191,11 +193,65 @@ pub fn read_scene(path: &Path) -> Result<Scene, FlankError> {
 }
 
 /// Parses and validates scene text; `path` names the file in errors and
-/// anchors relative paths (measured profiles).
+/// anchors relative paths (measured profiles). Spur and helical pairs only:
+/// a bevel/hypoid scene is an error at its `kind` (read it with
+/// [`parse_any_scene`]).
 pub fn parse_scene(text: &str, path: &Path) -> Result<Scene, FlankError> {
     let cx = Cx { text, file: path };
+    if let Some(kind) = bevel_kind(&cx)? {
+        return Err(cx.err(
+            kind.span(),
+            format!(
+                "`pair.kind` = \"{}\": this command handles spur and helical pairs only so far (bevel and hypoid scenes are read by `flank check` and `flank grid`)",
+                kind.get_ref()
+            ),
+        ));
+    }
     let raw: RawScene = toml::from_str(text).map_err(|e| cx.toml_error(&e))?;
     build(&cx, raw)
+}
+
+/// A scene of any pair type.
+#[derive(Clone, Debug, PartialEq)]
+#[allow(clippy::large_enum_variant)]
+pub enum AnyScene {
+    /// Spur or helical.
+    Cylindrical(Scene),
+    /// Spiral bevel or hypoid.
+    Bevel(BevelScene),
+}
+
+/// Reads and validates a scene file of any pair type.
+pub fn read_any_scene(path: &Path) -> Result<AnyScene, FlankError> {
+    let text = std::fs::read_to_string(path).map_err(|e| FlankError::io(path, e))?;
+    parse_any_scene(&text, path)
+}
+
+/// Parses and validates scene text of any pair type (`[pair] kind`).
+pub fn parse_any_scene(text: &str, path: &Path) -> Result<AnyScene, FlankError> {
+    let cx = Cx { text, file: path };
+    if bevel_kind(&cx)?.is_some() {
+        let raw: bevel::RawBevelScene = toml::from_str(text).map_err(|e| cx.toml_error(&e))?;
+        return Ok(AnyScene::Bevel(bevel::build(&cx, raw)?));
+    }
+    parse_scene(text, path).map(AnyScene::Cylindrical)
+}
+
+/// `[pair] kind` if it names a bevel pair.
+fn bevel_kind(cx: &Cx) -> Result<Option<toml::Spanned<String>>, FlankError> {
+    #[derive(Deserialize)]
+    struct Peek {
+        pair: Option<PeekPair>,
+    }
+    #[derive(Deserialize)]
+    struct PeekPair {
+        kind: Option<toml::Spanned<String>>,
+    }
+    let peek: Peek = toml::from_str(cx.text).map_err(|e| cx.toml_error(&e))?;
+    Ok(peek
+        .pair
+        .and_then(|p| p.kind)
+        .filter(|k| matches!(k.get_ref().as_str(), "spiral_bevel" | "hypoid")))
 }
 
 #[derive(Deserialize)]

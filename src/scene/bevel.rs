@@ -1,0 +1,332 @@
+//! Scenes of spiral bevel and hypoid pairs (`[pair] kind = "spiral_bevel"`
+//! or `"hypoid"`): the pair's blank is an ISO 23509 input set, in a `[blank]`
+//! table with the key names `flank blank` reads (those of the standard's
+//! Annex F samples in `../shared/reference/iso23509_annexF.json`), and the
+//! blank design ([`crate::geometry::bevel::blank_design`]) is run when the
+//! scene is read, so a scene whose blank does not work is refused at load.
+//!
+//! ```toml
+//! [pair]
+//! kind = "hypoid"                   # or "spiral_bevel" (blank method 0, a = 0)
+//! pinion_hand = "left"              # hand of the pinion's spiral; the gear's is opposite
+//!
+//! [blank]                           # ISO 23509 inputs (see `flank blank`)
+//! method = 3
+//! Sigma_deg = 90.0
+//! a_mm = 30.0
+//! # …
+//!
+//! [pinion]
+//! bore_diameter_mm = 30.0
+//! material = "steel"
+//!
+//! [gear]
+//! bore_diameter_mm = 120.0
+//! material = "steel"
+//!
+//! [materials.steel]                 # as for cylindrical pairs
+//! [load]                            # torque_nm on the pinion, speed_rpm of the pinion
+//! [analyses]                        # optional
+//! [mesh]                            # optional
+//! ```
+//!
+//! Errors are [`FlankError::Parse`] at the line of the key at fault; an
+//! error of the blank design names its `[blank]` key and points at it (or at
+//! the `[blank]` header when the key is absent).
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use serde::Deserialize;
+use toml::Spanned;
+
+use super::analyses::{self, Analyses, RawAnalyses};
+use super::load::{self, Load, RawLoad};
+use super::location::{Cx, Res};
+use super::materials::{self, RawMaterial};
+use super::mesh::{self, MeshOptions, RawMesh};
+use crate::error::FlankError;
+use crate::fem::material::Material;
+use crate::geometry::bevel::{blank_design, BlankDesign, BlankInputs};
+use crate::geometry::Hand;
+
+/// Kind of a bevel pair.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BevelKind {
+    /// Intersecting axes (ISO 23509 method 0).
+    SpiralBevel,
+    /// Offset axes (methods 1–3).
+    Hypoid,
+}
+
+/// A parsed and validated bevel/hypoid scene (internal units).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BevelScene {
+    pub kind: BevelKind,
+    pub pinion_hand: Hand,
+    /// The `[blank]` input set as read, and its design.
+    pub blank_inputs: BlankInputs,
+    pub blank: BlankDesign,
+    /// Bore diameters of `[pinion, gear]` (mm).
+    pub bore_diameter: [f64; 2],
+    pub pinion_material: Material,
+    pub gear_material: Material,
+    pub load: Load,
+    pub analyses: Analyses,
+    pub mesh: MeshOptions,
+    pub source: PathBuf,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawBevelPair {
+    kind: Spanned<BevelKind>,
+    pinion_hand: Spanned<Hand>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawBevelGear {
+    bore_diameter_mm: Spanned<f64>,
+    material: Spanned<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawBevelScene {
+    pair: RawBevelPair,
+    blank: Spanned<BTreeMap<String, Spanned<toml::Value>>>,
+    pinion: RawBevelGear,
+    gear: RawBevelGear,
+    #[serde(default)]
+    materials: BTreeMap<String, RawMaterial>,
+    load: RawLoad,
+    analyses: Option<RawAnalyses>,
+    mesh: Option<RawMesh>,
+}
+
+/// TOML value → JSON value (the blank inputs are read by their JSON reader).
+fn json(v: &toml::Value) -> serde_json::Value {
+    match v {
+        toml::Value::String(s) => serde_json::Value::from(s.clone()),
+        toml::Value::Integer(i) => serde_json::Value::from(*i),
+        toml::Value::Float(f) => serde_json::Value::from(*f),
+        toml::Value::Boolean(b) => serde_json::Value::from(*b),
+        toml::Value::Datetime(d) => serde_json::Value::from(d.to_string()),
+        toml::Value::Array(a) => serde_json::Value::Array(a.iter().map(json).collect()),
+        toml::Value::Table(t) => {
+            serde_json::Value::Object(t.iter().map(|(k, v)| (k.clone(), json(v))).collect())
+        }
+    }
+}
+
+/// A blank-design error at the line of the `[blank]` key it names.
+fn blank_error(
+    cx: &Cx,
+    blank: &Spanned<BTreeMap<String, Spanned<toml::Value>>>,
+    e: FlankError,
+) -> FlankError {
+    let message = e.to_string();
+    // Messages name the key in backticks (`blank input `key`: …`) or, from
+    // serde, as "unknown field `key`".
+    let key = message
+        .split('`')
+        .nth(1)
+        .filter(|k| blank.get_ref().contains_key(*k));
+    let span = match key {
+        Some(k) => blank.get_ref()[k].span(),
+        None => blank.span(),
+    };
+    cx.err(span, format!("[blank]: {message}"))
+}
+
+pub(super) fn build(cx: &Cx, raw: RawBevelScene) -> Res<BevelScene> {
+    let kind = *raw.pair.kind.get_ref();
+    let object: serde_json::Map<String, serde_json::Value> = raw
+        .blank
+        .get_ref()
+        .iter()
+        .map(|(k, v)| (k.clone(), json(v.get_ref())))
+        .collect();
+    let inputs = BlankInputs::from_value(serde_json::Value::Object(object))
+        .map_err(|e| blank_error(cx, &raw.blank, e))?;
+    let method_ok = match kind {
+        BevelKind::SpiralBevel => inputs.method == 0,
+        BevelKind::Hypoid => inputs.method > 0,
+    };
+    if !method_ok {
+        return Err(cx.err(
+            raw.pair.kind.span(),
+            format!(
+                "`pair.kind` = {kind:?} does not fit `blank.method` = {} (spiral_bevel: method 0, zero offset; hypoid: methods 1–3)",
+                inputs.method
+            ),
+        ));
+    }
+    let blank = blank_design(&inputs).map_err(|e| blank_error(cx, &raw.blank, e))?;
+
+    let mut bore_diameter = [0.0; 2];
+    for (k, (g, name)) in [(&raw.pinion, "pinion"), (&raw.gear, "gear")]
+        .into_iter()
+        .enumerate()
+    {
+        let key = format!("{name}.bore_diameter_mm");
+        let d = cx.positive(&g.bore_diameter_mm, &key)?;
+        // The bore must stay inside the root cone at the toe (inner end):
+        // root radius R sin δ − h_f(R) cos δ with h_f(R) = h_fm − (R_m − R) tan θ_f.
+        let c = &blank.cones;
+        let (delta, rm, hfm, theta_f, ri) = if k == 0 {
+            let ri2 = c.re2 - inputs.b2_mm;
+            let ri1 = c.rm1 - (c.rm2 - ri2) / c.zeta_mp.cos();
+            (c.delta1, c.rm1, blank.depth.hfm1, blank.depth.theta_f1, ri1)
+        } else {
+            (
+                c.delta2,
+                c.rm2,
+                blank.depth.hfm2,
+                blank.depth.theta_f2,
+                c.re2 - inputs.b2_mm,
+            )
+        };
+        let hf = hfm - (rm - ri) * theta_f.tan();
+        let inner_root_diameter = 2.0 * (ri * delta.sin() - hf * delta.cos());
+        if !(d < inner_root_diameter) {
+            return Err(cx.err(
+                g.bore_diameter_mm.span(),
+                format!(
+                    "`{key}` = {d}: the bore must be smaller than the root cone's diameter at the toe, {inner_root_diameter:.3} mm"
+                ),
+            ));
+        }
+        bore_diameter[k] = d;
+    }
+    let pinion_material = materials::material(cx, &raw.materials, &raw.pinion.material, "pinion")?;
+    let gear_material = materials::material(cx, &raw.materials, &raw.gear.material, "gear")?;
+    let load = load::load(cx, &raw.load)?;
+    let analyses = analyses::analyses(cx, raw.analyses.as_ref())?;
+    let mesh = mesh::mesh_options(cx, raw.mesh.as_ref(), inputs.z1, blank.cones.m_mn)?;
+    Ok(BevelScene {
+        kind,
+        pinion_hand: *raw.pair.pinion_hand.get_ref(),
+        blank_inputs: inputs,
+        blank,
+        bore_diameter,
+        pinion_material,
+        gear_material,
+        load,
+        analyses,
+        mesh,
+        source: cx.file.to_path_buf(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{parse_any_scene, parse_scene, AnyScene};
+    use std::path::Path;
+
+    const SCENE: &str = r#"[pair]
+kind = "hypoid"
+pinion_hand = "left"
+
+[blank]
+method = 3
+Sigma_deg = 90.0
+a_mm = 30.0
+z1 = 12
+z2 = 41
+de2_mm = 213.2
+b2_mm = 32.0
+beta_m2_deg = 32.0
+rc0_mm = 100.0
+z0 = 5
+data_type = "I"
+alpha_dD_deg = 20.0
+alpha_dC_deg = 20.0
+f_alim = 0.0
+k_hap = 1.0
+k_hfp = 1.25
+x_hm1 = 0.53
+x_smn = 0.0
+
+[pinion]
+bore_diameter_mm = 20.0
+material = "steel"
+
+[gear]
+bore_diameter_mm = 130.0
+material = "steel"
+
+[materials.steel]
+young_modulus_mpa = 206000.0
+poisson_ratio = 0.3
+
+[load]
+torque_nm = 117.07
+speed_rpm = 1000.0
+"#;
+
+    fn parse(text: &str) -> Result<AnyScene, FlankError> {
+        parse_any_scene(text, Path::new("s.toml"))
+    }
+
+    fn line_of(text: &str, needle: &str) -> usize {
+        1 + text[..text.find(needle).unwrap()].matches('\n').count()
+    }
+
+    fn expect_err(text: &str, line: usize, words: &[&str]) {
+        let e = parse(text).unwrap_err().to_string();
+        assert!(e.starts_with(&format!("s.toml:{line}:")), "{e}");
+        for w in words {
+            assert!(e.contains(w), "'{w}' not in: {e}");
+        }
+    }
+
+    #[test]
+    fn a_hypoid_scene_reads_and_runs_its_blank_design() {
+        let AnyScene::Bevel(s) = parse(SCENE).unwrap() else {
+            panic!("not a bevel scene")
+        };
+        assert_eq!(s.kind, BevelKind::Hypoid);
+        assert_eq!(s.pinion_hand, Hand::Left);
+        assert_eq!(s.blank.method, 3);
+        assert_eq!(s.blank_inputs.z2, 41);
+        // The blank's wheel outer pitch diameter is the input d_e2.
+        let c = &s.blank.cones;
+        assert!((2.0 * c.re2 * c.delta2.sin() - 213.2).abs() < 1e-9);
+        assert_eq!(s.bore_diameter, [20.0, 130.0]);
+        // The cylindrical reader refuses it at its kind.
+        let e = parse_scene(SCENE, Path::new("s.toml"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("s.toml:2:") && e.contains("spur and helical"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn bad_bevel_scenes_point_at_the_key() {
+        let edit = |from: &str, to: &str| SCENE.replacen(from, to, 1);
+        let t = edit("z1 = 12", "z1 = 0");
+        expect_err(&t, line_of(&t, "z1 = 0"), &["z1", "positive"]);
+        let t = edit("x_smn = 0.0\n", "");
+        expect_err(&t, line_of(&t, "[blank]"), &["x_smn", "missing"]);
+        let t = edit("z0 = 5", "z0 = 5\nfoo = 1");
+        expect_err(&t, line_of(&t, "foo = 1"), &["foo"]);
+        let t = edit("kind = \"hypoid\"", "kind = \"spiral_bevel\"");
+        expect_err(&t, 2, &["pair.kind", "blank.method"]);
+        let t = edit("bore_diameter_mm = 130.0", "bore_diameter_mm = 190.0");
+        expect_err(
+            &t,
+            line_of(&t, "190.0"),
+            &["gear.bore_diameter_mm", "root cone"],
+        );
+        let t = edit("pinion_hand = \"left\"", "pinion_hand = \"up\"");
+        expect_err(&t, 3, &["pinion_hand"]);
+        let t = edit("material = \"steel\"", "material = \"brass\"");
+        expect_err(&t, line_of(&t, "\"brass\""), &["materials.brass"]);
+    }
+}
