@@ -20,6 +20,7 @@ pub mod measurement_grid;
 pub mod micro;
 pub mod pair;
 pub mod rack;
+pub mod rotated;
 pub mod surface;
 pub mod vec3;
 

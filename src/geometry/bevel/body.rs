@@ -1,0 +1,254 @@
+//! A bevel or hypoid gear behind the gear-pair interface
+//! ([`crate::geometry::gear_pair::GearBody`]): the generated flanks of one
+//! tooth, turned to every tooth of the modelled sector, and the member's
+//! blank (cones, bore).
+//!
+//! Own frame (shared with the generated surfaces): axis +z, origin at the
+//! member's pitch-cone apex, +z from the apex toward the heel. In the axial
+//! section a point at cone distance v along the pitch generatrix and at u
+//! perpendicular to it (positive toward the tip) has
+//! z = v cos δ − u sin δ, ρ = v sin δ + u cos δ (δ the pitch angle); the face
+//! cone is u = h_a(v), the root cone u = −h_f(v), with
+//! h_a(v) = h_am + (v − R_m) tan θ_a and h_f(v) = h_fm + (v − R_m) tan θ_f
+//! (ISO 23509 clause 7.4: addendum and dedendum angles; zero for uniform
+//! depth).
+
+use std::f64::consts::PI;
+use std::sync::Arc;
+
+use crate::error::{FlankError, Result};
+use crate::geometry::gear_pair::{Blank, Flank, GearBody};
+use crate::geometry::rotated::RotatedSurface;
+use crate::geometry::surface::ToothSurface;
+
+/// One member's cones (mm, rad), from the blank design.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct MemberCones {
+    /// Pitch angle δ.
+    pub pitch_angle: f64,
+    /// Mean, inner (toe) and outer (heel) cone distances R_m, R_i, R_e
+    /// along the pitch generatrix.
+    pub mean_cone_distance: f64,
+    pub inner_cone_distance: f64,
+    pub outer_cone_distance: f64,
+    /// Mean addendum and dedendum h_am, h_fm.
+    pub mean_addendum: f64,
+    pub mean_dedendum: f64,
+    /// Addendum and dedendum angles θ_a, θ_f (0: uniform depth).
+    pub addendum_angle: f64,
+    pub dedendum_angle: f64,
+}
+
+impl MemberCones {
+    /// h_a(v): addendum at cone distance v.
+    pub fn addendum(&self, v: f64) -> f64 {
+        self.mean_addendum + (v - self.mean_cone_distance) * self.addendum_angle.tan()
+    }
+
+    /// h_f(v): dedendum at cone distance v.
+    pub fn dedendum(&self, v: f64) -> f64 {
+        self.mean_dedendum + (v - self.mean_cone_distance) * self.dedendum_angle.tan()
+    }
+
+    /// (z, ρ) of the axial-section point (u, v) (module docs).
+    pub fn axial_point(&self, u: f64, v: f64) -> (f64, f64) {
+        let (s, c) = self.pitch_angle.sin_cos();
+        (v * c - u * s, v * s + u * c)
+    }
+
+    fn validate(&self, name: &str) -> Result<()> {
+        let ok = self.pitch_angle > 0.0
+            && self.pitch_angle < PI / 2.0
+            && self.inner_cone_distance > 0.0
+            && self.inner_cone_distance < self.mean_cone_distance
+            && self.mean_cone_distance < self.outer_cone_distance
+            && self.mean_addendum.is_finite()
+            && self.mean_dedendum > 0.0
+            && self.addendum(self.inner_cone_distance) > -self.dedendum(self.inner_cone_distance)
+            && self.addendum(self.outer_cone_distance) > -self.dedendum(self.outer_cone_distance);
+        if ok {
+            Ok(())
+        } else {
+            Err(FlankError::Model(format!(
+                "{name}: inconsistent cones (0 < δ < 90°, 0 < R_i < R_m < R_e, positive depth): {self:?}"
+            )))
+        }
+    }
+}
+
+/// A bevel/hypoid member as a sector of teeth (module docs).
+#[derive(Clone, Debug)]
+pub struct BevelGear {
+    name: String,
+    teeth: u32,
+    cones: MemberCones,
+    bore_radius: f64,
+    /// Flanks of sector teeth 1..=n: [left, right].
+    flanks: [Vec<RotatedSurface>; 2],
+}
+
+impl BevelGear {
+    /// `left` and `right` are the flanks of sector tooth 1; tooth k is
+    /// tooth 1 turned by −(k − 1)·2π/z (the cylindrical gears' numbering).
+    pub fn new(
+        name: &str,
+        teeth: u32,
+        sector_teeth: usize,
+        left: Arc<dyn ToothSurface>,
+        right: Arc<dyn ToothSurface>,
+        cones: MemberCones,
+        bore_radius: f64,
+    ) -> Result<Self> {
+        cones.validate(name)?;
+        if teeth < 2 || sector_teeth < 1 || sector_teeth > teeth as usize {
+            return Err(FlankError::Model(format!(
+                "{name}: a sector of {sector_teeth} teeth of a gear of {teeth} teeth"
+            )));
+        }
+        let toe_root = cones
+            .axial_point(
+                -cones.dedendum(cones.inner_cone_distance),
+                cones.inner_cone_distance,
+            )
+            .1;
+        if !(bore_radius > 0.0 && bore_radius < toe_root) {
+            return Err(FlankError::Model(format!(
+                "{name}: bore radius {bore_radius} mm must be positive and below the root cone at the toe ({toe_root:.3} mm)"
+            )));
+        }
+        let pitch = 2.0 * PI / teeth as f64;
+        let turned = |s: &Arc<dyn ToothSurface>| -> Vec<RotatedSurface> {
+            (0..sector_teeth)
+                .map(|k| RotatedSurface::new(s.clone(), -(k as f64) * pitch))
+                .collect()
+        };
+        Ok(BevelGear {
+            name: name.to_string(),
+            teeth,
+            cones,
+            bore_radius,
+            flanks: [turned(&left), turned(&right)],
+        })
+    }
+
+    pub fn cones(&self) -> &MemberCones {
+        &self.cones
+    }
+}
+
+impl GearBody for BevelGear {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn teeth(&self) -> u32 {
+        self.teeth
+    }
+    fn sector_teeth(&self) -> usize {
+        self.flanks[0].len()
+    }
+    fn angular_pitch(&self) -> f64 {
+        2.0 * PI / self.teeth as f64
+    }
+    fn flank(&self, side: Flank, tooth: usize) -> Option<&dyn ToothSurface> {
+        let k = match side {
+            Flank::Left => 0,
+            Flank::Right => 1,
+        };
+        if tooth == 0 {
+            return None;
+        }
+        self.flanks[k]
+            .get(tooth - 1)
+            .map(|s| s as &dyn ToothSurface)
+    }
+    fn blank(&self) -> Blank {
+        let c = &self.cones;
+        let (ri, rm, re) = (
+            c.inner_cone_distance,
+            c.mean_cone_distance,
+            c.outer_cone_distance,
+        );
+        let z: Vec<f64> = [
+            c.axial_point(c.addendum(ri), ri),
+            c.axial_point(-c.dedendum(ri), ri),
+            c.axial_point(c.addendum(re), re),
+            c.axial_point(-c.dedendum(re), re),
+        ]
+        .iter()
+        .map(|p| p.0)
+        .collect();
+        Blank {
+            bore_radius: self.bore_radius,
+            root_radius: c.axial_point(-c.dedendum(rm), rm).1,
+            tip_radius: c.axial_point(c.addendum(rm), rm).1,
+            axial_range: (
+                z.iter().cloned().fold(f64::INFINITY, f64::min),
+                z.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
+            ),
+        }
+    }
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::deviation::tests::Torus;
+
+    fn cones() -> MemberCones {
+        MemberCones {
+            pitch_angle: 70f64.to_radians(),
+            mean_cone_distance: 95.0,
+            inner_cone_distance: 80.0,
+            outer_cone_distance: 110.0,
+            mean_addendum: 1.8,
+            mean_dedendum: 6.7,
+            addendum_angle: 0.02,
+            dedendum_angle: 0.06,
+        }
+    }
+
+    #[test]
+    fn sector_teeth_are_turned_copies_and_the_blank_follows_the_cones() {
+        let g = BevelGear::new(
+            "gear",
+            41,
+            3,
+            Arc::new(Torus),
+            Arc::new(Torus),
+            cones(),
+            40.0,
+        )
+        .unwrap();
+        assert_eq!(g.sector_teeth(), 3);
+        assert!(g.flank(Flank::Right, 0).is_none() && g.flank(Flank::Right, 4).is_none());
+        let p1 = g.flank(Flank::Right, 1).unwrap().point(0.1, 0.1);
+        let p3 = g.flank(Flank::Right, 3).unwrap().point(0.1, 0.1);
+        let turn = p3[1].atan2(p3[0]) - p1[1].atan2(p1[0]);
+        assert!((turn + 2.0 * g.angular_pitch()).abs() < 1e-12);
+        let b = g.blank();
+        let c = cones();
+        let (s, co) = c.pitch_angle.sin_cos();
+        assert!((b.root_radius - (95.0 * s - 6.7 * co)).abs() < 1e-12);
+        assert!((b.tip_radius - (95.0 * s + 1.8 * co)).abs() < 1e-12);
+        assert!(b.axial_range.0 < 80.0 * co && b.axial_range.1 > 110.0 * co);
+        // A bore that cuts the root cone, or nonsense cones, are refused.
+        assert!(BevelGear::new(
+            "gear",
+            41,
+            3,
+            Arc::new(Torus),
+            Arc::new(Torus),
+            cones(),
+            80.0
+        )
+        .is_err());
+        let mut bad = cones();
+        bad.inner_cone_distance = 100.0;
+        assert!(
+            BevelGear::new("gear", 41, 3, Arc::new(Torus), Arc::new(Torus), bad, 40.0).is_err()
+        );
+    }
+}
