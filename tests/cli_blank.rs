@@ -226,7 +226,10 @@ fn bad_input_names_the_key() {
         ),
         (
             "method2_without_dm2",
-            edit(f4_inputs(), &[("dm2_mm", n.clone()), ("de2_mm", json!(170.0))]),
+            edit(
+                f4_inputs(),
+                &[("dm2_mm", n.clone()), ("de2_mm", json!(170.0))],
+            ),
             "`dm2_mm`",
         ),
         (

@@ -40,20 +40,13 @@ use std::f64::consts::{FRAC_PI_2, PI};
 pub const MAX_ITERATIONS: usize = 200;
 
 fn fail(method: u8, why: impl std::fmt::Display) -> FlankError {
-    FlankError::Model(format!(
-        "blank design, method {method} pitch cones: {why}"
-    ))
+    FlankError::Model(format!("blank design, method {method} pitch cones: {why}"))
 }
 
 /// Root of `f` nearest to `x0`: two walkers step outwards by `step` (at most
 /// `n` steps each) to the first sign change between finite values, then
 /// bisection. Returns the root and the number of evaluations, or None.
-fn root_near(
-    f: &dyn Fn(f64) -> Option<f64>,
-    x0: f64,
-    step: f64,
-    n: usize,
-) -> Option<(f64, usize)> {
+fn root_near(f: &dyn Fn(f64) -> Option<f64>, x0: f64, step: f64, n: usize) -> Option<(f64, usize)> {
     let mut evals = 1;
     let f0 = f(x0)?;
     let mut walkers = [(x0, f0, 1.0, true), (x0, f0, -1.0, true)];
@@ -189,7 +182,10 @@ pub fn method1(c: &ConeInputs) -> Result<Clause6> {
         let rho = lengthwise_curvature_radius(s.rm2, beta_m2, delta2, c.z2, c.rc0, c.z0)?;
         let r = rho * limit_curvature(&s, alpha_lim) - 1.0;
         if !(r.is_finite() && s.rm1 > 0.0 && s.rm2 > 0.0) {
-            return Err(fail(1, format!("no valid cones at η = {:.4}°", eta.to_degrees())));
+            return Err(fail(
+                1,
+                format!("no valid cones at η = {:.4}°", eta.to_degrees()),
+            ));
         }
         Ok((s, r))
     };
@@ -214,7 +210,9 @@ pub fn method1(c: &ConeInputs) -> Result<Clause6> {
     if !(0.0..1.0).contains(&c_be2) {
         return Err(fail(
             1,
-            format!("the mean point leaves the face width (c_be2 = {c_be2:.4}; `b2_mm` or `de2_mm`)"),
+            format!(
+                "the mean point leaves the face width (c_be2 = {c_be2:.4}; `b2_mm` or `de2_mm`)"
+            ),
         ));
     }
     Ok(Clause6 {
@@ -233,7 +231,8 @@ pub fn method2(c: &ConeInputs) -> Result<Clause6> {
     let b2 = c
         .beta_m2
         .ok_or_else(|| missing("beta_m2_deg", "method 2 needs it"))?;
-    let z0 = c.z0.ok_or_else(|| missing("z0", "method 2 is face hobbing"))?;
+    let z0 =
+        c.z0.ok_or_else(|| missing("z0", "method 2 is face hobbing"))?;
     let (a, u, sg, rc0) = (c.a, c.z2 / c.z1, c.sigma, c.rc0);
     // (42)–(56): start value.
     let nu = asin_checked(

@@ -204,7 +204,10 @@ impl BlankInputs {
                 1 | 3 if self.de2_mm.is_none() => {
                     return Err(err(
                         "de2_mm",
-                        format!("missing (method {} starts from the outer pitch diameter)", self.method),
+                        format!(
+                            "missing (method {} starts from the outer pitch diameter)",
+                            self.method
+                        ),
                     ))
                 }
                 2 if self.dm2_mm.is_none() => {
@@ -227,16 +230,12 @@ impl BlankInputs {
             _ => {}
         }
         match (self.method, self.beta_m2_deg) {
-            (1, Some(_)) => {
-                return Err(err(
-                    "beta_m2_deg",
-                    "method 1 computes the wheel's spiral angle from beta_m1_desired_deg; remove it",
-                ))
-            }
+            (1, Some(_)) => return Err(err(
+                "beta_m2_deg",
+                "method 1 computes the wheel's spiral angle from beta_m1_desired_deg; remove it",
+            )),
             (1, None) => {}
-            (m, None) => {
-                return Err(err("beta_m2_deg", format!("missing (method {m} needs it)")))
-            }
+            (m, None) => return Err(err("beta_m2_deg", format!("missing (method {m} needs it)"))),
             (_, Some(b)) => {
                 in_range("beta_m2_deg", b, -90.0, 90.0, "|β| < 90°")?;
             }

@@ -271,12 +271,17 @@ pub fn blank_design(inputs: &BlankInputs) -> Result<BlankDesign> {
         thickness,
     };
     design.check_finite()?;
-    let shift_key = if factors.x_hm1.is_some() { "x_hm1" } else { "c_ham" };
+    let shift_key = if factors.x_hm1.is_some() {
+        "x_hm1"
+    } else {
+        "c_ham"
+    };
     let (land1, land2) = design.outer_top_lands();
     for (member, land) in [("pinion", land1), ("wheel", land2)] {
         if land <= 0.0 {
             return Err(FlankError::Model(format!(
-                "blank input `{shift_key}`: pointed teeth, the {member}'s top land at the outer end is                  {land:.4} mm (addendum too large for its thickness; change `{shift_key}` or the                  depth factor)"
+                "blank input `{shift_key}`: pointed teeth, the {member}'s top land at the outer end is {land:.4} mm \
+                 (addendum too large for its thickness; change `{shift_key}` or the depth factor)"
             )));
         }
     }

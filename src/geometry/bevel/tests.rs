@@ -26,7 +26,13 @@ fn zero_offset_gives_the_method0_cones() {
     use serde_json::json;
     let m0 = blank_design(&edit(F2, &[])).unwrap().cones;
     for (method, extra) in [
-        (1, vec![("beta_m2_deg", json!(null)), ("beta_m1_desired_deg", json!(35.0))]),
+        (
+            1,
+            vec![
+                ("beta_m2_deg", json!(null)),
+                ("beta_m1_desired_deg", json!(35.0)),
+            ],
+        ),
         (3, vec![]),
     ] {
         let mut changes = vec![("method", json!(method))];
