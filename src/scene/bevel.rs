@@ -173,24 +173,10 @@ pub(super) fn build(cx: &Cx, raw: RawBevelScene) -> Res<BevelScene> {
     {
         let key = format!("{name}.bore_diameter_mm");
         let d = cx.positive(&g.bore_diameter_mm, &key)?;
-        // The bore must stay inside the root cone at the toe (inner end):
-        // root radius R sin δ − h_f(R) cos δ with h_f(R) = h_fm − (R_m − R) tan θ_f.
-        let c = &blank.cones;
-        let (delta, rm, hfm, theta_f, ri) = if k == 0 {
-            let ri2 = c.re2 - inputs.b2_mm;
-            let ri1 = c.rm1 - (c.rm2 - ri2) / c.zeta_mp.cos();
-            (c.delta1, c.rm1, blank.depth.hfm1, blank.depth.theta_f1, ri1)
-        } else {
-            (
-                c.delta2,
-                c.rm2,
-                blank.depth.hfm2,
-                blank.depth.theta_f2,
-                c.re2 - inputs.b2_mm,
-            )
-        };
-        let hf = hfm - (rm - ri) * theta_f.tan();
-        let inner_root_diameter = 2.0 * (ri * delta.sin() - hf * delta.cos());
+        // The bore must stay inside the root cone at the toe (inner end).
+        let cut = blank.cutting_blank();
+        let m = if k == 0 { &cut.pinion } else { &cut.wheel };
+        let inner_root_diameter = 2.0 * m.axial_point(-m.dedendum(m.ri), m.ri).1;
         if !(d < inner_root_diameter) {
             return Err(cx.err(
                 g.bore_diameter_mm.span(),

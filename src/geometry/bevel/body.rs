@@ -16,56 +16,43 @@
 use std::f64::consts::PI;
 use std::sync::Arc;
 
+use super::MemberBlank;
 use crate::error::{FlankError, Result};
 use crate::geometry::gear_pair::{Blank, Flank, GearBody};
 use crate::geometry::rotated::RotatedSurface;
 use crate::geometry::surface::ToothSurface;
 
-/// One member's cones (mm, rad), from the blank design.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct MemberCones {
-    /// Pitch angle δ.
-    pub pitch_angle: f64,
-    /// Mean, inner (toe) and outer (heel) cone distances R_m, R_i, R_e
-    /// along the pitch generatrix.
-    pub mean_cone_distance: f64,
-    pub inner_cone_distance: f64,
-    pub outer_cone_distance: f64,
-    /// Mean addendum and dedendum h_am, h_fm.
-    pub mean_addendum: f64,
-    pub mean_dedendum: f64,
-    /// Addendum and dedendum angles θ_a, θ_f (0: uniform depth).
-    pub addendum_angle: f64,
-    pub dedendum_angle: f64,
-}
-
-impl MemberCones {
-    /// h_a(v): addendum at cone distance v.
+/// The cone lines of a member's axial section (module docs), from the
+/// blank design's [`MemberBlank`] (ISO 23509 clauses 7.3, 7.4: the face and
+/// root cones are the lines through the mean tip and root points at the
+/// face and root angles δ_a, δ_f, whatever their apexes).
+impl MemberBlank {
+    /// h_a(v): addendum at cone distance v (θ_a = δ_a − δ).
     pub fn addendum(&self, v: f64) -> f64 {
-        self.mean_addendum + (v - self.mean_cone_distance) * self.addendum_angle.tan()
+        self.ham + (v - self.rm) * (self.delta_a - self.delta).tan()
     }
 
-    /// h_f(v): dedendum at cone distance v.
+    /// h_f(v): dedendum at cone distance v (θ_f = δ − δ_f).
     pub fn dedendum(&self, v: f64) -> f64 {
-        self.mean_dedendum + (v - self.mean_cone_distance) * self.dedendum_angle.tan()
+        self.hfm + (v - self.rm) * (self.delta - self.delta_f).tan()
     }
 
     /// (z, ρ) of the axial-section point (u, v) (module docs).
     pub fn axial_point(&self, u: f64, v: f64) -> (f64, f64) {
-        let (s, c) = self.pitch_angle.sin_cos();
+        let (s, c) = self.delta.sin_cos();
         (v * c - u * s, v * s + u * c)
     }
 
     fn validate(&self, name: &str) -> Result<()> {
-        let ok = self.pitch_angle > 0.0
-            && self.pitch_angle < PI / 2.0
-            && self.inner_cone_distance > 0.0
-            && self.inner_cone_distance < self.mean_cone_distance
-            && self.mean_cone_distance < self.outer_cone_distance
-            && self.mean_addendum.is_finite()
-            && self.mean_dedendum > 0.0
-            && self.addendum(self.inner_cone_distance) > -self.dedendum(self.inner_cone_distance)
-            && self.addendum(self.outer_cone_distance) > -self.dedendum(self.outer_cone_distance);
+        let ok = self.delta > 0.0
+            && self.delta < PI / 2.0
+            && self.ri > 0.0
+            && self.ri < self.rm
+            && self.rm < self.re
+            && self.ham.is_finite()
+            && self.hfm > 0.0
+            && self.addendum(self.ri) > -self.dedendum(self.ri)
+            && self.addendum(self.re) > -self.dedendum(self.re);
         if ok {
             Ok(())
         } else {
@@ -81,7 +68,7 @@ impl MemberCones {
 pub struct BevelGear {
     name: String,
     teeth: u32,
-    cones: MemberCones,
+    cones: MemberBlank,
     bore_radius: f64,
     /// Flanks of sector teeth 1..=n: [left, right].
     flanks: [Vec<RotatedSurface>; 2],
@@ -96,7 +83,7 @@ impl BevelGear {
         sector_teeth: usize,
         left: Arc<dyn ToothSurface>,
         right: Arc<dyn ToothSurface>,
-        cones: MemberCones,
+        cones: MemberBlank,
         bore_radius: f64,
     ) -> Result<Self> {
         cones.validate(name)?;
@@ -105,12 +92,7 @@ impl BevelGear {
                 "{name}: a sector of {sector_teeth} teeth of a gear of {teeth} teeth"
             )));
         }
-        let toe_root = cones
-            .axial_point(
-                -cones.dedendum(cones.inner_cone_distance),
-                cones.inner_cone_distance,
-            )
-            .1;
+        let toe_root = cones.axial_point(-cones.dedendum(cones.ri), cones.ri).1;
         if !(bore_radius > 0.0 && bore_radius < toe_root) {
             return Err(FlankError::Model(format!(
                 "{name}: bore radius {bore_radius} mm must be positive and below the root cone at the toe ({toe_root:.3} mm)"
@@ -131,7 +113,7 @@ impl BevelGear {
         })
     }
 
-    pub fn cones(&self) -> &MemberCones {
+    pub fn cones(&self) -> &MemberBlank {
         &self.cones
     }
 }
@@ -163,11 +145,7 @@ impl GearBody for BevelGear {
     }
     fn blank(&self) -> Blank {
         let c = &self.cones;
-        let (ri, rm, re) = (
-            c.inner_cone_distance,
-            c.mean_cone_distance,
-            c.outer_cone_distance,
-        );
+        let (ri, rm, re) = (c.ri, c.rm, c.re);
         let z: Vec<f64> = [
             c.axial_point(c.addendum(ri), ri),
             c.axial_point(-c.dedendum(ri), ri),
@@ -197,16 +175,23 @@ mod tests {
     use super::*;
     use crate::geometry::deviation::tests::Torus;
 
-    fn cones() -> MemberCones {
-        MemberCones {
-            pitch_angle: 70f64.to_radians(),
-            mean_cone_distance: 95.0,
-            inner_cone_distance: 80.0,
-            outer_cone_distance: 110.0,
-            mean_addendum: 1.8,
-            mean_dedendum: 6.7,
-            addendum_angle: 0.02,
-            dedendum_angle: 0.06,
+    fn cones() -> MemberBlank {
+        let d = 70f64.to_radians();
+        MemberBlank {
+            z: 41.0,
+            rm: 95.0,
+            re: 110.0,
+            ri: 80.0,
+            b: 30.0,
+            be: 15.0,
+            bi: 15.0,
+            delta: d,
+            delta_a: d + 0.02,
+            delta_f: d - 0.06,
+            beta_m: 0.5,
+            ham: 1.8,
+            hfm: 6.7,
+            smn: 4.0,
         }
     }
 
@@ -230,7 +215,7 @@ mod tests {
         assert!((turn + 2.0 * g.angular_pitch()).abs() < 1e-12);
         let b = g.blank();
         let c = cones();
-        let (s, co) = c.pitch_angle.sin_cos();
+        let (s, co) = c.delta.sin_cos();
         assert!((b.root_radius - (95.0 * s - 6.7 * co)).abs() < 1e-12);
         assert!((b.tip_radius - (95.0 * s + 1.8 * co)).abs() < 1e-12);
         assert!(b.axial_range.0 < 80.0 * co && b.axial_range.1 > 110.0 * co);
@@ -246,7 +231,7 @@ mod tests {
         )
         .is_err());
         let mut bad = cones();
-        bad.inner_cone_distance = 100.0;
+        bad.ri = 100.0;
         assert!(
             BevelGear::new("gear", 41, 3, Arc::new(Torus), Arc::new(Torus), bad, 40.0).is_err()
         );

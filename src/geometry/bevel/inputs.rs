@@ -37,9 +37,11 @@ pub struct BlankInputs {
     pub dm2_mm: Option<f64>,
     /// Face width of the wheel b_2.
     pub b2_mm: f64,
-    /// Mean spiral angle of the wheel β_m2.
-    pub beta_m2_deg: f64,
-    /// Desired mean spiral angle of the pinion β_m1 (method 1 only).
+    /// Mean spiral angle of the wheel β_m2 (methods 0, 2, 3; method 1
+    /// computes it).
+    #[serde(default)]
+    pub beta_m2_deg: Option<f64>,
+    /// Desired mean spiral angle of the pinion β_Δ1 (method 1 only).
     #[serde(default)]
     pub beta_m1_desired_deg: Option<f64>,
     /// Cutter radius r_c0.
@@ -106,13 +108,17 @@ pub struct ProfileFactors {
     pub x_smn: f64,
 }
 
-/// Where the backlash is given and what it is.
+/// Where the backlash is given and what it is (ISO 23509 clause 7.8).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Backlash {
     /// Normal backlash at the outer end, j_en.
     OuterNormal(f64),
+    /// Transverse backlash of the wheel at the outer end, j_et2.
+    OuterTransverse(f64),
     /// Normal backlash at the mean point, j_mn.
     MeanNormal(f64),
+    /// Transverse backlash of the wheel at the mean point, j_mt2.
+    MeanTransverse(f64),
 }
 
 fn err(key: &str, message: impl std::fmt::Display) -> FlankError {
@@ -172,9 +178,6 @@ impl BlankInputs {
         if self.method == 0 && a != 0.0 {
             return Err(err("a_mm", "method 0 has no offset: a must be 0"));
         }
-        if self.method > 0 && a == 0.0 {
-            return Err(err("a_mm", "methods 1-3 are for hypoid gears: a ≠ 0"));
-        }
         if self.z1 == 0 {
             return Err(err("z1", "must be positive"));
         }
@@ -194,8 +197,29 @@ impl BlankInputs {
             (Some(_), Some(_)) => return Err(err("dm2_mm", "give de2_mm or dm2_mm, not both")),
             (None, None) => return Err(err("de2_mm", "missing (or give dm2_mm)")),
         }
+        // The diameter each method of clause 6 starts from (a zero offset
+        // is method 0, which takes either).
+        if a != 0.0 {
+            match self.method {
+                1 | 3 if self.de2_mm.is_none() => {
+                    return Err(err(
+                        "de2_mm",
+                        format!(
+                            "missing (method {} starts from the outer pitch diameter)",
+                            self.method
+                        ),
+                    ))
+                }
+                2 if self.dm2_mm.is_none() => {
+                    return Err(err(
+                        "dm2_mm",
+                        "missing (method 2 starts from the mean pitch diameter)",
+                    ))
+                }
+                _ => {}
+            }
+        }
         in_range("b2_mm", self.b2_mm, 0.0, f64::INFINITY, "positive")?;
-        in_range("beta_m2_deg", self.beta_m2_deg, -90.0, 90.0, "|β| < 90°")?;
         in_range("rc0_mm", self.rc0_mm, 0.0, f64::INFINITY, "positive")?;
         match (self.method, self.beta_m1_desired_deg) {
             (1, None) => return Err(err("beta_m1_desired_deg", "missing (method 1 needs it)")),
@@ -204,6 +228,17 @@ impl BlankInputs {
             }
             (_, Some(_)) => return Err(err("beta_m1_desired_deg", "only method 1 takes it")),
             _ => {}
+        }
+        match (self.method, self.beta_m2_deg) {
+            (1, Some(_)) => return Err(err(
+                "beta_m2_deg",
+                "method 1 computes the wheel's spiral angle from beta_m1_desired_deg; remove it",
+            )),
+            (1, None) => {}
+            (m, None) => return Err(err("beta_m2_deg", format!("missing (method {m} needs it)"))),
+            (_, Some(b)) => {
+                in_range("beta_m2_deg", b, -90.0, 90.0, "|β| < 90°")?;
+            }
         }
         if self.method == 2 && self.z0.is_none() {
             return Err(err("z0", "missing (method 2 is face hobbing)"));
@@ -321,17 +356,22 @@ impl BlankInputs {
         let bad = || {
             err(
                 "backlash",
-                format!("{text:?}: expected \"outer normal jen <mm>\" or \"mean normal jmn <mm>\""),
+                format!(
+                    "{text:?}: expected \"outer normal jen <mm>\", \"outer transverse jet2 <mm>\", \
+                     \"mean normal jmn <mm>\" or \"mean transverse jmt2 <mm>\""
+                ),
             )
         };
-        let [place, "normal", _, value] = words.as_slice() else {
+        let [place, section, _, value] = words.as_slice() else {
             return Err(bad());
         };
         let j: f64 = value.parse().map_err(|_| bad())?;
         let j = in_range("backlash", j, -1e-12, f64::INFINITY, "≥ 0")?;
-        match *place {
-            "outer" => Ok(Backlash::OuterNormal(j)),
-            "mean" => Ok(Backlash::MeanNormal(j)),
+        match (*place, *section) {
+            ("outer", "normal") => Ok(Backlash::OuterNormal(j)),
+            ("outer", "transverse") => Ok(Backlash::OuterTransverse(j)),
+            ("mean", "normal") => Ok(Backlash::MeanNormal(j)),
+            ("mean", "transverse") => Ok(Backlash::MeanTransverse(j)),
             _ => Err(bad()),
         }
     }
@@ -382,6 +422,7 @@ mod tests {
             (with("dm2_mm", json!(150.0)), "dm2_mm"),
             (with("b2_mm", json!(0.0)), "b2_mm"),
             (with("beta_m2_deg", json!(95.0)), "beta_m2_deg"),
+            (with("beta_m2_deg", serde_json::Value::Null), "beta_m2_deg"),
             (with("rc0_mm", json!(-3.0)), "rc0_mm"),
             (with("method", json!(4)), "method"),
             (with("data_type", json!("III")), "data_type"),

@@ -1,11 +1,5 @@
-//! Tooth depths at the mean point and the face and root cones, ISO
-//! 23509:2016 clause 7.3 (tooth depth at the calculation point) and clause
-//! 7.4 (root and face angles), for the two depth forms:
-//!
-//! * tapered depth (methods 0 and 1): the wheel's addendum and dedendum
-//!   angles θ_a2, θ_f2 are inputs; uniform clearance gives the pinion's
-//!   θ_a1 = θ_f2 and θ_f1 = θ_a2; δ_a = δ + θ_a, δ_f = δ − θ_f;
-//! * uniform (constant) depth (methods 2 and 3): θ = 0, δ_a = δ_f = δ.
+//! Tooth depths at the mean point, ISO 23509:2016 clause 7.3 (tooth depth
+//! at the calculation point).
 //!
 //! Mean working depth h_mw = 2 k_hap m_mn. Data type I: h_am1,2 =
 //! m_mn (k_hap ± x_hm1), h_fm1,2 = m_mn (k_hfp ∓ x_hm1). Data type II
@@ -29,22 +23,13 @@ pub struct ToothDepth {
     pub hm: f64,
     /// Profile shift coefficient x_hm1 (data type II: derived).
     pub x_hm1: f64,
-    pub theta_a1: f64,
-    pub theta_f1: f64,
-    pub theta_a2: f64,
-    pub theta_f2: f64,
 }
 
-/// Clause 7.3 / 7.4. `theta` is (θ_a2, θ_f2) for tapered depth, None for
-/// uniform depth; `b_out` = R_e2 − R_m2.
-pub fn tooth_depth(
-    f: &ProfileFactors,
-    m_mn: f64,
-    theta: Option<(f64, f64)>,
-    b_out: f64,
-) -> ToothDepth {
-    let (theta_a2, theta_f2) = theta.unwrap_or((0.0, 0.0));
-    let (theta_a1, theta_f1) = (theta_f2, theta_a2);
+/// Clause 7.3; `theta_a` = (θ_a1, θ_a2), the nominal addendum angles
+/// (θ_a1 = θ_f2 for uniform clearance; zero for uniform depth), and
+/// `b_out` = R_e2 − R_m2 (both used by data type II only).
+pub fn tooth_depth(f: &ProfileFactors, m_mn: f64, theta_a: (f64, f64), b_out: f64) -> ToothDepth {
+    let (theta_a1, theta_a2) = theta_a;
     let hmw = 2.0 * f.k_hap * m_mn;
     let c = (f.k_hfp - f.k_hap) * m_mn;
     let ham2 = match (f.x_hm1, f.c_ham) {
@@ -65,10 +50,6 @@ pub fn tooth_depth(
         c,
         hm: hmw + c,
         x_hm1: (ham1 - ham2) / (2.0 * m_mn),
-        theta_a1,
-        theta_f1,
-        theta_a2,
-        theta_f2,
     }
 }
 
@@ -85,7 +66,7 @@ mod tests {
             c_ham: Some(0.3),
             x_smn: 0.0,
         };
-        let d = tooth_depth(&f, 4.0, None, 13.0);
+        let d = tooth_depth(&f, 4.0, (0.0, 0.0), 13.0);
         assert!((d.hmw - 8.0).abs() < 1e-12);
         assert!((d.ham2 - 2.4).abs() < 1e-12);
         assert!((d.ham1 - 5.6).abs() < 1e-12);
@@ -109,8 +90,8 @@ mod tests {
             ..t1
         };
         let (a, b) = (
-            tooth_depth(&t1, 4.0, None, 13.0),
-            tooth_depth(&t2, 4.0, None, 13.0),
+            tooth_depth(&t1, 4.0, (0.0, 0.0), 13.0),
+            tooth_depth(&t2, 4.0, (0.0, 0.0), 13.0),
         );
         assert!((a.ham1 - b.ham1).abs() < 1e-12 && (a.hfm2 - b.hfm2).abs() < 1e-12);
     }
