@@ -63,3 +63,31 @@ fn bad_scene_names_key_and_line() {
         "{err}"
     );
 }
+
+/// The hypoid paper scenes load, run their ISO 23509 blank design and print
+/// the blank table; the figures their READMEs quote come out of it.
+#[test]
+fn hypoid_paper_scenes_print_their_blank_tables() {
+    for (path, method, z, de2, b2) in [
+        ("papers/seed000-hypoid/scene.toml", 3, (12, 41), 213.2, 32.0),
+        ("papers/seed001-hypoid/scene.toml", 1, (10, 41), 220.0, 33.0),
+        ("papers/seed003-hypoid/scene.toml", 1, (11, 41), 225.5, 38.0),
+    ] {
+        let (ok, out, err) = check(path);
+        assert!(ok, "{path}: {err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        assert_eq!(v["kind"], "hypoid");
+        assert_eq!(v["method"], method);
+        let b = &v["blank"];
+        let f = |k: &str| b[k].as_f64().unwrap_or_else(|| panic!("{path}: no {k}"));
+        assert!((f("de2_mm") - de2).abs() < 1e-9, "{path}");
+        assert!((f("be2_mm") + f("bi2_mm") - b2).abs() < 1e-9, "{path}");
+        assert!((f("u") - z.1 as f64 / z.0 as f64).abs() < 1e-12, "{path}");
+        // Hypoid pinion: larger spiral angle than the wheel by about the
+        // offset angle in the pitch plane, ζ_mp (ISO 23509: β_m1 = β_m2 + ζ_mp
+        // at the last iterate; methods 1–3 stop their iteration at 1e-4° in
+        // the angles, so the printed ζ_mp may be one step further).
+        let d = f("beta_m1_deg") - f("beta_m2_deg") - f("zeta_mp_deg");
+        assert!(d.abs() < 1e-3, "{path}: β_m1 − β_m2 − ζ_mp = {d}°");
+    }
+}
