@@ -338,9 +338,18 @@ pub fn method2(c: &ConeInputs) -> Result<Clause6> {
 
 /// Method 3, formulae (84)–(109).
 pub fn method3(c: &ConeInputs) -> Result<Clause6> {
-    let de2 = c
-        .de2
-        .ok_or_else(|| missing("de2_mm", "method 3 starts from the outer pitch diameter"))?;
+    // Formula (88) takes d_m2 from d_e2 at each pass; a given d_m2 is used
+    // as it is (this code's extension: the mean point is then fixed).
+    let wheel_dm2 = |delta2: f64| -> Result<f64> {
+        match (c.de2, c.dm2) {
+            (Some(de2), _) => Ok(de2 - c.b2 * delta2.sin()),
+            (None, Some(dm2)) => Ok(dm2),
+            _ => Err(missing(
+                "de2_mm",
+                "method 3 starts from the outer pitch diameter",
+            )),
+        }
+    };
     let b2 = c
         .beta_m2
         .ok_or_else(|| missing("beta_m2_deg", "method 3 needs it"))?;
@@ -351,7 +360,7 @@ pub fn method3(c: &ConeInputs) -> Result<Clause6> {
     let mut delta1 = sg - delta2;
     for pass in 1..=MAX_ITERATIONS {
         // (88)–(106).
-        let dm2 = de2 - c.b2 * delta2.sin();
+        let dm2 = wheel_dm2(delta2)?;
         let zeta_m = asin_checked(
             2.0 * a / (dm2 * (1.0 + f * delta2.cos() / (u * delta1.cos()))),
             "ζ_m (formula 89; offset `a_mm` too large)",

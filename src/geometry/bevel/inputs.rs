@@ -201,7 +201,7 @@ impl BlankInputs {
         // is method 0, which takes either).
         if a != 0.0 {
             match self.method {
-                1 | 3 if self.de2_mm.is_none() => {
+                1 if self.de2_mm.is_none() => {
                     return Err(err(
                         "de2_mm",
                         format!(

@@ -104,6 +104,23 @@ fn method3_solution_satisfies_its_equations() {
         assert!((p.zeta_mp - (p.beta_m1 - p.beta_m2)).abs() < 1e-5);
         assert!((p.dm1 * p.beta_m1.cos() / 11.0 - p.m_mn).abs() < 1e-9);
         assert!((p.re2 - 100.0 / p.delta2.sin()).abs() < 1e-9);
+        // Given the d_m2 it found, method 3 returns the same cones up to
+        // the passes' stopping tolerance (the two runs iterate differently).
+        let again = ConeInputs {
+            de2: None,
+            dm2: Some(p.dm2),
+            ..c
+        };
+        let q = finish(&again, &method3(&again).unwrap()).unwrap();
+        assert!((q.dm2 - p.dm2).abs() < 1e-12);
+        for (x, y) in [
+            (q.delta1, p.delta1),
+            (q.delta2, p.delta2),
+            (q.beta_m1, p.beta_m1),
+        ] {
+            assert!((x - y).abs() < 1e-4, "{x} vs {y}");
+        }
+        assert!((q.rm1 / p.rm1 - 1.0).abs() < 2e-4 && (q.rm2 / p.rm2 - 1.0).abs() < 2e-4);
     }
 }
 
