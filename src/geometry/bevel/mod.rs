@@ -22,6 +22,8 @@
 //! What is verified against the two Annex F samples and what is not is in
 //! `verification/iso23509_blank/README.md`.
 
+pub mod cradle_machine;
+pub mod cutter;
 pub mod generation;
 pub mod inputs;
 pub mod outputs;
