@@ -126,12 +126,16 @@ pub fn meshing(j: &Jet) -> (f64, [f64; 3]) {
     (f, g)
 }
 
-/// The dimensionless meshing residual f / (|r_s × r_θ| |r_ψ|): the cosine
-/// of the angle between the family's normal and the relative velocity
-/// (0 on the envelope; 0 also for a formate map, r_ψ = 0).
+/// The dimensionless meshing residual n · r_ψ / max(|r_ψ|, |r|), n the
+/// unit normal of the family member: the cosine of the angle between the
+/// normal and the relative velocity where that velocity is at least |r|
+/// per radian, and the velocity's normal component relative to |r|
+/// elsewhere (near the instantaneous axis of rolling, the pitch element,
+/// the velocity vanishes and its direction is undefined). 0 on the
+/// envelope; 0 also for a formate map (r_ψ = 0).
 pub fn meshing_residual(j: &Jet) -> f64 {
     let nn = norm(cross(j.d1[0], j.d1[1]));
-    let vv = norm(j.d1[2]);
+    let vv = norm(j.d1[2]).max(norm(j.r));
     if nn == 0.0 || vv == 0.0 {
         return 0.0;
     }
@@ -312,8 +316,8 @@ impl EnvelopePoint {
 /// The surface point at axial position `z` and radius `rho` (work frame):
 /// bounded damped Newton on (z(q) − z*, ρ(q) − ρ*, f(q)) from `q0` (for a
 /// formate map ψ = q0[2] is held). Each step is halved until the merit
-/// |Δz|² + |Δρ|² + (f/f_scale)² decreases (f_scale frozen at the start, so
-/// that all three rows weigh alike); stops when the position is within
+/// |Δz|² + |Δρ|² + (f/f_scale)² decreases (f_scale = |∇f| frozen at the
+/// start, so that all three rows weigh alike); stops when the position is within
 /// `tol_position` and the meshing residual within `tol_meshing`, or errs
 /// after `max_iterations` steps.
 pub fn solve_axial<M: EnvelopeMap + ?Sized>(
@@ -335,9 +339,16 @@ pub fn solve_axial<M: EnvelopeMap + ?Sized>(
     if !finite(&jet) {
         return Err(EnvelopeError::NonFinite { q });
     }
-    // f's scale: |r_s × r_θ| |r_ψ| at the start (1 for a formate map)
+    // f's row scale: |∇f| at the start (1 for a formate map), so that the
+    // three rows of the merit weigh alike (|∇z|, |∇ρ| are O(1) per unit q)
     let f_scale = if generated {
-        (norm(cross(jet.d1[0], jet.d1[1])) * norm(jet.d1[2])).max(1e-300)
+        let g = meshing(&jet).1;
+        let s = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
+        if s.is_finite() && s > 0.0 {
+            s
+        } else {
+            1.0
+        }
     } else {
         1.0
     };
@@ -502,6 +513,9 @@ pub struct EnvelopeFlank<M: EnvelopeMap> {
     opt: SolveOptions,
     /// q at (fraction a_i from root to tip line, v_j).
     table: Vec<[f64; 3]>,
+    /// A root curve (v, u) sorted by v, replacing the root-cone line where
+    /// it lies above it (a formate member's blade-tip trace).
+    root_curve: Option<Vec<(f64, f64)>>,
 }
 
 impl<M: EnvelopeMap> EnvelopeFlank<M> {
@@ -520,6 +534,20 @@ impl<M: EnvelopeMap> EnvelopeFlank<M> {
         q_start: [f64; 3],
         opt: SolveOptions,
     ) -> Result<Self, EnvelopeError> {
+        Self::with_root_curve(map, section, placement, form_parameter, q_start, opt, None)
+    }
+
+    /// [`Self::new`] with a root curve: polyline (v, u) sorted by v; the
+    /// flank's root u_root(v) is the higher of it and the root-cone line.
+    pub fn with_root_curve(
+        map: M,
+        section: AxialSection,
+        placement: f64,
+        form_parameter: Option<f64>,
+        q_start: [f64; 3],
+        opt: SolveOptions,
+        root_curve: Option<Vec<(f64, f64)>>,
+    ) -> Result<Self, EnvelopeError> {
         let mut f = EnvelopeFlank {
             map,
             section,
@@ -527,6 +555,7 @@ impl<M: EnvelopeMap> EnvelopeFlank<M> {
             form_parameter,
             opt,
             table: vec![[0.0; 3]; TABLE_NA * TABLE_NV],
+            root_curve,
         };
         let (z, rho) = f.target(0.0, section.mean_cone_distance);
         let mean = solve_axial(&f.map, z, rho, q_start, &f.opt)?;
@@ -557,7 +586,7 @@ impl<M: EnvelopeMap> EnvelopeFlank<M> {
             }
             pitch_q.push((v, q));
             // the pitch line's fraction between root and tip
-            let (ur, ut) = (section.u_root(v), section.u_tip(v));
+            let (ur, ut) = (f.root_u(v), section.u_tip(v));
             let a_pitch = -ur / (ut - ur);
             let na = TABLE_NA;
             for dir in [-1.0, 1.0] {
@@ -586,7 +615,7 @@ impl<M: EnvelopeMap> EnvelopeFlank<M> {
             let v = r0 + (r1 - r0) * j as f64 / (CHECK_NV - 1) as f64;
             for i in 0..CHECK_NU {
                 let a = i as f64 / (CHECK_NU - 1) as f64;
-                let u = section.u_root(v) + a * (section.u_tip(v) - section.u_root(v));
+                let u = f.root_u(v) + a * (section.u_tip(v) - f.root_u(v));
                 let p = f.solve(u, v)?;
                 if p.section_tangent(0.0, 1.0).is_none() {
                     return Err(EnvelopeError::Singular {
@@ -602,7 +631,27 @@ impl<M: EnvelopeMap> EnvelopeFlank<M> {
     fn u_range_inner(&self) -> (f64, f64) {
         let (r0, r1) = self.section.cone_distance;
         let s = &self.section;
-        (s.u_root(r0).min(s.u_root(r1)), s.u_tip(r0).max(s.u_tip(r1)))
+        let lo = (0..=32)
+            .map(|k| self.root_u(r0 + (r1 - r0) * k as f64 / 32.0))
+            .fold(f64::INFINITY, f64::min);
+        (lo, s.u_tip(r0).max(s.u_tip(r1)))
+    }
+
+    /// u of the root at v: the root-cone line, or the root curve where it
+    /// is higher (linear between its points).
+    pub fn root_u(&self, v: f64) -> f64 {
+        let line = self.section.u_root(v);
+        let Some(c) = self.root_curve.as_ref().filter(|c| c.len() >= 2) else {
+            return line;
+        };
+        let k = c.partition_point(|p| p.0 < v).clamp(1, c.len() - 1);
+        let (a, b) = (c[k - 1], c[k]);
+        let t = if b.0 > a.0 {
+            (v - a.0) / (b.0 - a.0)
+        } else {
+            0.0
+        };
+        line.max(a.1 + t * (b.1 - a.1))
     }
 
     /// The generating map.
@@ -627,7 +676,7 @@ impl<M: EnvelopeMap> EnvelopeFlank<M> {
     /// The warm start at (u, v): bilinear in the table.
     pub fn warm_start(&self, u: f64, v: f64) -> [f64; 3] {
         let (r0, r1) = self.section.cone_distance;
-        let (ur, ut) = (self.section.u_root(v), self.section.u_tip(v));
+        let (ur, ut) = (self.root_u(v), self.section.u_tip(v));
         let a = ((u - ur) / (ut - ur)).clamp(0.0, 1.0) * (TABLE_NA - 1) as f64;
         let b = ((v - r0) / (r1 - r0)).clamp(0.0, 1.0) * (TABLE_NV - 1) as f64;
         let (i, j) = (
@@ -694,7 +743,7 @@ impl<M: EnvelopeMap> EnvelopeFlank<M> {
         let mut prev_col: Vec<[f64; 3]> = Vec::new();
         for j in 0..nv {
             let v = r0 + (r1 - r0) * j as f64 / (nv.max(2) - 1) as f64;
-            let (ur, ut) = (self.section.u_root(v), self.section.u_tip(v));
+            let (ur, ut) = (self.root_u(v), self.section.u_tip(v));
             let mut col = Vec::with_capacity(nu);
             for i in 0..nu {
                 let u = ur + (ut - ur) * i as f64 / (nu.max(2) - 1) as f64;
@@ -733,7 +782,7 @@ impl<M: EnvelopeMap> EnvelopeFlank<M> {
     /// radius's end) at v: bounded Newton in u (≤ 40 steps, u kept between
     /// the root and tip lines); u_root where there is no fillet.
     pub fn try_u_form(&self, v: f64) -> Result<f64, EnvelopeError> {
-        let (ur, ut) = (self.section.u_root(v), self.section.u_tip(v));
+        let (ur, ut) = (self.root_u(v), self.section.u_tip(v));
         let Some(s_form) = self.form_parameter else {
             return Ok(ur);
         };
@@ -785,11 +834,10 @@ impl<M: EnvelopeMap> ToothSurface for EnvelopeFlank<M> {
         self.section.u_tip(v)
     }
     fn u_form(&self, v: f64) -> f64 {
-        self.try_u_form(v)
-            .unwrap_or_else(|_| self.section.u_root(v))
+        self.try_u_form(v).unwrap_or_else(|_| self.root_u(v))
     }
     fn u_root(&self, v: f64) -> f64 {
-        self.section.u_root(v)
+        self.root_u(v)
     }
     /// Outside the validated domain a failed solve returns the last
     /// Newton iterate's tool point (never NaN); use

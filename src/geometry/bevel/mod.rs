@@ -24,8 +24,10 @@
 
 pub mod cradle_machine;
 pub mod cutter;
+pub mod generated_surface;
 pub mod generation;
 pub mod inputs;
+pub mod machine_settings;
 pub mod outputs;
 pub mod pitch_cone;
 pub mod thickness;
