@@ -12,8 +12,10 @@
 //! [`crate::geometry::bevel::generation`]: v = cone distance along the
 //! pitch-cone generatrix (toe R_i → heel R_e), u = distance perpendicular to
 //! it in the axial plane (root → tip, 0 on the pitch cone); u_tip(v) is the
-//! face-cone line, u_root(v) the root-cone line, u_form(v) where the blade's
-//! edge radius (the fillet) ends. The normal is the unit outward normal
+//! face-cone line, u_root(v) the root-cone line lifted by 0.005 ρ_f (the
+//! root cone touches the fillet tangentially, where the axial section is
+//! singular; a formate member's root is its blade-tip trace), u_form(v)
+//! where the blade's edge radius (the fillet) ends. The normal is the unit outward normal
 //! (out of the tooth's material).
 //!
 //! The concave flank is cut by the outside blade, the convex flank by the
@@ -27,6 +29,12 @@ use crate::geometry::bevel::generation::{
 };
 use crate::geometry::surface::ToothSurface;
 use crate::geometry::vec3::{cross, dot, norm, unit, V3};
+
+/// Angle (rad) up the blade's edge radius from its tangency with the tip
+/// plane where the flank's parameter domain starts (see
+/// [`GeneratedFlank::new`]): the last ρ_f (1 − cos 0.1) = 0.005 ρ_f of
+/// fillet depth above the root cone is left out.
+pub const ROOT_ARC_ANGLE: f64 = 0.1;
 
 /// Which flank of a tooth.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -115,6 +123,12 @@ impl GeneratedFlank {
             return Err(FlankError::Model(format!("teeth {teeth} < 3")));
         }
         let map = CradleGeneration::with_blade(settings, blade)?;
+        // the root cone touches the generated fillet tangentially, where the
+        // axial-section parametrisation is singular (the circle z, ρ grazes
+        // the surface): the flank's root line is lifted to where the edge
+        // radius has turned ROOT_ARC_ANGLE from the tip plane
+        let mut section = section;
+        section.root.u_mean += blade.edge_radius * (1.0 - ROOT_ARC_ANGLE.cos());
         let opt = SolveOptions::default();
         let what = format!("{kind:?} flank");
         // which side of the space the flank lies on decides the tooth
@@ -130,13 +144,13 @@ impl GeneratedFlank {
             _ => None,
         };
         // a formate member's root is the trace of the blade tip (the cutter
-        // does not sweep the root cone): the blade line s = 0.98 s_min
-        // (on the edge radius, just above its tangency with the tip
-        // plane, where the axial section meets the surface transversally)
-        // in the axial section, 400 samples across the face
+        // does not sweep the root cone): the blade line 0.1 rad up the edge
+        // radius from its tangency with the tip plane (where the axial
+        // section meets the surface transversally), 400 samples across the
+        // face
         let root_curve = match (settings.generated, map.tool) {
             (false, crate::geometry::bevel::cradle_machine::CradleTool::Cutter { profile, .. }) => {
-                let s_root = 0.98 * profile.s_min;
+                let s_root = profile.s_min + ROOT_ARC_ANGLE * profile.rho_f();
                 let (sd, cd) = section.pitch_angle.sin_cos();
                 let mut pts: Vec<(f64, f64)> = (0..=400)
                     .map(|k| {

@@ -57,8 +57,8 @@ pub struct CutterChoice {
     pub mean_radius: f64,
     /// Blade edge radius (mm).
     pub edge_radius: f64,
-    /// Blade height above the tip plane (mm); None: 1.25 × the mean whole
-    /// depth.
+    /// Blade height above the tip plane (mm); None: 1.25 × the whole
+    /// depth at the heel.
     pub blade_height: Option<f64>,
 }
 
@@ -252,9 +252,12 @@ fn setup_with(
             cutter.edge_radius
         ));
     }
-    let height = cutter
-        .blade_height
-        .unwrap_or(1.25 * (b.mean_addendum + b.mean_dedendum));
+    // the whole depth at the heel (tapered depth), with a quarter margin
+    let heel_depth = b.mean_addendum
+        + b.mean_dedendum
+        + (b.outer_cone_distance - b.mean_cone_distance)
+            * (b.addendum_angle.tan() + b.dedendum_angle.tan()).max(0.0);
+    let height = cutter.blade_height.unwrap_or(1.25 * heel_depth);
     let head = CutterHead {
         inside: Blade {
             side: crate::geometry::bevel::cutter::BladeSide::Inside,
