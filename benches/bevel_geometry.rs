@@ -51,9 +51,10 @@ fn bench(c: &mut Criterion) {
                 black_box((p, n, k))
             })
         });
-        c.bench_function(&format!("bevel {name}: 100 x 50 grid (continuation)"), |b| {
-            b.iter(|| black_box(f.envelope().grid(100, 50).unwrap().len()))
-        });
+        c.bench_function(
+            &format!("bevel {name}: 100 x 50 grid (continuation)"),
+            |b| b.iter(|| black_box(f.envelope().grid(100, 50).unwrap().len())),
+        );
     }
 }
 

@@ -379,6 +379,54 @@ mod tests {
         }
     }
 
+    /// The exact jet of the full chain (tilt, swivel, offset, machine
+    /// centre to back, modified roll; Toprem and curved blade) against
+    /// central differences.
+    #[test]
+    fn full_chain_jet_matches_differences() {
+        let mut s = settings(0.9, 0.85);
+        s.tilt = 0.05;
+        s.swivel = 0.4;
+        s.blank_offset = 3.0;
+        s.machine_center_to_back = -1.5;
+        s.sliding_base = 0.7;
+        s.modified_roll = (0.02, -0.3);
+        let blade = Blade {
+            side: BladeSide::Outside,
+            point_radius: 80.0,
+            pressure_angle: 0.35,
+            edge_radius: 1.0,
+            toprem: Some(crate::geometry::bevel::cutter::Toprem {
+                angle: 0.05,
+                height: 2.0,
+            }),
+            curvature_radius: Some(300.0),
+            height: 10.0,
+        };
+        let m = CradleGeneration::with_blade(s, blade).unwrap();
+        for q in [[5.0, 0.3, 0.1], [-0.4, 0.2, -0.05], [1.0, -0.1, 0.2]] {
+            let j = m.jet(q);
+            let h = 1e-5;
+            for k in 0..3 {
+                let (mut qp, mut qm) = (q, q);
+                qp[k] += h;
+                qm[k] -= h;
+                let (jp, jm) = (m.jet(qp), m.jet(qm));
+                for c in 0..3 {
+                    let fd = (jp.r[c] - jm.r[c]) / (2.0 * h);
+                    assert!((fd - j.d1[k][c]).abs() < 1e-6, "d1 {k} {c} at {q:?}");
+                    for l in 0..3 {
+                        let fd2 = (jp.d1[l][c] - jm.d1[l][c]) / (2.0 * h);
+                        assert!(
+                            (fd2 - j.d2[k][l][c]).abs() < 1e-5,
+                            "d2 {k} {l} {c} at {q:?}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
     #[test]
     fn bad_settings_name_the_key() {
         let mut s = settings(0.9, 0.85);
