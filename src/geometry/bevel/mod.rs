@@ -27,10 +27,15 @@
 //! `verification/iso23509_blank/README.md`.
 
 pub mod body;
+pub mod cradle_machine;
+pub mod cutter;
 pub mod face_angles;
 pub mod face_width;
+pub mod generated_surface;
+pub mod generation;
 pub mod hypoid_methods;
 pub mod inputs;
+pub mod machine_settings;
 pub mod outputs;
 pub mod pitch_cone;
 pub mod spiral_angles;
