@@ -24,7 +24,9 @@
 
 pub mod cradle_machine;
 pub mod cutter;
+pub mod face_hobbing;
 pub mod generation;
+pub mod hobbing_settings;
 pub mod inputs;
 pub mod outputs;
 pub mod pitch_cone;
