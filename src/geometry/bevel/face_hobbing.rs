@@ -43,9 +43,18 @@
 //!   and ψ = R_a φ for the roll, this is the same indexing seen from the
 //!   work (R_a = z/z_p for a bevel gear rolling on its crown gear).
 //!
-//! r(q) = Rot_z(−(z₀/z) θ) · to_work(C₀ + T_tilt · Rot_z(θ + phase) (x(s), b, h(s)), ψ);
+//! r = Rot_z(−(z₀/z) θ) · to_work(C₀ + T_tilt · Rot_z(θ + phase) (x(s), b, h(s)), ψ);
 //! a **formate** member holds ψ = 0 (its flank is the surface swept by the
 //! blade edge in the indexing motion alone).
+//!
+//! **Family parameters.** The map's second parameter is the sheared cutter
+//! angle q₁ = θ + c ψ (c = [`ROLL_SHEAR`]), so q = (s, q₁, ψ) and
+//! θ = q₁ − c ψ. The equation of meshing is unchanged by the shear
+//! (det(r_s, r_θ, r_ψ − c r_θ) = det(r_s, r_θ, r_ψ)), but ∂r/∂ψ at fixed q₁
+//! no longer vanishes on the instantaneous axis of rolling, where the
+//! pitch-cone points of a generated member are generated (there the
+//! relative velocity r_ψ at fixed θ is zero and the envelope engine's
+//! dimensionless residual f/(|r_s × r_θ| |r_ψ|) would be 0/0).
 
 use num_dual::DualNum;
 
@@ -54,6 +63,9 @@ use crate::geometry::bevel::cradle_machine::{CradleGeneration, CradleTool, Machi
 use crate::geometry::bevel::cutter::{Blade, BladeProfile};
 use crate::geometry::bevel::generation::{jet_of, EnvelopeMap, Jet};
 use crate::geometry::vec3::V3;
+
+/// The shear c of the family parameters (module docs), rad/rad.
+pub const ROLL_SHEAR: f64 = 1.0;
 
 /// A face-hobbing blade: the profile (blade angle, edge radius, Toprem,
 /// curvature as in [`Blade`], whose `point_radius` is here the in-plane
@@ -204,6 +216,15 @@ impl FaceHobbing {
         ]
     }
 
+    /// The cutter angle θ of the family parameters q (module docs).
+    pub fn cutter_angle(&self, q: [f64; 3]) -> f64 {
+        if self.settings.machine.generated {
+            q[1] - ROLL_SHEAR * q[2]
+        } else {
+            q[1]
+        }
+    }
+
     /// r(q) in the work frame (module docs).
     pub fn position_generic<D: DualNum<Primitive = f64> + Copy>(&self, q: [D; 3]) -> [D; 3] {
         let psi = if self.settings.machine.generated {
@@ -211,8 +232,9 @@ impl FaceHobbing {
         } else {
             q[2] * 0.0
         };
-        let w = self.cradle.to_work(self.cradle_point(q[0], q[1]), psi);
-        let a = -(q[1] * self.settings.index_ratio());
+        let theta = q[1] - psi * ROLL_SHEAR;
+        let w = self.cradle.to_work(self.cradle_point(q[0], theta), psi);
+        let a = -(theta * self.settings.index_ratio());
         let (sa, ca) = (a.sin(), a.cos());
         [w[0] * ca - w[1] * sa, w[0] * sa + w[1] * ca, w[2]]
     }
@@ -378,16 +400,18 @@ mod tests {
         }
     }
 
-    /// One blade-group pitch of the cutter (θ = 2π/z₀) turns the work by
-    /// one tooth pitch 2π/z: the blade point comes back rotated by −2π/z.
+    /// Continuous indexing: turning the cutter by one blade-group pitch
+    /// Δ = 2π/z₀ brings the blade to where the next group's blade (phase
+    /// + Δ) was at θ, with the work turned by one tooth pitch −2π/z.
     #[test]
     fn one_group_pitch_indexes_one_tooth() {
         let mut m = map();
         m.settings.machine.generated = false;
-        m.settings.machine.tilt = 0.0;
-        let q = [2.0, 0.3, 0.0];
-        let a = m.position(q);
-        let b = m.position([2.0, 0.3 + 2.0 * std::f64::consts::PI / 5.0, 0.0]);
+        let dl = 2.0 * std::f64::consts::PI / 5.0;
+        let mut next = m;
+        next.blade.phase += dl;
+        let a = next.position([2.0, 0.3, 0.0]);
+        let b = m.position([2.0, 0.3 + dl, 0.0]);
         let t = -2.0 * std::f64::consts::PI / 37.0;
         let rot = [
             a[0] * t.cos() - a[1] * t.sin(),

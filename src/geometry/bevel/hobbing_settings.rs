@@ -336,8 +336,44 @@ impl HobbingSetup {
     }
 
     /// The flank cut by `blade` (the setup's own blade or a variant).
+    /// A formate member's section starts above the path of the blade tip
+    /// ([`Self::formate_root`]).
     pub fn flank_with(&self, blade: HobbingBlade) -> Result<HobbedFlank> {
-        HobbedFlank::new(self.settings, blade, self.blank.section(), self.blank.teeth)
+        let mut section = self.blank.section();
+        if !self.settings.machine.generated {
+            section.root.u_mean = self.formate_root(&blade)?;
+        }
+        HobbedFlank::new(self.settings, blade, section, self.blank.teeth)
+    }
+
+    /// A formate member is not rolled, so the blade tip (the edge radius's
+    /// end on the tip plane) reaches the root cone only where its path
+    /// crosses the pitch element; elsewhere the tip plane passes above the
+    /// root cone by about y²/(2ρ). The flank's root line (straight, as the
+    /// axial section needs) is put at the highest u of the tip's path over
+    /// the face width (sampled at 401 cutter angles; the surface's edge
+    /// radius below it is left out).
+    pub fn formate_root(&self, blade: &HobbingBlade) -> Result<f64> {
+        let map = FaceHobbing::new(self.settings, *blade)?;
+        let s_min = map.profile().s_min;
+        let (sd, cd) = self.blank.pitch_angle.sin_cos();
+        let (ri, re) = self.blank.cone_distance;
+        let mut top = f64::NEG_INFINITY;
+        for k in 0..=400 {
+            let theta = -1.0 + 2.0 * k as f64 / 400.0;
+            let r: V3 = map.position_generic([s_min, theta, 0.0]);
+            let (z, rho) = (r[2], r[0].hypot(r[1]));
+            let (u, v) = (-z * sd + rho * cd, z * cd + rho * sd);
+            if v >= ri && v <= re {
+                top = top.max(u);
+            }
+        }
+        if !top.is_finite() {
+            return Err(FlankError::Model(
+                "face hobbing (formate): the blade tip's path does not cross the face width: the settings do not cut this blank".into(),
+            ));
+        }
+        Ok(top + 1e-3 * self.blank.normal_module)
     }
 
     /// The concave (outside blade) or convex (inside blade) flank.
