@@ -104,6 +104,34 @@ fn a_meshing_and_normals_on_grids() {
             }
         }
     }
+    // orientation and placement: both flanks of tooth 0 at the mean point;
+    // each outward normal points away from the other flank (across the
+    // tooth's material)
+    for member in [Member::Gear, Member::Pinion] {
+        let s = setup(member, true);
+        let rm = s.blank.mean_cone_distance;
+        let (pc, nc, _, _) = s
+            .flank(BladeSide::Outside)
+            .unwrap()
+            .try_evaluate(0.0, rm)
+            .unwrap();
+        let (px, nx, _, _) = s
+            .flank(BladeSide::Inside)
+            .unwrap()
+            .try_evaluate(0.0, rm)
+            .unwrap();
+        let d = [px[0] - pc[0], px[1] - pc[1], px[2] - pc[2]];
+        let chord = norm(d);
+        println!(
+            "(a) {member:?}: tooth 0 at R_m: chord between the flanks {chord:.4} mm (design s_mn/cos β_m {:.4} mm), n_concave·d/|d| {:.4}, n_convex·d/|d| {:.4}",
+            s.blank.normal_thickness / s.blank.spiral_angle.cos(),
+            dot(nc, d) / chord,
+            dot(nx, d) / chord
+        );
+        assert!(dot(nc, d) < 0.0 && dot(nx, d) > 0.0);
+        // tooth 0 is centred on +y
+        assert!(pc[1] > 0.0 && px[1] > 0.0 && pc[0] * px[0] < 0.0);
+    }
     println!("(a) run time {:.2} s", t.elapsed().as_secs_f64());
 }
 
