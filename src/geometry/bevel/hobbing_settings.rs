@@ -22,7 +22,9 @@
 //!   circles' contact point I = C ρ_b/M, ρ_b = M z_p/(z_p + z₀); the blades
 //!   lie in the plane through P and I parallel to the cutter axis, whose
 //!   distance from C is the blade offset |b| = r_c0 sin ν = z₀ m_mn/2
-//!   (checked in the tests);
+//!   (checked in the tests; the identity needs the blank's own
+//!   m_mn = 2 R_m sin δ cos β_m / z, since the distances of O and C from
+//!   the line PI are in the ratio ρ_b : (M − ρ_b) = z_p : z₀);
 //! * **blades**: at the pitch height h_fm, the outside blade (concave
 //!   flank) and the inside blade (convex flank) are W/2 outward and inward
 //!   of P in the blade plane, W = π m_mn − s_mn the member's mean normal
@@ -542,5 +544,88 @@ impl ToothSurface for HobbedFlank {
     }
     fn evaluate(&self, u: f64, v: f64) -> (V3, V3, V3, V3) {
         self.surface.evaluate(u, v)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// m_mn consistent with z, δ, R_m, β (m_mn = 2 R_m sin δ cos β / z).
+    fn module() -> f64 {
+        2.0 * 90.0 * 1.2f64.sin() * 0.55f64.cos() / 37.0
+    }
+
+    fn blank() -> HobbingBlank {
+        HobbingBlank {
+            teeth: 37,
+            pitch_angle: 1.2,
+            mean_cone_distance: 90.0,
+            cone_distance: (75.0, 105.0),
+            spiral_angle: 0.55,
+            mean_addendum: 3.5,
+            mean_dedendum: 4.5,
+            normal_module: module(),
+            normal_thickness: 6.0,
+            pressure_angle_concave: 0.35,
+            pressure_angle_convex: 0.35,
+            hand: 1.0,
+        }
+    }
+
+    const CUTTER: HobbingCutter = HobbingCutter {
+        radius: 88.0,
+        blade_groups: 5,
+        edge_radius: 0.8,
+    };
+
+    /// The construction's triangle: |PC| = r_c0, angle λ at P, blade
+    /// offset z₀ m_mn/2 (ISO 23509 clause 6.3), ρ_b + M z₀/(z_p + z₀) = M.
+    #[test]
+    fn construction_relations() {
+        let s = HobbingSetup::new(blank(), CUTTER, true).unwrap();
+        let m = &s.settings.machine;
+        let c = [
+            m.radial_distance * m.cradle_angle.cos(),
+            m.radial_distance * m.cradle_angle.sin(),
+        ];
+        assert!(((c[0] - 90.0).hypot(c[1]) - 88.0).abs() < 1e-10);
+        let cos_l = (90.0 - c[0]) / 88.0;
+        assert!((cos_l - s.lambda.cos()).abs() < 1e-12);
+        assert!((s.outside.offset.abs() - 5.0 * module() / 2.0).abs() < 1e-10);
+        let zp = 37.0 / 1.2f64.sin();
+        assert!((s.base_radius * (zp + 5.0) / zp - m.radial_distance).abs() < 1e-10);
+        // the two blades are W apart in the blade plane at pitch height
+        let w = std::f64::consts::PI * module() - 6.0;
+        let x = |b: &HobbingBlade| {
+            b.blade.point_radius + b.blade.side.sigma() * 4.5 * b.blade.pressure_angle.tan()
+        };
+        assert!((x(&s.outside) - x(&s.inside) - w).abs() < 1e-10);
+    }
+
+    #[test]
+    fn bad_input_names_the_key() {
+        let e = HobbingSetup::new(
+            blank(),
+            HobbingCutter {
+                blade_groups: 0,
+                ..CUTTER
+            },
+            true,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("blade_groups"), "{e}");
+        let e = HobbingSetup::new(
+            blank(),
+            HobbingCutter {
+                edge_radius: 5.0,
+                ..CUTTER
+            },
+            true,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("edge_radius"), "{e}");
     }
 }
