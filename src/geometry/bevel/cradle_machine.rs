@@ -283,6 +283,13 @@ impl EnvelopeMap for CradleGeneration {
     fn is_generated(&self) -> bool {
         self.settings.generated
     }
+    /// The blade from the tip-plane end of its edge radius to its top.
+    fn tool_range(&self) -> Option<(f64, f64)> {
+        match &self.tool {
+            CradleTool::Cutter { profile, .. } => Some((profile.s_min, profile.s_max)),
+            CradleTool::Plane { .. } => None,
+        }
+    }
 }
 
 #[cfg(test)]

@@ -208,6 +208,11 @@ impl BladeProfile {
         self.sigma
     }
 
+    /// Edge radius ρ_f (mm).
+    pub fn rho_f(&self) -> f64 {
+        self.rho_f
+    }
+
     /// s at the end of the edge radius (start of the straight edge): 0.
     pub fn form_parameter(&self) -> f64 {
         0.0

@@ -25,9 +25,11 @@
 pub mod cradle_machine;
 pub mod cutter;
 pub mod face_hobbing;
+pub mod generated_surface;
 pub mod generation;
 pub mod hobbing_settings;
 pub mod inputs;
+pub mod machine_settings;
 pub mod outputs;
 pub mod pitch_cone;
 pub mod thickness;
