@@ -1,0 +1,616 @@
+//! Face-hobbing machine settings from the blank design, and the face-hobbed
+//! flank as a [`ToothSurface`].
+//!
+//! **Settings from the blank** (one member: pitch angle δ, mean cone
+//! distance R_m, mean spiral angle β_m, mean addendum h_am and dedendum
+//! h_fm of the ISO 23509 design; cutter radius r_c0 and blade groups z₀;
+//! the arithmetic is this module's, the relations are ISO 23509 clause
+//! 6.3's):
+//!
+//! * **uniform depth** (methods 2 and 3): the root cone is parallel to the
+//!   pitch cone, so the machine root angle is γ_m = δ and the pitch
+//!   element lies in the plane z_m = h_fm above the tip plane: sliding base
+//!   ΔX_B = h_fm, blank offset E_m = 0, machine centre to back ΔX_G = 0;
+//!   the ratio of roll of the pitch cone rolling on its crown gear
+//!   (z_p = z / sin δ) is R_a = sin δ (`cradle_machine`);
+//! * **cutter centre** (crown-gear plane, crown centre O at the origin,
+//!   the mean point P = (R_m, 0) on the pitch element): sin ν = z₀ m_mn /
+//!   (2 r_c0), λ = 90° − β_m + ν the angle at P between PO and PC, so
+//!   C = (R_m − r_c0 cos λ, κ r_c0 sin λ), κ = ±1 the hand; radial
+//!   distance M = |C|, cradle angle q = atan2(C_y, C_x);
+//! * **blade plane**: the trace's normal at P passes through the rolling
+//!   circles' contact point I = C ρ_b/M, ρ_b = M z_p/(z_p + z₀); the blades
+//!   lie in the plane through P and I parallel to the cutter axis, whose
+//!   distance from C is the blade offset |b| = r_c0 sin ν = z₀ m_mn/2
+//!   (checked in the tests; the identity needs the blank's own
+//!   m_mn = 2 R_m sin δ cos β_m / z, since the distances of O and C from
+//!   the line PI are in the ratio ρ_b : (M − ρ_b) = z_p : z₀);
+//! * **blades**: at the pitch height h_fm, the outside blade (concave
+//!   flank) and the inside blade (convex flank) are W/2 outward and inward
+//!   of P in the blade plane, W = π m_mn − s_mn the member's mean normal
+//!   space width; blade angles = the design's generated normal pressure
+//!   angles (the wheel's concave flank and the pinion's convex flank are
+//!   the drive flanks, ISO 23509 clause 7.2); the phase puts the blade
+//!   plane through P at θ = 0, so the tooth space is centred on the work's
+//!   +y axis at θ = ψ = 0;
+//! * **pinion**: generated on its own crown gear with its own δ₁, R_m1,
+//!   β_m1 and the opposite hand. This puts the pinion's mean point at the
+//!   design's cone distance with the design's spiral angle, but it is not
+//!   the Cyclo-Palloid pinion setting derived from the wheel's crown gear
+//!   with the hypoid offset and the tilt (tilt = 0 here); see the
+//!   verification README.
+//!
+//! **Flank frame and parameters**: those of
+//! [`crate::geometry::bevel::generation`] (axial section, v = cone
+//! distance toe → heel, u root → tip, 0 on the pitch cone); tooth 0 is
+//! centred on +y, each flank turned by ±π/z onto it.
+
+use crate::error::{FlankError, Result};
+use crate::geometry::bevel::cradle_machine::MachineSettings;
+use crate::geometry::bevel::cutter::{Blade, BladeSide};
+use crate::geometry::bevel::face_hobbing::{
+    ExtendedEpicycloid, FaceHobbing, FaceHobbingSettings, HobbingBlade,
+};
+use crate::geometry::bevel::generation::{
+    solve_axial, AxialSection, ConeLine, EnvelopeError, EnvelopeFlank, SolveOptions,
+};
+use crate::geometry::bevel::BlankDesign;
+use crate::geometry::surface::ToothSurface;
+use crate::geometry::vec3::{cross, dot, norm, unit, V3};
+
+/// Which member of the pair.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Member {
+    Pinion,
+    Gear,
+}
+
+/// The cutter choice that the blank does not fix.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HobbingCutter {
+    /// Nominal cutter radius r_c0 (mm).
+    pub radius: f64,
+    /// Blade groups z₀.
+    pub blade_groups: u32,
+    /// Edge radius of both blades (mm).
+    pub edge_radius: f64,
+}
+
+/// One member's blank in the terms the settings need (mm, rad).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HobbingBlank {
+    pub teeth: u32,
+    pub pitch_angle: f64,
+    pub mean_cone_distance: f64,
+    /// Inner and outer cone distance (face width).
+    pub cone_distance: (f64, f64),
+    pub spiral_angle: f64,
+    pub mean_addendum: f64,
+    pub mean_dedendum: f64,
+    pub normal_module: f64,
+    pub normal_thickness: f64,
+    /// Blade angles of the concave (outside blade) and convex flank.
+    pub pressure_angle_concave: f64,
+    pub pressure_angle_convex: f64,
+    /// +1 or −1 (module docs: side of the cutter centre).
+    pub hand: f64,
+}
+
+impl HobbingBlank {
+    /// The member's blank from the ISO 23509 design (uniform depth; the
+    /// face width is centred on the mean cone distance: R_m ± (R_e2 − R_m2)
+    /// for the wheel, R_m1 ± (R_e1 − R_m1) for the pinion). The wheel is
+    /// cut with κ = +1, the pinion with κ = −1 (opposite hands).
+    pub fn from_design(design: &BlankDesign, member: Member) -> Result<Self> {
+        let cut = design.cutting_blank();
+        // Uniform depth is the face-hobbing methods' (2, 3) tooth depth; the
+        // hypoid pinion's face and root cones then still lean slightly
+        // (ISO 23509 clause 7.4, uniform clearance), which the axial
+        // section below does not follow: its tip and root lines are
+        // parallel to the generatrix.
+        if !matches!(design.method, 2 | 3) {
+            return Err(FlankError::Model(format!(
+                "face hobbing: method {} blank has tapered depth; face-hobbed sets are uniform depth (methods 2, 3)",
+                design.method
+            )));
+        }
+        let member_blank = |m: &crate::geometry::bevel::MemberBlank, concave, convex, hand| {
+            let half = m.re - m.rm;
+            HobbingBlank {
+                teeth: m.z.round() as u32,
+                pitch_angle: m.delta,
+                mean_cone_distance: m.rm,
+                cone_distance: (m.rm - half, m.re),
+                spiral_angle: m.beta_m.abs(),
+                mean_addendum: m.ham,
+                mean_dedendum: m.hfm,
+                normal_module: cut.m_mn,
+                normal_thickness: m.smn,
+                pressure_angle_concave: concave,
+                pressure_angle_convex: convex,
+                hand,
+            }
+        };
+        let b = match member {
+            Member::Gear => member_blank(&cut.wheel, cut.alpha_n_drive, cut.alpha_n_coast, 1.0),
+            Member::Pinion => member_blank(&cut.pinion, cut.alpha_n_coast, cut.alpha_n_drive, -1.0),
+        };
+        Ok(b)
+    }
+
+    /// The axial section (uniform depth: tip and root lines parallel to
+    /// the generatrix).
+    pub fn section(&self) -> AxialSection {
+        AxialSection {
+            pitch_angle: self.pitch_angle,
+            cone_distance: self.cone_distance,
+            mean_cone_distance: self.mean_cone_distance,
+            tip: ConeLine {
+                u_mean: self.mean_addendum,
+                slope: 0.0,
+            },
+            root: ConeLine {
+                u_mean: -self.mean_dedendum,
+                slope: 0.0,
+            },
+        }
+    }
+}
+
+/// A member's face-hobbing setup: settings, the two blades, the
+/// crown-gear geometry behind them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HobbingSetup {
+    pub blank: HobbingBlank,
+    pub cutter: HobbingCutter,
+    pub settings: FaceHobbingSettings,
+    /// Outside blade (concave flank) and inside blade (convex flank).
+    pub outside: HobbingBlade,
+    pub inside: HobbingBlade,
+    /// ν, λ, ρ_b of the construction (ISO 23509 clause 6.3).
+    pub lead_angle: f64,
+    pub lambda: f64,
+    pub base_radius: f64,
+    /// Crown gear teeth z_p = z / sin δ.
+    pub crown_teeth: f64,
+    /// In-plane coordinate x of the mean point P in the blade plane.
+    pub mean_in_plane: f64,
+}
+
+impl HobbingSetup {
+    /// Settings from the blank (module docs). `generated` = false gives a
+    /// formate (non-generated) member. Errors name the input.
+    pub fn new(blank: HobbingBlank, cutter: HobbingCutter, generated: bool) -> Result<Self> {
+        if cutter.blade_groups == 0 {
+            return Err(FlankError::Model(
+                "face hobbing: blade_groups z0 = 0 (at least one blade group)".into(),
+            ));
+        }
+        let z0 = f64::from(cutter.blade_groups);
+        let (rc0, mn) = (cutter.radius, blank.normal_module);
+        if !(rc0.is_finite() && rc0 > 0.0) {
+            return Err(FlankError::Model(format!(
+                "face hobbing: cutter radius rc0 {rc0} must be > 0"
+            )));
+        }
+        let sin_nu = z0 * mn / (2.0 * rc0);
+        if !(sin_nu < 1.0) {
+            return Err(FlankError::Model(format!(
+                "face hobbing: cutter radius rc0 {rc0} mm too small for z0 = {z0} blade groups of module {mn} (sin ν = z0 m_mn / (2 rc0) = {sin_nu:.4} ≥ 1)"
+            )));
+        }
+        let nu = sin_nu.asin();
+        let beta = blank.spiral_angle;
+        let lambda = std::f64::consts::FRAC_PI_2 - beta + nu;
+        let rm = blank.mean_cone_distance;
+        let kappa = blank.hand.signum();
+        let c = [rm - rc0 * lambda.cos(), kappa * rc0 * lambda.sin()];
+        let m = c[0].hypot(c[1]);
+        let (ri, re) = blank.cone_distance;
+        // the cutter circle through P must span the face width
+        if !((m - rc0).abs() < ri && m + rc0 > re) {
+            return Err(FlankError::Model(format!(
+                "face hobbing: cutter radius rc0 {rc0} mm does not fit the face width {ri:.3}–{re:.3} mm \
+                 (radial distance {m:.3} mm: the tooth trace does not reach the toe and the heel)"
+            )));
+        }
+        let delta = blank.pitch_angle;
+        let zp = f64::from(blank.teeth) / delta.sin();
+        let rho_b = m * zp / (zp + z0);
+        let i_pt = [c[0] * rho_b / m, c[1] * rho_b / m];
+        let p = [rm, 0.0];
+        // blade plane direction d through P and I, oriented so that the
+        // in-plane coordinate x = d·(P − C) > 0
+        let pc = [p[0] - c[0], p[1] - c[1]];
+        let ip = [i_pt[0] - p[0], i_pt[1] - p[1]];
+        let l = ip[0].hypot(ip[1]);
+        let mut d = [ip[0] / l, ip[1] / l];
+        if d[0] * pc[0] + d[1] * pc[1] < 0.0 {
+            d = [-d[0], -d[1]];
+        }
+        let x_p = d[0] * pc[0] + d[1] * pc[1];
+        let b = d[0] * pc[1] - d[1] * pc[0];
+        // head angle of the blade plane at θ = 0: Rot(φ₀)(1, 0) = d
+        let phase = d[1].atan2(d[0]);
+        let w = std::f64::consts::PI * mn - blank.normal_thickness;
+        if !(w > 2.0 * cutter.edge_radius && w > 0.0) {
+            return Err(FlankError::Model(format!(
+                "face hobbing: space width {w:.4} mm leaves no room for edge_radius {}",
+                cutter.edge_radius
+            )));
+        }
+        let h_p = blank.mean_dedendum;
+        let height = blank.mean_dedendum + blank.mean_addendum + 0.5 * mn;
+        let blade = |side: BladeSide, x: f64, alpha: f64| {
+            let sigma = side.sigma();
+            HobbingBlade {
+                blade: Blade {
+                    side,
+                    point_radius: x - sigma * h_p * alpha.tan(),
+                    pressure_angle: alpha,
+                    edge_radius: cutter.edge_radius,
+                    toprem: None,
+                    curvature_radius: None,
+                    height,
+                },
+                offset: b,
+                phase,
+            }
+        };
+        let outside = blade(
+            BladeSide::Outside,
+            x_p + 0.5 * w,
+            blank.pressure_angle_concave,
+        );
+        let inside = blade(
+            BladeSide::Inside,
+            x_p - 0.5 * w,
+            blank.pressure_angle_convex,
+        );
+        let machine = MachineSettings {
+            radial_distance: m,
+            cradle_angle: c[1].atan2(c[0]),
+            machine_root_angle: delta,
+            sliding_base: h_p,
+            blank_offset: 0.0,
+            machine_center_to_back: 0.0,
+            ratio_of_roll: delta.sin(),
+            modified_roll: (0.0, 0.0),
+            tilt: 0.0,
+            swivel: 0.0,
+            generated,
+        };
+        let settings = FaceHobbingSettings {
+            machine,
+            blade_groups: cutter.blade_groups,
+            work_teeth: blank.teeth,
+        };
+        settings.validate()?;
+        Ok(HobbingSetup {
+            blank,
+            cutter,
+            settings,
+            outside,
+            inside,
+            lead_angle: nu,
+            lambda,
+            base_radius: rho_b,
+            crown_teeth: zp,
+            mean_in_plane: x_p,
+        })
+    }
+
+    /// The blade of one side.
+    pub fn blade(&self, side: BladeSide) -> HobbingBlade {
+        match side {
+            BladeSide::Outside => self.outside,
+            BladeSide::Inside => self.inside,
+        }
+    }
+
+    /// The closed-form extended epicycloid of a blade at pitch height h
+    /// (in-plane coordinate `x`): the lengthwise tooth curve on the crown
+    /// gear (face_hobbing docs).
+    pub fn epicycloid(&self, blade: &HobbingBlade, x: f64) -> ExtendedEpicycloid {
+        let m = &self.settings.machine;
+        ExtendedEpicycloid {
+            centre_distance: m.radial_distance,
+            centre_angle: m.cradle_angle,
+            point_radius: x.hypot(blade.offset),
+            point_phase: blade.phase + blade.offset.atan2(x),
+            ratio: f64::from(self.cutter.blade_groups) / self.crown_teeth,
+        }
+    }
+
+    /// The flank cut by `blade` (the setup's own blade or a variant).
+    /// A formate member's section starts above the path of the blade tip
+    /// ([`Self::formate_root`]).
+    pub fn flank_with(&self, blade: HobbingBlade) -> Result<HobbedFlank> {
+        let mut section = self.blank.section();
+        if !self.settings.machine.generated {
+            section.root.u_mean = self.formate_root(&blade)?;
+        }
+        HobbedFlank::new(self.settings, blade, section, self.blank.teeth)
+    }
+
+    /// A formate member is not rolled, so the blade tip (the edge radius's
+    /// end on the tip plane) reaches the root cone only where its path
+    /// crosses the pitch element; elsewhere the tip plane passes above the
+    /// root cone by about y²/(2ρ). The flank's root line (straight, as the
+    /// axial section needs) is put at the highest u of the tip's path over
+    /// the face width (sampled at 401 cutter angles; the surface's edge
+    /// radius below it is left out).
+    pub fn formate_root(&self, blade: &HobbingBlade) -> Result<f64> {
+        let map = FaceHobbing::new(self.settings, *blade)?;
+        let s_min = map.profile().s_min;
+        let (sd, cd) = self.blank.pitch_angle.sin_cos();
+        let (ri, re) = self.blank.cone_distance;
+        let mut top = f64::NEG_INFINITY;
+        for k in 0..=400 {
+            let theta = -1.0 + 2.0 * k as f64 / 400.0;
+            let r: V3 = map.position_generic([s_min, theta, 0.0]);
+            let (z, rho) = (r[2], r[0].hypot(r[1]));
+            let (u, v) = (-z * sd + rho * cd, z * cd + rho * sd);
+            if v >= ri && v <= re {
+                top = top.max(u);
+            }
+        }
+        if !top.is_finite() {
+            return Err(FlankError::Model(
+                "face hobbing (formate): the blade tip's path does not cross the face width: the settings do not cut this blank".into(),
+            ));
+        }
+        Ok(top + 1e-3 * self.blank.normal_module)
+    }
+
+    /// The concave (outside blade) or convex (inside blade) flank.
+    pub fn flank(&self, side: BladeSide) -> Result<HobbedFlank> {
+        self.flank_with(self.blade(side))
+    }
+}
+
+/// A face-hobbed flank: the envelope of the blade in the face-hobbing
+/// motion over the member's axial section, placed on tooth 0.
+#[derive(Debug)]
+pub struct HobbedFlank {
+    surface: EnvelopeFlank<FaceHobbing>,
+    pub teeth: u32,
+}
+
+/// Spiral angle, hand and pressure angle measured on a flank.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HobbedMeasure {
+    /// Distance of the point from the apex (mm).
+    pub cone_distance: f64,
+    /// Angle between the lengthwise tangent (flank tangent plane ∩ pitch
+    /// cone tangent plane) and the generatrix (rad).
+    pub spiral_angle: f64,
+    /// +1 if the lengthwise curve turns about +z with growing cone
+    /// distance, −1 otherwise.
+    pub hand_sign: f64,
+    /// Angle between the normal and the pitch cone's tangent plane (rad).
+    pub pressure_angle: f64,
+}
+
+fn describe(s: &FaceHobbingSettings, e: &EnvelopeError, what: &str) -> FlankError {
+    let m = &s.machine;
+    FlankError::Model(format!(
+        "{what}: {e}; face-hobbing settings blade_groups {}, radial_distance {:.4}, cradle_angle {:.6}, \
+         machine_root_angle {:.6}, sliding_base {:.4}, blank_offset {:.4}, machine_center_to_back {:.4}, \
+         ratio_of_roll {:.6}, tilt {:.6}, swivel {:.6} do not generate this flank over its blank",
+        s.blade_groups,
+        m.radial_distance,
+        m.cradle_angle,
+        m.machine_root_angle,
+        m.sliding_base,
+        m.blank_offset,
+        m.machine_center_to_back,
+        m.ratio_of_roll,
+        m.tilt,
+        m.swivel
+    ))
+}
+
+impl HobbedFlank {
+    /// The flank of `blade` on a face-hobbing machine with `settings` over
+    /// `section`. The mean-point start: the blade at the pitch height
+    /// (h = h_fm above the tip plane = the section's root depth), θ where
+    /// the blade point lies on the pitch element at R_m, ψ = 0. Errs,
+    /// naming the settings, if the flank is not generated over the blank.
+    pub fn new(
+        settings: FaceHobbingSettings,
+        blade: HobbingBlade,
+        section: AxialSection,
+        teeth: u32,
+    ) -> Result<Self> {
+        let map = FaceHobbing::new(settings, blade)?;
+        let side = blade.blade.side;
+        let what = format!("face-hobbed {side:?}-blade flank");
+        let h_p = -section.root.u_mean;
+        let s0 = map.profile().s_at_height(h_p);
+        let x = map.profile().rho_h(s0).0;
+        let m = &settings.machine;
+        let (sq, cq) = m.cradle_angle.sin_cos();
+        let c = [m.radial_distance * cq, m.radial_distance * sq];
+        let rm = section.mean_cone_distance;
+        let theta0 = (-c[1]).atan2(rm - c[0]) - blade.offset.atan2(x) - blade.phase;
+        let theta0 = (theta0 + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+            - std::f64::consts::PI;
+        let opt = SolveOptions::default();
+        let (z, rho) = section.target(0.0, rm).0;
+        let mean = solve_axial(&map, z, rho, [s0, theta0, 0.0], &opt)
+            .map_err(|e| describe(&settings, &e, &format!("{what}, mean point")))?;
+        let ang = mean.jet.r[1].atan2(mean.jet.r[0]) - std::f64::consts::FRAC_PI_2;
+        let placement = -ang.signum() * std::f64::consts::PI / f64::from(teeth);
+        let form = Some(map.profile().form_parameter());
+        let surface = EnvelopeFlank::new(map, section, placement, form, mean.q, opt)
+            .map_err(|e| describe(&settings, &e, &what))?;
+        Ok(HobbedFlank { surface, teeth })
+    }
+
+    /// The envelope behind the flank (unplaced solves, generating
+    /// parameters).
+    pub fn envelope(&self) -> &EnvelopeFlank<FaceHobbing> {
+        &self.surface
+    }
+
+    /// The kinematic chain.
+    pub fn map(&self) -> &FaceHobbing {
+        self.surface.map()
+    }
+
+    /// Point, normal, r_u, r_v or the solver's error naming the settings.
+    pub fn try_evaluate(&self, u: f64, v: f64) -> Result<(V3, V3, V3, V3)> {
+        self.surface.try_evaluate(u, v).map_err(|e| {
+            describe(
+                &self.map().settings,
+                &e,
+                &format!("face-hobbed flank at u {u}, v {v}"),
+            )
+        })
+    }
+
+    /// The dimensionless meshing residual at (u, v).
+    pub fn meshing_residual(&self, u: f64, v: f64) -> Result<f64> {
+        self.surface
+            .meshing_residual(u, v)
+            .map_err(|e| describe(&self.map().settings, &e, "face-hobbed flank"))
+    }
+
+    /// Spiral angle, hand and pressure angle at (u, v).
+    pub fn measure(&self, u: f64, v: f64) -> Result<HobbedMeasure> {
+        let (p, n, _, _) = self.try_evaluate(u, v)?;
+        let delta = self.surface.section().pitch_angle;
+        let rho = p[0].hypot(p[1]);
+        let e_rho = [p[0] / rho, p[1] / rho, 0.0];
+        let (sd, cd) = delta.sin_cos();
+        let e_g = [sd * e_rho[0], sd * e_rho[1], cd];
+        let e_n = [cd * e_rho[0], cd * e_rho[1], -sd];
+        let t = unit(cross(n, e_n));
+        let t = if dot(t, e_g) < 0.0 {
+            [-t[0], -t[1], -t[2]]
+        } else {
+            t
+        };
+        let e_phi = [-e_rho[1], e_rho[0], 0.0];
+        Ok(HobbedMeasure {
+            cone_distance: norm(p),
+            spiral_angle: dot(t, e_g).clamp(-1.0, 1.0).acos(),
+            hand_sign: dot(t, e_phi).signum(),
+            pressure_angle: dot(n, e_n).abs().clamp(0.0, 1.0).asin(),
+        })
+    }
+}
+
+impl ToothSurface for HobbedFlank {
+    fn u_range(&self) -> (f64, f64) {
+        self.surface.u_range()
+    }
+    fn v_range(&self) -> (f64, f64) {
+        self.surface.v_range()
+    }
+    fn u_tip(&self, v: f64) -> f64 {
+        self.surface.u_tip(v)
+    }
+    fn u_form(&self, v: f64) -> f64 {
+        self.surface.u_form(v)
+    }
+    fn u_root(&self, v: f64) -> f64 {
+        self.surface.u_root(v)
+    }
+    fn point(&self, u: f64, v: f64) -> V3 {
+        self.surface.point(u, v)
+    }
+    fn normal(&self, u: f64, v: f64) -> V3 {
+        self.surface.normal(u, v)
+    }
+    fn derivatives(&self, u: f64, v: f64) -> (V3, V3) {
+        self.surface.derivatives(u, v)
+    }
+    fn evaluate(&self, u: f64, v: f64) -> (V3, V3, V3, V3) {
+        self.surface.evaluate(u, v)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// m_mn consistent with z, δ, R_m, β (m_mn = 2 R_m sin δ cos β / z).
+    fn module() -> f64 {
+        2.0 * 90.0 * 1.2f64.sin() * 0.55f64.cos() / 37.0
+    }
+
+    fn blank() -> HobbingBlank {
+        HobbingBlank {
+            teeth: 37,
+            pitch_angle: 1.2,
+            mean_cone_distance: 90.0,
+            cone_distance: (75.0, 105.0),
+            spiral_angle: 0.55,
+            mean_addendum: 3.5,
+            mean_dedendum: 4.5,
+            normal_module: module(),
+            normal_thickness: 6.0,
+            pressure_angle_concave: 0.35,
+            pressure_angle_convex: 0.35,
+            hand: 1.0,
+        }
+    }
+
+    const CUTTER: HobbingCutter = HobbingCutter {
+        radius: 88.0,
+        blade_groups: 5,
+        edge_radius: 0.8,
+    };
+
+    /// The construction's triangle: |PC| = r_c0, angle λ at P, blade
+    /// offset z₀ m_mn/2 (ISO 23509 clause 6.3), ρ_b + M z₀/(z_p + z₀) = M.
+    #[test]
+    fn construction_relations() {
+        let s = HobbingSetup::new(blank(), CUTTER, true).unwrap();
+        let m = &s.settings.machine;
+        let c = [
+            m.radial_distance * m.cradle_angle.cos(),
+            m.radial_distance * m.cradle_angle.sin(),
+        ];
+        assert!(((c[0] - 90.0).hypot(c[1]) - 88.0).abs() < 1e-10);
+        let cos_l = (90.0 - c[0]) / 88.0;
+        assert!((cos_l - s.lambda.cos()).abs() < 1e-12);
+        assert!((s.outside.offset.abs() - 5.0 * module() / 2.0).abs() < 1e-10);
+        let zp = 37.0 / 1.2f64.sin();
+        assert!((s.base_radius * (zp + 5.0) / zp - m.radial_distance).abs() < 1e-10);
+        // the two blades are W apart in the blade plane at pitch height
+        let w = std::f64::consts::PI * module() - 6.0;
+        let x = |b: &HobbingBlade| {
+            b.blade.point_radius + b.blade.side.sigma() * 4.5 * b.blade.pressure_angle.tan()
+        };
+        assert!((x(&s.outside) - x(&s.inside) - w).abs() < 1e-10);
+    }
+
+    #[test]
+    fn bad_input_names_the_key() {
+        let e = HobbingSetup::new(
+            blank(),
+            HobbingCutter {
+                blade_groups: 0,
+                ..CUTTER
+            },
+            true,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("blade_groups"), "{e}");
+        let e = HobbingSetup::new(
+            blank(),
+            HobbingCutter {
+                edge_radius: 5.0,
+                ..CUTTER
+            },
+            true,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("edge_radius"), "{e}");
+    }
+}
