@@ -22,6 +22,7 @@
 //! What is verified against the two Annex F samples and what is not is in
 //! `verification/iso23509_blank/README.md`.
 
+pub mod assembly;
 pub mod inputs;
 pub mod outputs;
 pub mod pitch_cone;
