@@ -23,6 +23,7 @@
 //! `verification/iso23509_blank/README.md`.
 
 pub mod assembly;
+pub mod generation;
 pub mod inputs;
 pub mod outputs;
 pub mod pitch_cone;

@@ -1,0 +1,591 @@
+//! Generic envelope engine for generated tooth surfaces.
+//!
+//! A generating tool surface r_t(q₀, q₁) (q₀ = s along the blade, q₁ = θ
+//! around the cutter axis) moves relative to the work by a one-parameter
+//! motion with generating roll q₂ = ψ. Written in the work's own frame
+//! the tool positions form the family r(q), q = (s, θ, ψ); the generated
+//! tooth surface is its envelope, the points of the family where the
+//! **equation of meshing**
+//!
+//! f(q) = (r_s × r_θ) · r_ψ = 0
+//!
+//! holds (the normal of the family member is perpendicular to the relative
+//! velocity, n · v^(t,w) = 0; Litvin & Fuentes, *Gear Geometry and Applied
+//! Theory*, 2nd ed., ch. 6, eqs. 6.1.x). The engine only sees the map
+//! q ↦ r(q) in the work frame with its exact first and second derivatives
+//! (a [`Jet`]): face milling (`cradle_machine`), face hobbing (where the work
+//! rotation also depends on θ) and the conjugate pinion (tool = the gear's
+//! flank, motion = the pair's rotation) plug in the same way. Maps written
+//! generic over [`num_dual::DualNum`] get their jet from [`jet_of`]
+//! (second-order vector dual numbers: exact derivatives, no differences).
+//!
+//! The surface is parametrised by its **axial section** ("rotated
+//! projection" of measuring machines and Gleason summaries): the point at
+//! (u, v) is the flank point whose axial coordinate z and radius ρ equal
+//! those of the axial-plane point v·(cos δ, sin δ) + u·(−sin δ, cos δ)
+//! (v = cone distance along the pitch-cone generatrix, u = distance
+//! perpendicular to it, root → tip), its angular position solved. So a
+//! surface point solves the three equations z(q) = z*, ρ(q) = ρ*,
+//! f(q) = 0 ([`solve_axial`], bounded damped Newton from a warm start); its
+//! derivatives in (u, v) follow from the implicit function theorem
+//! ([`EnvelopePoint::section_tangent`]); its unit normal is the tool
+//! normal, oriented by [`EnvelopeMap::normal_orientation`].
+//!
+//! A **formate** (non-generated) surface has no roll: the map reports
+//! [`EnvelopeMap::is_generated`] = false, ψ stays at its start value and
+//! only (s, θ) are solved from z and ρ.
+
+use num_dual::{Dual2SVec64, DualNum};
+
+use crate::geometry::vec3::{cross, dot, norm, V3};
+
+/// The map q ↦ r(q) with exact derivatives at one q.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Jet {
+    /// r(q) (work frame, mm).
+    pub r: V3,
+    /// ∂r/∂q_k, k = 0, 1, 2.
+    pub d1: [V3; 3],
+    /// ∂²r/∂q_j∂q_k (symmetric).
+    pub d2: [[V3; 3]; 3],
+}
+
+/// A one-parameter family of tool surfaces in the work frame: what the
+/// envelope engine needs to know about a generating process.
+pub trait EnvelopeMap: std::fmt::Debug + Send + Sync {
+    /// r(q) and its exact first and second derivatives, q = (s, θ, ψ).
+    fn jet(&self, q: [f64; 3]) -> Jet;
+
+    /// r(q) alone (default: from the jet).
+    fn position(&self, q: [f64; 3]) -> V3 {
+        self.jet(q).r
+    }
+
+    /// +1 if r_s × r_θ points out of the generated tooth's material, −1
+    /// if into it.
+    fn normal_orientation(&self) -> f64;
+
+    /// False for a formate (non-generated) surface: no roll, the surface
+    /// is the tool surface itself.
+    fn is_generated(&self) -> bool {
+        true
+    }
+}
+
+/// The jet of a map written generic over dual numbers: `f` evaluates the
+/// kinematic chain on second-order vector duals seeded with q.
+pub fn jet_of<F>(q: [f64; 3], f: F) -> Jet
+where
+    F: Fn([Dual2SVec64<3>; 3]) -> [Dual2SVec64<3>; 3],
+{
+    let x: [Dual2SVec64<3>; 3] =
+        std::array::from_fn(|k| Dual2SVec64::<3>::from_re(q[k]).derivative(k));
+    let y = f(x);
+    let mut jet = Jet {
+        r: [0.0; 3],
+        d1: [[0.0; 3]; 3],
+        d2: [[[0.0; 3]; 3]; 3],
+    };
+    for (c, yc) in y.iter().enumerate() {
+        jet.r[c] = yc.re;
+        if let Some(g) = yc.v1.0.as_ref() {
+            for k in 0..3 {
+                jet.d1[k][c] = g[(0, k)];
+            }
+        }
+        if let Some(h) = yc.v2.0.as_ref() {
+            for j in 0..3 {
+                for k in 0..3 {
+                    jet.d2[j][k][c] = h[(j, k)];
+                }
+            }
+        }
+    }
+    jet
+}
+
+/// A constant as a dual number of any kind (for kinematic chains written
+/// generic over [`DualNum`]).
+pub fn cst<D: DualNum<Primitive = f64>>(x: f64) -> D {
+    D::from(x)
+}
+
+fn det(a: V3, b: V3, c: V3) -> f64 {
+    dot(cross(a, b), c)
+}
+
+/// The equation of meshing f = (r_s × r_θ)·r_ψ and its gradient in q
+/// (Litvin & Fuentes ch. 6), from the jet.
+pub fn meshing(j: &Jet) -> (f64, [f64; 3]) {
+    let [a, b, c] = j.d1;
+    let f = det(a, b, c);
+    let g = std::array::from_fn(|k| {
+        det(j.d2[0][k], b, c) + det(a, j.d2[1][k], c) + det(a, b, j.d2[2][k])
+    });
+    (f, g)
+}
+
+/// The dimensionless meshing residual f / (|r_s × r_θ| |r_ψ|): the cosine
+/// of the angle between the family's normal and the relative velocity
+/// (0 on the envelope; 0 also for a formate map, r_ψ = 0).
+pub fn meshing_residual(j: &Jet) -> f64 {
+    let nn = norm(cross(j.d1[0], j.d1[1]));
+    let vv = norm(j.d1[2]);
+    if nn == 0.0 || vv == 0.0 {
+        return 0.0;
+    }
+    det(j.d1[0], j.d1[1], j.d1[2]) / (nn * vv)
+}
+
+/// Axial position z and radius ρ = √(x² + y²) of a work-frame point.
+pub fn axial_radius(r: V3) -> (f64, f64) {
+    (r[2], r[0].hypot(r[1]))
+}
+
+/// Why a surface point could not be found.
+#[derive(Clone, Debug, PartialEq)]
+pub enum EnvelopeError {
+    /// Newton did not reach the tolerance within its step bound.
+    NotConverged {
+        iterations: usize,
+        residual: f64,
+        q: [f64; 3],
+    },
+    /// The Jacobian of (z, ρ, f) is singular: the tool normal lies in the
+    /// axial plane of the point, or r_s × r_θ = 0, or the non-generation
+    /// condition ∂f/∂q ∥ … holds (undercut / self-intersection, Litvin &
+    /// Fuentes ch. 6.3–6.4).
+    Singular { q: [f64; 3], determinant: f64 },
+    /// A non-finite value appeared (non-physical map or settings).
+    NonFinite { q: [f64; 3] },
+}
+
+impl std::fmt::Display for EnvelopeError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            EnvelopeError::NotConverged {
+                iterations,
+                residual,
+                q,
+            } => write!(
+                f,
+                "equation of meshing: Newton did not converge in {iterations} steps \
+                 (residual {residual:.3e} at s, θ, ψ = {:.6}, {:.6}, {:.6})",
+                q[0], q[1], q[2]
+            ),
+            EnvelopeError::Singular { q, determinant } => write!(
+                f,
+                "singular meshing Jacobian (det {determinant:.3e}) at s, θ, ψ = {:.6}, {:.6}, {:.6}: \
+                 the surface is not generated there (undercut or self-intersection)",
+                q[0], q[1], q[2]
+            ),
+            EnvelopeError::NonFinite { q } => write!(
+                f,
+                "non-finite tool position at s, θ, ψ = {:?} (non-physical settings)",
+                q
+            ),
+        }
+    }
+}
+
+/// A solved surface point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EnvelopePoint {
+    /// The generating parameters (s, θ, ψ).
+    pub q: [f64; 3],
+    /// The map's jet at q.
+    pub jet: Jet,
+    /// Unit normal, out of the tooth's material.
+    pub normal: V3,
+    /// The Jacobian of (z, ρ, f) in q (rows), used for the tangents.
+    pub jacobian: [[f64; 3]; 3],
+    /// Whether ψ was solved (generated) or held (formate).
+    pub generated: bool,
+    /// Newton steps taken.
+    pub iterations: usize,
+}
+
+/// Newton's bound and tolerances for [`solve_axial`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolveOptions {
+    /// Maximum Newton steps (each with up to 30 halvings).
+    pub max_iterations: usize,
+    /// Tolerance on |z − z*| and |ρ − ρ*| (mm).
+    pub tol_position: f64,
+    /// Tolerance on the dimensionless meshing residual.
+    pub tol_meshing: f64,
+}
+
+impl Default for SolveOptions {
+    fn default() -> Self {
+        SolveOptions {
+            max_iterations: 60,
+            tol_position: 1e-12,
+            tol_meshing: 1e-14,
+        }
+    }
+}
+
+fn rows(j: &Jet, generated: bool) -> ([f64; 3], [[f64; 3]; 3]) {
+    let (z, rho) = axial_radius(j.r);
+    let drho: [f64; 3] = std::array::from_fn(|k| {
+        if rho > 0.0 {
+            (j.r[0] * j.d1[k][0] + j.r[1] * j.d1[k][1]) / rho
+        } else {
+            0.0
+        }
+    });
+    let dz: [f64; 3] = std::array::from_fn(|k| j.d1[k][2]);
+    let (f, df) = if generated {
+        meshing(j)
+    } else {
+        (0.0, [0.0, 0.0, 1.0])
+    };
+    ([z, rho, f], [dz, drho, df])
+}
+
+fn det3(a: &[[f64; 3]; 3]) -> f64 {
+    a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
+        - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
+        + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
+}
+
+/// Solve a x = b by Cramer's rule (3 × 3); None if singular relative to
+/// the rows' scale.
+fn solve3(a: &[[f64; 3]; 3], b: [f64; 3]) -> Option<[f64; 3]> {
+    let d = det3(a);
+    let scale: f64 = a
+        .iter()
+        .map(|r| r.iter().map(|x| x * x).sum::<f64>().sqrt())
+        .product();
+    if !(d.is_finite() && scale > 0.0) || d.abs() <= 1e-13 * scale {
+        return None;
+    }
+    let mut x = [0.0; 3];
+    for (k, xk) in x.iter_mut().enumerate() {
+        let mut m = *a;
+        for i in 0..3 {
+            m[i][k] = b[i];
+        }
+        *xk = det3(&m) / d;
+    }
+    Some(x)
+}
+
+impl EnvelopePoint {
+    fn build<M: EnvelopeMap + ?Sized>(map: &M, q: [f64; 3], jet: Jet, iterations: usize) -> Self {
+        let generated = map.is_generated();
+        let (_, jac) = rows(&jet, generated);
+        let n = cross(jet.d1[0], jet.d1[1]);
+        let l = norm(n) * map.normal_orientation();
+        EnvelopePoint {
+            q,
+            jet,
+            normal: [n[0] / l, n[1] / l, n[2] / l],
+            jacobian: jac,
+            generated,
+            iterations,
+        }
+    }
+
+    /// The surface tangent for a motion of the axial-section target by
+    /// (dz*, dρ*) (implicit function theorem on z(q) = z*, ρ(q) = ρ*,
+    /// f(q) = 0: J dq = (dz*, dρ*, 0), dr = r_q dq). Also returns dq.
+    pub fn section_tangent(&self, dz: f64, drho: f64) -> Option<(V3, [f64; 3])> {
+        let dq = solve3(&self.jacobian, [dz, drho, 0.0])?;
+        let d1 = self.jet.d1;
+        let t = std::array::from_fn(|c| d1[0][c] * dq[0] + d1[1][c] * dq[1] + d1[2][c] * dq[2]);
+        Some((t, dq))
+    }
+
+    /// Dimensionless meshing residual at the point ([`meshing_residual`]).
+    pub fn meshing_residual(&self) -> f64 {
+        if self.generated {
+            meshing_residual(&self.jet)
+        } else {
+            0.0
+        }
+    }
+}
+
+/// The surface point at axial position `z` and radius `rho` (work frame):
+/// bounded damped Newton on (z(q) − z*, ρ(q) − ρ*, f(q)) from `q0` (for a
+/// formate map ψ = q0[2] is held). Each step is halved until the merit
+/// |Δz|² + |Δρ|² + (f/f_scale)² decreases (f_scale frozen at the start, so
+/// that all three rows weigh alike); stops when the position is within
+/// `tol_position` and the meshing residual within `tol_meshing`, or errs
+/// after `max_iterations` steps.
+pub fn solve_axial<M: EnvelopeMap + ?Sized>(
+    map: &M,
+    z: f64,
+    rho: f64,
+    q0: [f64; 3],
+    opt: &SolveOptions,
+) -> Result<EnvelopePoint, EnvelopeError> {
+    let generated = map.is_generated();
+    let mut q = q0;
+    let mut jet = map.jet(q);
+    let finite = |j: &Jet| {
+        j.r.iter()
+            .chain(j.d1.iter().flatten())
+            .chain(j.d2.iter().flatten().flatten())
+            .all(|x| x.is_finite())
+    };
+    if !finite(&jet) {
+        return Err(EnvelopeError::NonFinite { q });
+    }
+    // f's scale: |r_s × r_θ| |r_ψ| at the start (1 for a formate map)
+    let f_scale = if generated {
+        (norm(cross(jet.d1[0], jet.d1[1])) * norm(jet.d1[2])).max(1e-300)
+    } else {
+        1.0
+    };
+    let residual = |j: &Jet| {
+        let (v, _) = rows(j, generated);
+        [v[0] - z, v[1] - rho, v[2] / f_scale]
+    };
+    let merit = |r: [f64; 3]| r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+    let mut res = residual(&jet);
+    for it in 0..=opt.max_iterations {
+        let pos_ok = res[0].abs() <= opt.tol_position && res[1].abs() <= opt.tol_position;
+        let mesh_ok = !generated || meshing_residual(&jet).abs() <= opt.tol_meshing;
+        if pos_ok && mesh_ok {
+            return Ok(EnvelopePoint::build(map, q, jet, it));
+        }
+        if it == opt.max_iterations {
+            break;
+        }
+        let (_, mut jac) = rows(&jet, generated);
+        for v in jac[2].iter_mut() {
+            *v /= f_scale;
+        }
+        if !generated {
+            jac[2] = [0.0, 0.0, 1.0];
+        }
+        let Some(dq) = solve3(&jac, [-res[0], -res[1], -res[2]]) else {
+            return Err(EnvelopeError::Singular {
+                q,
+                determinant: det3(&jac),
+            });
+        };
+        let m0 = merit(res);
+        let mut lambda = 1.0;
+        let mut accepted = false;
+        for _ in 0..30 {
+            let qn = [
+                q[0] + lambda * dq[0],
+                q[1] + lambda * dq[1],
+                q[2] + if generated { lambda * dq[2] } else { 0.0 },
+            ];
+            let jn = map.jet(qn);
+            if finite(&jn) {
+                let rn = residual(&jn);
+                if merit(rn) < m0 || (merit(rn) <= m0 && lambda == 1.0) {
+                    q = qn;
+                    jet = jn;
+                    res = rn;
+                    accepted = true;
+                    break;
+                }
+            }
+            lambda *= 0.5;
+        }
+        if !accepted {
+            // no decrease: converged to rounding if the step is tiny
+            let step = dq.iter().map(|x| x.abs()).fold(0.0, f64::max);
+            if step < 1e-14 * (1.0 + q.iter().map(|x| x.abs()).fold(0.0, f64::max)) {
+                return Ok(EnvelopePoint::build(map, q, jet, it));
+            }
+            return Err(EnvelopeError::NotConverged {
+                iterations: it,
+                residual: merit(res).sqrt(),
+                q,
+            });
+        }
+    }
+    Err(EnvelopeError::NotConverged {
+        iterations: opt.max_iterations,
+        residual: merit(res).sqrt(),
+        q,
+    })
+}
+
+/// The axial-section parametrisation of a bevel flank (module docs): the
+/// pitch-cone generatrix at pitch angle δ, the face width as a range of
+/// cone distance, and the face-cone (tip) and root-cone lines as straight
+/// lines u(v) = u_m + slope·(v − R_m) in the (v, u) axial plane (u ⟂ to the
+/// generatrix, positive toward the tip). Apex at the work-frame origin,
+/// axis +z toward the heel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AxialSection {
+    /// Pitch angle δ (rad).
+    pub pitch_angle: f64,
+    /// Inner and outer cone distance R_i, R_e (mm): the v range.
+    pub cone_distance: (f64, f64),
+    /// Mean cone distance R_m (mm): where the cone lines are referenced.
+    pub mean_cone_distance: f64,
+    /// Face-cone line: u at R_m (the mean addendum h_am) and slope
+    /// tan(θ_a) (face angle − pitch angle).
+    pub tip: ConeLine,
+    /// Root-cone line: u at R_m (−h_fm) and slope −tan(θ_f).
+    pub root: ConeLine,
+}
+
+/// A straight line u(v) = u_m + slope·(v − R_m) of the axial section.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ConeLine {
+    pub u_mean: f64,
+    pub slope: f64,
+}
+
+impl AxialSection {
+    /// (z*, ρ*) of the axial-plane point (u, v) and its derivatives
+    /// ((∂z/∂u, ∂ρ/∂u), (∂z/∂v, ∂ρ/∂v)).
+    pub fn target(&self, u: f64, v: f64) -> ((f64, f64), (f64, f64), (f64, f64)) {
+        let (s, c) = self.pitch_angle.sin_cos();
+        ((v * c - u * s, v * s + u * c), (-s, c), (c, s))
+    }
+
+    /// u of the face-cone line at v.
+    pub fn u_tip(&self, v: f64) -> f64 {
+        self.tip.u_mean + self.tip.slope * (v - self.mean_cone_distance)
+    }
+
+    /// u of the root-cone line at v.
+    pub fn u_root(&self, v: f64) -> f64 {
+        self.root.u_mean + self.root.slope * (v - self.mean_cone_distance)
+    }
+}
+
+/// Rotate a vector about +z by the angle with (cos, sin) = `cs`.
+pub fn rot_z(cs: (f64, f64), p: V3) -> V3 {
+    [cs.0 * p[0] - cs.1 * p[1], cs.1 * p[0] + cs.0 * p[1], p[2]]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A plane crown-gear tooth (rack-like plane through the work's axis
+    /// offset) rolling on a cylinder: the classical involute as the
+    /// envelope, checked in closed form. Tool: the plane x = s sin α·…;
+    /// here the simplest: a straight rack flank in the plane, generating a
+    /// spur involute of base radius r_b = r cos α. q = (s along the rack
+    /// flank, θ = axial coordinate, ψ = roll angle of the work).
+    #[derive(Debug)]
+    struct RackRoll {
+        r: f64,
+        alpha: f64,
+    }
+
+    impl RackRoll {
+        fn pos<D: DualNum<Primitive = f64> + Copy>(&self, q: [D; 3]) -> [D; 3] {
+            let (s, th, psi) = (q[0], q[1], q[2]);
+            let (sa, ca) = self.alpha.sin_cos();
+            // rack flank in the rack frame (pitch line y = r, rack moves
+            // along x by r ψ): point = (s sin α + r ψ, r − s cos α, θ)
+            let xr = s * sa + psi * self.r;
+            let yr = -(s * ca) + self.r;
+            // into the work frame, rotated by −ψ
+            let (sp, cp) = (psi.sin(), psi.cos());
+            [xr * cp + yr * sp, -(xr * sp) + yr * cp, th]
+        }
+    }
+
+    impl EnvelopeMap for RackRoll {
+        fn jet(&self, q: [f64; 3]) -> Jet {
+            jet_of(q, |x| self.pos(x))
+        }
+        fn normal_orientation(&self) -> f64 {
+            1.0
+        }
+    }
+
+    #[test]
+    fn jet_matches_finite_differences() {
+        let m = RackRoll {
+            r: 50.0,
+            alpha: 0.35,
+        };
+        let q = [1.3, 2.0, 0.07];
+        let j = m.jet(q);
+        let h = 1e-5;
+        for k in 0..3 {
+            let mut qp = q;
+            let mut qm = q;
+            qp[k] += h;
+            qm[k] -= h;
+            let jp = m.jet(qp);
+            let jm = m.jet(qm);
+            for c in 0..3 {
+                let fd = (jp.r[c] - jm.r[c]) / (2.0 * h);
+                assert!((fd - j.d1[k][c]).abs() < 1e-7, "d1 {k} {c}");
+                for l in 0..3 {
+                    let fd2 = (jp.d1[l][c] - jm.d1[l][c]) / (2.0 * h);
+                    assert!((fd2 - j.d2[k][l][c]).abs() < 1e-6, "d2 {k} {l} {c}");
+                }
+            }
+        }
+        let (f, g) = meshing(&j);
+        let jp = m.jet([q[0], q[1], q[2] + h]);
+        let jm = m.jet([q[0], q[1], q[2] - h]);
+        let fd = (meshing(&jp).0 - meshing(&jm).0) / (2.0 * h);
+        assert!(
+            (fd - g[2]).abs() < 1e-6 * (1.0 + g[2].abs()),
+            "{fd} {:?}",
+            g
+        );
+        assert!(f.is_finite());
+    }
+
+    /// The rack-generated envelope is the involute of r_b = r cos α: every
+    /// solved point lies at involute polar angle inv(α_y) relative to the
+    /// base-circle start, and the meshing residual vanishes.
+    #[test]
+    fn rack_envelope_is_involute() {
+        let m = RackRoll {
+            r: 50.0,
+            alpha: 20f64.to_radians(),
+        };
+        let rb = 50.0 * m.alpha.cos();
+        let opt = SolveOptions::default();
+        // axial section here: z = θ, ρ = radius
+        let mut q = [0.0, 0.0, 0.0];
+        let mut angles = vec![];
+        for i in 0..9 {
+            let rho = 48.0 + 0.5 * i as f64;
+            let p = solve_axial(&m, 3.0, rho, q, &opt).unwrap();
+            q = p.q;
+            assert!(p.meshing_residual().abs() < 1e-12);
+            let (z, r) = axial_radius(p.jet.r);
+            assert!((z - 3.0).abs() < 1e-12 && (r - rho).abs() < 1e-12);
+            let ay = (rb / rho).acos();
+            let inv = ay.tan() - ay;
+            angles.push(p.jet.r[1].atan2(p.jet.r[0]) + inv);
+            // the normal is perpendicular to the radial-section tangent
+            let (t, _) = p.section_tangent(0.0, 1.0).unwrap();
+            assert!(dot(t, p.normal).abs() < 1e-12 * norm(t));
+        }
+        // the polar angle + inv(α_y) is constant on an involute
+        for a in &angles {
+            assert!((a - angles[0]).abs() < 1e-12, "{angles:?}");
+        }
+    }
+
+    #[test]
+    fn singular_and_nonconvergent_are_errors() {
+        let m = RackRoll {
+            r: 50.0,
+            alpha: 20f64.to_radians(),
+        };
+        let opt = SolveOptions {
+            max_iterations: 1,
+            ..SolveOptions::default()
+        };
+        let e = solve_axial(&m, 3.0, 49.0, [5.0, 0.0, 0.3], &opt).unwrap_err();
+        assert!(matches!(e, EnvelopeError::NotConverged { .. }), "{e}");
+        // inside the base circle there is no envelope point
+        let e = solve_axial(&m, 3.0, 30.0, [0.0, 0.0, 0.0], &SolveOptions::default());
+        assert!(e.is_err());
+    }
+}
