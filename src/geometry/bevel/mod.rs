@@ -23,6 +23,8 @@
 //! `verification/iso23509_blank/README.md`.
 
 pub mod assembly;
+pub mod conjugate;
+pub mod ease_off;
 pub mod generation;
 pub mod inputs;
 pub mod outputs;
