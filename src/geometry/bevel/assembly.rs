@@ -223,7 +223,11 @@ impl PairAssembly {
     pub fn instantaneous_axis(&self) -> (V3, V3, f64) {
         let (omega, b) = self.relative_motion();
         let w2 = dot(omega, omega);
-        (scale(1.0 / w2, cross(omega, b)), unit(omega), dot(omega, b) / w2)
+        (
+            scale(1.0 / w2, cross(omega, b)),
+            unit(omega),
+            dot(omega, b) / w2,
+        )
     }
 
     /// The assembly of a blank design: finds the mean pitch point P where
@@ -426,7 +430,11 @@ mod tests {
     fn spiral_bevel_apexes_at_the_crossing_point() {
         let (inputs, d) = sample("F2_spiral_bevel_method0_face_milling");
         let a = PairAssembly::from_blank(&inputs, &d).unwrap();
-        assert!(a.apex[0].abs() < 1e-9 && a.apex[1].abs() < 1e-9, "{:?}", a.apex);
+        assert!(
+            a.apex[0].abs() < 1e-9 && a.apex[1].abs() < 1e-9,
+            "{:?}",
+            a.apex
+        );
         let p = a.mean_point(0.5 * d.cones.dm2, d.cones.delta2);
         assert!(norm(a.relative_velocity(p)) < 1e-9);
         let (x0, dir, pitch) = a.instantaneous_axis();

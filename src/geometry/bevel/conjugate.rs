@@ -48,10 +48,7 @@ use std::sync::Arc;
 
 use crate::error::{FlankError, Result};
 use crate::geometry::bevel::assembly::PairAssembly;
-use crate::geometry::bevel::generation::{
-    meshing_residual, solve_axial, AxialSection, ConeLine, EnvelopeMap, EnvelopePoint, Jet,
-    SolveOptions,
-};
+use crate::geometry::bevel::generation::{AxialSection, ConeLine, EnvelopeMap, EnvelopePoint, Jet};
 use crate::geometry::bevel::{BlankDesign, BlankInputs};
 use crate::geometry::frame::Frame;
 use crate::geometry::gear_pair::Misalignment;
@@ -163,8 +160,10 @@ pub struct ConjugatePoint {
     pub roll_v: f64,
     /// The gear parameters (u₂, v₂) of the contact and the gear rotation φ₂.
     pub gear_q: [f64; 3],
-    /// Dimensionless meshing residual n₂·v⁽²¹⁾ / |v⁽²¹⁾|.
+    /// Dimensionless meshing residual n₂·v⁽²¹⁾ / R_m1 (v⁽²¹⁾ per unit φ₂).
     pub meshing_residual: f64,
+    /// True on the envelope, false on the continuation below the form line.
+    pub conjugate: bool,
 }
 
 /// The conjugate pinion flank (module docs).
@@ -177,12 +176,13 @@ pub struct ConjugatePinion {
     seeds: Vec<[f64; 3]>,
     u_box: (f64, f64),
     v_box: (f64, f64),
-    options: SolveOptions,
     failures: AtomicUsize,
 }
 
 /// Seed-table size per direction.
 const SEED_NODES: usize = 9;
+/// Newton's step bound per point.
+pub const MAX_NEWTON: usize = 50;
 /// Continuation sub-steps between two seed nodes.
 const SUB_STEPS: usize = 4;
 
@@ -227,7 +227,6 @@ impl ConjugatePinion {
             seeds: Vec::new(),
             u_box,
             v_box,
-            options: SolveOptions::default(),
             failures: AtomicUsize::new(0),
         };
         let q0 = pinion.mean_contact()?;
@@ -280,7 +279,7 @@ impl ConjugatePinion {
 
     fn solve_from(&self, u: f64, v: f64, q0: [f64; 3]) -> Result<EnvelopePoint> {
         let ((z, rho), _, _) = self.section.target(u, v);
-        solve_axial(&self.map, z, rho, q0, &self.options).map_err(|e| {
+        self.newton(z, rho, q0).map_err(|e| {
             FlankError::Model(format!(
                 "conjugate pinion at (u, v) = ({u:.4}, {v:.4}) mm: {e}"
             ))
@@ -315,7 +314,7 @@ impl ConjugatePinion {
             let [f1, f2] = self.map.frames(phi2);
             let target = f2.rotate_back(sub(f1.place([rho, 0.0, z]), f2.translation));
             let (u2, v2, _) = gear.closest_point(target);
-            if let Ok(p) = solve_axial(&self.map, z, rho, [u2, v2, phi2], &self.options) {
+            if let Ok(p) = self.newton(z, rho, [u2, v2, phi2]) {
                 found = Some(p);
                 break;
             }
@@ -338,23 +337,144 @@ impl ConjugatePinion {
         Ok(p.q)
     }
 
+    /// The length that makes the meshing row dimensionless: R_m1.
+    fn length(&self) -> f64 {
+        self.section.mean_cone_distance
+    }
+
+    /// (z, ρ, n·v⁽²¹⁾) of a jet (mm; v⁽²¹⁾ per unit φ₂).
+    fn residual_of(&self, j: &Jet) -> [f64; 3] {
+        let nn = cross(j.d1[0], j.d1[1]);
+        let n = scale(self.map.orientation / norm(nn), nn);
+        [j.r[2], j.r[0].hypot(j.r[1]), dot(n, j.d1[2])]
+    }
+
+    /// Unit normal and its derivatives in q (n = o N/|N|, N = r_u₂ × r_v₂).
+    fn normal_jet(&self, j: &Jet) -> (V3, [V3; 3]) {
+        let nn = cross(j.d1[0], j.d1[1]);
+        let len = norm(nn);
+        let n = scale(self.map.orientation / len, nn);
+        let dn = std::array::from_fn(|k| {
+            let dk = add(cross(j.d2[0][k], j.d1[1]), 1.0, cross(j.d1[0], j.d2[1][k]));
+            scale(self.map.orientation / len, add(dk, -dot(n, dk), n))
+        });
+        (n, dn)
+    }
+
+    /// Residual rows (z − z*, ρ − ρ*, n·v⁽²¹⁾) and their Jacobian in q.
+    fn rows(&self, j: &Jet, z: f64, rho: f64) -> ([f64; 3], [[f64; 3]; 3]) {
+        let [zz, rr, f] = self.residual_of(j);
+        let (n, dn) = self.normal_jet(j);
+        let dz = std::array::from_fn(|k| j.d1[k][2]);
+        let drho = std::array::from_fn(|k| (j.r[0] * j.d1[k][0] + j.r[1] * j.d1[k][1]) / rr);
+        let df = std::array::from_fn(|k| dot(dn[k], j.d1[2]) + dot(n, j.d2[k][2]));
+        ([zz - z, rr - rho, f], [dz, drho, df])
+    }
+
+    /// Bounded damped Newton on (z(q) − z*, ρ(q) − ρ*, n·v⁽²¹⁾) — all three
+    /// rows in mm, so the meshing row keeps its gradient where the relative
+    /// velocity vanishes (the pitch line of a bevel pair with E = 0, where
+    /// the normalised residual n·v/|v| of the generic engine is 0/0). Stops
+    /// when |z − z*|, |ρ − ρ*| ≤ 1e-11 mm and |n·v| ≤ 1e-13 R_m1, errs after
+    /// [`MAX_NEWTON`] steps, on a singular Jacobian or a non-finite value.
+    fn newton(&self, z: f64, rho: f64, q0: [f64; 3]) -> Result<EnvelopePoint> {
+        let tol_f = 1e-13 * self.length();
+        let merit = |r: [f64; 3]| r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+        let finite = |j: &Jet, r: &[f64; 3]| j.r.iter().chain(r.iter()).all(|x| x.is_finite());
+        let mut q = q0;
+        let mut jet = self.map.jet(q);
+        let (mut res, mut jac) = self.rows(&jet, z, rho);
+        if !finite(&jet, &res) {
+            return Err(FlankError::Model(format!(
+                "non-finite gear point at q = {q:?}"
+            )));
+        }
+        for it in 0..=MAX_NEWTON {
+            if res[0].abs() <= 1e-11 && res[1].abs() <= 1e-11 && res[2].abs() <= tol_f {
+                let (n, _) = self.normal_jet(&jet);
+                return Ok(EnvelopePoint {
+                    q,
+                    jet,
+                    normal: n,
+                    jacobian: jac,
+                    generated: true,
+                    iterations: it,
+                });
+            }
+            if it == MAX_NEWTON {
+                break;
+            }
+            let Some(mut dq) = solve3(&jac, [-res[0], -res[1], -res[2]]) else {
+                return Err(FlankError::Model(format!(
+                    "singular meshing Jacobian at gear (u, v, φ₂) = {q:?}: the envelope is not regular there (limit line / undercut)"
+                )));
+            };
+            let cap = 0.2 / dq[2].abs().max(0.2);
+            dq = dq.map(|x| x * cap);
+            let m0 = merit(res);
+            let mut lambda = 1.0;
+            let mut accepted = false;
+            for _ in 0..30 {
+                let qn = std::array::from_fn(|k| q[k] + lambda * dq[k]);
+                let jn = self.map.jet(qn);
+                let (rn, jacn) = self.rows(&jn, z, rho);
+                if finite(&jn, &rn) && merit(rn) < m0 {
+                    q = qn;
+                    jet = jn;
+                    res = rn;
+                    jac = jacn;
+                    accepted = true;
+                    break;
+                }
+                lambda *= 0.5;
+            }
+            if !accepted {
+                break;
+            }
+        }
+        Err(FlankError::Model(format!(
+            "equation of meshing: Newton did not converge in {MAX_NEWTON} steps (residual z {:.2e}, ρ {:.2e}, n·v {:.2e} mm at gear (u, v, φ₂) = {q:?})",
+            res[0], res[1], res[2]
+        )))
+    }
+
+    /// Seed node (i, j): v_j across the face, u_i from the form line to
+    /// the tip line at v_j (the envelope's own region).
     fn node(&self, i: usize, j: usize) -> (f64, f64) {
         let n = (SEED_NODES - 1) as f64;
-        (
-            self.u_box.0 + (self.u_box.1 - self.u_box.0) * i as f64 / n,
-            self.v_box.0 + (self.v_box.1 - self.v_box.0) * j as f64 / n,
-        )
+        let v = self.v_box.0 + (self.v_box.1 - self.v_box.0) * j as f64 / n;
+        let (ur, ut) = (self.u_form(v), self.section.u_tip(v));
+        (ur + (ut - ur) * i as f64 / n, v)
+    }
+
+    /// Fractional node coordinates (s, t) ∈ [0, n]² of (u, v).
+    fn node_coordinates(&self, u: f64, v: f64) -> (f64, f64) {
+        let n = (SEED_NODES - 1) as f64;
+        let t = (v - self.v_box.0) / (self.v_box.1 - self.v_box.0) * n;
+        let (ur, ut) = (self.u_form(v), self.section.u_tip(v));
+        ((u - ur) / (ut - ur) * n, t)
     }
 
     fn seed_table(&self, q0: [f64; 3]) -> Result<Vec<[f64; 3]>> {
         let rm = self.section.mean_cone_distance;
         let mut table = vec![[0.0; 3]; SEED_NODES * SEED_NODES];
+        let fold = |(u, v): (f64, f64), e: FlankError| {
+            FlankError::Model(format!(
+                "conjugate pinion: the envelope of the gear flank cannot be continued to the \
+                 active-flank node (u, v) = ({u:.4}, {v:.4}) mm of the pinion blank (a limit line \
+                 of undercut, or the gear flank does not mesh there): {e}"
+            ))
+        };
         for j in 0..SEED_NODES {
             let (_, vj) = self.node(0, j);
-            let qj = self.walk(q0, (0.0, rm), (0.0, vj), 2 * SUB_STEPS)?;
+            let qj = self
+                .walk(q0, (0.0, rm), (0.0, vj), 2 * SUB_STEPS)
+                .map_err(|e| fold((0.0, vj), e))?;
             for i in 0..SEED_NODES {
                 let (ui, _) = self.node(i, j);
-                table[j * SEED_NODES + i] = self.walk(qj, (0.0, vj), (ui, vj), 2 * SUB_STEPS)?;
+                table[j * SEED_NODES + i] = self
+                    .walk(qj, (0.0, vj), (ui, vj), 2 * SUB_STEPS)
+                    .map_err(|e| fold((ui, vj), e))?;
             }
         }
         Ok(table)
@@ -363,9 +483,12 @@ impl ConjugatePinion {
     /// Bilinear interpolation of the seed table (clamped to the box).
     fn seed(&self, u: f64, v: f64) -> [f64; 3] {
         let n = (SEED_NODES - 1) as f64;
-        let s = ((u - self.u_box.0) / (self.u_box.1 - self.u_box.0) * n).clamp(0.0, n);
-        let t = ((v - self.v_box.0) / (self.v_box.1 - self.v_box.0) * n).clamp(0.0, n);
-        let (i, j) = ((s.floor() as usize).min(SEED_NODES - 2), (t.floor() as usize).min(SEED_NODES - 2));
+        let (s, t) = self.node_coordinates(u, v);
+        let (s, t) = (s.clamp(0.0, n), t.clamp(0.0, n));
+        let (i, j) = (
+            (s.floor() as usize).min(SEED_NODES - 2),
+            (t.floor() as usize).min(SEED_NODES - 2),
+        );
         let (a, b) = (s - i as f64, t - j as f64);
         let at = |i: usize, j: usize| self.seeds[j * SEED_NODES + i];
         std::array::from_fn(|k| {
@@ -388,12 +511,9 @@ impl ConjugatePinion {
             Ok(p) => Ok(p),
             Err(_) => {
                 let n = (SEED_NODES - 1) as f64;
-                let i = (((u - self.u_box.0) / (self.u_box.1 - self.u_box.0)) * n)
-                    .round()
-                    .clamp(0.0, n) as usize;
-                let j = (((v - self.v_box.0) / (self.v_box.1 - self.v_box.0)) * n)
-                    .round()
-                    .clamp(0.0, n) as usize;
+                let (s, t) = self.node_coordinates(u, v);
+                let i = s.round().clamp(0.0, n) as usize;
+                let j = t.round().clamp(0.0, n) as usize;
                 let q = self.walk(
                     self.seeds[j * SEED_NODES + i],
                     self.node(i, j),
@@ -407,35 +527,63 @@ impl ConjugatePinion {
 
     /// Point, normal, tangents, normal derivatives and roll angle at (u, v)
     /// (module docs).
+    ///
+    /// Below the form line (u < u_form(v), the fillet zone, where the
+    /// envelope of the gear flank extended beyond its tip may fold: the
+    /// limit line of undercut, Litvin & Fuentes §6.3) the surface is the
+    /// tangent continuation of the envelope at the form line,
+    /// r(u, v) = r_f(v) + (u − u_f(v)) r_u(u_f(v), v), with r_v from central
+    /// differences (1e-4 mm) of the envelope's exact r_u at the form line;
+    /// its normal does not change along u there; `conjugate` is false.
     pub fn conjugate_point(&self, u: f64, v: f64) -> Result<ConjugatePoint> {
-        let p = self.solve(u, v)?;
-        Ok(self.describe(&p))
+        let uf = self.u_form(v);
+        if u >= uf {
+            let p = self.solve(u, v)?;
+            return self.describe(&p);
+        }
+        let f = self.describe(&self.solve(uf, v)?)?;
+        let h = 1e-4;
+        let slope = self.form.slope;
+        let up = self.describe(&self.solve(uf + h, v)?)?;
+        let um = self.describe(&self.solve(uf - h, v)?)?;
+        let ruu = scale(0.5 / h, sub(up.r_u, um.r_u));
+        let ruv = scale(0.5 / h, sub(up.r_v, um.r_v));
+        let d = u - uf;
+        let r_v = add(f.r_v, d, add(scale(slope, ruu), 1.0, ruv));
+        let mut n = crate::geometry::vec3::unit(cross(f.r_u, r_v));
+        if dot(n, f.normal) < 0.0 {
+            n = scale(-1.0, n);
+        }
+        Ok(ConjugatePoint {
+            point: add(f.point, d, f.r_u),
+            normal: n,
+            r_u: f.r_u,
+            r_v,
+            n_u: [0.0; 3],
+            n_v: f.n_v,
+            roll: f.roll,
+            roll_u: 0.0,
+            roll_v: f.roll_v + slope * f.roll_u,
+            gear_q: f.gear_q,
+            meshing_residual: f.meshing_residual,
+            conjugate: false,
+        })
     }
 
-    fn describe(&self, p: &EnvelopePoint) -> ConjugatePoint {
+    fn describe(&self, p: &EnvelopePoint) -> Result<ConjugatePoint> {
         let (_, du, dv) = self.section.target(0.0, 0.0);
-        let fail = || ([0.0; 3], [0.0; 3]);
-        let (r_u, q_u) = p.section_tangent(du.0, du.1).unwrap_or_else(fail);
-        let (r_v, q_v) = p.section_tangent(dv.0, dv.1).unwrap_or_else(fail);
-        // derivative of the unit normal n = o N/|N|, N = r_u₂ × r_v₂
-        let j = &p.jet;
-        let nn = cross(j.d1[0], j.d1[1]);
-        let len = norm(nn);
-        let n = p.normal;
-        let dn: [V3; 3] = std::array::from_fn(|k| {
-            let dk = add(cross(j.d2[0][k], j.d1[1]), 1.0, cross(j.d1[0], j.d2[1][k]));
-            let o = self.map.orientation;
-            let along = dot(n, dk) * o;
-            scale(o / len, add(dk, -along * o, n))
-        });
-        let comb = |d: [f64; 3]| {
-            add(
-                add(scale(d[0], dn[0]), d[1], dn[1]),
-                d[2],
-                dn[2],
-            )
+        let singular = || {
+            FlankError::Model(format!(
+                "conjugate pinion: singular tangent system at gear (u, v, φ₂) = {:?}",
+                p.q
+            ))
         };
-        ConjugatePoint {
+        let (r_u, q_u) = p.section_tangent(du.0, du.1).ok_or_else(singular)?;
+        let (r_v, q_v) = p.section_tangent(dv.0, dv.1).ok_or_else(singular)?;
+        let j = &p.jet;
+        let (n, dn) = self.normal_jet(j);
+        let comb = |d: [f64; 3]| add(add(scale(d[0], dn[0]), d[1], dn[1]), d[2], dn[2]);
+        Ok(ConjugatePoint {
             point: j.r,
             normal: n,
             r_u,
@@ -446,8 +594,9 @@ impl ConjugatePinion {
             roll_u: self.map.ratio * q_u[2],
             roll_v: self.map.ratio * q_v[2],
             gear_q: p.q,
-            meshing_residual: meshing_residual(j),
-        }
+            meshing_residual: self.residual_of(j)[2] / self.length(),
+            conjugate: true,
+        })
     }
 
     /// Evaluate, counting a failure and falling back to the seed point.
@@ -471,7 +620,8 @@ impl ConjugatePinion {
                     roll_u: 0.0,
                     roll_v: 0.0,
                     gear_q: q,
-                    meshing_residual: meshing_residual(&jet),
+                    meshing_residual: self.residual_of(&jet)[2] / self.length(),
+                    conjugate: false,
                 }
             }
         }
@@ -535,4 +685,29 @@ impl ToothSurface for ConjugatePinion {
         let c = self.eval(u, v);
         (c.point, c.normal, c.r_u, c.r_v)
     }
+}
+
+fn det3(a: &[[f64; 3]; 3]) -> f64 {
+    a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
+        - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
+        + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
+}
+
+/// a x = b by Cramer's rule; None when singular relative to the rows' scale.
+fn solve3(a: &[[f64; 3]; 3], b: [f64; 3]) -> Option<[f64; 3]> {
+    let d = det3(a);
+    let scale: f64 = a
+        .iter()
+        .map(|r| r.iter().map(|x| x * x).sum::<f64>().sqrt())
+        .product();
+    if !(d.is_finite() && scale > 0.0) || d.abs() <= 1e-13 * scale {
+        return None;
+    }
+    Some(std::array::from_fn(|k| {
+        let mut m = *a;
+        for i in 0..3 {
+            m[i][k] = b[i];
+        }
+        det3(&m) / d
+    }))
 }
