@@ -37,6 +37,7 @@
 
 use num_dual::{Dual2SVec64, DualNum};
 
+use crate::geometry::surface::ToothSurface;
 use crate::geometry::vec3::{cross, dot, norm, V3};
 
 /// The map q ↦ r(q) with exact derivatives at one q.
@@ -460,6 +461,375 @@ impl AxialSection {
 /// Rotate a vector about +z by the angle with (cos, sin) = `cs`.
 pub fn rot_z(cs: (f64, f64), p: V3) -> V3 {
     [cs.0 * p[0] - cs.1 * p[1], cs.1 * p[0] + cs.0 * p[1], p[2]]
+}
+
+/// One solved sample of a flank grid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FlankSample {
+    pub u: f64,
+    pub v: f64,
+    /// Point (work frame, placed).
+    pub point: V3,
+    /// Unit outward normal (placed).
+    pub normal: V3,
+    /// The generating parameters (s, θ, ψ).
+    pub q: [f64; 3],
+}
+
+/// Nodes of the warm-start table across the profile (fraction from the
+/// root line to the tip line) and across the face.
+const TABLE_NA: usize = 9;
+const TABLE_NV: usize = 7;
+/// The check grid solved by [`EnvelopeFlank::new`] (every point of it must
+/// solve, so the validated domain has no undercut or gap).
+const CHECK_NU: usize = 21;
+const CHECK_NV: usize = 11;
+
+/// A generated flank as a [`ToothSurface`] over the axial section (module
+/// docs): the envelope of an [`EnvelopeMap`], rotated about +z by
+/// `placement` (the tooth's position on the blank).
+///
+/// Evaluation: each (u, v) is solved by [`solve_axial`] from a warm start
+/// bilinearly interpolated in a 9 × 7 table of solved parameters (built by
+/// continuation when the flank is made), so a point costs 2–4 Newton
+/// steps. [`Self::grid`] marches a grid by continuation instead.
+#[derive(Debug)]
+pub struct EnvelopeFlank<M: EnvelopeMap> {
+    map: M,
+    section: AxialSection,
+    placement: (f64, f64),
+    form_parameter: Option<f64>,
+    opt: SolveOptions,
+    /// q at (fraction a_i from root to tip line, v_j).
+    table: Vec<[f64; 3]>,
+}
+
+impl<M: EnvelopeMap> EnvelopeFlank<M> {
+    /// The flank of `map` over `section`, placed by a rotation of
+    /// `placement` (rad) about +z. `q_start` is a guess of (s, θ, ψ) at the
+    /// mean point (u = 0, v = R_m); `form_parameter` is the blade
+    /// parameter s where the blade's edge radius (fillet) begins (None: no
+    /// fillet, u_form = u_root). Errs if any point of a 21 × 11 grid over
+    /// root–tip × face width cannot be solved (undercut, singular meshing,
+    /// not generated there).
+    pub fn new(
+        map: M,
+        section: AxialSection,
+        placement: f64,
+        form_parameter: Option<f64>,
+        q_start: [f64; 3],
+        opt: SolveOptions,
+    ) -> Result<Self, EnvelopeError> {
+        let mut f = EnvelopeFlank {
+            map,
+            section,
+            placement: (placement.cos(), placement.sin()),
+            form_parameter,
+            opt,
+            table: vec![[0.0; 3]; TABLE_NA * TABLE_NV],
+        };
+        let (z, rho) = f.target(0.0, section.mean_cone_distance);
+        let mean = solve_axial(&f.map, z, rho, q_start, &f.opt)?;
+        // continuation: along the pitch line to each table column, then
+        // from the pitch line down to the root and up to the tip
+        let (r0, r1) = section.cone_distance;
+        let nv = TABLE_NV;
+        let mut columns: Vec<(usize, f64)> = (0..nv)
+            .map(|j| (j, r0 + (r1 - r0) * j as f64 / (nv - 1) as f64))
+            .collect();
+        columns.sort_by(|a, b| {
+            (a.1 - section.mean_cone_distance)
+                .abs()
+                .total_cmp(&(b.1 - section.mean_cone_distance).abs())
+        });
+        let mut pitch_q: Vec<(f64, [f64; 3])> = vec![(section.mean_cone_distance, mean.q)];
+        for &(j, v) in &columns {
+            // start from the nearest solved pitch point, in up to 8 steps
+            let (v_near, q_near) = *pitch_q
+                .iter()
+                .min_by(|a, b| (a.0 - v).abs().total_cmp(&(b.0 - v).abs()))
+                .expect("non-empty");
+            let mut q = q_near;
+            for k in 1..=8 {
+                let vk = v_near + (v - v_near) * k as f64 / 8.0;
+                let (z, rho) = f.target(0.0, vk);
+                q = solve_axial(&f.map, z, rho, q, &f.opt)?.q;
+            }
+            pitch_q.push((v, q));
+            // the pitch line's fraction between root and tip
+            let (ur, ut) = (section.u_root(v), section.u_tip(v));
+            let a_pitch = -ur / (ut - ur);
+            let na = TABLE_NA;
+            for dir in [-1.0, 1.0] {
+                let mut qa = q;
+                let mut a_prev = a_pitch;
+                for i in 0..na {
+                    let i = if dir > 0.0 { i } else { na - 1 - i };
+                    let a = i as f64 / (na - 1) as f64;
+                    if (a - a_pitch) * dir < 0.0 {
+                        continue;
+                    }
+                    // sub-steps of at most 1/16 of the depth
+                    let steps = (((a - a_prev).abs() * 16.0).ceil() as usize).max(1);
+                    for k in 1..=steps {
+                        let ak = a_prev + (a - a_prev) * k as f64 / steps as f64;
+                        let (z, rho) = f.target(ur + ak * (ut - ur), v);
+                        qa = solve_axial(&f.map, z, rho, qa, &f.opt)?.q;
+                    }
+                    a_prev = a;
+                    f.table[i * nv + j] = qa;
+                }
+            }
+        }
+        // the check grid
+        for j in 0..CHECK_NV {
+            let v = r0 + (r1 - r0) * j as f64 / (CHECK_NV - 1) as f64;
+            for i in 0..CHECK_NU {
+                let a = i as f64 / (CHECK_NU - 1) as f64;
+                let u = section.u_root(v) + a * (section.u_tip(v) - section.u_root(v));
+                let p = f.solve(u, v)?;
+                if p.section_tangent(0.0, 1.0).is_none() {
+                    return Err(EnvelopeError::Singular {
+                        q: p.q,
+                        determinant: det3(&p.jacobian),
+                    });
+                }
+            }
+        }
+        Ok(f)
+    }
+
+    fn u_range_inner(&self) -> (f64, f64) {
+        let (r0, r1) = self.section.cone_distance;
+        let s = &self.section;
+        (s.u_root(r0).min(s.u_root(r1)), s.u_tip(r0).max(s.u_tip(r1)))
+    }
+
+    /// The generating map.
+    pub fn map(&self) -> &M {
+        &self.map
+    }
+
+    /// The axial section.
+    pub fn section(&self) -> &AxialSection {
+        &self.section
+    }
+
+    /// The placement rotation (rad).
+    pub fn placement(&self) -> f64 {
+        self.placement.1.atan2(self.placement.0)
+    }
+
+    fn target(&self, u: f64, v: f64) -> (f64, f64) {
+        self.section.target(u, v).0
+    }
+
+    /// The warm start at (u, v): bilinear in the table.
+    pub fn warm_start(&self, u: f64, v: f64) -> [f64; 3] {
+        let (r0, r1) = self.section.cone_distance;
+        let (ur, ut) = (self.section.u_root(v), self.section.u_tip(v));
+        let a = ((u - ur) / (ut - ur)).clamp(0.0, 1.0) * (TABLE_NA - 1) as f64;
+        let b = ((v - r0) / (r1 - r0)).clamp(0.0, 1.0) * (TABLE_NV - 1) as f64;
+        let (i, j) = (
+            (a.floor() as usize).min(TABLE_NA - 2),
+            (b.floor() as usize).min(TABLE_NV - 2),
+        );
+        let (fa, fb) = (a - i as f64, b - j as f64);
+        let t = |i: usize, j: usize| self.table[i * TABLE_NV + j];
+        std::array::from_fn(|k| {
+            (1.0 - fa) * (1.0 - fb) * t(i, j)[k]
+                + fa * (1.0 - fb) * t(i + 1, j)[k]
+                + (1.0 - fa) * fb * t(i, j + 1)[k]
+                + fa * fb * t(i + 1, j + 1)[k]
+        })
+    }
+
+    /// The envelope point at (u, v) (unplaced: the map's own frame).
+    pub fn solve(&self, u: f64, v: f64) -> Result<EnvelopePoint, EnvelopeError> {
+        self.solve_from(u, v, self.warm_start(u, v))
+    }
+
+    /// [`Self::solve`] from a given start.
+    pub fn solve_from(&self, u: f64, v: f64, q0: [f64; 3]) -> Result<EnvelopePoint, EnvelopeError> {
+        let (z, rho) = self.target(u, v);
+        solve_axial(&self.map, z, rho, q0, &self.opt)
+    }
+
+    /// Point, unit outward normal, r_u, r_v (placed), or the reason why
+    /// the point is not on the generated surface.
+    pub fn try_evaluate(&self, u: f64, v: f64) -> Result<(V3, V3, V3, V3), EnvelopeError> {
+        let p = self.solve(u, v)?;
+        self.placed(&p, u, v)
+    }
+
+    fn placed(&self, p: &EnvelopePoint, u: f64, v: f64) -> Result<(V3, V3, V3, V3), EnvelopeError> {
+        let (_, du, dv) = self.section.target(u, v);
+        let singular = || EnvelopeError::Singular {
+            q: p.q,
+            determinant: det3(&p.jacobian),
+        };
+        let (ru, _) = p.section_tangent(du.0, du.1).ok_or_else(singular)?;
+        let (rv, _) = p.section_tangent(dv.0, dv.1).ok_or_else(singular)?;
+        let c = self.placement;
+        Ok((
+            rot_z(c, p.jet.r),
+            rot_z(c, p.normal),
+            rot_z(c, ru),
+            rot_z(c, rv),
+        ))
+    }
+
+    /// The dimensionless meshing residual at (u, v).
+    pub fn meshing_residual(&self, u: f64, v: f64) -> Result<f64, EnvelopeError> {
+        Ok(self.solve(u, v)?.meshing_residual())
+    }
+
+    /// An nu × nv grid (u from u_root(v) to u_tip(v), v from toe to heel)
+    /// by continuation: each point starts from its neighbour's solution
+    /// (the previous one along the profile, or the previous column's at
+    /// the same profile fraction). Row-major in v, then u.
+    pub fn grid(&self, nu: usize, nv: usize) -> Result<Vec<FlankSample>, EnvelopeError> {
+        let (r0, r1) = self.section.cone_distance;
+        let mut out = Vec::with_capacity(nu * nv);
+        let mut prev_col: Vec<[f64; 3]> = Vec::new();
+        for j in 0..nv {
+            let v = r0 + (r1 - r0) * j as f64 / (nv.max(2) - 1) as f64;
+            let (ur, ut) = (self.section.u_root(v), self.section.u_tip(v));
+            let mut col = Vec::with_capacity(nu);
+            for i in 0..nu {
+                let u = ur + (ut - ur) * i as f64 / (nu.max(2) - 1) as f64;
+                let q0 = if let Some(q) = prev_col.get(i) {
+                    // extrapolate from the previous column and the point below
+                    match (i.checked_sub(1).and_then(|k| prev_col.get(k)), col.last()) {
+                        (Some(qb), Some(qc)) => {
+                            let qb: &[f64; 3] = qb;
+                            let qc: &[f64; 3] = qc;
+                            std::array::from_fn(|k| q[k] + qc[k] - qb[k])
+                        }
+                        _ => *q,
+                    }
+                } else if let Some(q) = col.last() {
+                    *q
+                } else {
+                    self.warm_start(u, v)
+                };
+                let p = self.solve_from(u, v, q0)?;
+                let (x, n, _, _) = self.placed(&p, u, v)?;
+                col.push(p.q);
+                out.push(FlankSample {
+                    u,
+                    v,
+                    point: x,
+                    normal: n,
+                    q: p.q,
+                });
+            }
+            prev_col = col;
+        }
+        Ok(out)
+    }
+
+    /// u where the blade parameter reaches `form_parameter` (the edge
+    /// radius's end) at v: bounded Newton in u (≤ 40 steps, u kept between
+    /// the root and tip lines); u_root where there is no fillet.
+    pub fn try_u_form(&self, v: f64) -> Result<f64, EnvelopeError> {
+        let (ur, ut) = (self.section.u_root(v), self.section.u_tip(v));
+        let Some(s_form) = self.form_parameter else {
+            return Ok(ur);
+        };
+        let mut u = ur + 0.1 * (ut - ur);
+        let (_, du, _) = self.section.target(u, v);
+        for it in 0..40 {
+            let p = self.solve(u, v)?;
+            let (_, dq) = p
+                .section_tangent(du.0, du.1)
+                .ok_or(EnvelopeError::Singular {
+                    q: p.q,
+                    determinant: det3(&p.jacobian),
+                })?;
+            let g = p.q[0] - s_form;
+            if g.abs() < 1e-13 * (1.0 + s_form.abs()) {
+                return Ok(u);
+            }
+            if dq[0] == 0.0 {
+                return Err(EnvelopeError::NotConverged {
+                    iterations: it,
+                    residual: g.abs(),
+                    q: p.q,
+                });
+            }
+            let un = (u - g / dq[0]).clamp(ur, ut);
+            if un == u {
+                // the fillet's end lies beyond the root or tip line
+                return Ok(u);
+            }
+            u = un;
+        }
+        let p = self.solve(u, v)?;
+        Err(EnvelopeError::NotConverged {
+            iterations: 40,
+            residual: (p.q[0] - s_form).abs(),
+            q: p.q,
+        })
+    }
+}
+
+impl<M: EnvelopeMap> ToothSurface for EnvelopeFlank<M> {
+    fn u_range(&self) -> (f64, f64) {
+        self.u_range_inner()
+    }
+    fn v_range(&self) -> (f64, f64) {
+        self.section.cone_distance
+    }
+    fn u_tip(&self, v: f64) -> f64 {
+        self.section.u_tip(v)
+    }
+    fn u_form(&self, v: f64) -> f64 {
+        self.try_u_form(v)
+            .unwrap_or_else(|_| self.section.u_root(v))
+    }
+    fn u_root(&self, v: f64) -> f64 {
+        self.section.u_root(v)
+    }
+    /// Outside the validated domain a failed solve returns the last
+    /// Newton iterate's tool point (never NaN); use
+    /// [`EnvelopeFlank::try_evaluate`] to see the error.
+    fn point(&self, u: f64, v: f64) -> V3 {
+        self.evaluate(u, v).0
+    }
+    fn normal(&self, u: f64, v: f64) -> V3 {
+        self.evaluate(u, v).1
+    }
+    fn derivatives(&self, u: f64, v: f64) -> (V3, V3) {
+        let (_, _, ru, rv) = self.evaluate(u, v);
+        (ru, rv)
+    }
+    fn evaluate(&self, u: f64, v: f64) -> (V3, V3, V3, V3) {
+        match self.try_evaluate(u, v) {
+            Ok(e) => e,
+            Err(e) => {
+                let q = match e {
+                    EnvelopeError::NotConverged { q, .. }
+                    | EnvelopeError::Singular { q, .. }
+                    | EnvelopeError::NonFinite { q } => q,
+                };
+                let q = if self.map.jet(q).r.iter().all(|x| x.is_finite()) {
+                    q
+                } else {
+                    self.warm_start(u, v)
+                };
+                let p = EnvelopePoint::build(&self.map, q, self.map.jet(q), 0);
+                let c = self.placement;
+                let d = p.jet.d1;
+                (
+                    rot_z(c, p.jet.r),
+                    rot_z(c, p.normal),
+                    rot_z(c, d[0]),
+                    rot_z(c, d[1]),
+                )
+            }
+        }
+    }
 }
 
 #[cfg(test)]

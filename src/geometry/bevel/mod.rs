@@ -24,6 +24,8 @@
 
 pub mod assembly;
 pub mod conjugate;
+pub mod cradle_machine;
+pub mod cutter;
 pub mod ease_off;
 pub mod generation;
 pub mod inputs;
