@@ -246,6 +246,7 @@ const SAMPLES: [&str; 2] = [
 ];
 
 /// Dense solve by Gaussian elimination with partial pivoting.
+#[allow(clippy::needless_range_loop)]
 fn solve_dense(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
     let n = b.len();
     for k in 0..n {
