@@ -480,6 +480,21 @@ fn meshing_residual_and_derivatives() {
         assert!(worst[3] <= 1e-7, "normal derivatives");
         assert!(worst[4] <= 1e-8, "roll derivatives");
         assert!(worst[5] <= 1e-12, "contact normals");
+        // cost of a flank grid (100 × 50 points, each a Newton solve from
+        // the seed table): reported, not asserted
+        let t1 = Instant::now();
+        for j in 0..50 {
+            let v = v0 + (v1 - v0) * j as f64 / 49.0;
+            for i in 0..100 {
+                let u = p.u_form(v) + (p.u_tip(v) - p.u_form(v)) * i as f64 / 99.0;
+                std::hint::black_box(p.evaluate(u, v));
+            }
+        }
+        println!(
+            "{}: 100 × 50 grid of point + normal + tangents: {:.1} ms",
+            c.name,
+            1e3 * t1.elapsed().as_secs_f64()
+        );
         assert_eq!(p.failures(), 0);
     }
 }

@@ -15,12 +15,12 @@
 //!   heel-pointing axes (Σ = δ₁ + δ₂ for a bevel pair, Litvin & Fuentes,
 //!   *Gear Geometry and Applied Theory*, 2nd ed., §22.2) and x_h = k₁ × k₂ /
 //!   sin Σ.
-//! * **Offset sign**: E > 0 puts the pinion axis on the +x_h = k₁ × k₂ side
-//!   of the gear axis (the convention of the blank design's pitch-cone
-//!   solution, `pitch_cone::tangent`). Whether that is "below" or "above
-//!   centre" depends on the hand of spiral: with the gear seen from its
-//!   back (looking along −k₂), a pinion below centre has E > 0 when the
-//!   pinion axis points to the viewer's right, i.e. read it from the frame.
+//! * **Offset sign**: E > 0 puts the pinion axis on the +x_h = k₁ × k₂ /
+//!   sin Σ side of the gear axis, the convention of the blank design's
+//!   pitch-cone solution (`pitch_cone::tangent`, ISO 23509's offset a with
+//!   its sign), so a blank's a_mm is used as it is. "Below" or "above
+//!   centre" is a drawing convention (it depends on the view and the hand
+//!   of spiral); read it from this vector rule.
 //! * **Apex positions** t_z1, t_z2: signed distances of each pitch apex from
 //!   that member's crossing point (foot of the common perpendicular on its
 //!   axis), along its own +z (toward its heel). ISO 23509 clause 6 calls the
