@@ -15,10 +15,15 @@
 //! exact in closed form from the gear's first and second derivatives:
 //! r_u₂ = R₁ᵀ R₂ r₂,u, r_φ₂ = R₁ᵀ v⁽²¹⁾(x) (the relative velocity, Ω × x + b),
 //! r_u₂φ₂ = R₁ᵀ (Ω × x_u), r_φ₂φ₂ = R₁ᵀ (Ω × (k₂ × (x − a₂)) − m k₁ × v⁽²¹⁾).
-//! The generic envelope engine ([`crate::geometry::bevel::generation`])
-//! solves the equation of meshing f = (r_u₂ × r_v₂)·r_φ₂ = 0 — n₂ · v⁽²¹⁾ = 0
-//! — together with the pinion's axial-section target (z, ρ) of (u, v), and
-//! gives the tangents by the implicit function theorem.
+//! The family is an [`EnvelopeMap`] of the generic envelope engine
+//! ([`crate::geometry::bevel::generation`]); the surface point at (u, v)
+//! solves the equation of meshing n · v⁽²¹⁾ = 0 together with the pinion's
+//! axial-section target (z, ρ) of (u, v), and the tangents follow by the
+//! implicit function theorem ([`EnvelopePoint::section_tangent`]). The
+//! Newton solve is this module's own ([`ConjugatePinion::solve`]): its
+//! meshing row is n · v⁽²¹⁾ in mm, not the engine's n · v / |v|, which is
+//! 0/0 on the instantaneous axis — the whole pitch line of a pair with
+//! E = 0, where the relative velocity vanishes.
 //!
 //! **Parameters** as for every bevel flank: the pinion's axial section, v the
 //! cone distance along the pitch-cone generatrix (toe → heel), u normal to
@@ -38,10 +43,13 @@
 //! transmission-error ease-off needs.
 //!
 //! Each evaluation is a bounded Newton solve started from a seed table
-//! (9 × 9 solutions over the parameter box built at construction by
-//! continuation from the mean point); a point the solve cannot reach is
-//! counted ([`ConjugatePinion::failures`]) and the seed point returned, so
-//! an analysis can tell. [`ConjugatePinion::solve`] gives the `Result`.
+//! (9 × 9 solutions over the active flank, form line to tip line, built at
+//! construction by continuation from the mean point; a node it cannot
+//! reach — a limit line, a gear flank that does not mesh there — is an
+//! error); a point the solve cannot reach later is counted
+//! ([`ConjugatePinion::failures`]) and the seed point returned, so an
+//! analysis can tell. [`ConjugatePinion::conjugate_point`] gives the
+//! `Result`.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
