@@ -26,9 +26,12 @@
 //! What is verified against the two Annex F samples and what is not is in
 //! `verification/iso23509_blank/README.md`.
 
+pub mod assembly;
 pub mod body;
+pub mod conjugate;
 pub mod cradle_machine;
 pub mod cutter;
+pub mod ease_off;
 pub mod face_angles;
 pub mod face_hobbing;
 pub mod face_width;
