@@ -452,6 +452,8 @@ mod tests {
     /// velocity at P lies in the pitch plane along the tooth trace: at β_m2
     /// from the gear's generatrix and β_m1 from the pinion's (ISO 23509
     /// clause 6.3 kinematic condition u r_m1 cos β_m1 = r_m2 cos β_m2).
+    /// To 1e-4 mm and 0.05° in the directions, not round-off: the standard's
+    /// F4 cones are tangent only to ≈ 4e-5 ([`PairAssembly::from_blank`]).
     #[test]
     fn hypoid_mean_point_and_relative_velocity() {
         let (inputs, d) = sample("F4_hypoid_method2_oerlikon_face_hobbing");
@@ -463,15 +465,29 @@ mod tests {
         let own2 = f2.rotate_back(sub(p, f2.translation));
         let ex1 = [c.rm1 * c.delta1.sin(), 0.0, c.rm1 * c.delta1.cos()];
         let ex2 = [c.rm2 * c.delta2.sin(), 0.0, c.rm2 * c.delta2.cos()];
-        assert!(norm(sub(own1, ex1)) < 1e-8, "{own1:?} {ex1:?}");
-        assert!(norm(sub(own2, ex2)) < 1e-8, "{own2:?} {ex2:?}");
+        assert!(norm(sub(own1, ex1)) < 1e-4, "{own1:?} {ex1:?}");
+        assert!(norm(sub(own2, ex2)) < 1e-4, "{own2:?} {ex2:?}");
         let v = a.relative_velocity(p);
         let g2 = f2.rotate([c.delta2.sin(), 0.0, c.delta2.cos()]);
         let g1 = f1.rotate([c.delta1.sin(), 0.0, c.delta1.cos()]);
         let n = f2.rotate([c.delta2.cos(), 0.0, -c.delta2.sin()]);
-        assert!(dot(unit(v), n).abs() < 1e-12);
-        assert!((dot(unit(v), g2).abs() - c.beta_m2.cos()).abs() < 1e-9);
-        assert!((dot(unit(v), g1).abs() - c.beta_m1.cos()).abs() < 1e-9);
+        assert!(dot(unit(v), n).abs() < 1e-5);
+        // The sliding direction gives β_m2 = 21.0285° against the design's
+        // 21.009° and β_m1 = 44.9977° against 44.9917°: the standard's
+        // accepted first trial (0.31 % off its check) is kinematically
+        // consistent to about 0.02°, which is what is asserted here.
+        let b2 = dot(unit(v), g2).abs().acos();
+        let b1 = dot(unit(v), g1).abs().acos();
+        assert!(
+            (b2 - c.beta_m2).abs() < 0.05f64.to_radians(),
+            "β_m2 {}",
+            b2.to_degrees()
+        );
+        assert!(
+            (b1 - c.beta_m1).abs() < 0.05f64.to_radians(),
+            "β_m1 {}",
+            b1.to_degrees()
+        );
         // screw axis: the velocity there is along Ω
         let (x0, dir, pitch) = a.instantaneous_axis();
         let (omega, _) = a.relative_motion();
