@@ -208,14 +208,26 @@ impl GeneratedFlank {
     /// surface at (u, v) (see [`FlankMeasure`]).
     pub fn measure(&self, u: f64, v: f64) -> Result<FlankMeasure> {
         let (p, n, _, _) = self.try_evaluate(u, v)?;
-        let delta = self.surface.section().pitch_angle;
+        Ok(FlankMeasure::on_pitch_cone(
+            p,
+            n,
+            self.surface.section().pitch_angle,
+        ))
+    }
+}
+
+impl FlankMeasure {
+    /// The figures of a flank point `p` with unit normal `n` on a member
+    /// of pitch angle `delta` (own frame, apex at the origin): the
+    /// lengthwise tangent is the flank's tangent plane ∩ the pitch cone's
+    /// tangent plane at p's angular position.
+    pub fn on_pitch_cone(p: V3, n: V3, delta: f64) -> Self {
         let rho = p[0].hypot(p[1]);
         let e_rho = [p[0] / rho, p[1] / rho, 0.0];
-        let e_z = [0.0, 0.0, 1.0];
         let (sd, cd) = delta.sin_cos();
         // pitch-cone generatrix and normal at the point's angular position
         let e_g = [sd * e_rho[0], sd * e_rho[1], cd];
-        let e_n = [cd * e_rho[0], cd * e_rho[1], -sd * e_z[2]];
+        let e_n = [cd * e_rho[0], cd * e_rho[1], -sd];
         let t = unit(cross(n, e_n));
         let t = if dot(t, e_g) < 0.0 {
             [-t[0], -t[1], -t[2]]
@@ -223,12 +235,12 @@ impl GeneratedFlank {
             t
         };
         let e_phi = [-e_rho[1], e_rho[0], 0.0];
-        Ok(FlankMeasure {
+        FlankMeasure {
             cone_distance: norm(p),
             spiral_angle: dot(t, e_g).clamp(-1.0, 1.0).acos(),
             hand_sign: dot(t, e_phi).signum(),
             pressure_angle: dot(n, e_n).abs().clamp(0.0, 1.0).asin(),
-        })
+        }
     }
 }
 

@@ -56,7 +56,7 @@ use crate::geometry::bevel::generation::{
 };
 use crate::geometry::bevel::BlankDesign;
 use crate::geometry::surface::ToothSurface;
-use crate::geometry::vec3::{cross, dot, norm, unit, V3};
+use crate::geometry::vec3::V3;
 
 /// Which member of the pair.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -377,20 +377,9 @@ pub struct HobbedFlank {
     pub teeth: u32,
 }
 
-/// Spiral angle, hand and pressure angle measured on a flank.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct HobbedMeasure {
-    /// Distance of the point from the apex (mm).
-    pub cone_distance: f64,
-    /// Angle between the lengthwise tangent (flank tangent plane ∩ pitch
-    /// cone tangent plane) and the generatrix (rad).
-    pub spiral_angle: f64,
-    /// +1 if the lengthwise curve turns about +z with growing cone
-    /// distance, −1 otherwise.
-    pub hand_sign: f64,
-    /// Angle between the normal and the pitch cone's tangent plane (rad).
-    pub pressure_angle: f64,
-}
+/// Spiral angle, hand and pressure angle measured on a flank: the same
+/// figures as on a face-milled flank.
+pub use crate::geometry::bevel::generated_surface::FlankMeasure as HobbedMeasure;
 
 fn describe(s: &FaceHobbingSettings, e: &EnvelopeError, what: &str) -> FlankError {
     let m = &s.machine;
@@ -480,25 +469,11 @@ impl HobbedFlank {
     /// Spiral angle, hand and pressure angle at (u, v).
     pub fn measure(&self, u: f64, v: f64) -> Result<HobbedMeasure> {
         let (p, n, _, _) = self.try_evaluate(u, v)?;
-        let delta = self.surface.section().pitch_angle;
-        let rho = p[0].hypot(p[1]);
-        let e_rho = [p[0] / rho, p[1] / rho, 0.0];
-        let (sd, cd) = delta.sin_cos();
-        let e_g = [sd * e_rho[0], sd * e_rho[1], cd];
-        let e_n = [cd * e_rho[0], cd * e_rho[1], -sd];
-        let t = unit(cross(n, e_n));
-        let t = if dot(t, e_g) < 0.0 {
-            [-t[0], -t[1], -t[2]]
-        } else {
-            t
-        };
-        let e_phi = [-e_rho[1], e_rho[0], 0.0];
-        Ok(HobbedMeasure {
-            cone_distance: norm(p),
-            spiral_angle: dot(t, e_g).clamp(-1.0, 1.0).acos(),
-            hand_sign: dot(t, e_phi).signum(),
-            pressure_angle: dot(n, e_n).abs().clamp(0.0, 1.0).asin(),
-        })
+        Ok(HobbedMeasure::on_pitch_cone(
+            p,
+            n,
+            self.surface.section().pitch_angle,
+        ))
     }
 }
 
