@@ -29,8 +29,8 @@
 //!   flank) and the inside blade (convex flank) are W/2 outward and inward
 //!   of P in the blade plane, W = π m_mn − s_mn the member's mean normal
 //!   space width; blade angles = the design's generated normal pressure
-//!   angles (the wheel's concave flank and the pinion's convex flank are
-//!   the drive flanks, ISO 23509 clause 7.2); the phase puts the blade
+//!   angles (the pinion's concave flank and the wheel's convex flank are
+//!   the drive flanks, ISO 23509 clause 7.2, as in face milling); the phase puts the blade
 //!   plane through P at θ = 0, so the tooth space is centred on the work's
 //!   +y axis at θ = ψ = 0;
 //! * **pinion**: generated on its own crown gear with its own δ₁, R_m1,
@@ -132,8 +132,9 @@ impl HobbingBlank {
             }
         };
         let b = match member {
-            Member::Gear => member_blank(&cut.wheel, cut.alpha_n_drive, cut.alpha_n_coast, 1.0),
-            Member::Pinion => member_blank(&cut.pinion, cut.alpha_n_coast, cut.alpha_n_drive, -1.0),
+            // Drive side: pinion concave, gear convex (ISO 23509 §7.2).
+            Member::Gear => member_blank(&cut.wheel, cut.alpha_n_coast, cut.alpha_n_drive, 1.0),
+            Member::Pinion => member_blank(&cut.pinion, cut.alpha_n_drive, cut.alpha_n_coast, -1.0),
         };
         Ok(b)
     }
