@@ -1,11 +1,12 @@
 //! `flank grid SCENE`: writes the 9 × 5 measurement grid of the seed 002
-//! gear's drive flank, which reads back as a grid lying on that flank; bad
-//! arguments are clear errors.
+//! gear's drive flank and of every flank of the hypoid seeds' members,
+//! which read back as grids lying on those flanks; bad arguments are clear
+//! errors.
 
 use std::path::Path;
 use std::process::Command;
 
-use flank::geometry::gear_pair::Flank;
+use flank::geometry::gear_pair::{Flank, GearBody};
 use flank::geometry::measurement_grid::MeasurementGrid;
 
 fn flank_grid(args: &[&str]) -> (bool, String) {
@@ -65,5 +66,51 @@ fn grid_of_the_seed002_gear() {
     assert!(!ok && err.contains("--tooth 9"), "{err}");
     let (ok, err) = flank_grid(&[scene.to_str().unwrap(), "--inset", "0.7", "--out", "x.csv"]);
     assert!(!ok && err.contains("--inset 0.7"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Every flank of both members of the face-milled (seed 003) and the
+/// face-hobbed (seed 000) hypoid scenes: the grid reads back and lies on
+/// the flank the scene cuts (≤ 1e-6 mm); the drive grid is not the coast
+/// flank.
+#[test]
+fn grids_of_the_hypoid_seeds() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = std::env::temp_dir().join(format!("flank_cli_grid_hypoid_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for seed in ["seed003-hypoid", "seed000-hypoid"] {
+        let scene = root.join("papers").join(seed).join("scene.toml");
+        let flank::scene::AnyScene::Bevel(s) = flank::scene::read_any_scene(&scene).unwrap() else {
+            panic!("{seed} is not a bevel scene")
+        };
+        for (b, member) in ["pinion", "gear"].into_iter().enumerate() {
+            for (side, name) in [(Flank::Left, "left"), (Flank::Right, "right")] {
+                let out = dir.join(format!("{seed}_{member}_{name}.csv"));
+                let (ok, err) = flank_grid(&[
+                    scene.to_str().unwrap(),
+                    "--member",
+                    member,
+                    "--flank",
+                    name,
+                    "--out",
+                    out.to_str().unwrap(),
+                ]);
+                assert!(ok, "{seed} {member} {name}: {err}");
+                let grid = MeasurementGrid::read(&out).unwrap();
+                assert_eq!((grid.face_points, grid.profile_points), (9, 5));
+                let body = &s.bodies[b];
+                grid.check_against(body.flank(side, 1).unwrap(), 1e-6)
+                    .unwrap_or_else(|e| panic!("{seed} {member} {name}: {e}"));
+                let other = if side == Flank::Left {
+                    Flank::Right
+                } else {
+                    Flank::Left
+                };
+                assert!(grid
+                    .check_against(body.flank(other, 1).unwrap(), 1e-3)
+                    .is_err());
+            }
+        }
+    }
     std::fs::remove_dir_all(&dir).ok();
 }

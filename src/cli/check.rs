@@ -30,13 +30,17 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
-/// The blank table of a bevel/hypoid scene.
+/// The blank table of a bevel/hypoid scene and how each member is cut
+/// (process, cutter, machine settings, mean-point figures measured on the
+/// flanks).
 fn bevel(scene: &flank::scene::BevelScene) -> Result<()> {
     let json = serde_json::json!({
         "kind": scene.kind,
         "method": scene.blank.method,
         "pinion_hand": scene.pinion_hand,
         "blank": scene.blank.outputs(),
+        "pinion": scene.cutting_report[0],
+        "gear": scene.cutting_report[1],
     });
     println!("{}", serde_json::to_string_pretty(&json)?);
     Ok(())

@@ -1,13 +1,14 @@
-//! `flank grid SCENE`: one flank of one member of a scene as the measuring
-//! machine's grid (points and normals, `deviation_um` = 0) in CSV; a
+//! `flank grid SCENE`: one flank of one member of a scene (spur, helical,
+//! spiral bevel or hypoid) as the measuring machine's grid (points and normals, `deviation_um` = 0) in CSV; a
 //! measuring machine fills in the deviations and the file is read back as a
 //! flank deviation (format: `flank::geometry::measurement_grid`).
 
 use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
-use flank::geometry::gear_pair::Flank;
+use flank::geometry::gear_pair::{Flank, GearBody};
 use flank::geometry::measurement_grid::{measurement_grid, GridSpec};
+use flank::scene::AnyScene;
 
 #[derive(Clone, Copy, clap::ValueEnum)]
 pub enum Member {
@@ -62,8 +63,7 @@ pub fn run(args: Args) -> Result<()> {
     if !(0.0..0.5).contains(&args.inset) {
         bail!("--inset {}: the margin must be in [0, 0.5)", args.inset);
     }
-    let scene = flank::scene::read_scene(&args.scene)?;
-    let pair = scene.gear_pair()?;
+    let scene = flank::scene::read_any_scene(&args.scene)?;
     let (b, name) = match args.member {
         Member::Pinion => (0, "pinion"),
         Member::Gear => (1, "gear"),
@@ -72,7 +72,16 @@ pub fn run(args: Args) -> Result<()> {
         Side::Left => (Flank::Left, "left"),
         Side::Right => (Flank::Right, "right"),
     };
-    let body = pair.body(b);
+    // cylindrical pairs through their gear pair; bevel/hypoid members as
+    // the scene cut them
+    let cylindrical;
+    let body: &dyn GearBody = match &scene {
+        AnyScene::Cylindrical(s) => {
+            cylindrical = s.gear_pair()?;
+            cylindrical.body(b)
+        }
+        AnyScene::Bevel(s) => s.bodies[b].as_ref(),
+    };
     let surface = body.flank(side, args.tooth).with_context(|| {
         format!(
             "--tooth {}: the {name} sector has teeth 1..={}",

@@ -32,6 +32,16 @@ pub enum Hand {
     Right,
 }
 
+impl Hand {
+    /// The other hand: the mate of a crossed-axis or bevel pair.
+    pub fn opposite(self) -> Self {
+        match self {
+            Hand::Left => Hand::Right,
+            Hand::Right => Hand::Left,
+        }
+    }
+}
+
 /// Basic rack profile in module units (ISO 53: h_aP* = 1, h_fP* = 1.25, ρ_fP* = 0.38).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct RackProfile {

@@ -36,17 +36,21 @@
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
+use std::sync::Arc;
 
 use serde::Deserialize;
 use toml::Spanned;
 
 use super::analyses::{self, Analyses, RawAnalyses};
+use super::bevel_cutting::{self, Process, RawCutter, RawEaseOff, RawMachine, RawMemberCutting};
 use super::load::{self, Load, RawLoad};
 use super::location::{Cx, Res};
 use super::materials::{self, RawMaterial};
 use super::mesh::{self, MeshOptions, RawMesh};
 use crate::error::FlankError;
 use crate::fem::material::Material;
+use crate::geometry::bevel::body::BevelGear;
+use crate::geometry::bevel::cutting::{self, MachineCut, PinionCut};
 use crate::geometry::bevel::{blank_design, BlankDesign, BlankInputs};
 use crate::geometry::Hand;
 
@@ -60,8 +64,10 @@ pub enum BevelKind {
     Hypoid,
 }
 
-/// A parsed and validated bevel/hypoid scene (internal units).
-#[derive(Clone, Debug, PartialEq)]
+/// A parsed and validated bevel/hypoid scene (internal units), with both
+/// members cut (their flanks are built when the scene is read, so settings
+/// that do not cut the blank are refused at load, at their key).
+#[derive(Clone, Debug)]
 pub struct BevelScene {
     pub kind: BevelKind,
     pub pinion_hand: Hand,
@@ -76,6 +82,15 @@ pub struct BevelScene {
     pub analyses: Analyses,
     pub mesh: MeshOptions,
     pub source: PathBuf,
+    /// How the gear and the pinion are cut.
+    pub gear_cut: MachineCut,
+    pub pinion_cut: PinionCut,
+    /// The members as sectors of `mesh.teeth_in_sector` teeth:
+    /// `[pinion, gear]`, drive flank = right.
+    pub bodies: [Arc<BevelGear>; 2],
+    /// Process, cutter, settings and mean-point figures of each member
+    /// (JSON), `[pinion, gear]`.
+    pub cutting_report: [serde_json::Value; 2],
 }
 
 #[derive(Deserialize)]
@@ -90,6 +105,22 @@ struct RawBevelPair {
 struct RawBevelGear {
     bore_diameter_mm: Spanned<f64>,
     material: Spanned<String>,
+    process: Option<Spanned<Process>>,
+    cutter: Option<Spanned<RawCutter>>,
+    machine: Option<Spanned<RawMachine>>,
+    ease_off: Option<Spanned<RawEaseOff>>,
+}
+
+impl RawBevelGear {
+    /// The cutting keys (taken out of the section).
+    fn cutting(&mut self) -> RawMemberCutting {
+        RawMemberCutting {
+            process: self.process.take(),
+            cutter: self.cutter.take(),
+            machine: self.machine.take(),
+            ease_off: self.ease_off.take(),
+        }
+    }
 }
 
 #[derive(Deserialize)]
@@ -97,8 +128,8 @@ struct RawBevelGear {
 pub(super) struct RawBevelScene {
     pair: RawBevelPair,
     blank: Spanned<BTreeMap<String, Spanned<toml::Value>>>,
-    pinion: RawBevelGear,
-    gear: RawBevelGear,
+    pinion: Spanned<RawBevelGear>,
+    gear: Spanned<RawBevelGear>,
     #[serde(default)]
     materials: BTreeMap<String, RawMaterial>,
     load: RawLoad,
@@ -141,7 +172,7 @@ fn blank_error(
     cx.err(span, format!("[blank]: {message}"))
 }
 
-pub(super) fn build(cx: &Cx, raw: RawBevelScene) -> Res<BevelScene> {
+pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<BevelScene> {
     let kind = *raw.pair.kind.get_ref();
     let object: serde_json::Map<String, serde_json::Value> = raw
         .blank
@@ -167,9 +198,12 @@ pub(super) fn build(cx: &Cx, raw: RawBevelScene) -> Res<BevelScene> {
     let blank = blank_design(&inputs).map_err(|e| blank_error(cx, &raw.blank, e))?;
 
     let mut bore_diameter = [0.0; 2];
-    for (k, (g, name)) in [(&raw.pinion, "pinion"), (&raw.gear, "gear")]
-        .into_iter()
-        .enumerate()
+    for (k, (g, name)) in [
+        (raw.pinion.get_ref(), "pinion"),
+        (raw.gear.get_ref(), "gear"),
+    ]
+    .into_iter()
+    .enumerate()
     {
         let key = format!("{name}.bore_diameter_mm");
         let d = cx.positive(&g.bore_diameter_mm, &key)?;
@@ -187,14 +221,38 @@ pub(super) fn build(cx: &Cx, raw: RawBevelScene) -> Res<BevelScene> {
         }
         bore_diameter[k] = d;
     }
-    let pinion_material = materials::material(cx, &raw.materials, &raw.pinion.material, "pinion")?;
-    let gear_material = materials::material(cx, &raw.materials, &raw.gear.material, "gear")?;
+    let pinion_material =
+        materials::material(cx, &raw.materials, &raw.pinion.get_ref().material, "pinion")?;
+    let gear_material =
+        materials::material(cx, &raw.materials, &raw.gear.get_ref().material, "gear")?;
     let load = load::load(cx, &raw.load)?;
     let analyses = analyses::analyses(cx, raw.analyses.as_ref())?;
     let mesh = mesh::mesh_options(cx, raw.mesh.as_ref(), inputs.z1, blank.cones.m_mn)?;
+
+    // how each member is cut, and the members
+    let pinion_hand = *raw.pair.pinion_hand.get_ref();
+    let gear_hand = pinion_hand.opposite();
+    let (raw_pinion, raw_gear) = (
+        &raw.pinion.get_mut().cutting(),
+        &raw.gear.get_mut().cutting(),
+    );
+    let gear_cut = bevel_cutting::gear_cut(cx, raw_gear, &blank)?;
+    let pinion_cut = bevel_cutting::pinion_cut(cx, raw_pinion, &blank)?;
+    let gear_error = |e| bevel_cutting::cutting_error(cx, "gear", raw_gear, raw.gear.span(), e);
+    let pinion_error =
+        |e| bevel_cutting::cutting_error(cx, "pinion", raw_pinion, raw.pinion.span(), e);
+    let gear_flanks = cutting::cut_gear(&blank, gear_hand, &gear_cut).map_err(gear_error)?;
+    let pinion_flanks =
+        cutting::cut_pinion(&inputs, &blank, pinion_hand, &pinion_cut, &gear_flanks)
+            .map_err(pinion_error)?;
+    let n = mesh.teeth_in_sector as usize;
+    let pinion_body = cutting::member_body(&blank, true, &pinion_flanks, 0.5 * bore_diameter[0], n)
+        .map_err(pinion_error)?;
+    let gear_body = cutting::member_body(&blank, false, &gear_flanks, 0.5 * bore_diameter[1], n)
+        .map_err(gear_error)?;
     Ok(BevelScene {
         kind,
-        pinion_hand: *raw.pair.pinion_hand.get_ref(),
+        pinion_hand,
         blank_inputs: inputs,
         blank,
         bore_diameter,
@@ -204,6 +262,10 @@ pub(super) fn build(cx: &Cx, raw: RawBevelScene) -> Res<BevelScene> {
         analyses,
         mesh,
         source: cx.file.to_path_buf(),
+        gear_cut,
+        pinion_cut,
+        bodies: [Arc::new(pinion_body), Arc::new(gear_body)],
+        cutting_report: [pinion_flanks.report, gear_flanks.report],
     })
 }
 

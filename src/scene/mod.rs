@@ -72,6 +72,7 @@
 
 mod analyses;
 mod bevel;
+mod bevel_cutting;
 mod gear;
 mod involute;
 mod load;
@@ -212,7 +213,7 @@ pub fn parse_scene(text: &str, path: &Path) -> Result<Scene, FlankError> {
 }
 
 /// A scene of any pair type.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 #[allow(clippy::large_enum_variant)]
 pub enum AnyScene {
     /// Spur or helical.

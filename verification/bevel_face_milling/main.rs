@@ -202,7 +202,7 @@ fn curvatures_against_a_fit() {
                 continue;
             }
             let k = principal_curvatures(&f, u, v).principal;
-            let fit = fitted_curvatures(&f, u, v, 0.02);
+            let fit = fitted_curvatures(&f, u, v, 0.01);
             worst = worst.max((k[0] - fit[0]).abs()).max((k[1] - fit[1]).abs());
             kmax = kmax.max(k[0].abs()).max(k[1].abs());
         }

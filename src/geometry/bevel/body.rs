@@ -116,7 +116,72 @@ impl BevelGear {
     pub fn cones(&self) -> &MemberBlank {
         &self.cones
     }
+
+    /// Checks that the two flanks of tooth 1 bound a tooth over the whole
+    /// face (issue 16 point 5: pointed teeth, teeth that leave no space):
+    /// at `TOOTH_CHECKS` cone distances from toe to heel, the flank whose
+    /// outward normal points to growing angle θ about the axis must lie at
+    /// the larger θ (the tooth's material between them), the angular
+    /// thickness Δθ at the face cone must be positive (else the tooth is
+    /// pointed: its flanks cross below the tip) and the space 2π/z − Δθ at
+    /// the form line positive (else neighbouring teeth overlap). Returns
+    /// the least top land ρ Δθ (mm) and its cone distance.
+    pub fn check_tooth(&self) -> Result<(f64, f64)> {
+        let (l, r) = (&self.flanks[0][0], &self.flanks[1][0]);
+        let pitch = 2.0 * PI / self.teeth as f64;
+        // angle from +y toward +x, and the normal's component along it
+        let angle = |p: [f64; 3]| p[0].atan2(p[1]);
+        let along = |p: [f64; 3], n: [f64; 3]| (n[0] * p[1] - n[1] * p[0]) / p[0].hypot(p[1]);
+        let c = &self.cones;
+        let (pl, nl) = (l.point(0.0, c.rm), l.normal(0.0, c.rm));
+        let (pr, nr) = (r.point(0.0, c.rm), r.normal(0.0, c.rm));
+        let (sl, sr) = (along(pl, nl), along(pr, nr));
+        if sl * sr >= 0.0 {
+            return Err(FlankError::Model(format!(
+                "{}: the left and right flanks face the same way at the mean point: they bound no tooth",
+                self.name
+            )));
+        }
+        // (flank facing +θ, flank facing −θ)
+        let (a, b) = if sl > 0.0 { (l, r) } else { (r, l) };
+        let mut least = (f64::INFINITY, c.rm);
+        for k in 0..TOOTH_CHECKS {
+            let v = c.ri + (c.re - c.ri) * k as f64 / (TOOTH_CHECKS - 1) as f64;
+            let thickness = |u: f64| {
+                let (pa, pb) = (a.point(u, v), b.point(u, v));
+                let d = angle(pa) - angle(pb);
+                // wrap into (−π, π]
+                (d + PI).rem_euclid(2.0 * PI) - PI
+            };
+            let ut = a.u_tip(v).min(b.u_tip(v));
+            let tip = thickness(ut);
+            let rho = c.axial_point(ut, v).1;
+            if !(tip > 0.0) {
+                return Err(FlankError::Model(format!(
+                    "{}: pointed tooth: the flanks cross below the face cone at cone distance {v:.3} mm (angular thickness at the tip {:.4}°)",
+                    self.name,
+                    tip.to_degrees()
+                )));
+            }
+            if rho * tip < least.0 {
+                least = (rho * tip, v);
+            }
+            let uf = a.u_form(v).max(b.u_form(v));
+            let space = pitch - thickness(uf);
+            if !(space > 0.0) {
+                return Err(FlankError::Model(format!(
+                    "{}: no space between the teeth at the form line at cone distance {v:.3} mm (angular space {:.4}°): the tooth is thicker than the pitch",
+                    self.name,
+                    space.to_degrees()
+                )));
+            }
+        }
+        Ok(least)
+    }
 }
+
+/// Cone distances of [`BevelGear::check_tooth`] from toe to heel.
+const TOOTH_CHECKS: usize = 9;
 
 impl GearBody for BevelGear {
     fn name(&self) -> &str {

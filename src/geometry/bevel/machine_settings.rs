@@ -20,8 +20,9 @@
 //!   on the x_m axis;
 //! * the cutter's mean tip circle (radius r_c) passes through the mean root
 //!   point with its tangent at β_m to the root line: cutter centre
-//!   C₀ = (x_M − h r_c sin β_m, r_c cos β_m), h = +1 left hand, −1 right
-//!   hand; S_r = |C₀|, q = atan2(C₀);
+//!   C₀ = (x_M − r_c sin β_m, h r_c cos β_m), h = +1 left hand, −1 right
+//!   hand (the mirror image y → −y: the spiral angle then grows from toe
+//!   to heel on both hands, as ISO 23509 clause 7.6's β_e > β_i); S_r = |C₀|, q = atan2(C₀);
 //! * ratio of roll R_a = sin δ / cos(δ − γ_m) (pure rolling of the pitch
 //!   cone on the generating crown gear's pitch cone, apex at the pitch
 //!   apex; Litvin & Fuentes §20.5); no modified roll, tilt or swivel;
@@ -218,7 +219,8 @@ fn setup_with(
             2.0 * half_face
         ));
     }
-    let centre = (x_m - h * rc * sb, rc * cb);
+    // a right-hand member is the mirror image (y → −y) of a left-hand one
+    let centre = (x_m - rc * sb, h * rc * cb);
     let e_mn = PI * b.normal_module - b.thickness;
     let w =
         e_mn - b.mean_dedendum * (b.pressure_angle_concave.tan() + b.pressure_angle_convex.tan());

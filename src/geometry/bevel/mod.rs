@@ -31,6 +31,7 @@ pub mod body;
 pub mod conjugate;
 pub mod cradle_machine;
 pub mod cutter;
+pub mod cutting;
 pub mod ease_off;
 pub mod face_angles;
 pub mod face_hobbing;
