@@ -495,7 +495,8 @@ mod tests {
     /// flanks on either side, normals pointing out of the tooth), the hand
     /// asked for, the mean point at the blank's cone distance with the
     /// blank's pressure angle (settings from the blank are corrected to
-    /// 1e-9 rad there), a sector of 3 teeth one pitch apart.
+    /// 1e-9 rad there) and normal thickness, a sector of 3 teeth one pitch
+    /// apart.
     #[test]
     fn scenes_cut_both_members_on_their_blank() {
         for (text, name) in [(MILLED, "seed003 milled"), (HOBBED, "seed000 hobbed")] {
@@ -538,6 +539,20 @@ mod tests {
                     assert!((turn.abs() - body.angular_pitch()).abs() < 1e-12);
                 }
                 assert!(sides[0] * sides[1] < 0.0, "{name}: flanks on one side");
+                // mean normal thickness: face-milled settings are corrected
+                // to it (tolerance 1e-9 R_m); face-hobbed ones are first
+                // order (blade offset ±W/2 in the blade plane), within 5 µm
+                let s_mn = body.mean_normal_thickness();
+                println!(
+                    "{name} body {b}: s_mn measured {s_mn:.6} mm, blank {:.6} mm",
+                    m.smn
+                );
+                let tol = if name.contains("milled") { 1e-6 } else { 5e-3 };
+                assert!(
+                    (s_mn - m.smn).abs() < tol,
+                    "{name} body {b}: s_mn {s_mn} vs {}",
+                    m.smn
+                );
             }
             assert_eq!(
                 s.cutting_report[1]["settings_source"]

@@ -284,7 +284,12 @@ fn mean_point_matches_the_blank() {
             setup.settings.sliding_base, setup.settings.ratio_of_roll,
             d(setup.head.outside.pressure_angle), d(setup.head.inside.pressure_angle),
         );
+        println!(
+            "  s_mn first order {:.6} mm, corrected {:.9} mm, blank {:.9} mm",
+            first.thickness, c.thickness, c.design_thickness
+        );
         assert!(c.max_angle_error() <= 1e-10);
+        assert!((c.thickness - c.design_thickness).abs() <= 1e-10 * b.mean_cone_distance);
         assert!((c.cone_distance.0 - b.mean_cone_distance).abs() <= 1e-9);
         assert!((c.cone_distance.1 - b.mean_cone_distance).abs() <= 1e-9);
     }

@@ -180,6 +180,23 @@ impl BevelGear {
     }
 }
 
+impl BevelGear {
+    /// Mean normal circular thickness measured on the flanks: the arc
+    /// ρ_m Δθ between tooth 1's two flanks on the pitch cone at the mean
+    /// cone distance (u = 0, v = R_m: both points lie on one circle of the
+    /// pitch cone), times cos β_m — ISO 23509 clause 7.8's s_mn, whose
+    /// transverse arc is s_mt = s_mn / cos β_m (mm).
+    pub fn mean_normal_thickness(&self) -> f64 {
+        let c = &self.cones;
+        let (l, r) = (&self.flanks[0][0], &self.flanks[1][0]);
+        let (pl, pr) = (l.point(0.0, c.rm), r.point(0.0, c.rm));
+        let d = pl[0].atan2(pl[1]) - pr[0].atan2(pr[1]);
+        let d = ((d + PI).rem_euclid(2.0 * PI) - PI).abs();
+        let rho = c.axial_point(0.0, c.rm).1;
+        rho * d * c.beta_m.cos()
+    }
+}
+
 /// Cone distances of [`BevelGear::check_tooth`] from toe to heel.
 const TOOTH_CHECKS: usize = 9;
 

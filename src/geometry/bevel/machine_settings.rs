@@ -167,17 +167,19 @@ pub fn member_setup(
         blank.pressure_angle_concave,
         blank.pressure_angle_convex,
     );
-    setup_with(blank, hand, cutter, generated, angles)
+    setup_with(blank, hand, cutter, generated, angles, 0.0)
 }
 
 /// [`member_setup`] with the machine's spiral angle and the blade angles
-/// (concave = outside, convex = inside) given apart from the blank's.
+/// (concave = outside, convex = inside) given apart from the blank's, and
+/// the point width widened by `width_correction` (mm).
 fn setup_with(
     blank: &MemberBlank,
     hand: Hand,
     cutter: &CutterChoice,
     generated: bool,
     (beta_machine, blade_cc, blade_cv): (f64, f64, f64),
+    width_correction: f64,
 ) -> Result<MemberSetup> {
     let b = blank;
     let bad = |m: String| {
@@ -222,8 +224,9 @@ fn setup_with(
     // a right-hand member is the mirror image (y → −y) of a left-hand one
     let centre = (x_m - rc * sb, h * rc * cb);
     let e_mn = PI * b.normal_module - b.thickness;
-    let w =
-        e_mn - b.mean_dedendum * (b.pressure_angle_concave.tan() + b.pressure_angle_convex.tan());
+    let w = e_mn
+        - b.mean_dedendum * (b.pressure_angle_concave.tan() + b.pressure_angle_convex.tan())
+        + width_correction;
     if !(w > 2.0 * cutter.edge_radius * 0.5 && w > 0.0) {
         return bad(format!(
             "point width {w:.4} mm (space width {e_mn:.4} at pitch less the flanks' spread) \
@@ -289,7 +292,7 @@ fn setup_with(
 
 /// The mean-point figures of a setup measured on its generated flanks
 /// (spiral angles and pressure angles of the concave and convex flank,
-/// rad) and their design values.
+/// rad; the mean normal circular thickness, mm) and their design values.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MeanPointCheck {
     pub spiral_angle: (f64, f64),
@@ -299,6 +302,11 @@ pub struct MeanPointCheck {
     /// Cone distance of the measured point and its design value (mm).
     pub cone_distance: (f64, f64),
     pub design_cone_distance: f64,
+    /// Mean normal circular thickness s_mn: the arc ρ_m Δθ between the two
+    /// flanks on the pitch cone at R_m times cos β_m (ISO 23509 clause 7.8:
+    /// s_mt = s_mn / cos β_m), and the blank's (mm).
+    pub thickness: f64,
+    pub design_thickness: f64,
 }
 
 impl MeanPointCheck {
@@ -317,8 +325,20 @@ impl MeanPointCheck {
 /// Measure a setup's flanks at the mean point (u = 0, v = R_m).
 pub fn check_mean_point(setup: &MemberSetup) -> Result<MeanPointCheck> {
     let rm = setup.blank.mean_cone_distance;
-    let cc = setup.flank(FlankKind::Concave)?.measure(0.0, rm)?;
-    let cv = setup.flank(FlankKind::Convex)?.measure(0.0, rm)?;
+    let (concave, convex) = (
+        setup.flank(FlankKind::Concave)?,
+        setup.flank(FlankKind::Convex)?,
+    );
+    let cc = concave.measure(0.0, rm)?;
+    let cv = convex.measure(0.0, rm)?;
+    // both flanks of tooth 0 at (0, R_m) lie on one circle of the pitch cone
+    let (pa, pb) = (
+        concave.try_evaluate(0.0, rm)?.0,
+        convex.try_evaluate(0.0, rm)?.0,
+    );
+    let d = pa[0].atan2(pa[1]) - pb[0].atan2(pb[1]);
+    let d = ((d + PI).rem_euclid(2.0 * PI) - PI).abs();
+    let rho = rm * setup.blank.pitch_angle.sin();
     Ok(MeanPointCheck {
         spiral_angle: (cc.spiral_angle, cv.spiral_angle),
         pressure_angle: (cc.pressure_angle, cv.pressure_angle),
@@ -329,6 +349,8 @@ pub fn check_mean_point(setup: &MemberSetup) -> Result<MeanPointCheck> {
         ),
         cone_distance: (cc.cone_distance, cv.cone_distance),
         design_cone_distance: rm,
+        thickness: rho * d * setup.blank.spiral_angle.cos(),
+        design_thickness: setup.blank.thickness,
     })
 }
 
@@ -339,8 +361,14 @@ pub fn check_mean_point(setup: &MemberSetup) -> Result<MeanPointCheck> {
 /// θ_f sin β_m and their spiral angles by a similar amount. A fixed-point
 /// iteration on the machine spiral angle (mean of the two flanks' spiral
 /// angles → β_m) and the two blade angles (each flank's pressure angle →
-/// the blank's) removes that, ≤ `max_iterations` rounds, until the largest
-/// deviation is below `tol` (rad). Returns the setup and its check.
+/// the blank's) removes that, and a correction of the point width (by the
+/// thickness error: widening the slot by δ thins the tooth by δ) brings
+/// the mean normal thickness to the blank's s_mn (the cutter's axis is
+/// normal to the root cone, not to the pitch cone, so the first-order
+/// width misses it by θ_f-order terms: 25 µm on seed 003's gear). At most
+/// `max_iterations` rounds, until the largest angular deviation is below
+/// `tol` (rad) and the thickness error below `tol` R_m (mm). Returns the
+/// setup and its check.
 pub fn refined_setup(
     blank: &MemberBlank,
     hand: Hand,
@@ -354,21 +382,26 @@ pub fn refined_setup(
         blank.pressure_angle_concave,
         blank.pressure_angle_convex,
     );
+    let mut width = 0.0;
     let mut last = f64::INFINITY;
     for _ in 0..=max_iterations {
-        let setup = setup_with(blank, hand, cutter, generated, angles)?;
+        let setup = setup_with(blank, hand, cutter, generated, angles, width)?;
         let c = check_mean_point(&setup)?;
-        last = c.max_angle_error();
+        let thickness_error = c.thickness - c.design_thickness;
+        last = c
+            .max_angle_error()
+            .max(thickness_error.abs() / blank.mean_cone_distance);
         if last <= tol {
             return Ok((setup, c));
         }
+        width += thickness_error;
         angles.0 += c.design_spiral_angle - 0.5 * (c.spiral_angle.0 + c.spiral_angle.1);
         angles.1 += c.design_pressure_angle.0 - c.pressure_angle.0;
         angles.2 += c.design_pressure_angle.1 - c.pressure_angle.1;
     }
     Err(FlankError::Model(format!(
         "machine settings from the blank: the mean-point correction did not reach {tol:e} rad \
-         in {max_iterations} rounds (last deviation {last:.3e} rad)"
+         (thickness: {tol:e} R_m) in {max_iterations} rounds (last deviation {last:.3e})"
     )))
 }
 
