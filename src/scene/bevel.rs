@@ -19,16 +19,22 @@
 //! [pinion]
 //! bore_diameter_mm = 30.0
 //! material = "steel"
+//! process = "generated"             # or "formate", "conjugate" (+ [pinion.ease_off])
 //!
 //! [gear]
 //! bore_diameter_mm = 120.0
 //! material = "steel"
+//! process = "generated"             # or "formate"; [gear.cutter], [gear.machine] optional
 //!
 //! [materials.steel]                 # as for cylindrical pairs
 //! [load]                            # torque_nm on the pinion, speed_rpm of the pinion
 //! [analyses]                        # optional
 //! [mesh]                            # optional
 //! ```
+//!
+//! The cutting keys (process, cutter, explicit machine settings, ease-off)
+//! are described in `scene/bevel_cutting.rs`; both members are cut when the
+//! scene is read ([`crate::geometry::bevel::cutting`]).
 //!
 //! Errors are [`FlankError::Parse`] at the line of the key at fault; an
 //! error of the blank design names its `[blank]` key and points at it (or at
