@@ -27,7 +27,7 @@ use flank::geometry::surface::ToothSurface;
 use flank::geometry::vec3::{dot, norm};
 
 /// ISO 23509:2016 Annex F, sample F4 inputs (`../shared/reference/iso23509_annexF.json`).
-const F4: &str = r#"{"method": 2, "Sigma_deg": 90, "a_mm": 31.75, "z1": 9, "z2": 34,
+pub(crate) const F4: &str = r#"{"method": 2, "Sigma_deg": 90, "a_mm": 31.75, "z1": 9, "z2": 34,
  "dm2_mm": 146.7, "b2_mm": 26.0, "beta_m2_deg": 21.009, "rc0_mm": 76.0, "z0": 13,
  "data_type": "II", "alpha_dD_deg": 20, "alpha_dC_deg": 20, "f_alim": 1.0,
  "c_ham": 0.275, "k_d": 2.0, "k_c": 0.125, "k_t": 0.1}"#;
@@ -36,7 +36,7 @@ fn design() -> BlankDesign {
     blank_design(&BlankInputs::from_json(F4).unwrap()).unwrap()
 }
 
-fn cutter() -> HobbingCutter {
+pub(crate) fn cutter() -> HobbingCutter {
     HobbingCutter {
         radius: 76.0,
         blade_groups: 13,
@@ -49,11 +49,11 @@ fn setup(member: Member, generated: bool) -> HobbingSetup {
     HobbingSetup::new(b, cutter(), generated).unwrap()
 }
 
-const SIDES: [BladeSide; 2] = [BladeSide::Outside, BladeSide::Inside];
+pub(crate) const SIDES: [BladeSide; 2] = [BladeSide::Outside, BladeSide::Inside];
 
 /// (a): max |meshing residual|, max |n·r_u|, |n·r_v| above the root row,
 /// max |n·r_u|/|r_u|, |n·r_v|/|r_v| over the whole grid.
-fn grid_residuals(f: &HobbedFlank) -> (f64, f64, f64) {
+pub(crate) fn grid_residuals(f: &HobbedFlank) -> (f64, f64, f64) {
     let (r0, r1) = f.v_range();
     let (mut mesh, mut orth, mut rel) = (0.0f64, 0.0f64, 0.0f64);
     for j in 0..11 {
@@ -308,3 +308,5 @@ fn e_bad_input_names_the_setting() {
     println!("(e) {e}");
     assert!(e.contains("radial_distance"));
 }
+
+mod palloid;

@@ -87,6 +87,10 @@ pub struct HobbingBlank {
     pub spiral_angle: f64,
     pub mean_addendum: f64,
     pub mean_dedendum: f64,
+    /// Face angle δ_a and root angle δ_f (ISO 23509 clause 7.4): the
+    /// axial section's tip and root lines lean by δ_a − δ and δ − δ_f.
+    pub face_angle: f64,
+    pub root_angle: f64,
     pub normal_module: f64,
     pub normal_thickness: f64,
     /// Blade angles of the concave (outside blade) and convex flank.
@@ -105,9 +109,8 @@ impl HobbingBlank {
         let cut = design.cutting_blank();
         // Uniform depth is the face-hobbing methods' (2, 3) tooth depth; the
         // hypoid pinion's face and root cones then still lean slightly
-        // (ISO 23509 clause 7.4, uniform clearance), which the axial
-        // section below does not follow: its tip and root lines are
-        // parallel to the generatrix.
+        // (ISO 23509 clause 7.4, uniform clearance): the section follows
+        // δ_a and δ_f and the machine root angle is δ_f (`work_placement`).
         if !matches!(design.method, 2 | 3) {
             return Err(FlankError::Model(format!(
                 "face hobbing: method {} blank has tapered depth; face-hobbed sets are uniform depth (methods 2, 3)",
@@ -124,6 +127,8 @@ impl HobbingBlank {
                 spiral_angle: m.beta_m.abs(),
                 mean_addendum: m.ham,
                 mean_dedendum: m.hfm,
+                face_angle: m.delta_a,
+                root_angle: m.delta_f,
                 normal_module: cut.m_mn,
                 normal_thickness: m.smn,
                 pressure_angle_concave: concave,
@@ -139,23 +144,61 @@ impl HobbingBlank {
         Ok(b)
     }
 
-    /// The axial section (uniform depth: tip and root lines parallel to
-    /// the generatrix).
+    /// θ_f = δ − δ_f: the root cone's lean from the pitch cone (rad).
+    pub fn root_lean(&self) -> f64 {
+        self.pitch_angle - self.root_angle
+    }
+
+    /// The axial section: the tip line at h_am with the face angle's lean
+    /// tan(δ_a − δ); the root line is the generated root cone (the cutter
+    /// tip plane's envelope, machine root angle γ_m = δ_f, see
+    /// [`work_placement`]): slope −tan θ_f and depth h_fm/cos θ_f at R_m
+    /// below the pitch point (the pitch plane of the crown gear is h_fm
+    /// above the tip plane at P; the depth is measured ⟂ to the pitch cone,
+    /// which leans by θ_f from the tip plane). θ_f = 0 (uniform depth):
+    /// lines parallel to the generatrix at h_am and −h_fm.
     pub fn section(&self) -> AxialSection {
+        let lean = self.root_lean();
         AxialSection {
             pitch_angle: self.pitch_angle,
             cone_distance: self.cone_distance,
             mean_cone_distance: self.mean_cone_distance,
             tip: ConeLine {
                 u_mean: self.mean_addendum,
-                slope: 0.0,
+                slope: (self.face_angle - self.pitch_angle).tan(),
             },
             root: ConeLine {
-                u_mean: -self.mean_dedendum,
-                slope: 0.0,
+                u_mean: -self.mean_dedendum / lean.cos(),
+                slope: -lean.tan(),
             },
         }
     }
+}
+
+/// The work's place on the cradle machine (`cradle_machine` frames) for a
+/// member whose mean pitch point P lies at `p` in the crown gear's pitch
+/// plane (height h_fm above the cutter's tip plane) with its pitch-cone
+/// generatrix along +x_m at P: machine root angle γ_m = δ_f (the tip plane
+/// generates the root cone δ_f), the pitch generatrix through P rising by
+/// θ_f = δ − δ_f toward the heel, g = (cos θ_f, 0, sin θ_f), the apex at
+/// A = P − R_m g; A = E_m e_y + ΔX_B e_z + ΔX_G d, d = (cos γ_m, 0,
+/// −sin γ_m) gives blank offset E_m = A_y, machine centre to back ΔX_G =
+/// A_x / cos γ_m, sliding base ΔX_B = A_z + ΔX_G sin γ_m (Litvin & Fuentes,
+/// *Gear Geometry and Applied Theory*, 2nd ed., §20.4 for the settings;
+/// the construction is this module's). Returns (γ_m, ΔX_B, E_m, ΔX_G).
+/// With θ_f = 0 and P = (R_m, 0): (δ, h_fm, 0, 0), the apex at the crown
+/// centre.
+pub fn work_placement(blank: &HobbingBlank, p: [f64; 2]) -> (f64, f64, f64, f64) {
+    let lean = blank.root_lean();
+    let rm = blank.mean_cone_distance;
+    let gamma = blank.root_angle;
+    let a = [
+        p[0] - rm * lean.cos(),
+        p[1],
+        blank.mean_dedendum - rm * lean.sin(),
+    ];
+    let xg = a[0] / gamma.cos();
+    (gamma, a[2] + xg * gamma.sin(), a[1], xg)
 }
 
 /// A member's face-hobbing setup: settings, the two blades, the
@@ -176,6 +219,10 @@ pub struct HobbingSetup {
     pub crown_teeth: f64,
     /// In-plane coordinate x of the mean point P in the blade plane.
     pub mean_in_plane: f64,
+    /// The mean point P in the crown gear's plane (machine frame x_m, y_m;
+    /// at the pitch height h_fm): (R_m, 0) for a member on its own crown
+    /// gear, elsewhere for a pinion on the gear's ([`Self::pinion_from_gear`]).
+    pub mean_point: [f64; 2],
 }
 
 impl HobbingSetup {
@@ -268,13 +315,16 @@ impl HobbingSetup {
             x_p - 0.5 * w,
             blank.pressure_angle_convex,
         );
+        let (gamma_m, sliding_base, blank_offset, center_to_back) = work_placement(&blank, p);
         let machine = MachineSettings {
             radial_distance: m,
             cradle_angle: c[1].atan2(c[0]),
-            machine_root_angle: delta,
-            sliding_base: h_p,
-            blank_offset: 0.0,
-            machine_center_to_back: 0.0,
+            machine_root_angle: gamma_m,
+            sliding_base,
+            blank_offset,
+            machine_center_to_back: center_to_back,
+            // the work's velocity at P, φ̇ R_m sin δ e_y (whatever θ_f),
+            // equals the crown gear's ψ̇ R_m e_y
             ratio_of_roll: delta.sin(),
             modified_roll: (0.0, 0.0),
             tilt: 0.0,
@@ -298,6 +348,157 @@ impl HobbingSetup {
             base_radius: rho_b,
             crown_teeth: zp,
             mean_in_plane: x_p,
+            mean_point: p,
+        })
+    }
+
+    /// The pinion generated on the **gear's generating crown gear**
+    /// (Klingelnberg Cyclo-Palloid and Oerlikon practice for a face-hobbed
+    /// set: one crown gear, complementary members; Litvin & Fuentes, *Gear
+    /// Geometry and Applied Theory*, 2nd ed., §22.2–22.4 on generation by a
+    /// common generating surface; Vimercati, Mech. Mach. Theory 42 (2007)
+    /// §3 for the face-hobbed pinion's settings). `gear` is the gear's setup
+    /// ([`Self::new`]), `pinion` the pinion's blank. Tilt and swivel are 0:
+    /// the pinion's blades sweep exactly the gear blades' surface in the
+    /// crown gear, so a spiral bevel pair (offset 0) cut this way is
+    /// conjugate (line contact); the Cyclo-Palloid tilt that localises the
+    /// bearing is not derived here.
+    ///
+    /// Construction (crown-plane coordinates of the gear's machine, crown
+    /// centre O, the gear's mean point P = (R_m2, 0)):
+    ///
+    /// * the pinion's pitch generatrix through P makes the angle
+    ///   ε = β_m1 − β_m2 with OP (ISO 23509 clause 6: the offset angle in
+    ///   the pitch plane ζ_mp), turned away from the tooth trace's tangent t
+    ///   at P so that the angle between t and the generatrix is β_m1; the
+    ///   pinion's apex lies in the pitch plane at R_m1 from P;
+    /// * the pinion sits on the other side of the crown gear: its machine
+    ///   frame is the gear's turned by 180° about the line OP in the pitch
+    ///   plane ((x, y, h) ↦ (x, −y, h_fm1 + h_fm2 − h), a rigid motion), then
+    ///   about the cradle axis by ε so that its generatrix lies along +x_m
+    ///   as the machine's frames require. The cutter centre, the blades'
+    ///   angular phases and offsets follow (phase ↦ ε − phase, b ↦ −b,
+    ///   θ ↦ −θ: the indexing relation "crown gear turns −(z₀/z_p) θ" is
+    ///   unchanged); the gear's outside blade becomes the pinion's inside
+    ///   blade (its convex flank, mating the gear's concave flank) and vice
+    ///   versa, with the same pressure angle and the same in-plane position
+    ///   x at the pitch plane;
+    /// * work placement from P, R_m1, δ1, δ_f1 ([`work_placement`]): the
+    ///   blank offset is E_m = R_m2 sin ε (the offset in the pitch plane
+    ///   a_p of ISO 23509 formula (115)), ΔX_G and ΔX_B put the apex there;
+    /// * ratio of roll R_a = z1/z_p = z1 sin δ2/z2 (the same crown gear:
+    ///   the continuous indexing already turns the pinion by z_p/z1 of the
+    ///   crown gear's turn); at P the crown gear's and the pinion's
+    ///   velocities then have equal components normal to the trace
+    ///   (ISO 23509 clause 6.3's condition: z1/z2 = R_m1 sin δ1 cos β_m1 /
+    ///   (R_m2 sin δ2 cos β_m2)), so P is on the line of contact at ψ = 0.
+    ///
+    /// The pinion's mean normal space width is the gear's tooth complement
+    /// π m_mn − W₂ = s_mn2 + (π m_mn − s_mn1 − s_mn2) (no backlash: s_mn1
+    /// exactly). Errors name the input.
+    pub fn pinion_from_gear(gear: &HobbingSetup, pinion: HobbingBlank, generated: bool) -> Result<Self> {
+        let gm = &gear.settings.machine;
+        if gm.tilt != 0.0 || gm.swivel != 0.0 || gm.blank_offset != 0.0 || gear.mean_point[1] != 0.0 {
+            return Err(FlankError::Model(
+                "face hobbing, pinion from the gear's crown gear: the gear setup must be on its own crown gear (HobbingSetup::new: tilt, swivel, blank_offset 0)".into(),
+            ));
+        }
+        let named = [
+            ("pitch_angle", pinion.pitch_angle),
+            ("mean_cone_distance", pinion.mean_cone_distance),
+            ("spiral_angle", pinion.spiral_angle),
+            ("mean_dedendum", pinion.mean_dedendum),
+        ];
+        for (k, v) in named {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(FlankError::Model(format!(
+                    "face hobbing, pinion from the gear's crown gear: pinion {k} = {v} must be finite and ≥ 0"
+                )));
+            }
+        }
+        if !(pinion.mean_cone_distance > 0.0 && pinion.pitch_angle > 0.0 && pinion.teeth >= 3) {
+            return Err(FlankError::Model(format!(
+                "face hobbing, pinion from the gear's crown gear: pinion mean_cone_distance {}, pitch_angle {}, teeth {} must be positive (teeth ≥ 3)",
+                pinion.mean_cone_distance, pinion.pitch_angle, pinion.teeth
+            )));
+        }
+        let rm2 = gear.blank.mean_cone_distance;
+        let h2 = gear.blank.mean_dedendum;
+        let h1 = pinion.mean_dedendum;
+        let eps = pinion.spiral_angle - gear.blank.spiral_angle;
+        // the gear's trace tangent at P: ⟂ to P→I (I the rolling circles'
+        // contact point on O→C), oriented toward the heel
+        let c2 = [gm.radial_distance * gm.cradle_angle.cos(), gm.radial_distance * gm.cradle_angle.sin()];
+        let k = gear.base_radius / gm.radial_distance;
+        let pi = [k * c2[0] - rm2, k * c2[1]];
+        let mut t = [-pi[1], pi[0]];
+        if t[0] < 0.0 {
+            t = [-t[0], -t[1]];
+        }
+        // generatrix direction at the angle a from OP, away from t
+        let a = -t[1].signum() * eps;
+        // 180° about OP, then Rot(a) about the cradle axis
+        let turn = |x: [f64; 2]| {
+            let (sa, ca) = a.sin_cos();
+            [ca * x[0] + sa * x[1], sa * x[0] - ca * x[1]]
+        };
+        let c1 = turn(c2);
+        let p1 = turn([rm2, 0.0]);
+        let flip = |b: &HobbingBlade| {
+            let side = match b.blade.side {
+                BladeSide::Outside => BladeSide::Inside,
+                BladeSide::Inside => BladeSide::Outside,
+            };
+            let (sigma, alpha) = (b.blade.side.sigma(), b.blade.pressure_angle);
+            // x at the pitch plane, the same in both machines
+            let x = b.blade.point_radius + sigma * h2 * alpha.tan();
+            HobbingBlade {
+                blade: Blade {
+                    side,
+                    point_radius: x + sigma * h1 * alpha.tan(),
+                    height: h1 + pinion.mean_addendum + 0.5 * gear.blank.normal_module,
+                    ..b.blade
+                },
+                offset: -b.offset,
+                phase: a - b.phase,
+            }
+        };
+        let (inside, outside) = (flip(&gear.outside), flip(&gear.inside));
+        for b in [&inside, &outside] {
+            b.blade.profile()?;
+        }
+        let (gamma_m, sliding_base, blank_offset, center_to_back) = work_placement(&pinion, p1);
+        let machine = MachineSettings {
+            radial_distance: gm.radial_distance,
+            cradle_angle: c1[1].atan2(c1[0]),
+            machine_root_angle: gamma_m,
+            sliding_base,
+            blank_offset,
+            machine_center_to_back: center_to_back,
+            ratio_of_roll: f64::from(pinion.teeth) / gear.crown_teeth,
+            modified_roll: (0.0, 0.0),
+            tilt: 0.0,
+            swivel: 0.0,
+            generated,
+        };
+        let settings = FaceHobbingSettings {
+            machine,
+            blade_groups: gear.cutter.blade_groups,
+            work_teeth: pinion.teeth,
+        };
+        settings.validate()?;
+        Ok(HobbingSetup {
+            blank: pinion,
+            cutter: gear.cutter,
+            settings,
+            outside,
+            inside,
+            lead_angle: gear.lead_angle,
+            lambda: gear.lambda,
+            base_radius: gear.base_radius,
+            crown_teeth: gear.crown_teeth,
+            mean_in_plane: gear.mean_in_plane,
+            mean_point: p1,
         })
     }
 
@@ -331,7 +532,17 @@ impl HobbingSetup {
         if !self.settings.machine.generated {
             section.root.u_mean = self.formate_root(&blade)?;
         }
-        HobbedFlank::new(self.settings, blade, section, self.blank.teeth)
+        let (sigma, alpha) = (blade.blade.side.sigma(), blade.blade.pressure_angle);
+        let x = blade.blade.point_radius + sigma * self.blank.mean_dedendum * alpha.tan();
+        HobbedFlank::new_at(
+            self.settings,
+            blade,
+            section,
+            self.blank.teeth,
+            self.blank.mean_dedendum,
+            self.mean_point,
+            (x - self.mean_in_plane) * sigma < 0.0,
+        )
     }
 
     /// A formate member is not rolled, so the blade tip (the edge radius's
@@ -413,17 +624,46 @@ impl HobbedFlank {
         section: AxialSection,
         teeth: u32,
     ) -> Result<Self> {
+        let rm = section.mean_cone_distance;
+        Self::new_at(
+            settings,
+            blade,
+            section,
+            teeth,
+            -section.root.u_mean,
+            [rm, 0.0],
+            false,
+        )
+    }
+
+    /// [`Self::new`] with the mean point's start given: the blade point at
+    /// `pitch_height` above the tip plane lies at `mean_point` (crown-plane
+    /// coordinates x_m, y_m) at ψ = 0 (for a pinion on the gear's crown
+    /// gear P is not at (R_m, 0)). `tooth_at_mean_point`: the blades bound
+    /// a tooth (not a space) around P, as the gear's blades do on the
+    /// complementary pinion; the flank then needs no turn by ±π/z to put
+    /// tooth 0 on +y.
+    pub fn new_at(
+        settings: FaceHobbingSettings,
+        blade: HobbingBlade,
+        section: AxialSection,
+        teeth: u32,
+        pitch_height: f64,
+        mean_point: [f64; 2],
+        tooth_at_mean_point: bool,
+    ) -> Result<Self> {
         let map = FaceHobbing::new(settings, blade)?;
         let side = blade.blade.side;
         let what = format!("face-hobbed {side:?}-blade flank");
-        let h_p = -section.root.u_mean;
-        let s0 = map.profile().s_at_height(h_p);
+        let s0 = map.profile().s_at_height(pitch_height);
         let x = map.profile().rho_h(s0).0;
         let m = &settings.machine;
         let (sq, cq) = m.cradle_angle.sin_cos();
         let c = [m.radial_distance * cq, m.radial_distance * sq];
         let rm = section.mean_cone_distance;
-        let theta0 = (-c[1]).atan2(rm - c[0]) - blade.offset.atan2(x) - blade.phase;
+        let theta0 = (mean_point[1] - c[1]).atan2(mean_point[0] - c[0])
+            - blade.offset.atan2(x)
+            - blade.phase;
         let theta0 = (theta0 + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
             - std::f64::consts::PI;
         let opt = SolveOptions::default();
@@ -431,7 +671,11 @@ impl HobbedFlank {
         let mean = solve_axial(&map, z, rho, [s0, theta0, 0.0], &opt)
             .map_err(|e| describe(&settings, &e, &format!("{what}, mean point")))?;
         let ang = mean.jet.r[1].atan2(mean.jet.r[0]) - std::f64::consts::FRAC_PI_2;
-        let placement = -ang.signum() * std::f64::consts::PI / f64::from(teeth);
+        let placement = if tooth_at_mean_point {
+            0.0
+        } else {
+            -ang.signum() * std::f64::consts::PI / f64::from(teeth)
+        };
         let form = Some(map.profile().form_parameter());
         let surface = EnvelopeFlank::new(map, section, placement, form, mean.q, opt)
             .map_err(|e| describe(&settings, &e, &what))?;
@@ -526,6 +770,8 @@ mod tests {
             spiral_angle: 0.55,
             mean_addendum: 3.5,
             mean_dedendum: 4.5,
+            face_angle: 1.2,
+            root_angle: 1.2,
             normal_module: module(),
             normal_thickness: 6.0,
             pressure_angle_concave: 0.35,
