@@ -44,9 +44,25 @@ pub(crate) fn cutter() -> HobbingCutter {
     }
 }
 
+/// The gear on its own crown gear; the pinion on the gear's
+/// (`HobbingSetup::pinion_from_gear`, the generated gear's crown gear).
 fn setup(member: Member, generated: bool) -> HobbingSetup {
-    let b = HobbingBlank::from_design(&design(), member).unwrap();
-    HobbingSetup::new(b, cutter(), generated).unwrap()
+    let d = design();
+    let g = HobbingSetup::new(
+        HobbingBlank::from_design(&d, Member::Gear).unwrap(),
+        cutter(),
+        generated || member == Member::Pinion,
+    )
+    .unwrap();
+    match member {
+        Member::Gear => g,
+        Member::Pinion => HobbingSetup::pinion_from_gear(
+            &g,
+            HobbingBlank::from_design(&d, Member::Pinion).unwrap(),
+            generated,
+        )
+        .unwrap(),
+    }
 }
 
 pub(crate) const SIDES: [BladeSide; 2] = [BladeSide::Outside, BladeSide::Inside];
@@ -82,8 +98,8 @@ pub(crate) fn grid_residuals(f: &HobbedFlank) -> (f64, f64, f64) {
 fn a_meshing_and_normals_on_grids() {
     let t = Instant::now();
     for member in [Member::Gear, Member::Pinion] {
-        // formate: the gear only (a 9-tooth formate pinion is no practical
-        // case; its convex flank fails near the root, see README)
+        // formate: the gear only (a formate hypoid pinion is no practical
+        // case; on the gear's crown gear its concave flank fails, see README)
         let kinds: &[bool] = match member {
             Member::Gear => &[true, false],
             Member::Pinion => &[true],
@@ -172,7 +188,10 @@ fn wrap(a: f64) -> f64 {
 
 #[test]
 fn c_pitch_trace_is_the_extended_epicycloid() {
-    for member in [Member::Gear, Member::Pinion] {
+    // the gear: its pitch cone's apex is the crown gear's centre, so its
+    // development is the crown plane (the pinion's apex is offset: (f))
+    {
+        let member = Member::Gear;
         let s = setup(member, true);
         let delta = s.blank.pitch_angle;
         for side in SIDES {
@@ -207,7 +226,9 @@ fn c_pitch_trace_is_the_extended_epicycloid() {
 fn d_mean_point_spiral_angle_lead_angle_base_radius() {
     let d = design();
     let hob = d.hobbing.expect("F4 is face hobbing");
-    for member in [Member::Gear, Member::Pinion] {
+    // the gear (the pinion on the gear's crown gear: (f))
+    {
+        let member = Member::Gear;
         let s = setup(member, true);
         // the blade through the mean point itself (space width 0)
         let mut mean = s.outside;

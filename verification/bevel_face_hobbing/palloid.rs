@@ -52,7 +52,8 @@ fn pinion_setup(d: &BlankDesign, generated: bool) -> HobbingSetup {
 fn mean_blade_flank(s: &HobbingSetup, side: BladeSide) -> HobbedFlank {
     let mut b = s.blade(side);
     let alpha = b.blade.pressure_angle;
-    b.blade.point_radius = s.mean_in_plane - b.blade.side.sigma() * s.blank.mean_dedendum * alpha.tan();
+    b.blade.point_radius =
+        s.mean_in_plane - b.blade.side.sigma() * s.blank.mean_dedendum * alpha.tan();
     s.flank_with(b).unwrap()
 }
 
@@ -121,11 +122,22 @@ fn f_pinion_on_the_gears_crown_gear() {
         assert!((c.pressure_angle - alpha).abs() < 1e-9);
         // the pitch cone leans by θ_f from the crown plane: the angles
         // measured against it move by no more than that
-        assert!((q.spiral_angle - b1).abs() <= lean.abs() && (q.pressure_angle - alpha).abs() <= lean.abs());
+        assert!(
+            (q.spiral_angle - b1).abs() <= lean.abs()
+                && (q.pressure_angle - alpha).abs() <= lean.abs()
+        );
     }
     // tooth thickness: the chord at R_m between the flanks of tooth 0
-    let (pc, _, _, _) = s.flank(BladeSide::Outside).unwrap().try_evaluate(0.0, rm).unwrap();
-    let (px, _, _, _) = s.flank(BladeSide::Inside).unwrap().try_evaluate(0.0, rm).unwrap();
+    let (pc, _, _, _) = s
+        .flank(BladeSide::Outside)
+        .unwrap()
+        .try_evaluate(0.0, rm)
+        .unwrap();
+    let (px, _, _, _) = s
+        .flank(BladeSide::Inside)
+        .unwrap()
+        .try_evaluate(0.0, rm)
+        .unwrap();
     println!(
         "(f) pinion chord at R_m1 {:.4} mm (design s_mn1/cos β_m1 {:.4} mm; π m_mn − s_mn1 − s_mn2 = {:.1e} mm)",
         super::norm(sub(px, pc)),
@@ -350,7 +362,14 @@ fn path_te(
         let first = if dir > 0.0 { 0 } else { 1 };
         for k in 0..=half {
             let phi1 = phi1_0 + dir * 0.4 * pitch * k as f64 / half as f64;
-            let (x, r) = contact(asm, pinion, gear, phi1, (!point_contact).then_some(v), &seed);
+            let (x, r) = contact(
+                asm,
+                pinion,
+                gear,
+                phi1,
+                (!point_contact).then_some(v),
+                &seed,
+            );
             if r > 1e-9 {
                 break;
             }
@@ -366,24 +385,4 @@ fn path_te(
         }
     }
     (lo, hi, worst, count)
-}
-
-#[test]
-fn f_debug() {
-    let d = super::design();
-    let mut b = HobbingBlank::from_design(&d, Member::Pinion).unwrap();
-    let fa = b.face_angle;
-    b.root_angle = b.pitch_angle;
-    b.face_angle = b.pitch_angle;
-    let s = HobbingSetup::new(b, cutter(), true).unwrap();
-    let f = s.flank(BladeSide::Outside).unwrap();
-    let (r0, r1) = f.v_range();
-    for j in 0..=10 {
-        let v = r0 + (r1 - r0) * j as f64 / 10.0;
-        for du in [0.0, 1e-4, 1e-3, 1e-2] {
-            let u = b.mean_addendum + du + (fa - b.pitch_angle).tan() * (v - b.mean_cone_distance);
-            let r = f.try_evaluate(u, v).map(|_| ()).map_err(|e| e.to_string().chars().take(90).collect::<String>());
-            println!("v {v:.3} du {du}: {:?} ", r);
-        }
-    }
 }
