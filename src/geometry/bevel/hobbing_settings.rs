@@ -997,6 +997,69 @@ mod tests {
         assert!((x(&s.outside) - x(&s.inside) - w).abs() < 1e-10);
     }
 
+    /// work_placement: with no lean the apex is the crown centre below
+    /// P's pitch height; with a lean θ_f the apex A lies R_m from P with
+    /// P − A at δ to the work axis, and the root point at R_m (the
+    /// section's root line) lies on the tip plane z = 0 with the root
+    /// generatrix horizontal (tangent to the tip plane: the root cone δ_f).
+    #[test]
+    fn work_placement_puts_the_root_cone_on_the_tip_plane() {
+        let mut b = blank();
+        let (g, xb, em, xg) = work_placement(&b, [90.0, 0.0]);
+        assert!((g - 1.2).abs() < 1e-15 && (xb - 4.5).abs() < 1e-12);
+        assert!(em == 0.0 && xg.abs() < 1e-12);
+        for lean in [0.01, -0.02] {
+            b.root_angle = b.pitch_angle - lean;
+            let p = [88.0, 3.0];
+            let (g, xb, em, xg) = work_placement(&b, p);
+            let d = [g.cos(), 0.0, -g.sin()];
+            let a = [xg * d[0], em, xb + xg * d[2]];
+            let pa = [p[0] - a[0], p[1] - a[1], 4.5 - a[2]];
+            assert!((norm(pa) - 90.0).abs() < 1e-10);
+            assert!((dot(pa, d) / 90.0 - 1.2f64.cos()).abs() < 1e-12);
+            // root point at R_m: P − (h_fm / cos θ_f) n, n ⟂ g in the
+            // vertical plane, pointing up
+            let gv = [pa[0] / 90.0, pa[1] / 90.0, pa[2] / 90.0];
+            let n = [-gv[2], 0.0, gv[0]];
+            let h = b.mean_dedendum / lean.cos();
+            assert!((4.5 - h * n[2]).abs() < 1e-12);
+            // the section's root line slope is −tan θ_f, as the root
+            // generatrix (horizontal) seen from the pitch generatrix
+            let sec = b.section();
+            assert!((sec.root.slope + lean.tan()).abs() < 1e-15);
+            assert!((gv[2] - lean.sin()).abs() < 1e-12);
+        }
+    }
+
+    /// pinion_from_gear needs a gear on its own crown gear;
+    /// pinion_for_formate_gear needs a formate gear.
+    #[test]
+    fn pinion_constructors_check_the_gear() {
+        let g = HobbingSetup::new(blank(), CUTTER, true).unwrap();
+        let mut p = blank();
+        p.teeth = 11;
+        p.pitch_angle = 0.35;
+        p.mean_cone_distance = 90.0;
+        p.hand = -1.0;
+        assert!(HobbingSetup::pinion_from_gear(&g, p, true).is_ok());
+        let e = HobbingSetup::pinion_for_formate_gear(&g, p)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("generated"), "{e}");
+        let mut tilted = g;
+        tilted.settings.machine.tilt = 0.1;
+        let e = HobbingSetup::pinion_from_gear(&tilted, p, true)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("tilt"), "{e}");
+        let mut bad = p;
+        bad.mean_cone_distance = f64::NAN;
+        let e = HobbingSetup::pinion_from_gear(&g, bad, true)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("mean_cone_distance"), "{e}");
+    }
+
     #[test]
     fn bad_input_names_the_key() {
         let e = HobbingSetup::new(
