@@ -7,13 +7,17 @@
 //! (README.md gives the references and the obtained figures):
 //!
 //! (a) equation of meshing and normal ⟂ r_u, r_v on 21 × 11 grids of both
-//!     flanks of both members (generated) and of a formate gear;
+//!     flanks of both members (generated; the pinion on the gear's crown
+//!     gear) and of a formate gear;
 //! (b) r_u, r_v against central differences of the points;
-//! (c) the gear's and pinion's pitch-cone tooth traces, developed into the
-//!     crown-gear plane, against the closed-form extended epicycloid;
-//! (d) spiral angle, lead angle ν and base radius ρ_b measured on the
-//!     surface at the mean point against the blank design;
-//! (e) bad input gives errors naming the setting.
+//! (c) the gear's pitch-cone tooth traces, developed into the crown-gear
+//!     plane, against the closed-form extended epicycloid;
+//! (d) the gear's spiral angle, lead angle ν and base radius ρ_b measured
+//!     on the surface at the mean point against the blank design;
+//! (e) bad input gives errors naming the setting;
+//! (f)–(h) in `palloid.rs`: the pinion on the gear's crown gear (mean
+//!     point, offset), a spiral bevel pair cut with one crown gear is
+//!     conjugate, a formate gear and the pinion it generates are conjugate.
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::time::Instant;
