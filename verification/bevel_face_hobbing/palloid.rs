@@ -527,3 +527,82 @@ fn h_formate_gear_and_its_generated_pinion() {
     assert!(e.contains("generated"));
     println!("(h) run time {:.2} s", t0.elapsed().as_secs_f64());
 }
+
+/// (g) continued: the F4 hypoid pair cut with one crown gear (generated
+/// gear, pinion on its crown gear, tilt 0) is NOT conjugate: the crown
+/// gear's axis is not an axis of the pair's relative motion. Unloaded TCA
+/// as a point contact (u₁, v₁, u₂, v₂, φ₂ free) on the assembly of the
+/// blank, 11 pinion positions over ±0.25 pitch about the mean point; the
+/// TE range is reported and must exceed 1e-9 rad (a conjugate pair would
+/// give ≤ 1e-9, as in (g) for a = 0).
+#[test]
+fn g_hypoid_pair_from_one_crown_gear_is_not_conjugate() {
+    let t0 = Instant::now();
+    let i = inputs(31.75);
+    let d = blank_design(&i).unwrap();
+    let asm = PairAssembly::from_blank(&i, &d).unwrap();
+    let g = gear_setup(&d, true);
+    let s = pinion_setup(&d, true);
+    let m = asm.roll_ratio();
+    let mut found = 0;
+    for (ps, gs) in [
+        (BladeSide::Inside, BladeSide::Outside),
+        (BladeSide::Outside, BladeSide::Inside),
+    ] {
+        let pf = s.flank(ps).unwrap();
+        let gf = g.flank(gs).unwrap();
+        let (v1, v2) = (s.blank.mean_cone_distance, g.blank.mean_cone_distance);
+        let (p1, _, _, _) = pf.try_evaluate(0.0, v1).unwrap();
+        let (p2, _, _, _) = gf.try_evaluate(0.0, v2).unwrap();
+        let phi1_0 = -p1[1].atan2(p1[0]);
+        let phi2_0 = -p2[1].atan2(p2[0]);
+        let pitch = std::f64::consts::TAU / 9.0;
+        let (mut lo, mut hi, mut worst, mut count) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64, 0);
+        for dir in [1.0, -1.0] {
+            // start: the flanks' mean points turned onto the pitch point;
+            // failing that, the least-squares pose with v₁ held
+            let mut seed = vec![0.0, 0.0, v2, phi2_0, v1];
+            if contact(&asm, &pf, &gf, phi1_0, None, &seed).1 > 1e-9 {
+                let (x0, _) = contact(&asm, &pf, &gf, phi1_0, Some(v1), &seed[..4]);
+                seed = vec![x0[0], x0[1], x0[2], x0[3], v1];
+            }
+            for k in 0..=5 {
+                let phi1 = phi1_0 + dir * 0.25 * pitch * k as f64 / 5.0;
+                let (x, r) = contact(&asm, &pf, &gf, phi1, None, &seed);
+                if r > 1e-9 {
+                    println!(
+                        "(g) hypoid: no contact at φ1 − φ1,0 = {:.4} (residual {r:.2e})",
+                        phi1 - phi1_0
+                    );
+                    break;
+                }
+                seed = x.clone();
+                if dir < 0.0 && k == 0 {
+                    continue;
+                }
+                let te = m * x[3] - phi1;
+                lo = lo.min(te);
+                hi = hi.max(te);
+                worst = worst.max(r);
+                count += 1;
+            }
+        }
+        if count == 0 {
+            println!("(g) F4 hypoid, pinion {ps:?} / gear {gs:?} blade: the point-contact solve found no start (reported, not asserted)");
+        } else {
+            println!(
+                "(g) F4 hypoid, pinion {ps:?} / gear {gs:?} blade: {count} point contacts, TE range {:.3e} rad ({:.2} µrad), residual ≤ {worst:.1e} mm",
+                hi - lo,
+                (hi - lo) * 1e6
+            );
+        }
+        if count > 0 {
+            assert!(hi - lo > 1e-9);
+            found += 1;
+        }
+    }
+    // at least one flank pair's path must be found (the check could not
+    // fail otherwise)
+    assert!(found >= 1);
+    println!("(g) hypoid run time {:.2} s", t0.elapsed().as_secs_f64());
+}
