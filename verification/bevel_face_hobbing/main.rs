@@ -7,13 +7,17 @@
 //! (README.md gives the references and the obtained figures):
 //!
 //! (a) equation of meshing and normal ⟂ r_u, r_v on 21 × 11 grids of both
-//!     flanks of both members (generated) and of a formate gear;
+//!     flanks of both members (generated; the pinion on the gear's crown
+//!     gear) and of a formate gear;
 //! (b) r_u, r_v against central differences of the points;
-//! (c) the gear's and pinion's pitch-cone tooth traces, developed into the
-//!     crown-gear plane, against the closed-form extended epicycloid;
-//! (d) spiral angle, lead angle ν and base radius ρ_b measured on the
-//!     surface at the mean point against the blank design;
-//! (e) bad input gives errors naming the setting.
+//! (c) the gear's pitch-cone tooth traces, developed into the crown-gear
+//!     plane, against the closed-form extended epicycloid;
+//! (d) the gear's spiral angle, lead angle ν and base radius ρ_b measured
+//!     on the surface at the mean point against the blank design;
+//! (e) bad input gives errors naming the setting;
+//! (f)–(h) in `palloid.rs`: the pinion on the gear's crown gear (mean
+//!     point, offset), a spiral bevel pair cut with one crown gear is
+//!     conjugate, a formate gear and the pinion it generates are conjugate.
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::time::Instant;
@@ -27,7 +31,7 @@ use flank::geometry::surface::ToothSurface;
 use flank::geometry::vec3::{dot, norm};
 
 /// ISO 23509:2016 Annex F, sample F4 inputs (`../shared/reference/iso23509_annexF.json`).
-const F4: &str = r#"{"method": 2, "Sigma_deg": 90, "a_mm": 31.75, "z1": 9, "z2": 34,
+pub(crate) const F4: &str = r#"{"method": 2, "Sigma_deg": 90, "a_mm": 31.75, "z1": 9, "z2": 34,
  "dm2_mm": 146.7, "b2_mm": 26.0, "beta_m2_deg": 21.009, "rc0_mm": 76.0, "z0": 13,
  "data_type": "II", "alpha_dD_deg": 20, "alpha_dC_deg": 20, "f_alim": 1.0,
  "c_ham": 0.275, "k_d": 2.0, "k_c": 0.125, "k_t": 0.1}"#;
@@ -36,7 +40,7 @@ fn design() -> BlankDesign {
     blank_design(&BlankInputs::from_json(F4).unwrap()).unwrap()
 }
 
-fn cutter() -> HobbingCutter {
+pub(crate) fn cutter() -> HobbingCutter {
     HobbingCutter {
         radius: 76.0,
         blade_groups: 13,
@@ -44,16 +48,32 @@ fn cutter() -> HobbingCutter {
     }
 }
 
+/// The gear on its own crown gear; the pinion on the gear's
+/// (`HobbingSetup::pinion_from_gear`, the generated gear's crown gear).
 fn setup(member: Member, generated: bool) -> HobbingSetup {
-    let b = HobbingBlank::from_design(&design(), member).unwrap();
-    HobbingSetup::new(b, cutter(), generated).unwrap()
+    let d = design();
+    let g = HobbingSetup::new(
+        HobbingBlank::from_design(&d, Member::Gear).unwrap(),
+        cutter(),
+        generated || member == Member::Pinion,
+    )
+    .unwrap();
+    match member {
+        Member::Gear => g,
+        Member::Pinion => HobbingSetup::pinion_from_gear(
+            &g,
+            HobbingBlank::from_design(&d, Member::Pinion).unwrap(),
+            generated,
+        )
+        .unwrap(),
+    }
 }
 
-const SIDES: [BladeSide; 2] = [BladeSide::Outside, BladeSide::Inside];
+pub(crate) const SIDES: [BladeSide; 2] = [BladeSide::Outside, BladeSide::Inside];
 
 /// (a): max |meshing residual|, max |n·r_u|, |n·r_v| above the root row,
 /// max |n·r_u|/|r_u|, |n·r_v|/|r_v| over the whole grid.
-fn grid_residuals(f: &HobbedFlank) -> (f64, f64, f64) {
+pub(crate) fn grid_residuals(f: &HobbedFlank) -> (f64, f64, f64) {
     let (r0, r1) = f.v_range();
     let (mut mesh, mut orth, mut rel) = (0.0f64, 0.0f64, 0.0f64);
     for j in 0..11 {
@@ -82,8 +102,8 @@ fn grid_residuals(f: &HobbedFlank) -> (f64, f64, f64) {
 fn a_meshing_and_normals_on_grids() {
     let t = Instant::now();
     for member in [Member::Gear, Member::Pinion] {
-        // formate: the gear only (a 9-tooth formate pinion is no practical
-        // case; its convex flank fails near the root, see README)
+        // formate: the gear only (a formate hypoid pinion is no practical
+        // case; on the gear's crown gear its concave flank fails, see README)
         let kinds: &[bool] = match member {
             Member::Gear => &[true, false],
             Member::Pinion => &[true],
@@ -172,7 +192,10 @@ fn wrap(a: f64) -> f64 {
 
 #[test]
 fn c_pitch_trace_is_the_extended_epicycloid() {
-    for member in [Member::Gear, Member::Pinion] {
+    // the gear: its pitch cone's apex is the crown gear's centre, so its
+    // development is the crown plane (the pinion's apex is offset: (f))
+    {
+        let member = Member::Gear;
         let s = setup(member, true);
         let delta = s.blank.pitch_angle;
         for side in SIDES {
@@ -207,7 +230,9 @@ fn c_pitch_trace_is_the_extended_epicycloid() {
 fn d_mean_point_spiral_angle_lead_angle_base_radius() {
     let d = design();
     let hob = d.hobbing.expect("F4 is face hobbing");
-    for member in [Member::Gear, Member::Pinion] {
+    // the gear (the pinion on the gear's crown gear: (f))
+    {
+        let member = Member::Gear;
         let s = setup(member, true);
         // the blade through the mean point itself (space width 0)
         let mut mean = s.outside;
@@ -308,3 +333,5 @@ fn e_bad_input_names_the_setting() {
     println!("(e) {e}");
     assert!(e.contains("radial_distance"));
 }
+
+mod palloid;

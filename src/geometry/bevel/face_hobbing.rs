@@ -139,7 +139,8 @@ pub struct FaceHobbing {
     cradle: CradleGeneration,
 }
 
-fn tilt_matrix(tilt: f64, swivel: f64) -> [[f64; 3]; 3] {
+/// The cutter tilt rotation Rot_z(j) Rot_x(i) Rot_z(−j) (tilt i, swivel j).
+pub(crate) fn tilt_matrix(tilt: f64, swivel: f64) -> [[f64; 3]; 3] {
     let (si, ci) = tilt.sin_cos();
     let (sj, cj) = swivel.sin_cos();
     let rz = |s: f64, c: f64| [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]];
@@ -214,6 +215,19 @@ impl FaceHobbing {
             p[0] * m[1][0] + p[1] * m[1][1] + p[2] * m[1][2] + sr * sq,
             p[0] * m[2][0] + p[1] * m[2][1] + p[2] * m[2][2],
         ]
+    }
+
+    /// The angle about the cutter axis of a cradle-frame point `p`, in the
+    /// head frame (the tilt undone): the θ + phase at which a blade's
+    /// plane-foot direction points at p's projection.
+    pub fn head_angle(&self, p: [f64; 3]) -> f64 {
+        let m = &self.tilt;
+        let sr = self.settings.machine.radial_distance;
+        let (sq, cq) = self.settings.machine.cradle_angle.sin_cos();
+        let d = [p[0] - sr * cq, p[1] - sr * sq, p[2]];
+        // Tᵀ d
+        let h: [f64; 3] = std::array::from_fn(|k| m[0][k] * d[0] + m[1][k] * d[1] + m[2][k] * d[2]);
+        h[1].atan2(h[0])
     }
 
     /// The cutter angle θ of the family parameters q (module docs).
