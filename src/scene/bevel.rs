@@ -248,9 +248,15 @@ pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<BevelScene> {
     let pinion_error =
         |e| bevel_cutting::cutting_error(cx, "pinion", raw_pinion, raw.pinion.span(), e);
     let gear_flanks = cutting::cut_gear(&blank, gear_hand, &gear_cut).map_err(gear_error)?;
-    let pinion_flanks =
-        cutting::cut_pinion(&inputs, &blank, pinion_hand, &pinion_cut, &gear_flanks)
-            .map_err(pinion_error)?;
+    let pinion_flanks = cutting::cut_pinion(
+        &inputs,
+        &blank,
+        pinion_hand,
+        &pinion_cut,
+        &gear_cut,
+        &gear_flanks,
+    )
+    .map_err(pinion_error)?;
     let n = mesh.teeth_in_sector as usize;
     let pinion_body = cutting::member_body(&blank, true, &pinion_flanks, 0.5 * bore_diameter[0], n)
         .map_err(pinion_error)?;
