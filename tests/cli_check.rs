@@ -91,3 +91,93 @@ fn hypoid_paper_scenes_print_their_blank_tables() {
         assert!(d.abs() < 1e-3, "{path}: β_m1 − β_m2 − ζ_mp = {d}°");
     }
 }
+
+/// The hypoid scenes also print how each member is cut: process, hand, the
+/// machine settings and the mean-point figures measured on the flanks.
+#[test]
+fn hypoid_paper_scenes_print_their_cutting() {
+    for (path, process) in [
+        ("papers/seed000-hypoid/scene.toml", "face_hobbing"),
+        ("papers/seed001-hypoid/scene.toml", "face_milling"),
+        ("papers/seed003-hypoid/scene.toml", "face_milling"),
+    ] {
+        let (ok, out, err) = check(path);
+        assert!(ok, "{path}: {err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        for (member, hand) in [("pinion", "left"), ("gear", "right")] {
+            let m = &v[member];
+            assert_eq!(m["process"], process, "{path} {member}");
+            assert_eq!(m["hand"], hand, "{path} {member}");
+            assert!(m["machine"]["radial_distance_mm"].as_f64().unwrap() > 0.0);
+            for side in ["drive", "coast"] {
+                assert_eq!(
+                    m["mean_point"][side]["hand"], hand,
+                    "{path} {member} {side}"
+                );
+            }
+        }
+    }
+}
+
+/// Bad cutting input in a hypoid scene (issue 16 point 9): a clear error
+/// at the file and line of the key, never a panic — a cutter too small for
+/// the face width, machine settings that make a pointed tooth, explicit
+/// settings on a face-hobbed blank, an ease-off on a machined pinion.
+#[test]
+fn bad_hypoid_cutting_names_key_and_line() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"));
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let milled = std::fs::read_to_string(root.join("papers/seed003-hypoid/scene.toml")).unwrap();
+    let hobbed = std::fs::read_to_string(root.join("papers/seed000-hypoid/scene.toml")).unwrap();
+    let machine = "\n[gear.machine]\nradial_distance_mm = 51.5\ncradle_angle_deg = -68.8\nmachine_root_angle_deg = 69.1\nsliding_base_mm = 0.0\nblank_offset_mm = 0.0\nmachine_center_to_back_mm = 0.0\nratio_of_roll = 0.9594\n\n[gear.cutter]\ninside_point_radius_mm = 112.8\noutside_point_radius_mm = 115.8\ninside_blade_angle_deg = 22.1\noutside_blade_angle_deg = 17.8\n";
+    let cases: [(&str, String, &str, &[&str]); 4] = [
+        (
+            "small_cutter",
+            milled.replace(
+                "\n[materials.steel]",
+                "\n[gear.cutter]\nradius_mm = 5.0\n\n[materials.steel]",
+            ),
+            "radius_mm = 5.0",
+            &["gear.cutter.radius_mm", "face width"],
+        ),
+        (
+            "pointed",
+            milled.replace(
+                "\n[materials.steel]",
+                &format!("{machine}\n[materials.steel]"),
+            ),
+            "[gear.machine]",
+            &["[gear.machine]", "pointed tooth"],
+        ),
+        (
+            "hobbed_machine",
+            hobbed.replace(
+                "\n[materials.steel]",
+                &format!("{machine}\n[materials.steel]"),
+            ),
+            "[gear.machine]",
+            &["gear.machine", "face hobbing"],
+        ),
+        (
+            "ease_off",
+            milled.replace(
+                "\n[gear]\n",
+                "\n[pinion.ease_off]\nbias_um = 5.0\n\n[gear]\n",
+            ),
+            "[pinion.ease_off]",
+            &["pinion.ease_off", "conjugate"],
+        ),
+    ];
+    for (name, text, at, words) in cases {
+        let path = dir.join(format!("bad_hypoid_{name}.toml"));
+        std::fs::write(&path, &text).unwrap();
+        let line = 1 + text[..text.find(at).unwrap()].matches('\n').count();
+        let (ok, _, err) = check(path.to_str().unwrap());
+        assert!(!ok, "{name}");
+        assert!(err.contains(&format!(".toml:{line}:")), "{name}: {err}");
+        for w in words {
+            assert!(err.contains(w), "{name}: '{w}' not in {err}");
+        }
+        assert!(!err.contains("panicked"), "{name}: {err}");
+    }
+}
