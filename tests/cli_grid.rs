@@ -114,3 +114,76 @@ fn grids_of_the_hypoid_seeds() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `--ease-off` on a conjugate pinion (seed 003's gear, 10 µm profile and
+/// 20 µm lengthwise crowning): the grid's deviations are the ease-off read
+/// back against the conjugate flank, equal to the specified ease-off at
+/// every node to 0.01 µm (issue 16 point 8), material removed everywhere;
+/// `--ease-off` on a machined member is an error.
+#[test]
+fn ease_off_grid_of_a_conjugate_pinion() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = std::env::temp_dir().join(format!("flank_cli_grid_ease_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let base = std::fs::read_to_string(root.join("papers/seed003-hypoid/scene.toml")).unwrap();
+    let text = base.replacen("[pinion]\n", "[pinion]\nprocess = \"conjugate\"\n", 1).replacen(
+        "\n[gear]\n",
+        "\n[pinion.ease_off]\nprofile_crowning_um = 10.0\nlengthwise_crowning_um = 20.0\n\n[gear]\n",
+        1,
+    );
+    let scene = dir.join("conjugate.toml");
+    std::fs::write(&scene, text).unwrap();
+    let flank::scene::AnyScene::Bevel(parsed) = flank::scene::read_any_scene(&scene).unwrap()
+    else {
+        panic!("not a bevel scene")
+    };
+    let eased = parsed.pinion_eased.clone().expect("eased pinion");
+    for side in ["left", "right"] {
+        let out = dir.join(format!("ease_{side}.csv"));
+        let (ok, err) = flank_grid(&[
+            scene.to_str().unwrap(),
+            "--member",
+            "pinion",
+            "--flank",
+            side,
+            "--ease-off",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(ok, "{side}: {err}");
+        let grid = MeasurementGrid::read(&out).unwrap();
+        let e = &eased[if side == "right" { 0 } else { 1 }];
+        let mut worst: f64 = 0.0;
+        for p in &grid.points {
+            let specified = e.ease_off(p.u, p.v).unwrap().e;
+            assert!(
+                p.deviation <= 1e-9,
+                "{side}: material added at ({}, {})",
+                p.u,
+                p.v
+            );
+            worst = worst.max((p.deviation + specified).abs());
+        }
+        // the CSV keeps 6 decimals of µm
+        assert!(
+            1e3 * worst <= 0.01,
+            "{side}: read back vs specified {:.2e} µm",
+            1e3 * worst
+        );
+    }
+    let (ok, err) = flank_grid(&[
+        root.join("papers/seed003-hypoid/scene.toml")
+            .to_str()
+            .unwrap(),
+        "--member",
+        "pinion",
+        "--ease-off",
+        "--out",
+        dir.join("x.csv").to_str().unwrap(),
+    ]);
+    assert!(
+        !ok && err.contains("--ease-off") && !err.contains("panicked"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -6,6 +6,7 @@
 use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
+use flank::geometry::bevel::ease_off::deviation_grid_at;
 use flank::geometry::gear_pair::{Flank, GearBody};
 use flank::geometry::measurement_grid::{measurement_grid, GridSpec};
 use flank::scene::AnyScene;
@@ -42,6 +43,12 @@ pub struct Args {
     /// flank's extent.
     #[arg(long, default_value_t = 0.1)]
     inset: f64,
+    /// Conjugate pinion with an `[pinion.ease_off]`: write in
+    /// `deviation_um` the ease-off read back against the conjugate flank
+    /// (closest-point distance; negative = material removed), the report of
+    /// the pinion as deviations from the conjugate one.
+    #[arg(long)]
+    ease_off: bool,
     /// Output CSV file.
     #[arg(long)]
     out: PathBuf,
@@ -95,13 +102,32 @@ pub fn run(args: Args) -> Result<()> {
         face_inset: args.inset,
         profile_inset: args.inset,
     };
-    let grid = measurement_grid(surface, &spec)?;
-    let description = format!(
+    let mut grid = measurement_grid(surface, &spec)?;
+    let mut description = format!(
         "{} {name} ({}), {side_name} flank of sector tooth {}",
         args.scene.display(),
         body.name(),
         args.tooth
     );
+    if args.ease_off {
+        let eased = match (&scene, args.member) {
+            (AnyScene::Bevel(s), Member::Pinion) => s.pinion_eased.as_ref(),
+            _ => None,
+        };
+        let Some(eased) = eased else {
+            bail!("--ease-off: only a conjugate pinion with an [pinion.ease_off] (bevel/hypoid scene, --member pinion) has an ease-off to report");
+        };
+        // Right = drive, Left = coast; (u, v) are those of the flank
+        let e = &eased[if matches!(side, Flank::Right) { 0 } else { 1 }];
+        let nodes: Vec<(f64, f64)> = grid.points.iter().map(|p| (p.u, p.v)).collect();
+        let read = deviation_grid_at(e, &nodes)?;
+        for (p, r) in grid.points.iter_mut().zip(&read) {
+            p.deviation = -r.deviation_mm;
+        }
+        description.push_str(
+            "; deviation_um = the ease-off read back against the conjugate flank (negative = material removed)",
+        );
+    }
     grid.write(&args.out, &description)?;
     println!(
         "wrote {} ({face_points} × {profile_points} points)",

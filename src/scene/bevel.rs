@@ -97,6 +97,9 @@ pub struct BevelScene {
     /// Process, cutter, settings and mean-point figures of each member
     /// (JSON), `[pinion, gear]`.
     pub cutting_report: [serde_json::Value; 2],
+    /// A conjugate pinion's eased flanks `[drive, coast]` (with an
+    /// `[pinion.ease_off]`): the ease-off reads back against them.
+    pub pinion_eased: Option<[Arc<crate::geometry::bevel::ease_off::EasedPinion>; 2]>,
 }
 
 #[derive(Deserialize)]
@@ -277,6 +280,7 @@ pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<BevelScene> {
         gear_cut,
         pinion_cut,
         bodies: [Arc::new(pinion_body), Arc::new(gear_body)],
+        pinion_eased: pinion_flanks.eased.clone(),
         cutting_report: [pinion_flanks.report, gear_flanks.report],
     })
 }

@@ -144,6 +144,10 @@ pub struct MemberFlanks {
     /// Process, cutter and settings (JSON, lengths in mm, angles in deg),
     /// for `flank check` and the reports.
     pub report: serde_json::Value,
+    /// A conjugate pinion's eased flanks `[drive, coast]` before they are
+    /// turned onto tooth 1 (same (u, v)): the ease-off can be read back
+    /// against the conjugate flanks ([`crate::geometry::bevel::ease_off::deviation_grid_at`]).
+    pub eased: Option<[Arc<EasedPinion>; 2]>,
 }
 
 /// `e` about the pinion's `what` (drive/coast) flank.
@@ -296,6 +300,7 @@ fn milled(
         drive,
         coast,
         report,
+        eased: None,
     })
 }
 
@@ -420,6 +425,7 @@ fn hobbed(
         drive,
         coast,
         report,
+        eased: None,
     })
 }
 
@@ -518,13 +524,17 @@ fn conjugate(
     let pitch = 2.0 * PI / pinion.z;
     let build = |gear_flank: &Arc<dyn ToothSurface>,
                  what: &str|
-     -> Result<(Arc<dyn ToothSurface>, serde_json::Value)> {
+     -> Result<(
+        Arc<dyn ToothSurface>,
+        serde_json::Value,
+        Option<Arc<EasedPinion>>,
+    )> {
         let conj = Arc::new(
             ConjugatePinion::from_blank(gear_flank.clone(), &assembly, inputs, design)
                 .map_err(|e| in_flank(e, what))?,
         );
-        let (surface, report): (Arc<dyn ToothSurface>, serde_json::Value) = match ease {
-            None => (conj, json!(null)),
+        let (surface, report, eased): (Arc<dyn ToothSurface>, _, _) = match ease {
+            None => (conj, json!(null), None),
             Some(a) => {
                 let (v0, v1) = conj.v_range();
                 let rm = pinion.rm;
@@ -549,10 +559,11 @@ fn conjugate(
                     "te_level_arcsec": a.te_level_rad.to_degrees() * 3600.0,
                     "te_half_range_deg": deg(spec.te_half_range_rad),
                 });
-                (Arc::new(eased), r)
+                let eased = Arc::new(eased);
+                (eased.clone(), r, Some(eased))
             }
         };
-        Ok((surface, report))
+        Ok((surface, report, eased))
     };
     // The assembly's mean pitch point lies on each member's +x axis at
     // φ = 0: the gear's tooth 1 (centred on +y) is turned onto +x so that
@@ -560,8 +571,8 @@ fn conjugate(
     let onto_x = |s: &Arc<dyn ToothSurface>| -> Arc<dyn ToothSurface> {
         Arc::new(RotatedSurface::new(s.clone(), -0.5 * PI))
     };
-    let (drive, ease_drive) = build(&onto_x(&gear.drive), "drive")?;
-    let (coast, ease_coast) = build(&onto_x(&gear.coast), "coast")?;
+    let (drive, ease_drive, eased_drive) = build(&onto_x(&gear.drive), "drive")?;
+    let (coast, ease_coast, eased_coast) = build(&onto_x(&gear.coast), "coast")?;
     let (drive, coast) = centre_tooth(drive, coast, pinion.rm, pitch)?;
     let report = json!({
         "process": "conjugate",
@@ -572,6 +583,10 @@ fn conjugate(
         drive,
         coast,
         report,
+        eased: match (eased_drive, eased_coast) {
+            (Some(d), Some(c)) => Some([d, c]),
+            _ => None,
+        },
     })
 }
 
