@@ -458,7 +458,6 @@ mod tests {
     use crate::error::FlankError;
     use crate::geometry::bevel::generated_surface::FlankMeasure;
     use crate::geometry::gear_pair::{Flank, GearBody};
-    use crate::geometry::surface::ToothSurface;
     use crate::scene::{parse_any_scene, AnyScene, BevelScene};
     use std::path::Path;
 
@@ -559,13 +558,10 @@ mod tests {
                     m.smn
                 );
             }
-            assert_eq!(
-                s.cutting_report[1]["settings_source"]
-                    .as_str()
-                    .unwrap()
-                    .starts_with("from the blank"),
-                true
-            );
+            assert!(s.cutting_report[1]["settings_source"]
+                .as_str()
+                .unwrap()
+                .starts_with("from the blank"));
         }
     }
 

@@ -467,6 +467,14 @@ pub fn cut_pinion(
     }
 }
 
+/// A conjugate flank as built: the surface, its ease-off report (JSON)
+/// and the eased flank when an ease-off is given.
+type ConjugateFlank = (
+    Arc<dyn ToothSurface>,
+    serde_json::Value,
+    Option<Arc<EasedPinion>>,
+);
+
 /// The gear's hand that an assembly implies: the sliding direction at the
 /// mean pitch point P is the tooth trace there (ISO 23509 clause 6.3's
 /// kinematic condition; see [`PairAssembly`]), and its turn about the gear
@@ -522,13 +530,7 @@ fn conjugate(
     let assembly = assembly_for(inputs, design, gear_hand)?;
     let pinion = design.cutting_blank().pinion;
     let pitch = 2.0 * PI / pinion.z;
-    let build = |gear_flank: &Arc<dyn ToothSurface>,
-                 what: &str|
-     -> Result<(
-        Arc<dyn ToothSurface>,
-        serde_json::Value,
-        Option<Arc<EasedPinion>>,
-    )> {
+    let build = |gear_flank: &Arc<dyn ToothSurface>, what: &str| -> Result<ConjugateFlank> {
         let conj = Arc::new(
             ConjugatePinion::from_blank(gear_flank.clone(), &assembly, inputs, design)
                 .map_err(|e| in_flank(e, what))?,
