@@ -151,8 +151,10 @@ pub enum CradleTool {
 pub struct CradleGeneration {
     pub settings: MachineSettings,
     pub tool: CradleTool,
-    /// Precomputed: tilt matrix, work-frame basis B (columns), apex A.
+    /// Precomputed: tilt matrix, work-frame basis B (columns), apex A,
+    /// the cutter centre in the cradle plane.
     tilt: [[f64; 3]; 3],
+    centre: (f64, f64),
     basis: [V3; 3],
     apex: V3,
 }
@@ -206,9 +208,11 @@ impl CradleGeneration {
                 ));
             }
         }
+        let (sq, cq) = settings.cradle_angle.sin_cos();
         Ok(CradleGeneration {
             settings,
             tool,
+            centre: (settings.radial_distance * cq, settings.radial_distance * sq),
             tilt,
             basis,
             apex,
@@ -305,10 +309,8 @@ impl CradleGeneration {
             let m = &self.tilt;
             std::array::from_fn(|i| m[i][0] * x[0] + m[i][1] * x[1] + m[i][2] * x[2])
         };
-        let (sq, cq) = self.settings.cradle_angle.sin_cos();
-        let sr = self.settings.radial_distance;
         let tp = tilt(pp);
-        let p = [tp[0] + sr * cq, tp[1] + sr * sq, tp[2]];
+        let p = [tp[0] + self.centre.0, tp[1] + self.centre.1, tp[2]];
         let (tps, tpt, tpss, tpst, tptt) = (tilt(ps), tilt(pt), tilt(pss), tilt(pst), tilt(ptt));
         let generated = self.settings.generated;
         let psi = if generated { q[2] } else { 0.0 };
