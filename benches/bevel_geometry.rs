@@ -6,6 +6,13 @@
 //! member by continuation ([`EnvelopeFlank::grid`]: implicit-function
 //! predictor + Newton), on the ISO 23509 Annex F.2 spiral bevel set with
 //! settings from its blank. Target (issue 16): a full grid under 10 ms.
+//! The cradle map's jet is in closed form (`CradleGeneration::cutter_jet`,
+//! ≈ 0.15–0.2 µs against ≈ 0.6 µs for the dual-number chain it replaced),
+//! about 1.2 (gear) / 1.75 (pinion) Newton steps per grid point.
+//! Criterion medians (1 thread, 2-core machine shared with other builds,
+//! load average 3–5), before → after the closed-form jet: grid 9.8 → 4.4
+//! ms (gear), 13.0 → 6.0 ms (pinion); point + normal + curvatures 15.0 →
+//! 8.6 µs (gear), 18.5 → 10.0 µs (pinion).
 //!
 //! `cargo bench --bench bevel_geometry`.
 

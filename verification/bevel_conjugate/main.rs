@@ -26,8 +26,12 @@ use flank::geometry::bevel::conjugate::ConjugatePinion;
 use flank::geometry::bevel::ease_off::{
     deviation_grid, deviation_grid_at, write_grid_csv, EaseOffSpec, EasedPinion,
 };
+use flank::geometry::bevel::generated_surface::FlankKind;
+use flank::geometry::bevel::machine_settings::{refined_setup, CutterChoice, Member, MemberBlank};
 use flank::geometry::bevel::{blank_design, BlankDesign, BlankInputs};
+use flank::geometry::rotated::RotatedSurface;
 use flank::geometry::surface::ToothSurface;
+use flank::geometry::Hand;
 
 type V3 = [f64; 3];
 
@@ -509,9 +513,14 @@ fn meshing_residual_and_derivatives() {
 }
 
 fn spec(c: &Case) -> EaseOffSpec {
-    let p = &c.pinion;
+    spec_of(&c.pinion, c.design.cones.rm1)
+}
+
+/// The test's ease-off on a conjugate pinion with mean cone distance `rm`:
+/// profile crowning 20 µm, lengthwise 30 µm, bias 10 µm, TE level 50 µrad
+/// at ± half the roll span at the mean.
+fn spec_of(p: &ConjugatePinion, rm: f64) -> EaseOffSpec {
     let (v0, v1) = p.v_range();
-    let rm = c.design.cones.rm1;
     let (ua, ub) = (p.u_form(rm), p.u_tip(rm));
     let roll_span =
         (p.conjugate_point(ub, rm).unwrap().roll - p.conjugate_point(ua, rm).unwrap().roll).abs();
@@ -526,6 +535,33 @@ fn spec(c: &Case) -> EaseOffSpec {
     }
 }
 
+/// The ease-off read back on a 9 × 5 grid against the specified field
+/// written out here: (largest |read − specified|, largest specified) in
+/// mm. Also checks each grid point is the conjugate point moved by −e n.
+fn read_back(pinion: &ConjugatePinion, eased: &EasedPinion) -> (f64, f64) {
+    let s = *eased.spec();
+    let grid = deviation_grid(eased, 9, 5).expect("grid");
+    let k: V3 = [0.0, 0.0, 1.0];
+    let c_te = s.te_amplitude_rad / s.te_half_range_rad.powi(2);
+    let mut worst: f64 = 0.0;
+    let mut largest: f64 = 0.0;
+    for g in &grid {
+        let cp = pinion.conjugate_point(g.u, g.v).unwrap();
+        let xi = (g.u - s.centre.0) / s.half_span.0;
+        let eta = (g.v - s.centre.1) / s.half_span.1;
+        let arm = dot(cp.normal, cross(k, cp.point)).abs();
+        let d = cp.roll - eased.roll_centre();
+        let e = s.profile_crowning_mm * xi * xi
+            + s.lengthwise_crowning_mm * eta * eta
+            + s.bias_mm * xi * eta
+            + c_te * d * d * arm;
+        worst = worst.max((g.deviation_mm - e).abs());
+        largest = largest.max(e.abs());
+        assert!(norm(sub(g.point, lin(cp.point, -e, cp.normal))) < 1e-9);
+    }
+    (worst, largest)
+}
+
 /// (b) The ease-off read back equals the specified one (≤ 0.01 µm); the
 /// eased flank's tangents against central differences; the TE term alone
 /// gives the specified parabola.
@@ -537,26 +573,8 @@ fn ease_off_read_back() {
         let s = spec(&c);
         let eased =
             EasedPinion::new(c.pinion.clone(), s, c.design.thickness.s_mn[0]).expect("eased");
+        let (worst, largest) = read_back(&c.pinion, &eased);
         let grid = deviation_grid(&eased, 9, 5).expect("grid");
-        // the specified field, written out here
-        let k: V3 = [0.0, 0.0, 1.0];
-        let c_te = s.te_amplitude_rad / s.te_half_range_rad.powi(2);
-        let mut worst: f64 = 0.0;
-        let mut largest: f64 = 0.0;
-        for g in &grid {
-            let cp = c.pinion.conjugate_point(g.u, g.v).unwrap();
-            let xi = (g.u - s.centre.0) / s.half_span.0;
-            let eta = (g.v - s.centre.1) / s.half_span.1;
-            let arm = dot(cp.normal, cross(k, cp.point)).abs();
-            let d = cp.roll - eased.roll_centre();
-            let e = s.profile_crowning_mm * xi * xi
-                + s.lengthwise_crowning_mm * eta * eta
-                + s.bias_mm * xi * eta
-                + c_te * d * d * arm;
-            worst = worst.max((g.deviation_mm - e).abs());
-            largest = largest.max(e.abs());
-            assert!(norm(sub(g.point, lin(cp.point, -e, cp.normal))) < 1e-9);
-        }
         let out = std::env::temp_dir().join(format!("bevel_conjugate_{}.csv", &c.name[..2]));
         write_grid_csv(&out, &grid).expect("csv");
         // tangents of the eased flank
@@ -698,124 +716,110 @@ fn bad_input_is_an_error() {
     assert!(EasedPinion::new(c.pinion.clone(), nan, c.design.thickness.s_mn[0]).is_err());
 }
 
-/// A generated F2 gear from the milling branch's cradle machine
-/// (`bevel::cradle_machine`, `bevel::generation::EnvelopeFlank`): concave
-/// flank, outside blade of 20° with the cutter radius r_c0 at the mean
-/// point, generating crown gear whose pitch plane is the cradle plane
-/// raised by h_fm2 (machine root angle γ_m = δ₂, sliding base h_fm2,
-/// uniform depth), cutter centre at r_c0 from the mean point normal to the
-/// tooth trace at β_m2. The ratio of roll is 1 % above pure rolling
-/// (1.01 sin δ₂): with pure rolling the mean point lies on the
-/// instantaneous axis of generation, where the engine's normalised meshing
-/// row (f / |r_s × r_θ||r_ψ|, r_ψ = 0) is singular and `EnvelopeFlank::new`
-/// fails at its first point. Any generated surface is a valid gear flank,
-/// so this changes the gear, not the check. The flank is placed so that
-/// its mean point is on the gear's own +x.
-fn generated_f2_gear(
-    inputs: &BlankInputs,
-    d: &BlankDesign,
-) -> flank::geometry::bevel::generation::EnvelopeFlank<
-    flank::geometry::bevel::cradle_machine::CradleGeneration,
-> {
-    use flank::geometry::bevel::cradle_machine::{CradleGeneration, MachineSettings};
-    use flank::geometry::bevel::cutter::{Blade, BladeSide};
-    use flank::geometry::bevel::generation::{AxialSection, ConeLine, EnvelopeFlank, SolveOptions};
-    let c = &d.cones;
-    let hf = d.depth.hfm2;
-    let alpha = 20f64.to_radians();
-    let rc = inputs.rc0_mm;
-    let beta = c.beta_m2;
-    let blade = Blade {
-        side: BladeSide::Outside,
-        point_radius: rc - hf * alpha.tan(),
-        pressure_angle: alpha,
-        edge_radius: 0.0,
-        toprem: None,
-        curvature_radius: None,
-        height: 3.0 * d.depth.hm,
+/// The F2 gear flank generated on the cradle machine with the settings
+/// derived from the blank (`machine_settings::refined_setup`: mean spiral
+/// and pressure angles met to 1e-9 rad on the generated flank), left hand,
+/// mean cutter radius r_c0 = 114.3 mm, edge radius 0.6 mm; `generated` =
+/// false gives the formate gear (the cutter surface itself, no roll). The
+/// flank's own frame has tooth 0 on +y; the assembly's gear frame has the
+/// mean pitch point on +x, so the flank is turned by −90°.
+fn refined_f2_gear(
+    design: &BlankDesign,
+    kind: FlankKind,
+    generated: bool,
+) -> Arc<dyn ToothSurface> {
+    let blank = MemberBlank::from_design(design, Member::Gear).expect("gear blank");
+    let cutter = CutterChoice {
+        mean_radius: 114.3,
+        edge_radius: 0.6,
+        blade_height: None,
     };
-    let p = [c.rm2, 0.0];
-    let centre = [p[0] - rc * beta.sin(), p[1] + rc * beta.cos()];
-    let settings = MachineSettings {
-        radial_distance: centre[0].hypot(centre[1]),
-        cradle_angle: centre[1].atan2(centre[0]),
-        machine_root_angle: c.delta2,
-        sliding_base: hf,
-        blank_offset: 0.0,
-        machine_center_to_back: 0.0,
-        ratio_of_roll: 1.01 * c.delta2.sin(),
-        modified_roll: (0.0, 0.0),
-        tilt: 0.0,
-        swivel: 0.0,
-        generated: true,
-    };
-    let profile = blade.profile().expect("blade");
-    let s0 = profile.s_at_height(hf);
-    let theta0 = (p[1] - centre[1]).atan2(p[0] - centre[0]);
-    let map = CradleGeneration::with_blade(settings, blade).expect("machine");
-    let section = AxialSection {
-        pitch_angle: c.delta2,
-        cone_distance: (c.re2 - inputs.b2_mm, c.re2),
-        mean_cone_distance: c.rm2,
-        tip: ConeLine {
-            u_mean: d.depth.ham2,
-            slope: 0.0,
-        },
-        root: ConeLine {
-            u_mean: -hf,
-            slope: 0.0,
-        },
-    };
-    EnvelopeFlank::new(
-        map,
-        section,
+    let (setup, check) =
+        refined_setup(&blank, Hand::Left, &cutter, generated, 1e-9, 30).expect("refined settings");
+    assert!(check.max_angle_error() <= 1e-9);
+    let flank = setup.flank(kind).expect("gear flank");
+    Arc::new(RotatedSurface::new(
+        Arc::new(flank),
         -std::f64::consts::FRAC_PI_2,
-        None,
-        [s0, theta0, 0.0],
-        SolveOptions::default(),
-    )
-    .expect("generated gear flank")
+    ))
 }
 
-/// (a) and (c) with a generated gear (F2).
+/// (a), (b) and the meshing residual of (c) with a gear cut by machine
+/// settings derived from the F2 blank: the generated and the formate gear,
+/// both flanks (the formate convex flank's pinion is bounded by the line
+/// its tip edge touches: README).
 #[test]
-#[ignore = "built with hand-set cradle settings on the pre-merge F2 blank; with the standard's clause 7.5 face widths its start point falls outside the blade (OutsideTool). To be rebuilt on machine_settings::refined_setup (issue 16 stays open)"]
 fn generated_gear_conjugate() {
-    let t0 = Instant::now();
     let name = SAMPLES[0];
     let (inputs, design) = sample(name);
     let asm = PairAssembly::from_blank(&inputs, &design).expect("assembly");
-    let gear = Arc::new(generated_f2_gear(&inputs, &design));
-    let pinion = ConjugatePinion::from_blank(gear.clone(), &asm, &inputs, &design);
-    let pinion = match pinion {
-        Ok(p) => p,
-        Err(e) => panic!("{e}"),
-    };
-    let m = pinion.roll_ratio();
-    let (v0, v1) = pinion.v_range();
-    let (mut worst, mut count, mut res) = (0.0f64, 0, 0.0f64);
-    for frac in [0.25, 0.5, 0.75] {
-        let v = v0 + frac * (v1 - v0);
-        for (phi1, seed) in path(&pinion, v, 21) {
-            let (x, r, _) = contact(&asm, &pinion, gear.as_ref(), phi1, v, seed);
-            assert!(r < 1e-9, "contact residual {r:.2e} at φ1 = {phi1}");
-            worst = worst.max((m * x[3] - phi1).abs());
-            res = res.max(r);
-            count += 1;
+    let rm = design.cones.rm1;
+    for (generated, kind) in [
+        (true, FlankKind::Convex),
+        (true, FlankKind::Concave),
+        (false, FlankKind::Concave),
+        (false, FlankKind::Convex),
+    ] {
+        let t0 = Instant::now();
+        let gear = refined_f2_gear(&design, kind, generated);
+        let pinion = Arc::new(
+            ConjugatePinion::from_blank(gear.clone(), &asm, &inputs, &design)
+                .unwrap_or_else(|e| panic!("generated {generated}, {kind:?}: {e}")),
+        );
+        let m = pinion.roll_ratio();
+        let (v0, v1) = pinion.v_range();
+        let (mut worst, mut count, mut res) = (0.0f64, 0, 0.0f64);
+        for frac in [0.25, 0.5, 0.75] {
+            let v = v0 + frac * (v1 - v0);
+            for (phi1, seed) in path(&pinion, v, 21) {
+                let (x, r, _) = contact(&asm, pinion.as_ref(), gear.as_ref(), phi1, v, seed);
+                assert!(r < 1e-9, "contact residual {r:.2e} at φ1 = {phi1}");
+                worst = worst.max((m * x[3] - phi1).abs());
+                res = res.max(r);
+                count += 1;
+            }
         }
-    }
-    let mut mesh: f64 = 0.0;
-    for j in 0..5 {
-        let v = v0 + (v1 - v0) * j as f64 / 4.0;
-        for i in 0..7 {
-            let u = pinion.u_form(v) + (pinion.u_tip(v) - pinion.u_form(v)) * i as f64 / 6.0;
-            mesh = mesh.max(pinion.conjugate_point(u, v).unwrap().meshing_residual.abs());
+        let mut mesh: f64 = 0.0;
+        // the form line's contact lies on the gear flank, not beyond its
+        // tip edge: u₂ − u_tip2(v₂) ≤ 1e-9 mm (= 0 where the tip edge
+        // bounds the active flank)
+        let mut beyond_tip = f64::NEG_INFINITY;
+        for j in 0..5 {
+            let v = v0 + (v1 - v0) * j as f64 / 4.0;
+            for i in 0..7 {
+                let u = pinion.u_form(v) + (pinion.u_tip(v) - pinion.u_form(v)) * i as f64 / 6.0;
+                let cp = pinion.conjugate_point(u, v).unwrap();
+                mesh = mesh.max(cp.meshing_residual.abs());
+                if i == 0 {
+                    beyond_tip = beyond_tip.max(cp.gear_q[0] - gear.u_tip(cp.gear_q[1]));
+                }
+            }
         }
+        assert!(
+            beyond_tip <= 1e-9,
+            "form line meets the gear beyond its tip by {beyond_tip:.3e} mm"
+        );
+        let eased = EasedPinion::new(
+            pinion.clone(),
+            spec_of(&pinion, rm),
+            design.thickness.s_mn[0],
+        )
+        .expect("eased");
+        let (read, largest) = read_back(&pinion, &eased);
+        println!(
+            "{name}, {} gear, {kind:?} flank: {count} contacts, max |TE| = {worst:.2e} rad, \
+             contact residual {res:.2e} mm, meshing residual {mesh:.2e}, form-line contact \
+             u₂ − u_tip2 ≤ {beyond_tip:.2e} mm; ease-off up to {:.2} µm \
+             read back to {:.2e} µm; failures {}; {:.2} s",
+            if generated { "generated" } else { "formate" },
+            1e3 * largest,
+            1e3 * read,
+            pinion.failures(),
+            t0.elapsed().as_secs_f64()
+        );
+        assert!(worst <= 1e-9, "TE {worst:.3e} rad");
+        assert!(mesh <= 1e-12, "meshing residual {mesh:.3e}");
+        assert!(read <= 1e-5, "ease-off read back {read:.3e} mm");
+        assert_eq!(pinion.failures(), 0);
     }
-    println!(
-        "{name}, generated gear: {count} contacts, max |TE| = {worst:.2e} rad, residual {res:.2e} mm, meshing residual {mesh:.2e}; {:.2} s",
-        t0.elapsed().as_secs_f64()
-    );
-    assert!(worst <= 1e-9 && mesh <= 1e-12);
-    assert_eq!(pinion.failures(), 0);
 }

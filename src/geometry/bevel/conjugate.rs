@@ -20,10 +20,11 @@
 //! solves the equation of meshing n · v⁽²¹⁾ = 0 together with the pinion's
 //! axial-section target (z, ρ) of (u, v), and the tangents follow by the
 //! implicit function theorem ([`EnvelopePoint::section_tangent`]). The
-//! Newton solve is this module's own ([`ConjugatePinion::solve`]): its
-//! meshing row is n · v⁽²¹⁾ in mm, not the engine's n · v / |v|, which is
-//! 0/0 on the instantaneous axis — the whole pitch line of a pair with
-//! E = 0, where the relative velocity vanishes.
+//! Newton solve is the engine's ([`solve_axial`]) with the meshing row
+//! scaled by a fixed length ([`ConjugateMap::meshing_length`]): n·v⁽²¹⁾ in
+//! mm, not a residual normalised by |v⁽²¹⁾|, which is 0/0 on the
+//! instantaneous axis — the whole pitch line of a pair with E = 0, where
+//! the relative velocity vanishes.
 //!
 //! **Parameters** as for every bevel flank: the pinion's axial section, v the
 //! cone distance along the pitch-cone generatrix (toe → heel), u normal to
@@ -31,9 +32,12 @@
 //! R_e1 (the front and back cones are normal to the pitch cone, so they are
 //! lines v = const of the section); face cone u_tip(v) = h_am1 + (v − R_m1)
 //! tan θ_a1; root cone u_root(v) = −h_fm1 − (v − R_m1) tan θ_f1; u_form is
-//! the root line raised by the clearance c (where the gear's face cone
-//! reaches). Below u_form the surface is the analytic continuation of the
-//! envelope, not the fillet the gear's tip edge would cut.
+//! the higher of the root line raised by the clearance c and the line the
+//! gear's **tip edge** touches (the contact's gear point at u₂ =
+//! u_tip2(v₂); below it the pinion meets only the gear's edge, and the
+//! envelope of the gear flank's extension beyond its tip may fold: Litvin &
+//! Fuentes §6.3). Below u_form the surface is the tangent continuation of
+//! the envelope, not the fillet the gear's tip edge would cut.
 //!
 //! **Outward normal**: the pinion's material lies on the other side of the
 //! contact, so its outward normal is −n₂ (housing).
@@ -56,7 +60,10 @@ use std::sync::Arc;
 
 use crate::error::{FlankError, Result};
 use crate::geometry::bevel::assembly::PairAssembly;
-use crate::geometry::bevel::generation::{AxialSection, ConeLine, EnvelopeMap, EnvelopePoint, Jet};
+use crate::geometry::bevel::generation::{
+    solve_axial, AxialSection, ConeLine, EnvelopeError, EnvelopeMap, EnvelopePoint, Jet,
+    SolveOptions,
+};
 use crate::geometry::bevel::{BlankDesign, BlankInputs};
 use crate::geometry::frame::Frame;
 use crate::geometry::gear_pair::Misalignment;
@@ -70,6 +77,9 @@ pub struct ConjugateMap {
     assembly: PairAssembly,
     ratio: f64,
     orientation: f64,
+    /// |r₂,u × r₂,v| at the middle of the gear's parameter box: the fixed
+    /// reference of the meshing row ([`EnvelopeMap::meshing_length`]).
+    reference_area: f64,
 }
 
 fn scale(s: f64, a: V3) -> V3 {
@@ -99,6 +109,7 @@ impl ConjugateMap {
             gear,
             assembly,
             orientation,
+            reference_area: norm(cross(pu, pv)),
         }
     }
 
@@ -147,7 +158,25 @@ impl EnvelopeMap for ConjugateMap {
     fn normal_orientation(&self) -> f64 {
         self.orientation
     }
+
+    /// f/L = n₂·v⁽²¹⁾ |r₂,u × r₂,v| / L, L the gear's |r₂,u × r₂,v| at the
+    /// middle of its box: mm, and regular where v⁽²¹⁾ = 0 (the pitch line
+    /// of a pair with E = 0 is the instantaneous axis).
+    fn meshing_length(&self) -> Option<f64> {
+        Some(self.reference_area)
+    }
+
+    /// 0.2 rad of gear rotation: bounds a wild step from a poor start (the
+    /// gear turns through the whole active flank of a tooth in about one
+    /// angular pitch 2π/z₂ times the contact ratio, 0.2–0.4 rad for the
+    /// Annex F sets; a converging step from a seed is far smaller).
+    fn max_roll_step(&self) -> f64 {
+        MAX_ROLL_STEP
+    }
 }
+
+/// [`ConjugateMap::max_roll_step`] (rad).
+const MAX_ROLL_STEP: f64 = 0.2;
 
 /// Everything at one pinion point (own frame).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -180,6 +209,10 @@ pub struct ConjugatePinion {
     map: ConjugateMap,
     section: AxialSection,
     form: ConeLine,
+    /// u of the form line at [`EDGE_NODES`] cone distances toe → heel where
+    /// the gear's tip edge touches above the clearance line (None: it
+    /// touches below it everywhere; the form line is `form`).
+    edge_form: Option<Vec<f64>>,
     /// Seed table: q at (u_i, v_j), i over `nu` values of the u box.
     seeds: Vec<[f64; 3]>,
     u_box: (f64, f64),
@@ -191,8 +224,13 @@ pub struct ConjugatePinion {
 const SEED_NODES: usize = 9;
 /// Newton's step bound per point.
 pub const MAX_NEWTON: usize = 50;
+/// Newton's tolerance on z, ρ and the length-scaled meshing row (mm).
+pub const TOL_POSITION: f64 = 1e-11;
 /// Continuation sub-steps between two seed nodes.
 const SUB_STEPS: usize = 4;
+/// Cone distances (toe → heel) at which the gear tip edge's contact line
+/// is located.
+const EDGE_NODES: usize = 17;
 
 impl ConjugatePinion {
     /// The pinion conjugate to `gear` in `assembly`, bounded by `section`
@@ -232,12 +270,14 @@ impl ConjugatePinion {
             map,
             section,
             form,
+            edge_form: None,
             seeds: Vec::new(),
             u_box,
             v_box,
             failures: AtomicUsize::new(0),
         };
         let q0 = pinion.mean_contact()?;
+        pinion.edge_form = pinion.tip_edge_line(q0);
         pinion.seeds = pinion.seed_table(q0)?;
         Ok(pinion)
     }
@@ -369,81 +409,125 @@ impl ConjugatePinion {
         (n, dn)
     }
 
-    /// Residual rows (z − z*, ρ − ρ*, n·v⁽²¹⁾) and their Jacobian in q.
-    fn rows(&self, j: &Jet, z: f64, rho: f64) -> ([f64; 3], [[f64; 3]; 3]) {
-        let [zz, rr, f] = self.residual_of(j);
-        let (n, dn) = self.normal_jet(j);
-        let dz = std::array::from_fn(|k| j.d1[k][2]);
-        let drho = std::array::from_fn(|k| (j.r[0] * j.d1[k][0] + j.r[1] * j.d1[k][1]) / rr);
-        let df = std::array::from_fn(|k| dot(dn[k], j.d1[2]) + dot(n, j.d2[k][2]));
-        ([zz - z, rr - rho, f], [dz, drho, df])
-    }
-
-    /// Bounded damped Newton on (z(q) − z*, ρ(q) − ρ*, n·v⁽²¹⁾) — all three
-    /// rows in mm, so the meshing row keeps its gradient where the relative
-    /// velocity vanishes (the pitch line of a bevel pair with E = 0, where
-    /// the normalised residual n·v/|v| of the generic engine is 0/0). Stops
-    /// when |z − z*|, |ρ − ρ*| ≤ 1e-11 mm and |n·v| ≤ 1e-13 R_m1, errs after
+    /// The envelope engine's bounded damped Newton
+    /// ([`solve_axial`]) on (z(q) − z*, ρ(q) − ρ*, f/L), all three rows in
+    /// mm ([`ConjugateMap::meshing_length`]: the row keeps its gradient
+    /// where the relative velocity vanishes, the pitch line of a bevel pair
+    /// with E = 0). Stops when each row is ≤ [`TOL_POSITION`] mm, errs after
     /// [`MAX_NEWTON`] steps, on a singular Jacobian or a non-finite value.
     fn newton(&self, z: f64, rho: f64, q0: [f64; 3]) -> Result<EnvelopePoint> {
-        let tol_f = 1e-13 * self.length();
-        let merit = |r: [f64; 3]| r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
-        let finite = |j: &Jet, r: &[f64; 3]| j.r.iter().chain(r.iter()).all(|x| x.is_finite());
-        let mut q = q0;
-        let mut jet = self.map.jet(q);
-        let (mut res, mut jac) = self.rows(&jet, z, rho);
-        if !finite(&jet, &res) {
-            return Err(FlankError::Model(format!(
-                "non-finite gear point at q = {q:?}"
-            )));
+        let opt = SolveOptions {
+            max_iterations: MAX_NEWTON,
+            tol_position: TOL_POSITION,
+            ..SolveOptions::default()
+        };
+        solve_axial(&self.map, z, rho, q0, &opt).map_err(|e| match e {
+            EnvelopeError::Singular { q, .. } => FlankError::Model(format!(
+                "singular meshing Jacobian at gear (u, v, φ₂) = {q:?}: the envelope is not regular there (limit line / undercut)"
+            )),
+            EnvelopeError::NonFinite { q } => {
+                FlankError::Model(format!("non-finite gear point at q = {q:?}"))
+            }
+            EnvelopeError::NotConverged {
+                iterations,
+                residual,
+                q,
+            } => FlankError::Model(format!(
+                "equation of meshing: Newton did not converge in {iterations} steps (residual {residual:.2e} mm at gear (u, v, φ₂) = {q:?})"
+            )),
+            e => FlankError::Model(e.to_string()),
+        })
+    }
+
+    /// u of the clearance line (root + c) at v.
+    fn clearance_u(&self, v: f64) -> f64 {
+        self.form.u_mean + self.form.slope * (v - self.section.mean_cone_distance)
+    }
+
+    /// The tip-edge form line linearly interpolated at v, and its slope.
+    fn edge_interpolated(&self, v: f64) -> Option<(f64, f64)> {
+        let e = self.edge_form.as_ref()?;
+        let n = (EDGE_NODES - 1) as f64;
+        let t = ((v - self.v_box.0) / (self.v_box.1 - self.v_box.0) * n).clamp(0.0, n);
+        let k = (t.floor() as usize).min(EDGE_NODES - 2);
+        let a = t - k as f64;
+        let dv = (self.v_box.1 - self.v_box.0) / n;
+        Some((e[k] + a * (e[k + 1] - e[k]), (e[k + 1] - e[k]) / dv))
+    }
+
+    /// du_form/dv at v.
+    fn form_slope(&self, v: f64) -> f64 {
+        match self.edge_interpolated(v) {
+            Some((u, slope)) if u > self.clearance_u(v) => slope,
+            _ => self.form.slope,
         }
-        for it in 0..=MAX_NEWTON {
-            if res[0].abs() <= 1e-11 && res[1].abs() <= 1e-11 && res[2].abs() <= tol_f {
-                let (n, _) = self.normal_jet(&jet);
-                return Ok(EnvelopePoint {
-                    q,
-                    jet,
-                    normal: n,
-                    jacobian: jac,
-                    generated: true,
-                    iterations: it,
-                });
-            }
-            if it == MAX_NEWTON {
-                break;
-            }
-            let Some(mut dq) = solve3(&jac, [-res[0], -res[1], -res[2]]) else {
-                return Err(FlankError::Model(format!(
-                    "singular meshing Jacobian at gear (u, v, φ₂) = {q:?}: the envelope is not regular there (limit line / undercut)"
-                )));
-            };
-            let cap = 0.2 / dq[2].abs().max(0.2);
-            dq = dq.map(|x| x * cap);
-            let m0 = merit(res);
-            let mut lambda = 1.0;
-            let mut accepted = false;
-            for _ in 0..30 {
-                let qn = std::array::from_fn(|k| q[k] + lambda * dq[k]);
-                let jn = self.map.jet(qn);
-                let (rn, jacn) = self.rows(&jn, z, rho);
-                if finite(&jn, &rn) && merit(rn) < m0 {
-                    q = qn;
-                    jet = jn;
-                    res = rn;
-                    jac = jacn;
-                    accepted = true;
-                    break;
+    }
+
+    /// The line the gear's **tip edge** touches on the pinion flank, where
+    /// it lies above the clearance line: below it the pinion is not
+    /// generated by the gear's flank but by its tip edge (a fillet trace),
+    /// and the envelope of the flank's extension beyond the tip may fold
+    /// there (limit line of undercut, Litvin & Fuentes §6.3). At each of
+    /// [`EDGE_NODES`] cone distances, continuation from the pitch line down
+    /// the profile in 24 steps to the clearance line watches
+    /// g = u₂ − u_tip2(v₂) of the contact; where g changes sign, bisection
+    /// (≤ 60 halvings, to 1e-12 of the step) gives the pinion's u. None if
+    /// the tip edge touches below the clearance line everywhere (or is
+    /// never reached before the continuation stops; the seed table then
+    /// reports the failure).
+    fn tip_edge_line(&self, q0: [f64; 3]) -> Option<Vec<f64>> {
+        let rm = self.section.mean_cone_distance;
+        let gear = &self.map.gear;
+        let g_of = |q: [f64; 3]| q[0] - gear.u_tip(q[1]);
+        let mut out = Vec::with_capacity(EDGE_NODES);
+        let mut active = false;
+        for j in 0..EDGE_NODES {
+            let v =
+                self.v_box.0 + (self.v_box.1 - self.v_box.0) * j as f64 / (EDGE_NODES - 1) as f64;
+            let clear = self.clearance_u(v);
+            let mut found = None;
+            if let Ok(q) = self.walk(q0, (0.0, rm), (0.0, v), 2 * SUB_STEPS) {
+                let steps = 24;
+                let (mut u_prev, mut q_prev) = (0.0, q);
+                if g_of(q) < 0.0 {
+                    for k in 1..=steps {
+                        let u = clear * k as f64 / steps as f64;
+                        let Ok(p) = self.solve_from(u, v, q_prev) else {
+                            break;
+                        };
+                        if g_of(p.q) >= 0.0 {
+                            // bisection between u_prev (g < 0) and u (g ≥ 0)
+                            let (mut lo, mut hi, mut q_lo) = (u_prev, u, q_prev);
+                            for _ in 0..60 {
+                                if (lo - hi).abs() <= 1e-12 * (1.0 + clear.abs()) {
+                                    break;
+                                }
+                                let mid = 0.5 * (lo + hi);
+                                match self.solve_from(mid, v, q_lo) {
+                                    Ok(pm) if g_of(pm.q) < 0.0 => {
+                                        lo = mid;
+                                        q_lo = pm.q;
+                                    }
+                                    _ => hi = mid,
+                                }
+                            }
+                            found = Some(0.5 * (lo + hi));
+                            break;
+                        }
+                        u_prev = u;
+                        q_prev = p.q;
+                    }
                 }
-                lambda *= 0.5;
             }
-            if !accepted {
-                break;
+            match found {
+                Some(u) if u > clear => {
+                    active = true;
+                    out.push(u);
+                }
+                _ => out.push(clear),
             }
         }
-        Err(FlankError::Model(format!(
-            "equation of meshing: Newton did not converge in {MAX_NEWTON} steps (residual z {:.2e}, ρ {:.2e}, n·v {:.2e} mm at gear (u, v, φ₂) = {q:?})",
-            res[0], res[1], res[2]
-        )))
+        active.then_some(out)
     }
 
     /// Seed node (i, j): v_j across the face, u_i from the form line to
@@ -551,7 +635,7 @@ impl ConjugatePinion {
         }
         let f = self.describe(&self.solve(uf, v)?)?;
         let h = 1e-4;
-        let slope = self.form.slope;
+        let slope = self.form_slope(v);
         let up = self.describe(&self.solve(uf + h, v)?)?;
         let um = self.describe(&self.solve(uf - h, v)?)?;
         let ruu = scale(0.5 / h, sub(up.r_u, um.r_u));
@@ -674,8 +758,14 @@ impl ToothSurface for ConjugatePinion {
     fn u_tip(&self, v: f64) -> f64 {
         self.section.u_tip(v)
     }
+    /// The clearance line (root raised by c), or the line the gear's tip
+    /// edge touches where that is higher ([`ConjugatePinion::new`]).
     fn u_form(&self, v: f64) -> f64 {
-        self.form.u_mean + self.form.slope * (v - self.section.mean_cone_distance)
+        let clear = self.clearance_u(v);
+        match self.edge_interpolated(v) {
+            Some((u, _)) => clear.max(u),
+            None => clear,
+        }
     }
     fn u_root(&self, v: f64) -> f64 {
         self.section.u_root(v)
@@ -694,29 +784,4 @@ impl ToothSurface for ConjugatePinion {
         let c = self.eval(u, v);
         (c.point, c.normal, c.r_u, c.r_v)
     }
-}
-
-fn det3(a: &[[f64; 3]; 3]) -> f64 {
-    a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
-        - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
-        + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
-}
-
-/// a x = b by Cramer's rule; None when singular relative to the rows' scale.
-fn solve3(a: &[[f64; 3]; 3], b: [f64; 3]) -> Option<[f64; 3]> {
-    let d = det3(a);
-    let scale: f64 = a
-        .iter()
-        .map(|r| r.iter().map(|x| x * x).sum::<f64>().sqrt())
-        .product();
-    if !(d.is_finite() && scale > 0.0) || d.abs() <= 1e-13 * scale {
-        return None;
-    }
-    Some(std::array::from_fn(|k| {
-        let mut m = *a;
-        for i in 0..3 {
-            m[i][k] = b[i];
-        }
-        det3(&m) / d
-    }))
 }

@@ -78,6 +78,28 @@ pub trait EnvelopeMap: std::fmt::Debug + Send + Sync {
     fn tool_range(&self) -> Option<(f64, f64)> {
         None
     }
+
+    /// A fixed reference L (a product of reference lengths, e.g. the
+    /// nominal |r_s × r_θ|) that makes the meshing row f/L a **length** (mm,
+    /// the normal component of r_ψ scaled by |r_s × r_θ|/L). With Some(L)
+    /// [`solve_axial`] solves (z − z*, ρ − ρ*, f/L), all three rows in mm,
+    /// and accepts the point when each is within `tol_position`: the row
+    /// keeps its gradient and its meaning where the relative velocity
+    /// r_ψ vanishes (the instantaneous axis: the whole pitch line of a
+    /// bevel pair with E = 0), where any residual normalised by |r_ψ| is
+    /// 0/0. Default None: the row f/|∇f(q₀)| and the normalised
+    /// [`meshing_residual`] ≤ `tol_meshing`.
+    fn meshing_length(&self) -> Option<f64> {
+        None
+    }
+
+    /// The largest change of ψ in one Newton step (rad): a step that
+    /// would turn the work further is shortened to it, so that Newton
+    /// stays on the contact it started near (the next tooth's contact is
+    /// one angular pitch away). Default: unbounded.
+    fn max_roll_step(&self) -> f64 {
+        f64::INFINITY
+    }
 }
 
 /// The jet of a map written generic over dual numbers: `f` evaluates the
@@ -231,9 +253,11 @@ pub struct EnvelopePoint {
 pub struct SolveOptions {
     /// Maximum Newton steps (each with up to 30 halvings).
     pub max_iterations: usize,
-    /// Tolerance on |z − z*| and |ρ − ρ*| (mm).
+    /// Tolerance on |z − z*| and |ρ − ρ*| (mm), and on the meshing row
+    /// f/L of a map with a [`EnvelopeMap::meshing_length`] L.
     pub tol_position: f64,
-    /// Tolerance on the dimensionless meshing residual.
+    /// Tolerance on the dimensionless meshing residual (maps without a
+    /// meshing length).
     pub tol_meshing: f64,
 }
 
@@ -339,12 +363,15 @@ fn within_tool<M: EnvelopeMap + ?Sized>(map: &M, q: [f64; 3]) -> Result<(), Enve
 }
 
 /// The surface point at axial position `z` and radius `rho` (work frame):
-/// bounded damped Newton on (z(q) − z*, ρ(q) − ρ*, f(q)) from `q0` (for a
-/// formate map ψ = q0[2] is held). Each step is halved until the merit
-/// |Δz|² + |Δρ|² + (f/f_scale)² decreases (f_scale = |∇f| frozen at the
-/// start, so that all three rows weigh alike); stops when the position is within
-/// `tol_position` and the meshing residual within `tol_meshing`, or errs
-/// after `max_iterations` steps.
+/// bounded damped Newton on (z(q) − z*, ρ(q) − ρ*, f(q)/f_scale) from `q0`
+/// (for a formate map ψ = q0[2] is held). f_scale is the map's fixed
+/// [`EnvelopeMap::meshing_length`] when it gives one (all rows in mm), else
+/// |∇f| frozen at the start (so that all three rows weigh alike). Each step
+/// is shortened to the map's [`EnvelopeMap::max_roll_step`] in ψ, then
+/// halved until the merit (sum of squared rows) decreases; stops when the
+/// position is within `tol_position` and the meshing row within
+/// `tol_position` (length-scaled) or the normalised meshing residual
+/// within `tol_meshing`, or errs after `max_iterations` steps.
 pub fn solve_axial<M: EnvelopeMap + ?Sized>(
     map: &M,
     z: f64,
@@ -364,9 +391,16 @@ pub fn solve_axial<M: EnvelopeMap + ?Sized>(
     if !finite(&jet) {
         return Err(EnvelopeError::NonFinite { q });
     }
-    // f's row scale: |∇f| at the start (1 for a formate map), so that the
-    // three rows of the merit weigh alike (|∇z|, |∇ρ| are O(1) per unit q)
-    let f_scale = if generated {
+    // f's row scale: the map's fixed reference length product, else |∇f|
+    // at the start (1 for a formate map), so that the three rows of the
+    // merit weigh alike (|∇z|, |∇ρ| are O(1) per unit q)
+    let length_scaled = generated && map.meshing_length().is_some();
+    let f_scale = if let (true, Some(l)) = (generated, map.meshing_length()) {
+        if !(l.is_finite() && l > 0.0) {
+            return Err(EnvelopeError::NonFinite { q });
+        }
+        l
+    } else if generated {
         let g = meshing(&jet).1;
         let s = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
         if s.is_finite() && s > 0.0 {
@@ -385,7 +419,12 @@ pub fn solve_axial<M: EnvelopeMap + ?Sized>(
     let mut res = residual(&jet);
     for it in 0..=opt.max_iterations {
         let pos_ok = res[0].abs() <= opt.tol_position && res[1].abs() <= opt.tol_position;
-        let mesh_ok = !generated || meshing_residual(&jet).abs() <= opt.tol_meshing;
+        let mesh_ok = !generated
+            || if length_scaled {
+                res[2].abs() <= opt.tol_position
+            } else {
+                meshing_residual(&jet).abs() <= opt.tol_meshing
+            };
         if pos_ok && mesh_ok {
             return within_tool(map, q).map(|_| EnvelopePoint::build(map, q, jet, it));
         }
@@ -399,12 +438,17 @@ pub fn solve_axial<M: EnvelopeMap + ?Sized>(
         if !generated {
             jac[2] = [0.0, 0.0, 1.0];
         }
-        let Some(dq) = solve3(&jac, [-res[0], -res[1], -res[2]]) else {
+        let Some(mut dq) = solve3(&jac, [-res[0], -res[1], -res[2]]) else {
             return Err(EnvelopeError::Singular {
                 q,
                 determinant: det3(&jac),
             });
         };
+        let cap = map.max_roll_step();
+        if generated && dq[2].abs() > cap {
+            let shrink = cap / dq[2].abs();
+            dq = dq.map(|x| x * shrink);
+        }
         let m0 = merit(res);
         let mut lambda = 1.0;
         let mut accepted = false;
@@ -1045,6 +1089,55 @@ mod tests {
         for a in &angles {
             assert!((a - angles[0]).abs() < 1e-12, "{angles:?}");
         }
+    }
+
+    /// The rack roll with the length-scaled meshing row (f/L, L = 1 since
+    /// |r_s × r_θ| = 1) and a capped roll step: the same involute, the row
+    /// n·r_ψ ≤ 1e-12 mm. (The instantaneous axis itself, where r_ψ = 0, is
+    /// exercised by the conjugate pinion of the E = 0 pair F2 in
+    /// `verification/bevel_conjugate`: its whole pitch line.)
+    #[test]
+    fn length_scaled_meshing_row() {
+        #[derive(Debug)]
+        struct Scaled(RackRoll);
+        impl EnvelopeMap for Scaled {
+            fn jet(&self, q: [f64; 3]) -> Jet {
+                self.0.jet(q)
+            }
+            fn normal_orientation(&self) -> f64 {
+                1.0
+            }
+            fn meshing_length(&self) -> Option<f64> {
+                Some(1.0)
+            }
+            fn max_roll_step(&self) -> f64 {
+                0.2
+            }
+        }
+        let m = Scaled(RackRoll {
+            r: 50.0,
+            alpha: 20f64.to_radians(),
+        });
+        let rb = 50.0 * m.0.alpha.cos();
+        let opt = SolveOptions::default();
+        let start = solve_axial(&m, 3.0, 50.0, [0.0, 3.0, 0.0], &opt).unwrap();
+        let mut angles = vec![];
+        for i in 0..9 {
+            let rho = 48.0 + 0.5 * i as f64;
+            let p = solve_axial(&m, 3.0, rho, start.q, &opt).unwrap();
+            let n_v = dot(p.normal, p.jet.d1[2]);
+            assert!(n_v.abs() <= 1e-12, "n·r_ψ = {n_v:e} mm at ρ = {rho}");
+            let (z, r) = axial_radius(p.jet.r);
+            assert!((z - 3.0).abs() < 1e-12 && (r - rho).abs() < 1e-12);
+            let ay = (rb / rho).acos();
+            angles.push(p.jet.r[1].atan2(p.jet.r[0]) + ay.tan() - ay);
+        }
+        for a in &angles {
+            assert!((a - angles[0]).abs() < 1e-12, "{angles:?}");
+        }
+        // a wild start: the roll step is capped, Newton still converges
+        let p = solve_axial(&m, 3.0, 49.0, [0.0, 3.0, 1.0], &opt).unwrap();
+        assert!((axial_radius(p.jet.r).1 - 49.0).abs() < 1e-12);
     }
 
     #[test]
