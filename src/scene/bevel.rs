@@ -289,6 +289,7 @@ pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<BevelScene> {
 mod tests {
     use super::*;
     use crate::scene::{parse_any_scene, parse_scene, AnyScene};
+    use crate::scene::test_support::{expect_any_err, line_of};
     use std::path::Path;
 
     const SCENE: &str = r#"[pair]
@@ -336,17 +337,7 @@ speed_rpm = 1000.0
         parse_any_scene(text, Path::new("s.toml"))
     }
 
-    fn line_of(text: &str, needle: &str) -> usize {
-        1 + text[..text.find(needle).unwrap()].matches('\n').count()
-    }
 
-    fn expect_err(text: &str, line: usize, words: &[&str]) {
-        let e = parse(text).unwrap_err().to_string();
-        assert!(e.starts_with(&format!("s.toml:{line}:")), "{e}");
-        for w in words {
-            assert!(e.contains(w), "'{w}' not in: {e}");
-        }
-    }
 
     #[test]
     fn a_hypoid_scene_reads_and_runs_its_blank_design() {
@@ -375,22 +366,22 @@ speed_rpm = 1000.0
     fn bad_bevel_scenes_point_at_the_key() {
         let edit = |from: &str, to: &str| SCENE.replacen(from, to, 1);
         let t = edit("z1 = 12", "z1 = 0");
-        expect_err(&t, line_of(&t, "z1 = 0"), &["z1", "positive"]);
+        expect_any_err(&t, line_of(&t, "z1 = 0"), &["z1", "positive"]);
         let t = edit("x_smn = 0.0\n", "");
-        expect_err(&t, line_of(&t, "[blank]"), &["x_smn", "missing"]);
+        expect_any_err(&t, line_of(&t, "[blank]"), &["x_smn", "missing"]);
         let t = edit("z0 = 5", "z0 = 5\nfoo = 1");
-        expect_err(&t, line_of(&t, "foo = 1"), &["foo"]);
+        expect_any_err(&t, line_of(&t, "foo = 1"), &["foo"]);
         let t = edit("kind = \"hypoid\"", "kind = \"spiral_bevel\"");
-        expect_err(&t, 2, &["pair.kind", "blank.method"]);
+        expect_any_err(&t, 2, &["pair.kind", "blank.method"]);
         let t = edit("bore_diameter_mm = 130.0", "bore_diameter_mm = 190.0");
-        expect_err(
+        expect_any_err(
             &t,
             line_of(&t, "190.0"),
             &["gear.bore_diameter_mm", "root cone"],
         );
         let t = edit("pinion_hand = \"left\"", "pinion_hand = \"up\"");
-        expect_err(&t, 3, &["pinion_hand"]);
+        expect_any_err(&t, 3, &["pinion_hand"]);
         let t = edit("material = \"steel\"", "material = \"brass\"");
-        expect_err(&t, line_of(&t, "\"brass\""), &["materials.brass"]);
+        expect_any_err(&t, line_of(&t, "\"brass\""), &["materials.brass"]);
     }
 }

@@ -459,6 +459,7 @@ mod tests {
     use crate::geometry::bevel::generated_surface::FlankMeasure;
     use crate::geometry::gear_pair::{Flank, GearBody};
     use crate::scene::{parse_any_scene, AnyScene, BevelScene};
+    use crate::scene::test_support::{expect_any_err, line_of};
     use std::path::Path;
 
     /// Seed 003's scene (method 1, face milling).
@@ -473,17 +474,7 @@ mod tests {
         }
     }
 
-    fn line_of(text: &str, needle: &str) -> usize {
-        1 + text[..text.find(needle).unwrap()].matches('\n').count()
-    }
 
-    fn expect_err(text: &str, line: usize, words: &[&str]) {
-        let e = parse(text).unwrap_err().to_string();
-        assert!(e.starts_with(&format!("s.toml:{line}:")), "{e}");
-        for w in words {
-            assert!(e.contains(w), "'{w}' not in: {e}");
-        }
-    }
 
     /// Angle of a point from the +y axis, positive toward +x (rad).
     fn from_y(p: [f64; 3]) -> f64 {
@@ -631,14 +622,14 @@ mod tests {
         let gear = "[gear]\nbore_diameter_mm = 140.0\nmaterial = \"steel\"";
         // a cutter too small for the face width
         let t = with(MILLED, gear, "\n[gear.cutter]\nradius_mm = 5.0");
-        expect_err(
+        expect_any_err(
             &t,
             line_of(&t, "radius_mm = 5.0"),
             &["gear", "radius", "face width"],
         );
         // blade groups on a face-milled blank
         let t = with(MILLED, gear, "\n[gear.cutter]\nblade_groups = 5");
-        expect_err(
+        expect_any_err(
             &t,
             line_of(&t, "blade_groups = 5"),
             &["gear.cutter.blade_groups", "face hobbing"],
@@ -646,7 +637,7 @@ mod tests {
         // an ease-off on a machined pinion
         let pinion = "[pinion]\nbore_diameter_mm = 20.0\nmaterial = \"steel\"";
         let t = with(MILLED, pinion, "\n[pinion.ease_off]\nbias_um = 5.0");
-        expect_err(
+        expect_any_err(
             &t,
             line_of(&t, "[pinion.ease_off]"),
             &["pinion.ease_off", "conjugate"],
@@ -657,25 +648,25 @@ mod tests {
             pinion,
             "process = \"conjugate\"\n\n[pinion.cutter]\nradius_mm = 100.0",
         );
-        expect_err(
+        expect_any_err(
             &t,
             line_of(&t, "[pinion.cutter]"),
             &["pinion.cutter", "conjugate"],
         );
         // a conjugate gear
         let t = with(MILLED, gear, "process = \"conjugate\"");
-        expect_err(
+        expect_any_err(
             &t,
             line_of(&t, "process = \"conjugate\""),
             &["gear.process", "machine"],
         );
         // an unknown process
         let t = with(MILLED, gear, "process = \"lapped\"");
-        expect_err(&t, line_of(&t, "process = \"lapped\""), &["process"]);
+        expect_any_err(&t, line_of(&t, "process = \"lapped\""), &["process"]);
         // explicit settings without the blades
         let machine = "\n[gear.machine]\nradial_distance_mm = 180.0\ncradle_angle_deg = 30.0\nmachine_root_angle_deg = 69.0\nsliding_base_mm = 0.0\nblank_offset_mm = 0.0\nmachine_center_to_back_mm = 0.0\nratio_of_roll = 0.96";
         let t = with(MILLED, gear, machine);
-        expect_err(
+        expect_any_err(
             &t,
             line_of(&t, "[gear.machine]"),
             &["gear.cutter.inside_point_radius_mm", "missing"],
@@ -683,14 +674,14 @@ mod tests {
         // explicit settings on a face-hobbed blank
         let hob_gear = "[gear]\nbore_diameter_mm = 130.0\nmaterial = \"steel\"";
         let t = with(HOBBED, hob_gear, machine);
-        expect_err(
+        expect_any_err(
             &t,
             line_of(&t, "[gear.machine]"),
             &["gear.machine", "face hobbing"],
         );
         // a negative radial distance
         let t = with(MILLED, gear, &machine.replace("= 180.0", "= -180.0"));
-        expect_err(
+        expect_any_err(
             &t,
             line_of(&t, "-180.0"),
             &["gear.machine.radial_distance_mm"],

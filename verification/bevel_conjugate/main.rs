@@ -258,31 +258,13 @@ const SAMPLES: [&str; 2] = [
     "F4_hypoid_method2_oerlikon_face_hobbing",
 ];
 
-/// Dense solve by Gaussian elimination with partial pivoting.
-#[allow(clippy::needless_range_loop)]
-fn solve_dense(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
+/// Dense solve (nalgebra's LU with partial pivoting); None if singular.
+fn solve_dense(a: Vec<Vec<f64>>, b: Vec<f64>) -> Option<Vec<f64>> {
     let n = b.len();
-    for k in 0..n {
-        let p = (k..n).max_by(|&i, &j| a[i][k].abs().total_cmp(&a[j][k].abs()))?;
-        if a[p][k] == 0.0 {
-            return None;
-        }
-        a.swap(k, p);
-        b.swap(k, p);
-        for i in k + 1..n {
-            let f = a[i][k] / a[k][k];
-            for j in k..n {
-                a[i][j] -= f * a[k][j];
-            }
-            b[i] -= f * b[k];
-        }
-    }
-    let mut x = vec![0.0; n];
-    for k in (0..n).rev() {
-        let s: f64 = (k + 1..n).map(|j| a[k][j] * x[j]).sum();
-        x[k] = (b[k] - s) / a[k][k];
-    }
-    Some(x)
+    let m = nalgebra::DMatrix::from_fn(n, n, |i, j| a[i][j]);
+    m.lu()
+        .solve(&nalgebra::DVector::from_vec(b))
+        .map(|x| x.iter().copied().collect())
 }
 
 /// Unloaded TCA at one pinion rotation φ₁ with the pinion's cone distance
