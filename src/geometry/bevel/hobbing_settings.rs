@@ -55,10 +55,10 @@
 use crate::error::{FlankError, Result};
 use crate::geometry::bevel::cradle_machine::MachineSettings;
 use crate::geometry::bevel::cutter::{Blade, BladeSide};
-use crate::geometry::bevel::generated_surface::ROOT_ARC_ANGLE;
 use crate::geometry::bevel::face_hobbing::{
     ExtendedEpicycloid, FaceHobbing, FaceHobbingSettings, HobbingBlade,
 };
+use crate::geometry::bevel::generated_surface::ROOT_ARC_ANGLE;
 use crate::geometry::bevel::generation::{
     solve_axial, AxialSection, ConeLine, EnvelopeError, EnvelopeFlank, SolveOptions,
 };
@@ -775,13 +775,14 @@ const ROOT_TRACE_STEPS: usize = 6000;
 /// (s_min) sweeps the tip plane z_m = 0, which touches the root cone only
 /// along the pitch element; elsewhere it passes above the root cone by
 /// about y²/(2 R tan δ_f) (0.0007 mm at the seed-000 gear's mean point,
-/// 0.17 mm at its heel), and its axial projection folds: near s_min the
+/// 0.13–0.19 mm at its heel), and its axial projection folds: near s_min the
 /// blade is tangent to the tip plane, u(s) ≈ u_tip-path + (s − s_min)²/(2ρ_f)
 /// on both sides of s_min (the edge-radius arc continued past its
 /// tangency), so a target just below the tip path has no solution and
 /// Newton stalls on the fold. A straight root line through the path's
 /// highest sampled point missed the path's maximum at the heel corner
-/// (sampled 0.4 mm short of R_e: root line 0.002 mm below the path there);
+/// (401 samples ~0.4 mm apart in v: on the seed-000 gear the line lay
+/// 0.002 mm (outside blade), 0.004 mm (inside) below the path at R_e);
 /// this curve follows the fillet's real lower boundary over the whole
 /// face and stays transversal to the axial section (the normal is 0.1 rad
 /// off the cutter axis), as the face-milled formate flank's root
@@ -942,10 +943,9 @@ impl HobbedFlank {
                     .map_err(|e| FlankError::Model(format!("{what}: {e}")))?,
             )
         };
-        let surface = EnvelopeFlank::with_root_curve(
-            map, section, placement, form, mean.q, opt, root_curve,
-        )
-        .map_err(|e| describe(&settings, &e, &what))?;
+        let surface =
+            EnvelopeFlank::with_root_curve(map, section, placement, form, mean.q, opt, root_curve)
+                .map_err(|e| describe(&settings, &e, &what))?;
         Ok(HobbedFlank { surface, teeth })
     }
 
@@ -1022,6 +1022,102 @@ impl ToothSurface for HobbedFlank {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The seed-000 blank (papers/seed000-hypoid/scene.toml's `[blank]`):
+    /// Cyclo-Palloid hypoid 12/41, r_c0 100 mm, z₀ = 5.
+    pub(super) const SEED000: &str = r#"{"method": 3, "Sigma_deg": 90.0, "a_mm": 30.0, "z1": 12, "z2": 41,
+ "de2_mm": 213.2, "b2_mm": 32.0, "beta_m2_deg": 32.0, "rc0_mm": 100.0, "z0": 5,
+ "data_type": "I", "alpha_dD_deg": 20.0, "alpha_dC_deg": 20.0, "f_alim": 0.0,
+ "k_hap": 1.0, "k_hfp": 1.25, "x_hm1": 0.53, "x_smn": 0.0}"#;
+
+    /// Issue 16 point 3: the formate (non-generated) gear on the seed-000
+    /// blank builds (its straight root line used to lie 0.002 mm below the
+    /// blade tip's path at the heel, where the axial section has no
+    /// solution). On a 21 × 11 grid root → tip × toe → heel of both
+    /// flanks: the solved point lies at its axial-section target (|Δz|,
+    /// |Δρ| ≤ 1e-10 mm; a formate flank has no equation of meshing, the
+    /// engine's meshing residual is 0 by definition), the unit normal is ⟂
+    /// r_u and r_v (≤ 1e-10 relative), every point is on the real blade
+    /// (s ≥ the root blade line s_min + 0.1 ρ_f, not on the edge-radius
+    /// arc continued past the tip); the body's pointed-tooth / space check
+    /// passes (`cutting::cut_gear`, `cutting::member_body`).
+    #[test]
+    fn formate_gear_on_seed000_blank_builds() {
+        use crate::geometry::bevel::cutting::{cut_gear, member_body, CutterSpec, MachineCut};
+        use crate::geometry::bevel::{blank_design, BlankInputs};
+        let d = blank_design(&BlankInputs::from_json(SEED000).unwrap()).unwrap();
+        let spec = CutterSpec::of_blank(&d);
+        // the gear is right-hand (the scene's pinion is left-hand): κ = −1
+        let blank = HobbingBlank {
+            hand: -1.0,
+            ..HobbingBlank::from_design(&d, Member::Gear).unwrap()
+        };
+        let cutter = HobbingCutter {
+            radius: spec.radius,
+            blade_groups: spec.blade_groups.unwrap(),
+            edge_radius: spec.edge_radius,
+        };
+        let s = HobbingSetup::new(blank, cutter, false).unwrap();
+        for side in [BladeSide::Outside, BladeSide::Inside] {
+            let f = s.flank(side).unwrap();
+            let env = f.envelope();
+            let sec = *env.section();
+            let p = *f.map().profile();
+            let s_root = p.s_min + ROOT_ARC_ANGLE * p.rho_f();
+            let (r0, r1) = f.v_range();
+            let (mut pos, mut orth, mut mesh, mut s_low) = (0.0f64, 0.0f64, 0.0f64, f64::INFINITY);
+            for j in 0..11 {
+                let v = r0 + (r1 - r0) * j as f64 / 10.0;
+                let (ur, ut) = (f.u_root(v), f.u_tip(v));
+                assert!(ur < ut, "root {ur} above tip {ut} at v {v}");
+                for i in 0..21 {
+                    let u = ur + (ut - ur) * i as f64 / 20.0;
+                    let pt = env.solve(u, v).unwrap();
+                    let (z, rho) = sec.target(u, v).0;
+                    let r = pt.jet.r;
+                    pos = pos
+                        .max((r[2] - z).abs())
+                        .max((r[0].hypot(r[1]) - rho).abs());
+                    mesh = mesh.max(f.meshing_residual(u, v).unwrap().abs());
+                    s_low = s_low.min(pt.q[0]);
+                    let (_, n, ru, rv) = f.try_evaluate(u, v).unwrap();
+                    assert!((norm(n) - 1.0).abs() < 1e-12);
+                    orth = orth
+                        .max(dot(n, ru).abs() / norm(ru))
+                        .max(dot(n, rv).abs() / norm(rv));
+                }
+            }
+            let rm = s.blank.mean_cone_distance;
+            println!(
+                "formate seed-000 gear, {side:?} blade: max |Δz|,|Δρ| {pos:.2e} mm, max |n·r_u|/|r_u|, |n·r_v|/|r_v| {orth:.2e}, meshing residual {mesh:.1e}; lowest s {s_low:.6} (root blade line {s_root:.6}, tip s_min {:.6}); root at toe/mean/heel {:.4}/{:.4}/{:.4} mm above the root cone",
+                p.s_min,
+                f.u_root(r0) - sec.u_root(r0),
+                f.u_root(rm) - sec.u_root(rm),
+                f.u_root(r1) - sec.u_root(r1),
+            );
+            assert!(
+                pos <= 1e-10 && orth <= 1e-10 && mesh <= 1e-10,
+                "{pos} {orth} {mesh}"
+            );
+            // the polyline's chords lie above the (convex) trace: s ≥ s_root
+            // up to the solver's tolerance
+            assert!(s_low >= s_root - 1e-9, "{s_low} < {s_root}");
+        }
+        let flanks = cut_gear(
+            &d,
+            crate::geometry::Hand::Right,
+            &MachineCut {
+                generated: false,
+                cutter: spec,
+                machine: None,
+            },
+        )
+        .unwrap();
+        let body = member_body(&d, false, &flanks, 65.0, 3).unwrap();
+        let (land, at) = body.check_tooth().unwrap();
+        println!("formate seed-000 gear: least top land {land:.4} mm at cone distance {at:.3} mm");
+        assert!(land > 0.0);
+    }
 
     /// m_mn consistent with z, δ, R_m, β (m_mn = 2 R_m sin δ cos β / z).
     fn module() -> f64 {
@@ -1164,100 +1260,5 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(e.contains("edge_radius"), "{e}");
-    }
-}
-
-#[cfg(test)]
-mod diag {
-    use super::*;
-    use crate::geometry::bevel::{blank_design, BlankInputs};
-
-    pub(super) const SEED000: &str = r#"{"method": 3, "Sigma_deg": 90.0, "a_mm": 30.0, "z1": 12, "z2": 41,
- "de2_mm": 213.2, "b2_mm": 32.0, "beta_m2_deg": 32.0, "rc0_mm": 100.0, "z0": 5,
- "data_type": "I", "alpha_dD_deg": 20.0, "alpha_dC_deg": 20.0, "f_alim": 0.0,
- "k_hap": 1.0, "k_hfp": 1.25, "x_hm1": 0.53, "x_smn": 0.0}"#;
-
-    #[test]
-    fn formate_diag() {
-        let d = blank_design(&BlankInputs::from_json(SEED000).unwrap()).unwrap();
-        let blank = HobbingBlank {
-            hand: -1.0,
-            ..HobbingBlank::from_design(&d, Member::Gear).unwrap()
-        };
-        let cutter = HobbingCutter {
-            radius: d.rc0,
-            blade_groups: 5,
-            edge_radius: 0.2 * d.cones.m_mn,
-        };
-        println!("blank {blank:?}\ncutter {cutter:?}");
-        let s = HobbingSetup::new(blank, cutter, false).unwrap();
-        let sec = blank.section();
-        println!("section {sec:?}");
-        for side in [BladeSide::Outside, BladeSide::Inside] {
-            let blade = s.blade(side);
-            let map = FaceHobbing::new(s.settings, blade).unwrap();
-            let p = *map.profile();
-            println!("{side:?}: s_min {} rho_f {}", p.s_min, p.rho_f());
-            let (sd, cd) = blank.pitch_angle.sin_cos();
-            let (ri, re) = blank.cone_distance;
-            // the old root line: highest sampled tip-path u + 1e-3 m_mn,
-            // against the tip path at R_e exactly (bisection on θ)
-            let path = |th: f64| {
-                let r = map.position_generic([p.s_min, th, 0.0]);
-                let (z, rho) = (r[2], r[0].hypot(r[1]));
-                (z * cd + rho * sd, -z * sd + rho * cd)
-            };
-            let mut top = f64::NEG_INFINITY;
-            for k in 0..=400 {
-                let (v, u) = path(-1.0 + 2.0 * k as f64 / 400.0);
-                if v >= ri && v <= re {
-                    top = top.max(u);
-                }
-            }
-            let old_root = top + 1e-3 * blank.normal_module;
-            for vt in [ri, re] {
-                let (mut a, mut b) = (-0.6, 0.6);
-                let fa = path(a).0 - vt;
-                for _ in 0..80 {
-                    let m = 0.5 * (a + b);
-                    if (path(m).0 - vt) * fa > 0.0 { a = m } else { b = m }
-                }
-                let (v, u) = path(a);
-                println!("tip path at v {v:.4}: u − root cone {:.5}; old root line − root cone {:.5}", u - sec.u_root(v), old_root - sec.u_root(v));
-                // the old check-grid root point there
-                let (z, rho) = sec.target(old_root, vt).0;
-                for th0 in [a - 0.01, a + 0.01] {
-                    for s0 in [p.s_min + 0.05, p.s_min + 0.2] {
-                        match solve_axial(&map, z, rho, [s0, th0, 0.0], &SolveOptions::default()) {
-                            Ok(pt) => println!("  old root point solves from ({s0:.3},{th0:.3}): s {:.5}", pt.q[0]),
-                            Err(e) => println!("  old root point from ({s0:.3},{th0:.3}): {e}"),
-                        }
-                    }
-                }
-            }
-            match s.flank(side) {
-                Ok(f) => {
-                    let (r0, r1) = f.v_range();
-                    let (mut mesh, mut orth, mut smin) = (0.0f64, 0.0f64, f64::INFINITY);
-                    for j in 0..=20 {
-                        let v = r0 + (r1 - r0) * j as f64 / 20.0;
-                        let (ur, ut) = (f.u_root(v), f.u_tip(v));
-                        for i in 0..=40 {
-                            let u = ur + (ut - ur) * i as f64 / 40.0;
-                            let pt = f.envelope().solve(u, v).unwrap();
-                            smin = smin.min(pt.q[0]);
-                            let (_, n, ru, rv) = f.try_evaluate(u, v).unwrap();
-                            mesh = mesh.max(pt.meshing_residual().abs());
-                            orth = orth.max(crate::geometry::vec3::dot(n, ru).abs() / norm(ru)).max(crate::geometry::vec3::dot(n, rv).abs() / norm(rv));
-                        }
-                        if j % 5 == 0 {
-                            println!("  v {v:.3}: u_root − root cone {:.5}, u_form {:.5}", f.u_root(v) - sec.u_root(v), f.u_form(v) - sec.u_root(v));
-                        }
-                    }
-                    println!("{side:?} OK: grid 41x21 mesh {mesh:.2e} orth {orth:.2e} min s {smin:.5} (s_min {:.5})", p.s_min);
-                }
-                Err(e) => println!("{side:?} ERR {e}"),
-            }
-        }
     }
 }
