@@ -288,8 +288,8 @@ pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<BevelScene> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{parse_any_scene, parse_scene, AnyScene};
     use crate::scene::test_support::{expect_any_err, line_of};
+    use crate::scene::{parse_any_scene, parse_scene, AnyScene};
     use std::path::Path;
 
     const SCENE: &str = r#"[pair]
@@ -336,8 +336,6 @@ speed_rpm = 1000.0
     fn parse(text: &str) -> Result<AnyScene, FlankError> {
         parse_any_scene(text, Path::new("s.toml"))
     }
-
-
 
     #[test]
     fn a_hypoid_scene_reads_and_runs_its_blank_design() {

@@ -458,8 +458,8 @@ mod tests {
     use crate::error::FlankError;
     use crate::geometry::bevel::generated_surface::FlankMeasure;
     use crate::geometry::gear_pair::{Flank, GearBody};
-    use crate::scene::{parse_any_scene, AnyScene, BevelScene};
     use crate::scene::test_support::{expect_any_err, line_of};
+    use crate::scene::{parse_any_scene, AnyScene, BevelScene};
     use std::path::Path;
 
     /// Seed 003's scene (method 1, face milling).
@@ -473,8 +473,6 @@ mod tests {
             AnyScene::Cylindrical(_) => panic!("not a bevel scene"),
         }
     }
-
-
 
     /// Angle of a point from the +y axis, positive toward +x (rad).
     fn from_y(p: [f64; 3]) -> f64 {

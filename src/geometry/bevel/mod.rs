@@ -38,6 +38,7 @@ pub mod face_hobbing;
 pub mod face_width;
 pub mod generated_surface;
 pub mod generation;
+pub mod hobbed_pinion;
 pub mod hobbing_settings;
 pub mod hypoid_methods;
 pub mod inputs;
