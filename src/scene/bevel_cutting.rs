@@ -456,6 +456,7 @@ pub(super) fn cutting_error(
 #[cfg(test)]
 mod tests {
     use crate::error::FlankError;
+    use crate::geometry::bevel::body::angle_from_y;
     use crate::geometry::bevel::generated_surface::FlankMeasure;
     use crate::geometry::gear_pair::{Flank, GearBody};
     use crate::scene::test_support::{expect_any_err, line_of};
@@ -472,11 +473,6 @@ mod tests {
             AnyScene::Bevel(s) => Ok(s),
             AnyScene::Cylindrical(_) => panic!("not a bevel scene"),
         }
-    }
-
-    /// Angle of a point from the +y axis, positive toward +x (rad).
-    fn from_y(p: [f64; 3]) -> f64 {
-        p[0].atan2(p[1])
     }
 
     /// Both members of both processes: tooth 1 centred on +y (its two
@@ -521,14 +517,14 @@ mod tests {
                         "{name} body {b} {side:?}: {meas:?}"
                     );
                     // outward normal points away from the tooth's middle (+y)
-                    let a = from_y(p);
+                    let a = angle_from_y(p);
                     let tangential = n[0] * p[1] - n[1] * p[0];
                     assert!(a.abs() < body.angular_pitch() / 2.0, "{name}: {a}");
                     assert!(a * tangential > 0.0, "{name} body {b} {side:?}");
                     sides[k] = a;
                     // tooth 2 is tooth 1 turned by one pitch
                     let p2 = body.flank(side, 2).unwrap().point(0.0, m.rm);
-                    let turn = from_y(p2) - a;
+                    let turn = angle_from_y(p2) - a;
                     assert!((turn.abs() - body.angular_pitch()).abs() < 1e-12);
                 }
                 assert!(sides[0] * sides[1] < 0.0, "{name}: flanks on one side");

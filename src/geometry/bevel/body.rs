@@ -21,6 +21,7 @@ use crate::error::{FlankError, Result};
 use crate::geometry::gear_pair::{Blank, Flank, GearBody};
 use crate::geometry::rotated::RotatedSurface;
 use crate::geometry::surface::ToothSurface;
+use crate::geometry::vec3::V3;
 
 /// The cone lines of a member's axial section (module docs), from the
 /// blank design's [`MemberBlank`] (ISO 23509 clauses 7.3, 7.4: the face and
@@ -61,6 +62,23 @@ impl MemberBlank {
             )))
         }
     }
+}
+
+/// Angle of a point about the member's axis, from +y toward +x (rad): the
+/// placement angle of every bevel member's teeth (tooth 1 centred on +y).
+pub fn angle_from_y(p: V3) -> f64 {
+    p[0].atan2(p[1])
+}
+
+/// An angle difference wrapped into [−π, π).
+pub fn wrap_angle(d: f64) -> f64 {
+    (d + PI).rem_euclid(2.0 * PI) - PI
+}
+
+/// Component of the unit normal `n` at `p` along growing [`angle_from_y`]:
+/// > 0 when the flank faces that way.
+pub fn facing(p: V3, n: V3) -> f64 {
+    (n[0] * p[1] - n[1] * p[0]) / p[0].hypot(p[1])
 }
 
 /// A bevel/hypoid member as a sector of teeth (module docs).
@@ -129,13 +147,10 @@ impl BevelGear {
     pub fn check_tooth(&self) -> Result<(f64, f64)> {
         let (l, r) = (&self.flanks[0][0], &self.flanks[1][0]);
         let pitch = 2.0 * PI / self.teeth as f64;
-        // angle from +y toward +x, and the normal's component along it
-        let angle = |p: [f64; 3]| p[0].atan2(p[1]);
-        let along = |p: [f64; 3], n: [f64; 3]| (n[0] * p[1] - n[1] * p[0]) / p[0].hypot(p[1]);
         let c = &self.cones;
         let (pl, nl) = (l.point(0.0, c.rm), l.normal(0.0, c.rm));
         let (pr, nr) = (r.point(0.0, c.rm), r.normal(0.0, c.rm));
-        let (sl, sr) = (along(pl, nl), along(pr, nr));
+        let (sl, sr) = (facing(pl, nl), facing(pr, nr));
         if sl * sr >= 0.0 {
             return Err(FlankError::Model(format!(
                 "{}: the left and right flanks face the same way at the mean point: they bound no tooth",
@@ -149,9 +164,7 @@ impl BevelGear {
             let v = c.ri + (c.re - c.ri) * k as f64 / (TOOTH_CHECKS - 1) as f64;
             let thickness = |u: f64| {
                 let (pa, pb) = (a.point(u, v), b.point(u, v));
-                let d = angle(pa) - angle(pb);
-                // wrap into (−π, π]
-                (d + PI).rem_euclid(2.0 * PI) - PI
+                wrap_angle(angle_from_y(pa) - angle_from_y(pb))
             };
             let ut = a.u_tip(v).min(b.u_tip(v));
             let tip = thickness(ut);
@@ -190,8 +203,7 @@ impl BevelGear {
         let c = &self.cones;
         let (l, r) = (&self.flanks[0][0], &self.flanks[1][0]);
         let (pl, pr) = (l.point(0.0, c.rm), r.point(0.0, c.rm));
-        let d = pl[0].atan2(pl[1]) - pr[0].atan2(pr[1]);
-        let d = ((d + PI).rem_euclid(2.0 * PI) - PI).abs();
+        let d = wrap_angle(angle_from_y(pl) - angle_from_y(pr)).abs();
         let rho = c.axial_point(0.0, c.rm).1;
         rho * d * c.beta_m.cos()
     }

@@ -33,7 +33,7 @@ use serde_json::json;
 
 use crate::error::{FlankError, Result};
 use crate::geometry::bevel::assembly::PairAssembly;
-use crate::geometry::bevel::body::BevelGear;
+use crate::geometry::bevel::body::{angle_from_y, facing, wrap_angle, BevelGear};
 use crate::geometry::bevel::conjugate::ConjugatePinion;
 use crate::geometry::bevel::cradle_machine::MachineSettings;
 use crate::geometry::bevel::cutter::{BladeSide, CutterHead};
@@ -314,13 +314,19 @@ fn milled_flanks(
     Ok((drive, coast))
 }
 
-/// The face-hobbing setup of the gear (settings from the blank).
-fn hobbing_gear_setup(design: &BlankDesign, hand: Hand, cut: &MachineCut) -> Result<HobbingSetup> {
+/// Face-hobbing settings come from the blank: explicit ones are refused.
+fn no_explicit_settings(cut: &MachineCut) -> Result<()> {
     if cut.machine.is_some() {
         return Err(FlankError::Model(
             "explicit machine settings are read for face-milled members only (methods 0, 1); face-hobbing settings come from the blank".into(),
         ));
     }
+    Ok(())
+}
+
+/// The face-hobbing setup of the gear (settings from the blank).
+fn hobbing_gear_setup(design: &BlankDesign, hand: Hand, cut: &MachineCut) -> Result<HobbingSetup> {
+    no_explicit_settings(cut)?;
     let blank = HobbingBlank {
         hand: hobbing_hand_sign(hand),
         ..HobbingBlank::from_design(design, hobbing_settings::Member::Gear)?
@@ -352,11 +358,7 @@ fn hobbed(
     let (setup, cut) = match pinion {
         None => (gear_setup, gear_cut),
         Some(pc) => {
-            if pc.machine.is_some() {
-                return Err(FlankError::Model(
-                    "explicit machine settings are read for face-milled members only (methods 0, 1); face-hobbing settings come from the blank".into(),
-                ));
-            }
+            no_explicit_settings(pc)?;
             if pc.cutter != gear_cut.cutter {
                 return Err(FlankError::Model(
                     "a face-hobbed pinion is cut with the gear's cutter on the gear's crown gear: give the cutter in [gear.cutter] only".into(),
@@ -605,10 +607,8 @@ fn centre_tooth(
     pitch: f64,
 ) -> Result<(Arc<dyn ToothSurface>, Arc<dyn ToothSurface>)> {
     let angle = |s: &dyn ToothSurface| {
-        let p = s.point(0.0, rm);
-        let n = s.normal(0.0, rm);
-        let facing = (n[0] * p[1] - n[1] * p[0]) / p[0].hypot(p[1]);
-        (p[0].atan2(p[1]), facing)
+        let (p, n) = (s.point(0.0, rm), s.normal(0.0, rm));
+        (angle_from_y(p), facing(p, n))
     };
     let ((ta, fa), (tb, fb)) = (angle(a.as_ref()), angle(b.as_ref()));
     if fa * fb >= 0.0 {
@@ -617,7 +617,7 @@ fn centre_tooth(
         ));
     }
     // wrap θ_b into (θ_a − pitch, θ_a + pitch) on the side that makes a tooth
-    let wrap = |d: f64| (d + PI).rem_euclid(2.0 * PI) - PI;
+    let wrap = wrap_angle;
     let mut d = wrap(tb - ta);
     // a faces +θ: b (facing −θ) must lie below a, within a pitch
     if fa > 0.0 {

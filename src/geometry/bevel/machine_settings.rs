@@ -36,6 +36,8 @@
 
 use std::f64::consts::PI;
 
+use crate::geometry::bevel::body::{angle_from_y, wrap_angle};
+
 use crate::error::{FlankError, Result};
 use crate::geometry::bevel::cradle_machine::MachineSettings;
 use crate::geometry::bevel::cutter::{Blade, CutterHead};
@@ -336,8 +338,7 @@ pub fn check_mean_point(setup: &MemberSetup) -> Result<MeanPointCheck> {
         concave.try_evaluate(0.0, rm)?.0,
         convex.try_evaluate(0.0, rm)?.0,
     );
-    let d = pa[0].atan2(pa[1]) - pb[0].atan2(pb[1]);
-    let d = ((d + PI).rem_euclid(2.0 * PI) - PI).abs();
+    let d = wrap_angle(angle_from_y(pa) - angle_from_y(pb)).abs();
     let rho = rm * setup.blank.pitch_angle.sin();
     Ok(MeanPointCheck {
         spiral_angle: (cc.spiral_angle, cv.spiral_angle),
