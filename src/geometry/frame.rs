@@ -60,3 +60,55 @@ impl Frame {
         ]
     }
 }
+
+impl Frame {
+    /// Rotation by `angle` (rad, right-handed) about the line through
+    /// `point` along the unit `axis` (Rodrigues' formula).
+    pub fn about_axis(point: [f64; 3], axis: [f64; 3], angle: f64) -> Frame {
+        let k = axis;
+        let (s, c) = angle.sin_cos();
+        let t = 1.0 - c;
+        let rotation = [
+            [
+                c + t * k[0] * k[0],
+                t * k[0] * k[1] - s * k[2],
+                t * k[0] * k[2] + s * k[1],
+            ],
+            [
+                t * k[0] * k[1] + s * k[2],
+                c + t * k[1] * k[1],
+                t * k[1] * k[2] - s * k[0],
+            ],
+            [
+                t * k[0] * k[2] - s * k[1],
+                t * k[1] * k[2] + s * k[0],
+                c + t * k[2] * k[2],
+            ],
+        ];
+        let r = Frame {
+            rotation,
+            translation: [0.0; 3],
+        }
+        .rotate(point);
+        Frame {
+            rotation,
+            translation: [point[0] - r[0], point[1] - r[1], point[2] - r[2]],
+        }
+    }
+
+    /// The frame `self ∘ inner`: x ↦ self.place(inner.place(x)).
+    pub fn compose(&self, inner: &Frame) -> Frame {
+        let mut rotation = [[0.0; 3]; 3];
+        for (i, row) in rotation.iter_mut().enumerate() {
+            for (j, e) in row.iter_mut().enumerate() {
+                *e = (0..3)
+                    .map(|k| self.rotation[i][k] * inner.rotation[k][j])
+                    .sum();
+            }
+        }
+        Frame {
+            rotation,
+            translation: self.place(inner.translation),
+        }
+    }
+}

@@ -167,8 +167,10 @@ pub struct ContactSeed {
     pub inside: bool,
 }
 
-/// A gear pair (module docs).
-pub trait GearPair: Debug + Send + Sync {
+/// Where the two bodies of a pair are and how they turn together: what
+/// every analysis of a pair needs, whatever its kind of contact (the
+/// point-contact TCA of a bevel pair needs no more).
+pub trait PairPlacement: Debug + Send + Sync {
     fn pinion(&self) -> &dyn GearBody;
     fn gear(&self) -> &dyn GearBody;
     /// Body 0 (pinion) or 1 (gear).
@@ -196,6 +198,9 @@ pub trait GearPair: Debug + Send + Sync {
     }
     /// The gear tooth meeting pinion tooth `k`.
     fn mate(&self, k: usize) -> usize;
+    /// Pinion roll angle by which pinion tooth k + 1 follows tooth k into
+    /// mesh (rad, ± the angular pitch 2π/z₁).
+    fn tooth_roll_step(&self) -> f64;
 
     /// Frames (own → global) of pinion and gear at `roll`, in the nominal
     /// (aligned) assembly.
@@ -206,6 +211,14 @@ pub trait GearPair: Debug + Send + Sync {
     /// a positive (drive) pinion rotation.
     fn rotation_axes(&self) -> [V3; 2];
 
+    /// The pair's kinematic data for reports (JSON).
+    fn describe(&self) -> serde_json::Value;
+}
+
+/// A gear pair with line-contact kinematics: the placement
+/// ([`PairPlacement`]) and the kinematic contact lines, paths and arms the
+/// LTCA and the FE mesh cycle sample (module docs).
+pub trait GearPair: PairPlacement {
     /// Kinematic engagement of pinion tooth `k`: roll angles of the start
     /// and the end of its contact.
     fn engagement(&self, k: usize) -> (f64, f64);
@@ -238,9 +251,6 @@ pub trait GearPair: Debug + Send + Sync {
     /// The seed of the point at ξ of `line`, offset `across` mm across it
     /// (in the surface of action).
     fn line_seed(&self, line: &KinematicLine, xi: f64, across: f64) -> ContactSeed;
-
-    /// The pair's kinematic data for reports (JSON).
-    fn describe(&self) -> serde_json::Value;
 }
 
 /// Roll angles (deg) on whole multiples of `step_deg` over the middle

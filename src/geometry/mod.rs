@@ -22,6 +22,7 @@ pub mod pair;
 pub mod rack;
 pub mod rotated;
 pub mod surface;
+pub mod tangency;
 pub mod vec3;
 
 /// Hand of a helical gear (seen along the axis, as ISO 21771 defines it).

@@ -15,6 +15,7 @@ use std::sync::Arc;
 use flank::geometry::frame::Frame;
 use flank::geometry::gear_pair::{
     Assembly, Blank, ContactSeed, Flank, GearBody, GearPair, KinematicLine, LineKind, Misalignment,
+    PairPlacement,
 };
 use flank::geometry::surface::{principal_curvatures, ToothSurface};
 use flank::tca::{Tca, TcaSettings};
@@ -172,7 +173,7 @@ impl PlanePin {
     }
 }
 
-impl GearPair for PlanePin {
+impl PairPlacement for PlanePin {
     fn pinion(&self) -> &dyn GearBody {
         &self.pinion
     }
@@ -192,6 +193,9 @@ impl GearPair for PlanePin {
     fn mate(&self, _k: usize) -> usize {
         1
     }
+    fn tooth_roll_step(&self) -> f64 {
+        self.pinion.angular_pitch()
+    }
     fn nominal_frames(&self, roll: f64) -> [Frame; 2] {
         [
             Frame::about_z(-roll, [0.0; 3]),
@@ -204,6 +208,12 @@ impl GearPair for PlanePin {
     fn rotation_axes(&self) -> [V3; 2] {
         [[0.0, 0.0, -1.0], [0.0, 0.0, 1.0]]
     }
+    fn describe(&self) -> serde_json::Value {
+        serde_json::json!({"pair": "plane and pin"})
+    }
+}
+
+impl GearPair for PlanePin {
     fn engagement(&self, _k: usize) -> (f64, f64) {
         (-0.2, 0.2)
     }
@@ -259,9 +269,6 @@ impl GearPair for PlanePin {
             gear_uv: [m[1].atan2(m[0]), xi],
             inside: true,
         }
-    }
-    fn describe(&self) -> serde_json::Value {
-        serde_json::json!({"pair": "plane and pin"})
     }
 }
 

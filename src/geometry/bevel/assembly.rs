@@ -80,25 +80,7 @@ fn scale(s: f64, a: V3) -> V3 {
 /// Rotation matrix (row-major) of angle `a` about the unit axis `k`
 /// (Rodrigues).
 pub fn rotation_about(k: V3, a: f64) -> [[f64; 3]; 3] {
-    let (s, c) = a.sin_cos();
-    let t = 1.0 - c;
-    [
-        [
-            c + t * k[0] * k[0],
-            t * k[0] * k[1] - s * k[2],
-            t * k[0] * k[2] + s * k[1],
-        ],
-        [
-            t * k[0] * k[1] + s * k[2],
-            c + t * k[1] * k[1],
-            t * k[1] * k[2] - s * k[0],
-        ],
-        [
-            t * k[0] * k[2] - s * k[1],
-            t * k[1] * k[2] + s * k[0],
-            c + t * k[2] * k[2],
-        ],
-    ]
+    Frame::about_axis([0.0; 3], k, a).rotation
 }
 
 fn matmul(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {

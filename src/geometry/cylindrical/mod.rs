@@ -44,6 +44,7 @@ use crate::geometry::flank::FlankSurface;
 use crate::geometry::frame::Frame;
 use crate::geometry::gear_pair::{
     Assembly, Blank, ContactSeed, Flank, GearBody, GearPair, KinematicLine, LineKind, Misalignment,
+    PairPlacement,
 };
 use crate::geometry::involute::{root_radius, tip_radius};
 use crate::geometry::micro::FlankModification;
@@ -451,7 +452,7 @@ impl CylindricalPair {
     }
 }
 
-impl GearPair for CylindricalPair {
+impl PairPlacement for CylindricalPair {
     fn pinion(&self) -> &dyn GearBody {
         &self.bodies[0]
     }
@@ -489,6 +490,10 @@ impl GearPair for CylindricalPair {
     fn mate(&self, k: usize) -> usize {
         self.kin.mate(k)
     }
+    fn tooth_roll_step(&self) -> f64 {
+        // tooth k + 1's contact lies a base pitch further along the line
+        -self.kin.angular_pitch[0]
+    }
     fn nominal_frames(&self, roll: f64) -> [Frame; 2] {
         self.kin.frames(roll)
     }
@@ -519,6 +524,12 @@ impl GearPair for CylindricalPair {
         // the pinion turns clockwise seen from +z, the gear counter-clockwise
         [[0.0, 0.0, -1.0], [0.0, 0.0, 1.0]]
     }
+    fn describe(&self) -> serde_json::Value {
+        serde_json::to_value(&self.kin).unwrap_or_default()
+    }
+}
+
+impl GearPair for CylindricalPair {
     fn engagement(&self, k: usize) -> (f64, f64) {
         self.kin.engagement(k)
     }
@@ -594,9 +605,6 @@ impl GearPair for CylindricalPair {
             gear_uv: [(self.line_length - s) / rb[1], v2],
             inside: s >= ps && s <= pe && z >= z0 && z <= z1,
         }
-    }
-    fn describe(&self) -> serde_json::Value {
-        serde_json::to_value(&self.kin).unwrap_or_default()
     }
 }
 
