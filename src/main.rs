@@ -76,6 +76,14 @@ enum Command {
     /// `deviation_um` column to fill in): the file a measured deviation grid
     /// is read back from.
     Grid(cli::grid::Args),
+    /// Unloaded tooth contact analysis over the mesh cycle. Spiral bevel and
+    /// hypoid scenes: point contact with and without edge contact (seed
+    /// 000): per position and tooth pair the contact point in flank
+    /// projection, TE, contact ellipse at the approach δ (curvatures and
+    /// numerical search), edge flags, velocities (tca_*.csv), the system
+    /// transitions, summary.json (contact_ratio, te_peak_to_peak_arcsec
+    /// under with_edges/without_edges) and TE / bearing-pattern plots.
+    Tca(cli::tca::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -111,5 +119,6 @@ fn run(cli: Cli) -> Result<()> {
         Command::Cantilever(args) => cli::cantilever::run(args),
         Command::Blank(args) => cli::blank::run(args),
         Command::Grid(args) => cli::grid::run(args),
+        Command::Tca(args) => cli::tca::run(args),
     }
 }

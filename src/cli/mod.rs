@@ -13,3 +13,4 @@ pub mod ltca;
 pub mod mesh;
 pub mod run;
 pub mod solve;
+pub mod tca;

@@ -382,12 +382,14 @@ pub fn solve(
             }
         }
         let rhs = nalgebra::DVector::from_iterator(n, e.residual[..n].iter().map(|r| -r));
-        let Some(dx) = jac.lu().solve(&rhs) else {
-            return Err(fail(
-                iterations,
-                merit(&e),
-                "singular system (line contact or parallel edge)",
-            ));
+        // least-norm step (SVD): a line contact (conjugate flanks) makes
+        // the flank system rank-deficient by one; the step then goes to the
+        // nearest point of the contact line
+        let svd = jac.svd(true, true);
+        let smax = svd.singular_values.max();
+        let dx = match svd.solve(&rhs, 1e-10 * smax) {
+            Ok(dx) if smax > 0.0 && dx.iter().all(|d| d.is_finite()) => dx,
+            _ => return Err(fail(iterations, merit(&e), "singular system")),
         };
         let m0 = merit(&e);
         let mut t = 1.0;

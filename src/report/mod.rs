@@ -2,4 +2,5 @@
 pub mod cycle_plot;
 pub mod figure;
 pub mod solution;
+pub mod tca_plot;
 pub mod vtu;

@@ -57,6 +57,7 @@ use crate::error::FlankError;
 use crate::fem::material::Material;
 use crate::geometry::bevel::body::BevelGear;
 use crate::geometry::bevel::cutting::{self, MachineCut, PinionCut};
+use crate::geometry::bevel::pair::BevelPair;
 use crate::geometry::bevel::{blank_design, BlankDesign, BlankInputs};
 use crate::geometry::Hand;
 
@@ -94,6 +95,8 @@ pub struct BevelScene {
     /// The members as sectors of `mesh.teeth_in_sector` teeth:
     /// `[pinion, gear]`, drive flank = right.
     pub bodies: [Arc<BevelGear>; 2],
+    /// The bodies in their assembly (no misalignment).
+    pub pair: Arc<BevelPair>,
     /// Process, cutter, settings and mean-point figures of each member
     /// (JSON), `[pinion, gear]`.
     pub cutting_report: [serde_json::Value; 2],
@@ -265,6 +268,10 @@ pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<BevelScene> {
         .map_err(pinion_error)?;
     let gear_body = cutting::member_body(&blank, false, &gear_flanks, 0.5 * bore_diameter[1], n)
         .map_err(gear_error)?;
+    let bodies = [Arc::new(pinion_body), Arc::new(gear_body)];
+    let pair = cutting::assembly_for(&inputs, &blank, gear_hand)
+        .and_then(|assembly| BevelPair::new(bodies.clone(), assembly))
+        .map_err(|e| cx.err(raw.pair.pinion_hand.span(), format!("`[pair]`: {e}")))?;
     Ok(BevelScene {
         kind,
         pinion_hand,
@@ -279,7 +286,8 @@ pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<BevelScene> {
         source: cx.file.to_path_buf(),
         gear_cut,
         pinion_cut,
-        bodies: [Arc::new(pinion_body), Arc::new(gear_body)],
+        bodies,
+        pair: Arc::new(pair),
         pinion_eased: pinion_flanks.eased.clone(),
         cutting_report: [pinion_flanks.report, gear_flanks.report],
     })

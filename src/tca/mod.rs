@@ -100,6 +100,8 @@ pub use crate::geometry::gear_pair::LineKind;
 use crate::geometry::gear_pair::{ContactSeed, Flank, GearPair, KinematicLine};
 use crate::geometry::surface::ToothSurface;
 
+pub mod ellipse;
+pub mod point_contact;
 #[cfg(test)]
 mod tests;
 

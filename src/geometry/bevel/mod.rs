@@ -44,6 +44,7 @@ pub mod hypoid_methods;
 pub mod inputs;
 pub mod machine_settings;
 pub mod outputs;
+pub mod pair;
 pub mod pitch_cone;
 pub mod spiral_angles;
 pub mod thickness;

@@ -1,0 +1,227 @@
+//! `flank tca SCENE --out DIR`: unloaded tooth contact analysis over the
+//! mesh cycle.
+//!
+//! * Spiral bevel and hypoid scenes: the point-contact TCA
+//!   ([`flank::tca::point_contact`]) with and without edge contact; writes
+//!   `tca_with_edges.csv`, `tca_without_edges.csv` (one row per position
+//!   and tooth pair), `transitions.csv`, `summary.json` (under
+//!   `with_edges` and `without_edges`: `contact_ratio`,
+//!   `te_peak_to_peak_arcsec`, …) and the plots of `tca_plot`.
+//! * Spur and helical scenes: the line-contact TCA ([`flank::tca::Tca`])
+//!   at the cycle's positions; writes `tca_lines.csv` (per position and
+//!   point) and `summary.json` (kinematic contact ratio, TE range).
+
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use anyhow::{bail, Context, Result};
+use flank::geometry::gear_pair::{Misalignment, PairPlacement};
+use flank::scene::AnyScene;
+use flank::tca::point_contact::{point_tca, PointTca, PointTcaSettings};
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Gear-pair scene (TOML).
+    scene: PathBuf,
+    /// Output directory.
+    #[arg(long)]
+    out: PathBuf,
+    /// Elastic approach δ of the contact ellipse (mm): 0.00635 finished
+    /// teeth, 0.00381 lapped (seed 000).
+    #[arg(long, default_value_t = 0.00635)]
+    approach_mm: f64,
+    /// Positions per angular pitch.
+    #[arg(long, default_value_t = 30)]
+    positions_per_pitch: usize,
+    /// Planes of the numerical contact-ellipse search over 180° (0: off).
+    #[arg(long, default_value_t = 18)]
+    search_directions: usize,
+    /// Offset error ΔE (mm, > 0: the axes apart).
+    #[arg(long, default_value_t = 0.0)]
+    offset_error_mm: f64,
+    /// Pinion axial displacement ΔP (mm, along its own +z, toward its heel).
+    #[arg(long, default_value_t = 0.0)]
+    pinion_axial_mm: f64,
+    /// Gear axial displacement ΔG (mm, along its own +z).
+    #[arg(long, default_value_t = 0.0)]
+    gear_axial_mm: f64,
+    /// Shaft-angle error ΔΣ (degrees).
+    #[arg(long, default_value_t = 0.0)]
+    shaft_angle_error_deg: f64,
+}
+
+const ARCSEC: f64 = 180.0 * 3600.0 / std::f64::consts::PI;
+
+pub fn run(args: Args) -> Result<()> {
+    let scene = flank::scene::read_any_scene(&args.scene)?;
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("cannot create {}", args.out.display()))?;
+    let mis = Misalignment {
+        offset_error_mm: args.offset_error_mm,
+        pinion_axial_mm: args.pinion_axial_mm,
+        gear_axial_mm: args.gear_axial_mm,
+        shaft_angle_error_rad: args.shaft_angle_error_deg.to_radians(),
+        out_of_plane_tilt_rad: 0.0,
+    };
+    for (v, name) in [
+        (args.offset_error_mm, "--offset-error-mm"),
+        (args.pinion_axial_mm, "--pinion-axial-mm"),
+        (args.gear_axial_mm, "--gear-axial-mm"),
+        (args.shaft_angle_error_deg, "--shaft-angle-error-deg"),
+    ] {
+        if !v.is_finite() {
+            bail!("{name} {v}: a finite value is needed");
+        }
+    }
+    match scene {
+        AnyScene::Bevel(s) => {
+            let pair: Arc<dyn PairPlacement> = Arc::new(s.pair.with_misalignment(mis));
+            let settings = PointTcaSettings {
+                positions_per_pitch: args.positions_per_pitch,
+                approach_mm: args.approach_mm,
+                edges: true,
+                search_directions: args.search_directions,
+                max_pitches: 3.0,
+                speed_rpm: s.load.speed_rpm,
+            };
+            let t0 = std::time::Instant::now();
+            let with = point_tca(pair.as_ref(), &settings)?;
+            let without = point_tca(
+                pair.as_ref(),
+                &PointTcaSettings {
+                    edges: false,
+                    ..settings.clone()
+                },
+            )?;
+            let seconds = t0.elapsed().as_secs_f64();
+            write_table(&args.out.join("tca_with_edges.csv"), &with)?;
+            write_table(&args.out.join("tca_without_edges.csv"), &without)?;
+            write_transitions(&args.out.join("transitions.csv"), &with, &without)?;
+            let summary = serde_json::json!({
+                "scene": args.scene.display().to_string(),
+                "pair": pair.describe(),
+                "approach_mm": args.approach_mm,
+                "misalignment": mis,
+                "with_edges": variant_summary(&with),
+                "without_edges": variant_summary(&without),
+                "run_time_s": seconds,
+            });
+            std::fs::write(
+                args.out.join("summary.json"),
+                serde_json::to_string_pretty(&summary)?,
+            )?;
+            flank::report::tca_plot::plot_point_tca(&args.out, pair.as_ref(), &with, &without)?;
+            println!("{}", serde_json::to_string_pretty(&summary)?);
+            Ok(())
+        }
+        AnyScene::Cylindrical(_) => bail!(
+            "flank tca: spur and helical scenes are analysed by `flank ltca` (line contact) in this version"
+        ),
+    }
+}
+
+fn variant_summary(t: &PointTca) -> serde_json::Value {
+    serde_json::json!({
+        "contact_ratio": t.contact_ratio,
+        "flank_span_ratio": t.flank_span_ratio,
+        "te_peak_to_peak_arcsec": t.te_peak_to_peak_rad * ARCSEC,
+        "positions": t.positions.len(),
+        "transitions": t.transitions,
+        "hit_trace_bound": t.hit_trace_bound,
+        "max_point_residual_mm": t.max_residual[0],
+        "max_tangency_residual": t.max_residual[1],
+        "newton_steps": t.newton_steps,
+    })
+}
+
+/// One row per position and tooth pair.
+fn write_table(path: &Path, t: &PointTca) -> Result<()> {
+    let mut s = String::from(
+        "roll_deg,te_arcsec,pair,pinion_tooth,gear_tooth,system,active,separation_um,\
+         pinion_face_mm,pinion_profile_mm,gear_face_mm,gear_profile_mm,\
+         x_mm,y_mm,z_mm,nx,ny,nz,pinion_u,pinion_v,gear_u,gear_v,\
+         semi_major_mm,semi_minor_mm,line_contact,major_x,major_y,major_z,\
+         searched_semi_major_mm,searched_semi_minor_mm,\
+         sliding_m_s,rolling_m_s,slide_x,slide_y,slide_z,arm_pinion_mm,arm_gear_mm,\
+         point_residual_mm,tangency_residual,edge_lean\n",
+    );
+    let opt = |v: Option<f64>| v.map(|x| format!("{x:.6}")).unwrap_or_default();
+    for p in &t.positions {
+        for c in &p.pairs {
+            let (pt, gt) = match c.teeth {
+                Some([a, b]) => (a.to_string(), b.to_string()),
+                None => (String::new(), String::new()),
+            };
+            let e = c.ellipse;
+            let sr = c.searched_ellipse;
+            let major = e.or(sr).map(|e| e.major_direction).unwrap_or([0.0; 3]);
+            writeln!(
+                s,
+                "{:.6},{:.4},{},{},{},{},{},{:.4},{:.5},{:.5},{:.5},{:.5},{:.6},{:.6},{:.6},{:.8},{:.8},{:.8},{:.8},{:.8},{:.8},{:.8},{},{},{},{:.6},{:.6},{:.6},{},{},{:.5},{:.5},{:.6},{:.6},{:.6},{:.5},{:.5},{:.2e},{:.2e},{:.5}",
+                p.roll_rad.to_degrees(),
+                p.te_rad * ARCSEC,
+                c.offset,
+                pt,
+                gt,
+                c.system.name(),
+                c.active,
+                1e3 * c.separation_mm,
+                c.projection_mm[0][0],
+                c.projection_mm[0][1],
+                c.projection_mm[1][0],
+                c.projection_mm[1][1],
+                c.point[0],
+                c.point[1],
+                c.point[2],
+                c.normal[0],
+                c.normal[1],
+                c.normal[2],
+                c.pinion_uv[0],
+                c.pinion_uv[1],
+                c.gear_uv[0],
+                c.gear_uv[1],
+                opt(e.and_then(|e| e.semi_major_mm)),
+                opt(e.map(|e| e.semi_minor_mm)),
+                e.map(|e| e.line_contact.to_string()).unwrap_or_default(),
+                major[0],
+                major[1],
+                major[2],
+                opt(sr.and_then(|e| e.semi_major_mm)),
+                opt(sr.map(|e| e.semi_minor_mm)),
+                c.sliding_velocity,
+                c.rolling_velocity,
+                c.sliding_direction[0],
+                c.sliding_direction[1],
+                c.sliding_direction[2],
+                c.moment_arm_mm[0],
+                c.moment_arm_mm[1],
+                c.residual[0],
+                c.residual[1],
+                c.edge_lean,
+            )?;
+        }
+    }
+    let mut f =
+        std::fs::File::create(path).with_context(|| format!("cannot write {}", path.display()))?;
+    f.write_all(s.as_bytes())?;
+    Ok(())
+}
+
+fn write_transitions(path: &Path, with: &PointTca, without: &PointTca) -> Result<()> {
+    let mut s = String::from("variant,roll_deg,from,to\n");
+    for (name, t) in [("with_edges", with), ("without_edges", without)] {
+        for tr in &t.transitions {
+            writeln!(
+                s,
+                "{name},{:.6},{},{}",
+                tr.roll_rad.to_degrees(),
+                tr.from,
+                tr.to
+            )?;
+        }
+    }
+    std::fs::write(path, s).with_context(|| format!("cannot write {}", path.display()))?;
+    Ok(())
+}

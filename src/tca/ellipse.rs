@@ -1,0 +1,322 @@
+//! The instantaneous contact ellipse of a point contact at an elastic
+//! approach δ, two ways.
+//!
+//! * **From the curvatures** (Litvin & Fuentes, *Gear Geometry and Applied
+//!   Theory*, 2nd ed., §9.5 and §8: the separation of two surfaces in
+//!   contact is, to second order in the tangent-plane offset s along a
+//!   unit direction d, ½ (κ₁(d) + κ₂(d)) s², κᵢ the normal curvatures,
+//!   convex positive, of each surface): the relative curvature tensor B =
+//!   K₁ + K₂ in the common tangent plane gives the semi-axes
+//!   a = √(2δ/λ_min), b = √(2δ/λ_max) and the major axis along λ_min's
+//!   eigenvector. λ_min ≈ 0 is line contact (a conjugate pair): flagged,
+//!   no finite major axis.
+//! * **By the numerical search of seed `000_…`** (steps 1–6): the plane Q
+//!   through the common normal u₃ and a tangent direction d(α) cuts each
+//!   flank in a plane curve; along Q the points of both curves at the same
+//!   tangent offset s are found (a 2 × 2 Newton on the flank parameters),
+//!   and the offsets s₊ > 0, s₋ < 0 at which their separation along u₃ is
+//!   δ are the boundary points c(α) = s± d; α turns through 180°. The major
+//!   axis is max |c|, its direction the α of the maximum (refined by a
+//!   parabola through the three best directions). Near an edge the body
+//!   ends where its flank ends: a boundary point never lies beyond the
+//!   flank's active region (the tip land, toe and heel faces fall away
+//!   steeply from the flank, so the separation grows past δ at the edge —
+//!   an approximation of the face cone by a cliff, stated in the case's
+//!   README).
+
+use crate::geometry::frame::Frame;
+use crate::geometry::surface::{normal_curvature, ToothSurface};
+use crate::geometry::vec3::{add, cross, dot, norm, sub, unit, V3};
+
+/// One placed flank at a contact: the surface, its frame and the contact's
+/// flank parameters.
+#[derive(Clone, Copy, Debug)]
+pub struct FlankAtContact<'a> {
+    pub surface: &'a dyn ToothSurface,
+    pub frame: Frame,
+    pub uv: [f64; 2],
+}
+
+/// A contact ellipse (global vectors, mm).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct ContactEllipse {
+    /// Semi-major axis a (mm); `None` for line contact.
+    pub semi_major_mm: Option<f64>,
+    /// Semi-minor axis b (mm).
+    pub semi_minor_mm: f64,
+    /// Unit direction of the major axis (global).
+    pub major_direction: V3,
+    /// Line contact: the relative curvature along the major axis is below
+    /// 1e-6 of the one across it.
+    pub line_contact: bool,
+}
+
+/// The tangent-plane basis at a contact: e₁ along the pinion's profile
+/// tangent (projected), e₂ = u₃ × e₁.
+fn basis(pinion: &FlankAtContact, normal: V3) -> (V3, V3) {
+    let (ru, _) = pinion.surface.derivatives(pinion.uv[0], pinion.uv[1]);
+    let t = pinion.frame.rotate(ru);
+    let e1 = unit(add(t, -dot(t, normal), normal));
+    (e1, cross(normal, e1))
+}
+
+/// Normal-curvature tensor (convex positive) of one flank in the basis.
+fn curvature_tensor(f: &FlankAtContact, e1: V3, e2: V3) -> [f64; 3] {
+    let own = |d: V3| f.frame.rotate_back(d);
+    let k = |d: V3| normal_curvature(f.surface, f.uv[0], f.uv[1], own(d));
+    let (k11, k22) = (k(e1), k(e2));
+    let diag = unit(add(e1, 1.0, e2));
+    [k11, k(diag) - 0.5 * (k11 + k22), k22]
+}
+
+/// Relative curvature tensor B = K₁ + K₂ in the basis (e₁, e₂) (module
+/// docs), with the basis.
+pub fn relative_curvature(
+    pinion: &FlankAtContact,
+    gear: &FlankAtContact,
+    normal: V3,
+) -> ([f64; 3], V3, V3) {
+    let (e1, e2) = basis(pinion, normal);
+    let a = curvature_tensor(pinion, e1, e2);
+    let b = curvature_tensor(gear, e1, e2);
+    ([a[0] + b[0], a[1] + b[1], a[2] + b[2]], e1, e2)
+}
+
+/// The ellipse from the curvatures at approach `delta` (mm).
+pub fn curvature_ellipse(
+    pinion: &FlankAtContact,
+    gear: &FlankAtContact,
+    normal: V3,
+    delta: f64,
+) -> ContactEllipse {
+    let ([b11, b12, b22], e1, e2) = relative_curvature(pinion, gear, normal);
+    let mean = 0.5 * (b11 + b22);
+    let r = (0.25 * (b11 - b22).powi(2) + b12 * b12).sqrt();
+    let (lmin, lmax) = (mean - r, mean + r);
+    // eigenvector of λ_min: (b12, λ − b11) or (λ − b22, b12)
+    let (x, y) = if (b11 - lmin).abs() > (b22 - lmin).abs() {
+        (b12, lmin - b11)
+    } else {
+        (lmin - b22, b12)
+    };
+    let major = if x.abs() + y.abs() > 0.0 {
+        unit(add([x * e1[0], x * e1[1], x * e1[2]], y, e2))
+    } else {
+        e1
+    };
+    let line_contact = !(lmin > 1e-6 * lmax.abs());
+    ContactEllipse {
+        semi_major_mm: (!line_contact).then(|| (2.0 * delta / lmin).sqrt()),
+        semi_minor_mm: (2.0 * delta / lmax).sqrt(),
+        major_direction: major,
+        line_contact,
+    }
+}
+
+/// Bound of the Newton steps of one section point and of the boundary
+/// search along one direction.
+const SEARCH_STEPS: usize = 60;
+
+/// The point of flank `f` in the plane through `m` spanned by `d` and `u3`
+/// at tangent offset `s` along d: (height along u₃, flank parameters), or
+/// `None` when the Newton iteration leaves the surface or fails.
+fn section_point(
+    f: &FlankAtContact,
+    m: V3,
+    d: V3,
+    u3: V3,
+    s: f64,
+    start: [f64; 2],
+) -> Option<(f64, [f64; 2])> {
+    let w = cross(u3, d);
+    let [mut u, mut v] = start;
+    for _ in 0..SEARCH_STEPS {
+        let (p, _, pu, pv) = f.surface.evaluate(u, v);
+        let x = sub(f.frame.place(p), m);
+        let (gu, gv) = (f.frame.rotate(pu), f.frame.rotate(pv));
+        let r = [dot(x, d) - s, dot(x, w)];
+        let j = [[dot(gu, d), dot(gv, d)], [dot(gu, w), dot(gv, w)]];
+        let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+        if !(det.abs() > 0.0) {
+            return None;
+        }
+        let du = -(j[1][1] * r[0] - j[0][1] * r[1]) / det;
+        let dv = -(j[0][0] * r[1] - j[1][0] * r[0]) / det;
+        u += du;
+        v += dv;
+        if !(u.is_finite() && v.is_finite()) {
+            return None;
+        }
+        if (du * norm(gu)).abs() + (dv * norm(gv)).abs() < 1e-12 {
+            let x = sub(f.frame.place(f.surface.point(u, v)), m);
+            return Some((dot(x, u3), [u, v]));
+        }
+    }
+    None
+}
+
+/// Whether (u, v) lies on the flank's active region (form line to tip,
+/// toe to heel).
+fn on_active_flank(s: &dyn ToothSurface, uv: [f64; 2]) -> bool {
+    let (v0, v1) = s.v_range();
+    let [u, v] = uv;
+    v >= v0 && v <= v1 && u <= s.u_tip(v) && u >= s.u_form(v)
+}
+
+/// The numerical search (module docs) with `directions` planes over 180°
+/// (≥ 4). `max_offset_mm` bounds the search along a direction (a boundary
+/// not found within it is reported at it, and the ellipse as line contact).
+pub fn searched_ellipse(
+    pinion: &FlankAtContact,
+    gear: &FlankAtContact,
+    point: V3,
+    normal: V3,
+    delta: f64,
+    directions: usize,
+    max_offset_mm: f64,
+) -> ContactEllipse {
+    let (e1, e2) = basis(pinion, normal);
+    // separation at tangent offset s along d: None when a flank ends
+    let separation = |d: V3, s: f64, starts: &mut [[f64; 2]; 2]| -> Option<f64> {
+        let (h1, uv1) = section_point(pinion, point, d, normal, s, starts[0])?;
+        let (h2, uv2) = section_point(gear, point, d, normal, s, starts[1])?;
+        if !on_active_flank(pinion.surface, uv1) || !on_active_flank(gear.surface, uv2) {
+            return None;
+        }
+        *starts = [uv1, uv2];
+        Some(h2 - h1)
+    };
+    // boundary offset along +d: the first s > 0 with separation ≥ δ or
+    // where a flank ends (bracket by doubling, then regula falsi/bisection)
+    // start each direction at the curvature estimate √(2δ / B(d, d)) and
+    // bracket from there (growing or shrinking by 1.25)
+    let ([b11, b12, b22], _, _) = relative_curvature(pinion, gear, normal);
+    let estimate = |d: V3| {
+        let (x, y) = (dot(d, e1), dot(d, e2));
+        let bdd = b11 * x * x + 2.0 * b12 * x * y + b22 * y * y;
+        if bdd > 0.0 {
+            (2.0 * delta / bdd).sqrt().min(max_offset_mm)
+        } else {
+            max_offset_mm
+        }
+    };
+    let boundary = |d: V3| -> (f64, bool) {
+        let mut starts = [pinion.uv, gear.uv];
+        let (mut lo, mut g_lo) = (0.0, 0.0);
+        let mut hi = None;
+        let mut s = estimate(d);
+        for _ in 0..SEARCH_STEPS {
+            let mut st = starts;
+            match separation(d, s, &mut st) {
+                Some(g) if g < delta => {
+                    lo = s;
+                    g_lo = g;
+                    starts = st;
+                    if hi.is_some() || s >= max_offset_mm {
+                        break;
+                    }
+                    s = (1.25 * s).min(max_offset_mm);
+                }
+                other => {
+                    hi = Some((s, other));
+                    if lo > 0.0 {
+                        break;
+                    }
+                    s *= 0.8;
+                    if s < 1e-9 * max_offset_mm {
+                        break;
+                    }
+                }
+            }
+        }
+        let Some((mut hi, mut g_hi)) = hi else {
+            return (max_offset_mm, false);
+        };
+        // Illinois regula falsi (bisection where a flank ended)
+        let mut side = 0i8;
+        for _ in 0..SEARCH_STEPS {
+            if hi - lo <= 1e-7 * hi {
+                break;
+            }
+            let t = match g_hi {
+                Some(g) if g > g_lo => {
+                    let w = if side == 1 { 0.5 } else { 1.0 };
+                    let gh = delta + w * (g - delta);
+                    lo + (hi - lo) * (delta - g_lo) / (gh - g_lo)
+                }
+                _ => 0.5 * (lo + hi),
+            };
+            let t = t.clamp(lo + 1e-3 * (hi - lo), hi - 1e-3 * (hi - lo));
+            let mut st = starts;
+            match separation(d, t, &mut st) {
+                Some(g) if g < delta => {
+                    lo = t;
+                    g_lo = g;
+                    starts = st;
+                    side = 1;
+                }
+                other => {
+                    hi = t;
+                    g_hi = other;
+                    side = -1;
+                }
+            }
+        }
+        (0.5 * (lo + hi), true)
+    };
+    let n = directions.max(4);
+    let mut radii = Vec::with_capacity(n);
+    let mut closed = true;
+    for i in 0..n {
+        let a = std::f64::consts::PI * i as f64 / n as f64;
+        let d = unit(add(
+            [a.cos() * e1[0], a.cos() * e1[1], a.cos() * e1[2]],
+            a.sin(),
+            e2,
+        ));
+        let (sp, okp) = boundary(d);
+        let (sm, okm) = boundary([-d[0], -d[1], -d[2]]);
+        closed &= okp && okm;
+        // the half-chord through the contact point: the patch's extent
+        radii.push(0.5 * (sp + sm));
+    }
+    let (imax, _) =
+        radii.iter().enumerate().fold(
+            (0, f64::NEG_INFINITY),
+            |b, (i, &r)| if r > b.1 { (i, r) } else { b },
+        );
+    let (imin, _) =
+        radii.iter().enumerate().fold(
+            (0, f64::INFINITY),
+            |b, (i, &r)| if r < b.1 { (i, r) } else { b },
+        );
+    let step = std::f64::consts::PI / n as f64;
+    let (shift, rmax) = vertex(&radii, imax);
+    let (_, rmin) = vertex(&radii, imin);
+    let a = step * (imax as f64 + shift);
+    let major = unit(add(
+        [a.cos() * e1[0], a.cos() * e1[1], a.cos() * e1[2]],
+        a.sin(),
+        e2,
+    ));
+    ContactEllipse {
+        semi_major_mm: closed.then_some(rmax),
+        semi_minor_mm: rmin,
+        major_direction: major,
+        line_contact: !closed,
+    }
+}
+
+/// Vertex (offset in steps, value) of the parabola through the samples
+/// i − 1, i, i + 1 of a function periodic over the samples.
+fn vertex(r: &[f64], i: usize) -> (f64, f64) {
+    let n = r.len();
+    let (r0, r1, r2) = (r[(i + n - 1) % n], r[i], r[(i + 1) % n]);
+    let curv = r0 - 2.0 * r1 + r2;
+    if curv.abs() > 0.0 {
+        let x = (0.5 * (r0 - r2) / curv).clamp(-1.0, 1.0);
+        (x, r1 - 0.25 * (r0 - r2) * x)
+    } else {
+        (0.0, r1)
+    }
+}

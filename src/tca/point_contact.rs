@@ -1,0 +1,678 @@
+//! Tooth contact analysis of pairs in point contact (spiral bevel and
+//! hypoid pairs with a localized bearing), with edge contact, through the
+//! gear-pair interface ([`PairPlacement`]).
+//!
+//! # Method
+//!
+//! * **One trace serves every tooth pair.** The teeth of a body are turned
+//!   copies of one tooth, so pair i (i pitches after the middle pair) at
+//!   roll θ is the middle pair at θ − i·[`PairPlacement::tooth_roll_step`],
+//!   misalignment included (it moves the whole gear). The middle pair is
+//!   traced over a roll grid of step h = pitch / `positions_per_pitch`,
+//!   each position's tangency seeded by the previous one
+//!   ([`crate::geometry::tangency`]), and every pair at every grid position
+//!   is read off the trace.
+//! * **Flank and edge systems** (seed `000_…`): the flank system holds
+//!   while its contact lies on both active flanks (form line to tip, toe to
+//!   heel). Where it leaves them the crossing is located by bisection and,
+//!   with edges on, the trace goes on with the edge system of the boundary
+//!   crossed: beyond the pinion's tip (toe, heel) the pinion's tip (toe,
+//!   heel) edge against the gear flank, beyond the gear's the gear's edge
+//!   against the pinion flank. An edge contact holds while its point stays
+//!   on the edge and on the mating active flank and the mating flank rests
+//!   on the edge (lean > 0, [`crate::geometry::tangency::Tangency::edge_lean`]).
+//!   Each change of system is reported with its roll angle. The trace is
+//!   bounded by `max_pitches` on each side of roll 0.
+//! * **Transmission error** (seed 000: Δφ₂ = φ₂ − (z₁/z₂) φ₁, gear angle):
+//!   each pair allows the driven gear to lag to the turn Δφ₂,ᵢ (in its
+//!   drive sense) at which it touches; the gear rests on the pair that
+//!   stops it first, so TE(θ) = maxᵢ Δφ₂,ᵢ(θ) and that pair is the active
+//!   one. The separation of another pair is (TE − Δφ₂,ᵢ) times its gear
+//!   moment arm (mm).
+//! * **Kinematic contact ratio**: the roll span over which a pair is within
+//!   the elastic approach δ of contact (separation ≤ δ), over the angular
+//!   pitch. For a conjugate pair (TE ≡ 0) this is the path of contact over
+//!   the pitch; the span where the flank contact exists at all is reported
+//!   beside it (`flank_span_ratio`).
+//! * **Contact ellipse** at δ from the curvatures, and by the numerical
+//!   search of seed 000 ([`super::ellipse`]); at edge contacts only the
+//!   search applies.
+//! * **Velocities**: v_i = ω_i × (x − a_i) at the pinion speed, their
+//!   tangential parts v_ti; sliding v_t1 − v_t2 (magnitude and direction:
+//!   the LTCA's tangential direction), rolling |v_t1 + v_t2| / 2 (m/s).
+
+use crate::error::FlankError;
+use crate::geometry::bevel::body::BevelGear;
+use crate::geometry::frame::Frame;
+use crate::geometry::gear_pair::{Flank, GearBody, PairPlacement};
+use crate::geometry::surface::ToothSurface;
+use crate::geometry::tangency::{
+    self, ContactSystem, Edge, GearTurn, PlacedFlank, Tangency, TangencySeed,
+};
+use crate::geometry::vec3::{add, cross, dot, norm, sub, unit, V3};
+
+use super::ellipse::{curvature_ellipse, searched_ellipse, ContactEllipse, FlankAtContact};
+
+type Result<T> = std::result::Result<T, FlankError>;
+
+/// Settings of the point-contact TCA.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct PointTcaSettings {
+    /// Grid positions per angular pitch (≥ 4).
+    pub positions_per_pitch: usize,
+    /// Elastic approach δ of the contact ellipse and the contact ratio (mm;
+    /// seed 000: 0.00635 for finished teeth, 0.00381 lapped).
+    pub approach_mm: f64,
+    /// Edge contact on (seed 000 "with") or off ("without").
+    pub edges: bool,
+    /// Planes of the numerical ellipse search over 180° (0: none).
+    pub search_directions: usize,
+    /// Trace bound on each side of roll 0 (pitches).
+    pub max_pitches: f64,
+    /// Pinion speed for the velocities (rpm).
+    pub speed_rpm: f64,
+}
+
+impl Default for PointTcaSettings {
+    fn default() -> Self {
+        PointTcaSettings {
+            positions_per_pitch: 30,
+            approach_mm: 0.00635,
+            edges: true,
+            search_directions: 18,
+            max_pitches: 3.0,
+            speed_rpm: 1000.0,
+        }
+    }
+}
+
+impl PointTcaSettings {
+    pub fn validate(&self) -> Result<()> {
+        let err = |m: String| Err(FlankError::Model(format!("TCA settings: {m}")));
+        if !(4..=10_000).contains(&self.positions_per_pitch) {
+            return err(format!(
+                "positions_per_pitch = {}: between 4 and 10000 are needed",
+                self.positions_per_pitch
+            ));
+        }
+        if !(self.approach_mm.is_finite() && self.approach_mm > 0.0) {
+            return err(format!(
+                "approach δ = {} mm: a finite positive elastic approach is needed (seed 000: 0.00635 mm, 0.00381 mm lapped)",
+                self.approach_mm
+            ));
+        }
+        if self.search_directions != 0 && !(4..=3600).contains(&self.search_directions) {
+            return err(format!(
+                "search_directions = {}: 0 (no search) or 4 to 3600 planes are needed",
+                self.search_directions
+            ));
+        }
+        if !(self.max_pitches.is_finite() && self.max_pitches >= 1.0 && self.max_pitches <= 20.0) {
+            return err(format!(
+                "max_pitches = {}: between 1 and 20 pitches are needed",
+                self.max_pitches
+            ));
+        }
+        if !(self.speed_rpm.is_finite() && self.speed_rpm >= 0.0) {
+            return err(format!(
+                "speed {} rpm: a finite value ≥ 0 is needed",
+                self.speed_rpm
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// One tooth pair at one position.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct PairContact {
+    /// Pitches after the middle pair (0 = the middle pair).
+    pub offset: i64,
+    /// Sector teeth (pinion, gear) when the pair lies in the sector.
+    pub teeth: Option<[usize; 2]>,
+    pub system: ContactSystem,
+    pub pinion_uv: [f64; 2],
+    pub gear_uv: [f64; 2],
+    /// Global point and unit normal (pinion → gear).
+    pub point: V3,
+    pub normal: V3,
+    /// The gear lag this pair allows, Δφ₂,ᵢ (rad, gear angle, drive sense).
+    pub gear_lag_rad: f64,
+    /// (TE − Δφ₂,ᵢ) × gear moment arm (mm): 0 on the active pair.
+    pub separation_mm: f64,
+    pub active: bool,
+    /// Moment arms of the contact normal about the pinion and the gear axis
+    /// (mm).
+    pub moment_arm_mm: [f64; 2],
+    /// Flank projection of the contact on (pinion, gear): (along the face
+    /// from the mean point toward the heel, height above the pitch cone) in
+    /// the axial section of a bevel member (mm); (z, radius) otherwise.
+    pub projection_mm: [[f64; 2]; 2],
+    /// Curvature ellipse at δ (flank contacts).
+    pub ellipse: Option<ContactEllipse>,
+    /// Searched ellipse at δ (when the search is on).
+    pub searched_ellipse: Option<ContactEllipse>,
+    /// The ellipse's major axis (searched where the search ran, else from
+    /// the curvatures) projected on (pinion, gear): its two ends in the
+    /// members' flank projections (mm); `None` for line contact.
+    pub major_axis_projection_mm: Option<[[[f64; 2]; 2]; 2]>,
+    /// |v_t1 − v_t2| and |v_t1 + v_t2| / 2 (m/s).
+    pub sliding_velocity: f64,
+    pub rolling_velocity: f64,
+    /// Unit direction of v_t1 − v_t2 (global; zero vector at pure rolling).
+    pub sliding_direction: V3,
+    /// Point coincidence (mm) and tangency residual of the solve.
+    pub residual: [f64; 2],
+    pub edge_lean: f64,
+}
+
+/// One position of the cycle.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct PointTcaPosition {
+    /// Pinion roll θ (rad).
+    pub roll_rad: f64,
+    /// Unloaded transmission error Δφ₂ (rad, gear angle).
+    pub te_rad: f64,
+    pub pairs: Vec<PairContact>,
+}
+
+/// A change of contact system of the middle pair.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Transition {
+    pub roll_rad: f64,
+    pub from: String,
+    pub to: String,
+}
+
+/// The result of a point-contact TCA.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct PointTca {
+    pub settings: PointTcaSettings,
+    /// Angular pitch of the pinion (rad).
+    pub pitch_rad: f64,
+    pub positions: Vec<PointTcaPosition>,
+    pub transitions: Vec<Transition>,
+    /// Kinematic contact ratio at the approach δ (module docs).
+    pub contact_ratio: f64,
+    /// Span of the middle pair's flank contact on both active flanks, over
+    /// the pitch.
+    pub flank_span_ratio: f64,
+    /// Peak-to-peak of the TE envelope over a pitch (rad).
+    pub te_peak_to_peak_rad: f64,
+    /// Whether the trace stopped at `max_pitches` on either side.
+    pub hit_trace_bound: bool,
+    /// Largest residuals over the trace (mm, tangency).
+    pub max_residual: [f64; 2],
+    /// Newton steps, total over the trace.
+    pub newton_steps: usize,
+}
+
+/// The middle pair's placed flanks and turn axis at a roll.
+struct Placement<'a> {
+    pinion: PlacedFlank<'a>,
+    gear: PlacedFlank<'a>,
+    turn: GearTurn,
+}
+
+fn placement<'a>(pair: &'a dyn PairPlacement, roll: f64) -> Placement<'a> {
+    let km = pair.middle();
+    let [f1, f2] = pair.frames(roll);
+    let p = pair
+        .pinion()
+        .flank(Flank::Right, km)
+        .expect("middle pinion tooth");
+    let g = pair
+        .gear()
+        .flank(Flank::Right, pair.mate(km))
+        .expect("middle gear tooth");
+    Placement {
+        pinion: PlacedFlank {
+            surface: p,
+            frame: f1,
+        },
+        gear: PlacedFlank {
+            surface: g,
+            frame: f2,
+        },
+        turn: GearTurn {
+            point: f2.translation,
+            axis: f2.rotate([0.0, 0.0, 1.0]),
+        },
+    }
+}
+
+fn solve_at(
+    pair: &dyn PairPlacement,
+    roll: f64,
+    system: ContactSystem,
+    seed: &TangencySeed,
+) -> std::result::Result<Tangency, tangency::TangencyFailure> {
+    let p = placement(pair, roll);
+    tangency::solve(system, &p.pinion, &p.gear, &p.turn, seed)
+}
+
+fn on_active(s: &dyn ToothSurface, uv: [f64; 2]) -> bool {
+    let (v0, v1) = s.v_range();
+    let [u, v] = uv;
+    v >= v0 && v <= v1 && u <= s.u_tip(v) && u >= s.u_form(v)
+}
+
+/// Where a flank contact lies: on both active flanks (`None`), or the
+/// edge system of the first boundary it crossed (`Some(Some(_))`), or
+/// below a form line (`Some(None)`: no edge takes over).
+fn crossed(pair: &dyn PairPlacement, t: &Tangency) -> Option<Option<ContactSystem>> {
+    let km = pair.middle();
+    let ps = pair.pinion().flank(Flank::Right, km).unwrap();
+    let gs = pair.gear().flank(Flank::Right, pair.mate(km)).unwrap();
+    let edge = |s: &dyn ToothSurface, [u, v]: [f64; 2]| -> Option<Option<Edge>> {
+        let (v0, v1) = s.v_range();
+        if v < v0 {
+            Some(Some(Edge::Toe))
+        } else if v > v1 {
+            Some(Some(Edge::Heel))
+        } else if u > s.u_tip(v) {
+            Some(Some(Edge::Tip))
+        } else if u < s.u_form(v) {
+            Some(None)
+        } else {
+            None
+        }
+    };
+    match (edge(ps, t.pinion_uv), edge(gs, t.gear_uv)) {
+        (None, None) => None,
+        (Some(Some(e)), _) => Some(Some(ContactSystem::PinionEdge(e))),
+        (_, Some(Some(e))) => Some(Some(ContactSystem::GearEdge(e))),
+        _ => Some(None),
+    }
+}
+
+/// Whether an edge solution holds (module docs).
+fn edge_holds(pair: &dyn PairPlacement, t: &Tangency) -> bool {
+    let km = pair.middle();
+    let ps = pair.pinion().flank(Flank::Right, km).unwrap();
+    let gs = pair.gear().flank(Flank::Right, pair.mate(km)).unwrap();
+    let on_edge = |s: &dyn ToothSurface, e: Edge, uv: [f64; 2]| {
+        let (v0, v1) = s.v_range();
+        match e {
+            Edge::Tip => uv[1] >= v0 && uv[1] <= v1,
+            Edge::Toe | Edge::Heel => uv[0] >= s.u_form(uv[1]) && uv[0] <= s.u_tip(uv[1]),
+        }
+    };
+    t.edge_lean > 0.0
+        && match t.system {
+            ContactSystem::Flank => false,
+            ContactSystem::PinionEdge(e) => on_edge(ps, e, t.pinion_uv) && on_active(gs, t.gear_uv),
+            ContactSystem::GearEdge(e) => on_edge(gs, e, t.gear_uv) && on_active(ps, t.pinion_uv),
+        }
+}
+
+/// One traced grid position of the middle pair.
+#[derive(Clone, Debug)]
+struct Traced {
+    index: i64,
+    contact: Tangency,
+}
+
+/// Traces the middle pair from roll 0 in the direction `dir` (±1).
+fn trace(
+    pair: &dyn PairPlacement,
+    settings: &PointTcaSettings,
+    h: f64,
+    start: &Tangency,
+    dir: i64,
+    transitions: &mut Vec<Transition>,
+    steps: &mut usize,
+) -> Result<(Vec<Traced>, bool)> {
+    let limit = (settings.max_pitches * settings.positions_per_pitch as f64).ceil() as i64;
+    let mut out = Vec::new();
+    let mut prev = *start;
+    let mut prev_prev: Option<Tangency> = None;
+    let mut system = ContactSystem::Flank;
+    for j in 1..=limit {
+        let index = dir * j;
+        let roll = index as f64 * h;
+        // seed: the previous contact, its turn extrapolated linearly
+        let mut seed = prev.seed();
+        if let Some(pp) = prev_prev.filter(|pp| pp.system == prev.system) {
+            seed.turn = 2.0 * prev.turn - pp.turn;
+        }
+        let solved = solve_at(pair, roll, system, &seed);
+        if let Ok(t) = &solved {
+            *steps += t.iterations;
+        }
+        let holds = match (&solved, system) {
+            (Ok(t), ContactSystem::Flank) => crossed(pair, t).is_none(),
+            (Ok(t), _) => edge_holds(pair, t),
+            (Err(_), _) => false,
+        };
+        if holds {
+            let t = solved.unwrap();
+            prev_prev = Some(prev);
+            prev = t;
+            out.push(Traced { index, contact: t });
+            continue;
+        }
+        // locate the change between the previous roll and this one
+        let roll_prev = (index - dir) as f64 * h;
+        let (mut a, mut b) = (roll_prev, roll);
+        let mut last = prev;
+        for _ in 0..40 {
+            let m = 0.5 * (a + b);
+            match solve_at(pair, m, system, &last.seed()) {
+                Ok(t)
+                    if (system == ContactSystem::Flank && crossed(pair, &t).is_none())
+                        || (system != ContactSystem::Flank && edge_holds(pair, &t)) =>
+                {
+                    last = t;
+                    a = m;
+                }
+                _ => b = m,
+            }
+        }
+        let next = if system == ContactSystem::Flank && settings.edges {
+            // the flank contact just past the crossing says which edge
+            solve_at(pair, b, ContactSystem::Flank, &last.seed())
+                .ok()
+                .and_then(|t| crossed(pair, &t))
+                .flatten()
+        } else {
+            None
+        };
+        let Some(edge_system) = next else {
+            transitions.push(Transition {
+                roll_rad: 0.5 * (a + b),
+                from: system.name(),
+                to: "none".into(),
+            });
+            return Ok((out, false));
+        };
+        // the edge contact from the crossing, then at this grid roll
+        let at_crossing = solve_at(pair, b, edge_system, &last.seed());
+        let here = at_crossing
+            .ok()
+            .filter(|t| edge_holds(pair, t))
+            .and_then(|t| solve_at(pair, roll, edge_system, &t.seed()).ok())
+            .filter(|t| edge_holds(pair, t));
+        transitions.push(Transition {
+            roll_rad: 0.5 * (a + b),
+            from: system.name(),
+            to: if here.is_some() {
+                edge_system.name()
+            } else {
+                "none".into()
+            },
+        });
+        let Some(t) = here else {
+            return Ok((out, false));
+        };
+        *steps += t.iterations;
+        system = edge_system;
+        prev_prev = None;
+        prev = t;
+        out.push(Traced { index, contact: t });
+    }
+    Ok((out, true))
+}
+
+/// Axial-section projection of an own-frame point (module docs of
+/// [`PairContact::projection_mm`]).
+pub fn projection(body: &dyn GearBody, p: V3) -> [f64; 2] {
+    let rho = p[0].hypot(p[1]);
+    match body.as_any().downcast_ref::<BevelGear>() {
+        Some(b) => {
+            let c = b.cones();
+            let (s, co) = c.delta.sin_cos();
+            [p[2] * co + rho * s - c.rm, -p[2] * s + rho * co]
+        }
+        None => [p[2], rho],
+    }
+}
+
+/// The point-contact TCA of `pair` (module docs).
+pub fn point_tca(pair: &dyn PairPlacement, settings: &PointTcaSettings) -> Result<PointTca> {
+    settings.validate()?;
+    let pitch = pair.pinion().angular_pitch();
+    let step = pair.tooth_roll_step();
+    let p_per = settings.positions_per_pitch as i64;
+    let h = pitch / p_per as f64;
+    let km = pair.middle();
+    let (rm1, rm2) = (
+        pair.pinion()
+            .as_any()
+            .downcast_ref::<BevelGear>()
+            .map(|b| b.cones().rm),
+        pair.gear()
+            .as_any()
+            .downcast_ref::<BevelGear>()
+            .map(|b| b.cones().rm),
+    );
+    // roll 0: the flank contact near the mean points (or the middles of
+    // the flanks' parameter boxes)
+    let mid = |s: &dyn ToothSurface, rm: Option<f64>| {
+        let v = rm.unwrap_or_else(|| 0.5 * (s.v_range().0 + s.v_range().1));
+        [0.5 * (s.u_form(v) + s.u_tip(v)), v]
+    };
+    let ps = pair
+        .pinion()
+        .flank(Flank::Right, km)
+        .ok_or_else(|| FlankError::Model("TCA: the pinion sector has no middle tooth".into()))?;
+    let gs = pair
+        .gear()
+        .flank(Flank::Right, pair.mate(km))
+        .ok_or_else(|| FlankError::Model("TCA: the gear sector has no mate tooth".into()))?;
+    // other pairs: the middle of the pinion's active flank, and the gear
+    // flank's point closest to it
+    let pinion_uv = rm1.map(|r| [0.0, r]).unwrap_or_else(|| mid(ps, None));
+    let gear_uv = rm2.map(|r| [0.0, r]).unwrap_or_else(|| {
+        let [f1, f2] = pair.frames(0.0);
+        let x = f1.place(ps.point(pinion_uv[0], pinion_uv[1]));
+        let (u, v, _) = gs.closest_point(f2.rotate_back(sub(x, f2.translation)));
+        [u, v]
+    });
+    let seed = TangencySeed {
+        pinion_uv,
+        gear_uv,
+        turn: 0.0,
+    };
+    let start = solve_at(pair, 0.0, ContactSystem::Flank, &seed).map_err(|e| {
+        FlankError::Model(format!(
+            "TCA at roll 0: the middle pair's flanks do not touch ({e}): the pair does not mesh"
+        ))
+    })?;
+    if let Some(c) = crossed(pair, &start) {
+        return Err(FlankError::Model(format!(
+            "TCA at roll 0: the middle pair touches off its active flanks (pinion (u, v) = ({:.4}, {:.4}), gear ({:.4}, {:.4}){}): the bearing is not on the teeth",
+            start.pinion_uv[0],
+            start.pinion_uv[1],
+            start.gear_uv[0],
+            start.gear_uv[1],
+            c.map(|s| format!(", beyond the {}", s.name())).unwrap_or_default()
+        )));
+    }
+    let mut transitions = Vec::new();
+    let mut steps = start.iterations;
+    let (back, bound_b) = trace(pair, settings, h, &start, -1, &mut transitions, &mut steps)?;
+    let (fwd, bound_f) = trace(pair, settings, h, &start, 1, &mut transitions, &mut steps)?;
+    let mut traced: Vec<Traced> = back.into_iter().rev().collect();
+    traced.push(Traced {
+        index: 0,
+        contact: start,
+    });
+    traced.extend(fwd);
+    transitions.sort_by(|a, b| a.roll_rad.total_cmp(&b.roll_rad));
+    // gear lag in its drive sense; pair i at grid j is the middle pair at
+    // j − i·P·sign(step)
+    let sense2 = pair.rotation_axes()[1][2].signum();
+    let shift = p_per * step.signum() as i64;
+    let lag = |t: &Tangency| sense2 * t.turn;
+    let envelope = |j: i64| -> f64 {
+        let mut best = f64::NEG_INFINITY;
+        for t in &traced {
+            if (j - t.index).rem_euclid(shift.abs()) == 0 {
+                best = best.max(lag(&t.contact));
+            }
+        }
+        best
+    };
+    let omega1 = settings.speed_rpm * std::f64::consts::PI / 30.0;
+    let omega2 = omega1 * pair.ratio();
+    let axes = pair.rotation_axes();
+    // Every traced point once (in parallel): its contact is the same for
+    // every pair and position it stands for, and so is its separation from
+    // the periodic envelope.
+    use rayon::prelude::*;
+    let per_point: Vec<PairContact> = traced
+        .par_iter()
+        .map(|tr| {
+            let t = &tr.contact;
+            let [g1, g2] = pair.frames(tr.index as f64 * h);
+            let g2t =
+                Frame::about_axis(g2.translation, g2.rotate([0.0, 0.0, 1.0]), t.turn).compose(&g2);
+            let own1 = g1.rotate_back(sub(t.point, g1.translation));
+            let own2 = g2t.rotate_back(sub(t.point, g2t.translation));
+            let (x, n) = (t.point, t.normal);
+            let a1 = g1.rotate(axes[0]);
+            let a2 = g2t.rotate(axes[1]);
+            let arm1 = dot(cross(a1, sub(x, g1.translation)), n);
+            let arm2 = dot(cross(a2, sub(x, g2t.translation)), n);
+            let separation = (envelope(tr.index) - lag(t)) * arm2.abs();
+            // velocities
+            let v1 = cross(a1, sub(x, g1.translation));
+            let v2 = cross(a2, sub(x, g2t.translation));
+            let tang = |v: V3| add(v, -dot(v, n), n);
+            let (v1t, v2t) = (
+                tang([omega1 * v1[0], omega1 * v1[1], omega1 * v1[2]]),
+                tang([omega2 * v2[0], omega2 * v2[1], omega2 * v2[2]]),
+            );
+            let slide = sub(v1t, v2t);
+            let roll_v = add(v1t, 1.0, v2t);
+            let at1 = FlankAtContact {
+                surface: ps,
+                frame: g1,
+                uv: t.pinion_uv,
+            };
+            let at2 = FlankAtContact {
+                surface: gs,
+                frame: g2t,
+                uv: t.gear_uv,
+            };
+            let ellipse = (t.system == ContactSystem::Flank)
+                .then(|| curvature_ellipse(&at1, &at2, n, settings.approach_mm));
+            // the search only where the pair is within δ of contact
+            let searched = (settings.search_directions > 0 && separation <= settings.approach_mm)
+                .then(|| {
+                    let span = ps.v_range().1 - ps.v_range().0;
+                    searched_ellipse(
+                        &at1,
+                        &at2,
+                        x,
+                        n,
+                        settings.approach_mm,
+                        settings.search_directions,
+                        span,
+                    )
+                });
+            let axis_ends = searched.or(ellipse).and_then(|e| {
+                let a = e.semi_major_mm?;
+                let d = e.major_direction;
+                let end = |f: &Frame, body: &dyn GearBody, s: f64| {
+                    projection(body, f.rotate_back(sub(add(x, s * a, d), f.translation)))
+                };
+                Some([
+                    [end(&g1, pair.pinion(), -1.0), end(&g1, pair.pinion(), 1.0)],
+                    [end(&g2t, pair.gear(), -1.0), end(&g2t, pair.gear(), 1.0)],
+                ])
+            });
+            PairContact {
+                offset: 0,
+                teeth: None,
+                system: t.system,
+                pinion_uv: t.pinion_uv,
+                gear_uv: t.gear_uv,
+                point: x,
+                normal: n,
+                gear_lag_rad: lag(t),
+                separation_mm: separation,
+                active: separation <= 1e-12 * arm2.abs().max(1.0),
+                moment_arm_mm: [arm1.abs(), arm2.abs()],
+                projection_mm: [
+                    projection(pair.pinion(), own1),
+                    projection(pair.gear(), own2),
+                ],
+                ellipse,
+                searched_ellipse: searched,
+                major_axis_projection_mm: axis_ends,
+                sliding_velocity: 1e-3 * norm(slide),
+                rolling_velocity: 0.5e-3 * norm(roll_v),
+                sliding_direction: if norm(slide) > 0.0 {
+                    unit(slide)
+                } else {
+                    [0.0; 3]
+                },
+                residual: [t.point_residual, t.tangency_residual],
+                edge_lean: t.edge_lean,
+            }
+        })
+        .collect();
+    let max_residual = per_point.iter().fold([0.0f64; 2], |m, c| {
+        [m[0].max(c.residual[0]), m[1].max(c.residual[1])]
+    });
+    let in_contact = per_point
+        .iter()
+        .filter(|c| c.separation_mm <= settings.approach_mm)
+        .count();
+    let flank_span = per_point
+        .iter()
+        .filter(|c| c.system == ContactSystem::Flank)
+        .count();
+    let (j0, j1) = (traced[0].index, traced.last().unwrap().index);
+    let n_sector = pair.sector_teeth() as i64;
+    let mut positions = Vec::new();
+    for j in j0..=j1 {
+        let mut pairs = Vec::new();
+        // every pair i whose trace index j − i·shift exists (pair i at this
+        // roll is the middle pair at roll jj·h: its teeth are the middle
+        // teeth turned by i pitches and the bodies have turned by i·step
+        // since, so every global point and vector coincides)
+        let imin = (j - j1).div_euclid(shift.abs()) - 1;
+        let imax = (j - j0).div_euclid(shift.abs()) + 1;
+        for ii in imin..=imax {
+            let i = ii * shift.signum();
+            let jj = j - i * shift;
+            if jj < j0 || jj > j1 {
+                continue;
+            }
+            let k = km as i64 + i;
+            pairs.push(PairContact {
+                offset: i,
+                teeth: (k >= 1 && k <= n_sector).then(|| [k as usize, pair.mate(k as usize)]),
+                ..per_point[(jj - j0) as usize].clone()
+            });
+        }
+        pairs.sort_by_key(|p| p.offset);
+        positions.push(PointTcaPosition {
+            roll_rad: j as f64 * h,
+            te_rad: envelope(j),
+            pairs,
+        });
+    }
+    // TE over one pitch of the periodic envelope
+    let te: Vec<f64> = (0..shift.abs())
+        .map(envelope)
+        .filter(|t| t.is_finite())
+        .collect();
+    let te_pp = te.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+        - te.iter().cloned().fold(f64::INFINITY, f64::min);
+    Ok(PointTca {
+        settings: settings.clone(),
+        pitch_rad: pitch,
+        positions,
+        transitions,
+        contact_ratio: in_contact as f64 / p_per as f64,
+        flank_span_ratio: flank_span as f64 / p_per as f64,
+        te_peak_to_peak_rad: te_pp,
+        hit_trace_bound: bound_b || bound_f,
+        max_residual,
+        newton_steps: steps,
+    })
+}
