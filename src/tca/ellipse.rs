@@ -117,6 +117,10 @@ pub fn curvature_ellipse(
 /// search along one direction.
 const SEARCH_STEPS: usize = 60;
 
+/// Golden-section steps refining the major and minor directions (the
+/// bracket of two scan steps shrinks by 0.618 each: 14 steps, 1e-3 of it).
+const GOLDEN_STEPS: usize = 14;
+
 /// The point of flank `f` in the plane through `m` spanned by `d` and `u3`
 /// at tangent offset `s` along d: (height along u₃, flank parameters), or
 /// `None` when the Newton iteration leaves the surface or fails.
@@ -265,58 +269,79 @@ pub fn searched_ellipse(
         (0.5 * (lo + hi), true)
     };
     let n = directions.max(4);
-    let mut radii = Vec::with_capacity(n);
-    let mut closed = true;
-    for i in 0..n {
-        let a = std::f64::consts::PI * i as f64 / n as f64;
-        let d = unit(add(
+    let dir = |a: f64| {
+        unit(add(
             [a.cos() * e1[0], a.cos() * e1[1], a.cos() * e1[2]],
             a.sin(),
             e2,
-        ));
+        ))
+    };
+    // the half-chord through the contact point along α: the patch's extent
+    let chord = |a: f64| -> (f64, bool) {
+        let d = dir(a);
         let (sp, okp) = boundary(d);
         let (sm, okm) = boundary([-d[0], -d[1], -d[2]]);
-        closed &= okp && okm;
-        // the half-chord through the contact point: the patch's extent
-        radii.push(0.5 * (sp + sm));
-    }
-    let (imax, _) =
-        radii.iter().enumerate().fold(
-            (0, f64::NEG_INFINITY),
-            |b, (i, &r)| if r > b.1 { (i, r) } else { b },
-        );
-    let (imin, _) =
-        radii.iter().enumerate().fold(
-            (0, f64::INFINITY),
-            |b, (i, &r)| if r < b.1 { (i, r) } else { b },
-        );
+        (0.5 * (sp + sm), okp && okm)
+    };
     let step = std::f64::consts::PI / n as f64;
-    let (shift, rmax) = vertex(&radii, imax);
-    let (_, rmin) = vertex(&radii, imin);
-    let a = step * (imax as f64 + shift);
-    let major = unit(add(
-        [a.cos() * e1[0], a.cos() * e1[1], a.cos() * e1[2]],
-        a.sin(),
-        e2,
-    ));
+    let mut radii = Vec::with_capacity(n);
+    let mut closed = true;
+    for i in 0..n {
+        let (r, ok) = chord(step * i as f64);
+        closed &= ok;
+        radii.push(r);
+    }
+    let best = |sign: f64| {
+        radii
+            .iter()
+            .enumerate()
+            .fold((0, f64::NEG_INFINITY), |b, (i, &r)| {
+                if sign * r > b.1 {
+                    (i, sign * r)
+                } else {
+                    b
+                }
+            })
+            .0
+    };
+    // golden-section refinement of the extreme between the neighbouring
+    // directions (a long ellipse's extent peaks sharply about its axis)
+    let refine = |i: usize, sign: f64| -> (f64, f64) {
+        let g = 0.5 * (5f64.sqrt() - 1.0);
+        let (mut lo, mut hi) = (step * (i as f64 - 1.0), step * (i as f64 + 1.0));
+        let f = |a: f64| sign * chord(a).0;
+        let (mut x1, mut x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+        let (mut f1, mut f2) = (f(x1), f(x2));
+        for _ in 0..GOLDEN_STEPS {
+            if f1 > f2 {
+                hi = x2;
+                x2 = x1;
+                f2 = f1;
+                x1 = hi - g * (hi - lo);
+                f1 = f(x1);
+            } else {
+                lo = x1;
+                x1 = x2;
+                f1 = f2;
+                x2 = lo + g * (hi - lo);
+                f2 = f(x2);
+            }
+        }
+        let (a, v) = if f1 > f2 { (x1, f1) } else { (x2, f2) };
+        // never worse than the scanned sample
+        if v >= sign * radii[i] {
+            (a, sign * v)
+        } else {
+            (step * i as f64, radii[i])
+        }
+    };
+    let (a, rmax) = refine(best(1.0), 1.0);
+    let (_, rmin) = refine(best(-1.0), -1.0);
+    let major = dir(a);
     ContactEllipse {
         semi_major_mm: closed.then_some(rmax),
         semi_minor_mm: rmin,
         major_direction: major,
         line_contact: !closed,
-    }
-}
-
-/// Vertex (offset in steps, value) of the parabola through the samples
-/// i − 1, i, i + 1 of a function periodic over the samples.
-fn vertex(r: &[f64], i: usize) -> (f64, f64) {
-    let n = r.len();
-    let (r0, r1, r2) = (r[(i + n - 1) % n], r[i], r[(i + 1) % n]);
-    let curv = r0 - 2.0 * r1 + r2;
-    if curv.abs() > 0.0 {
-        let x = (0.5 * (r0 - r2) / curv).clamp(-1.0, 1.0);
-        (x, r1 - 0.25 * (r0 - r2) * x)
-    } else {
-        (0.0, r1)
     }
 }
