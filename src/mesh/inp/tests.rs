@@ -193,3 +193,23 @@ fn large_deck() {
     );
     assert_eq!(deck.model.mesh.elements.len(), nx * ny * nz);
 }
+
+/// A keyword line that lost its `*` (or has junk before it) after `*STATIC`
+/// or `*SOLID SECTION` was skipped silently with their data lines, dropping
+/// e.g. a `*BOUNDARY` (found by tests/fuzz_parsers.rs): now an error at its
+/// line. One line of numbers (time stepping, thickness) is still accepted.
+#[test]
+fn keyword_without_star_after_static_is_an_error() {
+    let d = with(HEX, "*STATIC\n", "*STATIC\n0.1, 1.\nBOUNDARY\n");
+    expect_err(
+        &d,
+        line_of(&d, "*STATIC") + 2,
+        "second data line 'BOUNDARY'",
+    );
+    let d = with(HEX, "*STATIC\n", "*STATIC\n\0*BOUNDARY\n");
+    expect_err(&d, line_of(&d, "*STATIC") + 1, "malformed number");
+    let d = with(HEX, "*STATIC\n", "*STATIC\n1., 1.\n");
+    parse(&d).unwrap();
+    let d = with(HEX, "MATERIAL=steel\n", "MATERIAL=steel\n1.\nELASTIC\n");
+    expect_err(&d, line_of(&d, "*SOLID SECTION") + 2, "SOLID SECTION");
+}
