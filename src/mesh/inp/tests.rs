@@ -213,3 +213,25 @@ fn keyword_without_star_after_static_is_an_error() {
     let d = with(HEX, "MATERIAL=steel\n", "MATERIAL=steel\n1.\nELASTIC\n");
     expect_err(&d, line_of(&d, "*SOLID SECTION") + 2, "SOLID SECTION");
 }
+
+/// A load or boundary condition on an empty set applied to nothing, silently
+/// (found by tests/fuzz_parsers.rs: an *ELSET whose data line moved away):
+/// now an error at the load's line naming the set.
+#[test]
+fn load_on_empty_set_is_an_error() {
+    let d = with(
+        HEX,
+        "*STEP\n",
+        "*ELSET, ELSET=NOTHING\n*NSET, NSET=NONODE\n*STEP\n",
+    );
+    let dl = with(&d, "*END STEP", "*DLOAD\nNOTHING, P2, 1.\n*END STEP");
+    expect_err(
+        &dl,
+        line_of(&dl, "NOTHING, P2"),
+        "set NOTHING, which is empty",
+    );
+    let cl = with(&d, "*END STEP", "*CLOAD\nNONODE, 1, 1.\n*END STEP");
+    expect_err(&cl, line_of(&cl, "NONODE, 1, 1."), "*CLOAD on set NONODE");
+    let bc = with(&d, "*END STEP", "*BOUNDARY\nNONODE, 1, 3\n*END STEP");
+    expect_err(&bc, line_of(&bc, "NONODE, 1, 3"), "*BOUNDARY on set NONODE");
+}
