@@ -247,7 +247,7 @@ impl MeasurementGrid {
 
     /// Read a grid file (module docs).
     pub fn read(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| FlankError::io(path, e))?;
+        let text = crate::text_file::read_utf8(path)?;
         Self::parse(&text, path)
     }
 

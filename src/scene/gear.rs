@@ -57,6 +57,33 @@ pub(super) struct RawMicro {
     measured_profile_csv: Option<Spanned<String>>,
 }
 
+impl RawMicro {
+    /// The span of the table's first key (where an error about the
+    /// modification as a whole is reported).
+    pub(super) fn first_span(&self) -> std::ops::Range<usize> {
+        let spans = [
+            self.tip_relief_um.as_ref().map(Spanned::span),
+            self.tip_relief_length_mm.as_ref().map(Spanned::span),
+            self.tip_relief_shape.as_ref().map(Spanned::span),
+            self.root_relief_um.as_ref().map(Spanned::span),
+            self.root_relief_length_mm.as_ref().map(Spanned::span),
+            self.root_relief_shape.as_ref().map(Spanned::span),
+            self.profile_crowning_um.as_ref().map(Spanned::span),
+            self.lead_crowning_um.as_ref().map(Spanned::span),
+            self.helix_slope_deviation_um.as_ref().map(Spanned::span),
+            self.end_relief_um.as_ref().map(Spanned::span),
+            self.end_relief_length_mm.as_ref().map(Spanned::span),
+            self.end_relief_shape.as_ref().map(Spanned::span),
+            self.measured_profile_csv.as_ref().map(Spanned::span),
+        ];
+        spans
+            .into_iter()
+            .flatten()
+            .min_by_key(|s| s.start)
+            .unwrap_or(0..0)
+    }
+}
+
 pub(super) fn gear(cx: &Cx, g: &RawGear, name: &str, kind: PairKind) -> Res<(GearSpec, GearSpans)> {
     let key = |k: &str| format!("{name}.{k}");
 
