@@ -217,6 +217,18 @@ impl Parser {
         if name.is_empty() {
             return Err(self.err(loc, "empty set name"));
         }
+        // a control character in a name is corruption (found by
+        // tests/fuzz_parsers.rs: it was kept, and the writer renamed the set)
+        if let Some(c) = name.chars().find(|c| c.is_control()) {
+            return Err(self.err(
+                loc,
+                format!(
+                    "name '{}' contains the control character U+{:04X}",
+                    name.escape_debug(),
+                    c as u32
+                ),
+            ));
+        }
         if let Some(&id) = self.name_ids.get(&name) {
             return Ok(id);
         }

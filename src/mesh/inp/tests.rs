@@ -235,3 +235,11 @@ fn load_on_empty_set_is_an_error() {
     let bc = with(&d, "*END STEP", "*BOUNDARY\nNONODE, 1, 3\n*END STEP");
     expect_err(&bc, line_of(&bc, "NONODE, 1, 3"), "*BOUNDARY on set NONODE");
 }
+
+/// A set name with a control character (a corrupted byte) is an error at
+/// its line, not a set the writer would rename (found by tests/fuzz_parsers.rs).
+#[test]
+fn control_character_in_name_is_an_error() {
+    let d = with(HEX, "*STEP\n", "*NSET, NSET=\u{e}IXED\n1\n*STEP\n");
+    expect_err(&d, line_of(&d, "IXED"), "control character U+000E");
+}
