@@ -103,9 +103,17 @@ fn run_case(kind: &str, folder: &Folder, name: &str, case: &Case) -> Result<(), 
         .unwrap_or_else(|| name.to_string());
     std::fs::copy(src.join(name), tmp.join(&input_name)).unwrap();
     let before = snapshot(&tmp);
-    let args: Vec<String> = case
-        .args
+    // a `.args` case is a command line, one argument per line
+    let from_file: Option<Vec<String>> = name.ends_with(".args").then(|| {
+        std::fs::read_to_string(src.join(name))
+            .unwrap()
+            .lines()
+            .map(str::to_string)
+            .collect()
+    });
+    let args: Vec<String> = from_file
         .as_ref()
+        .or(case.args.as_ref())
         .unwrap_or(&folder.args)
         .iter()
         .map(|a| a.replace("{input}", &input_name).replace("{out}", "out"))

@@ -95,7 +95,7 @@ fn mesh_scene(
     let base_size = base_size.or(scene.mesh.base_size).unwrap_or(mn / 2.0);
     if !(flank_size > 0.0 && base_size >= flank_size) {
         anyhow::bail!(
-            "element sizes must satisfy 0 < flank size ({flank_size}) ≤ base size ({base_size})"
+            "--flank-size / --base-size (or the scene's [mesh] flank_size_mm / base_size_mm): element sizes must satisfy 0 < flank size ({flank_size}) ≤ base size ({base_size})"
         );
     }
     let options = SectorOptions {

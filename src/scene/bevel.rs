@@ -183,6 +183,17 @@ fn blank_error(
 
 pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<BevelScene> {
     let kind = *raw.pair.kind.get_ref();
+    // JSON has no NaN or infinity (they would become null): refuse them here, at their key
+    for (k, v) in raw.blank.get_ref() {
+        if let toml::Value::Float(f) = v.get_ref() {
+            if !f.is_finite() {
+                return Err(cx.err(
+                    v.span(),
+                    format!("`blank.{k}` = {f}: must be a finite number"),
+                ));
+            }
+        }
+    }
     let object: serde_json::Map<String, serde_json::Value> = raw
         .blank
         .get_ref()

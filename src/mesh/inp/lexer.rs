@@ -17,6 +17,12 @@ use crate::error::{FlankError, Result};
 
 pub(super) fn read_text(path: &Path) -> std::io::Result<String> {
     let bytes = std::fs::read(path)?;
+    if bytes.starts_with(&[0xFF, 0xFE]) || bytes.starts_with(&[0xFE, 0xFF]) {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            "the file is UTF-16 text (byte-order mark); save it as UTF-8",
+        ));
+    }
     Ok(match String::from_utf8(bytes) {
         Ok(s) => s,
         Err(e) => String::from_utf8_lossy(e.as_bytes()).into_owned(),
