@@ -392,5 +392,10 @@ speed_rpm = 1000.0
         expect_any_err(&t, 3, &["pinion_hand"]);
         let t = edit("material = \"steel\"", "material = \"brass\"");
         expect_any_err(&t, line_of(&t, "\"brass\""), &["materials.brass"]);
+        // nan/inf became JSON null ("invalid type: null" at [blank]): now at the key
+        for bad in ["nan", "inf", "-inf"] {
+            let t = edit("a_mm = 30.0", &format!("a_mm = {bad}"));
+            expect_any_err(&t, line_of(&t, "a_mm ="), &["blank.a_mm", "finite"]);
+        }
     }
 }

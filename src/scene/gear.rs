@@ -520,6 +520,28 @@ mod tests {
         let _ = std::fs::remove_dir_all(&dir);
     }
 
+    /// A relief longer than the active profile was reported only when the
+    /// modification was bound (`flank mesh`), without file or line; now
+    /// when the scene is read, at the `[pinion.micro]` table's first key.
+    #[test]
+    fn micro_that_does_not_fit_its_gear_is_located() {
+        let t = edit(
+            SPUR,
+            "tip_relief_length_mm = 1.0",
+            "tip_relief_length_mm = 50.0",
+        );
+        let first = t[t.find("[pinion.micro]").unwrap()..]
+            .lines()
+            .nth(1)
+            .unwrap()
+            .to_string();
+        expect_err(
+            &t,
+            line_of(&t, &first),
+            &["pinion.micro", "tip relief length 50 mm exceeds"],
+        );
+    }
+
     #[test]
     fn micro_values_checked() {
         let t = edit(SPUR, "tip_relief_um = 10.0", "tip_relief_um = -10.0");

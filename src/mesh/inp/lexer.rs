@@ -354,6 +354,27 @@ mod tests {
         assert_eq!(m.mesh.node_sets["TOP"].len(), 8);
     }
 
+    /// A UTF-16 deck (byte-order mark) was read lossily into "data line
+    /// before the first keyword"; now the read says what the file is.
+    #[test]
+    fn utf16_deck_is_named() {
+        let dir = std::env::temp_dir().join(format!("flank-inp-utf16-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let mut bytes = vec![0xFF, 0xFE];
+        bytes.extend("*NODE\n".encode_utf16().flat_map(|u| u.to_le_bytes()));
+        std::fs::write(dir.join("d.inp"), bytes).unwrap();
+        let e = read_deck(&dir.join("d.inp")).unwrap_err();
+        assert!(
+            format!("{e:#}").contains("d.inp")
+                && std::error::Error::source(&e)
+                    .unwrap()
+                    .to_string()
+                    .contains("UTF-16"),
+            "{e:?}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     #[test]
     fn include_is_followed_relative_to_including_file() {
         let dir = std::env::temp_dir().join(format!("flank-inp-test-{}", std::process::id()));
