@@ -14,6 +14,8 @@
 //! about 20 s in release on 2 cores for the whole file); a long local run is
 //! e.g. `PROPTEST_CASES=20000 cargo test --release --test fuzz_parsers`.
 //! A failure is shrunk by proptest to a small input: add it to the corpus.
+//! `FLANK_FUZZ_VERBOSE=1` prints each body the scene → mesh property meshes
+//! (to see that mutated scenes do reach the mesher).
 
 use std::path::{Path, PathBuf};
 use std::sync::mpsc;
@@ -295,7 +297,7 @@ fn input(n_seeds: usize) -> impl Strategy<Value = (Option<usize>, Vec<u8>, Vec<M
 
 fn materialize(seeds: &[Vec<u8>], inp: &(Option<usize>, Vec<u8>, Vec<Mutation>)) -> String {
     let bytes = match inp.0 {
-        Some(s) => inp.2.iter().fold(seeds[s].clone(), |b, m| apply(b, m)),
+        Some(s) => inp.2.iter().fold(seeds[s].clone(), apply),
         None => inp.1.clone(),
     };
     // every reader takes text; read_deck replaces invalid UTF-8, the others
@@ -396,27 +398,30 @@ fn scene_seeds() -> Vec<Vec<u8>> {
 
 /// Scene text through `flank mesh`'s path: validate, check the pair, bind the
 /// modifications, mesh both bodies coarsely (sizes from the gear's size, so a
-/// mutated size does not make a legitimately huge mesh).
-fn scene_to_mesh(text: String, mesh: bool) -> Result<(), String> {
+/// mutated size does not make a legitimately huge mesh). `Ok(n)`: n bodies
+/// meshed (an input refused with an error is fine: 0).
+fn scene_to_mesh(text: String, mesh: bool) -> Result<usize, String> {
     use flank::mesh::gear_body::{body_model, Mesher};
     use flank::mesh::gear_sector::SectorOptions;
+    let verbose = std::env::var_os("FLANK_FUZZ_VERBOSE").is_some();
     let path = root().join("papers/seed002-spur/fuzz_scene.toml");
     let scene = match flank::scene::parse_any_scene(&text, &path) {
         Ok(flank::scene::AnyScene::Cylindrical(s)) => s,
-        _ => return Ok(()),
+        _ => return Ok(0),
     };
     if !mesh {
-        return Ok(());
+        return Ok(0);
     }
-    let Ok(_report) = flank::geometry::pair::check_pair(&scene.pair) else {
-        return Ok(());
+    let pair = match scene.flank_modifications().and_then(|_| scene.gear_pair()) {
+        Ok(p) => p,
+        Err(e) => {
+            if verbose {
+                eprintln!("fuzz: scene refused: {e}");
+            }
+            return Ok(0);
+        }
     };
-    if scene.flank_modifications().is_err() {
-        return Ok(());
-    }
-    let Ok(pair) = scene.gear_pair() else {
-        return Ok(());
-    };
+    let mut meshed = 0;
     for (i, (spec, material)) in [
         (&scene.pair.pinion, &scene.pinion_material),
         (&scene.pair.gear, &scene.gear_material),
@@ -424,12 +429,8 @@ fn scene_to_mesh(text: String, mesh: bool) -> Result<(), String> {
     .into_iter()
     .enumerate()
     {
-        let tip = spec
-            .tip_diameter
-            .unwrap_or(spec.normal_module * spec.teeth as f64);
-        let h = (spec.normal_module / 2.0)
-            .max(spec.face_width / 6.0)
-            .max(tip / 60.0);
+        // coarse: about 8 elements along the face, 2 per module
+        let h = (spec.normal_module / 2.0).max(spec.face_width / 8.0);
         let options = SectorOptions {
             teeth: (scene.mesh.teeth_in_sector as usize).min(3),
             flank_size: h,
@@ -437,14 +438,38 @@ fn scene_to_mesh(text: String, mesh: bool) -> Result<(), String> {
             face_layers: 0,
             element: flank::mesh::ElementKind::C3D15,
         };
-        if let Ok(body) = body_model(pair.body(i), material, &options, Mesher::Native, None) {
-            let m = &body.model.mesh;
-            if m.coords.iter().flatten().any(|x| !x.is_finite()) {
-                return Err("a meshed body has a non-finite node coordinate".into());
+        match body_model(pair.body(i), material, &options, Mesher::Native, None) {
+            Ok(body) => {
+                let m = &body.model.mesh;
+                if verbose {
+                    eprintln!("fuzz: meshed body {i}: {} nodes", m.node_count());
+                }
+                if m.coords.iter().flatten().any(|x| !x.is_finite()) {
+                    return Err("a meshed body has a non-finite node coordinate".into());
+                }
+                meshed += 1;
+            }
+            Err(e) => {
+                if verbose {
+                    eprintln!("fuzz: body {i} not meshed: {e}");
+                }
             }
         }
     }
-    Ok(())
+    Ok(meshed)
+}
+
+fn mesh_seeds() -> Vec<Vec<u8>> {
+    seeds(
+        &[
+            "papers/seed002-spur/scene.toml",
+            "papers/seed002-spur/scene_tip_relief.toml",
+            "papers/seed002-spur/scene_contact_ratio.toml",
+            "papers/seed004-helical/scene.toml",
+        ],
+        &[],
+        &[],
+    )
 }
 
 fn msh_seeds() -> Vec<Vec<u8>> {
@@ -506,10 +531,18 @@ proptest! {
     }
 
     #[test]
-    fn scene_to_mesh_never_panics(inp in input(scene_seeds().len())) {
+    fn scene_reader_never_panics(inp in input(scene_seeds().len())) {
         let text = materialize(&scene_seeds(), &inp);
+        let r = guarded(PARSE_LIMIT, move || scene_to_mesh(text, false));
+        prop_assert!(matches!(r, Ok(Ok(_))), "{:?}", r);
+    }
+
+    /// From the valid spur/helical scenes only, so that most inputs mesh.
+    #[test]
+    fn scene_to_mesh_never_panics(inp in input(mesh_seeds().len())) {
+        let text = materialize(&mesh_seeds(), &inp);
         let r = guarded(MESH_LIMIT, move || scene_to_mesh(text, true));
-        prop_assert!(matches!(r, Ok(Ok(()))), "{:?}", r);
+        prop_assert!(matches!(r, Ok(Ok(_))), "{:?}", r);
     }
 
     #[test]
@@ -556,6 +589,19 @@ proptest! {
 }
 
 /// The mutations themselves: a swap keeps every byte, a truncation shortens.
+/// The unmutated scenes mesh (the property above exercises the mesher).
+#[test]
+fn seed_scenes_reach_the_mesher() {
+    for s in mesh_seeds() {
+        let text = String::from_utf8(s).unwrap();
+        assert_eq!(
+            scene_to_mesh(text, true),
+            Ok(2),
+            "a seed scene does not mesh"
+        );
+    }
+}
+
 #[test]
 fn mutations_do_what_they_say() {
     let b = b"a\nbb\nccc\n".to_vec();
