@@ -11,8 +11,9 @@
 //!   that parses back to the same model (same written text, same mesh).
 //!
 //! Budget: `PROPTEST_CASES` cases per property (default [`DEFAULT_CASES`],
-//! about 20 s in release on 2 cores for the whole file); a long local run is
-//! e.g. `PROPTEST_CASES=20000 cargo test --release --test fuzz_parsers`.
+//! 5–25 s in release on 2 busy cores for the whole file; 5000 cases take
+//! 10–30 s); a long local run is e.g.
+//! `PROPTEST_CASES=50000 cargo test --release --test fuzz_parsers`.
 //! A failure is shrunk by proptest to a small input: add it to the corpus.
 //! `FLANK_FUZZ_VERBOSE=1` prints each body the scene → mesh property meshes
 //! (to see that mutated scenes do reach the mesher).
