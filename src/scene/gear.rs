@@ -505,7 +505,10 @@ mod tests {
     fn measured_profile_relative_to_scene() {
         let dir = std::env::temp_dir().join(format!("flank-scene-{}", std::process::id()));
         std::fs::create_dir_all(dir.join("cmm")).unwrap();
-        std::fs::write(dir.join("cmm/pinion.csv"), "x,y\n0,0\n").unwrap();
+        // a real profile of this pinion: the scene binds it when it is read
+        let example = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("papers/seed002-spur/measured_profile_example.csv");
+        std::fs::copy(example, dir.join("cmm/pinion.csv")).unwrap();
         let t = edit(
             SPUR,
             "end_relief_length_mm = 2.0\n",
