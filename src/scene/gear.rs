@@ -453,6 +453,17 @@ mod tests {
         expect_err(&t, line_of(&t, "barrelling_um"), &["barrelling_um"]);
     }
 
+    /// A key given twice named only the line ("duplicate key"); now the key.
+    #[test]
+    fn duplicated_key_is_named() {
+        let t = edit(SPUR, "teeth = 13\n", "teeth = 13\nteeth = 14\n");
+        expect_err(
+            &t,
+            line_of(&t, "teeth = 14"),
+            &["`pinion.teeth`: duplicate key"],
+        );
+    }
+
     #[test]
     fn too_few_teeth() {
         let t = edit(SPUR, "teeth = 13", "teeth = 3");
