@@ -97,5 +97,6 @@ pub mod scene;
 pub mod tca;
 #[cfg(test)]
 pub(crate) mod testing;
+pub mod text_file;
 
 pub use error::{FlankError, Result};

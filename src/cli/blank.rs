@@ -14,8 +14,7 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    let text = std::fs::read_to_string(&args.inputs)
-        .with_context(|| format!("reading {}", args.inputs.display()))?;
+    let text = flank::text_file::read_utf8(&args.inputs)?;
     let inputs = flank::geometry::bevel::BlankInputs::from_json(&text)
         .with_context(|| args.inputs.display().to_string())?;
     let design = flank::geometry::bevel::blank_design(&inputs)

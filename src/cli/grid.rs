@@ -58,6 +58,9 @@ fn grid_size(s: &str) -> Result<(usize, usize)> {
     let parse = |t: &str| t.trim().parse::<usize>().ok();
     match s.split_once(['x', 'X', '×']) {
         Some((a, b)) => match (parse(a), parse(b)) {
+            (Some(a), Some(b)) if a < 2 || b < 2 => {
+                bail!("--points '{s}': a grid needs at least 2x2 points")
+            }
             (Some(a), Some(b)) => Ok((a, b)),
             _ => bail!("--points '{s}': expected FACExPROFILE, e.g. 9x5"),
         },

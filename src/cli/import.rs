@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -33,7 +33,8 @@ pub fn run(args: Args) -> Result<()> {
             "MATERIAL",
             young_modulus,
             poisson_ratio,
-        )?],
+        )
+        .context("--young-modulus / --poisson-ratio")?],
         element_material: vec![0; ne],
         mesh: m,
         ..Default::default()

@@ -95,7 +95,7 @@ fn mesh_scene(
     let base_size = base_size.or(scene.mesh.base_size).unwrap_or(mn / 2.0);
     if !(flank_size > 0.0 && base_size >= flank_size) {
         anyhow::bail!(
-            "element sizes must satisfy 0 < flank size ({flank_size}) ≤ base size ({base_size})"
+            "--flank-size / --base-size (or the scene's [mesh] flank_size_mm / base_size_mm): element sizes must satisfy 0 < flank size ({flank_size}) ≤ base size ({base_size})"
         );
     }
     let options = SectorOptions {
@@ -105,20 +105,19 @@ fn mesh_scene(
         face_layers: 0,
         element: element_kind,
     };
-    std::fs::create_dir_all(out)?;
     let cos_aw = report.working_pressure_angle_rad.cos();
     let force = scene.load.torque_nmm / base_radius(&scene.pair.pinion);
     let modifications = scene.flank_modifications()?;
     // the gears through the gear-pair interface (with their modifications)
     let pair = scene.gear_pair()?;
     let mut bodies = serde_json::Map::new();
-    for (i, (name, spec, material)) in [
+    let members = [
         ("pinion", &scene.pair.pinion, &scene.pinion_material),
         ("gear", &scene.pair.gear, &scene.gear_material),
-    ]
-    .into_iter()
-    .enumerate()
-    {
+    ];
+    // both bodies first: a body that cannot be meshed leaves no file behind
+    let mut models = Vec::new();
+    for (i, (name, spec, material)) in members.into_iter().enumerate() {
         let rb = base_radius(spec);
         let load = (with_load && force > 0.0).then_some((force, rb / cos_aw));
         let mesher = match mesher {
@@ -130,7 +129,11 @@ fn mesh_scene(
                 eprintln!("warning: {name}: {w}");
             }
         }
-        let body = body_model(pair.body(i), material, &options, mesher, load)?;
+        models.push(body_model(pair.body(i), material, &options, mesher, load)?);
+    }
+    std::fs::create_dir_all(out)?;
+    for ((name, spec, _), body) in members.into_iter().zip(&models) {
+        let rb = base_radius(spec);
         let modified = &body.modification;
         let mesh = &body.model.mesh;
         flank::mesh::inp::write_deck(&body.model, &out.join(format!("{name}.inp")))?;
@@ -159,7 +162,7 @@ fn mesh_scene(
                 "teeth_in_sector": options.teeth,
                 "flank_size_mm": flank_size,
                 "base_size_mm": base_size,
-                "mesher": if mesher == Mesher::Native { "native" } else { "gmsh" },
+                "mesher": if mesher == MesherChoice::Native { "native" } else { "gmsh" },
                 "min_scaled_jacobian": body.sector.quality.min_scaled_jacobian,
                 "max_aspect_ratio": body.sector.quality.max_aspect_ratio,
                 "flank_modification": modified,

@@ -214,7 +214,7 @@ impl MeasuredProfile {
     /// Read and convert the CSV at `path` for the gear of `profile` (format and
     /// errors in the module docs).
     pub fn read(path: &Path, profile: &ToothProfile) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| FlankError::io(path, e))?;
+        let text = crate::text_file::read_utf8(path)?;
         Self::parse(&text, path, profile)
     }
 

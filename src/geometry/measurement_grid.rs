@@ -247,7 +247,7 @@ impl MeasurementGrid {
 
     /// Read a grid file (module docs).
     pub fn read(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| FlankError::io(path, e))?;
+        let text = crate::text_file::read_utf8(path)?;
         Self::parse(&text, path)
     }
 
@@ -356,18 +356,29 @@ impl MeasurementGrid {
             ));
         }
         let last = rows.last().map(|r| r.0).unwrap_or(hline);
-        let nf = rows.iter().map(|r| r.1.face + 1).max().unwrap_or(0);
-        let np = rows.iter().map(|r| r.1.profile + 1).max().unwrap_or(0);
+        let nf = rows
+            .iter()
+            .map(|r| r.1.face.saturating_add(1))
+            .max()
+            .unwrap_or(0);
+        let np = rows
+            .iter()
+            .map(|r| r.1.profile.saturating_add(1))
+            .max()
+            .unwrap_or(0);
         if nf < 2 || np < 2 {
             return Err(err(
                 last,
                 format!("a grid needs at least 2 × 2 points; this one spans {nf} × {np}"),
             ));
         }
-        let mut slots: Vec<Option<(usize, GridPoint)>> = vec![None; nf * np];
+        // the indices come from the file: a point is looked up by (face,
+        // profile) first, so that a stray huge index is a missing point
+        // named in the message, not an nf × np allocation
+        let mut by_index: std::collections::HashMap<(usize, usize), (usize, GridPoint)> =
+            std::collections::HashMap::with_capacity(rows.len());
         for (ln, g) in rows {
-            let k = g.face * np + g.profile;
-            if let Some((first, _)) = slots[k] {
+            if let Some((first, _)) = by_index.get(&(g.face, g.profile)) {
                 return Err(err(
                     ln,
                     format!(
@@ -376,9 +387,13 @@ impl MeasurementGrid {
                     ),
                 ));
             }
-            slots[k] = Some((ln, g));
+            by_index.insert((g.face, g.profile), (ln, g));
         }
-        if let Some(k) = slots.iter().position(Option::is_none) {
+        if nf.checked_mul(np) != Some(by_index.len()) {
+            // at most len + 1 slots to visit before a missing one
+            let k = (0..)
+                .find(|k| !by_index.contains_key(&(k / np, k % np)))
+                .unwrap_or(0);
             return Err(err(
                 last,
                 format!(
@@ -387,6 +402,10 @@ impl MeasurementGrid {
                     k % np
                 ),
             ));
+        }
+        let mut slots: Vec<Option<(usize, GridPoint)>> = vec![None; nf * np];
+        for ((face, profile), r) in by_index {
+            slots[face * np + profile] = Some(r);
         }
         let slots: Vec<(usize, GridPoint)> = slots.into_iter().map(Option::unwrap).collect();
         // Tensor structure: one v per column, increasing; u increasing in each
@@ -672,6 +691,20 @@ mod tests {
             msg.starts_with("m.csv:5:") && msg.contains("deviation_um"),
             "{msg}"
         );
+        // A huge face index (found by tests/fuzz_parsers.rs: the reader
+        // allocated nf × np slots and aborted) is a missing point.
+        let huge = "face,profile,u,v,deviation_um\n0,0,0,0,0\n0,1,1,0,0\n1,0,0,1,0\n\
+                    99999999999999999,1,1,1,0\n";
+        let msg = e(huge);
+        assert!(
+            msg.contains("point (face 1, profile 1) is missing"),
+            "{msg}"
+        );
+        let max = format!(
+            "face,profile,u,v,deviation_um\n0,0,0,0,0\n{},1,1,1,0\n",
+            usize::MAX
+        );
+        assert!(e(&max).contains("is missing"), "{}", e(&max));
         assert!(e("face,profile,u\n").contains("missing column 'v'"));
         assert!(e("face,profile,u,v,deviation_um,foo\n").contains("unknown column 'foo'"));
         assert!(e("").contains("empty"));

@@ -186,6 +186,17 @@ fn blank_error(
 
 pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<BevelScene> {
     let kind = *raw.pair.kind.get_ref();
+    // JSON has no NaN or infinity (they would become null): refuse them here, at their key
+    for (k, v) in raw.blank.get_ref() {
+        if let toml::Value::Float(f) = v.get_ref() {
+            if !f.is_finite() {
+                return Err(cx.err(
+                    v.span(),
+                    format!("`blank.{k}` = {f}: must be a finite number"),
+                ));
+            }
+        }
+    }
     let object: serde_json::Map<String, serde_json::Value> = raw
         .blank
         .get_ref()
@@ -389,5 +400,10 @@ speed_rpm = 1000.0
         expect_any_err(&t, 3, &["pinion_hand"]);
         let t = edit("material = \"steel\"", "material = \"brass\"");
         expect_any_err(&t, line_of(&t, "\"brass\""), &["materials.brass"]);
+        // nan/inf became JSON null ("invalid type: null" at [blank]): now at the key
+        for bad in ["nan", "inf", "-inf"] {
+            let t = edit("a_mm = 30.0", &format!("a_mm = {bad}"));
+            expect_any_err(&t, line_of(&t, "a_mm ="), &["blank.a_mm", "finite"]);
+        }
     }
 }

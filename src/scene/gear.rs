@@ -57,6 +57,33 @@ pub(super) struct RawMicro {
     measured_profile_csv: Option<Spanned<String>>,
 }
 
+impl RawMicro {
+    /// The span of the table's first key (where an error about the
+    /// modification as a whole is reported).
+    pub(super) fn first_span(&self) -> std::ops::Range<usize> {
+        let spans = [
+            self.tip_relief_um.as_ref().map(Spanned::span),
+            self.tip_relief_length_mm.as_ref().map(Spanned::span),
+            self.tip_relief_shape.as_ref().map(Spanned::span),
+            self.root_relief_um.as_ref().map(Spanned::span),
+            self.root_relief_length_mm.as_ref().map(Spanned::span),
+            self.root_relief_shape.as_ref().map(Spanned::span),
+            self.profile_crowning_um.as_ref().map(Spanned::span),
+            self.lead_crowning_um.as_ref().map(Spanned::span),
+            self.helix_slope_deviation_um.as_ref().map(Spanned::span),
+            self.end_relief_um.as_ref().map(Spanned::span),
+            self.end_relief_length_mm.as_ref().map(Spanned::span),
+            self.end_relief_shape.as_ref().map(Spanned::span),
+            self.measured_profile_csv.as_ref().map(Spanned::span),
+        ];
+        spans
+            .into_iter()
+            .flatten()
+            .min_by_key(|s| s.start)
+            .unwrap_or(0..0)
+    }
+}
+
 pub(super) fn gear(cx: &Cx, g: &RawGear, name: &str, kind: PairKind) -> Res<(GearSpec, GearSpans)> {
     let key = |k: &str| format!("{name}.{k}");
 
@@ -426,6 +453,17 @@ mod tests {
         expect_err(&t, line_of(&t, "barrelling_um"), &["barrelling_um"]);
     }
 
+    /// A key given twice named only the line ("duplicate key"); now the key.
+    #[test]
+    fn duplicated_key_is_named() {
+        let t = edit(SPUR, "teeth = 13\n", "teeth = 13\nteeth = 14\n");
+        expect_err(
+            &t,
+            line_of(&t, "teeth = 14"),
+            &["`pinion.teeth`: duplicate key"],
+        );
+    }
+
     #[test]
     fn too_few_teeth() {
         let t = edit(SPUR, "teeth = 13", "teeth = 3");
@@ -478,7 +516,10 @@ mod tests {
     fn measured_profile_relative_to_scene() {
         let dir = std::env::temp_dir().join(format!("flank-scene-{}", std::process::id()));
         std::fs::create_dir_all(dir.join("cmm")).unwrap();
-        std::fs::write(dir.join("cmm/pinion.csv"), "x,y\n0,0\n").unwrap();
+        // a real profile of this pinion: the scene binds it when it is read
+        let example = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("papers/seed002-spur/measured_profile_example.csv");
+        std::fs::copy(example, dir.join("cmm/pinion.csv")).unwrap();
         let t = edit(
             SPUR,
             "end_relief_length_mm = 2.0\n",
@@ -491,6 +532,28 @@ mod tests {
             Some(dir.join("cmm/pinion.csv").as_path())
         );
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// A relief longer than the active profile was reported only when the
+    /// modification was bound (`flank mesh`), without file or line; now
+    /// when the scene is read, at the `[pinion.micro]` table's first key.
+    #[test]
+    fn micro_that_does_not_fit_its_gear_is_located() {
+        let t = edit(
+            SPUR,
+            "tip_relief_length_mm = 1.0",
+            "tip_relief_length_mm = 50.0",
+        );
+        let first = t[t.find("[pinion.micro]").unwrap()..]
+            .lines()
+            .nth(1)
+            .unwrap()
+            .to_string();
+        expect_err(
+            &t,
+            line_of(&t, &first),
+            &["pinion.micro", "tip relief length 50 mm exceeds"],
+        );
     }
 
     #[test]

@@ -44,7 +44,10 @@ impl Cx<'_> {
                 if let Some(table) = self.table_at(start) {
                     message = format!("[{table}]: {message}");
                 }
-            } else if message.starts_with("invalid") || message.starts_with("unknown variant") {
+            } else if message.starts_with("invalid")
+                || message.starts_with("unknown variant")
+                || message.starts_with("duplicate key")
+            {
                 // name the key: `table.key`
                 if let Some(key) = self.key_at(start) {
                     let full = match self.table_at(start) {

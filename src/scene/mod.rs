@@ -140,33 +140,34 @@ impl Scene {
     /// measured range that does not cover the active profile) are in
     /// [`FlankModification::warnings`].
     pub fn flank_modifications(&self) -> Result<[Option<FlankModification>; 2], FlankError> {
+        let bind = |i: usize, name: &str| {
+            self.flank_modification(i).map_err(|e| match e {
+                FlankError::Model(m) => FlankError::Model(format!("{name}: {m}")),
+                e => e,
+            })
+        };
+        Ok([bind(0, "pinion")?, bind(1, "gear")?])
+    }
+
+    /// The flank modification of member `i` (0 = pinion, 1 = gear) bound to
+    /// its gear (see [`Scene::flank_modifications`]).
+    fn flank_modification(&self, i: usize) -> Result<Option<FlankModification>, FlankError> {
+        let Some(micro) = &self.micro[i] else {
+            return Ok(None);
+        };
         let report = crate::geometry::pair::check_pair(&self.pair)?;
-        let mut out = [None, None];
-        for (i, (spec, name, sap)) in [
+        let (spec, name, sap) = if i == 0 {
             (
                 &self.pair.pinion,
                 "pinion",
                 report.pinion.active_start_radius,
-            ),
-            (&self.pair.gear, "gear", report.gear.active_start_radius),
-        ]
-        .into_iter()
-        .enumerate()
-        {
-            if let Some(micro) = &self.micro[i] {
-                let profile = ToothProfile::new(spec, name)?;
-                let u_sap = roll_angle_at_radius(profile.geometry.base_radius, sap)?;
-                out[i] = Some(
-                    FlankModification::new(micro, &profile, u_sap, spec.face_width).map_err(
-                        |e| match e {
-                            FlankError::Model(m) => FlankError::Model(format!("{name}: {m}")),
-                            e => e,
-                        },
-                    )?,
-                );
-            }
-        }
-        Ok(out)
+            )
+        } else {
+            (&self.pair.gear, "gear", report.gear.active_start_radius)
+        };
+        let profile = ToothProfile::new(spec, name)?;
+        let u_sap = roll_angle_at_radius(profile.geometry.base_radius, sap)?;
+        FlankModification::new(micro, &profile, u_sap, spec.face_width).map(Some)
     }
 
     /// The scene's spur/helical pair behind the gear-pair interface, as
@@ -189,7 +190,7 @@ impl Scene {
 
 /// Reads and validates a scene file.
 pub fn read_scene(path: &Path) -> Result<Scene, FlankError> {
-    let text = std::fs::read_to_string(path).map_err(|e| FlankError::io(path, e))?;
+    let text = crate::text_file::read_utf8(path)?;
     parse_scene(&text, path)
 }
 
@@ -224,7 +225,7 @@ pub enum AnyScene {
 
 /// Reads and validates a scene file of any pair type.
 pub fn read_any_scene(path: &Path) -> Result<AnyScene, FlankError> {
-    let text = std::fs::read_to_string(path).map_err(|e| FlankError::io(path, e))?;
+    let text = crate::text_file::read_utf8(path)?;
     parse_any_scene(&text, path)
 }
 
@@ -303,7 +304,7 @@ fn build(cx: &Cx, raw: RawScene) -> Res<Scene> {
     let min_module = pair.pinion.normal_module.min(pair.gear.normal_module);
     let mesh = mesh::mesh_options(cx, raw.mesh.as_ref(), min_teeth, min_module)?;
 
-    Ok(Scene {
+    let scene = Scene {
         kind,
         pair,
         pinion_material,
@@ -313,7 +314,22 @@ fn build(cx: &Cx, raw: RawScene) -> Res<Scene> {
         analyses,
         mesh,
         source: cx.file.to_path_buf(),
-    })
+    };
+    // bind the modifications to their gears now (a relief longer than the
+    // active profile, a measured profile that does not fit): the error names
+    // the `[<gear>.micro]` table instead of surfacing later without a line
+    for (i, name, raw_micro) in [
+        (0, "pinion", &raw.pinion.micro),
+        (1, "gear", &raw.gear.micro),
+    ] {
+        if let Some(m) = raw_micro {
+            scene.flank_modification(i).map_err(|e| match e {
+                FlankError::Model(msg) => cx.err(m.first_span(), format!("`{name}.micro`: {msg}")),
+                e => e,
+            })?;
+        }
+    }
+    Ok(scene)
 }
 
 #[cfg(test)]

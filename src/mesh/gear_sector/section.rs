@@ -71,7 +71,7 @@ pub(super) fn transverse_section(
 
     // --- across the tooth: graded sizes from both flanks to the centre.
     let w = g.reference_thickness_transverse;
-    let half = graded(0.5 * w, fs, q, opts.base_size);
+    let half = graded(0.5 * w, fs, q, opts.base_size, "half tooth thickness")?;
     let mut half = half;
     if half.len() < 2 {
         let x = half[0] / 2.0;
@@ -229,7 +229,21 @@ pub(super) fn transverse_section(
         .map(|i| 2.0 * h * ri * (sig[2 * (nc + i + 1)] - sig[2 * (nc + i)]) / (s_c1 - s_c0))
         .fold(0.0, f64::max);
     let rim_h0 = cut_h0.max(0.25 * arc_cell_max).min(opts.base_size);
-    let rim_sizes = graded(ri - r_bore, rim_h0, q, opts.base_size);
+    if !(r_bore < ri) {
+        return Err(err(format!(
+            "{name}: the bore (diameter {:.4} mm) leaves no rim below the tooth section (inner diameter {:.4} mm, under the root circle): make `bore_diameter_mm` smaller than {:.4} mm",
+            2.0 * r_bore,
+            2.0 * ri,
+            2.0 * ri
+        )));
+    }
+    let rim_sizes = graded(
+        ri - r_bore,
+        rim_h0,
+        q,
+        opts.base_size,
+        "rim below the teeth",
+    )?;
     let nr = rim_sizes.len();
     let rho = half_lattice(&rim_sizes); // from r_i (0) to bore (1)
 

@@ -17,6 +17,12 @@ use crate::error::{FlankError, Result};
 
 pub(super) fn read_text(path: &Path) -> std::io::Result<String> {
     let bytes = std::fs::read(path)?;
+    if bytes.starts_with(&[0xFF, 0xFE]) || bytes.starts_with(&[0xFE, 0xFF]) {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            "the file is UTF-16 text (byte-order mark); save it as UTF-8",
+        ));
+    }
     Ok(match String::from_utf8(bytes) {
         Ok(s) => s,
         Err(e) => String::from_utf8_lossy(e.as_bytes()).into_owned(),
@@ -217,6 +223,18 @@ impl Parser {
         if name.is_empty() {
             return Err(self.err(loc, "empty set name"));
         }
+        // a control character in a name is corruption (found by
+        // tests/fuzz_parsers.rs: it was kept, and the writer renamed the set)
+        if let Some(c) = name.chars().find(|c| c.is_control()) {
+            return Err(self.err(
+                loc,
+                format!(
+                    "name '{}' contains the control character U+{:04X}",
+                    name.escape_debug(),
+                    c as u32
+                ),
+            ));
+        }
         if let Some(&id) = self.name_ids.get(&name) {
             return Ok(id);
         }
@@ -334,6 +352,27 @@ mod tests {
         let m = parse(&d).unwrap().model;
         assert_eq!(m.dirichlet, parse(HEX).unwrap().model.dirichlet);
         assert_eq!(m.mesh.node_sets["TOP"].len(), 8);
+    }
+
+    /// A UTF-16 deck (byte-order mark) was read lossily into "data line
+    /// before the first keyword"; now the read says what the file is.
+    #[test]
+    fn utf16_deck_is_named() {
+        let dir = std::env::temp_dir().join(format!("flank-inp-utf16-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let mut bytes = vec![0xFF, 0xFE];
+        bytes.extend("*NODE\n".encode_utf16().flat_map(|u| u.to_le_bytes()));
+        std::fs::write(dir.join("d.inp"), bytes).unwrap();
+        let e = read_deck(&dir.join("d.inp")).unwrap_err();
+        assert!(
+            format!("{e:#}").contains("d.inp")
+                && std::error::Error::source(&e)
+                    .unwrap()
+                    .to_string()
+                    .contains("UTF-16"),
+            "{e:?}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

@@ -90,8 +90,12 @@ impl Parser {
             material,
             loc: card.loc,
         });
-        // A data line (plane-element thickness) is meaningless for solids.
-        Ok(Block::Ignore)
+        // A data line (plane-element thickness) is meaningless for solids;
+        // more than one is a keyword that lost its '*'.
+        Ok(Block::OneNumericLine {
+            keyword: card.name.clone(),
+            seen: false,
+        })
     }
 
     pub(super) fn elastic_line(

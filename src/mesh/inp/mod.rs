@@ -212,6 +212,13 @@ enum Block {
     NoData(String),
     /// Data lines skipped silently.
     Ignore,
+    /// At most one data line of numbers, skipped (`*STATIC`'s time stepping,
+    /// `*SOLID SECTION`'s thickness): anything more is an error, since it is
+    /// most likely a keyword line that lost its `*` and would be dropped.
+    OneNumericLine {
+        keyword: String,
+        seen: bool,
+    },
     Boundary,
     Cload,
     Dload,
@@ -410,6 +417,25 @@ impl Parser {
                 return Err(self.err(loc, format!("unexpected data line after *{kw}")))
             }
             Block::Ignore => return Ok(()),
+            Block::OneNumericLine { keyword, seen } => {
+                if *seen {
+                    return Err(self.err(
+                        loc,
+                        format!("unexpected second data line '{text}' after *{keyword} (it takes at most one line of numbers); is a keyword's '*' missing?"),
+                    ));
+                }
+                if let Some(bad) = split_fields(text)
+                    .into_iter()
+                    .find(|f| !f.is_empty() && f.parse::<f64>().is_err())
+                {
+                    return Err(self.err(
+                        loc,
+                        format!("malformed number '{bad}' in the data line of *{keyword}; is a keyword's '*' missing?"),
+                    ));
+                }
+                *seen = true;
+                return Ok(());
+            }
             _ => {}
         }
         let f = split_fields(text);

@@ -152,7 +152,8 @@ impl Parser {
                     loc,
                 } => {
                     let mut rotations_ignored = false;
-                    for node in self.target_nodes(&nsets, target, loc)? {
+                    let nodes = self.target_nodes(&nsets, target, loc)?;
+                    for node in self.nonempty(nodes, target, "*BOUNDARY", loc)? {
                         if let Some(&role) = roles.get(&node) {
                             for component in first..=last {
                                 let k = self.reference_dof(role, component, "*BOUNDARY", loc)?;
@@ -214,7 +215,8 @@ impl Parser {
                     value,
                     loc,
                 } => {
-                    for node in self.target_nodes(&nsets, target, loc)? {
+                    let nodes = self.target_nodes(&nsets, target, loc)?;
+                    for node in self.nonempty(nodes, target, "*CLOAD", loc)? {
                         if let Some(&role) = roles.get(&node) {
                             let k = self.reference_dof(role, comp, "*CLOAD", loc)?;
                             let slot = &mut cp_load[role.coupling][k];
@@ -264,7 +266,8 @@ impl Parser {
                     value,
                     loc,
                 } => {
-                    for element in self.target_elements(&esets, target, loc)? {
+                    let elements = self.target_elements(&esets, target, loc)?;
+                    for element in self.nonempty(elements, target, "*DLOAD", loc)? {
                         let el = &self.mesh.elements[element];
                         if face > el.kind.face_count() {
                             return Err(self.err(

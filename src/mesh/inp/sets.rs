@@ -156,6 +156,29 @@ impl Parser {
         }
     }
 
+    /// `members` of a load's or boundary condition's `target`; an empty set
+    /// is an error naming it (the load or condition would silently apply to
+    /// nothing, e.g. when the set's data line was lost; found by
+    /// tests/fuzz_parsers.rs).
+    pub(super) fn nonempty(
+        &self,
+        members: Vec<usize>,
+        target: Target,
+        keyword: &str,
+        loc: Loc,
+    ) -> Result<Vec<usize>> {
+        match target {
+            Target::Set(id) if members.is_empty() => Err(self.err(
+                loc,
+                format!(
+                    "{keyword} on set {}, which is empty: it would apply to nothing",
+                    self.names[id as usize]
+                ),
+            )),
+            _ => Ok(members),
+        }
+    }
+
     /// Indices of the existing labels in `first..=last` by `step`, and the
     /// number of labels in the range. Walks the range or all labels,
     /// whichever is shorter, so huge ranges cost no more than the mesh size.

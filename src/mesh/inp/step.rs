@@ -1,8 +1,8 @@
 //! `*STEP`, `*STATIC`, `*END STEP`, `*BOUNDARY`, `*CLOAD` and `*DLOAD`.
 //!
 //! One linear static step: `*STEP` (`NLGEOM` only as `NLGEOM=NO`),
-//! `*STATIC` (its data line, the time stepping, cannot change a linear
-//! answer and is skipped), `*END STEP`. A second step, a step without
+//! `*STATIC` (its one data line, the time stepping, cannot change a linear
+//! answer and is skipped; a second or non-numeric line is an error), `*END STEP`. A second step, a step without
 //! `*STATIC` and other procedures are errors (see [`super::keywords`]).
 //!
 //! `*BOUNDARY` (model or step data): `node or set, first DOF[, last DOF[,
@@ -53,7 +53,10 @@ impl Parser {
             StepState::Open { procedure, .. } => *procedure = true,
             _ => return Err(self.err(loc, "*STATIC outside of a *STEP")),
         }
-        Ok(Block::Ignore)
+        Ok(Block::OneNumericLine {
+            keyword: card.name.clone(),
+            seen: false,
+        })
     }
 
     /// `*END STEP`: closes the step, which needs its `*STATIC`.

@@ -193,3 +193,53 @@ fn large_deck() {
     );
     assert_eq!(deck.model.mesh.elements.len(), nx * ny * nz);
 }
+
+/// A keyword line that lost its `*` (or has junk before it) after `*STATIC`
+/// or `*SOLID SECTION` was skipped silently with their data lines, dropping
+/// e.g. a `*BOUNDARY` (found by tests/fuzz_parsers.rs): now an error at its
+/// line. One line of numbers (time stepping, thickness) is still accepted.
+#[test]
+fn keyword_without_star_after_static_is_an_error() {
+    let d = with(HEX, "*STATIC\n", "*STATIC\n0.1, 1.\nBOUNDARY\n");
+    expect_err(
+        &d,
+        line_of(&d, "*STATIC") + 2,
+        "second data line 'BOUNDARY'",
+    );
+    let d = with(HEX, "*STATIC\n", "*STATIC\n\0*BOUNDARY\n");
+    expect_err(&d, line_of(&d, "*STATIC") + 1, "malformed number");
+    let d = with(HEX, "*STATIC\n", "*STATIC\n1., 1.\n");
+    parse(&d).unwrap();
+    let d = with(HEX, "MATERIAL=steel\n", "MATERIAL=steel\n1.\nELASTIC\n");
+    expect_err(&d, line_of(&d, "*SOLID SECTION") + 2, "SOLID SECTION");
+}
+
+/// A load or boundary condition on an empty set applied to nothing, silently
+/// (found by tests/fuzz_parsers.rs: an *ELSET whose data line moved away):
+/// now an error at the load's line naming the set.
+#[test]
+fn load_on_empty_set_is_an_error() {
+    let d = with(
+        HEX,
+        "*STEP\n",
+        "*ELSET, ELSET=NOTHING\n*NSET, NSET=NONODE\n*STEP\n",
+    );
+    let dl = with(&d, "*END STEP", "*DLOAD\nNOTHING, P2, 1.\n*END STEP");
+    expect_err(
+        &dl,
+        line_of(&dl, "NOTHING, P2"),
+        "set NOTHING, which is empty",
+    );
+    let cl = with(&d, "*END STEP", "*CLOAD\nNONODE, 1, 1.\n*END STEP");
+    expect_err(&cl, line_of(&cl, "NONODE, 1, 1."), "*CLOAD on set NONODE");
+    let bc = with(&d, "*END STEP", "*BOUNDARY\nNONODE, 1, 3\n*END STEP");
+    expect_err(&bc, line_of(&bc, "NONODE, 1, 3"), "*BOUNDARY on set NONODE");
+}
+
+/// A set name with a control character (a corrupted byte) is an error at
+/// its line, not a set the writer would rename (found by tests/fuzz_parsers.rs).
+#[test]
+fn control_character_in_name_is_an_error() {
+    let d = with(HEX, "*STEP\n", "*NSET, NSET=\u{e}IXED\n1\n*STEP\n");
+    expect_err(&d, line_of(&d, "IXED"), "control character U+000E");
+}
