@@ -19,7 +19,7 @@ use std::sync::Arc;
 use anyhow::{bail, Context, Result};
 use flank::geometry::gear_pair::{Misalignment, PairPlacement};
 use flank::scene::AnyScene;
-use flank::tca::point_contact::{point_tca, PointTca, PointTcaSettings};
+use flank::tca::point_contact::{point_tca, PointTca, PointTcaSettings, ARCSEC_PER_RAD};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -57,8 +57,6 @@ pub struct Args {
     #[arg(long)]
     sweep_mm: Option<f64>,
 }
-
-const ARCSEC: f64 = 180.0 * 3600.0 / std::f64::consts::PI;
 
 pub fn run(args: Args) -> Result<()> {
     let scene = flank::scene::read_any_scene(&args.scene)?;
@@ -196,7 +194,7 @@ fn sweep(
                         "{:.4},{:.4},{f:.4},{h:.4},{:.4},{:.4},{edges}",
                         m.offset_error_mm,
                         m.pinion_axial_mm,
-                        t.te_peak_to_peak_rad * ARCSEC,
+                        t.te_peak_to_peak_rad * ARCSEC_PER_RAD,
                         t.contact_ratio
                     )
                 }
@@ -221,7 +219,7 @@ fn variant_summary(t: &PointTca) -> serde_json::Value {
     serde_json::json!({
         "contact_ratio": t.contact_ratio,
         "flank_span_ratio": t.flank_span_ratio,
-        "te_peak_to_peak_arcsec": t.te_peak_to_peak_rad * ARCSEC,
+        "te_peak_to_peak_arcsec": t.te_peak_to_peak_rad * ARCSEC_PER_RAD,
         "positions": t.positions.len(),
         "transitions": t.transitions,
         "hit_trace_bound": t.hit_trace_bound,
@@ -256,7 +254,7 @@ fn write_table(path: &Path, t: &PointTca) -> Result<()> {
                 s,
                 "{:.6},{:.4},{},{},{},{},{},{:.4},{:.5},{:.5},{:.5},{:.5},{:.6},{:.6},{:.6},{:.8},{:.8},{:.8},{:.8},{:.8},{:.8},{:.8},{},{},{},{:.6},{:.6},{:.6},{},{},{:.5},{:.5},{:.6},{:.6},{:.6},{:.5},{:.5},{:.2e},{:.2e},{:.5}",
                 p.roll_rad.to_degrees(),
-                p.te_rad * ARCSEC,
+                p.te_rad * ARCSEC_PER_RAD,
                 c.offset,
                 pt,
                 gt,

@@ -146,6 +146,14 @@ pub trait ToothSurface: Debug + Send + Sync {
     }
 }
 
+/// Whether (u, v) lies on the active flank of `s`: form line to tip,
+/// toe to heel.
+pub fn on_active_flank(s: &(impl ToothSurface + ?Sized), uv: [f64; 2]) -> bool {
+    let (v0, v1) = s.v_range();
+    let [u, v] = uv;
+    v >= v0 && v <= v1 && u <= s.u_tip(v) && u >= s.u_form(v)
+}
+
 /// Bounded Gauss–Newton on ½|r(u, v) − p|² from (u0, v0), the parameters
 /// kept in the box (a variable at a bound whose gradient points outward is
 /// held) with step halving; stops when a step moves the foot point by less

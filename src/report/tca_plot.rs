@@ -14,9 +14,7 @@ use crate::error::FlankError;
 use crate::geometry::gear_pair::{Flank, PairPlacement};
 use crate::geometry::tangency::ContactSystem;
 use crate::report::figure::{font_available, write_svg_png, Figure};
-use crate::tca::point_contact::{projection, PointTca};
-
-const ARCSEC: f64 = 180.0 * 3600.0 / std::f64::consts::PI;
+use crate::tca::point_contact::{projection, PointTca, ARCSEC_PER_RAD};
 
 struct TePlot<'a> {
     with: &'a PointTca,
@@ -38,7 +36,7 @@ impl Figure for TePlot<'_> {
         let series = |t: &PointTca| -> Vec<(f64, f64)> {
             t.positions
                 .iter()
-                .map(|p| (p.roll_rad.to_degrees(), p.te_rad * ARCSEC))
+                .map(|p| (p.roll_rad.to_degrees(), p.te_rad * ARCSEC_PER_RAD))
                 .collect()
         };
         let (sw, so) = (series(self.with), series(self.without));
@@ -81,7 +79,7 @@ impl Figure for TePlot<'_> {
             let mut by_pair: std::collections::BTreeMap<i64, Vec<(f64, f64)>> = Default::default();
             for p in &t.positions {
                 for c in &p.pairs {
-                    let y = c.gear_lag_rad * ARCSEC;
+                    let y = c.gear_lag_rad * ARCSEC_PER_RAD;
                     if y >= y0 {
                         by_pair
                             .entry(c.offset)

@@ -25,7 +25,7 @@
 //!   README).
 
 use crate::geometry::frame::Frame;
-use crate::geometry::surface::{normal_curvature, ToothSurface};
+use crate::geometry::surface::{normal_curvature, on_active_flank, ToothSurface};
 use crate::geometry::vec3::{add, cross, dot, norm, sub, unit, V3};
 
 /// One placed flank at a contact: the surface, its frame and the contact's
@@ -157,14 +157,6 @@ fn section_point(
         }
     }
     None
-}
-
-/// Whether (u, v) lies on the flank's active region (form line to tip,
-/// toe to heel).
-fn on_active_flank(s: &dyn ToothSurface, uv: [f64; 2]) -> bool {
-    let (v0, v1) = s.v_range();
-    let [u, v] = uv;
-    v >= v0 && v <= v1 && u <= s.u_tip(v) && u >= s.u_form(v)
 }
 
 /// The numerical search (module docs) with `directions` planes over 180°

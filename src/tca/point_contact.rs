@@ -45,7 +45,7 @@ use crate::error::FlankError;
 use crate::geometry::bevel::body::BevelGear;
 use crate::geometry::frame::Frame;
 use crate::geometry::gear_pair::{Flank, GearBody, PairPlacement};
-use crate::geometry::surface::ToothSurface;
+use crate::geometry::surface::{on_active_flank, ToothSurface};
 use crate::geometry::tangency::{
     self, ContactSystem, Edge, GearTurn, PlacedFlank, Tangency, TangencySeed,
 };
@@ -54,6 +54,9 @@ use crate::geometry::vec3::{add, cross, dot, norm, sub, unit, V3};
 use super::ellipse::{curvature_ellipse, searched_ellipse, ContactEllipse, FlankAtContact};
 
 type Result<T> = std::result::Result<T, FlankError>;
+
+/// Arc seconds per radian (TE is reported in arc seconds).
+pub const ARCSEC_PER_RAD: f64 = 180.0 * 3600.0 / std::f64::consts::PI;
 
 /// Settings of the point-contact TCA.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -251,12 +254,6 @@ fn solve_at(
     tangency::solve(system, &p.pinion, &p.gear, &p.turn, seed)
 }
 
-fn on_active(s: &dyn ToothSurface, uv: [f64; 2]) -> bool {
-    let (v0, v1) = s.v_range();
-    let [u, v] = uv;
-    v >= v0 && v <= v1 && u <= s.u_tip(v) && u >= s.u_form(v)
-}
-
 /// Where a flank contact lies: on both active flanks (`None`), or the
 /// edge system of the first boundary it crossed (`Some(Some(_))`), or
 /// below a form line (`Some(None)`: no edge takes over).
@@ -301,8 +298,12 @@ fn edge_holds(pair: &dyn PairPlacement, t: &Tangency) -> bool {
     t.edge_lean > 0.0
         && match t.system {
             ContactSystem::Flank => false,
-            ContactSystem::PinionEdge(e) => on_edge(ps, e, t.pinion_uv) && on_active(gs, t.gear_uv),
-            ContactSystem::GearEdge(e) => on_edge(gs, e, t.gear_uv) && on_active(ps, t.pinion_uv),
+            ContactSystem::PinionEdge(e) => {
+                on_edge(ps, e, t.pinion_uv) && on_active_flank(gs, t.gear_uv)
+            }
+            ContactSystem::GearEdge(e) => {
+                on_edge(gs, e, t.gear_uv) && on_active_flank(ps, t.pinion_uv)
+            }
         }
 }
 
