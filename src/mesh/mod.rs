@@ -4,10 +4,13 @@
 //! everything inside flank works with dense *indices* `0..n`. Connectivity is
 //! stored in CalculiX/Abaqus node order (see [`ElementKind`]).
 
+pub mod bevel_body;
+pub mod bevel_sector;
 pub mod gear_body;
 pub mod gear_sector;
 #[cfg(feature = "gmsh")]
 pub mod gmsh;
+pub mod grading;
 pub mod hertz;
 pub mod inp;
 pub mod msh;

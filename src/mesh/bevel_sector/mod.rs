@@ -1,0 +1,200 @@
+//! Native bevel/hypoid sector mesher: structured meshes of the modelled
+//! teeth of a [`BevelGear`] in 20-node hexahedra (C3D20, or C3D20R), flank
+//! nodes (corner and midside) exactly on the generated tooth surfaces.
+//!
+//! **Coordinates.** Every bevel tooth surface is parameterised by its
+//! axial-section coordinates (u, v) ([`crate::geometry::bevel::body`]): v
+//! the cone distance along the pitch generatrix, u the distance
+//! perpendicular to it in the axial plane, so that r(u, v) lies on the
+//! circle of (z, ρ) = (v cos δ − u sin δ, v sin δ + u cos δ) at an angle
+//! θ about the axis (from +y toward +x). The mesher works in (θ, u, v):
+//! a point (θ, u, v) is that circle's point at θ. The body it fills is
+//! bounded by the two flanks of each tooth, the face cone (the tip land),
+//! the gap land between the fillets, the front cone v = v₀ (toe) and the
+//! back cone v = v₁ (heel) — the cones perpendicular to the pitch cone,
+//! which bound the teeth of a real blank — and, below the teeth, the
+//! mounting surface: lines of constant v continued below the root cone
+//! down to
+//! * the **bore** ρ = r_b for a member whose pitch angle δ < 45° (a
+//!   pinion: the shank), set `BORE` (also `MOUNT`);
+//! * the **mounting plane** z = z_m for δ ≥ 45° (a ring gear: its back
+//!   face), z_m one whole depth h_m = h_am + h_fm (or
+//!   [`BevelSectorOptions::rim_thickness`]) behind the deepest point of the
+//!   gap land, set `MOUNT`. A ring gear's bore is then the front cone's
+//!   continuation to the mounting plane; the scene's bore diameter is not
+//!   used for it.
+//!
+//! **Stations.** The face is cut by `2·face_layers + 1` back cones
+//! v_s = v₀ + (v₁ − v₀) s / (2 face_layers) (corner and midside stations).
+//! On each station the section of one pitch, in (θ, u), is laid out as the
+//! cylindrical sector mesher lays out its transverse section
+//! ([`crate::mesh::gear_sector`]) in (angle, radius): an **upper block**
+//! around the tooth whose left and right boundaries run from the sector
+//! cut (gap centre) along the half gap land, up the fillet (uniform in arc
+//! length) and the flank (uniform in arc length) to the tip corner, whose
+//! top is the tip land and whose bottom is a Π curve (the cut line down
+//! a depth d below the gap land, across the pitch, back up); interior
+//! points by a Coons blend, graded across the tooth from `flank_size` at
+//! the flanks (growth ≤ 1.3); and a **rim block** below, across the pitch
+//! and down to the mounting surface, graded from the cut's step to
+//! `base_size`. The lattice counts are the same on every station (taken
+//! from the largest lengths over the face), so consecutive stations join
+//! into hexahedra; the tooth winds along its spiral through the stations
+//! and the elements follow it (skewed by about the spiral angle).
+//! Midside nodes on flanks sit at their own (u, v): exact on the surface.
+//!
+//! **The gap land** is the straight line in (θ, u) between the two fillet
+//! ends (the flanks' u_root: the root cone lifted by 0.005 ρ_f, where the
+//! axial-section parameterisation of the fillet ends, see
+//! [`crate::geometry::bevel::generated_surface`]), so the land lies at
+//! most 0.005 ρ_f (≈ 1 µm for an edge radius of 0.2 mm) above the true
+//! root cone.
+//!
+//! **Conventions.** Sector tooth k = 1..=n is the body's tooth k
+//! (`GearBody::flank(side, k)`, θ growing with k). Sets: `FLANK_L<k>`,
+//! `FLANK_R<k>` (the body's [`Flank::Left`]/[`Flank::Right`] flank of tooth
+//! k, fillet included, gap land excluded), `CUT_A` (the cut at the gap
+//! centre on the low-θ side of tooth 1), `CUT_B` (high-θ side of the last
+//! tooth; a full ring has no cuts: CUT_A = CUT_B), `TOE` (v = v₀), `HEEL`
+//! (v = v₁), `MOUNT`, `BORE` (bore mounts only), `TIP_LAND` (face cone,
+//! tip edges included), `GAP_LAND` (the gap lands, from the cut to the
+//! fillet ends), `NALL`, `EALL`. Flank
+//! parameters of every flank node in [`BevelSectorMesh::flank_uv`].
+//!
+//! Not here (yet): wedge15 coarsening along the profile, the pinion shank
+//! beyond the teeth (bearing seats), a ring gear's bore.
+//!
+//! [`Flank::Left`]: crate::geometry::gear_pair::Flank::Left
+//! [`Flank::Right`]: crate::geometry::gear_pair::Flank::Right
+//!
+//! # Files
+//!
+//! | file | holds |
+//! | --- | --- |
+//! | `mod.rs` (this file) | [`BevelSectorOptions`], [`BevelSectorMesh`], [`Mount`], the entry [`bevel_sector`] |
+//! | `station.rs` | one station's profiles (fillet and flank tables, lands, cut, mount) and the lattice counts over the face |
+//! | `section.rs` | the (θ, u) lattice points of the upper and rim blocks on one station |
+//! | `assemble.rs` | 3D nodes (merged by position), hex20 elements (Jacobian-checked), sets, quality |
+//! | `tests.rs` | unit tests (seed scenes: validity, exact flank nodes, sets, a clamped solve, bad input) |
+
+mod assemble;
+mod section;
+mod station;
+
+#[cfg(test)]
+mod tests;
+
+use std::collections::HashMap;
+
+use crate::error::FlankError;
+use crate::geometry::bevel::body::BevelGear;
+use crate::mesh::gear_sector::Quality;
+use crate::mesh::{ElementKind, Mesh};
+
+/// Options of [`bevel_sector`].
+#[derive(Clone, Debug)]
+pub struct BevelSectorOptions {
+    /// Element size along and normal to the flank near the surface (mm).
+    pub flank_size: f64,
+    /// Coarse element size in the rim and along the face (mm).
+    pub base_size: f64,
+    /// Elements along the face; 0 = ⌈length of the pitch line on the
+    /// flank / base_size⌉.
+    pub face_layers: usize,
+    /// C3D20 (default) or C3D20R.
+    pub element: ElementKind,
+    /// Ring gears (δ ≥ 45°): distance of the mounting plane behind the
+    /// deepest point of the gap land (mm); `None` = one mean whole depth.
+    pub rim_thickness: Option<f64>,
+}
+
+impl Default for BevelSectorOptions {
+    fn default() -> Self {
+        BevelSectorOptions {
+            flank_size: 1.0,
+            base_size: 4.0,
+            face_layers: 0,
+            element: ElementKind::C3D20,
+            rim_thickness: None,
+        }
+    }
+}
+
+/// The surface the body is held by (module docs).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Mount {
+    /// The bore cylinder ρ = radius (mm).
+    Bore { radius: f64 },
+    /// The mounting plane z = z (mm, the member's own frame).
+    Plane { z: f64 },
+}
+
+/// A meshed bevel/hypoid sector.
+#[derive(Clone, Debug)]
+pub struct BevelSectorMesh {
+    pub mesh: Mesh,
+    /// For each flank node: the surface parameters (u, v) (mm).
+    pub flank_uv: HashMap<usize, (f64, f64)>,
+    pub quality: Quality,
+    pub mount: Mount,
+    /// Lattice counts: across the tooth, up the boundary (land, fillet,
+    /// flank), rim rows, face layers.
+    pub counts: LatticeCounts,
+}
+
+/// The lattice counts of a sector (elements; the same on every station).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct LatticeCounts {
+    /// Across the tooth (flank to flank).
+    pub across: usize,
+    /// Along each half gap land.
+    pub land: usize,
+    /// Along the fillet.
+    pub fillet: usize,
+    /// Along the flank (form line to tip).
+    pub flank: usize,
+    /// Steps of each cut line below the gap land.
+    pub cut: usize,
+    /// Rows of the rim below the teeth.
+    pub rim: usize,
+    /// Along the face.
+    pub face: usize,
+}
+
+fn err(msg: String) -> FlankError {
+    FlankError::Model(format!("bevel sector mesh: {msg}"))
+}
+
+/// Mesh the modelled teeth of `gear` (its `sector_teeth`; module docs).
+pub fn bevel_sector(
+    gear: &BevelGear,
+    name: &str,
+    opts: &BevelSectorOptions,
+) -> Result<BevelSectorMesh, FlankError> {
+    if !matches!(opts.element, ElementKind::C3D20 | ElementKind::C3D20R) {
+        return Err(err(format!(
+            "{name}: element {} is not available for bevel sectors (C3D20 or C3D20R; wedge coarsening is not implemented for bevel gears)",
+            opts.element.name()
+        )));
+    }
+    if !(opts.flank_size > 0.0
+        && opts.flank_size.is_finite()
+        && opts.base_size >= opts.flank_size
+        && opts.base_size.is_finite())
+    {
+        return Err(err(format!(
+            "{name}: need 0 < flank_size ({}) ≤ base_size ({})",
+            opts.flank_size, opts.base_size
+        )));
+    }
+    if let Some(t) = opts.rim_thickness {
+        if !(t > 0.0 && t.is_finite()) {
+            return Err(err(format!(
+                "{name}: rim thickness {t} mm must be positive"
+            )));
+        }
+    }
+    let face = station::FaceLayout::new(gear, name, opts)?;
+    assemble::assemble(gear, name, opts, &face)
+}

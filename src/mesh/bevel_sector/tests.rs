@@ -1,0 +1,259 @@
+use std::collections::{HashMap, HashSet};
+use std::path::Path;
+
+use super::*;
+use crate::fem::element::face_nodes;
+use crate::geometry::gear_pair::{Flank, GearBody};
+use crate::scene::{read_any_scene, AnyScene, BevelScene};
+
+fn scene(seed: &str) -> BevelScene {
+    let path = format!("{}/papers/{seed}/scene.toml", env!("CARGO_MANIFEST_DIR"));
+    match read_any_scene(Path::new(&path)).unwrap() {
+        AnyScene::Bevel(b) => b,
+        _ => panic!("{seed} is not a bevel scene"),
+    }
+}
+
+fn coarse() -> BevelSectorOptions {
+    BevelSectorOptions {
+        flank_size: 1.0,
+        base_size: 4.0,
+        ..Default::default()
+    }
+}
+
+/// The body's flank of a flank set name ("FLANK_R2" → right flank, tooth 2).
+fn set_flank<'a>(
+    gear: &'a BevelGear,
+    set: &str,
+) -> Option<&'a dyn crate::geometry::surface::ToothSurface> {
+    let side = match set.get(..7)? {
+        "FLANK_L" => Flank::Left,
+        "FLANK_R" => Flank::Right,
+        _ => return None,
+    };
+    gear.flank(side, set[7..].parse().ok()?)
+}
+
+/// (largest distance of a flank node from its surface point, largest
+/// deviation of the quarter points of flank edges from the surface by
+/// closest point: [edges along the profile, edges along the face]).
+fn flank_deviation(gear: &BevelGear, r: &BevelSectorMesh) -> (f64, [f64; 2]) {
+    let mesh = &r.mesh;
+    let mut node_dist = 0.0f64;
+    let mut dev = [0.0f64; 2];
+    for (set, nodes) in &mesh.node_sets {
+        let Some(surface) = set_flank(gear, set) else {
+            continue;
+        };
+        let on: HashSet<usize> = nodes.iter().copied().collect();
+        for &n in nodes {
+            let (u, v) = r.flank_uv[&n];
+            let p = surface.point(u, v);
+            let x = mesh.coords[n];
+            node_dist = node_dist.max(
+                ((p[0] - x[0]).powi(2) + (p[1] - x[1]).powi(2) + (p[2] - x[2]).powi(2)).sqrt(),
+            );
+        }
+        for e in &mesh.elements {
+            for edge in crate::fem::element::edges(e.kind) {
+                let [a, b, mid] = edge.map(|i| e.nodes[i]);
+                if !(on.contains(&a) && on.contains(&b) && on.contains(&mid)) {
+                    continue;
+                }
+                let (xa, xb, xm) = (mesh.coords[a], mesh.coords[b], mesh.coords[mid]);
+                let ((ua, va), (_, vb)) = (r.flank_uv[&a], r.flank_uv[&b]);
+                let along_face = usize::from((va - vb).abs() > 1e-9);
+                for t in [0.25, 0.75] {
+                    // quadratic edge through a (−1), mid (0), b (+1) at ξ = 2t − 1
+                    let xi: f64 = 2.0 * t - 1.0;
+                    let (na, nb, nm) =
+                        (0.5 * xi * (xi - 1.0), 0.5 * xi * (xi + 1.0), 1.0 - xi * xi);
+                    let q = [0, 1, 2].map(|c| na * xa[c] + nb * xb[c] + nm * xm[c]);
+                    let (_, _, d) = surface.closest_point_from(q, ua, va);
+                    dev[along_face] = dev[along_face].max(d.abs());
+                }
+            }
+        }
+    }
+    (node_dist, dev)
+}
+
+/// Seed 003's pinion (bore) and ring gear (mounting plane), coarse: every
+/// element valid; the mesh is conforming (every face used once lies on a
+/// boundary set: no crack where blocks or pitches meet); flank nodes are
+/// the surfaces' points; the quadratic flank edges stay on the surface
+/// (deviation of the edge's quarter points from the surface, by closest
+/// point, converging at third order or faster); the mount set lies on its bore or plane.
+#[test]
+fn seed003_sectors_are_valid_conforming_and_exact_on_the_flanks() {
+    let sc = scene("seed003-hypoid");
+    for (m, gear) in sc.bodies.iter().enumerate() {
+        let r = bevel_sector(gear, "body", &coarse()).unwrap();
+        let mesh = &r.mesh;
+        assert!(r.quality.min_scaled_jacobian > 0.2, "{:?}", r.quality);
+        // conformity
+        let mut faces: HashMap<Vec<usize>, usize> = HashMap::new();
+        for e in &mesh.elements {
+            for f in 1..=6 {
+                let nodes = face_nodes(e.kind, f).unwrap();
+                let mut key: Vec<usize> = nodes[..4].iter().map(|&i| e.nodes[i]).collect();
+                key.sort_unstable();
+                *faces.entry(key).or_default() += 1;
+            }
+        }
+        let boundary: HashSet<usize> = mesh
+            .node_sets
+            .iter()
+            .filter(|(k, _)| !matches!(k.as_str(), "NALL"))
+            .flat_map(|(_, v)| v.iter().copied())
+            .collect();
+        let mut free = 0;
+        for (key, count) in &faces {
+            assert!(*count <= 2, "a face shared by {count} elements");
+            if *count == 1 {
+                free += 1;
+                // a boundary face has all its corners on one boundary set
+                let on_one = mesh.node_sets.iter().any(|(k, v)| {
+                    k != "NALL"
+                        && key
+                            .iter()
+                            .all(|n| v.binary_search(n).is_ok() || v.contains(n))
+                });
+                assert!(
+                    on_one,
+                    "member {m}: a free face inside the body (corners {:?}, on boundary sets: {:?})",
+                    key.iter().map(|n| mesh.coords[*n]).collect::<Vec<_>>(),
+                    key.iter().map(|n| boundary.contains(n)).collect::<Vec<_>>()
+                );
+            }
+        }
+        assert!(free > 0);
+        // flank nodes and flank edges
+        let (node_dist, dev) = flank_deviation(gear, &r);
+        println!(
+            "seed003 member {m}: {} nodes, {} elements, Jacobian {:.3}, aspect {:.1}, counts {:?}; flank node distance {node_dist:.2e} mm, flank edge deviation along the profile {:.2e} mm, along the face {:.2e} mm",
+            mesh.node_count(),
+            mesh.elements.len(),
+            r.quality.min_scaled_jacobian,
+            r.quality.max_aspect_ratio,
+            r.counts,
+            dev[0],
+            dev[1]
+        );
+        assert!(node_dist < 1e-12 * gear.cones().re, "{node_dist}");
+        // quadratic edges: the deviation falls as h³ or faster; twice the
+        // face layers must divide the face edges' deviation by ≥ 6
+        let finer = bevel_sector(
+            gear,
+            "body",
+            &BevelSectorOptions {
+                face_layers: 2 * r.counts.face,
+                ..coarse()
+            },
+        )
+        .unwrap();
+        let (_, dev2) = flank_deviation(gear, &finer);
+        println!(
+            "  twice the face layers: along the face {:.2e} mm (ratio {:.1})",
+            dev2[1],
+            dev[1] / dev2[1]
+        );
+        assert!(dev[1] / dev2[1] >= 6.0, "{dev:?} {dev2:?}");
+        // the mount
+        let mount = &mesh.node_sets["MOUNT"];
+        assert!(!mount.is_empty());
+        for &n in mount {
+            let x = mesh.coords[n];
+            let off = match r.mount {
+                Mount::Bore { radius } => x[0].hypot(x[1]) - radius,
+                Mount::Plane { z } => x[2] - z,
+            };
+            assert!(off.abs() < 1e-9, "mount node off by {off}");
+        }
+        assert_eq!(mesh.node_sets.contains_key("BORE"), m == 0);
+        for set in [
+            "CUT_A", "CUT_B", "TOE", "HEEL", "TIP_LAND", "GAP_LAND", "FLANK_L1", "FLANK_R3",
+        ] {
+            assert!(!mesh.node_sets[set].is_empty(), "{set}");
+        }
+        let a: HashSet<_> = mesh.node_sets["CUT_A"].iter().collect();
+        assert!(mesh.node_sets["CUT_B"].iter().all(|n| !a.contains(n)));
+    }
+}
+
+/// The mounted gear under its nominal load deflects along the load; the
+/// reaction at the mount balances it.
+#[test]
+fn loaded_ring_gear_solves() {
+    use crate::fem::static_analysis::{solve_static, SolveOptions};
+    use crate::mesh::bevel_body::bevel_body_model;
+    let sc = scene("seed003-hypoid");
+    let body = bevel_body_model(
+        &sc.bodies[1],
+        "gear",
+        &sc.gear_material,
+        &coarse(),
+        Some(1.0e6),
+    )
+    .unwrap();
+    let (node, f) = body.load.unwrap();
+    let sol = solve_static(
+        &body.model,
+        &SolveOptions {
+            threads: 2,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let d = &sol.displacement[3 * node..3 * node + 3];
+    let fnorm = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
+    let along = (d[0] * f[0] + d[1] * f[1] + d[2] * f[2]) / fnorm;
+    let dn = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    println!("gear: {} dofs, force {fnorm:.1} N, displacement {dn:.3e} mm, along the force {along:.3e} mm", sol.stats.dofs);
+    assert!(along > 0.5 * dn && dn.is_finite(), "{along} {dn}");
+    // moment of the load about the axis is the torque
+    let x = body.model.mesh.coords[node];
+    let moment = x[0] * f[1] - x[1] * f[0];
+    assert!((moment.abs() - 1.0e6).abs() < 1e-6 * 1.0e6, "{moment}");
+}
+
+/// Bad input: a negative rim, wedge elements,
+/// sizes out of order; and seed 000's pinion, whose fillets meet at the
+/// toe (no gap land), is refused with that reason.
+#[test]
+fn bad_sectors_are_refused_with_the_reason() {
+    let sc = scene("seed003-hypoid");
+    let gear = &sc.bodies[0];
+    let msg = |o: &BevelSectorOptions, g: &BevelGear| {
+        bevel_sector(g, "pinion", o).unwrap_err().to_string()
+    };
+    let m = msg(
+        &BevelSectorOptions {
+            element: ElementKind::C3D15,
+            ..coarse()
+        },
+        gear,
+    );
+    assert!(m.contains("C3D15"), "{m}");
+    let m = msg(
+        &BevelSectorOptions {
+            flank_size: 2.0,
+            base_size: 1.0,
+            ..coarse()
+        },
+        gear,
+    );
+    assert!(m.contains("flank_size"), "{m}");
+    let m = msg(
+        &BevelSectorOptions {
+            rim_thickness: Some(-1.0),
+            ..coarse()
+        },
+        gear,
+    );
+    assert!(m.contains("rim thickness"), "{m}");
+    let s0 = scene("seed000-hypoid");
+    let m = msg(&coarse(), &s0.bodies[0]);
+    assert!(m.contains("no gap land"), "{m}");
+}
