@@ -202,3 +202,70 @@ fn seed002_with_flank_modifications_meshes_and_solves() {
         assert!(sol.stats.backward_error < 1e-14);
     }
 }
+
+/// A hypoid scene: `flank mesh` writes both decks, VTUs, flank parameters
+/// and a report whose figures are the decks' (nodes, hex20 elements, the
+/// mount, the nominal load's moment = the member's torque); flank solves
+/// the decks.
+#[test]
+fn seed003_hypoid_bodies_mesh_and_solve() {
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_mesh_seed003");
+    let _ = std::fs::remove_dir_all(&out);
+    let status = Command::new(env!("CARGO_BIN_EXE_flank"))
+        .args([
+            "mesh",
+            "papers/seed003-hypoid/scene.toml",
+            "--flank-size",
+            "1.5",
+            "--base-size",
+            "6",
+            "--out",
+        ])
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("mesh_report.json")).unwrap())
+            .unwrap();
+    assert_eq!(report["pair"]["kind"], "hypoid");
+    // pinion torque 268.29 N·m, gear torque × 41/11
+    for (name, torque) in [("pinion", 268.29e3), ("gear", 268.29e3 * 41.0 / 11.0)] {
+        let body = &report["bodies"][name];
+        let deck = read_deck(&out.join(format!("{name}.inp"))).unwrap();
+        let mesh = &deck.model.mesh;
+        assert_eq!(body["nodes"].as_u64().unwrap() as usize, mesh.node_count());
+        assert_eq!(
+            body["elements"]["C3D20"].as_u64().unwrap() as usize,
+            mesh.elements.len()
+        );
+        assert!(body["min_scaled_jacobian"].as_f64().unwrap() > 0.2);
+        let mount = if name == "pinion" { "bore" } else { "plane" };
+        assert!(
+            body["mount"].get(mount).is_some(),
+            "{name}: {}",
+            body["mount"]
+        );
+        // the nominal load's moment about the member's axis is its torque
+        let load = &body["nominal_load"];
+        let label = load["node"].as_u64().unwrap();
+        let n = mesh.node_labels.iter().position(|&l| l == label).unwrap();
+        let (x, f) = (mesh.coords[n], &load["force_n"]);
+        let moment = x[0] * f[1].as_f64().unwrap() - x[1] * f[0].as_f64().unwrap();
+        assert!(
+            (moment.abs() - torque).abs() < 1e-6 * torque,
+            "{name}: {moment}"
+        );
+        assert!(out.join(format!("{name}.vtu")).exists());
+        assert!(out.join(format!("{name}_flank_uv.csv")).exists());
+        let sol = solve_static(
+            &deck.model,
+            &SolveOptions {
+                recover_stress: false,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert!(sol.displacement.iter().all(|u| u.is_finite()));
+    }
+}

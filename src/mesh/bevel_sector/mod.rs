@@ -74,10 +74,12 @@
 //! | `mod.rs` (this file) | [`BevelSectorOptions`], [`BevelSectorMesh`], [`Mount`], the entry [`bevel_sector`] |
 //! | `station.rs` | one station's profiles (fillet and flank tables, lands, cut, mount) and the lattice counts over the face |
 //! | `section.rs` | the (θ, u) lattice points of the upper and rim blocks on one station |
+//! | `deviation.rs` | [`flank_edge_deviation`]: how far the quadratic flank edges leave the surfaces |
 //! | `assemble.rs` | 3D nodes (merged by position), hex20 elements (Jacobian-checked), sets, quality |
 //! | `tests.rs` | unit tests (seed scenes: validity, exact flank nodes, sets, a clamped solve, bad input) |
 
 mod assemble;
+mod deviation;
 mod section;
 mod station;
 
@@ -85,6 +87,8 @@ mod station;
 mod tests;
 
 use std::collections::HashMap;
+
+pub use deviation::flank_edge_deviation;
 
 use crate::error::FlankError;
 use crate::geometry::bevel::body::BevelGear;

@@ -35,18 +35,15 @@ fn set_flank<'a>(
     gear.flank(side, set[7..].parse().ok()?)
 }
 
-/// (largest distance of a flank node from its surface point, largest
-/// deviation of the quarter points of flank edges from the surface by
-/// closest point: [edges along the profile, edges along the face]).
+/// (largest distance of a flank node from its surface point,
+/// [`flank_edge_deviation`]).
 fn flank_deviation(gear: &BevelGear, r: &BevelSectorMesh) -> (f64, [f64; 2]) {
     let mesh = &r.mesh;
     let mut node_dist = 0.0f64;
-    let mut dev = [0.0f64; 2];
     for (set, nodes) in &mesh.node_sets {
         let Some(surface) = set_flank(gear, set) else {
             continue;
         };
-        let on: HashSet<usize> = nodes.iter().copied().collect();
         for &n in nodes {
             let (u, v) = r.flank_uv[&n];
             let p = surface.point(u, v);
@@ -55,28 +52,8 @@ fn flank_deviation(gear: &BevelGear, r: &BevelSectorMesh) -> (f64, [f64; 2]) {
                 ((p[0] - x[0]).powi(2) + (p[1] - x[1]).powi(2) + (p[2] - x[2]).powi(2)).sqrt(),
             );
         }
-        for e in &mesh.elements {
-            for edge in crate::fem::element::edges(e.kind) {
-                let [a, b, mid] = edge.map(|i| e.nodes[i]);
-                if !(on.contains(&a) && on.contains(&b) && on.contains(&mid)) {
-                    continue;
-                }
-                let (xa, xb, xm) = (mesh.coords[a], mesh.coords[b], mesh.coords[mid]);
-                let ((ua, va), (_, vb)) = (r.flank_uv[&a], r.flank_uv[&b]);
-                let along_face = usize::from((va - vb).abs() > 1e-9);
-                for t in [0.25, 0.75] {
-                    // quadratic edge through a (−1), mid (0), b (+1) at ξ = 2t − 1
-                    let xi: f64 = 2.0 * t - 1.0;
-                    let (na, nb, nm) =
-                        (0.5 * xi * (xi - 1.0), 0.5 * xi * (xi + 1.0), 1.0 - xi * xi);
-                    let q = [0, 1, 2].map(|c| na * xa[c] + nb * xb[c] + nm * xm[c]);
-                    let (_, _, d) = surface.closest_point_from(q, ua, va);
-                    dev[along_face] = dev[along_face].max(d.abs());
-                }
-            }
-        }
     }
-    (node_dist, dev)
+    (node_dist, flank_edge_deviation(gear, r))
 }
 
 /// Seed 003's pinion (bore) and ring gear (mounting plane), coarse: every
