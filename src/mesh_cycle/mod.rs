@@ -16,6 +16,7 @@
 //! The pair's kinematics (frames, tooth pairs, kinematic contact) come
 //! from the gear-pair interface ([`crate::geometry::gear_pair`]).
 
+pub mod bevel;
 pub mod pair_model;
 pub mod run;
 

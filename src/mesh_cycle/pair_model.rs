@@ -15,8 +15,7 @@ use crate::contact::{
 };
 use crate::error::FlankError;
 use crate::fem::model::{Dirichlet, Model, RigidCoupling};
-use crate::geometry::gear_pair::GearPair;
-use crate::mesh::gear_body::BodyModel;
+use crate::geometry::gear_pair::{GearPair, PairPlacement};
 use crate::mesh::Mesh;
 use crate::scene::Scene;
 
@@ -103,7 +102,39 @@ pub fn pair_model(
     };
     let pinion = scene_body(scene, "pinion", &options)?;
     let gear = scene_body(scene, "gear", &options)?;
-    combine(gears, &pinion, &gear, torque, law, slave)
+    combine(
+        gears,
+        [
+            PairBody::of(&pinion.name, &pinion.model, &pinion.sector.flank_uv),
+            PairBody::of(&gear.name, &gear.model, &gear.sector.flank_uv),
+        ],
+        torque,
+        law,
+        slave,
+    )
+}
+
+/// One body of a pair model: its name, its clamped model (mesh, material,
+/// the mount's conditions) and the flank parameters of its flank nodes.
+#[derive(Clone, Copy)]
+pub struct PairBody<'a> {
+    pub name: &'a str,
+    pub model: &'a Model,
+    pub flank_uv: &'a std::collections::HashMap<usize, (f64, f64)>,
+}
+
+impl<'a> PairBody<'a> {
+    pub fn of(
+        name: &'a str,
+        model: &'a Model,
+        flank_uv: &'a std::collections::HashMap<usize, (f64, f64)>,
+    ) -> Self {
+        PairBody {
+            name,
+            model,
+            flank_uv,
+        }
+    }
 }
 
 /// Label offset that keeps the gear's labels apart from the pinion's.
@@ -115,14 +146,19 @@ fn label_offset(max: u64) -> u64 {
     off
 }
 
-fn combine(
-    gears: &dyn GearPair,
-    pinion: &BodyModel,
-    gear: &BodyModel,
+/// Both bodies in one model (module docs): the pinion's mount (`MOUNT`,
+/// else `BORE`) coupled to a reference node on its axis loaded by the
+/// torque T (N·mm) in the drive sense ([`PairPlacement::rotation_axes`]),
+/// the gear's own conditions kept, one contact pair per tooth pair on the
+/// right (drive) flanks, pinion tooth k against gear tooth `mate(k)`.
+pub fn combine(
+    gears: &dyn PairPlacement,
+    bodies: [PairBody; 2],
     torque: f64,
     law: PressureOverclosure,
     slave: SlaveBody,
 ) -> Result<PairModel, FlankError> {
+    let [pinion, gear] = bodies;
     let pm = &pinion.model.mesh;
     let gm = &gear.model.mesh;
     let node_off = label_offset(pm.node_labels.iter().copied().max().unwrap_or(0));
@@ -140,7 +176,7 @@ fn combine(
             .map_err(|e| FlankError::Model(format!("{}: {e}", body.name)))?;
         base[b] = nbase;
         body_of.resize(mesh.node_count(), b as u32);
-        for (&n, &uv) in &body.sector.flank_uv {
+        for (&n, &uv) in body.flank_uv {
             flank_uv.insert(n + nbase, uv);
         }
     }
@@ -163,22 +199,29 @@ fn combine(
             ..*d
         });
     }
-    let hub = model
-        .mesh
-        .node_sets
-        .get("PINION_BORE")
-        .cloned()
-        .ok_or_else(|| FlankError::Model("pinion: the sector mesh has no BORE set".into()))?;
-    // drive: clockwise seen from +z, i.e. a moment −T about +z
+    let hub = ["PINION_MOUNT", "PINION_BORE"]
+        .iter()
+        .find_map(|set| model.mesh.node_sets.get(*set).cloned())
+        .ok_or_else(|| {
+            FlankError::Model("pinion: the sector mesh has no MOUNT or BORE set".into())
+        })?;
+    // the torque turns the pinion in its drive sense about its own axis +z
+    // (spur and helical pinions: clockwise seen from +z, a moment −T)
+    let sense = gears.rotation_axes()[0][2];
+    if !(sense.abs() > 0.5) {
+        return Err(FlankError::Model(
+            "the pinion's drive rotation is not about its own axis z".into(),
+        ));
+    }
     model.couplings.push(RigidCoupling::rotation_about(
         "PINION_HUB",
         [0.0, 0.0, {
             let (z0, z1) = gears.pinion().blank().axial_range;
-            0.5 * (z1 - z0)
+            0.5 * (z1 + z0)
         }],
         2,
         hub,
-        -torque,
+        torque * sense.signum(),
     ));
     // contact: right flanks, pinion tooth k against gear tooth n + 1 − k
     let mut contact = ContactDefinition {
