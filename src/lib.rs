@@ -90,6 +90,7 @@ pub mod fem;
 pub mod geometry;
 pub mod load_sharing;
 pub mod ltca;
+pub mod lubrication;
 pub mod mesh;
 pub mod mesh_cycle;
 pub mod report;
