@@ -33,7 +33,11 @@
 //! τ₀ asinh(η₀ e^(α P̄) |v_s| /(τ₀ h_c)) at the contact's sliding speed is
 //! below the thermal τ̄ (low slide, near the pitch point: the formula,
 //! which does not depend on the sliding speed, overestimates the traction).
-//! A μ ≤ 0 or not finite is an error.
+//! At low mean pressure and thin films the logarithm turns so negative that
+//! the formula gives μ ≤ 0 (it has left its regime altogether): then μ is
+//! the isothermal Eyring value τ_iso/P̄ instead, flagged
+//! [`TractionFlag::ThermalFormulaNotPositive`] (and counted in the run's
+//! summary), never a silent negative or clipped value.
 
 use crate::error::FlankError;
 use crate::lubrication::lubricant::Lubricant;
@@ -47,6 +51,8 @@ pub enum TractionFlag {
     /// The isothermal Eyring stress at this sliding speed is below the
     /// thermal one: the thermal formula overestimates μ.
     IsothermalBelowThermal,
+    /// The thermal formula gave μ ≤ 0; μ is the isothermal Eyring value.
+    ThermalFormulaNotPositive,
 }
 
 /// What the traction formula needs (internal units mm, N, s, MPa, K).
@@ -66,7 +72,11 @@ pub struct TractionInput {
 /// The traction coefficient with its terms and regime flags.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Traction {
+    /// The traction coefficient used: `mu_thermal` when positive, else the
+    /// isothermal Eyring value (flagged).
     pub mu: f64,
+    /// Evans & Johnson's thermal Eyring value (seed eq. 4, β restored).
+    pub mu_thermal: f64,
     /// ζ (thermal parameter of seed eq. 5).
     pub zeta: f64,
     /// Mean shear stress τ̄ = μ P̄ (MPa) and the isothermal Eyring one (MPa).
@@ -113,27 +123,34 @@ pub fn traction(lub: &Lubricant, input: &TractionInput) -> Result<Traction, Flan
         * (p / (e * rx * lub.solid_conductivity * lub.solid_heat_capacity_volumetric() * u))
             .sqrt();
     let arg = 1.2 / (tau0 * h) * (2.0 * k * eta0 / (beta * (1.0 + 9.6 * zeta))).sqrt();
-    let mu = 0.87 * alpha * tau0 + 1.74 * tau0 / p * arg.ln();
-    if !(mu > 0.0 && mu.is_finite()) {
+    let mu_thermal = 0.87 * alpha * tau0 + 1.74 * tau0 / p * arg.ln();
+    // isothermal Eyring: τ = τ₀ asinh(η γ̇/τ₀), η at P̄ (Barus), γ̇ = |v_s|/h
+    let eta = eta0 * (alpha * p).exp();
+    let tau_iso = tau0 * (eta * vs.abs() / (tau0 * h)).asinh();
+    if !(mu_thermal.is_finite() && tau_iso.is_finite()) {
         return Err(FlankError::Model(format!(
-            "traction (Evans & Johnson): μ = {mu} at h_c = {:.4} µm, P̄ = {p:.1} MPa, u = {:.3} m/s: the contact is far outside the thermal Eyring regime (τ₀ = {tau0} MPa)",
+            "traction (Evans & Johnson): μ = {mu_thermal}, isothermal stress {tau_iso} MPa at h_c = {:.4} µm, P̄ = {p:.1} MPa, u = {:.3} m/s: not finite",
             h * 1e3,
             u * 1e-3
         )));
     }
-    let tau = mu * p;
-    // isothermal Eyring: τ = τ₀ asinh(η γ̇/τ₀), η at P̄ (Barus), γ̇ = |v_s|/h
-    let eta = eta0 * (alpha * p).exp();
-    let tau_iso = tau0 * (eta * vs.abs() / (tau0 * h)).asinh();
     let mut flags = Vec::new();
+    let mu = if mu_thermal > 0.0 {
+        mu_thermal
+    } else {
+        flags.push(TractionFlag::ThermalFormulaNotPositive);
+        tau_iso / p
+    };
+    let tau = mu * p;
     if tau < 2.0 * tau0 {
         flags.push(TractionFlag::NotEyring);
     }
-    if tau_iso < tau {
+    if mu_thermal > 0.0 && tau_iso < tau {
         flags.push(TractionFlag::IsothermalBelowThermal);
     }
     Ok(Traction {
         mu,
+        mu_thermal,
         zeta,
         shear_stress_mpa: tau,
         isothermal_shear_stress_mpa: tau_iso,

@@ -14,6 +14,11 @@ use crate::lubrication::film::FilmModel;
 use crate::lubrication::lubricant::Lubricant;
 use crate::lubrication::operating_point::{evaluate, ContactEhl, OperatingPoint};
 
+/// Relative changes of μ are taken against max(μ_used, this): a contact
+/// whose μ is (near) zero (pure rolling with the isothermal fallback of
+/// [`crate::lubrication::traction`]) does not make the change infinite.
+pub const MU_FLOOR: f64 = 1e-4;
+
 /// Settings of the loop (`[analyses.lubrication]`).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct LoopSettings {
@@ -40,7 +45,7 @@ pub struct Pass {
     pub mu_used: Table<f64>,
     /// EHL of every loaded contact of the pass (None: not loaded).
     pub contacts: Table<Option<ContactEhl>>,
-    /// Largest relative change (μ_EHL − μ_used)/μ_used over the loaded
+    /// Largest relative change (μ_EHL − μ_used)/max(μ_used, [`MU_FLOOR`]) over the loaded
     /// contacts, signed (the entry of largest magnitude), and where.
     pub change_rel: f64,
     pub change_at: Option<(usize, usize)>,
@@ -137,7 +142,7 @@ where
                         )),
                         e => e,
                     })?;
-                let rel = (c.traction.mu - mu[i][p]) / mu[i][p];
+                let rel = (c.traction.mu - mu[i][p]) / mu[i][p].max(MU_FLOOR);
                 if rel.abs() > change.abs() {
                     change = rel;
                     change_at = Some((i, p));

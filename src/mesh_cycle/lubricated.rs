@@ -134,6 +134,7 @@ pub fn lubricated_cycle(
         "point_contact_in_line_fit": count(&|c| c.film.flags.contains(&FilmFlag::PointContactInLineFit)),
         "not_eyring": count(&|c| c.traction.flags.contains(&TractionFlag::NotEyring)),
         "isothermal_below_thermal": count(&|c| c.traction.flags.contains(&TractionFlag::IsothermalBelowThermal)),
+        "thermal_formula_not_positive": count(&|c| c.traction.flags.contains(&TractionFlag::ThermalFormulaNotPositive)),
         "outside_path": count(&|c| c.point.outside_path),
     });
     // plots
@@ -249,14 +250,14 @@ fn write_contacts_csv(
     contacts: &[Vec<Option<ContactEhl>>],
 ) -> Result<(), FlankError> {
     use std::fmt::Write as _;
-    let mut s = String::from("roll_deg,tooth_pair,load_n,mean_pressure_mpa,radius_x_mm,radius_y_mm,entraining_speed_m_s,sliding_speed_m_s,slide_to_roll,central_film_um,minimum_film_um,lambda_ratio,zeta,mu,friction_force_n,power_loss_w,flags\n");
+    let mut s = String::from("roll_deg,tooth_pair,load_n,mean_pressure_mpa,radius_x_mm,radius_y_mm,entraining_speed_m_s,sliding_speed_m_s,slide_to_roll,central_film_um,minimum_film_um,lambda_ratio,zeta,mu,mu_thermal,friction_force_n,power_loss_w,flags\n");
     for (i, row) in contacts.iter().enumerate() {
         for (p, c) in row.iter().enumerate() {
             let Some(c) = c else { continue };
             let o = &c.point;
             let _ = writeln!(
                 s,
-                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
                 angles[i],
                 p + 1,
                 o.load_n,
@@ -275,6 +276,7 @@ fn write_contacts_csv(
                 c.lambda_ratio.map_or(String::new(), |l| l.to_string()),
                 c.traction.zeta,
                 c.traction.mu,
+                c.traction.mu_thermal,
                 c.friction_force_n,
                 c.power_loss_w,
                 flag_text(c)
