@@ -184,20 +184,21 @@ fn run_lubricated_loop_converges() {
             load_n: load,
             contact_area_mm2: load / p,
             mean_pressure_mpa: p,
-            radius_x_mm: x(4),
-            radius_y_mm: if f[5] == "line" { f64::INFINITY } else { x(5) },
+            other_mean_pressure_mpa: x(4),
+            radius_x_mm: x(5),
+            radius_y_mm: if f[6] == "line" { f64::INFINITY } else { x(6) },
             length_mm: length,
-            entraining_speed_mm_s: x(6) * 1e3,
-            sliding_speed_mm_s: x(7) * 1e3,
+            entraining_speed_mm_s: x(7) * 1e3,
+            sliding_speed_mm_s: x(8) * 1e3,
             reduced_modulus_mpa: e_prime,
-            outside_path: f[17].contains("OutsidePath"),
+            outside_path: f[18].contains("OutsidePath"),
         };
         let c = evaluate(&lub, FilmModel::Chittenden, &point, None).unwrap();
         let rel = |a: f64, b: f64| (a / b - 1.0).abs();
-        assert!(rel(c.film.central * 1e3, x(9)) < 1e-9, "{line}");
-        assert!(rel(c.traction.mu, x(13)) < 1e-9, "{line}");
-        assert!(rel(c.power_loss_w.max(1e-300), x(16).max(1e-300)) < 1e-9, "{line}");
-        wet_mu.insert((f[0].to_string(), f[1].to_string()), x(13));
+        assert!(rel(c.film.central * 1e3, x(10)) < 1e-9, "{line}");
+        assert!(rel(c.traction.mu, x(14)) < 1e-9, "{line}");
+        assert!(rel(c.power_loss_w.max(1e-300), x(17).max(1e-300)) < 1e-9, "{line}");
+        wet_mu.insert((f[0].to_string(), f[1].to_string()), x(14));
         rows += 1;
     }
     assert!(rows >= 5, "{rows} loaded contacts");

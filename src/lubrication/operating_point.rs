@@ -105,10 +105,45 @@ pub fn involute_contact(
     })
 }
 
+/// Where P̄ comes from.
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum MeanPressure {
+    /// W/A with A the contact solution's area (seed 002 eqs. 10–11): needs
+    /// a mesh that resolves the contact width (several nodes across it).
+    #[default]
+    ContactArea,
+    /// Hertz line contact over the contact line length L from W and R_x:
+    /// P̄ = w′/(2b), b = (8w′R_x/(πE′))^½, w′ = W/L (= π p₀/4; Johnson,
+    /// *Contact Mechanics* 1985, §4.2). For meshes too coarse to resolve
+    /// the Hertz width, where W/A jumps with the number of closed node rows.
+    Hertz,
+}
+
+impl MeanPressure {
+    pub fn name(self) -> &'static str {
+        match self {
+            MeanPressure::ContactArea => "contact_area",
+            MeanPressure::Hertz => "hertz",
+        }
+    }
+}
+
+/// Hertz line contact under `load` (N) over `length` (mm) with R_x (mm)
+/// and E′ (MPa): (P̄ (MPa), semi-width b (mm)) (see [`MeanPressure::Hertz`]).
+pub fn hertz_line_contact(load: f64, radius_x: f64, length: f64, reduced_modulus: f64) -> (f64, f64) {
+    let w = load / length;
+    let b = (8.0 * w * radius_x / (std::f64::consts::PI * reduced_modulus)).sqrt();
+    (w / (2.0 * b), b)
+}
+
 /// Everything the EHL formulas need of one contact (internal units).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct OperatingPoint {
-    /// W (N), A (mm²), P̄ = W/A (MPa).
+    /// W (N), A (mm²), P̄ = W/A (MPa) (with [`MeanPressure::Hertz`] A is
+    /// the Hertz area 2bL).
     pub load_n: f64,
     pub contact_area_mm2: f64,
     pub mean_pressure_mpa: f64,
@@ -123,26 +158,43 @@ pub struct OperatingPoint {
     pub reduced_modulus_mpa: f64,
     /// The kinematics came from outside the path (clamped; see [`InvoluteContact`]).
     pub outside_path: bool,
+    /// The other estimate of P̄, for comparison: Hertz when P̄ is W/A of
+    /// the contact solution, W/A when P̄ is Hertz (MPa; 0 if unknown).
+    pub other_mean_pressure_mpa: f64,
 }
 
 impl OperatingPoint {
-    /// From the closed-form contact and the contact solution's W and A.
+    /// From the closed-form contact and the contact solution's W and A,
+    /// P̄ as `pressure` says.
     pub fn new(
         contact: &InvoluteContact,
         load_n: f64,
         contact_area_mm2: f64,
         length_mm: f64,
         reduced_modulus_mpa: f64,
+        pressure: MeanPressure,
     ) -> Result<Self, FlankError> {
         if !(load_n > 0.0 && load_n.is_finite() && contact_area_mm2 > 0.0) {
             return Err(FlankError::Model(format!(
                 "operating point: load {load_n} N on {contact_area_mm2} mm²: a loaded contact with an area is needed"
             )));
         }
+        let (p_hertz, b) = hertz_line_contact(
+            load_n,
+            contact.radius_x_mm,
+            length_mm,
+            reduced_modulus_mpa,
+        );
+        let p_area = load_n / contact_area_mm2;
+        let (area, p, other) = match pressure {
+            MeanPressure::ContactArea => (contact_area_mm2, p_area, p_hertz),
+            MeanPressure::Hertz => (2.0 * b * length_mm, p_hertz, p_area),
+        };
         Ok(OperatingPoint {
             load_n,
-            contact_area_mm2,
-            mean_pressure_mpa: load_n / contact_area_mm2,
+            contact_area_mm2: area,
+            mean_pressure_mpa: p,
+            other_mean_pressure_mpa: other,
             radius_x_mm: contact.radius_x_mm,
             radius_y_mm: contact.radius_y_mm,
             length_mm,
@@ -236,6 +288,11 @@ mod tests {
         // beyond the path: clamped and flagged
         let out = involute_contact(&kin, -1.0, 1000.0, [0.0; 2]).unwrap();
         assert!(out.outside_path && out.from_t1_mm == kin.path_start);
+        // Hertz: P̄ = π p₀/4 with p₀ = (w′E′/(2πR))^½ (E′ = 2E*)
+        let (p, b) = hertz_line_contact(1000.0, 10.0, 10.0, 226_000.0);
+        let p0 = (100.0 * 226_000.0 / (2.0 * std::f64::consts::PI * 10.0)).sqrt();
+        assert!((p / (std::f64::consts::PI * p0 / 4.0) - 1.0).abs() < 1e-12);
+        assert!((100.0 / (2.0 * b) - p).abs() < 1e-9);
         // crowning 5 µm on 13.3 mm: R_c = b²/(8C) = 4422 mm each, R_y half
         let cr = involute_contact(&kin, 1.0, 1000.0, [0.005, 0.005]).unwrap();
         assert!((cr.radius_y_mm - 13.3f64.powi(2) / 0.04 / 2.0).abs() < 1e-9);

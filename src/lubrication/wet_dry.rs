@@ -31,6 +31,9 @@ pub struct LoopSettings {
     pub initial_mu: f64,
     /// Composite roughness σ = (R_q1² + R_q2²)^½ (mm) for the λ ratio.
     pub composite_roughness_mm: Option<f64>,
+    /// Where P̄ comes from (used by the contact pass that builds the
+    /// operating points).
+    pub mean_pressure: crate::lubrication::operating_point::MeanPressure,
 }
 
 /// μ (or any value) per position and tooth pair.
@@ -204,6 +207,7 @@ mod tests {
             sliding_speed_mm_s: 5_000.0,
             reduced_modulus_mpa: 226_000.0,
             outside_path: false,
+            other_mean_pressure_mpa: 0.0,
         }
     }
 
@@ -214,6 +218,7 @@ mod tests {
             max_iterations: 5,
             initial_mu: 0.05,
             composite_roughness_mm: None,
+            mean_pressure: Default::default(),
         }
     }
 

@@ -85,6 +85,7 @@ pub fn lubricated_cycle(
                             st.patch[p].area_mm2,
                             length,
                             e_prime,
+                            settings.mean_pressure,
                         )
                         .map(Some)
                     })
@@ -214,6 +215,7 @@ pub fn lubricated_cycle(
         "tolerance": settings.tolerance,
         "max_iterations": settings.max_iterations,
         "film_model": settings.film.name(),
+        "mean_pressure": settings.mean_pressure.name(),
         "reduced_modulus_mpa": e_prime,
         "contact_length_mm": length,
         "lubricant": lub,
@@ -250,18 +252,19 @@ fn write_contacts_csv(
     contacts: &[Vec<Option<ContactEhl>>],
 ) -> Result<(), FlankError> {
     use std::fmt::Write as _;
-    let mut s = String::from("roll_deg,tooth_pair,load_n,mean_pressure_mpa,radius_x_mm,radius_y_mm,entraining_speed_m_s,sliding_speed_m_s,slide_to_roll,central_film_um,minimum_film_um,lambda_ratio,zeta,mu,mu_thermal,friction_force_n,power_loss_w,flags\n");
+    let mut s = String::from("roll_deg,tooth_pair,load_n,mean_pressure_mpa,other_mean_pressure_mpa,radius_x_mm,radius_y_mm,entraining_speed_m_s,sliding_speed_m_s,slide_to_roll,central_film_um,minimum_film_um,lambda_ratio,zeta,mu,mu_thermal,friction_force_n,power_loss_w,flags\n");
     for (i, row) in contacts.iter().enumerate() {
         for (p, c) in row.iter().enumerate() {
             let Some(c) = c else { continue };
             let o = &c.point;
             let _ = writeln!(
                 s,
-                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
                 angles[i],
                 p + 1,
                 o.load_n,
                 o.mean_pressure_mpa,
+                o.other_mean_pressure_mpa,
                 o.radius_x_mm,
                 if o.radius_y_mm.is_finite() {
                     o.radius_y_mm.to_string()

@@ -563,6 +563,7 @@ pub fn settings(
                     .initial_mu
                     .unwrap_or(if friction_mu > 0.0 { friction_mu } else { 0.05 }),
                 composite_roughness_mm: l.composite_roughness_um.map(|r| r * 1e-3),
+                mean_pressure: l.mean_pressure.unwrap_or_default(),
             };
             crate::lubrication::wet_dry::check_settings(&s)?;
             friction_mu = s.initial_mu;

@@ -133,6 +133,10 @@ pub struct LubricationAnalysis {
     pub film: Option<crate::lubrication::FilmModel>,
     /// Composite roughness σ = (R_q1² + R_q2²)^½ (µm, > 0) for the λ ratio.
     pub composite_roughness_um: Option<f64>,
+    /// P̄: `contact_area` (default, W/A of the contact solution, seed 002
+    /// eqs. 10–11) or `hertz` (line contact from W and R_x; for meshes that
+    /// do not resolve the contact width).
+    pub mean_pressure: Option<crate::lubrication::MeanPressure>,
 }
 
 /// The analyses a scene asks for; an absent entry is not computed.
