@@ -160,10 +160,7 @@ fn run_lubricated_loop_converges() {
     assert!(mu_max > 0.0 && mu_max < 0.05, "{mu_max}");
     let eff = l["efficiency"].as_f64().unwrap();
     assert!(eff > 0.9 && eff < 1.0, "{eff}");
-    assert_eq!(
-        l["passes"].as_array().unwrap().len() as u64,
-        iterations + 1
-    );
+    assert_eq!(l["passes"].as_array().unwrap().len() as u64, iterations + 1);
 
     // every logged μ and h_c from the logged operating point
     let scene = flank::scene::read_scene(
@@ -197,7 +194,10 @@ fn run_lubricated_loop_converges() {
         let rel = |a: f64, b: f64| (a / b - 1.0).abs();
         assert!(rel(c.film.central * 1e3, x(10)) < 1e-9, "{line}");
         assert!(rel(c.traction.mu, x(14)) < 1e-9, "{line}");
-        assert!(rel(c.power_loss_w.max(1e-300), x(17).max(1e-300)) < 1e-9, "{line}");
+        assert!(
+            rel(c.power_loss_w.max(1e-300), x(17).max(1e-300)) < 1e-9,
+            "{line}"
+        );
         wet_mu.insert((f[0].to_string(), f[1].to_string()), x(14));
         rows += 1;
     }
@@ -211,7 +211,10 @@ fn run_lubricated_loop_converges() {
     for line in passes.lines().skip(1) {
         let f: Vec<&str> = line.split(',').collect();
         if f[0] == last {
-            used.insert((f[1].to_string(), f[2].to_string()), f[3].parse::<f64>().unwrap());
+            used.insert(
+                (f[1].to_string(), f[2].to_string()),
+                f[3].parse::<f64>().unwrap(),
+            );
         }
     }
     // μ used in the last pass = μ_EHL of the pass before, within the tolerance of μ_EHL now
@@ -231,12 +234,19 @@ fn run_lubricated_loop_converges() {
             let Some(mu) = used.get(&key) else { continue };
             let w: f64 = f[col(&format!("force_pair{p}_n"))].parse().unwrap();
             let t: f64 = f[col(&format!("friction_pair{p}_n"))].parse().unwrap();
-            assert!(t <= mu * w * (1.0 + 1e-6) + 1e-6, "{key:?}: {t} > {mu} × {w}");
+            assert!(
+                t <= mu * w * (1.0 + 1e-6) + 1e-6,
+                "{key:?}: {t} > {mu} × {w}"
+            );
             checked += 1;
         }
     }
     assert!(checked >= 5);
-    for file in ["lubrication_mu.svg", "lubrication_film.png", "lubrication_power_loss.svg"] {
+    for file in [
+        "lubrication_mu.svg",
+        "lubrication_film.png",
+        "lubrication_power_loss.svg",
+    ] {
         assert!(dir.join(file).exists(), "{file} missing");
     }
     let _ = std::fs::remove_dir_all(&dir);

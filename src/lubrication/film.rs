@@ -46,9 +46,7 @@ use crate::error::FlankError;
 pub const MAX_FITTED_RADIUS_RATIO: f64 = 25.0;
 
 /// Which film-thickness fit.
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize,
-)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FilmModel {
     /// Chittenden et al. (1985), seed 002 eq. 2.

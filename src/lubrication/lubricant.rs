@@ -147,7 +147,10 @@ impl LubricantSi {
     pub fn keyed(&self) -> [(&'static str, f64); 8] {
         [
             ("viscosity_pa_s", self.viscosity_pa_s),
-            ("pressure_viscosity_per_gpa", self.pressure_viscosity_per_gpa),
+            (
+                "pressure_viscosity_per_gpa",
+                self.pressure_viscosity_per_gpa,
+            ),
             (
                 "temperature_viscosity_per_k",
                 self.temperature_viscosity_per_k,

@@ -59,7 +59,7 @@ pub fn involute_contact(
     speed_rpm: f64,
     lead_crowning_mm: [f64; 2],
 ) -> Result<InvoluteContact, FlankError> {
-    if !path_position_mm.is_finite() || !(speed_rpm >= 0.0 && speed_rpm.is_finite()) {
+    if !(path_position_mm.is_finite() && speed_rpm >= 0.0 && speed_rpm.is_finite()) {
         return Err(FlankError::Model(format!(
             "involute contact: position {path_position_mm} mm and speed {speed_rpm} rpm must be finite (speed ≥ 0)"
         )));
@@ -106,9 +106,7 @@ pub fn involute_contact(
 }
 
 /// Where P̄ comes from.
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize,
-)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum MeanPressure {
     /// W/A with A the contact solution's area (seed 002 eqs. 10–11): needs
@@ -133,7 +131,12 @@ impl MeanPressure {
 
 /// Hertz line contact under `load` (N) over `length` (mm) with R_x (mm)
 /// and E′ (MPa): (P̄ (MPa), semi-width b (mm)) (see [`MeanPressure::Hertz`]).
-pub fn hertz_line_contact(load: f64, radius_x: f64, length: f64, reduced_modulus: f64) -> (f64, f64) {
+pub fn hertz_line_contact(
+    load: f64,
+    radius_x: f64,
+    length: f64,
+    reduced_modulus: f64,
+) -> (f64, f64) {
     let w = load / length;
     let b = (8.0 * w * radius_x / (std::f64::consts::PI * reduced_modulus)).sqrt();
     (w / (2.0 * b), b)
@@ -179,12 +182,8 @@ impl OperatingPoint {
                 "operating point: load {load_n} N on {contact_area_mm2} mm²: a loaded contact with an area is needed"
             )));
         }
-        let (p_hertz, b) = hertz_line_contact(
-            load_n,
-            contact.radius_x_mm,
-            length_mm,
-            reduced_modulus_mpa,
-        );
+        let (p_hertz, b) =
+            hertz_line_contact(load_n, contact.radius_x_mm, length_mm, reduced_modulus_mpa);
         let p_area = load_n / contact_area_mm2;
         let (area, p, other) = match pressure {
             MeanPressure::ContactArea => (contact_area_mm2, p_area, p_hertz),
@@ -273,8 +272,8 @@ mod tests {
 
     #[test]
     fn pitch_point_rolls_without_sliding() {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("papers/seed002-spur/scene.toml");
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("papers/seed002-spur/scene.toml");
         let scene = crate::scene::read_scene(&path).unwrap();
         let kin = MeshKinematics::new(&scene.pair, 3).unwrap();
         // the pitch point C: ρ_t1 = r_b1 tan α_wt

@@ -120,8 +120,7 @@ pub fn traction(lub: &Lubricant, input: &TractionInput) -> Result<Traction, Flan
     let beta = lub.temperature_viscosity_per_k;
     let h_star = h / rx;
     let zeta = 4.0 * k / (std::f64::consts::PI * h_star)
-        * (p / (e * rx * lub.solid_conductivity * lub.solid_heat_capacity_volumetric() * u))
-            .sqrt();
+        * (p / (e * rx * lub.solid_conductivity * lub.solid_heat_capacity_volumetric() * u)).sqrt();
     let arg = 1.2 / (tau0 * h) * (2.0 * k * eta0 / (beta * (1.0 + 9.6 * zeta))).sqrt();
     let mu_thermal = 0.87 * alpha * tau0 + 1.74 * tau0 / p * arg.ln();
     // isothermal Eyring: τ = τ₀ asinh(η γ̇/τ₀), η at P̄ (Barus), γ̇ = |v_s|/h

@@ -136,15 +136,16 @@ where
         for i in 0..positions {
             for p in 0..pairs {
                 let Some(op) = &points[i][p] else { continue };
-                let c = evaluate(lub, settings.film, op, settings.composite_roughness_mm)
-                    .map_err(|e| match e {
+                let c = evaluate(lub, settings.film, op, settings.composite_roughness_mm).map_err(
+                    |e| match e {
                         FlankError::Model(m) => FlankError::Model(format!(
                             "lubrication pass {index}, position {}, tooth pair {}: {m}",
                             i + 1,
                             p + 1
                         )),
                         e => e,
-                    })?;
+                    },
+                )?;
                 let rel = (c.traction.mu - mu[i][p]) / mu[i][p].max(MU_FLOOR);
                 if rel.abs() > change.abs() {
                     change = rel;

@@ -78,7 +78,8 @@ pub fn lubricated_cycle(
                         if !cycle.loaded(st, p) || !(st.patch[p].area_mm2 > 0.0) {
                             return Ok(None);
                         }
-                        let c = involute_contact(&kin, st.kinematic_position_mm[p], speed, crowning)?;
+                        let c =
+                            involute_contact(&kin, st.kinematic_position_mm[p], speed, crowning)?;
                         OperatingPoint::new(
                             &c,
                             st.pair_force_n[p],

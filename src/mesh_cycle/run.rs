@@ -559,9 +559,11 @@ pub fn settings(
                 film: l.film.unwrap_or_default(),
                 tolerance: l.tolerance.unwrap_or(0.005),
                 max_iterations: l.max_iterations.unwrap_or(10),
-                initial_mu: l
-                    .initial_mu
-                    .unwrap_or(if friction_mu > 0.0 { friction_mu } else { 0.05 }),
+                initial_mu: l.initial_mu.unwrap_or(if friction_mu > 0.0 {
+                    friction_mu
+                } else {
+                    0.05
+                }),
                 composite_roughness_mm: l.composite_roughness_um.map(|r| r * 1e-3),
                 mean_pressure: l.mean_pressure.unwrap_or_default(),
             };

@@ -40,8 +40,7 @@ pub(super) struct RawLubricant {
 
 pub(super) fn lubricant(cx: &Cx, raw: &RawLubricant) -> Res<Lubricant> {
     let check = |v: &Spanned<f64>, key: &str| -> Res<f64> {
-        check_range(key, *v.get_ref())
-            .map_err(|m| cx.err(v.span(), format!("[lubricant] {m}")))
+        check_range(key, *v.get_ref()).map_err(|m| cx.err(v.span(), format!("[lubricant] {m}")))
     };
     let bulk_temperature_c = match &raw.bulk_temperature_c {
         Some(t) => {
@@ -149,7 +148,10 @@ mod tests {
         );
         for (bad, words) in [
             ("lubrication = { tolerance = 0.0 }", &["tolerance"][..]),
-            ("lubrication = { max_iterations = 0 }", &["max_iterations"][..]),
+            (
+                "lubrication = { max_iterations = 0 }",
+                &["max_iterations"][..],
+            ),
             ("lubrication = { initial_mu = 0.0 }", &["initial_mu"][..]),
             ("lubrication = { film = \"grubin\" }", &["grubin"][..]),
         ] {

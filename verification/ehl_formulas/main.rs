@@ -45,7 +45,14 @@ fn e_prime() -> f64 {
 }
 
 /// Operating point in SI → flank's internal units (mm, N, s, MPa).
-fn film_input(eta_pa_s: f64, alpha_per_gpa: f64, rx_m: f64, ry_m: f64, w: f64, u: f64) -> FilmInput {
+fn film_input(
+    eta_pa_s: f64,
+    alpha_per_gpa: f64,
+    rx_m: f64,
+    ry_m: f64,
+    w: f64,
+    u: f64,
+) -> FilmInput {
     FilmInput {
         viscosity: eta_pa_s * 1e-6,
         pressure_viscosity: alpha_per_gpa * 1e-3,
@@ -96,17 +103,50 @@ fn film_thickness_against_hand_values() {
             [0.0827638, 0.0591991],
         ),
     ];
-    println!("{:<34} {:>12} {:>12}  rel. error", "quantity (µm)", "flank", "hand");
+    println!(
+        "{:<34} {:>12} {:>12}  rel. error",
+        "quantity (µm)", "flank", "hand"
+    );
     for (name, input, ch, hd, dh) in &points {
         let c = film_thickness(FilmModel::Chittenden, input).unwrap();
         let h = film_thickness(FilmModel::HamrockDowson, input).unwrap();
         let d = film_thickness(FilmModel::DowsonHigginson, input).unwrap();
-        close(&format!("{name}: Chittenden h_c"), c.central * 1e3, ch[0], TOL);
-        close(&format!("{name}: Chittenden h_min"), c.minimum * 1e3, ch[1], TOL);
-        close(&format!("{name}: Hamrock–Dowson h_c"), h.central * 1e3, hd[0], TOL);
-        close(&format!("{name}: Hamrock–Dowson h_min"), h.minimum * 1e3, hd[1], TOL);
-        close(&format!("{name}: Dowson–Higginson h_c"), d.central * 1e3, dh[0], TOL);
-        close(&format!("{name}: Dowson–Higginson h_min"), d.minimum * 1e3, dh[1], TOL);
+        close(
+            &format!("{name}: Chittenden h_c"),
+            c.central * 1e3,
+            ch[0],
+            TOL,
+        );
+        close(
+            &format!("{name}: Chittenden h_min"),
+            c.minimum * 1e3,
+            ch[1],
+            TOL,
+        );
+        close(
+            &format!("{name}: Hamrock–Dowson h_c"),
+            h.central * 1e3,
+            hd[0],
+            TOL,
+        );
+        close(
+            &format!("{name}: Hamrock–Dowson h_min"),
+            h.minimum * 1e3,
+            hd[1],
+            TOL,
+        );
+        close(
+            &format!("{name}: Dowson–Higginson h_c"),
+            d.central * 1e3,
+            dh[0],
+            TOL,
+        );
+        close(
+            &format!("{name}: Dowson–Higginson h_min"),
+            d.minimum * 1e3,
+            dh[1],
+            TOL,
+        );
         // two fits of the same numerical EHL solutions agree
         let agree = c.central / h.central - 1.0;
         println!("{name}: Chittenden / Hamrock–Dowson − 1 = {agree:+.4}");
@@ -142,7 +182,18 @@ fn traction_against_hand_values() {
     let lub = Lubricant::from_si(&oil()).unwrap();
     // (name, h_c m, R_x m, P̄ Pa, u m/s, v_s m/s, ζ, μ_thermal, μ used, flags)
     let points = [
-        ("T1", 0.15e-6, 5e-3, 1.0e9, 10.0, 5.0, 0.138991, 0.0260816, 0.0260816, vec![]),
+        (
+            "T1",
+            0.15e-6,
+            5e-3,
+            1.0e9,
+            10.0,
+            5.0,
+            0.138991,
+            0.0260816,
+            0.0260816,
+            vec![],
+        ),
         (
             "T2",
             0.3e-6,
@@ -177,7 +228,10 @@ fn traction_against_hand_values() {
             0.0161493,
             -0.0628635,
             0.4187e6 / 0.15e9,
-            vec![TractionFlag::ThermalFormulaNotPositive, TractionFlag::NotEyring],
+            vec![
+                TractionFlag::ThermalFormulaNotPositive,
+                TractionFlag::NotEyring,
+            ],
         ),
     ];
     for (name, h, rx, p, u, vs, zeta, mu_t, mu, flags) in points {
@@ -213,7 +267,10 @@ fn bad_lubricant_data_gives_clear_errors() {
             assert!(e.contains(w), "`{e}` lacks `{w}`");
         }
     };
-    bad(|s| s.viscosity_pa_s = -0.005, &["viscosity_pa_s", "-0.005", "0.0001"]);
+    bad(
+        |s| s.viscosity_pa_s = -0.005,
+        &["viscosity_pa_s", "-0.005", "0.0001"],
+    );
     // α in 1/Pa by mistake
     bad(
         |s| s.pressure_viscosity_per_gpa = 1.0e-8,
@@ -223,8 +280,14 @@ fn bad_lubricant_data_gives_clear_errors() {
         |s| s.pressure_viscosity_per_gpa = 200.0,
         &["pressure_viscosity_per_gpa", "60"],
     );
-    bad(|s| s.eyring_stress_mpa = f64::INFINITY, &["eyring_stress_mpa", "finite"]);
-    bad(|s| s.solid_conductivity_w_per_m_k = 0.0, &["solid_conductivity_w_per_m_k"]);
+    bad(
+        |s| s.eyring_stress_mpa = f64::INFINITY,
+        &["eyring_stress_mpa", "finite"],
+    );
+    bad(
+        |s| s.solid_conductivity_w_per_m_k = 0.0,
+        &["solid_conductivity_w_per_m_k"],
+    );
     // a film at zero entraining speed
     let mut i = film_input(0.00468, 10.0, 5e-3, 5e-3, 1000.0, 0.0);
     let e = film_thickness(FilmModel::Chittenden, &i).unwrap_err();
