@@ -270,6 +270,55 @@ pub fn evaluate(
 mod tests {
     use super::*;
 
+    /// The closed form against the TCA, whose speeds and curvatures come
+    /// from the flank surfaces themselves (normal differences ±1e-3 mm).
+    #[test]
+    fn closed_form_matches_the_surface_tca() {
+        use crate::geometry::gear_pair::LineKind;
+        use crate::tca::{Tca, TcaSettings};
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("papers/seed002-spur/scene.toml");
+        let scene = crate::scene::read_scene(&path).unwrap();
+        let pair = scene.gear_pair().unwrap();
+        let kin = MeshKinematics::new(&scene.pair, scene.mesh.teeth_in_sector as usize).unwrap();
+        let tca = Tca::new(pair.clone(), 11758.0, TcaSettings::default()).unwrap();
+        let mut checked = 0;
+        for roll_deg in [-9.0, -2.5, 0.0, 4.0, 11.0] {
+            let roll = f64::to_radians(roll_deg);
+            for line in tca.position(roll).unwrap().lines {
+                if line.kind != LineKind::Flank {
+                    continue;
+                }
+                let pt = &line.points[line.points.len() / 2];
+                let s = pair.path_position(line.pinion_tooth, roll);
+                let c = involute_contact(&kin, s, 11758.0, [0.0; 2]).unwrap();
+                assert!(!c.outside_path);
+                let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1e-9);
+                assert!(
+                    rel(c.entraining_speed_mm_s, pt.rolling_velocity * 1e3) < 1e-6,
+                    "{roll_deg}°: u {} vs {}",
+                    c.entraining_speed_mm_s,
+                    pt.rolling_velocity * 1e3
+                );
+                assert!(
+                    (c.sliding_speed_mm_s - pt.sliding_velocity * 1e3).abs()
+                        < 1e-6 * c.entraining_speed_mm_s,
+                    "{roll_deg}°: v_s {} vs {}",
+                    c.sliding_speed_mm_s,
+                    pt.sliding_velocity * 1e3
+                );
+                assert!(
+                    rel(c.radius_x_mm, pt.equivalent_radius_mm) < 1e-4,
+                    "{roll_deg}°: R_x {} vs {}",
+                    c.radius_x_mm,
+                    pt.equivalent_radius_mm
+                );
+                checked += 1;
+            }
+        }
+        assert!(checked >= 5, "{checked}");
+    }
+
     #[test]
     fn pitch_point_rolls_without_sliding() {
         let path =
