@@ -127,7 +127,7 @@ fn run_lubricated_loop_converges() {
     let dir = std::env::temp_dir().join(format!("flank_cli_run_lub_{}", std::process::id()));
     let d = dir.to_str().unwrap();
     let scene_path = "papers/seed002-spur/scene_lubricated.toml";
-    let (ok, _, err) = flank(&[
+    let (ok, stdout, err) = flank(&[
         "run",
         scene_path,
         "--flank-size",
@@ -140,6 +140,10 @@ fn run_lubricated_loop_converges() {
         d,
     ]);
     assert!(ok, "{err}");
+    assert!(
+        stdout.contains("lubrication: ") && stdout.contains("converged"),
+        "{stdout}"
+    );
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     let l = &s["lubrication"];
