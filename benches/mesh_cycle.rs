@@ -39,6 +39,7 @@ fn cycle() -> MeshCycle {
         refine_contact_limits: false,
         reference_single_contact_start_deg: None,
         extend_step_deg: None,
+        lubrication: None,
     };
     MeshCycle::new(&scene, &mesh, settings, 0).unwrap()
 }

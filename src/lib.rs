@@ -47,7 +47,10 @@
 //! * [`contact`]: node-to-surface FE contact (search, projection onto
 //!   quadratic faces, hard and penalty laws, Coulomb friction, by an active
 //!   set on the condensed problem; the stiffness is factorized once).
-//! * [`mesh_cycle`]: FE contact of a gear pair over roll angles (`flank run`).
+//! * [`mesh_cycle`]: FE contact of a gear pair over roll angles (`flank run`),
+//!   with the wet–dry lubrication loop of seed 002.
+//! * [`lubrication`]: lubricant data, EHL film thickness and traction per
+//!   contact, the wet–dry loop driver (called by mesh_cycle; uses geometry).
 //! * [`tca`]: unloaded tooth contact analysis through the interface
 //!   (contact lines, separations, moment arms, velocities, curvatures).
 //! * [`ltca`]: compliance-matrix LTCA, the contact QP per position (`flank ltca`).
@@ -90,6 +93,7 @@ pub mod fem;
 pub mod geometry;
 pub mod load_sharing;
 pub mod ltca;
+pub mod lubrication;
 pub mod mesh;
 pub mod mesh_cycle;
 pub mod report;

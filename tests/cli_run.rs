@@ -115,3 +115,143 @@ fn run_needs_a_contact_analysis_and_valid_options() {
     assert!(err.contains("penalty factor"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The wet–dry loop of seed 002 (`[analyses.lubrication]`) on a coarse
+/// mesh at five positions: it converges within its bound, μ stays below
+/// the paper's 0.05, every logged μ and h_c is what the EHL formulas give
+/// for the logged operating point, and the wet pass's FE friction forces
+/// respect the per-pair μ it was solved with.
+#[test]
+fn run_lubricated_loop_converges() {
+    use flank::lubrication::{evaluate, FilmModel, OperatingPoint};
+    let dir = std::env::temp_dir().join(format!("flank_cli_run_lub_{}", std::process::id()));
+    let d = dir.to_str().unwrap();
+    let scene_path = "papers/seed002-spur/scene_lubricated.toml";
+    let (ok, stdout, err) = flank(&[
+        "run",
+        scene_path,
+        "--flank-size",
+        "1.5",
+        "--base-size",
+        "3",
+        "--roll-angles=-8,-4,0,4,8",
+        "--no-vtu",
+        "--out",
+        d,
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        stdout.contains("lubrication: ") && stdout.contains("converged"),
+        "{stdout}"
+    );
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let l = &s["lubrication"];
+    for key in [
+        "iterations",
+        "mu_max",
+        "mu_last_change_rel",
+        "power_loss_w",
+        "efficiency",
+    ] {
+        assert!(l.get(key).is_some(), "lubrication lacks {key}");
+    }
+    assert_eq!(l["converged"], true, "{l}");
+    let iterations = l["iterations"].as_u64().unwrap();
+    assert!((1..=10).contains(&iterations), "{iterations}");
+    assert!(l["mu_last_change_rel"].as_f64().unwrap().abs() < 0.005);
+    let mu_max = l["mu_max"].as_f64().unwrap();
+    assert!(mu_max > 0.0 && mu_max < 0.05, "{mu_max}");
+    let eff = l["efficiency"].as_f64().unwrap();
+    assert!(eff > 0.9 && eff < 1.0, "{eff}");
+    assert_eq!(l["passes"].as_array().unwrap().len() as u64, iterations + 1);
+
+    // every logged μ and h_c from the logged operating point
+    let scene = flank::scene::read_scene(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(scene_path),
+    )
+    .unwrap();
+    let lub = scene.lubricant.unwrap();
+    let e_prime = l["reduced_modulus_mpa"].as_f64().unwrap();
+    let length = l["contact_length_mm"].as_f64().unwrap();
+    let csv = std::fs::read_to_string(dir.join("lubrication.csv")).unwrap();
+    let mut rows = 0;
+    let mut wet_mu = std::collections::HashMap::new();
+    for line in csv.lines().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        let x = |i: usize| f[i].parse::<f64>().unwrap();
+        let (load, p) = (x(2), x(3));
+        let point = OperatingPoint {
+            load_n: load,
+            contact_area_mm2: load / p,
+            mean_pressure_mpa: p,
+            other_mean_pressure_mpa: x(4),
+            radius_x_mm: x(5),
+            radius_y_mm: if f[6] == "line" { f64::INFINITY } else { x(6) },
+            length_mm: length,
+            entraining_speed_mm_s: x(7) * 1e3,
+            sliding_speed_mm_s: x(8) * 1e3,
+            reduced_modulus_mpa: e_prime,
+            outside_path: f[18].contains("OutsidePath"),
+        };
+        let c = evaluate(&lub, FilmModel::Chittenden, &point, None).unwrap();
+        let rel = |a: f64, b: f64| (a / b - 1.0).abs();
+        assert!(rel(c.film.central * 1e3, x(10)) < 1e-9, "{line}");
+        assert!(rel(c.traction.mu, x(14)) < 1e-9, "{line}");
+        assert!(
+            rel(c.power_loss_w.max(1e-300), x(17).max(1e-300)) < 1e-9,
+            "{line}"
+        );
+        wet_mu.insert((f[0].to_string(), f[1].to_string()), x(14));
+        rows += 1;
+    }
+    assert!(rows >= 5, "{rows} loaded contacts");
+
+    // the last wet pass was solved with per-pair μ: its FE friction force
+    // per pair is inside that pair's Coulomb cone, μ_used · W
+    let passes = std::fs::read_to_string(dir.join("lubrication_passes.csv")).unwrap();
+    let last = iterations.to_string();
+    let mut used = std::collections::HashMap::new();
+    for line in passes.lines().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        if f[0] == last {
+            used.insert(
+                (f[1].to_string(), f[2].to_string()),
+                f[3].parse::<f64>().unwrap(),
+            );
+        }
+    }
+    // μ used in the last pass = μ_EHL of the pass before, within the tolerance of μ_EHL now
+    for (k, mu) in &used {
+        let now = wet_mu[k];
+        assert!((now / mu - 1.0).abs() < 0.005, "{k:?}: {mu} vs {now}");
+    }
+    let cycle = std::fs::read_to_string(dir.join("mesh_cycle.csv")).unwrap();
+    let mut lines = cycle.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
+    let mut checked = 0;
+    for line in lines {
+        let f: Vec<&str> = line.split(',').collect();
+        for p in 1..=3 {
+            let key = (f[0].to_string(), p.to_string());
+            let Some(mu) = used.get(&key) else { continue };
+            let w: f64 = f[col(&format!("force_pair{p}_n"))].parse().unwrap();
+            let t: f64 = f[col(&format!("friction_pair{p}_n"))].parse().unwrap();
+            assert!(
+                t <= mu * w * (1.0 + 1e-6) + 1e-6,
+                "{key:?}: {t} > {mu} × {w}"
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 5);
+    for file in [
+        "lubrication_mu.svg",
+        "lubrication_film.png",
+        "lubrication_power_loss.svg",
+    ] {
+        assert!(dir.join(file).exists(), "{file} missing");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

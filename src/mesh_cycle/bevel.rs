@@ -311,7 +311,7 @@ impl BevelCycle {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::gear_pair::{Flank, GearBody};
+    use crate::geometry::gear_pair::Flank;
     use crate::scene::{read_any_scene, AnyScene};
 
     /// Seed 003, coarse, roll 0: the contact forces balance the torque

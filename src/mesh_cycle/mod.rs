@@ -11,12 +11,17 @@
 //!             transmission error, pressure, patch; contact ratio,
 //!             single-pair force; CSV, summary.json, VTU, plots
 //!             (`report::cycle_plot`)
+//! bevel       a bevel/hypoid pair's FE contact at a roll angle (the
+//!             bevel sector meshes, the same pair model and solver)
+//! lubricated  the wet–dry loop of seed 002 (`[analyses.lubrication]`):
+//!             EHL μ per tooth pair and position, wet passes
 //! ```
 //!
 //! The pair's kinematics (frames, tooth pairs, kinematic contact) come
 //! from the gear-pair interface ([`crate::geometry::gear_pair`]).
 
 pub mod bevel;
+pub mod lubricated;
 pub mod pair_model;
 pub mod run;
 

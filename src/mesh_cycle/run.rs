@@ -170,6 +170,9 @@ pub struct RunSettings {
     pub extend_step_deg: Option<f64>,
     /// reference = roll − (kinematic start of single contact) + this.
     pub reference_single_contact_start_deg: Option<f64>,
+    /// The wet–dry loop (`[analyses.lubrication]`); its dry pass runs at
+    /// `friction_mu` = μ₀.
+    pub lubrication: Option<crate::lubrication::LoopSettings>,
 }
 
 /// A solved roll angle with its fields.
@@ -279,6 +282,32 @@ impl MeshCycle {
 
     /// Solves one roll angle (deg) with the factorized stiffness.
     pub fn solve(&self, roll_deg: f64) -> Result<Solved, FlankError> {
+        self.solve_with_mu(roll_deg, None)
+    }
+
+    /// [`Self::solve`] with a Coulomb coefficient per tooth pair (`mu[p]`,
+    /// ≥ 0) instead of the run's `friction_mu` (which must be > 0: the
+    /// tangential rows are built with it).
+    pub fn solve_with_mu(&self, roll_deg: f64, mu: Option<&[f64]>) -> Result<Solved, FlankError> {
+        if let Some(m) = mu {
+            if m.len() != self.pair.teeth.len() {
+                return Err(FlankError::Model(format!(
+                    "roll angle {roll_deg}°: {} friction coefficients for {} tooth pairs",
+                    m.len(),
+                    self.pair.teeth.len()
+                )));
+            }
+            if !(self.settings.friction_mu > 0.0) {
+                return Err(FlankError::Model(
+                    "a friction coefficient per tooth pair needs a run with friction (friction_mu > 0)".into(),
+                ));
+            }
+            if let Some(bad) = m.iter().find(|v| !(**v >= 0.0 && **v <= 1.0)) {
+                return Err(FlankError::Model(format!(
+                    "roll angle {roll_deg}°: friction coefficient {bad} must be in 0…1"
+                )));
+            }
+        }
         let t = Instant::now();
         let roll = roll_deg.to_radians();
         let placement = self.placement(roll);
@@ -298,11 +327,16 @@ impl MeshCycle {
         let mut raises = 0;
         let mut switched = false;
         let (pairs, state) = loop {
-            let pairs: Vec<PairGeometry> = pairing
+            let mut pairs: Vec<PairGeometry> = pairing
                 .iter()
                 .map(|&(p, _)| build_pair_placed(model, &placement, p, &options.pairing))
                 .collect::<Result<_, _>>()
                 .map_err(at)?;
+            if let Some(m) = mu {
+                for (g, &v) in pairs.iter_mut().zip(m) {
+                    g.mu = v;
+                }
+            }
             let state = solve_pairs_placed(model, &self.system, &pairs, &placement, &options)
                 .map_err(at)?;
             if state.uncovered == 0 {
@@ -518,7 +552,32 @@ pub fn settings(
     let a = scene.analyses.contact.clone().unwrap_or_default();
     let law = o.law.or(a.law).unwrap_or_default();
     let penalty_factor = o.penalty_factor.or(a.penalty_factor).unwrap_or(1.0);
-    let friction_mu = o.friction_mu.or(a.friction_mu).unwrap_or(0.0);
+    let mut friction_mu = o.friction_mu.or(a.friction_mu).unwrap_or(0.0);
+    let lubrication = match (&scene.analyses.lubrication, &scene.lubricant) {
+        (Some(l), Some(_)) => {
+            let s = crate::lubrication::LoopSettings {
+                film: l.film.unwrap_or_default(),
+                tolerance: l.tolerance.unwrap_or(0.005),
+                max_iterations: l.max_iterations.unwrap_or(10),
+                initial_mu: l.initial_mu.unwrap_or(if friction_mu > 0.0 {
+                    friction_mu
+                } else {
+                    0.05
+                }),
+                composite_roughness_mm: l.composite_roughness_um.map(|r| r * 1e-3),
+                mean_pressure: l.mean_pressure.unwrap_or_default(),
+            };
+            crate::lubrication::wet_dry::check_settings(&s)?;
+            friction_mu = s.initial_mu;
+            Some(s)
+        }
+        (Some(_), None) => {
+            return Err(FlankError::Model(
+                "[analyses.lubrication] needs a [lubricant] table".into(),
+            ))
+        }
+        _ => None,
+    };
     if !(0.0..=1.0).contains(&friction_mu) {
         return Err(FlankError::Model(format!(
             "friction coefficient {friction_mu} must be in 0…1"
@@ -570,6 +629,7 @@ pub fn settings(
             .unwrap_or(true),
         reference_single_contact_start_deg: a.reference_single_contact_start_deg,
         extend_step_deg: default_range.then(|| a.roll_step_deg.unwrap_or(1.0)),
+        lubrication,
     })
 }
 
@@ -685,11 +745,25 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
         }
     }
     bar.finish_and_clear();
+    let mut notes: Vec<String> = Vec::new();
+    // the wet–dry loop: the positions solved so far are its dry pass
+    let mut lubrication = None;
+    if let Some(ls) = cycle.settings.lubrication.clone() {
+        let dry = std::mem::take(&mut steps);
+        let lc = crate::mesh_cycle::lubricated::lubricated_cycle(&cycle, scene, &ls, dry, out)?;
+        steps = lc.steps;
+        if cycle.settings.refine_contact_limits {
+            notes.push(format!(
+                "the contact-limit bisection runs at the dry pass's μ₀ = {}",
+                ls.initial_mu
+            ));
+        }
+        lubrication = Some(lc.summary);
+    }
     let time_per_position_s =
         steps.iter().map(|s| s.time_s).sum::<f64>() / steps.len().max(1) as f64;
 
     // contact ratio from the middle pair's loaded interval
-    let mut notes: Vec<String> = Vec::new();
     let mut refine_solves = 0;
     let mut limits: Option<(f64, f64)> = None;
     let loaded: Vec<bool> = steps.iter().map(|s| cycle.loaded(s, mid)).collect();
@@ -792,6 +866,9 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
         "total_s": t_total.elapsed().as_secs_f64(),
         "nodes": cycle.pair.model.mesh.node_count(),
     });
+    if let (Some(m), Some(l)) = (summary.as_object_mut(), lubrication) {
+        m.insert("lubrication".into(), l);
+    }
     let more = serde_json::json!({
         "nodes_per_body": cycle.pair.nodes,
         "elements_per_body": cycle.pair.elements,

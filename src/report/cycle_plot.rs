@@ -90,6 +90,38 @@ pub fn plot_cycle(
     Ok(files)
 }
 
+/// Writes `<stem>.{svg,png}` into `out`: a line chart of `curves` (label,
+/// points (x, y)); a curve may have gaps (it is drawn through its points).
+/// Returns the file names.
+pub fn plot_series(
+    out: &Path,
+    stem: &str,
+    title: &str,
+    x_desc: &str,
+    y_desc: &str,
+    curves: &[(String, Vec<(f64, f64)>)],
+) -> Result<Vec<String>, FlankError> {
+    if curves.iter().all(|(_, p)| p.is_empty()) {
+        return Ok(Vec::new());
+    }
+    let chart = Chart {
+        title,
+        x_desc,
+        y_desc,
+        curves: curves
+            .iter()
+            .enumerate()
+            .map(|(i, (label, points))| Curve {
+                label: label.clone(),
+                colour: i,
+                points: points.clone(),
+            })
+            .collect(),
+        reference: None,
+    };
+    write_svg_png(out, stem, &chart)
+}
+
 impl Figure for Chart<'_> {
     fn size(&self) -> (u32, u32) {
         (900, 600)

@@ -113,6 +113,32 @@ pub struct LtcaAnalysis {
     pub base_size_mm: Option<f64>,
 }
 
+/// Options of the `lubrication` analysis (the wet–dry loop of seed 002,
+/// [`crate::lubrication::wet_dry`], run by `flank run` with the FE contact
+/// cycle; needs a `[lubricant]` table and a pinion speed > 0), e.g.
+/// `lubrication = { tolerance = 0.005, max_iterations = 10 }`.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LubricationAnalysis {
+    /// Largest relative change of μ between passes that ends the loop
+    /// (0 < tol < 1; default 0.005, i.e. 0.5 %).
+    pub tolerance: Option<f64>,
+    /// Largest number of wet passes (1 … 100; default 10).
+    pub max_iterations: Option<usize>,
+    /// μ₀ of the dry pass (0 < μ₀ ≤ 1; default `analyses.contact.friction_mu`
+    /// if > 0, else 0.05 as seed 002).
+    pub initial_mu: Option<f64>,
+    /// Film fit: `chittenden` (default, seed 002 eq. 2), `hamrock_dowson`
+    /// or `dowson_higginson` (line contact).
+    pub film: Option<crate::lubrication::FilmModel>,
+    /// Composite roughness σ = (R_q1² + R_q2²)^½ (µm, > 0) for the λ ratio.
+    pub composite_roughness_um: Option<f64>,
+    /// P̄: `contact_area` (default, W/A of the contact solution, seed 002
+    /// eqs. 10–11) or `hertz` (line contact from W and R_x; for meshes that
+    /// do not resolve the contact width).
+    pub mean_pressure: Option<crate::lubrication::MeanPressure>,
+}
+
 /// The analyses a scene asks for; an absent entry is not computed.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct Analyses {
@@ -120,11 +146,16 @@ pub struct Analyses {
     pub compliance: Option<ComplianceAnalysis>,
     pub contact: Option<ContactAnalysis>,
     pub ltca: Option<LtcaAnalysis>,
+    pub lubrication: Option<LubricationAnalysis>,
+    /// Where `lubrication` was given (byte span; for errors found later).
+    #[serde(skip)]
+    pub(super) lubrication_span: Option<std::ops::Range<usize>>,
 }
 
 impl Analyses {
     /// Names an `[analyses]` table accepts.
-    pub const KNOWN: &'static [&'static str] = &["mesh", "compliance", "contact", "ltca"];
+    pub const KNOWN: &'static [&'static str] =
+        &["mesh", "compliance", "contact", "ltca", "lubrication"];
 }
 
 pub(super) type RawAnalyses = Spanned<BTreeMap<Spanned<String>, Spanned<toml::Value>>>;
@@ -185,6 +216,18 @@ pub(super) fn analyses(cx: &Cx, raw: Option<&RawAnalyses>) -> Res<Analyses> {
                 check_ltca_analysis(&v)
                     .map_err(|m| cx.err(value.span(), format!("`analyses.ltca`: {m}")))?;
                 out.ltca = Some(v);
+            }
+            "lubrication" => {
+                let v: LubricationAnalysis = value.get_ref().clone().try_into().map_err(|e| {
+                    cx.err(
+                        value.span(),
+                        format!("`analyses.lubrication`: {}", toml_message(&e)),
+                    )
+                })?;
+                check_lubrication_analysis(&v)
+                    .map_err(|m| cx.err(value.span(), format!("`analyses.lubrication`: {m}")))?;
+                out.lubrication = Some(v);
+                out.lubrication_span = Some(value.span());
             }
             other => {
                 return Err(cx.err(
@@ -271,6 +314,37 @@ fn check_contact_analysis(v: &ContactAnalysis) -> Result<(), String> {
         if !(0.0..=1.0).contains(&mu) {
             return Err(format!(
                 "friction_mu must be in 0…1 (lubricated steel flanks: 0.02–0.1), got {mu}"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Range checks of `[analyses.lubrication]` (types are serde's).
+fn check_lubrication_analysis(v: &LubricationAnalysis) -> Result<(), String> {
+    if let Some(t) = v.tolerance {
+        if !(t > 0.0 && t < 1.0) {
+            return Err(format!(
+                "tolerance must be in (0, 1) (relative change of μ; 0.005 = 0.5 %), got {t}"
+            ));
+        }
+    }
+    if let Some(n) = v.max_iterations {
+        if !(1..=100).contains(&n) {
+            return Err(format!("max_iterations must be in 1 … 100, got {n}"));
+        }
+    }
+    if let Some(mu) = v.initial_mu {
+        if !(mu > 0.0 && mu <= 1.0) {
+            return Err(format!(
+                "initial_mu (μ₀ of the dry pass) must be in (0, 1], got {mu}"
+            ));
+        }
+    }
+    if let Some(r) = v.composite_roughness_um {
+        if !(r > 0.0 && r.is_finite() && r < 100.0) {
+            return Err(format!(
+                "composite_roughness_um must be in (0, 100) µm, got {r}"
             ));
         }
     }
@@ -376,11 +450,11 @@ mod tests {
 
     #[test]
     fn unknown_analysis() {
-        let t = edit(SPUR, "mesh = {}\n", "mesh = {}\nlubrication = {}\n");
+        let t = edit(SPUR, "mesh = {}\n", "mesh = {}\nthermal = {}\n");
         expect_err(
             &t,
-            line_of(&t, "lubrication"),
-            &["lubrication", "known analyses: mesh", "ltca"],
+            line_of(&t, "thermal"),
+            &["thermal", "known analyses: mesh", "ltca", "lubrication"],
         );
         let t = edit(SPUR, "mesh = {}\n", "mesh = { order = 2 }\n");
         expect_err(&t, line_of(&t, "order"), &["analyses.mesh", "order"]);

@@ -250,6 +250,12 @@ pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<BevelScene> {
         materials::material(cx, &raw.materials, &raw.gear.get_ref().material, "gear")?;
     let load = load::load(cx, &raw.load)?;
     let analyses = analyses::analyses(cx, raw.analyses.as_ref())?;
+    if let Some(span) = analyses.lubrication_span.clone() {
+        return Err(cx.err(
+            span,
+            "`analyses.lubrication`: the lubricated analysis handles spur and helical pairs only so far".into(),
+        ));
+    }
     let mesh = mesh::mesh_options(cx, raw.mesh.as_ref(), inputs.z1, blank.cones.m_mn)?;
 
     // how each member is cut, and the members

@@ -77,6 +77,7 @@ mod gear;
 mod involute;
 mod load;
 mod location;
+mod lubricant;
 mod materials;
 mod mesh;
 mod pair;
@@ -105,7 +106,9 @@ use materials::RawMaterial;
 use mesh::RawMesh;
 use pair::RawPair;
 
-pub use analyses::{Analyses, ComplianceAnalysis, ContactAnalysis, LtcaAnalysis, MeshAnalysis};
+pub use analyses::{
+    Analyses, ComplianceAnalysis, ContactAnalysis, LtcaAnalysis, LubricationAnalysis, MeshAnalysis,
+};
 pub use bevel::{BevelKind, BevelScene};
 pub use load::Load;
 pub use mesh::{ElementKind, MeshOptions};
@@ -128,6 +131,8 @@ pub struct Scene {
     pub micro: [Option<MicroGeometry>; 2],
     pub analyses: Analyses,
     pub mesh: MeshOptions,
+    /// `[lubricant]`: oil and solid thermal data (internal units), if given.
+    pub lubricant: Option<crate::lubrication::Lubricant>,
     /// The scene file (as given); relative paths inside it are resolved against its folder.
     pub source: PathBuf,
 }
@@ -267,6 +272,7 @@ struct RawScene {
     load: RawLoad,
     analyses: Option<RawAnalyses>,
     mesh: Option<RawMesh>,
+    lubricant: Option<lubricant::RawLubricant>,
 }
 
 fn build(cx: &Cx, raw: RawScene) -> Res<Scene> {
@@ -300,6 +306,27 @@ fn build(cx: &Cx, raw: RawScene) -> Res<Scene> {
     ];
 
     let analyses = analyses::analyses(cx, raw.analyses.as_ref())?;
+    let lubricant = match &raw.lubricant {
+        Some(l) => Some(lubricant::lubricant(cx, l)?),
+        None => None,
+    };
+    if let Some(span) = analyses.lubrication_span.clone() {
+        if lubricant.is_none() {
+            return Err(cx.err(
+                span,
+                "`analyses.lubrication` needs a [lubricant] table (viscosity_pa_s, pressure_viscosity_per_gpa, …)".into(),
+            ));
+        }
+        if !(load.speed_rpm > 0.0) {
+            return Err(cx.err(
+                span,
+                format!(
+                    "`analyses.lubrication` needs `load.speed_rpm` > 0 (got {}): an EHL film needs an entraining speed",
+                    load.speed_rpm
+                ),
+            ));
+        }
+    }
     let min_teeth = pair.pinion.teeth.min(pair.gear.teeth);
     let min_module = pair.pinion.normal_module.min(pair.gear.normal_module);
     let mesh = mesh::mesh_options(cx, raw.mesh.as_ref(), min_teeth, min_module)?;
@@ -313,6 +340,7 @@ fn build(cx: &Cx, raw: RawScene) -> Res<Scene> {
         micro,
         analyses,
         mesh,
+        lubricant,
         source: cx.file.to_path_buf(),
     };
     // bind the modifications to their gears now (a relief longer than the

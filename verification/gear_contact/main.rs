@@ -73,6 +73,7 @@ fn settings(law: ContactLaw, factor: f64, slave: SlaveBody) -> RunSettings {
         refine_contact_limits: false,
         reference_single_contact_start_deg: None,
         extend_step_deg: None,
+        lubrication: None,
     }
 }
 
