@@ -9,6 +9,7 @@ pub mod gear_sector;
 #[cfg(feature = "gmsh")]
 pub mod gmsh;
 pub mod hertz;
+pub mod hertz_point;
 pub mod inp;
 pub mod msh;
 pub mod structured;
