@@ -201,12 +201,7 @@ pub fn hertz_elliptic(
 /// D_y = 2 (6 k² Ɛ P R/(π E′))^⅓, Dₓ = 2 (6 Ɛ P R/(π k E′))^⅓,
 /// δ = F (9/(2ƐR) (P/(π k E′))²)^⅓. A cross-check of the exact solution
 /// only (their stated accuracy is a few per cent).
-pub fn hamrock_brewe(
-    load: f64,
-    curvature_x: f64,
-    curvature_y: f64,
-    e_star: f64,
-) -> HertzEllipse {
+pub fn hamrock_brewe(load: f64, curvature_x: f64, curvature_y: f64, e_star: f64) -> HertzEllipse {
     // Rx: the smaller reduced radius (larger curvature)
     let (ax, ay) = (curvature_x.max(curvature_y), curvature_x.min(curvature_y));
     let (rx, ry) = (0.5 / ax, 0.5 / ay);
@@ -261,7 +256,10 @@ mod tests {
         for m in [0.01, 0.3, 0.77, 0.999] {
             let (k, e) = complete_elliptic(m).unwrap();
             let (kp, ep) = complete_elliptic(1.0 - m).unwrap();
-            assert!((e * kp + ep * k - k * kp - 0.5 * PI).abs() < 1e-13, "m = {m}");
+            assert!(
+                (e * kp + ep * k - k * kp - 0.5 * PI).abs() < 1e-13,
+                "m = {m}"
+            );
         }
         assert!(complete_elliptic(1.0).is_err());
         assert!(complete_elliptic(-0.1).is_err());
