@@ -9,7 +9,8 @@
 //! Mechanics*, 1985, §4.2). With the semi-major axis a along the smaller
 //! curvature, the semi-minor axis b, e² = 1 − b²/a² and the complete
 //! elliptic integrals K(e), E(e) (Johnson's notation: modulus e), the
-//! displacements of the ellipsoidal pressure (Johnson eq. 3.69–3.70) give
+//! displacements of the ellipsoidal pressure on a half-space (Johnson ch. 3,
+//! pressure on an elliptical region) give
 //!
 //! ```text
 //!   B/A = ((a/b)² E(e) − K(e)) / (K(e) − E(e))               (eccentricity)
@@ -103,7 +104,7 @@ pub struct HertzEllipse {
     pub e: f64,
 }
 
-/// Hertz elliptical contact (Johnson §4.2, eq. 4.36–4.40 in the form of
+/// Hertz elliptical contact (Johnson §4.2, in the form of
 /// the module doc): total force `load` P (N), gap coefficients
 /// `curvature_x` A and `curvature_y` B (1/mm; h = A x² + B y², so
 /// A = 1/(2R) for a sphere of radius R on a flat), contact modulus
@@ -268,7 +269,7 @@ mod tests {
     }
 
     /// Equal curvatures: the sphere on a flat, a = (3PR/(4E*))^⅓,
-    /// p₀ = 3P/(2πa²), δ = a²/R (Johnson eq. 4.22–4.23).
+    /// p₀ = 3P/(2πa²), δ = a²/R (Johnson §4.2, the circular case).
     #[test]
     fn circular_limit_is_the_sphere() {
         let (p, r, es) = (1000.0, 10.0, 115_384.6);

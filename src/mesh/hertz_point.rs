@@ -5,7 +5,7 @@
 //! The cap's contact surface is z = x²/(2Rₓ) + y²/(2R_y): the gap to the
 //! block's top (z = 0) is exactly Hertz's quadratic separation
 //! h = A x² + B y², A = 1/(2Rₓ), B = 1/(2R_y) (Johnson, *Contact
-//! Mechanics*, §4.1, eq. 4.6), so what separates the FE answer from the
+//! Mechanics*, §4.1), so what separates the FE answer from the
 //! Hertz solution is the mesh and the finite bodies, not a higher-order
 //! term of the profile.
 //!
