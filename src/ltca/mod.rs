@@ -6,6 +6,7 @@
 //!   every answer with its KKT residual.
 
 pub mod cycle;
+pub mod hertz_elliptic;
 pub mod local;
 pub mod model;
 pub mod pattern;

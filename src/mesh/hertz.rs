@@ -92,7 +92,7 @@ pub fn graded_distribution(length: f64, extent: f64, fine: usize, growth: f64) -
 
 /// Lattice coordinate (node index along an axis, 0..=2n) to position on a
 /// distribution of cell boundaries: even = boundary, odd = cell middle.
-fn lattice_position(dist: &[f64], l: usize) -> f64 {
+pub(crate) fn lattice_position(dist: &[f64], l: usize) -> f64 {
     if l.is_multiple_of(2) {
         dist[l / 2]
     } else {

@@ -12,6 +12,7 @@ pub mod gear_sector;
 pub mod gmsh;
 pub mod grading;
 pub mod hertz;
+pub mod hertz_point;
 pub mod inp;
 pub mod msh;
 pub mod structured;
