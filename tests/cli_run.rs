@@ -255,3 +255,47 @@ fn run_lubricated_loop_converges() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `flank run` on a hypoid scene (seed 003, coarse, three roll angles):
+/// positions.csv and summary.json; per position the contact forces balance
+/// the torque about the pinion axis and the shares add to 1.
+#[test]
+fn seed003_hypoid_run_writes_balanced_positions() {
+    let out = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_run_seed003");
+    let _ = std::fs::remove_dir_all(&out);
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_flank"))
+        .args([
+            "run",
+            "papers/seed003-hypoid/scene.toml",
+            "--flank-size",
+            "2",
+            "--base-size",
+            "8",
+            "--roll-angles",
+            "-10,0,10",
+            "--threads",
+            "2",
+            "--quiet",
+            "--out",
+        ])
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["positions"], 3);
+    assert!(s["max_moment_balance"].as_f64().unwrap() < 1e-9);
+    for st in s["steps"].as_array().unwrap() {
+        let shares: f64 = st["load_share"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .sum();
+        assert!((shares - 1.0).abs() < 1e-12, "{shares}");
+        assert!(st["te_arcsec"].as_f64().unwrap().is_finite());
+    }
+    let csv = std::fs::read_to_string(out.join("positions.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 3 * 3);
+}

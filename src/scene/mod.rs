@@ -209,7 +209,7 @@ pub fn parse_scene(text: &str, path: &Path) -> Result<Scene, FlankError> {
         return Err(cx.err(
             kind.span(),
             format!(
-                "`pair.kind` = \"{}\": this command handles spur and helical pairs only so far (bevel and hypoid scenes are read by `flank check` and `flank grid`)",
+                "`pair.kind` = \"{}\": this command handles spur and helical pairs only so far (bevel and hypoid scenes are read by `flank check`, `flank grid`, `flank tca`, `flank mesh` and `flank run`)",
                 kind.get_ref()
             ),
         ));
