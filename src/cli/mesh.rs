@@ -75,7 +75,6 @@ fn mesh_scene(
     use flank::geometry::involute::base_radius;
     use flank::mesh::gear_body::{body_model, Mesher, GMSH_AVAILABLE, GMSH_MISSING};
     use flank::mesh::gear_sector::SectorOptions;
-    use std::io::Write;
     let scene = match flank::scene::read_any_scene(path)? {
         flank::scene::AnyScene::Cylindrical(s) => s,
         flank::scene::AnyScene::Bevel(b) => {
@@ -146,23 +145,7 @@ fn mesh_scene(
         let rb = base_radius(spec);
         let modified = &body.modification;
         let mesh = &body.model.mesh;
-        flank::mesh::inp::write_deck(&body.model, &out.join(format!("{name}.inp")))?;
-        flank::report::vtu::write_vtu(&out.join(format!("{name}.vtu")), mesh, &[], &[])?;
-        let uv_path = out.join(format!("{name}_flank_uv.csv"));
-        let mut w = std::io::BufWriter::new(std::fs::File::create(&uv_path)?);
-        writeln!(w, "node,u,v_mm")?;
-        let mut uv: Vec<(&usize, &(f64, f64))> = body.sector.flank_uv.iter().collect();
-        uv.sort_by_key(|(n, _)| **n);
-        for (&n, &(u, v)) in uv {
-            writeln!(w, "{},{:e},{:e}", mesh.node_labels[n], u, v)?;
-        }
-        w.flush()?;
-        let flank_nodes: usize = mesh
-            .node_sets
-            .iter()
-            .filter(|(k, _)| k.starts_with("FLANK_"))
-            .map(|(_, v)| v.len())
-            .sum();
+        let flank_nodes = write_body(out, name, &body.model, &body.sector.flank_uv, "node,u,v_mm")?;
         bodies.insert(
             name.to_string(),
             serde_json::json!({
@@ -221,7 +204,6 @@ fn mesh_bevel_scene(
 ) -> Result<()> {
     use flank::mesh::bevel_body::bevel_body_model;
     use flank::mesh::bevel_sector::BevelSectorOptions;
-    use std::io::Write;
     let element = match element {
         Some(e) => e == MeshElement::Hex20,
         None => scene.mesh.element == flank::scene::ElementKind::Hex20,
@@ -267,23 +249,13 @@ fn mesh_bevel_scene(
     let mut bodies = serde_json::Map::new();
     for ((name, _), body) in members.iter().zip(&models) {
         let mesh = &body.model.mesh;
-        flank::mesh::inp::write_deck(&body.model, &out.join(format!("{name}.inp")))?;
-        flank::report::vtu::write_vtu(&out.join(format!("{name}.vtu")), mesh, &[], &[])?;
-        let uv_path = out.join(format!("{name}_flank_uv.csv"));
-        let mut w = std::io::BufWriter::new(std::fs::File::create(&uv_path)?);
-        writeln!(w, "node,u_mm,v_mm")?;
-        let mut uv: Vec<(&usize, &(f64, f64))> = body.sector.flank_uv.iter().collect();
-        uv.sort_by_key(|(n, _)| **n);
-        for (&n, &(u, v)) in uv {
-            writeln!(w, "{},{:e},{:e}", mesh.node_labels[n], u, v)?;
-        }
-        w.flush()?;
-        let flank_nodes: usize = mesh
-            .node_sets
-            .iter()
-            .filter(|(k, _)| k.starts_with("FLANK_"))
-            .map(|(_, v)| v.len())
-            .sum();
+        let flank_nodes = write_body(
+            out,
+            name,
+            &body.model,
+            &body.sector.flank_uv,
+            "node,u_mm,v_mm",
+        )?;
         let q = &body.sector.quality;
         bodies.insert(
             name.to_string(),
@@ -330,4 +302,34 @@ fn mesh_bevel_scene(
     )?;
     println!("wrote {}", out.display());
     Ok(())
+}
+
+/// Writes a body's deck (`<name>.inp`), VTU and flank parameters
+/// (`<name>_flank_uv.csv`, header `header`); returns its flank node count.
+fn write_body(
+    out: &std::path::Path,
+    name: &str,
+    model: &flank::fem::model::Model,
+    flank_uv: &std::collections::HashMap<usize, (f64, f64)>,
+    header: &str,
+) -> Result<usize> {
+    use std::io::Write;
+    let mesh = &model.mesh;
+    flank::mesh::inp::write_deck(model, &out.join(format!("{name}.inp")))?;
+    flank::report::vtu::write_vtu(&out.join(format!("{name}.vtu")), mesh, &[], &[])?;
+    let uv_path = out.join(format!("{name}_flank_uv.csv"));
+    let mut w = std::io::BufWriter::new(std::fs::File::create(&uv_path)?);
+    writeln!(w, "{header}")?;
+    let mut uv: Vec<(&usize, &(f64, f64))> = flank_uv.iter().collect();
+    uv.sort_by_key(|(n, _)| **n);
+    for (&n, &(u, v)) in uv {
+        writeln!(w, "{},{:e},{:e}", mesh.node_labels[n], u, v)?;
+    }
+    w.flush()?;
+    Ok(mesh
+        .node_sets
+        .iter()
+        .filter(|(k, _)| k.starts_with("FLANK_"))
+        .map(|(_, v)| v.len())
+        .sum())
 }

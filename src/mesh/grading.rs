@@ -48,6 +48,36 @@ pub fn half_lattice(sizes: &[f64]) -> Vec<f64> {
     out
 }
 
+/// Half-lattice fractions across a tooth row of the given width with
+/// 2·`half` elements: first layer `flank_size` at both flanks, geometric
+/// growth q ∈ [1, 1.3] to the middle (q = 1.3 and a thicker first layer
+/// where the row is too wide for its elements, uniform where it is too
+/// narrow, e.g. near the tip). Bounded bisection for q (60 halvings).
+pub fn row_fractions(width: f64, half: usize, flank_size: f64) -> Vec<f64> {
+    let sum = |q: f64| (0..half).map(|k| q.powi(k as i32)).sum::<f64>();
+    let target = 0.5 * width / flank_size;
+    let q = if target <= half as f64 {
+        1.0
+    } else if target >= sum(1.3) {
+        1.3
+    } else {
+        let (mut lo, mut hi) = (1.0, 1.3);
+        for _ in 0..60 {
+            let m = 0.5 * (lo + hi);
+            if sum(m) < target {
+                lo = m;
+            } else {
+                hi = m;
+            }
+        }
+        0.5 * (lo + hi)
+    };
+    let h: Vec<f64> = (0..half).map(|k| q.powi(k as i32)).collect();
+    let mut all = h.clone();
+    all.extend(h.iter().rev());
+    half_lattice(&all)
+}
+
 #[cfg(test)]
 mod tests {
     use super::{graded, half_lattice};

@@ -5,6 +5,7 @@
 
 use super::station::FaceLayout;
 use crate::geometry::gear_pair::Flank;
+use crate::mesh::grading::row_fractions;
 
 /// A lattice point of a station: angle θ about the axis (from +y toward
 /// +x, tooth 1), axial-section u, and the flank it lies on (its point is
@@ -23,35 +24,6 @@ pub(super) struct SectionLattice {
     pub(super) upper: Vec<SectionPoint>,
     /// Rim block, index ii·(2·rim + 1) + kk; ii across, kk up (mount → Π).
     pub(super) rim: Vec<SectionPoint>,
-}
-
-/// Fractions across the tooth for a row of the given width: first layer
-/// `flank_size`, geometric growth q ∈ [1, 1.3] to the middle (q = 1.3 and
-/// a thicker first layer where the row is too wide for its elements,
-/// uniform where it is too narrow) — the cylindrical mesher's rule.
-fn row_fractions(width: f64, half: usize, flank_size: f64) -> Vec<f64> {
-    let sum = |q: f64| (0..half).map(|k| q.powi(k as i32)).sum::<f64>();
-    let target = 0.5 * width / flank_size;
-    let q = if target <= half as f64 {
-        1.0
-    } else if target >= sum(1.3) {
-        1.3
-    } else {
-        let (mut lo, mut hi) = (1.0, 1.3);
-        for _ in 0..60 {
-            let m = 0.5 * (lo + hi);
-            if sum(m) < target {
-                lo = m;
-            } else {
-                hi = m;
-            }
-        }
-        0.5 * (lo + hi)
-    };
-    let h: Vec<f64> = (0..half).map(|k| q.powi(k as i32)).collect();
-    let mut all = h.clone();
-    all.extend(h.iter().rev());
-    crate::mesh::grading::half_lattice(&all)
 }
 
 /// The lattice of station `s` (module doc of [`super`]).

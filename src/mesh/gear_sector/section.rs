@@ -190,34 +190,10 @@ pub(super) fn transverse_section(
     // layer where the tooth is too wide for ns elements, uniform where it is
     // too narrow, i.e. near the tip). Rows below the form point use the form row's.
     let jform = 2 * (ng + nf);
-    let row_dist = |width: f64| -> Vec<f64> {
-        let sum = |q: f64| (0..nh).map(|k| q.powi(k as i32)).sum::<f64>();
-        let target = 0.5 * width / fs;
-        let q = if target <= nh as f64 {
-            1.0
-        } else if target >= sum(1.3) {
-            1.3
-        } else {
-            let (mut lo, mut hi) = (1.0, 1.3);
-            for _ in 0..60 {
-                let m = 0.5 * (lo + hi);
-                if sum(m) < target {
-                    lo = m;
-                } else {
-                    hi = m;
-                }
-            }
-            0.5 * (lo + hi)
-        };
-        let half: Vec<f64> = (0..nh).map(|k| q.powi(k as i32)).collect();
-        let mut all = half.clone();
-        all.extend(half.iter().rev());
-        half_lattice(&all)
-    };
     let row_sig: Vec<Vec<f64>> = (0..=2 * nt)
         .map(|jj| {
             let lp = pol(lpts[jj.max(jform)].0);
-            row_dist(2.0 * (-lp[0]) * lp[1])
+            crate::mesh::grading::row_fractions(2.0 * (-lp[0]) * lp[1], nh, fs)
         })
         .collect();
 
