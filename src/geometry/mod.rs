@@ -8,6 +8,7 @@
 //! (`crate::scene`); everything here is already converted.
 
 pub mod bevel;
+pub mod contact_curvature;
 pub mod cylindrical;
 pub mod deviation;
 pub mod flank;

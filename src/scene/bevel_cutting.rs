@@ -32,6 +32,7 @@
 //! [pinion]
 //! process = "conjugate"        # "generated" (default), "formate" or "conjugate"
 //! [pinion.ease_off]            # conjugate only; all optional, default 0
+//! centre_height_mm = 2.0       # pattern centre above the pitch cone at R_m1
 //! profile_crowning_um = 10.0   # at the ends of the active profile
 //! lengthwise_crowning_um = 20.0 # at toe and heel
 //! bias_um = 0.0                # diagonal (uv) term at the corners
@@ -91,6 +92,7 @@ pub(super) struct RawMachine {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawEaseOff {
+    centre_height_mm: Option<Spanned<f64>>,
     profile_crowning_um: Option<Spanned<f64>>,
     lengthwise_crowning_um: Option<Spanned<f64>>,
     bias_um: Option<Spanned<f64>>,
@@ -331,6 +333,12 @@ pub(super) fn pinion_cut(cx: &Cx, raw: &RawMemberCutting, design: &BlankDesign) 
                 0.0,
             )?;
             Ok(PinionCut::Conjugate(Some(EaseOffAmounts {
+                centre_height_mm: opt(
+                    cx,
+                    &e.centre_height_mm,
+                    "pinion.ease_off.centre_height_mm",
+                    0.0,
+                )?,
                 profile_crowning_mm: um(&e.profile_crowning_um, "profile_crowning_um")?,
                 lengthwise_crowning_mm: um(&e.lengthwise_crowning_um, "lengthwise_crowning_um")?,
                 bias_mm: um(&e.bias_um, "bias_um")?,
@@ -407,6 +415,11 @@ pub(super) fn cutting_error(
             }
         }
     }
+    if let Some(e) = &raw.ease_off {
+        if let Some(v) = &e.get_ref().centre_height_mm {
+            spans.push(("centre_height_mm", &["centre_height"][..], v.span()));
+        }
+    }
     let mentions = |names: &[&str]| {
         names.iter().any(|s| {
             // whole words only ("radius" is not in "edge_radius")
@@ -435,7 +448,9 @@ pub(super) fn cutting_error(
             span,
             format!(
                 "`{name}.{}.{k}`",
-                if k.ends_with("radius_mm") || k.starts_with("blade") {
+                if k == "centre_height_mm" {
+                    "ease_off"
+                } else if k.ends_with("radius_mm") || k.starts_with("blade") {
                     "cutter"
                 } else {
                     "machine"

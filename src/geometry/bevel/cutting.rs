@@ -121,6 +121,10 @@ pub struct MachineCut {
 /// contact, i.e. its rise over one mesh cycle.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct EaseOffAmounts {
+    /// Height u_c of the ease-off's centre above the pinion's pitch cone at
+    /// the mean cone distance (mm; 0: the mean pitch point): where the
+    /// bearing is centred and the TE parabola has its vertex.
+    pub centre_height_mm: f64,
     pub profile_crowning_mm: f64,
     pub lengthwise_crowning_mm: f64,
     pub bias_mm: f64,
@@ -543,8 +547,14 @@ fn conjugate(
                 let (v0, v1) = conj.v_range();
                 let rm = pinion.rm;
                 let (ua, ub) = (conj.u_form(rm), conj.u_tip(rm));
+                let uc = a.centre_height_mm;
+                if !(uc > ua && uc < ub) {
+                    return Err(FlankError::Model(format!(
+                        "{what} flank: ease-off centre_height {uc} mm lies outside the pinion's active profile at the mean cone distance ({ua:.3} to {ub:.3} mm)"
+                    )));
+                }
                 let spec = EaseOffSpec {
-                    centre: (0.0, rm),
+                    centre: (uc, rm),
                     half_span: (0.5 * (ub - ua), 0.5 * (v1 - v0)),
                     profile_crowning_mm: a.profile_crowning_mm,
                     lengthwise_crowning_mm: a.lengthwise_crowning_mm,

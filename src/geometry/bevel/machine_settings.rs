@@ -154,6 +154,39 @@ pub struct MemberSetup {
     /// mean root point's x_M (module docs).
     pub cutter_centre: (f64, f64),
     pub mean_root_x: f64,
+    /// What placed the cutter: the machine spiral angle and the blade
+    /// angles (concave = outside, convex = inside) (rad), and the widening
+    /// of the point width (mm) ([`setup_with`]).
+    pub angles: SetupAngles,
+}
+
+/// The angles and width correction a setup was built from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SetupAngles {
+    pub machine_spiral_angle: f64,
+    pub blade_angle_concave: f64,
+    pub blade_angle_convex: f64,
+    pub width_correction: f64,
+}
+
+/// The generating roll of a member: the ratio of roll as a factor of the
+/// pure-rolling value sin δ / cos(δ − γ_m) (module docs) and the
+/// modified-roll coefficients (2C, 6D) of [`MachineSettings`]. The default
+/// (factor 1, no modified roll) is the basic design; the local synthesis
+/// ([`crate::geometry::bevel::synthesis`]) changes them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RollChoice {
+    pub ratio_of_roll_factor: f64,
+    pub modified_roll: (f64, f64),
+}
+
+impl Default for RollChoice {
+    fn default() -> Self {
+        RollChoice {
+            ratio_of_roll_factor: 1.0,
+            modified_roll: (0.0, 0.0),
+        }
+    }
 }
 
 /// The settings of one member (module docs). `generated` = false gives a
@@ -169,19 +202,28 @@ pub fn member_setup(
         blank.pressure_angle_concave,
         blank.pressure_angle_convex,
     );
-    setup_with(blank, hand, cutter, generated, angles, 0.0)
+    setup_with(
+        blank,
+        hand,
+        cutter,
+        generated,
+        angles,
+        0.0,
+        &RollChoice::default(),
+    )
 }
 
 /// [`member_setup`] with the machine's spiral angle and the blade angles
-/// (concave = outside, convex = inside) given apart from the blank's, and
-/// the point width widened by `width_correction` (mm).
-fn setup_with(
+/// (concave = outside, convex = inside) given apart from the blank's, the
+/// point width widened by `width_correction` (mm), on the roll `roll`.
+pub fn setup_with(
     blank: &MemberBlank,
     hand: Hand,
     cutter: &CutterChoice,
     generated: bool,
     (beta_machine, blade_cc, blade_cv): (f64, f64, f64),
     width_correction: f64,
+    roll: &RollChoice,
 ) -> Result<MemberSetup> {
     let b = blank;
     let bad = |m: String| {
@@ -272,11 +314,15 @@ fn setup_with(
         blank_offset: 0.0,
         machine_center_to_back: 0.0,
         ratio_of_roll: if generated {
-            sd / (b.pitch_angle - gamma).cos()
+            roll.ratio_of_roll_factor * sd / (b.pitch_angle - gamma).cos()
         } else {
             1.0
         },
-        modified_roll: (0.0, 0.0),
+        modified_roll: if generated {
+            roll.modified_roll
+        } else {
+            (0.0, 0.0)
+        },
         tilt: 0.0,
         swivel: 0.0,
         generated,
@@ -289,6 +335,12 @@ fn setup_with(
         settings,
         cutter_centre: centre,
         mean_root_x: x_m,
+        angles: SetupAngles {
+            machine_spiral_angle: beta_machine,
+            blade_angle_concave: blade_cc,
+            blade_angle_convex: blade_cv,
+            width_correction,
+        },
     })
 }
 
@@ -378,6 +430,28 @@ pub fn refined_setup(
     tol: f64,
     max_iterations: usize,
 ) -> Result<(MemberSetup, MeanPointCheck)> {
+    refined_setup_with(
+        blank,
+        hand,
+        cutter,
+        generated,
+        &RollChoice::default(),
+        tol,
+        max_iterations,
+    )
+}
+
+/// [`refined_setup`] on a generating roll of choice: the mean point's
+/// spiral and pressure angles and thickness are matched whatever the roll.
+pub fn refined_setup_with(
+    blank: &MemberBlank,
+    hand: Hand,
+    cutter: &CutterChoice,
+    generated: bool,
+    roll: &RollChoice,
+    tol: f64,
+    max_iterations: usize,
+) -> Result<(MemberSetup, MeanPointCheck)> {
     let mut angles = (
         blank.spiral_angle,
         blank.pressure_angle_concave,
@@ -386,7 +460,7 @@ pub fn refined_setup(
     let mut width = 0.0;
     let mut last = f64::INFINITY;
     for _ in 0..=max_iterations {
-        let setup = setup_with(blank, hand, cutter, generated, angles, width)?;
+        let setup = setup_with(blank, hand, cutter, generated, angles, width, roll)?;
         let c = check_mean_point(&setup)?;
         let thickness_error = c.thickness - c.design_thickness;
         last = c

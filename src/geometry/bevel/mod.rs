@@ -47,6 +47,7 @@ pub mod outputs;
 pub mod pair;
 pub mod pitch_cone;
 pub mod spiral_angles;
+pub mod synthesis;
 pub mod thickness;
 pub mod tooth_depth;
 
