@@ -32,6 +32,8 @@ fn tca_of_the_seed000_hypoid_pair() {
         "bearing_pattern_gear.png",
         "bearing_pattern_pinion.svg",
         "vh_sweep.csv",
+        "vh_chart.png",
+        "vh_chart.svg",
     ] {
         assert!(out.join(f).is_file(), "{f} missing");
     }

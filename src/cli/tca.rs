@@ -52,8 +52,9 @@ pub struct Args {
     shaft_angle_error_deg: f64,
     /// V–H style sweep: ΔE and ΔP each over ±MM in 5 steps (25 TCA runs
     /// with edges, curvature ellipses, added to the misalignment above):
-    /// writes vh_sweep.csv (mean contact on the gear at roll 0, TE
-    /// peak-to-peak, contact ratio).
+    /// writes vh_sweep.csv (bearing centre on the gear: the middle pair's
+    /// contact where its TE curve peaks; TE peak-to-peak, contact ratio)
+    /// and the V–H chart vh_chart.svg/png.
     #[arg(long)]
     sweep_mm: Option<f64>,
 }
@@ -171,6 +172,7 @@ fn sweep(
     let mut s = String::from(
         "offset_error_mm,pinion_axial_mm,gear_face_mm,gear_profile_mm,te_peak_to_peak_arcsec,contact_ratio,edge_transitions\n",
     );
+    let mut chart = Vec::new();
     let st = PointTcaSettings {
         search_directions: 0,
         ..settings.clone()
@@ -187,14 +189,21 @@ fn sweep(
             };
             let row = match point_tca(&pair.with_misalignment(m), &st) {
                 Ok(t) => {
+                    // the bearing centre: the middle pair where its lag peaks
                     let c = t
                         .positions
                         .iter()
-                        .find(|p| p.roll_rad.abs() < 1e-12)
-                        .and_then(|p| p.pairs.iter().find(|c| c.offset == 0));
+                        .filter_map(|p| p.pairs.iter().find(|c| c.offset == 0))
+                        .max_by(|a, b| a.gear_lag_rad.total_cmp(&b.gear_lag_rad));
                     let (f, h) = c
                         .map(|c| (c.projection_mm[1][0], c.projection_mm[1][1]))
                         .unwrap_or((f64::NAN, f64::NAN));
+                    chart.push(flank::report::vh_plot::VhPoint {
+                        offset_error_mm: m.offset_error_mm - base.offset_error_mm,
+                        pinion_axial_mm: m.pinion_axial_mm - base.pinion_axial_mm,
+                        centre_mm: c.map(|_| [f, h]),
+                        te_peak_to_peak_arcsec: Some(t.te_peak_to_peak_rad * ARCSEC_PER_RAD),
+                    });
                     let edges = t
                         .transitions
                         .iter()
@@ -209,12 +218,20 @@ fn sweep(
                     )
                 }
                 // a setting where the pair does not mesh is a row saying so
-                Err(e) => format!(
-                    "{:.4},{:.4},,,,,\"{}\"",
-                    m.offset_error_mm,
-                    m.pinion_axial_mm,
-                    e.to_string().replace('"', "'")
-                ),
+                Err(e) => {
+                    chart.push(flank::report::vh_plot::VhPoint {
+                        offset_error_mm: m.offset_error_mm - base.offset_error_mm,
+                        pinion_axial_mm: m.pinion_axial_mm - base.pinion_axial_mm,
+                        centre_mm: None,
+                        te_peak_to_peak_arcsec: None,
+                    });
+                    format!(
+                        "{:.4},{:.4},,,,,\"{}\"",
+                        m.offset_error_mm,
+                        m.pinion_axial_mm,
+                        e.to_string().replace('"', "'")
+                    )
+                }
             };
             s.push_str(&row);
             s.push('\n');
@@ -222,6 +239,7 @@ fn sweep(
     }
     let path = out.join("vh_sweep.csv");
     std::fs::write(&path, s).with_context(|| format!("cannot write {}", path.display()))?;
+    flank::report::vh_plot::plot_vh_sweep(out, &chart)?;
     Ok(())
 }
 

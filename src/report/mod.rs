@@ -3,4 +3,5 @@ pub mod cycle_plot;
 pub mod figure;
 pub mod solution;
 pub mod tca_plot;
+pub mod vh_plot;
 pub mod vtu;
