@@ -691,6 +691,27 @@ mod tests {
         blank_design(&BlankInputs::from_json(SEED003).unwrap()).unwrap()
     }
 
+    /// Targets for the first order only (the second-order ones unused).
+    const PROBE: SynthesisTargets = SynthesisTargets {
+        path_angle_rad: 0.0,
+        major_axis_mm: 10.0,
+        te_level_rad: 1e-4,
+        approach_mm: 0.00635,
+    };
+
+    /// The basic pinion's state and the first-order solve from it.
+    fn basic_and_first_order(problem: &SynthesisProblem) -> (State, State, usize) {
+        let x0 = PinionSynthesisVariables::basic(problem.cutter.mean_radius);
+        let (setup, m0) = problem.measure(&x0).unwrap();
+        let basic = State {
+            x: x0,
+            setup,
+            mean: m0,
+        };
+        let (first, it) = newton(problem, &basic, &PROBE, (&FIRST_ORDER, &FIRST_ORDER)).unwrap();
+        (basic, first, it)
+    }
+
     /// The first order on seed 003: the basic pinion (settings from its
     /// blank) touches the gear 3.9 mm from the mean point with a TE slope
     /// of −4.8e-3 (the gear's drive-flank normal at P is 0.2° off the
@@ -699,24 +720,11 @@ mod tests {
     #[test]
     fn first_order_puts_the_contact_on_the_mean_point() {
         let d = design();
-        let targets = SynthesisTargets {
-            path_angle_rad: 0.0,
-            major_axis_mm: 10.0,
-            te_level_rad: 1e-4,
-            approach_mm: 0.00635,
-        };
-        let problem = seed003(&d, targets);
-        let x0 = PinionSynthesisVariables::basic(problem.cutter.mean_radius);
-        let (setup, m0) = problem.measure(&x0).unwrap();
-        let rm2 = d.cutting_blank().wheel.rm;
+        let problem = seed003(&d, PROBE);
+        let (basic, s, it) = basic_and_first_order(&problem);
+        let (m0, rm2) = (basic.mean, d.cutting_blank().wheel.rm);
         assert!(m0.gear_uv[0].hypot(m0.gear_uv[1] - rm2) > 1.0, "{m0:?}");
         assert!(m0.te_slope.abs() > 1e-3, "{m0:?}");
-        let basic = State {
-            x: x0,
-            setup,
-            mean: m0,
-        };
-        let (s, it) = newton(&problem, &basic, &targets, (&FIRST_ORDER, &FIRST_ORDER)).unwrap();
         let m = s.mean;
         assert!(
             m.gear_uv[0].abs() < 1e-6 && (m.gear_uv[1] - rm2).abs() < 1e-6,
@@ -734,21 +742,9 @@ mod tests {
     #[test]
     fn second_order_meets_nearby_targets() {
         let d = design();
-        let probe = SynthesisTargets {
-            path_angle_rad: 0.0,
-            major_axis_mm: 10.0,
-            te_level_rad: 1e-4,
-            approach_mm: 0.00635,
-        };
-        let problem = seed003(&d, probe);
+        let problem = seed003(&d, PROBE);
         let x0 = PinionSynthesisVariables::basic(problem.cutter.mean_radius);
-        let (setup, m0) = problem.measure(&x0).unwrap();
-        let basic = State {
-            x: x0,
-            setup,
-            mean: m0,
-        };
-        let (first, _) = newton(&problem, &basic, &probe, (&FIRST_ORDER, &FIRST_ORDER)).unwrap();
+        let (_, first, _) = basic_and_first_order(&problem);
         let f = first.mean;
         let targets = SynthesisTargets {
             path_angle_rad: f.path_angle_rad + 0.5f64.to_radians(),
