@@ -1,0 +1,182 @@
+//! `flank campaign run|run-task|submit|status|collect CAMPAIGN.toml`: studies
+//! over many variants of a scene (`flank::campaign`).
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result};
+use clap::Parser;
+
+use flank::campaign::Campaign;
+
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(subcommand)]
+    command: Sub,
+}
+
+#[derive(clap::Args)]
+struct Common {
+    /// The campaign file (.toml).
+    campaign: PathBuf,
+    /// Output folder; overrides the file's `campaign.out` (default out/<name>).
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+#[derive(clap::Subcommand)]
+enum Sub {
+    /// Run the jobs not done yet on this machine (a child process each),
+    /// then collect.
+    Run {
+        #[command(flatten)]
+        common: Common,
+        /// Parallel jobs (default: cores / threads per job).
+        #[arg(long)]
+        workers: Option<usize>,
+        /// Memory budget (GB; default: the machine's available memory).
+        #[arg(long)]
+        memory_gb: Option<f64>,
+        /// Print nothing but errors.
+        #[arg(long, short)]
+        quiet: bool,
+    },
+    /// Run one job (what every executor runs: Slurm array task I is
+    /// `flank campaign run-task CAMPAIGN --index I`).
+    RunTask {
+        #[command(flatten)]
+        common: Common,
+        /// The job's index (0-based).
+        #[arg(long)]
+        index: usize,
+    },
+    /// Check the campaign and print its jobs (index, analysis, memory
+    /// estimate, inputs) without running anything.
+    List {
+        #[command(flatten)]
+        common: Common,
+    },
+}
+
+pub fn run(args: Args) -> Result<()> {
+    match args.command {
+        Sub::Run {
+            common,
+            workers,
+            memory_gb,
+            quiet,
+        } => {
+            let c = open(&common)?;
+            let jobs = c.jobs()?;
+            let exe = std::env::current_exe().context("the flank executable")?;
+            let options = flank::campaign::local::LocalOptions {
+                exe,
+                workers,
+                memory_mb: memory_gb.map(|g| g * 1024.0),
+                quiet,
+            };
+            let r = flank::campaign::local::run_local(&c, &jobs, &options)?;
+            if !quiet {
+                println!(
+                    "{} jobs: {} done before, {} finished, {} failed; {:.1} s on {} workers; results in {}",
+                    r.jobs,
+                    r.skipped,
+                    r.finished,
+                    r.failed.len(),
+                    r.wall_s,
+                    r.workers,
+                    c.out.display()
+                );
+            }
+            if !r.failed.is_empty() {
+                let list: Vec<String> = r
+                    .failed
+                    .iter()
+                    .map(|(i, log)| format!("job {i}: {}", log.display()))
+                    .collect();
+                anyhow::bail!(
+                    "{} job(s) failed (rerun to retry them alone):\n  {}",
+                    r.failed.len(),
+                    list.join("\n  ")
+                );
+            }
+            Ok(())
+        }
+        Sub::RunTask { common, index } => {
+            let c = open(&common)?;
+            let outcome = flank::campaign::task::run_task(&c, index, &|argv| {
+                let cli = crate::Cli::try_parse_from(
+                    std::iter::once("flank".to_string()).chain(argv.iter().cloned()),
+                )
+                .map_err(|e| e.to_string())?;
+                crate::run(cli).map_err(|e| format!("{e:#}"))
+            })?;
+            match outcome {
+                flank::campaign::task::TaskOutcome::AlreadyDone => {
+                    println!("job {index}: done before")
+                }
+                flank::campaign::task::TaskOutcome::Finished(s) => {
+                    println!("job {index}: finished in {s:.2} s")
+                }
+            }
+            Ok(())
+        }
+        Sub::List { common } => {
+            let c = open(&common)?;
+            let jobs = c.jobs()?;
+            for j in &jobs {
+                let inputs: Vec<String> =
+                    j.inputs.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+                let done = flank::campaign::store::done(&c.out, j).is_some();
+                println!(
+                    "{:>5} {} {:<10} {:>8.0} MB {} {}",
+                    j.index,
+                    j.id(),
+                    j.analysis,
+                    j.memory_mb,
+                    if done { "done   " } else { "pending" },
+                    inputs.join(", ")
+                );
+            }
+            Ok(())
+        }
+    }
+}
+
+/// Opens the campaign and checks each analysis's `[args]` with flank's own
+/// command line, so a wrong option is an error at its line before anything runs.
+fn open(common: &Common) -> Result<Campaign> {
+    let c = Campaign::open(&common.campaign, common.out.as_deref())?;
+    check_args(&c)?;
+    Ok(c)
+}
+
+fn check_args(c: &Campaign) -> Result<()> {
+    for analysis in &c.file.analyses {
+        let (options, line) = match c.file.args.get(analysis) {
+            Some((o, l)) => (o.clone(), *l),
+            None => (Vec::new(), c.file.analyses_line),
+        };
+        let argv = flank::campaign::task::analysis_argv(
+            analysis,
+            Path::new("scene.toml"),
+            Path::new("out"),
+            &options,
+        );
+        if let Err(e) = crate::Cli::try_parse_from(std::iter::once("flank".to_string()).chain(argv))
+        {
+            let msg = e.to_string();
+            let first = msg
+                .lines()
+                .next()
+                .unwrap_or("")
+                .trim_start_matches("error: ");
+            return Err(flank::error::FlankError::Parse {
+                file: c.file.path.clone(),
+                line,
+                message: format!("`args.{analysis}`: flank {analysis} rejects it: {first}"),
+            }
+            .into());
+        }
+    }
+    Ok(())
+}
