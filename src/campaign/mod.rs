@@ -6,14 +6,19 @@
 //! Layers: [`file`] parses the campaign file, [`sample`] draws tolerances,
 //! [`variants`] resolves jobs and their identities, [`resources`] estimates
 //! memory, [`store`] keeps the job folders, [`task`] runs one job,
-//! [`local`] is the local executor. The analyses themselves run
+//! [`local`] is the local executor, [`collect`] (with [`convergence`],
+//! [`stats`], [`plots`]) gathers the table and its summaries. The analyses themselves run
 //! through the `flank` executable (a child process per job): nothing here
 //! imports the analysis code, and no lower layer imports this one.
 
+pub mod collect;
+pub mod convergence;
 pub mod file;
 pub mod local;
+pub mod plots;
 pub mod resources;
 pub mod sample;
+pub mod stats;
 pub mod store;
 pub mod task;
 pub mod variants;

@@ -49,6 +49,12 @@ enum Sub {
         #[arg(long)]
         index: usize,
     },
+    /// Gather every finished job's figures into table.csv, with the
+    /// convergence (GCI) or Monte Carlo summaries and summary.md.
+    Collect {
+        #[command(flatten)]
+        common: Common,
+    },
     /// Check the campaign and print its jobs (index, analysis, memory
     /// estimate, inputs) without running anything.
     List {
@@ -87,6 +93,7 @@ pub fn run(args: Args) -> Result<()> {
                     c.out.display()
                 );
             }
+            collect(&c, &jobs, quiet)?;
             if !r.failed.is_empty() {
                 let list: Vec<String> = r
                     .failed
@@ -120,6 +127,11 @@ pub fn run(args: Args) -> Result<()> {
             }
             Ok(())
         }
+        Sub::Collect { common } => {
+            let c = open(&common)?;
+            let jobs = c.jobs()?;
+            collect(&c, &jobs, false)
+        }
         Sub::List { common } => {
             let c = open(&common)?;
             let jobs = c.jobs()?;
@@ -140,6 +152,27 @@ pub fn run(args: Args) -> Result<()> {
             Ok(())
         }
     }
+}
+
+fn collect(c: &Campaign, jobs: &[flank::campaign::Job], quiet: bool) -> Result<()> {
+    let table = flank::campaign::collect::collect(c, jobs)?;
+    let w = flank::campaign::collect::write_all(c, &table)?;
+    if !quiet {
+        println!(
+            "collected {} jobs ({} done, {} failed, {} pending): {}",
+            table.rows.len(),
+            w.done,
+            w.failed,
+            w.pending,
+            w.files
+                .iter()
+                .filter(|f| f.extension().is_some_and(|e| e != "png" && e != "svg"))
+                .map(|f| f.display().to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    Ok(())
 }
 
 /// Opens the campaign and checks each analysis's `[args]` with flank's own
