@@ -6,7 +6,7 @@
 //! Layers: [`file`] parses the campaign file, [`sample`] draws tolerances,
 //! [`variants`] resolves jobs and their identities, [`resources`] estimates
 //! memory, [`store`] keeps the job folders, [`task`] runs one job,
-//! [`local`] is the local executor, [`collect`] (with [`convergence`],
+//! [`local`] is the local executor, [`slurm`] the Slurm one, [`collect`] (with [`convergence`],
 //! [`stats`], [`plots`]) gathers the table and its summaries. The analyses themselves run
 //! through the `flank` executable (a child process per job): nothing here
 //! imports the analysis code, and no lower layer imports this one.
@@ -18,6 +18,7 @@ pub mod local;
 pub mod plots;
 pub mod resources;
 pub mod sample;
+pub mod slurm;
 pub mod stats;
 pub mod store;
 pub mod task;

@@ -49,6 +49,24 @@ enum Sub {
         #[arg(long)]
         index: usize,
     },
+    /// Submit the jobs not done yet as Slurm job arrays (sbatch), one
+    /// array task per job.
+    Submit {
+        #[command(flatten)]
+        common: Common,
+        /// Slurm's MaxArraySize (arrays are split below it).
+        #[arg(long, default_value_t = flank::campaign::slurm::DEFAULT_MAX_ARRAY_SIZE)]
+        max_array_size: usize,
+    },
+    /// Done, queued and failed jobs of a submitted campaign (squeue and the
+    /// job records); failed ones with their logs (resubmit runs them alone).
+    Status {
+        #[command(flatten)]
+        common: Common,
+        /// Wait until nothing is queued, at most this many seconds.
+        #[arg(long)]
+        wait: Option<f64>,
+    },
     /// Gather every finished job's figures into table.csv, with the
     /// convergence (GCI) or Monte Carlo summaries and summary.md.
     Collect {
@@ -124,6 +142,52 @@ pub fn run(args: Args) -> Result<()> {
                 flank::campaign::task::TaskOutcome::Finished(s) => {
                     println!("job {index}: finished in {s:.2} s")
                 }
+            }
+            Ok(())
+        }
+        Sub::Submit {
+            common,
+            max_array_size,
+        } => {
+            let c = open(&common)?;
+            let jobs = c.jobs()?;
+            let exe = std::env::current_exe().context("the flank executable")?;
+            let subs = flank::campaign::slurm::submit(&c, &jobs, &exe, max_array_size)?;
+            if subs.is_empty() {
+                println!("every job is done: nothing submitted");
+            }
+            for s in subs {
+                println!(
+                    "submitted {} jobs as Slurm array {} ({})",
+                    s.indices.len(),
+                    s.slurm_job,
+                    s.script.display()
+                );
+            }
+            Ok(())
+        }
+        Sub::Status { common, wait } => {
+            let c = open(&common)?;
+            let jobs = c.jobs()?;
+            let st = match wait {
+                Some(w) => flank::campaign::slurm::wait(
+                    &c,
+                    &jobs,
+                    std::time::Duration::from_secs_f64(w.max(0.0)),
+                    std::time::Duration::from_secs(2),
+                )?,
+                None => flank::campaign::slurm::status(&c, &jobs)?,
+            };
+            println!(
+                "{} jobs: {} done, {} queued or running, {} failed or lost, {} not submitted",
+                jobs.len(),
+                st.done,
+                st.queued.len(),
+                st.failed.len(),
+                st.unsubmitted
+            );
+            for (i, log) in &st.failed {
+                println!("failed: job {i}, log {}", log.display());
             }
             Ok(())
         }
