@@ -1,7 +1,8 @@
 //! Collection: one table of every job's figures (`table.csv`), and the
 //! summaries: GCI per figure for a mesh study (`convergence.csv`), the
 //! distribution of each figure for a Monte Carlo sample (`montecarlo.csv`,
-//! `hist_*.png/svg`), and `summary.md` with both.
+//! `hist_*.png/svg`), and `summary.md` with both. Convergence skips time and
+//! memory columns ([`is_time_column`]) and integer-valued figures (counts).
 //!
 //! Figures come from each job's `result/summary.json`: the campaign's
 //! `figures` paths (dot-separated, `*` expands an array or object), or by
@@ -348,6 +349,9 @@ pub fn write_all(campaign: &Campaign, table: &Table) -> Result<Written> {
                 let Some(v) = vals else { continue };
                 let h = [three[0].0, three[1].0, three[2].0];
                 let phi = [v[0], v[1], v[2]];
+                if phi.iter().all(|x| x.fract() == 0.0) {
+                    continue; // counts (nodes, DOFs, positions) are not discretised results
+                }
                 let opt = |x: Option<f64>| x.map(|x| x.to_string()).unwrap_or_default();
                 let (cols, note, mdrow) = match gci(h, phi, conv.safety_factor) {
                     Ok(g) => (

@@ -11,6 +11,9 @@
 //! out = "../../out/study"              # optional; relative to this file
 //! figures = ["contact_ratio", "steps.*.te_urad"]   # optional summary.json paths
 //!
+//! [set]                                # optional: scene keys set in every variant
+//! "analyses.ltca.misalignment_urad" = [0.0, 0.0]
+//!
 //! [args]                               # optional: fixed options per analysis
 //! ltca = ["--no-condition"]
 //!
@@ -67,6 +70,9 @@ pub struct CampaignFile {
     pub analyses_line: usize,
     /// Fixed command-line options per analysis.
     pub args: BTreeMap<String, (Vec<String>, usize)>,
+    /// Scene keys set in every variant (before the grid and the sample),
+    /// with their lines.
+    pub set: Vec<(String, toml::Value, usize)>,
     /// Grid axes in file order.
     pub grid: Vec<GridAxis>,
     pub monte_carlo: Option<MonteCarlo>,
@@ -142,6 +148,8 @@ struct Raw {
     campaign: RawCampaign,
     #[serde(default)]
     args: BTreeMap<Spanned<String>, Spanned<Vec<String>>>,
+    #[serde(default)]
+    set: BTreeMap<Spanned<String>, Spanned<toml::Value>>,
     #[serde(default)]
     grid: BTreeMap<Spanned<String>, Spanned<Vec<Spanned<toml::Value>>>>,
     monte_carlo: Option<Spanned<RawMonteCarlo>>,
@@ -325,6 +333,14 @@ pub fn parse_campaign_file(text: &str, path: &Path) -> Result<CampaignFile> {
         }
         args.insert(k.into_inner(), (v.into_inner(), line));
     }
+
+    let mut set = Vec::new();
+    for (k, v) in raw.set {
+        let line = loc.line(k.span().start);
+        check_key(&loc, k.get_ref(), line, "set")?;
+        set.push((k.into_inner(), v.into_inner(), line));
+    }
+    set.sort_by_key(|s| s.2);
 
     let mut grid: Vec<GridAxis> = Vec::new();
     for (k, v) in raw.grid {
@@ -541,6 +557,7 @@ pub fn parse_campaign_file(text: &str, path: &Path) -> Result<CampaignFile> {
         analyses,
         analyses_line,
         args,
+        set,
         grid,
         monte_carlo,
         resources,

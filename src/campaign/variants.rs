@@ -175,6 +175,14 @@ impl Campaign {
         let describe = |k: &str, x: &toml::Value| format!("variant {v}: `{k}` = {x}");
         let culprit = |message: String| -> FlankError {
             // the first input that breaks the scene on its own, else the combination
+            if let Some(e) = self.scene_with(&[]).err().or_else(|| {
+                self.scene_with(&[])
+                    .ok()
+                    .and_then(|t| self.check_scene(&t).err())
+            }) {
+                let line = self.file.set.first().map_or(self.file.scene_line, |s| s.2);
+                return loc.at(line, format!("the scene with the `[set]` keys: {e}"));
+            }
             for (k, x, line) in &inputs {
                 let one = [(k.clone(), x.clone(), *line)];
                 let bad = match self.scene_with(&one) {

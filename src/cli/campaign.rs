@@ -36,6 +36,9 @@ enum Sub {
         /// Memory budget (GB; default: the machine's available memory).
         #[arg(long)]
         memory_gb: Option<f64>,
+        /// Run only these job indices (e.g. 0-2,5); the rest stay as they are.
+        #[arg(long)]
+        only: Option<String>,
         /// Print nothing but errors.
         #[arg(long, short)]
         quiet: bool,
@@ -87,10 +90,21 @@ pub fn run(args: Args) -> Result<()> {
             common,
             workers,
             memory_gb,
+            only,
             quiet,
         } => {
             let c = open(&common)?;
             let jobs = c.jobs()?;
+            let selected: Vec<flank::campaign::Job> = match &only {
+                None => jobs.clone(),
+                Some(list) => {
+                    let keep = parse_index_list(list, jobs.len())?;
+                    jobs.iter()
+                        .filter(|j| keep.contains(&j.index))
+                        .cloned()
+                        .collect()
+                }
+            };
             let exe = std::env::current_exe().context("the flank executable")?;
             let options = flank::campaign::local::LocalOptions {
                 exe,
@@ -98,7 +112,7 @@ pub fn run(args: Args) -> Result<()> {
                 memory_mb: memory_gb.map(|g| g * 1024.0),
                 quiet,
             };
-            let r = flank::campaign::local::run_local(&c, &jobs, &options)?;
+            let r = flank::campaign::local::run_local(&c, &selected, &options)?;
             if !quiet {
                 println!(
                     "{} jobs: {} done before, {} finished, {} failed; {:.1} s on {} workers; results in {}",
@@ -237,6 +251,30 @@ fn collect(c: &Campaign, jobs: &[flank::campaign::Job], quiet: bool) -> Result<(
         );
     }
     Ok(())
+}
+
+/// `0-2,5` → [0, 1, 2, 5], each below `n`.
+fn parse_index_list(list: &str, n: usize) -> Result<Vec<usize>> {
+    let mut out = Vec::new();
+    for part in list.split(',').map(str::trim).filter(|p| !p.is_empty()) {
+        let (a, b) = part.split_once('-').unwrap_or((part, part));
+        let (a, b): (usize, usize) = (
+            a.trim()
+                .parse()
+                .with_context(|| format!("--only: `{part}` is not an index or a range"))?,
+            b.trim()
+                .parse()
+                .with_context(|| format!("--only: `{part}` is not an index or a range"))?,
+        );
+        if a > b || b >= n {
+            anyhow::bail!(
+                "--only: `{part}`: the campaign's jobs are 0 … {}",
+                n.saturating_sub(1)
+            );
+        }
+        out.extend(a..=b);
+    }
+    Ok(out)
 }
 
 /// Opens the campaign and checks each analysis's `[args]` with flank's own
