@@ -132,13 +132,14 @@ impl Campaign {
         grid
     }
 
-    /// The scene text with `inputs` set; errors are messages.
+    /// The scene text with the campaign's `[set]` keys, then `inputs`, set;
+    /// errors are messages.
     fn scene_with(
         &self,
         inputs: &[(String, toml::Value, usize)],
     ) -> std::result::Result<String, String> {
         let mut t = self.base.clone();
-        for (k, v, _) in inputs {
+        for (k, v, _) in self.file.set.iter().chain(inputs) {
             set_key(&mut t, k, v.clone()).map_err(|e| format!("`{k}`: {e}"))?;
         }
         let dir = self.file.scene.parent().unwrap_or(Path::new("."));
@@ -415,6 +416,22 @@ mod tests {
         );
         let e = c.job(1000).unwrap_err().to_string();
         assert!(e.contains("out of range"), "{e}");
+    }
+
+    #[test]
+    fn set_keys_come_before_the_sample() {
+        let (c, _) = campaign(
+            "\n[set]\n\"analyses.ltca.misalignment_urad\" = [0.0, 0.0]\n[monte_carlo]\nseed = 1\nsamples = 3\n[monte_carlo.keys]\n\"analyses.ltca.misalignment_urad.1\" = { distribution = \"uniform\", low = 10.0, high = 20.0 }\n",
+        );
+        assert_eq!(c.job_count(), 4 * 3 * 2);
+        let j = c.job(2).unwrap();
+        let t: toml::Table = toml::from_str(&j.scene_text).unwrap();
+        let m = t["analyses"]["ltca"]["misalignment_urad"]
+            .as_array()
+            .unwrap();
+        assert_eq!(m[0].as_float(), Some(0.0));
+        assert!((10.0..=20.0).contains(&m[1].as_float().unwrap()));
+        assert_eq!(j.inputs.len(), 3);
     }
 
     #[test]
