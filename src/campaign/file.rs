@@ -10,6 +10,7 @@
 //! analyses = ["ltca"]                  # flank subcommands: mesh, compliance, ltca, run, compare, tca
 //! out = "../../out/study"              # optional; relative to this file
 //! figures = ["contact_ratio", "steps.*.te_urad"]   # optional summary.json paths
+//! keep = ["summary.json", "*.csv"]     # optional: result files kept (summary.json always)
 //!
 //! [set]                                # optional: scene keys set in every variant
 //! "analyses.ltca.misalignment_urad" = [0.0, 0.0]
@@ -83,6 +84,8 @@ pub struct CampaignFile {
     pub figures: Vec<String>,
     /// Output folder from the file (absolute), if given.
     pub out: Option<PathBuf>,
+    /// File names of a job's result to keep (`*` wildcards); empty: all.
+    pub keep: Vec<String>,
 }
 
 /// One grid key and its values.
@@ -167,6 +170,8 @@ struct RawCampaign {
     out: Option<String>,
     #[serde(default)]
     figures: Vec<String>,
+    #[serde(default)]
+    keep: Vec<String>,
 }
 
 #[derive(Deserialize)]
@@ -565,6 +570,7 @@ pub fn parse_campaign_file(text: &str, path: &Path) -> Result<CampaignFile> {
         convergence,
         figures: c.figures,
         out: c.out.map(|o| base.join(o)),
+        keep: c.keep,
     })
 }
 

@@ -44,6 +44,49 @@ pub fn analysis_argv(
     argv
 }
 
+/// `name` matches `pattern` with `*` standing for any run of characters.
+pub fn glob_match(pattern: &str, name: &str) -> bool {
+    let parts: Vec<&str> = pattern.split('*').collect();
+    if parts.len() == 1 {
+        return pattern == name;
+    }
+    let (first, last) = (parts[0], parts[parts.len() - 1]);
+    if !name.starts_with(first) || name.len() < first.len() + last.len() || !name.ends_with(last) {
+        return false;
+    }
+    let mut rest = &name[first.len()..name.len() - last.len()];
+    for p in &parts[1..parts.len() - 1] {
+        match rest.find(p) {
+            Some(i) => rest = &rest[i + p.len()..],
+            None => return false,
+        }
+    }
+    true
+}
+
+/// Removes the files of a finished attempt that `keep` does not name
+/// (summary.json is always kept: collect reads it); nothing when `keep` is empty.
+fn prune(dir: &Path, keep: &[String]) -> Result<()> {
+    if keep.is_empty() {
+        return Ok(());
+    }
+    let entries = std::fs::read_dir(dir).map_err(|e| FlankError::io(dir, e))?;
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        if name == "summary.json" || keep.iter().any(|k| glob_match(k, &name)) {
+            continue;
+        }
+        let p = e.path();
+        let r = if p.is_dir() {
+            std::fs::remove_dir_all(&p)
+        } else {
+            std::fs::remove_file(&p)
+        };
+        r.map_err(|e| FlankError::io(&p, e))?;
+    }
+    Ok(())
+}
+
 /// Runs job `index` of `campaign`. `analysis` runs flank with an argument
 /// vector (the CLI passes its own dispatcher); relative paths in the
 /// campaign's `[args]` are relative to the campaign file's folder, which is
@@ -105,6 +148,7 @@ pub fn run_task(
             dir.display()
         )));
     }
+    prune(&tmp, &campaign.file.keep)?;
     let result_dir = dir.join("result");
     if result_dir.exists() {
         // a previous attempt renamed its result but died before its record
@@ -129,4 +173,19 @@ pub fn run_task(
     )?;
     store::event(out, &format!("done {index} {} {seconds:.3}", job.id()));
     Ok(TaskOutcome::Finished(seconds))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::glob_match;
+
+    #[test]
+    fn globs_match_like_a_shell() {
+        assert!(glob_match("*.csv", "ltca_cycle.csv"));
+        assert!(!glob_match("*.csv", "summary.json"));
+        assert!(glob_match("ltca_*_error.*", "ltca_transmission_error.png"));
+        assert!(!glob_match("ltca_*_error.*", "ltca_points.csv"));
+        assert!(glob_match("summary.json", "summary.json"));
+        assert!(!glob_match("a*a", "a"));
+    }
 }
