@@ -30,6 +30,10 @@ pub enum FlankError {
     /// The linear solver failed.
     #[error("solver: {0}")]
     Solver(String),
+    /// A campaign that cannot run as asked (job out of range, memory above
+    /// the machine, a failed job, a scheduler error).
+    #[error("campaign: {0}")]
+    Campaign(String),
     /// An I/O error on `path`; the OS error is the source (printed by `{:#}`).
     #[error("{}", path.display())]
     Io {

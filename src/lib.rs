@@ -57,6 +57,9 @@
 //! * [`compare`]: LTCA against FE contact, error against run time (`flank compare`).
 //! * [`load_sharing`]: when a tooth pair counts as loaded (shared by FE and LTCA).
 //! * [`report`]: VTU, CSV and JSON output, the plots shared by the analyses.
+//! * [`campaign`]: studies over many variants of a scene (grid, Monte Carlo),
+//!   run as child `flank` processes locally or as a Slurm job array; the
+//!   top layer: nothing imports it.
 //!
 //! Layers: geometry, mesh and fem never import from contact, compliance,
 //! tca, ltca, mesh_cycle or compare; ltca does not import from the FE-contact
@@ -84,6 +87,7 @@
 // `!(x > y)` is used on purpose: it is also true when x is NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod campaign;
 pub mod ccx;
 pub mod compare;
 pub mod compliance;

@@ -84,6 +84,11 @@ enum Command {
     /// transitions, summary.json (contact_ratio, te_peak_to_peak_arcsec
     /// under with_edges/without_edges) and TE / bearing-pattern plots.
     Tca(cli::tca::Args),
+    /// Campaigns: a scene's variants (grid over scene keys, seeded Monte
+    /// Carlo sample) × analyses, resumable, run locally (`run`) or as a
+    /// Slurm job array (`submit`, `status`), collected into one table with
+    /// convergence (GCI) and distribution summaries (`collect`).
+    Campaign(cli::campaign::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -120,5 +125,6 @@ fn run(cli: Cli) -> Result<()> {
         Command::Blank(args) => cli::blank::run(args),
         Command::Grid(args) => cli::grid::run(args),
         Command::Tca(args) => cli::tca::run(args),
+        Command::Campaign(args) => cli::campaign::run(args),
     }
 }

@@ -2,6 +2,7 @@
 //! arguments (`Args`) and its `run`. Shared pieces are in `common`.
 
 pub mod blank;
+pub mod campaign;
 pub mod cantilever;
 pub mod check;
 pub mod common;

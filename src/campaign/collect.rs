@@ -1,0 +1,576 @@
+//! Collection: one table of every job's figures (`table.csv`), and the
+//! summaries: GCI per figure for a mesh study (`convergence.csv`), the
+//! distribution of each figure for a Monte Carlo sample (`montecarlo.csv`,
+//! `hist_*.png/svg`), and `summary.md` with both. Convergence skips time and
+//! memory columns ([`is_time_column`]) and integer-valued figures (counts).
+//!
+//! Figures come from each job's `result/summary.json`: the campaign's
+//! `figures` paths (dot-separated, `*` expands an array or object), or by
+//! default every number at the top level, in top-level objects, and in
+//! numeric arrays of at most four values (`name.0`, …); `steps` and
+//! `settings` are left out unless named. Parquet is not written: the Rust
+//! Parquet writer (`parquet` with `arrow`) would add well over a hundred
+//! crates to a build that runs on 2 cores; pandas and polars read the CSV.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use serde_json::Value;
+
+use crate::error::{FlankError, Result};
+
+use super::convergence::gci;
+use super::stats;
+use super::store;
+use super::variants::{Campaign, Job};
+
+/// One table row.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Row {
+    pub index: usize,
+    pub id: String,
+    pub analysis: String,
+    /// `done`, `failed` or `pending`.
+    pub status: String,
+    pub inputs: Vec<(String, Value)>,
+    pub figures: Vec<(String, f64)>,
+    /// Wall time of the analysis (s).
+    pub seconds: Option<f64>,
+}
+
+/// The collected campaign.
+#[derive(Clone, Debug)]
+pub struct Table {
+    pub input_keys: Vec<String>,
+    pub figure_keys: Vec<String>,
+    pub rows: Vec<Row>,
+}
+
+/// A column of run time or memory, not a result: left out of comparisons,
+/// convergence and statistics (names ending `_s`, or with `time` or
+/// `memory`).
+pub fn is_time_column(name: &str) -> bool {
+    let last = name.rsplit('.').next().unwrap_or(name);
+    name == "seconds" || last.ends_with("_s") || name.contains("time") || name.contains("memory")
+}
+
+/// Numbers of `v` at `path` (`a.b.*.c`), named by their concrete path.
+fn select(v: &Value, path: &[&str], prefix: String, out: &mut Vec<(String, f64)>) {
+    let join = |p: &str| {
+        if prefix.is_empty() {
+            p.to_string()
+        } else {
+            format!("{prefix}.{p}")
+        }
+    };
+    let Some((head, rest)) = path.split_first() else {
+        match v {
+            Value::Number(n) => out.extend(n.as_f64().map(|x| (prefix, x))),
+            Value::Array(a) => {
+                for (i, x) in a.iter().enumerate() {
+                    if let Some(x) = x.as_f64() {
+                        out.push((join(&i.to_string()), x));
+                    }
+                }
+            }
+            _ => {}
+        }
+        return;
+    };
+    match (v, *head) {
+        (Value::Array(a), "*") => {
+            for (i, x) in a.iter().enumerate() {
+                select(x, rest, join(&i.to_string()), out);
+            }
+        }
+        (Value::Object(o), "*") => {
+            for (k, x) in o {
+                select(x, rest, join(k), out);
+            }
+        }
+        (Value::Array(a), h) => {
+            if let Some(x) = h.parse::<usize>().ok().and_then(|i| a.get(i)) {
+                select(x, rest, join(h), out);
+            }
+        }
+        (Value::Object(o), h) => {
+            if let Some(x) = o.get(h) {
+                select(x, rest, join(h), out);
+            }
+        }
+        _ => {}
+    }
+}
+
+/// The default figures of a summary (see the module doc).
+fn default_figures(v: &Value) -> Vec<(String, f64)> {
+    let mut out = Vec::new();
+    let Value::Object(o) = v else { return out };
+    for (k, x) in o {
+        if k == "steps" || k == "settings" {
+            continue;
+        }
+        match x {
+            Value::Number(n) => out.extend(n.as_f64().map(|f| (k.clone(), f))),
+            Value::Array(a) if a.len() <= 4 && a.iter().all(Value::is_number) => {
+                select(x, &[], k.clone(), &mut out)
+            }
+            Value::Object(inner) => {
+                for (k2, y) in inner {
+                    if let Some(f) = y.as_f64() {
+                        out.push((format!("{k}.{k2}"), f));
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
+/// Reads every job's state and figures.
+pub fn collect(campaign: &Campaign, jobs: &[Job]) -> Result<Table> {
+    let out = &campaign.out;
+    let mut figure_keys: Vec<String> = Vec::new();
+    let mut rows = Vec::with_capacity(jobs.len());
+    for j in jobs {
+        let done = store::done(out, j);
+        let status = if done.is_some() {
+            "done"
+        } else if store::failed(out, j).is_some() {
+            "failed"
+        } else {
+            "pending"
+        };
+        let mut figures = Vec::new();
+        if done.is_some() {
+            let p = store::job_dir(out, j).join("result").join("summary.json");
+            let text = std::fs::read_to_string(&p).map_err(|e| FlankError::io(&p, e))?;
+            let v: Value = serde_json::from_str(&text)
+                .map_err(|e| FlankError::Campaign(format!("{}: {e}", p.display())))?;
+            if campaign.file.figures.is_empty() {
+                figures = default_figures(&v);
+            } else {
+                for f in &campaign.file.figures {
+                    let path: Vec<&str> = f.split('.').collect();
+                    select(&v, &path, String::new(), &mut figures);
+                }
+            }
+        }
+        for (k, _) in &figures {
+            if !figure_keys.contains(k) {
+                figure_keys.push(k.clone());
+            }
+        }
+        rows.push(Row {
+            index: j.index,
+            id: j.id().to_string(),
+            analysis: j.analysis.clone(),
+            status: status.into(),
+            inputs: j
+                .inputs
+                .iter()
+                .map(|(k, v)| (k.clone(), store::toml_to_json(v)))
+                .collect(),
+            figures,
+            seconds: done.map(|d| d.seconds),
+        });
+    }
+    Ok(Table {
+        input_keys: campaign.input_keys(),
+        figure_keys,
+        rows,
+    })
+}
+
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+fn value_text(v: &Value) -> String {
+    match v {
+        Value::String(s) => s.clone(),
+        v => v.to_string(),
+    }
+}
+
+impl Table {
+    /// The figure `name` of a row, if it has one.
+    pub fn figure(row: &Row, name: &str) -> Option<f64> {
+        row.figures.iter().find(|(k, _)| k == name).map(|(_, x)| *x)
+    }
+
+    /// The table as CSV: index, id, analysis, status, inputs, figures,
+    /// seconds; numbers with Rust's shortest round-trip formatting.
+    pub fn csv(&self) -> String {
+        let mut s = String::new();
+        let mut head = vec![
+            "index".to_string(),
+            "id".into(),
+            "analysis".into(),
+            "status".into(),
+        ];
+        head.extend(self.input_keys.iter().cloned());
+        head.extend(self.figure_keys.iter().cloned());
+        head.push("seconds".into());
+        s.push_str(
+            &head
+                .iter()
+                .map(|h| csv_field(h))
+                .collect::<Vec<_>>()
+                .join(","),
+        );
+        s.push('\n');
+        for r in &self.rows {
+            let mut f = vec![
+                r.index.to_string(),
+                r.id.clone(),
+                r.analysis.clone(),
+                r.status.clone(),
+            ];
+            for k in &self.input_keys {
+                f.push(
+                    r.inputs
+                        .iter()
+                        .find(|(n, _)| n == k)
+                        .map(|(_, v)| value_text(v))
+                        .unwrap_or_default(),
+                );
+            }
+            for k in &self.figure_keys {
+                f.push(
+                    Self::figure(r, k)
+                        .map(|x| x.to_string())
+                        .unwrap_or_default(),
+                );
+            }
+            f.push(r.seconds.map(|x| format!("{x:.3}")).unwrap_or_default());
+            s.push_str(&f.iter().map(|x| csv_field(x)).collect::<Vec<_>>().join(","));
+            s.push('\n');
+        }
+        s
+    }
+}
+
+/// Rows grouped by analysis and the inputs other than `except`, in first-seen order.
+fn groups<'a>(table: &'a Table, except: &[String]) -> Vec<(String, Vec<&'a Row>)> {
+    let mut order: Vec<String> = Vec::new();
+    let mut map: BTreeMap<String, Vec<&Row>> = BTreeMap::new();
+    for r in table.rows.iter().filter(|r| r.status == "done") {
+        let mut key = vec![r.analysis.clone()];
+        for (k, v) in &r.inputs {
+            if !except.contains(k) {
+                key.push(format!("{k} = {}", value_text(v)));
+            }
+        }
+        let key = key.join(", ");
+        if !map.contains_key(&key) {
+            order.push(key.clone());
+        }
+        map.entry(key).or_default().push(r);
+    }
+    order
+        .into_iter()
+        .map(|k| {
+            let rows = map.remove(&k).unwrap_or_default();
+            (k, rows)
+        })
+        .collect()
+}
+
+/// What [`write_all`] wrote.
+#[derive(Clone, Debug, Default)]
+pub struct Written {
+    pub files: Vec<PathBuf>,
+    pub done: usize,
+    pub pending: usize,
+    pub failed: usize,
+}
+
+/// Writes table.csv, convergence.csv / montecarlo.csv with their plots and
+/// summary.md into the campaign's folder (each file atomically).
+pub fn write_all(campaign: &Campaign, table: &Table) -> Result<Written> {
+    let out = &campaign.out;
+    std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
+    let mut w = Written::default();
+    for r in &table.rows {
+        match r.status.as_str() {
+            "done" => w.done += 1,
+            "failed" => w.failed += 1,
+            _ => w.pending += 1,
+        }
+    }
+    let mut md = format!(
+        "# Campaign {}\n\n{} jobs: {} done, {} failed, {} pending. Table: `table.csv`. flank {}\n\n",
+        campaign.file.name,
+        table.rows.len(),
+        w.done,
+        w.failed,
+        w.pending,
+        super::variants::flank_version()
+    );
+    let p = out.join("table.csv");
+    store::write_atomic(&p, table.csv().as_bytes())?;
+    w.files.push(p);
+    let figures: Vec<&String> = table
+        .figure_keys
+        .iter()
+        .filter(|k| !is_time_column(k))
+        .collect();
+
+    if let Some(conv) = &campaign.file.convergence {
+        let mut csv = String::from(
+            "group,figure,h1,h2,h3,phi1,phi2,phi3,order,extrapolated,approximate_error,extrapolated_error,gci_fine,oscillatory,note\n",
+        );
+        md.push_str(&format!(
+            "## Mesh convergence (`{}`; Celik et al. 2008 / Roache 1998, F_s = {})\n\n| group | figure | φ1 (h1) | φ2 | φ3 | p | φ_ext | GCI_fine |\n|---|---|---|---|---|---|---|---|\n",
+            conv.key, conv.safety_factor
+        ));
+        for (group, rows) in groups(table, std::slice::from_ref(&conv.key)) {
+            let mut hs: Vec<(f64, &Row)> = rows
+                .iter()
+                .filter_map(|r| {
+                    let h = r.inputs.iter().find(|(k, _)| *k == conv.key)?.1.as_f64()?;
+                    Some((h, *r))
+                })
+                .collect();
+            hs.sort_by(|a, b| a.0.total_cmp(&b.0));
+            if hs.len() < 3 {
+                continue;
+            }
+            let three = [hs[0], hs[1], hs[2]];
+            for f in &figures {
+                let vals: Option<Vec<f64>> =
+                    three.iter().map(|(_, r)| Table::figure(r, f)).collect();
+                let Some(v) = vals else { continue };
+                let h = [three[0].0, three[1].0, three[2].0];
+                let phi = [v[0], v[1], v[2]];
+                if phi.iter().all(|x| x.fract() == 0.0) {
+                    continue; // counts (nodes, DOFs, positions) are not discretised results
+                }
+                let opt = |x: Option<f64>| x.map(|x| x.to_string()).unwrap_or_default();
+                let (cols, note, mdrow) = match gci(h, phi, conv.safety_factor) {
+                    Ok(g) => (
+                        format!(
+                            "{},{},{},{},{},{}",
+                            g.order,
+                            g.extrapolated,
+                            opt(g.approximate_error),
+                            opt(g.extrapolated_error),
+                            opt(g.gci_fine),
+                            g.oscillatory
+                        ),
+                        String::new(),
+                        format!(
+                            "{:.3}{} | {:.6} | {}",
+                            g.order,
+                            if g.oscillatory { " (osc.)" } else { "" },
+                            g.extrapolated,
+                            g.gci_fine
+                                .map_or("—".into(), |x| format!("{:.3} %", 100.0 * x))
+                        ),
+                    ),
+                    Err(issue) => (
+                        ",,,,,".into(),
+                        issue.to_string(),
+                        format!("— | — | {issue}"),
+                    ),
+                };
+                csv.push_str(&format!(
+                    "{},{},{},{},{},{},{},{},{cols},{}\n",
+                    csv_field(&group),
+                    csv_field(f),
+                    h[0],
+                    h[1],
+                    h[2],
+                    phi[0],
+                    phi[1],
+                    phi[2],
+                    csv_field(&note)
+                ));
+                md.push_str(&format!(
+                    "| {group} | {f} | {:.6} ({}) | {:.6} | {:.6} | {mdrow} |\n",
+                    phi[0], h[0], phi[1], phi[2]
+                ));
+            }
+        }
+        md.push('\n');
+        let p = out.join("convergence.csv");
+        store::write_atomic(&p, csv.as_bytes())?;
+        w.files.push(p);
+    }
+
+    if let Some(mc) = &campaign.file.monte_carlo {
+        let sampled: Vec<String> = mc.keys.iter().map(|d| d.key.clone()).collect();
+        let mut head = "group,figure,n,mean,sd,min,p5,p25,p50,p75,p95,max".to_string();
+        for k in &sampled {
+            head.push_str(&format!(",{}", csv_field(&format!("spearman[{k}]"))));
+        }
+        let mut csv = head + "\n";
+        md.push_str(&format!(
+            "## Monte Carlo ({} samples, seed {})\n\n| group | figure | n | mean | sd | p5 | p50 | p95 | Spearman ρ ({}) |\n|---|---|---|---|---|---|---|---|---|\n",
+            mc.samples,
+            mc.seed,
+            sampled.join(", ")
+        ));
+        for (gi, (group, rows)) in groups(table, &sampled).into_iter().enumerate() {
+            for f in &figures {
+                let pairs: Vec<(&Row, f64)> = rows
+                    .iter()
+                    .filter_map(|r| Table::figure(r, f).map(|x| (*r, x)))
+                    .collect();
+                if pairs.is_empty() {
+                    continue;
+                }
+                let ys: Vec<f64> = pairs.iter().map(|p| p.1).collect();
+                let mut sorted = ys.clone();
+                sorted.sort_by(f64::total_cmp);
+                let q = |p: f64| {
+                    stats::percentile(&sorted, p)
+                        .map(|x| x.to_string())
+                        .unwrap_or_default()
+                };
+                let sd = stats::std_dev(&ys);
+                let rho: Vec<Option<f64>> = sampled
+                    .iter()
+                    .map(|k| {
+                        let xs: Vec<f64> = pairs
+                            .iter()
+                            .filter_map(|(r, _)| r.inputs.iter().find(|(n, _)| n == k)?.1.as_f64())
+                            .collect();
+                        (xs.len() == ys.len())
+                            .then(|| stats::spearman(&xs, &ys))
+                            .flatten()
+                    })
+                    .collect();
+                csv.push_str(&format!(
+                    "{},{},{},{},{},{},{},{},{},{},{},{}",
+                    csv_field(&group),
+                    csv_field(f),
+                    ys.len(),
+                    stats::mean(&ys),
+                    sd.map(|x| x.to_string()).unwrap_or_default(),
+                    q(0.0),
+                    q(5.0),
+                    q(25.0),
+                    q(50.0),
+                    q(75.0),
+                    q(95.0),
+                    q(100.0)
+                ));
+                for r in &rho {
+                    csv.push_str(&format!(
+                        ",{}",
+                        r.map(|x| x.to_string()).unwrap_or_default()
+                    ));
+                }
+                csv.push('\n');
+                let qf = |p: f64| stats::percentile(&sorted, p).unwrap_or(f64::NAN);
+                md.push_str(&format!(
+                    "| {group} | {f} | {} | {:.6} | {} | {:.6} | {:.6} | {:.6} | {} |\n",
+                    ys.len(),
+                    stats::mean(&ys),
+                    sd.map_or("—".into(), |x| format!("{x:.4e}")),
+                    qf(5.0),
+                    qf(50.0),
+                    qf(95.0),
+                    rho.iter()
+                        .map(|r| r.map_or("—".into(), |x| format!("{x:+.3}")))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ));
+                if ys.len() >= 2 && sorted.first() != sorted.last() {
+                    let stem = format!("hist_{gi}_{}", sanitize(f));
+                    for name in
+                        super::plots::histogram(out, &stem, &format!("{f} ({group})"), f, &ys, 0)?
+                    {
+                        w.files.push(out.join(name));
+                    }
+                }
+            }
+        }
+        let p = out.join("montecarlo.csv");
+        store::write_atomic(&p, csv.as_bytes())?;
+        w.files.push(p);
+    }
+    let p = out.join("summary.md");
+    store::write_atomic(&p, md.as_bytes())?;
+    w.files.push(p);
+    Ok(w)
+}
+
+fn sanitize(s: &str) -> String {
+    s.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' {
+                c
+            } else {
+                '-'
+            }
+        })
+        .collect()
+}
+
+/// Reads a table.csv back as rows of fields (for comparisons in tests and
+/// scripts): a header and rows, quoted fields unquoted.
+pub fn read_csv(path: &Path) -> Result<(Vec<String>, Vec<Vec<String>>)> {
+    let text = std::fs::read_to_string(path).map_err(|e| FlankError::io(path, e))?;
+    let mut lines = text.lines().map(split_csv);
+    let head = lines.next().unwrap_or_default();
+    Ok((head, lines.collect()))
+}
+
+fn split_csv(line: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut cur = String::new();
+    let mut quoted = false;
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match (c, quoted) {
+            ('"', true) if chars.peek() == Some(&'"') => {
+                cur.push('"');
+                chars.next();
+            }
+            ('"', _) => quoted = !quoted,
+            (',', false) => out.push(std::mem::take(&mut cur)),
+            (c, _) => cur.push(c),
+        }
+    }
+    out.push(cur);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn figures_are_selected_by_path() {
+        let v: Value = serde_json::from_str(
+            r#"{"a": 1.5, "b": [1, 2], "c": {"d": 3}, "steps": [{"te": 4, "f": [5, 6]}, {"te": 7, "f": [8, 9]}], "s": "x"}"#,
+        )
+        .unwrap();
+        let d = default_figures(&v);
+        let names: Vec<&str> = d.iter().map(|x| x.0.as_str()).collect();
+        assert_eq!(names, ["a", "b.0", "b.1", "c.d"]);
+        let mut out = Vec::new();
+        select(&v, &["steps", "*", "f", "1"], String::new(), &mut out);
+        assert_eq!(
+            out,
+            [
+                ("steps.0.f.1".to_string(), 6.0),
+                ("steps.1.f.1".to_string(), 9.0)
+            ]
+        );
+        let mut out = Vec::new();
+        select(&v, &["steps", "*", "f"], String::new(), &mut out);
+        assert_eq!(out.len(), 4);
+        assert!(is_time_column("setup.compliance_s") && is_time_column("peak_memory_mb"));
+        assert!(!is_time_column("contact_ratio"));
+        assert_eq!(split_csv("a,\"b,c\",\"d\"\"e\""), ["a", "b,c", "d\"e"]);
+    }
+}

@@ -1,0 +1,229 @@
+//! `flank campaign run` on this machine: a campaign of 8 cheap LTCA jobs
+//! (seed 002 scene, 2 mm compliance mesh, 3 positions) killed mid-run with
+//! SIGKILL to its process group and rerun gives the same table as an
+//! uninterrupted run (times aside), reruns no finished job (counted in
+//! events.log), shows no partial result; changing one variant's input reruns
+//! exactly that job. Bad campaign files fail before any job starts.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+use flank::campaign::collect::{is_time_column, read_csv};
+
+const TORQUES: [f64; 8] = [150.0, 175.0, 200.0, 225.0, 250.0, 275.0, 300.0, 312.0];
+
+fn dir(name: &str) -> PathBuf {
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("campaign_local_{name}"));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn campaign_text(torques: &[f64]) -> String {
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("papers/seed002-spur/scene.toml");
+    let list: Vec<String> = torques.iter().map(|t| format!("{t:.1}")).collect();
+    format!(
+        "[campaign]\nscene = \"{}\"\nanalyses = [\"ltca\"]\n\n[args]\nltca = [\"--no-condition\", \"--roll-angles\", \"-5,0,5\", \"--flank-size\", \"2\", \"--base-size\", \"3\", \"--points-per-line\", \"10\"]\n\n[grid]\n\"load.torque_nm\" = [{}]\n",
+        scene.display(),
+        list.join(", ")
+    )
+}
+
+fn run(campaign: &Path, out: &Path) -> (bool, String, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_flank"))
+        .args(["campaign", "run"])
+        .arg(campaign)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .unwrap();
+    (
+        o.status.success(),
+        String::from_utf8_lossy(&o.stdout).into(),
+        String::from_utf8_lossy(&o.stderr).into(),
+    )
+}
+
+/// The table without its time and memory columns.
+fn figures(out: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let (head, rows) = read_csv(&out.join("table.csv")).unwrap();
+    let keep: Vec<usize> = (0..head.len())
+        .filter(|&i| !is_time_column(&head[i]))
+        .collect();
+    (
+        keep.iter().map(|&i| head[i].clone()).collect(),
+        rows.iter()
+            .map(|r| keep.iter().map(|&i| r[i].clone()).collect())
+            .collect(),
+    )
+}
+
+/// Lines of events.log starting with `word`, as (index, id).
+fn events(out: &Path, word: &str) -> Vec<(usize, String)> {
+    std::fs::read_to_string(out.join("events.log"))
+        .unwrap_or_default()
+        .lines()
+        .filter_map(|l| {
+            let mut f = l.split_whitespace();
+            (f.next()? == word).then_some(())?;
+            Some((f.next()?.parse().ok()?, f.next()?.to_string()))
+        })
+        .collect()
+}
+
+#[test]
+fn killed_campaign_resumes_to_the_same_table() {
+    let d = dir("kill");
+    let c = d.join("tolerance.toml");
+    std::fs::write(&c, campaign_text(&TORQUES)).unwrap();
+
+    // uninterrupted reference
+    let reference = d.join("reference");
+    let (ok, out, err) = run(&c, &reference);
+    assert!(ok, "{out}\n{err}");
+    assert!(
+        out.contains("8 jobs: 0 done before, 8 finished, 0 failed"),
+        "{out}"
+    );
+    let (head, ref_rows) = figures(&reference);
+    assert!(head.iter().any(|h| h == "single_pair_force_n"), "{head:?}");
+    assert_eq!(ref_rows.len(), 8);
+    assert!(ref_rows.iter().all(|r| r[3] == "done"));
+
+    // killed mid-run: SIGKILL to the campaign's process group once two jobs are done
+    let killed = d.join("killed");
+    std::fs::create_dir_all(&killed).unwrap();
+    let mut child = {
+        use std::os::unix::process::CommandExt;
+        Command::new(env!("CARGO_BIN_EXE_flank"))
+            .args(["campaign", "run", "-q"])
+            .arg(&c)
+            .arg("--out")
+            .arg(&killed)
+            .process_group(0)
+            .spawn()
+            .unwrap()
+    };
+    let t0 = Instant::now();
+    while events(&killed, "done").len() < 2 {
+        assert!(
+            t0.elapsed() < Duration::from_secs(120),
+            "no job finished in 120 s"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    // SAFETY: kill(2) of the process group this test created
+    unsafe {
+        libc::killpg(child.id() as i32, libc::SIGKILL);
+    }
+    child.wait().unwrap();
+    std::thread::sleep(Duration::from_millis(300));
+    let done_at_kill = events(&killed, "done");
+    assert!(
+        (2..8).contains(&done_at_kill.len()),
+        "the kill should land mid-run: {} done",
+        done_at_kill.len()
+    );
+    // no partial result visible: collect shows exactly the recorded jobs, with figures
+    let o = Command::new(env!("CARGO_BIN_EXE_flank"))
+        .args(["campaign", "collect"])
+        .arg(&c)
+        .arg("--out")
+        .arg(&killed)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (h, rows) = figures(&killed);
+    let col = h.iter().position(|x| x == "single_pair_force_n").unwrap();
+    for r in &rows {
+        let i: usize = r[0].parse().unwrap();
+        let done = done_at_kill.iter().any(|(j, _)| *j == i);
+        assert_eq!(r[3] == "done", done, "row {r:?}");
+        assert_eq!(!r[col].is_empty(), done, "row {r:?}");
+    }
+
+    // rerun: finishes the rest, runs no finished job again
+    let (ok, out, err) = run(&c, &killed);
+    assert!(ok, "{out}\n{err}");
+    assert!(
+        out.contains(&format!("8 jobs: {} done before", done_at_kill.len())),
+        "{out}"
+    );
+    let starts = events(&killed, "start");
+    for (i, id) in &done_at_kill {
+        let n = starts.iter().filter(|(_, s)| s == id).count();
+        assert_eq!(n, 1, "job {i} ({id}) started {n} times");
+    }
+    assert_eq!(events(&killed, "done").len(), 8);
+    // no attempt left behind
+    for e in std::fs::read_dir(killed.join("jobs")).unwrap().flatten() {
+        for f in std::fs::read_dir(e.path()).unwrap().flatten() {
+            let name = f.file_name().to_string_lossy().into_owned();
+            assert!(!name.starts_with("tmp-"), "{}", f.path().display());
+        }
+        assert!(e.path().join("done.json").is_file());
+    }
+    assert_eq!(figures(&killed), (head.clone(), ref_rows.clone()));
+
+    // one changed input reruns exactly that job
+    let mut changed = TORQUES;
+    changed[5] = 280.0;
+    std::fs::write(&c, campaign_text(&changed)).unwrap();
+    let before = events(&killed, "start").len();
+    let (ok, out, err) = run(&c, &killed);
+    assert!(ok, "{out}\n{err}");
+    assert!(out.contains("8 jobs: 7 done before, 1 finished"), "{out}");
+    let starts = events(&killed, "start");
+    assert_eq!(starts.len(), before + 1);
+    assert_eq!(starts.last().unwrap().0, 5);
+}
+
+#[test]
+fn bad_campaigns_fail_before_any_job() {
+    let d = dir("bad");
+    let c = d.join("bad.toml");
+    let cases: [(&str, &str, &[&str]); 4] = [
+        (
+            "unknown scene key",
+            "\"load.torqe_nm\" = [1.0]\n",
+            &["bad.toml:10:", "unknown field `torqe_nm`"],
+        ),
+        (
+            "memory above the machine",
+            "[resources]\nmemory_gb = 1000000.0\n",
+            &["needs `resources.memory_gb` = 1000000.00 GB", "more than the"],
+        ),
+        (
+            "negative spread",
+            "[monte_carlo]\nseed = 3\nsamples = 10\n[monte_carlo.keys]\n\"pinion.face_width_mm\" = { distribution = \"normal\", mean = 13.3, sd = -0.1 }\n",
+            &["bad.toml:14:", "must not be negative"],
+        ),
+        (
+            "bad analysis option",
+            "",
+            &["bad.toml:6:", "`args.ltca`", "--no-such-option"],
+        ),
+    ];
+    for (what, extra, expect) in cases {
+        let mut text = campaign_text(&TORQUES[..2]);
+        if what == "bad analysis option" {
+            text = text.replace("\"--no-condition\"", "\"--no-such-option\"");
+        }
+        std::fs::write(&c, format!("{text}{extra}")).unwrap();
+        let out = d.join("out");
+        let (ok, stdout, err) = run(&c, &out);
+        assert!(!ok, "{what}: {stdout}");
+        for e in expect {
+            assert!(err.contains(e), "{what}: {err}");
+        }
+        assert!(!out.join("jobs").exists(), "{what}: a job folder was made");
+    }
+    // an empty grid
+    std::fs::write(&c, campaign_text(&[])).unwrap();
+    let (ok, _, err) = run(&c, &d.join("out"));
+    assert!(
+        !ok && err.contains("bad.toml:9:") && err.contains("empty list"),
+        "{err}"
+    );
+}
