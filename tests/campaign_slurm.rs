@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
-use flank::campaign::collect::{is_time_column, read_csv};
+use flank::campaign::collect::read_figures;
 
 const TORQUES: [f64; 8] = [150.0, 175.0, 200.0, 225.0, 250.0, 275.0, 300.0, 312.0];
 
@@ -44,16 +44,7 @@ fn flank(args: &[&str], conf: Option<&Path>) -> (bool, String, String) {
 }
 
 fn figures(out: &Path) -> (Vec<String>, Vec<Vec<String>>) {
-    let (head, rows) = read_csv(&out.join("table.csv")).unwrap();
-    let keep: Vec<usize> = (0..head.len())
-        .filter(|&i| !is_time_column(&head[i]))
-        .collect();
-    (
-        keep.iter().map(|&i| head[i].clone()).collect(),
-        rows.iter()
-            .map(|r| keep.iter().map(|&i| r[i].clone()).collect())
-            .collect(),
-    )
+    read_figures(out).unwrap()
 }
 
 /// The cluster's state folder; stops the daemons and removes it when dropped.

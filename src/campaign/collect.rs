@@ -524,6 +524,22 @@ pub fn read_csv(path: &Path) -> Result<(Vec<String>, Vec<Vec<String>>)> {
     Ok((head, lines.collect()))
 }
 
+/// A campaign's figures: `DIR/table.csv` without its time and memory
+/// columns ([`is_time_column`]), which differ between two runs of the same
+/// jobs (to compare executors, or a resumed run with an uninterrupted one).
+pub fn read_figures(dir: &Path) -> Result<(Vec<String>, Vec<Vec<String>>)> {
+    let (head, rows) = read_csv(&dir.join("table.csv"))?;
+    let keep: Vec<usize> = (0..head.len())
+        .filter(|&i| !is_time_column(&head[i]))
+        .collect();
+    Ok((
+        keep.iter().map(|&i| head[i].clone()).collect(),
+        rows.iter()
+            .map(|r| keep.iter().map(|&i| r[i].clone()).collect())
+            .collect(),
+    ))
+}
+
 fn split_csv(line: &str) -> Vec<String> {
     let mut out = Vec::new();
     let mut cur = String::new();

@@ -59,6 +59,45 @@ fn range(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
     }
 }
 
+type Axes<'a, DB> = ChartContext<
+    'a,
+    DB,
+    plotters::coord::cartesian::Cartesian2d<
+        plotters::coord::types::RangedCoordf64,
+        plotters::coord::types::RangedCoordf64,
+    >,
+>;
+
+/// A panel's axes: caption, ranges and axis names (text only with a font).
+fn axes<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    caption: &str,
+    (x, y): ((f64, f64), (f64, f64)),
+    (x_desc, y_desc): (&str, &str),
+) -> Result<Axes<'a, DB>, String> {
+    let e = |e: &dyn std::fmt::Debug| format!("{e:?}");
+    let text = font_available();
+    let mut b = ChartBuilder::on(area);
+    b.margin(12);
+    if text {
+        b.caption(caption, ("sans-serif", 20))
+            .x_label_area_size(40)
+            .y_label_area_size(55);
+    }
+    let mut chart = b
+        .build_cartesian_2d(x.0..x.1, y.0..y.1)
+        .map_err(|x| e(&x))?;
+    if text {
+        chart
+            .configure_mesh()
+            .x_desc(x_desc)
+            .y_desc(y_desc)
+            .draw()
+            .map_err(|x| e(&x))?;
+    }
+    Ok(chart)
+}
+
 impl Figure for VhChart<'_> {
     fn size(&self) -> (u32, u32) {
         (1200, 560)
@@ -78,24 +117,15 @@ impl Figure for VhChart<'_> {
             range(centres.iter().map(|c| c[0])),
             range(centres.iter().map(|c| c[1])),
         ) {
-            let mut b = ChartBuilder::on(&left);
-            b.margin(12);
-            if text {
-                b.caption("Bearing centre on the gear flank", ("sans-serif", 20))
-                    .x_label_area_size(40)
-                    .y_label_area_size(55);
-            }
-            let mut chart = b
-                .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
-                .map_err(|x| e(&x))?;
-            if text {
-                chart
-                    .configure_mesh()
-                    .x_desc("along the face from the mean point (mm)")
-                    .y_desc("height above the pitch cone (mm)")
-                    .draw()
-                    .map_err(|x| e(&x))?;
-            }
+            let mut chart = axes(
+                &left,
+                "Bearing centre on the gear flank",
+                (xr, yr),
+                (
+                    "along the face from the mean point (mm)",
+                    "height above the pitch cone (mm)",
+                ),
+            )?;
             // lines of constant ΔE (colour per ΔE), then of constant ΔP (grey)
             for (i, &de) in des.iter().enumerate() {
                 let line: Vec<(f64, f64)> = self
@@ -156,24 +186,12 @@ impl Figure for VhChart<'_> {
             range(dps.iter().copied()),
             range(te.iter().copied().chain([0.0])),
         ) {
-            let mut b = ChartBuilder::on(&right);
-            b.margin(12);
-            if text {
-                b.caption("TE peak-to-peak", ("sans-serif", 20))
-                    .x_label_area_size(40)
-                    .y_label_area_size(55);
-            }
-            let mut chart = b
-                .build_cartesian_2d(xr.0..xr.1, yr.0.max(0.0)..yr.1)
-                .map_err(|x| e(&x))?;
-            if text {
-                chart
-                    .configure_mesh()
-                    .x_desc("pinion axial ΔP (mm)")
-                    .y_desc("TE p-p (arcsec, gear)")
-                    .draw()
-                    .map_err(|x| e(&x))?;
-            }
+            let mut chart = axes(
+                &right,
+                "TE peak-to-peak",
+                (xr, (yr.0.max(0.0), yr.1)),
+                ("pinion axial ΔP (mm)", "TE p-p (arcsec, gear)"),
+            )?;
             for (i, &de) in des.iter().enumerate() {
                 let line: Vec<(f64, f64)> = self
                     .points
