@@ -298,4 +298,20 @@ fn seed003_hypoid_run_writes_balanced_positions() {
     }
     let csv = std::fs::read_to_string(out.join("positions.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 3 * 3);
+    // the contact pattern: one row per loaded node and position, plotted
+    // on both members
+    let closed: u64 = s["steps"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|st| st["closed_nodes"].as_array().unwrap().iter())
+        .map(|x| x.as_u64().unwrap())
+        .sum();
+    let pattern = std::fs::read_to_string(out.join("contact_pattern.csv")).unwrap();
+    assert!(closed > 0);
+    assert_eq!(pattern.lines().count() as u64, 1 + closed);
+    for f in s["plots"].as_array().unwrap() {
+        assert!(out.join(f.as_str().unwrap()).exists(), "{f}");
+    }
+    assert_eq!(s["plots"].as_array().unwrap().len(), 4);
 }

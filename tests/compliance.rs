@@ -261,3 +261,50 @@ fn cli_files_deck_and_ccx_unit_force() {
     );
     assert!(rel <= 1e-5, "compliance vs ccx: {rel:e}");
 }
+
+/// `flank compliance` on a hypoid scene (issue 18 point 2): the tensors of
+/// the bevel sector body on the deck `flank mesh` writes, the directional
+/// compliances at the mean contact in the summary, reuse on a second run.
+#[test]
+fn cli_hypoid_gear_tensors_and_mean_contact() {
+    let tmp = Path::new(env!("CARGO_TARGET_TMPDIR")).join("compliance_seed003");
+    let _ = std::fs::remove_dir_all(&tmp);
+    let (out, mesh_out) = (tmp.join("compliance"), tmp.join("mesh"));
+    let scene = "papers/seed003-hypoid/scene_eased.toml";
+    let sizes = ["--flank-size", "2.0", "--base-size", "8.0"];
+    let mut args = vec!["compliance", scene, "--bodies", "gear"];
+    args.extend(sizes);
+    flank_cli(&args, &out);
+    let mut margs = vec!["mesh", scene];
+    margs.extend(sizes);
+    flank_cli(&margs, &mesh_out);
+    assert_eq!(
+        std::fs::read(out.join("gear.inp")).unwrap(),
+        std::fs::read(mesh_out.join("gear.inp")).unwrap(),
+        "gear.inp differs from flank mesh's"
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let g = &summary["bodies"]["gear"];
+    assert_eq!(g["source"], "computed");
+    assert_eq!(g["clamped_sets"], serde_json::json!(["MOUNT"]));
+    assert_eq!(
+        g["flank_sets"],
+        serde_json::json!(["FLANK_R1", "FLANK_R2", "FLANK_R3"])
+    );
+    assert!(g["contact_line"].is_null(), "a spur/helical figure: {g}");
+    let m = &g["mean_contact"];
+    assert!(m["error"].is_null(), "{m}");
+    let r = &m["report"];
+    let f = |k: &str| r[k].as_f64().unwrap_or(f64::NAN);
+    assert!(r["points"].as_u64().unwrap() >= 5, "{m}");
+    assert!(f("c_nn") > 0.0 && f("c_tt") > 0.0, "{m}");
+    assert!(f("c_nt").abs() < f("c_nn"), "{m}");
+    assert!(f("reciprocity") <= 1e-12, "{m}");
+    assert_eq!(r["positive_definite"], true);
+    flank_cli(&args, &out);
+    let again: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(again["bodies"]["gear"]["source"], "disk");
+    assert_eq!(again["bodies"]["gear"]["mean_contact"], *m);
+}

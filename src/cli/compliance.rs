@@ -104,8 +104,12 @@ pub fn run(args: Args) -> Result<()> {
                     );
                     continue;
                 }
+                let line = match b["contact_line"]["condition"].as_f64() {
+                    Some(k) => format!(", C_nn on the pitch line κ = {k:.3e}"),
+                    None => String::new(),
+                };
                 println!(
-                    "{name}: {} flank nodes, C {}×{} ({}); factorization {:.2} s, solve {:.2} s ({:.2}× its own factorization), κ(C) ≈ {:.3e}, C_nn on the pitch line κ = {:.3e}; {}",
+                    "{name}: {} flank nodes, C {}×{} ({}); factorization {:.2} s, solve {:.2} s ({:.2}× its own factorization), κ(C) ≈ {:.3e}{line}; {}",
                     b["flank_nodes"],
                     b["matrix_dim"],
                     b["matrix_dim"],
@@ -114,8 +118,30 @@ pub fn run(args: Args) -> Result<()> {
                     s["solve_s"].as_f64().unwrap_or(0.0),
                     s["time_vs_factorization"].as_f64().unwrap_or(0.0),
                     s["condition"]["kappa"].as_f64().unwrap_or(f64::NAN),
-                    b["contact_line"]["condition"].as_f64().unwrap_or(f64::NAN),
                     b["file"].as_str().unwrap_or("")
+                );
+            }
+            for (name, b) in bodies {
+                let m = &b["mean_contact"];
+                if m.is_null() {
+                    continue;
+                }
+                if let Some(why) = m["error"].as_str() {
+                    println!("{name}: no directional compliances at the mean contact: {why}");
+                    continue;
+                }
+                let r = &m["report"];
+                let f = |k: &str| r[k].as_f64().unwrap_or(f64::NAN);
+                println!(
+                    "{name}: mean contact (roll 0, {} points on the major axis, a = {:.3} mm): c_nn {:.4e}, c_tt {:.4e}, c_nt {:.4e}, c_tn {:.4e} mm/N; C_nn κ = {:.3e}, reciprocity {:.1e}",
+                    r["points"],
+                    m["semi_major_mm"].as_f64().unwrap_or(f64::NAN),
+                    f("c_nn"),
+                    f("c_tt"),
+                    f("c_nt"),
+                    f("c_tn"),
+                    f("condition"),
+                    f("reciprocity")
                 );
             }
         }

@@ -203,30 +203,19 @@ fn mesh_bevel_scene(
     element: Option<MeshElement>,
 ) -> Result<()> {
     use flank::mesh::bevel_body::bevel_body_model;
-    use flank::mesh::bevel_sector::BevelSectorOptions;
-    let element = match element {
-        Some(e) => e == MeshElement::Hex20,
-        None => scene.mesh.element == flank::scene::ElementKind::Hex20,
-    };
-    if !element {
-        anyhow::bail!(
-            "{}: bevel and hypoid bodies are meshed in hex20 only (wedge15 coarsening is not implemented for them): use --element hex20 or [mesh] element = \"hex20\"",
-            path.display()
-        );
-    }
-    let mn = scene.blank.cones.m_mn;
-    let flank_size = flank_size.or(scene.mesh.flank_size).unwrap_or(mn / 8.0);
-    let base_size = base_size.or(scene.mesh.base_size).unwrap_or(mn / 2.0);
-    if !(flank_size > 0.0 && base_size >= flank_size) {
-        anyhow::bail!(
-            "--flank-size / --base-size (or the scene's [mesh] flank_size_mm / base_size_mm): element sizes must satisfy 0 < flank size ({flank_size}) ≤ base size ({base_size})"
-        );
-    }
-    let options = BevelSectorOptions {
-        flank_size,
-        base_size,
-        ..Default::default()
-    };
+    let options = flank::compliance::body::bevel_sector_options(
+        scene,
+        &flank::compliance::body::BodyMeshOptions {
+            flank_size,
+            base_size,
+            with_load,
+            element: element.map(|e| match e {
+                MeshElement::Hex20 => flank::scene::ElementKind::Hex20,
+                MeshElement::Wedge15 => flank::scene::ElementKind::Wedge15,
+            }),
+        },
+    )?;
+    let (flank_size, base_size) = (options.flank_size, options.base_size);
     let ratio = scene.blank.z2 / scene.blank.z1;
     let torques = [scene.load.torque_nmm, scene.load.torque_nmm * ratio];
     let members = [

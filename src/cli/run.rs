@@ -166,29 +166,15 @@ fn run_bevel_scene(
     threads: usize,
     quiet: bool,
 ) -> Result<()> {
-    use flank::mesh::bevel_sector::BevelSectorOptions;
     use flank::mesh_cycle::bevel::{run_bevel, BevelRunOptions};
-    let body = sizes.body_options(false);
-    if body.element == Some(flank::scene::ElementKind::Wedge15) {
-        anyhow::bail!("--element wedge15: bevel and hypoid bodies are meshed in hex20 only");
-    }
-    let mn = scene.blank.cones.m_mn;
-    let flank_size = body
-        .flank_size
-        .or(scene.mesh.flank_size)
-        .unwrap_or(mn / 8.0);
-    let base_size = body.base_size.or(scene.mesh.base_size).unwrap_or(mn / 2.0);
+    let mesh = flank::compliance::body::bevel_sector_options(scene, &sizes.body_options(false))?;
     let threads = if threads == 0 {
         std::thread::available_parallelism().map_or(1, |n| n.get())
     } else {
         threads
     };
     let options = BevelRunOptions {
-        mesh: BevelSectorOptions {
-            flank_size,
-            base_size,
-            ..Default::default()
-        },
+        mesh,
         threads,
         ..Default::default()
     };

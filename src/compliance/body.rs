@@ -1,16 +1,130 @@
 //! Gear bodies of a scene as `flank mesh` builds them, and their flank nodes
 //! with exact normals.
+//!
+//! Both pair types reach the compliance machinery through [`SectorBody`]:
+//! a clamped body model, the flank parameters (u, v) of its flank nodes and
+//! its nominal tooth surfaces. Spur/helical bodies come from
+//! [`scene_body`] (profile roll angle × face position), bevel/hypoid bodies
+//! from [`bevel_scene_body`] (the axial-section coordinates of
+//! [`crate::mesh::bevel_sector`]: u across the pitch generatrix, v the cone
+//! distance); nothing after that point knows which it is.
 
 use crate::compliance::{FlankNodes, FlankSelection};
 use crate::error::FlankError;
+use crate::fem::model::Model;
 use crate::geometry::cylindrical::CylindricalGear;
 use crate::geometry::gear_pair::{Flank, GearBody};
 use crate::geometry::involute::base_radius;
+use crate::mesh::bevel_body::bevel_body_model;
+use crate::mesh::bevel_sector::BevelSectorOptions;
 use crate::mesh::gear_body::{body_model, BodyModel, Mesher};
 use crate::mesh::gear_sector::SectorOptions;
 use crate::mesh::Mesh;
-use crate::scene::{ElementKind, Scene};
+use crate::scene::{AnyScene, BevelScene, ElementKind, Scene};
 use std::collections::HashMap;
+use std::sync::Arc;
+
+/// A meshed, clamped gear body with what its compliance tensors need.
+pub struct SectorBody {
+    /// "pinion" or "gear".
+    pub name: String,
+    /// Mount clamped; the nominal load when asked for (it does not enter
+    /// the compliance).
+    pub model: Model,
+    /// Flank parameters (u, v) of every flank node (mesh index).
+    pub flank_uv: HashMap<usize, (f64, f64)>,
+    /// The nominal tooth surfaces (exact flank normals).
+    pub surfaces: Arc<dyn GearBody>,
+}
+
+impl From<BodyModel> for SectorBody {
+    fn from(b: BodyModel) -> Self {
+        SectorBody {
+            name: b.name,
+            model: b.model,
+            flank_uv: b.sector.flank_uv,
+            surfaces: b.surfaces,
+        }
+    }
+}
+
+/// The body `name` ("pinion" or "gear") of a scene of either pair type.
+pub fn any_scene_body(
+    scene: &AnyScene,
+    name: &str,
+    options: &BodyMeshOptions,
+) -> Result<SectorBody, FlankError> {
+    match scene {
+        AnyScene::Cylindrical(s) => scene_body(s, name, options).map(SectorBody::from),
+        AnyScene::Bevel(s) => bevel_scene_body(s, name, options),
+    }
+}
+
+/// The bevel sector options `flank mesh` uses for `scene` with these
+/// overrides: absent sizes default to m_mn/8 (flank) and m_mn/2 (base);
+/// hex20 only (the bevel mesher has no wedge15 coarsening).
+pub fn bevel_sector_options(
+    scene: &BevelScene,
+    o: &BodyMeshOptions,
+) -> Result<BevelSectorOptions, FlankError> {
+    let mn = scene.blank.cones.m_mn;
+    let flank_size = o.flank_size.or(scene.mesh.flank_size).unwrap_or(mn / 8.0);
+    let base_size = o.base_size.or(scene.mesh.base_size).unwrap_or(mn / 2.0);
+    if !(flank_size > 0.0 && base_size >= flank_size) {
+        return Err(FlankError::Model(format!(
+            "--flank-size / --base-size (or the scene's [mesh] flank_size_mm / base_size_mm): element sizes must satisfy 0 < flank size ({flank_size}) ≤ base size ({base_size})"
+        )));
+    }
+    if o.element.unwrap_or(scene.mesh.element) != ElementKind::Hex20 {
+        return Err(FlankError::Model(format!(
+            "{}: bevel and hypoid bodies are meshed in hex20 only (wedge15 coarsening is not implemented for them): use --element hex20 or [mesh] element = \"hex20\"",
+            scene.source.display()
+        )));
+    }
+    Ok(BevelSectorOptions {
+        flank_size,
+        base_size,
+        ..Default::default()
+    })
+}
+
+/// One body of a bevel/hypoid scene meshed and clamped as `flank mesh`
+/// writes it (nominal load: the pinion torque on the pinion, the torque ×
+/// z₂/z₁ on the gear, at the middle tooth's drive flank).
+pub fn bevel_scene_body(
+    scene: &BevelScene,
+    name: &str,
+    options: &BodyMeshOptions,
+) -> Result<SectorBody, FlankError> {
+    let (index, material) = match name {
+        "pinion" => (0, &scene.pinion_material),
+        "gear" => (1, &scene.gear_material),
+        other => {
+            return Err(FlankError::Model(format!(
+                "unknown body '{other}' (pinion or gear)"
+            )))
+        }
+    };
+    let sector = bevel_sector_options(scene, options)?;
+    let torque = [
+        scene.load.torque_nmm,
+        scene.load.torque_nmm * scene.blank.z2 / scene.blank.z1,
+    ][index];
+    let gear = &scene.bodies[index];
+    let body = bevel_body_model(
+        gear,
+        name,
+        material,
+        &sector,
+        options.with_load.then_some(torque),
+    )?;
+    Ok(SectorBody {
+        name: body.name,
+        model: body.model,
+        flank_uv: body.sector.flank_uv,
+        surfaces: gear.clone(),
+    })
+}
 
 /// Mesh sizes of a scene's bodies: command-line values override the
 /// scene's `[mesh]`, whose absent sizes default to m_n/8 (flank) and m_n/2
@@ -143,11 +257,10 @@ pub fn flank_nodes_on(
 /// The flank parameters of `body` re-keyed to the node indices of `mesh`
 /// (matched by node label), e.g. the body's deck read back.
 pub fn flank_uv_on(
-    body: &BodyModel,
+    body: &SectorBody,
     mesh: &Mesh,
 ) -> Result<HashMap<usize, (f64, f64)>, FlankError> {
-    body.sector
-        .flank_uv
+    body.flank_uv
         .iter()
         .map(|(&n, &uv)| {
             let label = body.model.mesh.node_labels[n];

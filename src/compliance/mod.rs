@@ -79,6 +79,7 @@
 
 pub mod body;
 pub mod cache;
+pub mod contact_probe;
 pub mod flank;
 pub mod interpolation;
 pub mod plot;

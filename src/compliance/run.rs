@@ -6,8 +6,11 @@ use std::time::Instant;
 
 use nalgebra::{DMatrix, SymmetricEigen};
 
-use crate::compliance::body::{flank_nodes_on, flank_uv_on, scene_body, BodyMeshOptions};
+use crate::compliance::body::{
+    any_scene_body, flank_nodes_on, flank_uv_on, BodyMeshOptions, SectorBody,
+};
 use crate::compliance::cache::{self, CacheOutcome, ComplianceCache, FileFormat};
+use crate::compliance::contact_probe::{directional_matrices, retain_meshed, ProbePoint};
 use crate::compliance::plot::plot_cnn;
 use crate::compliance::{
     cache_key, clamp_sets, compliance_tensor, mesh_hash, ComplianceOptions, ComplianceTensor,
@@ -15,7 +18,9 @@ use crate::compliance::{
 };
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
-use crate::scene::{read_scene, ComplianceAnalysis};
+use crate::scene::{read_any_scene, AnyScene, BevelScene, ComplianceAnalysis};
+use crate::tca::major_axis::{major_axis_points, AxisPoint};
+use crate::tca::point_contact::{point_tca, PointTcaSettings};
 
 /// Options of [`run_scene`]; `None` fields fall back to the scene's
 /// `[analyses.compliance]`, then to the defaults.
@@ -139,27 +144,25 @@ pub struct BodyTensor {
     pub file: PathBuf,
 }
 
-/// The compliance tensor of body `name` ("pinion" or "gear") of `scene`:
-/// meshed as `flank mesh` does, written to `out/<name>.inp`, read back (the
+/// The compliance tensor of a scene's body (meshed as `flank mesh` does,
+/// [`crate::compliance::body`]): written to `out/<name>.inp`, read back (the
 /// tensor belongs to the deck as printed), and computed unless
 /// `out/<name>.compliance.*` or the campaign cache holds it under the same
 /// key (mesh hash, constraints, material, flank nodes).
 pub fn body_tensor(
-    scene: &crate::scene::Scene,
-    name: &str,
-    mesh: &BodyMeshOptions,
+    body: &SectorBody,
     options: &BodyTensorOptions,
     out: &Path,
 ) -> Result<BodyTensor, FlankError> {
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
-    let body = scene_body(scene, name, mesh)?;
+    let name = body.name.as_str();
     let deck = out.join(format!("{name}.inp"));
     crate::mesh::inp::write_deck(&body.model, &deck)?;
     // the tensors belong to the mesh of the deck as written (coordinates
     // as printed), so that the deck solved elsewhere is the same model
     let parsed = crate::mesh::inp::read_deck(&deck)?;
     let mut model = parsed.model;
-    let uv = flank_uv_on(&body, &model.mesh)?;
+    let uv = flank_uv_on(body, &model.mesh)?;
     let flank = flank_nodes_on(&model.mesh, &uv, body.surfaces.as_ref(), options.flanks)?;
     model.forces.clear();
     model.pressures.clear();
@@ -199,8 +202,12 @@ pub fn body_tensor(
 /// `summary.json` into `options.out`; returns the summary.
 pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value, FlankError> {
     let t_all = Instant::now();
-    let scene = read_scene(path)?;
-    let analysis: ComplianceAnalysis = scene.analyses.compliance.clone().unwrap_or_default();
+    let scene = read_any_scene(path)?;
+    let (analyses, teeth) = match &scene {
+        AnyScene::Cylindrical(s) => (&s.analyses, s.mesh.teeth_in_sector as usize),
+        AnyScene::Bevel(s) => (&s.analyses, s.mesh.teeth_in_sector as usize),
+    };
+    let analysis: ComplianceAnalysis = analyses.compliance.clone().unwrap_or_default();
     let method = options.method.unwrap_or(analysis.method);
     let flanks = options.flanks.unwrap_or(analysis.flanks);
     let clamp_cuts = options.clamp_cuts || analysis.clamp_cuts;
@@ -222,8 +229,21 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
         Some(d) => Some(ComplianceCache::in_dir(d, format)?),
         None => None,
     };
-    let report = crate::geometry::pair::check_pair(&scene.pair)?;
-    let u_pitch = report.working_pressure_angle_rad.tan();
+    // where each body's tensors are probed: a spur/helical body along the
+    // contact line through the working pitch point, a bevel/hypoid body
+    // along the major axis of the middle pair's contact at roll 0
+    let u_pitch = match &scene {
+        AnyScene::Cylindrical(s) => Some(
+            crate::geometry::pair::check_pair(&s.pair)?
+                .working_pressure_angle_rad
+                .tan(),
+        ),
+        AnyScene::Bevel(_) => None,
+    };
+    let axis = match &scene {
+        AnyScene::Bevel(s) => Some(mean_contact_axis(s)),
+        AnyScene::Cylindrical(_) => None,
+    };
     let bodies: Vec<String> = if options.bodies.is_empty() {
         vec!["pinion".into(), "gear".into()]
     } else {
@@ -232,6 +252,7 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
     let mut summary = serde_json::Map::new();
     for name in &bodies {
         let t_body = Instant::now();
+        let body = any_scene_body(&scene, name, &options.mesh)?;
         let BodyTensor {
             tensor,
             outcome,
@@ -239,9 +260,7 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
             deck,
             file,
         } = body_tensor(
-            &scene,
-            name,
-            &options.mesh,
+            &body,
             &BodyTensorOptions {
                 flanks,
                 clamp_cuts,
@@ -252,7 +271,6 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
             out,
         )?;
         let flank = &tensor.flank;
-        let teeth = scene.mesh.teeth_in_sector as usize;
         let middle = teeth.div_ceil(2);
         let plot_set = flank
             .sets
@@ -267,10 +285,11 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
             &out.join(format!("{name}_cnn.svg")),
             &out.join(format!("{name}_cnn.png")),
         )?;
-        let line = if plot_set.starts_with("FLANK_") {
-            contact_line(&tensor, &plot_set, u_pitch).ok().map(|c| c.0)
-        } else {
-            None
+        let line = match u_pitch {
+            Some(u) if plot_set.starts_with("FLANK_") => {
+                contact_line(&tensor, &plot_set, u).ok().map(|c| c.0)
+            }
+            _ => None,
         };
         let mut b = serde_json::json!({
             "deck": deck.display().to_string(),
@@ -288,6 +307,9 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
             "contact_line": line,
             "body_s": t_body.elapsed().as_secs_f64(),
         });
+        if let Some(axis) = &axis {
+            b["mean_contact"] = mean_contact_report(axis, name, &tensor);
+        }
         if let Some(s) = stats {
             b["stats"] = serde_json::to_value(&s).map_err(|e| FlankError::Model(e.to_string()))?;
         }
@@ -310,4 +332,82 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
     )
     .map_err(|e| FlankError::io(&p, e))?;
     Ok(json)
+}
+
+/// Points on the contact-ellipse major axis that [`mean_contact_axis`]
+/// probes (seed 001/003 place their M candidate points there).
+pub const MEAN_CONTACT_POINTS: usize = 11;
+
+/// The middle pair's contact of a bevel/hypoid scene at roll 0 (point TCA
+/// with the default approach δ, flank contact only, curvature ellipse):
+/// the roll angle, the ellipse's semi-major axis and its major-axis points
+/// on [pinion, gear]; or why there is none.
+pub fn mean_contact_axis(scene: &BevelScene) -> Result<(f64, [Vec<AxisPoint>; 2]), String> {
+    let settings = PointTcaSettings {
+        edges: false,
+        search_directions: 0,
+        ..Default::default()
+    };
+    let tca = point_tca(scene.pair.as_ref(), &settings).map_err(|e| e.to_string())?;
+    let at_zero = tca
+        .positions
+        .iter()
+        .min_by(|a, b| a.roll_rad.abs().total_cmp(&b.roll_rad.abs()))
+        .ok_or("the TCA traced no position")?;
+    let c = at_zero
+        .pairs
+        .iter()
+        .find(|p| p.offset == 0)
+        .ok_or("the middle pair is not in contact at roll 0")?;
+    let a = c
+        .ellipse
+        .and_then(|e| e.semi_major_mm)
+        .ok_or("the middle pair's contact at roll 0 has no finite contact ellipse")?;
+    let points = major_axis_points(scene.pair.as_ref(), c, MEAN_CONTACT_POINTS)
+        .map_err(|e| e.to_string())?;
+    Ok((a, points))
+}
+
+/// `mean_contact` of a bevel body's summary: the directional compliances
+/// (normal n outward from the body, tangent t the sliding direction from
+/// the TCA) on the major axis of the middle pair's contact at roll 0.
+fn mean_contact_report(
+    axis: &Result<(f64, [Vec<AxisPoint>; 2]), String>,
+    name: &str,
+    tensor: &ComplianceTensor,
+) -> serde_json::Value {
+    let (a, points) = match axis {
+        Ok(x) => x,
+        Err(why) => return serde_json::json!({ "error": why }),
+    };
+    let b = usize::from(name == "gear");
+    let probe: Vec<ProbePoint> = points[b]
+        .iter()
+        .filter(|p| p.sliding != [0.0; 3])
+        .map(|p| ProbePoint {
+            set: format!("FLANK_R{}", p.tooth),
+            uv: p.uv,
+            normal: p.normal,
+            tangent: p.sliding,
+        })
+        .collect();
+    let (probe, outside) = match retain_meshed(tensor, probe) {
+        Ok(x) => x,
+        Err(e) => return serde_json::json!({ "error": e.to_string() }),
+    };
+    if probe.is_empty() {
+        return serde_json::json!({ "error": "no point of the major axis lies on the meshed flank" });
+    }
+    match directional_matrices(tensor, &probe, None) {
+        Ok(m) => serde_json::json!({
+            "semi_major_mm": a,
+            "set": probe[0].set,
+            "uv_mm": probe[probe.len() / 2].uv,
+            "axis_points": MEAN_CONTACT_POINTS,
+            "off_the_active_flank": MEAN_CONTACT_POINTS - points[b].len(),
+            "off_the_meshed_flank": outside,
+            "report": m.report(),
+        }),
+        Err(e) => serde_json::json!({ "error": e.to_string() }),
+    }
 }

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
-use crate::compliance::body::BodyMeshOptions;
+use crate::compliance::body::{scene_body, BodyMeshOptions};
 use crate::compliance::cache::{ComplianceCache, FileFormat};
 use crate::compliance::run::{body_tensor, BodyTensorOptions};
 use crate::compliance::{ComplianceOptions, FlankSelection};
@@ -110,8 +110,16 @@ impl LtcaCycle {
             format: FileFormat::default_format(),
             campaign: campaign.as_ref(),
         };
-        let pinion = body_tensor(scene, "pinion", &mesh, &topts, &options.out)?;
-        let gear = body_tensor(scene, "gear", &mesh, &topts, &options.out)?;
+        let pinion = body_tensor(
+            &scene_body(scene, "pinion", &mesh)?.into(),
+            &topts,
+            &options.out,
+        )?;
+        let gear = body_tensor(
+            &scene_body(scene, "gear", &mesh)?.into(),
+            &topts,
+            &options.out,
+        )?;
         let compliance_s = t.elapsed().as_secs_f64();
         let points_per_line = options
             .points_per_line

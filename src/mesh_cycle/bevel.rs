@@ -29,8 +29,9 @@ use crate::geometry::gear_pair::PairPlacement;
 use crate::mesh::bevel_body::bevel_body_model;
 use crate::mesh::bevel_sector::BevelSectorOptions;
 use crate::mesh_cycle::pair_model::{combine, PairBody, PairModel, SlaveBody};
+use crate::report::fe_pattern::{plot_fe_pattern, PatternNode};
 use crate::scene::BevelScene;
-use crate::tca::point_contact::ARCSEC_PER_RAD;
+use crate::tca::point_contact::{projection, ARCSEC_PER_RAD};
 
 /// Slave nodes beyond the search distance that penetrate: the search is
 /// repeated with twice the distance at most this many times.
@@ -83,6 +84,9 @@ pub struct BevelStep {
     pub complementarity: f64,
     pub warnings: Vec<String>,
     pub time_s: f64,
+    /// The loaded slave nodes (the contact pattern of this position).
+    #[serde(skip)]
+    pub pattern: Vec<PatternNode>,
 }
 
 /// A factorized hypoid pair model, ready to solve roll angles.
@@ -265,6 +269,22 @@ impl BevelCycle {
                 step.max_pressure_mpa[p] = step.max_pressure_mpa[p].max(smooth[i]);
                 if lam[i] > 0.0 {
                     step.closed_nodes[p] += 1;
+                    let own = model.mesh.coords[c.slave];
+                    let global = placement.frames[0].place(own);
+                    let g = &placement.frames[1];
+                    let in_gear = g.rotate_back([
+                        global[0] - g.translation[0],
+                        global[1] - g.translation[1],
+                        global[2] - g.translation[2],
+                    ]);
+                    step.pattern.push(PatternNode {
+                        pair: p + 1,
+                        projection_mm: [
+                            projection(self.pair.pinion(), own),
+                            projection(self.pair.gear(), in_gear),
+                        ],
+                        pressure_mpa: smooth[i],
+                    });
                     if self.tip_nodes.contains(&c.slave) {
                         step.pinion_tip_edge[p] = true;
                     }
@@ -370,6 +390,31 @@ pub fn run_bevel(
         }
     }
     w.flush().map_err(io)?;
+    // the contact pattern: every loaded node of every position
+    let path = out.join("contact_pattern.csv");
+    let mut w = std::io::BufWriter::new(
+        std::fs::File::create(&path).map_err(|e| FlankError::io(&path, e))?,
+    );
+    let io = |e| FlankError::io(&path, e);
+    writeln!(
+        w,
+        "roll_deg,pair,pinion_along_face_mm,pinion_height_mm,gear_along_face_mm,gear_height_mm,pressure_mpa"
+    )
+    .map_err(io)?;
+    for st in &steps {
+        for n in &st.pattern {
+            let [p, g] = n.projection_mm;
+            writeln!(
+                w,
+                "{},{},{:e},{:e},{:e},{:e},{:e}",
+                st.roll_deg, n.pair, p[0], p[1], g[0], g[1], n.pressure_mpa
+            )
+            .map_err(io)?;
+        }
+    }
+    w.flush().map_err(io)?;
+    let pattern: Vec<PatternNode> = steps.iter().flat_map(|s| s.pattern.clone()).collect();
+    let plots = plot_fe_pattern(out, cycle.pair.as_ref(), &pattern)?;
     let te: Vec<f64> = steps.iter().map(|s| s.te_arcsec).collect();
     let te_pp = te.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
         - te.iter().cloned().fold(f64::INFINITY, f64::min);
@@ -394,6 +439,7 @@ pub fn run_bevel(
         "largest_unloaded_interpenetration_mm": (-interference).max(0.0),
         "max_moment_balance": steps.iter().map(|s| s.moment_balance.abs()).fold(0.0, f64::max),
         "tooth_pairs": cycle.model.teeth,
+        "plots": plots,
         "kinematics": cycle.pair.describe(),
         "law": "hard",
         "slave": "pinion",

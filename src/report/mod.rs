@@ -1,5 +1,6 @@
 //! Output: VTU, CSV and JSON writers, the plots shared by the analyses.
 pub mod cycle_plot;
+pub mod fe_pattern;
 pub mod figure;
 pub mod solution;
 pub mod tca_plot;

@@ -218,7 +218,7 @@ impl Figure for PatternPlot<'_> {
 
 /// The outline of member `b`'s middle drive flank in its axial projection:
 /// form line, heel, tip, toe.
-fn outline(pair: &dyn PairPlacement, b: usize) -> Vec<(f64, f64)> {
+pub(crate) fn outline(pair: &dyn PairPlacement, b: usize) -> Vec<(f64, f64)> {
     let body = pair.body(b);
     let tooth = if b == 0 {
         pair.middle()

@@ -167,6 +167,14 @@ pub struct PairContact {
     /// Point coincidence (mm) and tangency residual of the solve.
     pub residual: [f64; 2],
     pub edge_lean: f64,
+    /// The frames (own → global) of pinion and gear that put their middle
+    /// teeth (sector teeth `middle` and `mate(middle)`) in this contact:
+    /// `placement[b].rotate_back(v)` is a global vector v at this contact
+    /// in member b's own frame, on its middle tooth. For a pair at offset
+    /// i ≠ 0 the same contact lies on tooth middle + i, the middle tooth's
+    /// copy turned by i pitches.
+    #[serde(skip)]
+    pub placement: [Frame; 2],
 }
 
 /// One position of the cycle.
@@ -701,6 +709,7 @@ pub fn point_tca(pair: &dyn PairPlacement, settings: &PointTcaSettings) -> Resul
                 },
                 residual: [t.point_residual, t.tangency_residual],
                 edge_lean: t.edge_lean,
+                placement: [g1, g2t],
             }
         })
         .collect();
