@@ -76,18 +76,29 @@ pub fn run(args: Args) -> Result<()> {
     if let flank::scene::AnyScene::Bevel(b) = flank::scene::read_any_scene(&scene)? {
         let unsupported = [
             (reference_angles.is_some(), "--reference-angles"),
-            (law.is_some(), "--law"),
-            (penalty_factor.is_some(), "--penalty-factor"),
             (slave.is_some(), "--slave"),
             (friction_mu.is_some(), "--friction-mu"),
-            (decks, "--decks"),
         ];
         if let Some((_, name)) = unsupported.iter().find(|(given, _)| *given) {
             anyhow::bail!(
-                "{name}: not available for bevel and hypoid scenes yet (their FE contact is hard, frictionless, with the pinion as slave)"
+                "{name}: not available for bevel and hypoid scenes yet (their FE contact is frictionless, with the pinion as slave)"
             );
         }
-        return run_bevel_scene(&scene, &b, &out, sizes, roll_angles, threads, quiet);
+        let contact = BevelContact {
+            law: law.unwrap_or(flank::mesh_cycle::ContactLaw::Hard),
+            penalty_factor: penalty_factor.unwrap_or(1.0),
+            decks,
+        };
+        return run_bevel_scene(
+            &scene,
+            &b,
+            &out,
+            sizes,
+            roll_angles,
+            contact,
+            threads,
+            quiet,
+        );
     }
     let options = RunOptions {
         out: out.clone(),
@@ -156,13 +167,22 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
+/// The contact options of a hypoid run.
+struct BevelContact {
+    law: flank::mesh_cycle::ContactLaw,
+    penalty_factor: f64,
+    decks: bool,
+}
+
 /// `flank run` on a bevel/hypoid scene ([`flank::mesh_cycle::bevel`]).
+#[allow(clippy::too_many_arguments)]
 fn run_bevel_scene(
     path: &std::path::Path,
     scene: &flank::scene::BevelScene,
     out: &std::path::Path,
     sizes: SectorArgs,
     roll_angles: Option<Vec<f64>>,
+    contact: BevelContact,
     threads: usize,
     quiet: bool,
 ) -> Result<()> {
@@ -173,8 +193,17 @@ fn run_bevel_scene(
     } else {
         threads
     };
+    if !(contact.penalty_factor > 0.0 && contact.penalty_factor.is_finite()) {
+        anyhow::bail!(
+            "--penalty-factor {}: a positive finite factor is needed",
+            contact.penalty_factor
+        );
+    }
     let options = BevelRunOptions {
         mesh,
+        law: contact.law,
+        penalty_factor: contact.penalty_factor,
+        decks: contact.decks,
         threads,
         ..Default::default()
     };

@@ -7,7 +7,8 @@ use std::time::Instant;
 use nalgebra::{DMatrix, SymmetricEigen};
 
 use crate::compliance::body::{
-    any_scene_body, flank_nodes_on, flank_uv_on, BodyMeshOptions, SectorBody,
+    any_scene_body, bevel_sector_options, flank_nodes_on, flank_uv_on, sector_options,
+    BodyMeshOptions, SectorBody,
 };
 use crate::compliance::cache::{self, CacheOutcome, ComplianceCache, FileFormat};
 use crate::compliance::contact_probe::{directional_matrices, retain_meshed, ProbePoint};
@@ -222,6 +223,11 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
         condition: options.condition,
         ..Default::default()
     };
+    // the mesh options are checked before anything is written
+    match &scene {
+        AnyScene::Cylindrical(s) => drop(sector_options(s, &options.mesh)?),
+        AnyScene::Bevel(s) => drop(bevel_sector_options(s, &options.mesh)?),
+    }
     let format = options.format.unwrap_or_else(FileFormat::default_format);
     let out = &options.out;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;

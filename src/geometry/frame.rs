@@ -97,6 +97,21 @@ impl Frame {
     }
 
     /// The frame `self ∘ inner`: x ↦ self.place(inner.place(x)).
+    /// The inverse frame: x = Rᵀ (y − t).
+    pub fn inverse(&self) -> Frame {
+        let r = &self.rotation;
+        let rotation = [
+            [r[0][0], r[1][0], r[2][0]],
+            [r[0][1], r[1][1], r[2][1]],
+            [r[0][2], r[1][2], r[2][2]],
+        ];
+        let t = self.rotate_back(self.translation);
+        Frame {
+            rotation,
+            translation: [-t[0], -t[1], -t[2]],
+        }
+    }
+
     pub fn compose(&self, inner: &Frame) -> Frame {
         let mut rotation = [[0.0; 3]; 3];
         for (i, row) in rotation.iter_mut().enumerate() {
@@ -109,6 +124,33 @@ impl Frame {
         Frame {
             rotation,
             translation: self.place(inner.translation),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn inverse_undoes_the_frame() {
+        let f = Frame::about_z(0.7, [1.0, -2.0, 3.0]).compose(&Frame::about_axis(
+            [0.5, 0.0, 1.0],
+            [0.0, 0.6, 0.8],
+            -0.3,
+        ));
+        let x = [0.3, 4.0, -1.5];
+        let back = f.inverse().place(f.place(x));
+        for k in 0..3 {
+            assert!((back[k] - x[k]).abs() < 1e-14, "{back:?}");
+        }
+        let id = f.inverse().compose(&f);
+        for i in 0..3 {
+            for j in 0..3 {
+                let e = if i == j { 1.0 } else { 0.0 };
+                assert!((id.rotation[i][j] - e).abs() < 1e-15);
+            }
+            assert!(id.translation[i].abs() < 1e-14);
         }
     }
 }

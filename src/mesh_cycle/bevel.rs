@@ -28,7 +28,10 @@ use crate::fem::ordering::OrderingMethod;
 use crate::geometry::gear_pair::PairPlacement;
 use crate::mesh::bevel_body::bevel_body_model;
 use crate::mesh::bevel_sector::BevelSectorOptions;
-use crate::mesh_cycle::pair_model::{combine, PairBody, PairModel, SlaveBody};
+use crate::mesh_cycle::pair_model::{
+    combine, set_automatic_penalty, PairBody, PairModel, SlaveBody,
+};
+use crate::mesh_cycle::ContactLaw;
 use crate::report::fe_pattern::{plot_fe_pattern, PatternNode};
 use crate::scene::BevelScene;
 use crate::tca::point_contact::{projection, ARCSEC_PER_RAD};
@@ -46,6 +49,13 @@ pub struct BevelRunOptions {
     /// Search distance of the contact pairing (mm).
     pub search_distance_mm: f64,
     pub threads: usize,
+    /// Hard contact (default) or a linear penalty of `penalty_factor` ×
+    /// the automatic slope ([`set_automatic_penalty`]).
+    pub law: ContactLaw,
+    pub penalty_factor: f64,
+    /// [`run_bevel`] also writes each position's model as a CalculiX deck
+    /// ([`BevelCycle::write_deck`]).
+    pub decks: bool,
 }
 
 impl Default for BevelRunOptions {
@@ -54,6 +64,9 @@ impl Default for BevelRunOptions {
             mesh: BevelSectorOptions::default(),
             search_distance_mm: 0.1,
             threads: 1,
+            law: ContactLaw::Hard,
+            penalty_factor: 1.0,
+            decks: false,
         }
     }
 }
@@ -125,7 +138,7 @@ impl BevelCycle {
             None,
         )?;
         let pair = scene.pair.clone();
-        let model = combine(
+        let mut model = combine(
             pair.as_ref(),
             [
                 PairBody::of("pinion", &pinion.model, &pinion.sector.flank_uv),
@@ -135,6 +148,9 @@ impl BevelCycle {
             PressureOverclosure::Hard,
             SlaveBody::Pinion,
         )?;
+        if options.law == ContactLaw::Penalty {
+            set_automatic_penalty(&mut model, options.penalty_factor)?;
+        }
         let system = ElasticSystem::new(
             &model.model,
             &model.contact_nodes,
@@ -179,14 +195,44 @@ impl BevelCycle {
         self.pair.tooth_roll_step().abs().to_degrees()
     }
 
+    /// Where both bodies sit at roll angle `roll_deg` (the pair's nominal
+    /// frames).
+    pub fn placement(&self, roll_deg: f64) -> Placement {
+        Placement {
+            body_of: self.model.body_of.clone(),
+            frames: self.pair.nominal_frames(roll_deg.to_radians()).to_vec(),
+        }
+    }
+
+    /// Writes the pair model at roll angle `roll_deg` as a CalculiX deck
+    /// `path`, in the pinion's own frame: the pinion where it is meshed
+    /// (its axis the z axis, so the `*RIGID BODY` of its mount turns about
+    /// z under the torque, as in the model), the gear moved to its place
+    /// relative to it (P⁻¹G of the pair's frames; contact and the clamped
+    /// mount do not depend on the frame), one `*CONTACT PAIR` per tooth
+    /// pair (pinion flanks slave), the normal law of the run. Solved as it
+    /// is (flank `solve`, ccx) it is this position's problem.
+    pub fn write_deck(&self, roll_deg: f64, path: &std::path::Path) -> Result<(), FlankError> {
+        crate::mesh::inp::write_deck(&self.deck_model(roll_deg), path)
+    }
+
+    /// The model [`Self::write_deck`] writes.
+    pub fn deck_model(&self, roll_deg: f64) -> crate::fem::model::Model {
+        let mut model = self.model.model.clone();
+        let placed = self.placement(roll_deg);
+        let to_pinion = placed.frames[0].inverse();
+        let relative = Placement {
+            body_of: placed.body_of,
+            frames: placed.frames.iter().map(|f| to_pinion.compose(f)).collect(),
+        };
+        model.mesh.coords = relative.positions(&model.mesh.coords);
+        model
+    }
+
     /// Solves roll angle `roll_deg` with the factorized stiffness.
     pub fn solve(&self, roll_deg: f64) -> Result<BevelStep, FlankError> {
         let t = Instant::now();
-        let roll = roll_deg.to_radians();
-        let placement = Placement {
-            body_of: self.model.body_of.clone(),
-            frames: self.pair.nominal_frames(roll).to_vec(),
-        };
+        let placement = self.placement(roll_deg);
         let model = &self.model.model;
         let at = |e: FlankError| match e {
             FlankError::Solver(m) => FlankError::Solver(format!("roll angle {roll_deg}°: {m}")),
@@ -360,6 +406,12 @@ pub fn run_bevel(
         .map(|&r| cycle.solve(r))
         .collect::<Result<_, _>>()?;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
+    if options.decks {
+        for &r in &rolls {
+            let name = crate::mesh_cycle::run::vtu_name(r).replace(".vtu", ".inp");
+            cycle.write_deck(r, &out.join(name))?;
+        }
+    }
     let path = out.join("positions.csv");
     let mut w = std::io::BufWriter::new(
         std::fs::File::create(&path).map_err(|e| FlankError::io(&path, e))?,
@@ -432,6 +484,7 @@ pub fn run_bevel(
         "dofs": 3 * cycle.model.model.mesh.node_count(),
         "factorization_s": factorization_s,
         "time_per_position_s": steps.iter().map(|s| s.time_s).sum::<f64>() / steps.len().max(1) as f64,
+        "peak_memory_mb": crate::fem::static_analysis::peak_memory_mb(),
         "mesh_cycle_deg": pitch,
         "torque_nm": cycle.torque / 1000.0,
         "te_peak_to_peak_arcsec": te_pp,
@@ -441,7 +494,10 @@ pub fn run_bevel(
         "tooth_pairs": cycle.model.teeth,
         "plots": plots,
         "kinematics": cycle.pair.describe(),
-        "law": "hard",
+        "law": match cycle.model.model.contact.interactions[0].behavior {
+            Some(PressureOverclosure::Linear { slope: Some(s), .. }) => serde_json::json!({ "penalty_slope_mpa_per_mm": s, "factor": options.penalty_factor }),
+            _ => serde_json::json!("hard"),
+        },
         "slave": "pinion",
         "steps": steps,
     });

@@ -287,3 +287,32 @@ pub fn combine(
         model,
     })
 }
+
+/// Makes the pair model's normal law a linear penalty of `factor` × the
+/// automatic slope of its first pair's master faces
+/// ([`crate::contact::pairing::default_penalty_slope`]); returns that
+/// slope (MPa/mm).
+pub fn set_automatic_penalty(pair: &mut PairModel, factor: f64) -> Result<f64, FlankError> {
+    if !(factor > 0.0 && factor.is_finite()) {
+        return Err(FlankError::Model(format!(
+            "penalty factor {factor} must be positive"
+        )));
+    }
+    let contact = &pair.model.contact;
+    let pair0 = contact
+        .pairs
+        .first()
+        .ok_or_else(|| FlankError::Model("the pair model has no contact pair".into()))?;
+    let master = contact
+        .surface(&pair0.master)
+        .ok_or_else(|| FlankError::Model("the pair model has no master surface".into()))?;
+    let faces = crate::contact::surface::surface_faces(&pair.model.mesh, master, &mut None);
+    let (slope, _) = crate::contact::pairing::default_penalty_slope(&pair.model, &faces);
+    let slope = slope * factor;
+    pair.model.contact.interactions[0].behavior = Some(PressureOverclosure::Linear {
+        slope: Some(slope),
+        tension: None,
+        c0: None,
+    });
+    Ok(slope)
+}

@@ -215,17 +215,10 @@ impl MeshCycle {
         let mut pair = pair_model(scene, gear_pair.as_ref(), mesh, law, settings.slave)?;
         if settings.law == ContactLaw::Penalty {
             // the automatic slope of the (first pair's) master faces, scaled
-            let contact = &pair.model.contact;
-            let master = contact
-                .surface(&contact.pairs[0].master)
-                .ok_or_else(|| FlankError::Model("the pair model has no master surface".into()))?;
-            let faces = crate::contact::surface::surface_faces(&pair.model.mesh, master, &mut None);
-            let (slope, _) = crate::contact::pairing::default_penalty_slope(&pair.model, &faces);
-            pair.model.contact.interactions[0].behavior = Some(PressureOverclosure::Linear {
-                slope: Some(slope * settings.penalty_factor),
-                tension: None,
-                c0: None,
-            });
+            crate::mesh_cycle::pair_model::set_automatic_penalty(
+                &mut pair,
+                settings.penalty_factor,
+            )?;
         }
         if settings.friction_mu > 0.0 {
             pair.model.contact.interactions[0].friction = Some(Friction {

@@ -140,3 +140,43 @@ pub fn scratch_dir(case: &str) -> std::path::PathBuf {
     std::fs::create_dir_all(&d).expect("scratch dir");
     d
 }
+
+/// What ccx printed: node displacements (U; rotations for a ROT NODE) and
+/// the contact pressure per slave node (CSTR).
+#[derive(Default)]
+pub struct CcxDat {
+    pub u: HashMap<u64, [f64; 3]>,
+    pub cstr: HashMap<u64, f64>,
+}
+
+pub fn parse_ccx_dat(text: &str) -> CcxDat {
+    let mut out = CcxDat::default();
+    // 1: displacements, 2: contact stress
+    let mut mode = 0;
+    for line in text.lines() {
+        let t = line.trim();
+        if t.is_empty() {
+            continue;
+        }
+        if t.starts_with("displacements") {
+            mode = 1;
+            continue;
+        }
+        if t.starts_with("contact stress") {
+            mode = 2;
+            out.cstr.clear();
+            continue;
+        }
+        let v: Option<Vec<f64>> = t.split_whitespace().map(|x| x.parse().ok()).collect();
+        match (mode, v) {
+            (1, Some(v)) if v.len() == 4 => {
+                out.u.insert(v[0] as u64, [v[1], v[2], v[3]]);
+            }
+            (2, Some(v)) if v.len() == 4 => {
+                out.cstr.insert(v[0] as u64, v[1]);
+            }
+            _ => mode = 0,
+        }
+    }
+    out
+}

@@ -94,46 +94,6 @@ fn cycle(penalty_factor: f64) -> MeshCycle {
     MeshCycle::new(&scene, &mesh, settings, 0).expect("pair model")
 }
 
-/// What ccx printed: node displacements (U; rotations for a ROT NODE) and
-/// the contact pressure per slave node (CSTR).
-#[derive(Default)]
-struct CcxDat {
-    u: HashMap<u64, [f64; 3]>,
-    cstr: HashMap<u64, f64>,
-}
-
-fn parse_ccx_dat(text: &str) -> CcxDat {
-    let mut out = CcxDat::default();
-    // 1: displacements, 2: contact stress
-    let mut mode = 0;
-    for line in text.lines() {
-        let t = line.trim();
-        if t.is_empty() {
-            continue;
-        }
-        if t.starts_with("displacements") {
-            mode = 1;
-            continue;
-        }
-        if t.starts_with("contact stress") {
-            mode = 2;
-            out.cstr.clear();
-            continue;
-        }
-        let v: Option<Vec<f64>> = t.split_whitespace().map(|x| x.parse().ok()).collect();
-        match (mode, v) {
-            (1, Some(v)) if v.len() == 4 => {
-                out.u.insert(v[0] as u64, [v[1], v[2], v[3]]);
-            }
-            (2, Some(v)) if v.len() == 4 => {
-                out.cstr.insert(v[0] as u64, v[1]);
-            }
-            _ => mode = 0,
-        }
-    }
-    out
-}
-
 /// One position: flank's three answers and ccx's.
 #[derive(Debug)]
 struct Position {
@@ -283,7 +243,7 @@ fn position(c: &MeshCycle, name: &str, roll_deg: f64) -> Option<Position> {
     let ccx = flank::ccx::run_ccx(&ccx_path, &dir.join("ccx"), 2)
         .unwrap_or_else(|e| panic!("ccx did not solve the {name} deck: {e}"));
     let ccx_s = ccx.wall_s;
-    let dat = parse_ccx_dat(&std::fs::read_to_string(dir.join("ccx/job.dat")).unwrap());
+    let dat = common::parse_ccx_dat(&std::fs::read_to_string(dir.join("ccx/job.dat")).unwrap());
     let rot = dat.u.get(&q).copied().expect("ccx printed the ROT NODE");
     let te_ccx = -rot[2] * 1e6;
     // force per pair: CSTR × the slave node's tributary area (ccx 2.20's

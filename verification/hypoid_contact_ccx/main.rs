@@ -1,0 +1,257 @@
+//! # One hypoid mesh position in flank and in CalculiX
+//!
+//! Issue 18 point 6 (see README.md beside this file). The seed 003 pair
+//! with the eased pinion (`papers/seed003-hypoid/scene_eased.toml`) as
+//! `flank run` builds it (`BevelCycle`: both bevel sectors, pinion mount
+//! coupled to a reference node turning about the pinion axis under the
+//! torque, gear mount clamped, pinion drive flanks slave), with a LINEAR
+//! penalty of flank's automatic slope, at roll 0 (the middle pair at the
+//! mean point, its neighbours sharing the load). `BevelCycle::write_deck`
+//! writes the position as a deck in the pinion's own frame (the gear
+//! moved to its place). The same deck is solved
+//!
+//! * by flank: read back and solved by the plain `solve_contact` (no
+//!   placement) — against `BevelCycle::solve` at that roll: the deck is the
+//!   position's problem (test `deck_is_the_position`, in CI);
+//! * by CalculiX 2.20, two steps as in `verification/gear_contact/ccx.rs`
+//!   (the pinion turned by 0.8 × flank's rotation first, then released
+//!   under the torque; frictionless and linear, the second step's answer
+//!   does not depend on the first): force per tooth pair (CSTR × flank's
+//!   tributary area of the slave node), total force, TE (test
+//!   `position_flank_vs_ccx`, ignored: ccx takes minutes).
+//!
+//! Tolerances, fixed before the first run: deck vs cycle 1e-8 (per-pair
+//! force relative to the total, TE relative); flank vs ccx those of
+//! `gear_contact_ccx` (from hertz_contact): total force 1e-3, each pair's
+//! force 1e-3 of the total, TE 1e-3.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+use std::path::Path;
+use std::time::Instant;
+
+use flank::contact::{solve_contact, ContactOptions, PressureOverclosure};
+use flank::mesh::bevel_sector::BevelSectorOptions;
+use flank::mesh_cycle::bevel::{BevelCycle, BevelRunOptions, BevelStep};
+use flank::mesh_cycle::ContactLaw;
+use flank::scene::{read_any_scene, AnyScene};
+use flank::tca::point_contact::ARCSEC_PER_RAD;
+
+const TOL_SAME_CODE: f64 = 1e-8;
+const TOL_FORCE: f64 = 1e-3;
+const TOL_TE: f64 = 1e-3;
+/// ccx's σ∞ (MPa) and c₀ on the LINEAR law, as in gear_contact_ccx.
+const TENSION: f64 = 0.01;
+const C0: f64 = 0.3;
+const ROLL_DEG: f64 = 0.0;
+
+fn cycle(flank_size: f64) -> BevelCycle {
+    let path = format!(
+        "{}/papers/seed003-hypoid/scene_eased.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let AnyScene::Bevel(scene) = read_any_scene(Path::new(&path)).unwrap() else {
+        panic!("not a bevel scene")
+    };
+    BevelCycle::new(
+        &scene,
+        &BevelRunOptions {
+            mesh: BevelSectorOptions {
+                flank_size,
+                base_size: 4.0 * flank_size,
+                ..Default::default()
+            },
+            threads: 2,
+            law: ContactLaw::Penalty,
+            penalty_factor: 1.0,
+            ..Default::default()
+        },
+    )
+    .unwrap()
+}
+
+/// TE at the gear (arcsec) from the pinion's rotation about its axis, as
+/// `BevelCycle::solve` reports it.
+fn te_of(c: &BevelCycle, rz: f64) -> f64 {
+    use flank::geometry::gear_pair::PairPlacement;
+    let sense = c.pair.rotation_axes()[0][2].signum();
+    -rz * sense * c.pair.ratio() * ARCSEC_PER_RAD
+}
+
+/// flank's answer on the deck read back: per-pair forces, pinion rotation,
+/// the slave results (node label, pair, tributary area, λ/A).
+struct DeckAnswer {
+    forces: Vec<f64>,
+    rz: f64,
+    slaves: Vec<(u64, usize, f64, f64)>,
+    seconds: f64,
+}
+
+fn deck_answer(deck: &Path) -> DeckAnswer {
+    let t = Instant::now();
+    let parsed = flank::mesh::inp::read_deck(deck).expect("read the deck back");
+    let options = ContactOptions {
+        recover_stress: false,
+        pairing: flank::contact::pairing::PairingOptions {
+            search_distance: Some(0.1),
+            max_initial_penetration: None,
+        },
+        ..Default::default()
+    };
+    let plain = solve_contact(&parsed.model, &options).expect("solve_contact on the deck");
+    let labels = &parsed.model.mesh.node_labels;
+    DeckAnswer {
+        forces: plain
+            .summary
+            .pairs
+            .iter()
+            .map(|p| p.total_normal_force)
+            .collect(),
+        rz: plain.solution.coupling_motion[0][5],
+        slaves: plain
+            .slaves
+            .iter()
+            .map(|s| (labels[s.node], s.pair, s.area, s.nodal_pressure))
+            .collect(),
+        seconds: t.elapsed().as_secs_f64(),
+    }
+}
+
+fn position(c: &BevelCycle, dir: &Path) -> (BevelStep, DeckAnswer, std::path::PathBuf) {
+    let step = c.solve(ROLL_DEG).unwrap();
+    let deck = dir.join("roll_0.inp");
+    c.write_deck(ROLL_DEG, &deck).unwrap();
+    let answer = deck_answer(&deck);
+    (step, answer, deck)
+}
+
+/// The written deck is this position's problem: solved plainly it gives
+/// the cycle's forces and TE.
+#[test]
+fn deck_is_the_position() {
+    let t = Instant::now();
+    let c = cycle(2.0);
+    let setup = t.elapsed().as_secs_f64();
+    let dir = common::scratch_dir("hypoid_contact_deck");
+    let (step, deck, _) = position(&c, &dir);
+    let total: f64 = step.pair_force_n.iter().sum();
+    let te_deck = te_of(&c, deck.rz);
+    println!(
+        "seed 003 eased, flank 2 mm, penalty: {} nodes; setup {setup:.1} s, cycle solve {:.2} s, deck read + solve {:.2} s",
+        c.model.model.mesh.node_count(),
+        step.time_s,
+        deck.seconds
+    );
+    println!(
+        "cycle: forces {:?} N, TE {:.4}″; deck: forces {:?} N, TE {te_deck:.4}″",
+        step.pair_force_n, step.te_arcsec, deck.forces
+    );
+    assert!(total > 0.0);
+    let worst = step
+        .pair_force_n
+        .iter()
+        .zip(&deck.forces)
+        .map(|(a, b)| (a - b).abs() / total)
+        .fold(0.0f64, f64::max);
+    let te = (te_deck - step.te_arcsec).abs() / step.te_arcsec.abs();
+    println!("VERIFY hypoid_contact_ccx deck vs cycle: forces {worst:.2e}, TE {te:.2e} (tol {TOL_SAME_CODE:.0e})");
+    assert!(worst <= TOL_SAME_CODE, "{worst}");
+    assert!(te <= TOL_SAME_CODE, "{te}");
+}
+
+/// flank against ccx at roll 0.
+#[test]
+#[ignore = "minutes: CalculiX contact on the coarse hypoid pair (≈ 100 k DOFs, several Newton iterations)"]
+fn position_flank_vs_ccx() {
+    let c = cycle(2.0);
+    let dir = common::scratch_dir("hypoid_contact_ccx");
+    let (step, deck, path) = position(&c, &dir);
+    if !common::ccx_available() {
+        return;
+    }
+    // the deck for ccx: the same model with ccx's σ∞ and c₀ on the law
+    let mut model = c.deck_model(ROLL_DEG);
+    let slope = match model.contact.interactions[0].behavior {
+        Some(PressureOverclosure::Linear { slope: Some(s), .. }) => s,
+        ref b => panic!("not an explicit penalty: {b:?}"),
+    };
+    model.contact.interactions[0].behavior = Some(PressureOverclosure::Linear {
+        slope: Some(slope),
+        tension: Some(TENSION),
+        c0: Some(C0),
+    });
+    let written = flank::mesh::inp::format_deck(&model).expect("format_deck");
+    let _ = path;
+    let max = *c.model.model.mesh.node_labels.iter().max().unwrap();
+    let (r, q) = (max + 1, max + 2);
+    assert!(written.contains(&format!(
+        "*RIGID BODY, NSET=PINION_HUB, REF NODE={r}, ROT NODE={q}\n"
+    )));
+    let boundary =
+        &written[written.find("*BOUNDARY\n").unwrap()..written.find("*CLOAD\n").unwrap()];
+    let controls =
+        "*STATIC\n*CONTROLS, PARAMETERS=TIME INCREMENTATION\n30, 30, 9, 200, 10, 4, 0, 5\n";
+    let preload = format!(
+        "{boundary}*BOUNDARY\n{q}, 3, 3, {}\n*END STEP\n*STEP\n{controls}{}*CLOAD\n",
+        0.8 * deck.rz,
+        boundary.replacen("*BOUNDARY\n", "*BOUNDARY, OP=NEW\n", 1)
+    );
+    let text = written
+        .replacen(boundary, "", 1)
+        .replace("*STATIC\n", controls)
+        .replace("*STEP\n", &format!("*NSET, NSET=PREF\n{r}, {q}\n*STEP\n"))
+        .replace("*CLOAD\n", &preload)
+        .replace("*NODE PRINT, NSET=NALL\nU\n", "*NODE PRINT, NSET=PREF\nU\n");
+    assert_eq!(text.matches("*STEP\n").count(), 2);
+    let ccx_path = dir.join("roll_0_ccx.inp");
+    std::fs::write(&ccx_path, &text).unwrap();
+    let run = flank::ccx::run_ccx(&ccx_path, &dir.join("ccx"), 2)
+        .unwrap_or_else(|e| panic!("ccx did not solve the deck: {e}"));
+    let dat = common::parse_ccx_dat(&std::fs::read_to_string(dir.join("ccx/job.dat")).unwrap());
+    let rz_ccx = dat.u.get(&q).copied().expect("ccx printed the ROT NODE")[2];
+    let mut forces_ccx = vec![0.0; deck.forces.len()];
+    for &(label, pair, area, _) in &deck.slaves {
+        if let Some(&p) = dat.cstr.get(&label) {
+            forces_ccx[pair] += p.max(0.0) * area;
+        }
+    }
+    let (fd, fc): (f64, f64) = (deck.forces.iter().sum(), forces_ccx.iter().sum());
+    let (te_flank, te_ccx) = (te_of(&c, deck.rz), te_of(&c, rz_ccx));
+    let max_pn_flank = deck.slaves.iter().map(|s| s.3).fold(0.0f64, f64::max);
+    let max_pn_ccx = dat.cstr.values().fold(0.0f64, |a, &b| a.max(b));
+    println!("| pair | flank cycle (N) | flank deck (N) | ccx (N) | flank − ccx (/ total) |");
+    println!("|---|---|---|---|---|");
+    for k in 0..deck.forces.len() {
+        println!(
+            "| {} | {:.3} | {:.3} | {:.3} | {:+.2e} |",
+            k + 1,
+            step.pair_force_n[k],
+            deck.forces[k],
+            forces_ccx[k],
+            (deck.forces[k] - forces_ccx[k]) / fc
+        );
+    }
+    println!(
+        "total force flank {fd:.3} N, ccx {fc:.3} N; TE flank {te_flank:.4}″, ccx {te_ccx:.4}″; max λ/A flank {max_pn_flank:.1} MPa, max CSTR ccx {max_pn_ccx:.1} MPa; ccx {:.1} s",
+        run.wall_s
+    );
+    let mut misses = Vec::new();
+    let mut check = |what: &str, err: f64, tol: f64| {
+        let verdict = if err <= tol { "ok" } else { "MISS" };
+        println!("VERIFY hypoid_contact_ccx {what:<32} {err:>9.2e}  tol {tol:>8.1e}  {verdict}");
+        if err > tol {
+            misses.push(format!("{what}: {err:.2e} > {tol:.1e}"));
+        }
+    };
+    check("total force", (fd - fc).abs() / fc, TOL_FORCE);
+    let worst = deck
+        .forces
+        .iter()
+        .zip(&forces_ccx)
+        .map(|(a, b)| (a - b).abs() / fc)
+        .fold(0.0f64, f64::max);
+    check("pair forces / total", worst, TOL_FORCE);
+    check("TE", (te_flank - te_ccx).abs() / te_ccx.abs(), TOL_TE);
+    assert!(misses.is_empty(), "{misses:?}");
+}
