@@ -41,6 +41,10 @@ pub struct Args {
     /// Threads (0 = all cores).
     #[arg(long, default_value_t = 0)]
     threads: usize,
+    /// Bevel/hypoid pairs: the candidate axis runs out to this unloaded
+    /// separation (mm; default 0.04).
+    #[arg(long)]
+    span_approach_mm: Option<f64>,
     /// Print nothing but errors.
     #[arg(long, short)]
     quiet: bool,
@@ -60,6 +64,7 @@ pub fn run(args: Args) -> Result<()> {
         cache,
         no_condition,
         threads,
+        span_approach_mm,
         quiet,
     } = args;
     let solver = match solver {
@@ -69,6 +74,58 @@ pub fn run(args: Args) -> Result<()> {
         ),
         None => None,
     };
+    if let flank::scene::AnyScene::Bevel(b) = flank::scene::read_any_scene(&scene)? {
+        use flank::ltca::bevel::{run_bevel, BevelLtcaOptions};
+        let d = BevelLtcaOptions::default();
+        let mut settings = d.settings.clone();
+        if let Some(s) = solver {
+            settings.qp.solver = s;
+        }
+        if let Some(l) = local {
+            settings.local = l;
+        }
+        if let Some(f) = fe_cell_factor {
+            settings.fe_cell_factor = f;
+        }
+        settings.condition = !no_condition;
+        let options = BevelLtcaOptions {
+            out: out.clone(),
+            mesh: sizes.body_options(false),
+            points_per_pair: points_per_line.unwrap_or(d.points_per_pair),
+            roll_angles_deg: roll_angles,
+            span_approach_mm: span_approach_mm.unwrap_or(d.span_approach_mm),
+            settings,
+            cache,
+            threads,
+            ..d
+        };
+        let s = run_bevel(&b, &options)
+            .with_context(|| format!("LTCA mesh cycle of {}", scene.display()))?;
+        if !quiet {
+            let f = |k: &str| s[k].as_f64().unwrap_or(f64::NAN);
+            println!(
+                "{} positions, K = {} per major axis: {:.3} s for the cycle ({:.1} ms per position); tensors {:.1} s, TCA {:.2} s",
+                s["positions"],
+                s["points_per_pair"],
+                f("cycle_s"),
+                1e3 * f("time_per_position_s"),
+                f("compliance_s"),
+                f("tca_s")
+            );
+            println!(
+                "loaded TE {:.2} arcsec peak-to-peak (gear); largest contact pressure {:.0} MPa; max KKT residual {:.1e}",
+                f("te_peak_to_peak_arcsec"),
+                f("max_pressure_mpa"),
+                f("max_kkt")
+            );
+            print_notes(&s);
+            println!("wrote {}", out.display());
+        }
+        return Ok(());
+    }
+    if span_approach_mm.is_some() {
+        anyhow::bail!("--span-approach-mm: for bevel and hypoid scenes only");
+    }
     let options = LtcaOptions {
         out: out.clone(),
         mesh: sizes.body_options(false),

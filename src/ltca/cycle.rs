@@ -170,7 +170,9 @@ impl LtcaCycle {
         let bodies = LtcaBodies {
             tensors: [pinion.tensor, gear.tensor],
             grids,
-            pair: Arc::clone(&pair),
+            pair: Arc::clone(&pair) as Arc<dyn crate::geometry::gear_pair::PairPlacement>,
+            nominal_moment_arm_mm: pair.nominal_moment_arm(),
+            te_radius_mm: pair.transmission_error_radius(),
             contact_modulus: contact_modulus(
                 [scene.pinion_material.young, scene.gear_material.young],
                 [scene.pinion_material.poisson, scene.gear_material.poisson],
@@ -205,6 +207,8 @@ impl LtcaCycle {
                     Arc::clone(&self.bodies.grids[1]),
                 ],
                 pair: Arc::clone(&self.bodies.pair),
+                nominal_moment_arm_mm: self.bodies.nominal_moment_arm_mm,
+                te_radius_mm: self.bodies.te_radius_mm,
                 contact_modulus: self.bodies.contact_modulus,
             },
             settings: self.settings.clone(),
@@ -480,7 +484,7 @@ fn write_cycle_csv(
     std::fs::write(path, s).map_err(|e| FlankError::io(path, e))
 }
 
-fn write_points_csv(path: &Path, results: &[PositionResult]) -> Result<(), FlankError> {
+pub(crate) fn write_points_csv(path: &Path, results: &[PositionResult]) -> Result<(), FlankError> {
     use std::fmt::Write;
     let mut s = String::from("roll_deg,pinion_tooth,gear_tooth,kind,along_mm,x_mm,y_mm,z_mm,separation_um,force_n,load_per_length_n_per_mm,pressure_mpa,half_width_mm,gap_um\n");
     for r in results {

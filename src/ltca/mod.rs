@@ -4,7 +4,11 @@
 //!   compatibility F p + w = θ r + g, equilibrium rᵀp = T, complementarity)
 //!   as a convex QP, solved by a dedicated active-set method or by clarabel,
 //!   every answer with its KKT residual.
+//! * [`cycle`]: spur/helical pairs over a mesh cycle (line contact);
+//!   [`bevel`]: bevel/hypoid pairs (candidate points on each pair's
+//!   contact-ellipse major axis), both through [`model::LtcaBodies`].
 
+pub mod bevel;
 pub mod cycle;
 pub mod hertz_elliptic;
 pub mod local;

@@ -35,7 +35,7 @@ use crate::compliance::interpolation::{CellShape, FlankGrids, FlankInterpolator,
 use crate::compliance::ComplianceTensor;
 use crate::contact::placement::Frame;
 use crate::error::FlankError;
-use crate::geometry::gear_pair::{Flank, GearPair};
+use crate::geometry::gear_pair::{Flank, PairPlacement};
 use crate::geometry::surface::ToothSurface;
 use crate::geometry::vec3::dot;
 use crate::ltca::local::{cell_influence, hertz_line, Cell, LocalModel};
@@ -76,8 +76,16 @@ pub struct LtcaBodies {
     /// Face search structures of the two tensors (built once).
     pub grids: [Arc<FlankGrids>; 2],
     /// The pair: the flank surfaces (profile lengths of the cells, tip
-    /// edges), the nominal moment arm and the TE radius.
-    pub pair: Arc<dyn GearPair>,
+    /// edges).
+    pub pair: Arc<dyn PairPlacement>,
+    /// Moment arm of the nominal single-pair normal force (mm; the first
+    /// guess of the Hertz widths) and the radius that turns a pinion
+    /// rotation into a TE length (mm): a spur/helical pair's
+    /// [`crate::geometry::gear_pair::GearPair::nominal_moment_arm`] and
+    /// [`crate::geometry::gear_pair::GearPair::transmission_error_radius`];
+    /// a bevel pair's moment arm of the mean contact.
+    pub nominal_moment_arm_mm: f64,
+    pub te_radius_mm: f64,
     /// Contact modulus E* (MPa) of the pair.
     pub contact_modulus: f64,
 }
@@ -334,7 +342,7 @@ impl LtcaBodies {
             .filter(|l| l.kind == LineKind::Flank)
             .map(|l| l.length_mm)
             .sum();
-        let nominal = torque / self.pair.nominal_moment_arm();
+        let nominal = torque / self.nominal_moment_arm_mm;
         let p0 = nominal / flank_length.max(1e-9);
         let e_star = self.contact_modulus;
         // a tip corner is a sharp edge (radius 0, no Hertz width): its cell
@@ -443,8 +451,8 @@ impl LtcaBodies {
         }
         let total: f64 = line_force.iter().sum();
         let theta0 = tca.unloaded_te_rad;
-        let rb1 = self.pair.transmission_error_radius();
-        let approach = self.pair.nominal_moment_arm() * (s.rotation - theta0);
+        let rb1 = self.te_radius_mm;
+        let approach = self.nominal_moment_arm_mm * (s.rotation - theta0);
         Ok(PositionResult {
             roll_deg: tca.roll.to_degrees(),
             lines: tca

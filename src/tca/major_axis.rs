@@ -14,11 +14,12 @@
 //! ellipse running off the face or over the tip) are left out and counted.
 
 use crate::error::FlankError;
-use crate::geometry::gear_pair::{Flank, PairPlacement};
-use crate::geometry::surface::on_active_flank;
-use crate::geometry::vec3::{add, dot, norm, sub, unit, V3};
+use crate::geometry::gear_pair::{Flank, LineKind, PairPlacement};
+use crate::geometry::surface::{normal_curvature, on_active_flank, ToothSurface};
+use crate::geometry::vec3::{add, cross, dot, norm, sub, unit, V3};
 
 use super::point_contact::PairContact;
+use super::{ContactLine, ContactPoint};
 
 /// One point of the major axis on one member's middle tooth (own frame).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -100,4 +101,165 @@ pub fn major_axis_points(
         }
     }
     Ok(out)
+}
+
+/// The major axis of pair contact `c` as a contact line of `k` candidate
+/// points for the compliance-matrix LTCA at pinion roll `roll` (rad), the
+/// pair's frames at that roll ([`PairPlacement::frames`], misalignment
+/// included), in the conventions of [`super::TcaPosition`]: the line runs
+/// over the axis where the curvature separation stays below
+/// `span_approach_mm` (semi-axis a·√(δ_span/δ), a the ellipse's at the
+/// TCA's approach `approach_mm`: the loaded contact is wider than the
+/// unloaded δ-ellipse), its points at the centres of k equal segments.
+/// Every point is put on the pinion's flank (closest point), placed, and
+/// measured against the gear's flank along the pinion normal: the
+/// separation w is the signed distance (exact surfaces, > 0 a gap), the
+/// moment arm r = (ω̂₁ × (x − o₁))·n, the radii across the axis the
+/// flanks' normal curvatures across it. Points whose gear point leaves the
+/// gear's active flank are left out. `None` for a pair outside the sector,
+/// an edge contact or a line contact (no finite major axis).
+pub fn major_axis_line(
+    pair: &dyn PairPlacement,
+    c: &PairContact,
+    roll: f64,
+    k: usize,
+    approach_mm: f64,
+    span_approach_mm: f64,
+) -> Result<Option<ContactLine>, FlankError> {
+    let Some([pinion_tooth, gear_tooth]) = c.teeth else {
+        return Ok(None);
+    };
+    let Some(e) = c.ellipse else {
+        return Ok(None);
+    };
+    let Some(a) = e.semi_major_mm else {
+        return Ok(None);
+    };
+    if k == 0 || !(approach_mm > 0.0 && span_approach_mm > 0.0) {
+        return Err(FlankError::Model(format!(
+            "major-axis line: K = {k}, approach {approach_mm} mm, span approach {span_approach_mm} mm (K ≥ 1 and positive approaches are needed)"
+        )));
+    }
+    let span = a * (span_approach_mm / approach_mm).sqrt();
+    let middle = pair.middle();
+    let (p_mid, g_flank) = (
+        pair.pinion().flank(Flank::Right, middle),
+        pair.gear().flank(Flank::Right, gear_tooth),
+    );
+    let (Some(p_mid), Some(p_flank), Some(g_flank)) = (
+        p_mid,
+        pair.pinion().flank(Flank::Right, pinion_tooth),
+        g_flank,
+    ) else {
+        return Ok(None);
+    };
+    let frames = pair.frames(roll);
+    let axis = frames[0].rotate(pair.rotation_axes()[0]);
+    let origin = frames[0].translation;
+    let traced = &c.placement[0];
+    let width = 2.0 * span / k as f64;
+    // march from the middle of the axis outward, each closest point
+    // started from its neighbour's (a far start can land on a wrong foot)
+    let centre = k / 2;
+    let order: Vec<usize> = (centre..k).chain((0..centre).rev()).collect();
+    let mut found: Vec<Option<ContactPoint>> = vec![None; k];
+    let mut warm_of: Vec<Option<[[f64; 2]; 2]>> = vec![None; k];
+    for &i in &order {
+        let start = if i >= centre {
+            (i > centre).then(|| warm_of[i - 1]).flatten()
+        } else {
+            warm_of[i + 1]
+        }
+        .unwrap_or([c.pinion_uv, c.gear_uv]);
+        let s = -1.0 + (2 * i + 1) as f64 / k as f64;
+        // the axis point on the middle tooth where it was traced: its (u, v)
+        // are those of the same point on tooth `pinion_tooth`
+        let x = add(c.point, s * span, e.major_direction);
+        let own = traced.rotate_back(sub(x, traced.translation));
+        let (u, v, dp) = p_mid.closest_point_from(own, start[0][0], start[0][1]);
+        if !is_foot(p_mid, own, [u, v], dp) || !inside_active_flank(p_flank, [u, v]) {
+            continue;
+        }
+        let xp = frames[0].place(p_flank.point(u, v));
+        let n = frames[0].rotate(p_flank.normal(u, v));
+        let g_own = frames[1].rotate_back(sub(xp, frames[1].translation));
+        let (gu, gv, w) = g_flank.closest_point_from(g_own, start[1][0], start[1][1]);
+        if !is_foot(g_flank, g_own, [gu, gv], w) || !inside_active_flank(g_flank, [gu, gv]) {
+            continue;
+        }
+        warm_of[i] = Some([[u, v], [gu, gv]]);
+        let xg = frames[1].place(g_flank.point(gu, gv));
+        // across the axis, in the tangent plane
+        let d = unit(add(e.major_direction, -dot(e.major_direction, n), n));
+        let across = unit(cross(n, d));
+        let kp = normal_curvature(p_flank, u, v, frames[0].rotate_back(across));
+        let kg = normal_curvature(g_flank, gu, gv, frames[1].rotate_back(across));
+        let radius = |k: f64| if k != 0.0 { 1.0 / k } else { f64::INFINITY };
+        found[i] = Some(ContactPoint {
+            pinion_uv: [u, v],
+            gear_uv: [gu, gv],
+            position: [
+                0.5 * (xp[0] + xg[0]),
+                0.5 * (xp[1] + xg[1]),
+                0.5 * (xp[2] + xg[2]),
+            ],
+            normal: n,
+            separation_mm: w,
+            moment_arm_mm: dot(cross(axis, sub(xp, origin)), n),
+            width_mm: width,
+            across_mm: 0.0,
+            sliding_velocity: c.sliding_velocity,
+            rolling_velocity: c.rolling_velocity,
+            sum_velocity: 2.0 * c.rolling_velocity,
+            curvature_radius: [radius(kp), radius(kg)],
+            equivalent_radius_mm: if kp + kg > 0.0 {
+                1.0 / (kp + kg)
+            } else {
+                f64::INFINITY
+            },
+        });
+    }
+    let points: Vec<ContactPoint> = found.into_iter().flatten().collect();
+    let v_ends = points
+        .iter()
+        .fold([f64::INFINITY, f64::NEG_INFINITY], |e, q| {
+            [e[0].min(q.pinion_uv[1]), e[1].max(q.pinion_uv[1])]
+        });
+    if points.is_empty() {
+        return Ok(None);
+    }
+    let length = width * points.len() as f64;
+    Ok(Some(ContactLine {
+        pinion_tooth,
+        gear_tooth,
+        kind: LineKind::Flank,
+        length_mm: length,
+        param_per_mm: if v_ends[1] > v_ends[0] {
+            (v_ends[1] - v_ends[0]) / (length - width).max(width)
+        } else {
+            0.0
+        },
+        points,
+    }))
+}
+
+/// Whether (u, v) is the foot of the perpendicular from `p` (own frame) to
+/// `s` at signed distance `d`: p − r(u, v) = d n to 1e-7 mm (a closest
+/// point held on the domain's edge is not).
+fn is_foot(s: &dyn ToothSurface, p: V3, uv: [f64; 2], d: f64) -> bool {
+    if !(uv[0].is_finite() && uv[1].is_finite() && d.is_finite()) {
+        return false;
+    }
+    let r = sub(p, s.point(uv[0], uv[1]));
+    let off = add(r, -d, s.normal(uv[0], uv[1]));
+    norm(off) <= 1e-7 * (1.0 + d.abs())
+}
+
+/// (u, v) strictly inside the active flank (form line to tip, toe to
+/// heel), 1e-9 from its edges: a closest point clamped to an edge is out.
+fn inside_active_flank(s: &dyn ToothSurface, uv: [f64; 2]) -> bool {
+    let (v0, v1) = s.v_range();
+    let [u, v] = uv;
+    let e = 1e-9;
+    v > v0 + e && v < v1 - e && u < s.u_tip(v) - e && u > s.u_form(v) + e
 }

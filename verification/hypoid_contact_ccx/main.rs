@@ -162,7 +162,7 @@ fn deck_is_the_position() {
 
 /// flank against ccx at roll 0.
 #[test]
-#[ignore = "minutes: CalculiX contact on the coarse hypoid pair (≈ 100 k DOFs, several Newton iterations)"]
+#[ignore = "80 s of ccx; misses the force tolerance (1.5e-3 vs 1e-3: ccx's CSTR × flank's areas, as gear_contact_ccx), TE within 6e-4; see README.md"]
 fn position_flank_vs_ccx() {
     let c = cycle(2.0);
     let dir = common::scratch_dir("hypoid_contact_ccx");
