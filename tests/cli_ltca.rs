@@ -181,3 +181,67 @@ fn bad_ltca_keys_and_options_are_clear_errors() {
     ]);
     assert!(!ok && err.contains("solver"), "{err}");
 }
+
+/// `flank ltca` on a hypoid scene (seed 003 eased, coarse tensors, three
+/// roll angles): the files and summary keys; per position the tooth pairs'
+/// shares add to 1, the loaded TE is finite and the KKT residual small;
+/// `--span-approach-mm` is refused on a spur scene.
+#[test]
+fn hypoid_ltca_writes_its_files() {
+    let d = dir("hypoid");
+    let ds = d.to_str().unwrap();
+    let (ok, out, err) = flank(&[
+        "ltca",
+        "papers/seed003-hypoid/scene_eased.toml",
+        "--flank-size",
+        "2",
+        "--base-size",
+        "8",
+        "--roll-angles=-8.182,0,8.182",
+        "--points-per-line",
+        "11",
+        "--out",
+        ds,
+    ]);
+    assert!(ok, "{out}\n{err}");
+    for f in [
+        "ltca_positions.csv",
+        "ltca_points.csv",
+        "summary.json",
+        "pinion.inp",
+        "gear.inp",
+    ] {
+        assert!(d.join(f).exists(), "{f} missing");
+    }
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["analysis"], "ltca_bevel_cycle");
+    assert_eq!(s["positions"], 3);
+    assert_eq!(s["points_per_pair"], 11);
+    assert!(s["max_kkt"].as_f64().unwrap() < 1e-8, "{}", s["max_kkt"]);
+    for st in s["steps"].as_array().unwrap() {
+        let shares: f64 = st["load_share"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .sum();
+        assert!((shares - 1.0).abs() < 1e-12, "{shares}");
+        let te = st["te_arcsec"].as_f64().unwrap();
+        assert!(te.is_finite() && te < 0.0, "{te}");
+    }
+    let csv = std::fs::read_to_string(d.join("ltca_positions.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 3 * 3);
+    let (ok, _, err) = flank(&[
+        "ltca",
+        "papers/seed002-spur/scene.toml",
+        "--span-approach-mm",
+        "0.05",
+        "--out",
+        ds,
+    ]);
+    assert!(
+        !ok && err.contains("--span-approach-mm: for bevel and hypoid scenes only"),
+        "{err}"
+    );
+}

@@ -254,19 +254,25 @@ impl BevelLtca {
                     .to_degrees()
             )));
         }
-        let mut lines = Vec::new();
-        for c in &p.pairs {
-            if let Some(line) = major_axis_line(
-                self.pair.as_ref(),
-                c,
-                p.roll_rad,
-                self.options.points_per_pair,
-                self.tca.settings.approach_mm,
-                self.options.span_approach_mm,
-            )? {
-                lines.push(line);
-            }
-        }
+        // one major axis per pair, the pairs in parallel
+        use rayon::prelude::*;
+        let lines: Vec<_> = p
+            .pairs
+            .par_iter()
+            .map(|c| {
+                major_axis_line(
+                    self.pair.as_ref(),
+                    c,
+                    p.roll_rad,
+                    self.options.points_per_pair,
+                    self.tca.settings.approach_mm,
+                    self.options.span_approach_mm,
+                )
+            })
+            .collect::<Result<Vec<_>, _>>()?
+            .into_iter()
+            .flatten()
+            .collect();
         let unloaded = lines
             .iter()
             .flat_map(|l| l.points.iter())
@@ -338,6 +344,7 @@ pub fn run_bevel(
     );
     let mut notes = Vec::new();
     let mut te = Vec::new();
+    let mut edge_loaded = 0usize;
     for r in &results {
         let forces = ltca.pair_forces(r);
         let total: f64 = forces.iter().sum();
@@ -363,7 +370,9 @@ pub fn run_bevel(
                 te_arcsec
             );
         }
-        // a loaded end point: the candidate axis may be too short
+        // a loaded end point: where the axis kept all K points the span is
+        // too short; where the flank's edge clipped it the contact reaches
+        // that edge (counted)
         for (li, line) in r.lines.iter().enumerate() {
             let loads: Vec<f64> = r
                 .points
@@ -371,12 +380,20 @@ pub fn run_bevel(
                 .filter(|q| q.line == li)
                 .map(|q| q.force_n)
                 .collect();
-            let ends = [loads.first(), loads.last()];
-            if loads.len() > 2 && ends.iter().any(|e| e.is_some_and(|&x| x > 0.0)) {
+            let end_loaded = loads.len() > 2
+                && [loads.first(), loads.last()]
+                    .iter()
+                    .any(|e| e.is_some_and(|&x| x > 0.0));
+            if !end_loaded {
+                continue;
+            }
+            if loads.len() == options.points_per_pair {
                 notes.push(format!(
-                    "{:.3}°: pinion tooth {} carries load at an end of its candidate axis (raise --span-approach-mm, or the contact reaches the flank's edge)",
+                    "{:.3}°: pinion tooth {} carries load at an end of its candidate axis: raise --span-approach-mm",
                     r.roll_deg, line.0
                 ));
+            } else {
+                edge_loaded += 1;
             }
         }
         if !r.kkt_within_tolerance {
@@ -406,6 +423,7 @@ pub fn run_bevel(
         "te_peak_to_peak_arcsec": te_pp,
         "max_pressure_mpa": worst(|r| r.max_pressure_mpa),
         "max_kkt": worst(|r| r.kkt_max),
+        "pairs_loaded_at_a_flank_edge": edge_loaded,
         "compliance_s": ltca.compliance_s,
         "tca_s": ltca.tca_s,
         "cycle_s": cycle_s,

@@ -19,7 +19,11 @@ use crate::geometry::surface::{normal_curvature, on_active_flank, ToothSurface};
 use crate::geometry::vec3::{add, cross, dot, norm, sub, unit, V3};
 
 use super::point_contact::PairContact;
-use super::{ContactLine, ContactPoint};
+use super::{line_intersection, ContactLine, ContactPoint};
+
+/// Step tolerance of the line–flank intersections (mm): generated flanks
+/// are evaluated by an inner Newton whose round-off lies above 1e-12 mm.
+const INTERSECTION_TOL_MM: f64 = 1e-9;
 
 /// One point of the major axis on one member's middle tooth (own frame).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -111,9 +115,10 @@ pub fn major_axis_points(
 /// `span_approach_mm` (semi-axis a·√(δ_span/δ), a the ellipse's at the
 /// TCA's approach `approach_mm`: the loaded contact is wider than the
 /// unloaded δ-ellipse), its points at the centres of k equal segments.
-/// Every point is put on the pinion's flank (closest point), placed, and
-/// measured against the gear's flank along the pinion normal: the
-/// separation w is the signed distance (exact surfaces, > 0 a gap), the
+/// Every point is put on the pinion's flank along the contact normal,
+/// placed, and measured against the gear's flank along the pinion normal
+/// there (line–flank intersections, as the spur TCA's): the separation w
+/// is that distance (exact surfaces, > 0 a gap), the
 /// moment arm r = (ω̂₁ × (x − o₁))·n, the radii across the axis the
 /// flanks' normal curvatures across it. Points whose gear point leaves the
 /// gear's active flank are left out. `None` for a pair outside the sector,
@@ -175,16 +180,25 @@ pub fn major_axis_line(
         // the axis point on the middle tooth where it was traced: its (u, v)
         // are those of the same point on tooth `pinion_tooth`
         let x = add(c.point, s * span, e.major_direction);
-        let own = traced.rotate_back(sub(x, traced.translation));
-        let (u, v, dp) = p_mid.closest_point_from(own, start[0][0], start[0][1]);
-        if !is_foot(p_mid, own, [u, v], dp) || !inside_active_flank(p_flank, [u, v]) {
+        // onto the pinion flank along the contact normal, then along the
+        // pinion's normal there onto the gear flank (the spur TCA's
+        // construction, `super::Tca`): w is the distance along the normal
+        let Some((u, v, _, _)) =
+            line_intersection(p_mid, traced, x, c.normal, start[0], INTERSECTION_TOL_MM)
+        else {
+            continue;
+        };
+        if !inside_active_flank(p_flank, [u, v]) {
             continue;
         }
         let xp = frames[0].place(p_flank.point(u, v));
         let n = frames[0].rotate(p_flank.normal(u, v));
-        let g_own = frames[1].rotate_back(sub(xp, frames[1].translation));
-        let (gu, gv, w) = g_flank.closest_point_from(g_own, start[1][0], start[1][1]);
-        if !is_foot(g_flank, g_own, [gu, gv], w) || !inside_active_flank(g_flank, [gu, gv]) {
+        let Some((gu, gv, w, _)) =
+            line_intersection(g_flank, &frames[1], xp, n, start[1], INTERSECTION_TOL_MM)
+        else {
+            continue;
+        };
+        if !inside_active_flank(g_flank, [gu, gv]) {
             continue;
         }
         warm_of[i] = Some([[u, v], [gu, gv]]);
@@ -241,18 +255,6 @@ pub fn major_axis_line(
         },
         points,
     }))
-}
-
-/// Whether (u, v) is the foot of the perpendicular from `p` (own frame) to
-/// `s` at signed distance `d`: p − r(u, v) = d n to 1e-7 mm (a closest
-/// point held on the domain's edge is not).
-fn is_foot(s: &dyn ToothSurface, p: V3, uv: [f64; 2], d: f64) -> bool {
-    if !(uv[0].is_finite() && uv[1].is_finite() && d.is_finite()) {
-        return false;
-    }
-    let r = sub(p, s.point(uv[0], uv[1]));
-    let off = add(r, -d, s.normal(uv[0], uv[1]));
-    norm(off) <= 1e-7 * (1.0 + d.abs())
 }
 
 /// (u, v) strictly inside the active flank (form line to tip, toe to

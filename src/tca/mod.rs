@@ -642,6 +642,19 @@ fn intersect(
     u: f64,
     v: f64,
 ) -> Option<(f64, f64, f64, [V3; 3])> {
+    line_intersection(fs, frame, x0, d, [u, v], 1e-12)
+}
+
+/// [`intersect`] to a step tolerance `tol` (mm): surfaces evaluated by an
+/// inner Newton (generated bevel flanks) carry round-off above 1e-12 mm.
+pub(crate) fn line_intersection(
+    fs: &dyn ToothSurface,
+    frame: &Frame,
+    x0: V3,
+    d: V3,
+    [u, v]: [f64; 2],
+    tol: f64,
+) -> Option<(f64, f64, f64, [V3; 3])> {
     let q0 = own(frame, x0);
     let m = frame.rotate_back(d).map(|x| -x);
     let (mut u, mut v, mut t) = (u, v, 0.0);
@@ -665,7 +678,7 @@ fn intersect(
         if !step.is_finite() {
             return None;
         }
-        if step < 1e-12 {
+        if step < tol {
             return Some((u, v, t, [n, pu, pv]));
         }
     }
