@@ -225,8 +225,12 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
     };
     // the mesh options are checked before anything is written
     match &scene {
-        AnyScene::Cylindrical(s) => drop(sector_options(s, &options.mesh)?),
-        AnyScene::Bevel(s) => drop(bevel_sector_options(s, &options.mesh)?),
+        AnyScene::Cylindrical(s) => {
+            sector_options(s, &options.mesh)?;
+        }
+        AnyScene::Bevel(s) => {
+            bevel_sector_options(s, &options.mesh)?;
+        }
     }
     let format = options.format.unwrap_or_else(FileFormat::default_format);
     let out = &options.out;

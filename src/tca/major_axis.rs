@@ -89,7 +89,7 @@ pub fn major_axis_points(
             let x = add(c.point, s * a, e.major_direction);
             let own = frame.rotate_back(sub(x, frame.translation));
             let (u, v, _) = surface.closest_point_from(own, warm[0], warm[1]);
-            if !(u.is_finite() && v.is_finite()) || !on_active_flank(surface, [u, v]) {
+            if !(u.is_finite() && v.is_finite() && on_active_flank(surface, [u, v])) {
                 continue;
             }
             warm = [u, v];

@@ -222,14 +222,12 @@ fn position_flank_vs_ccx() {
     let max_pn_ccx = dat.cstr.values().fold(0.0f64, |a, &b| a.max(b));
     println!("| pair | flank cycle (N) | flank deck (N) | ccx (N) | flank − ccx (/ total) |");
     println!("|---|---|---|---|---|");
-    for k in 0..deck.forces.len() {
+    for (k, (fd_k, fc_k)) in deck.forces.iter().zip(&forces_ccx).enumerate() {
         println!(
-            "| {} | {:.3} | {:.3} | {:.3} | {:+.2e} |",
+            "| {} | {:.3} | {fd_k:.3} | {fc_k:.3} | {:+.2e} |",
             k + 1,
             step.pair_force_n[k],
-            deck.forces[k],
-            forces_ccx[k],
-            (deck.forces[k] - forces_ccx[k]) / fc
+            (fd_k - fc_k) / fc
         );
     }
     println!(
