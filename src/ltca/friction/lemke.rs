@@ -59,7 +59,9 @@ pub const SHIFT_RETRIES: usize = 6;
 /// are not eligible pivots.
 const PIVOT_TOLERANCE: f64 = 1e-11;
 
-/// Ratios within this relative distance of the minimum are ties.
+/// Ratios within this distance of the minimum, relative to max(1, the
+/// minimum), are ties (the scaled variables are O(1), so a degenerate
+/// zero ratio and a round-off ratio of 1e-17 tie).
 const TIE_TOLERANCE: f64 = 1e-10;
 
 /// Lemke's answer of w = q + A z.
@@ -141,7 +143,7 @@ pub(crate) fn lemke(a: &DMatrix<f64>, q: &[f64], max_pivots: usize) -> Result<Le
         let rmin = eligible.iter().fold(f64::INFINITY, |m, &i| m.min(ratio(i)));
         let mut ties: Vec<usize> = eligible
             .into_iter()
-            .filter(|&i| ratio(i) <= rmin + TIE_TOLERANCE * rmin.abs().max(1e-300))
+            .filter(|&i| ratio(i) <= rmin + TIE_TOLERANCE * rmin.abs().max(1.0))
             .collect();
         let leave_row = if let Some(&i) = ties.iter().find(|&&i| basis[i] == z0) {
             i
