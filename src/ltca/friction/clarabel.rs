@@ -168,8 +168,12 @@ fn tresca(
 
 /// Increment k by the clarabel path: Tresca QPs with S ← μP_n,
 /// Δθ̃ ← Δθ until both change by at most the fixed-point tolerance (or
-/// the limit), then the polish from the states of the last QP; the
-/// polished answer is kept when it settled and its residual is not larger.
+/// the limit). From the first iterate whose change is below
+/// [`POLISH_TRIGGER`] on, the polish is tried from its states; the first
+/// polished answer that settles within the residual tolerance ends the
+/// increment (the exact answer does not need a tighter fixed point, and
+/// the fixed point cannot settle below clarabel's own accuracy). Without
+/// such a polish the last Tresca answer is kept, polished if that helps.
 pub(crate) fn step(
     prob: &Prepared,
     prev: &Previous,
@@ -183,6 +187,8 @@ pub(crate) fn step(
     let mut dtheta_kin = 0.0;
     let mut inner = 0;
     let mut iterations = 0;
+    let mut polish_iterations = 0;
+    let mut polish_limit = false;
     let mut converged = false;
     let mut last = None;
     let ts = prob.theta_scale();
@@ -192,14 +198,27 @@ pub(crate) fn step(
         inner += t.iterations;
         let new_bound: Vec<f64> = t.pn.iter().map(|&p| prob.mu * p.max(0.0)).collect();
         let db = (0..m).fold(0.0f64, |a, i| a.max((new_bound[i] - bound[i]).abs()));
-        let dth = (t.dtheta - dtheta_kin).abs() / ts;
+        let change = if prob.mu == 0.0 {
+            0.0
+        } else {
+            (db / (prob.mu * prob.p0)).max((t.dtheta - dtheta_kin).abs() / ts)
+        };
         bound = new_bound;
         dtheta_kin = t.dtheta;
+        if change <= POLISH_TRIGGER {
+            if let Some(p) = try_polish(prob, prev, torque, &t, options, &mut polish_limit)? {
+                polish_iterations += p.polish_iterations;
+                return Ok(StepAnswer {
+                    iterations,
+                    inner_iterations: inner,
+                    polish_iterations,
+                    limit_hit: polish_limit,
+                    ..p
+                });
+            }
+        }
         last = Some(t);
-        if prob.mu == 0.0
-            || (db <= options.fixed_point_tolerance * prob.mu * prob.p0
-                && dth <= options.fixed_point_tolerance)
-        {
+        if change <= options.fixed_point_tolerance {
             converged = true;
             break;
         }
@@ -208,37 +227,68 @@ pub(crate) fn step(
         FlankError::Model("friction LTCA: the fixed point needs at least one iteration".into())
     })?;
     let theta = prev.theta + t.dtheta;
-    let gap = gaps(prob, &t.pn, &t.pt, theta);
-    let slip = slips(prob, prev, &t.pn, &t.pt, theta);
-    let raw_res = residuals(prob, torque, &t.pn, &t.pt, &gap, &slip);
-    let start = states(prob, &t.pn, &t.pt, &gap, &slip);
-    let mut answer = StepAnswer {
+    if converged && options.fixed_point_tolerance > POLISH_TRIGGER {
+        // (with a tolerance ≤ the trigger this iterate was tried already)
+        if let Some(p) = try_polish(prob, prev, torque, &t, options, &mut polish_limit)? {
+            return Ok(StepAnswer {
+                iterations,
+                inner_iterations: inner,
+                limit_hit: polish_limit,
+                ..p
+            });
+        }
+    }
+    Ok(StepAnswer {
         pn: t.pn,
         pt: t.pt,
         theta,
         iterations,
         inner_iterations: inner,
-        polish_iterations: 0,
+        polish_iterations,
         polished: false,
-        limit_hit: !converged,
+        limit_hit: !converged || polish_limit,
+    })
+}
+
+/// Relative change of the fixed point below which the polish is tried.
+pub const POLISH_TRIGGER: f64 = 1e-6;
+
+/// The polish from the states of a Tresca answer; `Some` when it settled
+/// with residuals within the tolerance and not above the Tresca answer's.
+fn try_polish(
+    prob: &Prepared,
+    prev: &Previous,
+    torque: f64,
+    t: &Tresca,
+    options: &FrictionOptions,
+    limit: &mut bool,
+) -> Result<Option<StepAnswer>, FlankError> {
+    let theta = prev.theta + t.dtheta;
+    let gap = gaps(prob, &t.pn, &t.pt, theta);
+    let slip = slips(prob, prev, &t.pn, &t.pt, theta);
+    let raw = residuals(prob, torque, &t.pn, &t.pt, &gap, &slip);
+    let start = states(prob, &t.pn, &t.pt, &gap, &slip);
+    let Ok(p) = polish(prob, prev, torque, start, options.max_polish) else {
+        return Ok(None);
     };
-    if let Ok(p) = polish(prob, prev, torque, start, options.max_polish) {
-        answer.polish_iterations = p.iterations;
-        if p.settled {
-            let gap = gaps(prob, &p.pn, &p.pt, p.theta);
-            let slip = slips(prob, prev, &p.pn, &p.pt, p.theta);
-            let res = residuals(prob, torque, &p.pn, &p.pt, &gap, &slip);
-            if res.max <= raw_res.max {
-                answer.pn = p.pn;
-                answer.pt = p.pt;
-                answer.theta = p.theta;
-                answer.polished = true;
-                // the exact answer does not depend on the fixed point's limit
-                answer.limit_hit = false;
-            }
-        } else {
-            answer.limit_hit = true;
-        }
+    if !p.settled {
+        *limit = true;
+        return Ok(None);
     }
-    Ok(answer)
+    let gap = gaps(prob, &p.pn, &p.pt, p.theta);
+    let slip = slips(prob, prev, &p.pn, &p.pt, p.theta);
+    let res = residuals(prob, torque, &p.pn, &p.pt, &gap, &slip);
+    if !(res.max <= options.tolerance && res.max <= raw.max.max(options.tolerance)) {
+        return Ok(None);
+    }
+    Ok(Some(StepAnswer {
+        pn: p.pn,
+        pt: p.pt,
+        theta: p.theta,
+        iterations: 0,
+        inner_iterations: 0,
+        polish_iterations: p.iterations,
+        polished: true,
+        limit_hit: false,
+    }))
 }

@@ -114,7 +114,7 @@ pub(crate) fn run(
         } else {
             max_residual.worst(&residual)
         };
-        limit_hit |= ans.limit_hit;
+        limit_hit |= ans.limit_hit && !ans.polished;
         pn.clone_from(&ans.pn);
         pt.clone_from(&ans.pt);
         theta = ans.theta;
@@ -138,7 +138,7 @@ pub(crate) fn run(
     Ok(FrictionSolution {
         solver: options.solver,
         start_rotation,
-        within_tolerance: !limit_hit && !(max_residual.max > options.tolerance),
+        within_tolerance: !limit_hit && max_residual.max <= options.tolerance,
         increments,
         max_residual,
     })

@@ -209,10 +209,12 @@ pub struct FrictionOptions {
     pub increments: Increments,
     pub solver: FrictionSolver,
     /// Clarabel path: limit on Tresca QPs per increment (reaching it is
-    /// reported in [`Increment::limit_hit`], the polish still runs).
+    /// reported in [`Increment::limit_hit`]).
     pub max_fixed_point: usize,
     /// Clarabel path: the fixed point stops when the bounds and Δθ̃ change
-    /// by at most this (relative to μP₀ and the rotation scale).
+    /// by at most this (relative to μP₀ and the rotation scale); usually a
+    /// polish ends it earlier (see `clarabel.rs`). Not below clarabel's own
+    /// accuracy (~1e-10): the iterates stall there.
     pub fixed_point_tolerance: f64,
     /// Clarabel's own interior-point iteration limit per QP (an error).
     pub max_qp_iterations: usize,
@@ -230,7 +232,7 @@ impl Default for FrictionOptions {
             increments: Increments::Count(10),
             solver: FrictionSolver::Clarabel,
             max_fixed_point: 200,
-            fixed_point_tolerance: 1e-12,
+            fixed_point_tolerance: 1e-8,
             max_qp_iterations: 200,
             max_polish: 50,
             max_pivots: 20_000,
@@ -265,7 +267,9 @@ pub struct Increment {
     pub polish_iterations: usize,
     /// Clarabel: the answer is the polished (exact) one.
     pub polished: bool,
-    /// A bounded loop (fixed point or polish) reached its limit.
+    /// A bounded loop (the fixed point, or a polish attempt) reached its
+    /// limit. For a polished answer this is information only: the answer is
+    /// the exact one of its states, graded by its residuals.
     pub limit_hit: bool,
 }
 
@@ -279,7 +283,8 @@ pub struct FrictionSolution {
     pub increments: Vec<Increment>,
     /// Componentwise largest residual over all increments.
     pub max_residual: Residuals,
-    /// max_residual.max ≤ options.tolerance and no limit was hit.
+    /// max_residual.max ≤ options.tolerance, and no unpolished answer came
+    /// from a loop that hit its limit.
     pub within_tolerance: bool,
 }
 

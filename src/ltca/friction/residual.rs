@@ -53,7 +53,11 @@ impl Residuals {
             complementarity: self.complementarity.max(o.complementarity),
             cone: self.cone.max(o.cone),
             coulomb: self.coulomb.max(o.coulomb),
-            max: self.max.max(o.max),
+            max: if self.max.is_nan() || o.max.is_nan() {
+                f64::NAN
+            } else {
+                self.max.max(o.max)
+            },
             min_gap: self.min_gap.min(o.min_gap),
             min_load: self.min_load.min(o.min_load),
         }
