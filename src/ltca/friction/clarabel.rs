@@ -144,7 +144,9 @@ fn tresca(
             )))
         }
     }
-    if sol.x.len() != nv || sol.z.len() != nrows || sol.x.iter().chain(&sol.z).any(|v| !v.is_finite())
+    if sol.x.len() != nv
+        || sol.z.len() != nrows
+        || sol.x.iter().chain(&sol.z).any(|v| !v.is_finite())
     {
         return Err(FlankError::Solver(
             "friction LTCA clarabel: a non-finite or mis-sized answer".into(),

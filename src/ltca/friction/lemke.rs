@@ -72,7 +72,11 @@ pub(crate) struct LemkeAnswer {
 }
 
 /// Lemke's method with the lexicographic ratio test (module doc).
-pub(crate) fn lemke(a: &DMatrix<f64>, q: &[f64], max_pivots: usize) -> Result<LemkeAnswer, FlankError> {
+pub(crate) fn lemke(
+    a: &DMatrix<f64>,
+    q: &[f64],
+    max_pivots: usize,
+) -> Result<LemkeAnswer, FlankError> {
     let n = q.len();
     if q.iter().all(|&v| v >= 0.0) {
         return Ok(LemkeAnswer {

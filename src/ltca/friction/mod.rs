@@ -382,8 +382,7 @@ impl Prepared {
                 pb.arm_normal[i]
             )));
         }
-        if let Some(i) =
-            (0..m).find(|&i| !(pb.arm_normal[i] > pb.mu * pb.arm_tangential[i].abs()))
+        if let Some(i) = (0..m).find(|&i| !(pb.arm_normal[i] > pb.mu * pb.arm_tangential[i].abs()))
         {
             return Err(FlankError::Model(format!(
                 "friction LTCA: self-locking at point {i}: r_n = {} ≤ μ|r_t| = {} (friction alone could carry the torque)",

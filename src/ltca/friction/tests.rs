@@ -64,9 +64,7 @@ fn opts(solver: FrictionSolver, n: usize) -> FrictionOptions {
 /// for ae > b²), crowned separations g⁰ = crown·(x − 5)²/25, r_n 40 mm,
 /// r_t and s given as functions of x.
 fn line(m: usize, mu: f64, crown: f64, rt: impl Fn(f64) -> f64, s: impl Fn(f64) -> f64) -> Data {
-    let x: Vec<f64> = (0..m)
-        .map(|i| 10.0 * (i as f64 + 0.5) / m as f64)
-        .collect();
+    let x: Vec<f64> = (0..m).map(|i| 10.0 * (i as f64 + 0.5) / m as f64).collect();
     let (a, b, e, lambda) = (3e-6, 1e-7, 2e-6, 2.0);
     let (dn, dt) = (1e-6 * m as f64 / 10.0, 0.8e-6 * m as f64 / 10.0);
     let mut full = vec![0.0; 4 * m * m];
@@ -84,7 +82,10 @@ fn line(m: usize, mu: f64, crown: f64, rt: impl Fn(f64) -> f64, s: impl Fn(f64) 
         c_nt: vec![],
         c_tn: vec![],
         c_tt: vec![],
-        g0: x.iter().map(|&xi| crown * (xi - 5.0).powi(2) / 25.0).collect(),
+        g0: x
+            .iter()
+            .map(|&xi| crown * (xi - 5.0).powi(2) / 25.0)
+            .collect(),
         r_n: x.iter().map(|&xi| 40.0 + 0.5 * xi).collect(),
         r_t: x.iter().map(|&xi| rt(xi)).collect(),
         s: x.iter().map(|&xi| s(xi)).collect(),
@@ -99,7 +100,14 @@ fn line(m: usize, mu: f64, crown: f64, rt: impl Fn(f64) -> f64, s: impl Fn(f64) 
 /// ~1e-5 mm/N plus a diagonal, cross blocks multiplied by `coupling`
 /// (keeps it PSD: a convex combination with the block diagonal);
 /// separations (u − 0.3)·`sep` mm, r_n 30…60, r_t −15…15 mm, s given.
-fn random(m: usize, seed: u64, mu: f64, sep: f64, coupling: f64, s: impl Fn(usize, f64) -> f64) -> Data {
+fn random(
+    m: usize,
+    seed: u64,
+    mu: f64,
+    sep: f64,
+    coupling: f64,
+    s: impl Fn(usize, f64) -> f64,
+) -> Data {
     let mut rng = Rng::new(seed);
     let n2 = 2 * m;
     let g: Vec<f64> = (0..n2 * n2).map(|_| rng.unit()).collect();
@@ -117,7 +125,9 @@ fn random(m: usize, seed: u64, mu: f64, sep: f64, coupling: f64, s: impl Fn(usiz
         c_nt: vec![],
         c_tn: vec![],
         c_tt: vec![],
-        g0: (0..m).map(|_| (0.5 * (rng.unit() + 1.0) - 0.3) * sep).collect(),
+        g0: (0..m)
+            .map(|_| (0.5 * (rng.unit() + 1.0) - 0.3) * sep)
+            .collect(),
         r_n: (0..m).map(|_| 45.0 + 15.0 * rng.unit()).collect(),
         r_t: (0..m).map(|_| 15.0 * rng.unit()).collect(),
         s: vec![],
@@ -181,9 +191,15 @@ fn count(inc: &Increment, s: PointState) -> usize {
 fn mu_zero_reproduces_frictionless_qp() {
     let mut cases = Vec::new();
     for seed in 1..=6u64 {
-        cases.push((format!("random {seed}"), random(12 + 3 * seed as usize, seed, 0.0, 4e-3, 0.3, |_, u| 3.0 * u)));
+        cases.push((
+            format!("random {seed}"),
+            random(12 + 3 * seed as usize, seed, 0.0, 4e-3, 0.3, |_, u| 3.0 * u),
+        ));
     }
-    cases.push(("line crowned".into(), line(40, 0.0, 2e-3, |x| x - 5.0, |_| 2.0)));
+    cases.push((
+        "line crowned".into(),
+        line(40, 0.0, 2e-3, |x| x - 5.0, |_| 2.0),
+    ));
     cases.push(("line flat".into(), line(25, 0.0, 0.0, |x| x - 5.0, |_| 2.0)));
     let mut worst = 0.0f64;
     for (name, d) in &cases {
@@ -208,7 +224,8 @@ fn mu_zero_reproduces_frictionless_qp() {
                     a.max((last.normal[i] - qp.load[i]).abs() / pmax)
                         .max(last.tangential[i].abs() / pmax)
                 });
-                let dth = (last.rotation - qp.rotation).abs() / (qp.rotation - sol.start_rotation).abs();
+                let dth =
+                    (last.rotation - qp.rotation).abs() / (qp.rotation - sol.start_rotation).abs();
                 worst = worst.max(dp).max(dth);
                 assert!(
                     dp <= 1e-10 && dth <= 1e-10,
@@ -230,7 +247,10 @@ fn clarabel_and_lemke_agree_random() {
         let d = random(m, seed, 0.1, 4e-3, 0.3, |_, u| 4.0 * u);
         let cc = agree(&d, 3, &format!("random seed {seed} M {m}"));
         let last = cc.lemke.increments.last().unwrap();
-        assert!(count(last, PointState::Separated) > 0, "seed {seed}: some points must stay open");
+        assert!(
+            count(last, PointState::Separated) > 0,
+            "seed {seed}: some points must stay open"
+        );
         // weak sliding: stick possible
         let d = random(m, seed + 100, 0.15, 2e-3, 0.2, |_, u| 0.02 * u);
         agree(&d, 4, &format!("random weak sliding seed {seed}"));
@@ -246,7 +266,11 @@ fn clarabel_and_lemke_agree_all_slip() {
         let cc = agree(&d, 5, &format!("all slip, crown {crown}"));
         let last = cc.clarabel.increments.last().unwrap();
         let closed = 30 - count(last, PointState::Separated);
-        assert_eq!(count(last, PointState::SlipPositive), closed, "every closed point slips along +t");
+        assert_eq!(
+            count(last, PointState::SlipPositive),
+            closed,
+            "every closed point slips along +t"
+        );
         assert_eq!(count(last, PointState::Separated) > 0, sep);
         for i in 0..30 {
             let (pn, pt) = (last.normal[i], last.tangential[i]);
@@ -270,8 +294,15 @@ fn clarabel_and_lemke_agree_stick_near_zero_sliding() {
             count(last, PointState::SlipNegative),
         );
         eprintln!("  states: stick {st}, slip+ {sp}, slip− {sn}");
-        assert!(st > 0 && sp > 0 && sn > 0, "stick near zero sliding, slip both ways away from it");
-        assert_eq!(last.state[15], PointState::Stick, "the zero-sliding point sticks");
+        assert!(
+            st > 0 && sp > 0 && sn > 0,
+            "stick near zero sliding, slip both ways away from it"
+        );
+        assert_eq!(
+            last.state[15],
+            PointState::Stick,
+            "the zero-sliding point sticks"
+        );
     }
 }
 
@@ -303,7 +334,11 @@ fn one_point_closed_forms() {
         assert_residuals(&sol, "one point slip");
         let k = sol.increments.last().unwrap();
         assert_eq!(k.state[0], PointState::SlipPositive);
-        assert!((k.normal[0] - pn).abs() <= 1e-12 * pn, "{} vs {pn}", k.normal[0]);
+        assert!(
+            (k.normal[0] - pn).abs() <= 1e-12 * pn,
+            "{} vs {pn}",
+            k.normal[0]
+        );
         assert!((k.tangential[0] - mu * pn).abs() <= 1e-12 * pn);
         assert!((k.rotation - th).abs() <= 1e-12 * th.abs());
     }
@@ -316,7 +351,11 @@ fn one_point_closed_forms() {
         assert_residuals(&sol, "one point stick");
         let k = sol.increments.last().unwrap();
         assert_eq!(k.state[0], PointState::Stick);
-        assert!((k.normal[0] - pn).abs() <= 1e-12 * pn, "{} vs {pn}", k.normal[0]);
+        assert!(
+            (k.normal[0] - pn).abs() <= 1e-12 * pn,
+            "{} vs {pn}",
+            k.normal[0]
+        );
         assert!((k.tangential[0] + b / e * pn).abs() <= 1e-12 * pn);
         assert!((k.rotation - th).abs() <= 1e-12 * th.abs());
     }
@@ -350,7 +389,9 @@ fn constant_states_do_not_depend_on_increments() {
                 assert!((a.normal[i] - b.normal[i]).abs() <= 1e-10 * pmax);
                 assert!((a.tangential[i] - b.tangential[i]).abs() <= 1e-10 * pmax);
             }
-            assert!((a.rotation - b.rotation).abs() <= 1e-10 * (a.rotation - one.start_rotation).abs());
+            assert!(
+                (a.rotation - b.rotation).abs() <= 1e-10 * (a.rotation - one.start_rotation).abs()
+            );
         }
     }
 }
@@ -380,8 +421,14 @@ fn state_changes_make_the_answer_path_dependent() {
     let d5 = diff(&run(5));
     let d20 = diff(&run(20));
     eprintln!("path dependence vs 80 increments: N=1 {d1:.2e}, N=5 {d5:.2e}, N=20 {d20:.2e}");
-    assert!(d1 > 1e-4, "one increment must differ from the load path: {d1:.2e}");
-    assert!(d20 < d1 / 4.0 && d5 <= d1, "refining must converge: {d1:.2e} {d5:.2e} {d20:.2e}");
+    assert!(
+        d1 > 1e-4,
+        "one increment must differ from the load path: {d1:.2e}"
+    );
+    assert!(
+        d20 < d1 / 4.0 && d5 <= d1,
+        "refining must converge: {d1:.2e} {d5:.2e} {d20:.2e}"
+    );
     // and the two solvers still agree on the path
     agree(&d, 7, "path-dependent case");
 }
@@ -394,7 +441,9 @@ fn increment_size_schedule() {
     let t = incremental::schedule(1e5, Increments::Size(2.5e4)).unwrap();
     assert_eq!(t.len(), 4);
     assert_eq!(*t.last().unwrap(), 1e5);
-    assert!(incremental::schedule(0.0, Increments::Count(3)).unwrap().is_empty());
+    assert!(incremental::schedule(0.0, Increments::Count(3))
+        .unwrap()
+        .is_empty());
 }
 
 // T = 0: no increments, the rigid start θ₀ = min g⁰/r_n.
@@ -404,7 +453,9 @@ fn zero_torque_is_the_rigid_start() {
     d.t = 0.0;
     let sol = solve_friction(&d.pb(), &FrictionOptions::default()).unwrap();
     assert!(sol.increments.is_empty());
-    let th = (0..10).map(|i| d.g0[i] / d.r_n[i]).fold(f64::INFINITY, f64::min);
+    let th = (0..10)
+        .map(|i| d.g0[i] / d.r_n[i])
+        .fold(f64::INFINITY, f64::min);
     assert_eq!(sol.rotation(), th);
 }
 
@@ -536,7 +587,10 @@ fn timing() {
     for m in [30, 50, 100] {
         for (name, d) in [
             ("all slip", line(m, 0.1, 2e-3, |x| 0.5 * (x - 5.0), |_| 3.0)),
-            ("zero sliding mid-line", zero_sliding_line(m, 0.12, 2e-3, 4.0)),
+            (
+                "zero sliding mid-line",
+                zero_sliding_line(m, 0.12, 2e-3, 4.0),
+            ),
         ] {
             let n = 10;
             let t0 = Instant::now();
@@ -548,7 +602,12 @@ fn timing() {
             let cc = cross_check(&d.pb(), &opts(FrictionSolver::Clarabel, n)).unwrap();
             let fp: usize = a.increments.iter().map(|k| k.iterations).max().unwrap();
             let ipm: usize = a.increments.iter().map(|k| k.inner_iterations).sum();
-            let pol: usize = a.increments.iter().map(|k| k.polish_iterations).max().unwrap();
+            let pol: usize = a
+                .increments
+                .iter()
+                .map(|k| k.polish_iterations)
+                .max()
+                .unwrap();
             let piv: usize = b.increments.iter().map(|k| k.iterations).max().unwrap();
             let last = b.increments.last().unwrap();
             println!(
@@ -567,4 +626,3 @@ fn timing() {
         }
     }
 }
-
