@@ -629,3 +629,23 @@ fn timing() {
         }
     }
 }
+
+// (b) Beyond the seeds' μ = 0.07: μ = 0.3 and 0.5 with cross blocks at
+// 0.9 of the PSD limit, strong and weak sliding; the solvers still agree
+// (Lemke has no termination guarantee for friction LCPs; none of these
+// ends on a ray).
+#[test]
+fn clarabel_and_lemke_agree_strong_friction() {
+    for (mu, coupling) in [(0.3, 0.9), (0.5, 0.9)] {
+        for seed in 1..=3u64 {
+            let d = random(20, seed, mu, 4e-3, coupling, |_, u| 4.0 * u);
+            agree(&d, 5, &format!("μ {mu} coupling {coupling} seed {seed}"));
+            let d = random(20, seed, mu, 4e-3, coupling, |_, u| 0.05 * u);
+            agree(
+                &d,
+                5,
+                &format!("μ {mu} coupling {coupling} seed {seed}, weak sliding"),
+            );
+        }
+    }
+}
