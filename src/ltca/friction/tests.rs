@@ -649,3 +649,41 @@ fn clarabel_and_lemke_agree_strong_friction() {
         }
     }
 }
+
+// A duplicated candidate point (C singular, the split of the load between
+// the two copies not unique): no panic, both solvers within tolerance
+// (clarabel's state system is singular, so its Tresca answer stands,
+// ~1e-10; Lemke puts the load on one copy), and the pair's total load
+// agrees to 1e-8.
+#[test]
+fn duplicated_point_is_handled() {
+    let m = 10;
+    let mut d = line(m, 0.1, 1e-3, |x| 0.5 * (x - 5.0), |_| 3.0);
+    for c in [&mut d.c_nn, &mut d.c_nt, &mut d.c_tn, &mut d.c_tt] {
+        for j in 0..m {
+            c[5 * m + j] = c[4 * m + j];
+        }
+        for i in 0..m {
+            c[i * m + 5] = c[i * m + 4];
+        }
+    }
+    d.g0[5] = d.g0[4];
+    d.r_n[5] = d.r_n[4];
+    d.r_t[5] = d.r_t[4];
+    d.s[5] = d.s[4];
+    let sums: Vec<f64> = [FrictionSolver::Clarabel, FrictionSolver::Lemke]
+        .into_iter()
+        .map(|solver| {
+            let sol = solve_friction(&d.pb(), &opts(solver, 3)).unwrap();
+            assert!(
+                sol.within_tolerance,
+                "{}: {:?}",
+                solver.name(),
+                sol.max_residual
+            );
+            let k = sol.increments.last().unwrap();
+            k.normal[4] + k.normal[5]
+        })
+        .collect();
+    assert!((sums[0] - sums[1]).abs() <= 1e-8 * sums[1], "{sums:?}");
+}
