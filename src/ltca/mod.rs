@@ -4,12 +4,17 @@
 //!   compatibility F p + w = θ r + g, equilibrium rᵀp = T, complementarity)
 //!   as a convex QP, solved by a dedicated active-set method or by clarabel,
 //!   every answer with its KKT residual.
+//! * [`friction`]: the frictional contact problem at one roll position
+//!   (seeds 001, 003: normal and tangential compliances, stick/slip/
+//!   separation, load increments), solved per increment by clarabel
+//!   (Tresca QPs, fixed point, polish) and cross-checked by Lemke's method.
 //! * [`cycle`]: spur/helical pairs over a mesh cycle (line contact);
 //!   [`bevel`]: bevel/hypoid pairs (candidate points on each pair's
 //!   contact-ellipse major axis), both through [`model::LtcaBodies`].
 
 pub mod bevel;
 pub mod cycle;
+pub mod friction;
 pub mod hertz_elliptic;
 pub mod local;
 pub mod model;
