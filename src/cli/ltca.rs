@@ -45,6 +45,17 @@ pub struct Args {
     /// separation (mm; default 0.04).
     #[arg(long)]
     span_approach_mm: Option<f64>,
+    /// Bevel/hypoid pairs: Coulomb friction coefficient of the flanks
+    /// (seeds 001/003; 0 = frictionless).
+    #[arg(long)]
+    friction_mu: Option<f64>,
+    /// Load increments of the frictional solve (default 10).
+    #[arg(long)]
+    increments: Option<usize>,
+    /// Also solve every position by Lemke's method and report the largest
+    /// difference from the clarabel path.
+    #[arg(long)]
+    cross_check: bool,
     /// Print nothing but errors.
     #[arg(long, short)]
     quiet: bool,
@@ -65,6 +76,9 @@ pub fn run(args: Args) -> Result<()> {
         no_condition,
         threads,
         span_approach_mm,
+        friction_mu,
+        increments,
+        cross_check,
         quiet,
     } = args;
     let solver = match solver {
@@ -94,6 +108,9 @@ pub fn run(args: Args) -> Result<()> {
             points_per_pair: points_per_line.unwrap_or(d.points_per_pair),
             roll_angles_deg: roll_angles,
             span_approach_mm: span_approach_mm.unwrap_or(d.span_approach_mm),
+            friction_mu: friction_mu.unwrap_or(0.0),
+            increments: increments.unwrap_or(d.increments),
+            cross_check,
             settings,
             cache,
             threads,
@@ -123,8 +140,15 @@ pub fn run(args: Args) -> Result<()> {
         }
         return Ok(());
     }
-    if span_approach_mm.is_some() {
-        anyhow::bail!("--span-approach-mm: for bevel and hypoid scenes only");
+    for (given, name) in [
+        (span_approach_mm.is_some(), "--span-approach-mm"),
+        (friction_mu.is_some(), "--friction-mu"),
+        (increments.is_some(), "--increments"),
+        (cross_check, "--cross-check"),
+    ] {
+        if given {
+            anyhow::bail!("{name}: for bevel and hypoid scenes only (friction in the spur/helical LTCA is not in yet)");
+        }
     }
     let options = LtcaOptions {
         out: out.clone(),

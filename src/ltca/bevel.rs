@@ -42,8 +42,9 @@ use crate::compliance::{ComplianceOptions, FlankInterpolator, FlankSelection};
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
 use crate::geometry::gear_pair::PairPlacement;
+use crate::ltca::friction::{FrictionOptions, Increments};
 use crate::ltca::local::contact_modulus;
-use crate::ltca::model::{LtcaBodies, LtcaSettings, PositionResult};
+use crate::ltca::model::{LtcaBodies, LtcaFriction, LtcaSettings, PositionResult};
 use crate::scene::BevelScene;
 use crate::tca::major_axis::major_axis_line;
 use crate::tca::point_contact::{point_tca, PointTca, PointTcaSettings, ARCSEC_PER_RAD};
@@ -64,6 +65,11 @@ pub struct BevelLtcaOptions {
     /// Separation (mm) out to which the candidate axis runs.
     pub span_approach_mm: f64,
     pub settings: LtcaSettings,
+    /// Coulomb friction coefficient (0: frictionless), load increments,
+    /// and whether every position is also solved by Lemke's method.
+    pub friction_mu: f64,
+    pub increments: usize,
+    pub cross_check: bool,
     pub cache: Option<PathBuf>,
     pub threads: usize,
 }
@@ -78,6 +84,9 @@ impl Default for BevelLtcaOptions {
             roll_angles_deg: None,
             span_approach_mm: DEFAULT_SPAN_APPROACH_MM,
             settings: LtcaSettings::default(),
+            friction_mu: 0.0,
+            increments: 10,
+            cross_check: false,
             cache: None,
             threads: 0,
         }
@@ -144,6 +153,27 @@ impl BevelLtcaOptions {
                 "--roll-angles: {r} is not a number"
             )));
         }
+        if !(self.friction_mu.is_finite() && (0.0..=1.0).contains(&self.friction_mu)) {
+            return Err(FlankError::Model(format!(
+                "--friction-mu {}: a coefficient in [0, 1] is needed",
+                self.friction_mu
+            )));
+        }
+        if self.friction_mu > 0.0 {
+            if !(1..=10_000).contains(&self.increments) {
+                return Err(FlankError::Model(format!(
+                    "--increments {}: between 1 and 10000 load increments are needed",
+                    self.increments
+                )));
+            }
+            if !(scene.load.speed_rpm > 0.0) {
+                return Err(FlankError::Model(format!(
+                    "{}: friction needs the sliding direction, from [load] speed_rpm > 0 (got {})",
+                    scene.source.display(),
+                    scene.load.speed_rpm
+                )));
+            }
+        }
         crate::compliance::body::bevel_sector_options(scene, &self.mesh)?;
         Ok(())
     }
@@ -203,6 +233,18 @@ impl BevelLtca {
             FlankInterpolator::new(&gear)?.grids(),
         ];
         let flank_nodes = [pinion.node_count(), gear.node_count()];
+        let mut options = options.clone();
+        if options.friction_mu > 0.0 {
+            options.settings.friction = Some(LtcaFriction {
+                mu: options.friction_mu,
+                options: FrictionOptions {
+                    increments: Increments::Count(options.increments),
+                    ..Default::default()
+                },
+                pinion_speed_rad_s: scene.load.speed_rpm * std::f64::consts::PI / 30.0,
+                cross_check: options.cross_check,
+            });
+        }
         let bodies = LtcaBodies {
             tensors: [pinion, gear],
             grids,
@@ -218,7 +260,7 @@ impl BevelLtca {
             pair: Arc::clone(&scene.pair),
             tca,
             bodies,
-            options: options.clone(),
+            options,
             torque,
             compliance_s,
             tca_s,
@@ -307,6 +349,15 @@ impl BevelLtca {
         f
     }
 
+    /// Friction force per pinion tooth of the sector (N).
+    pub fn pair_friction(&self, r: &PositionResult) -> Vec<f64> {
+        let mut f = vec![0.0; self.pair.sector_teeth()];
+        for (i, (k, _, _)) in r.lines.iter().enumerate() {
+            f[k - 1] += r.line_friction_n.get(i).copied().unwrap_or(0.0);
+        }
+        f
+    }
+
     /// Loaded TE at the gear (arcsec), with the FE run's sign: −θ z₁/z₂.
     pub fn te_arcsec(&self, r: &PositionResult) -> f64 {
         -r.te_urad * 1e-6 * self.pair.ratio() * ARCSEC_PER_RAD
@@ -340,13 +391,14 @@ pub fn run_bevel(
     let cycle_s = t_cycle.elapsed().as_secs_f64();
     let np = ltca.pair.sector_teeth();
     let mut csv = String::from(
-        "roll_deg,pair,pinion_tooth,gear_tooth,force_n,load_share,max_pressure_mpa,te_arcsec\n",
+        "roll_deg,pair,pinion_tooth,gear_tooth,force_n,load_share,max_pressure_mpa,te_arcsec,friction_n\n",
     );
     let mut notes = Vec::new();
     let mut te = Vec::new();
     let mut edge_loaded = 0usize;
     for r in &results {
         let forces = ltca.pair_forces(r);
+        let friction = ltca.pair_friction(r);
         let total: f64 = forces.iter().sum();
         let te_arcsec = ltca.te_arcsec(r);
         te.push(te_arcsec);
@@ -359,7 +411,7 @@ pub fn run_bevel(
                 .fold(0.0f64, f64::max);
             let _ = writeln!(
                 csv,
-                "{},{},{},{},{:e},{:e},{:e},{:e}",
+                "{},{},{},{},{:e},{:e},{:e},{:e},{:e}",
                 r.roll_deg,
                 p + 1,
                 p + 1,
@@ -367,7 +419,8 @@ pub fn run_bevel(
                 f,
                 if total > 0.0 { f / total } else { 0.0 },
                 pmax,
-                te_arcsec
+                te_arcsec,
+                friction[p]
             );
         }
         // a loaded end point: where the axis kept all K points the span is
@@ -398,8 +451,14 @@ pub fn run_bevel(
         }
         if !r.kkt_within_tolerance {
             notes.push(format!(
-                "{:.3}°: KKT residual {:.2e} above tolerance",
-                r.roll_deg, r.kkt_max
+                "{:.3}°: {} residual {:.2e} above tolerance",
+                r.roll_deg,
+                if r.friction.is_some() {
+                    "friction"
+                } else {
+                    "KKT"
+                },
+                r.kkt_max
             ));
         }
     }
@@ -417,6 +476,8 @@ pub fn run_bevel(
         "torque_nm": ltca.torque / 1000.0,
         "points_per_pair": options.points_per_pair,
         "span_approach_mm": options.span_approach_mm,
+        "friction_mu": options.friction_mu,
+        "increments": (options.friction_mu > 0.0).then_some(options.increments),
         "approach_mm": ltca.tca.settings.approach_mm,
         "flank_nodes": ltca.flank_nodes,
         "tooth_pairs": (1..=np).map(|k| (k, ltca.pair.mate(k))).collect::<Vec<_>>(),
@@ -436,6 +497,8 @@ pub fn run_bevel(
             "roll_deg": r.roll_deg,
             "pair_force_n": ltca.pair_forces(r),
             "load_share": shares(&ltca.pair_forces(r)),
+            "pair_friction_n": ltca.pair_friction(r),
+            "friction": r.friction,
             "te_arcsec": t,
             "unloaded_te_arcsec": -r.unloaded_te_urad * 1e-6 * ltca.pair.ratio() * ARCSEC_PER_RAD,
             "max_pressure_mpa": r.max_pressure_mpa,

@@ -37,7 +37,10 @@ use crate::contact::placement::Frame;
 use crate::error::FlankError;
 use crate::geometry::gear_pair::{Flank, PairPlacement};
 use crate::geometry::surface::ToothSurface;
-use crate::geometry::vec3::dot;
+use crate::geometry::vec3::{cross, dot, sub};
+use crate::ltca::friction::{
+    cross_check, solve_friction, FrictionOptions, FrictionProblem, FrictionSolver, PointState,
+};
 use crate::ltca::local::{cell_influence, hertz_line, Cell, LocalModel};
 use crate::ltca::qp::{condition_number, solve_contact_qp, ContactQp, QpOptions, QpSolution};
 use crate::tca::{LineKind, TcaPosition};
@@ -55,6 +58,25 @@ pub struct LtcaSettings {
     pub qp: QpOptions,
     /// Report κ(F) (one symmetric eigen-decomposition per position).
     pub condition: bool,
+    /// Coulomb friction (seeds 001/003); `None`: frictionless.
+    pub friction: Option<LtcaFriction>,
+}
+
+/// Coulomb friction in the LTCA: the problem of [`crate::ltca::friction`]
+/// on the candidates (C_nn with the near field as without friction; C_nt,
+/// C_tn, C_tt from the tensors along each point's tangent, the sliding
+/// direction), in load increments.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct LtcaFriction {
+    pub mu: f64,
+    pub options: FrictionOptions,
+    /// Pinion speed ω₁ (rad/s) of the TCA velocities: the sliding
+    /// coefficient of a point is s = v_s / (ω₁ r_n) (sliding distance per
+    /// unit normal approach of the pinion's rotation, seeds 001/003).
+    pub pinion_speed_rad_s: f64,
+    /// Also solve every position by Lemke's method and report the
+    /// largest difference ([`crate::ltca::friction::cross_check`]).
+    pub cross_check: bool,
 }
 
 impl Default for LtcaSettings {
@@ -66,6 +88,7 @@ impl Default for LtcaSettings {
             local_iterations: 4,
             qp: QpOptions::default(),
             condition: false,
+            friction: None,
         }
     }
 }
@@ -107,6 +130,11 @@ pub struct PointResult {
     pub half_width_mm: f64,
     /// Gap after loading (mm; 0 where loaded).
     pub gap_mm: f64,
+    /// Friction force (N, resisting slip along the tangent; 0 without
+    /// friction) and the state (`separated`, `stick`, `slip+`, `slip-`;
+    /// `frictionless`).
+    pub friction_n: f64,
+    pub state: &'static str,
 }
 
 /// The answer at one roll angle.
@@ -136,6 +164,10 @@ pub struct PositionResult {
     pub kkt_within_tolerance: bool,
     /// 2-norm condition number of F (if asked).
     pub condition: Option<f64>,
+    /// Friction force per line (N) and the friction solve's report
+    /// (residuals, increments, the Lemke cross-check if asked).
+    pub line_friction_n: Vec<f64>,
+    pub friction: Option<serde_json::Value>,
     /// Wall time of the position (s; the caller adds the TCA) and of its
     /// parts: candidate cells, the tensor part of F, the half-space
     /// correction and the QP solves (summed over local iterations).
@@ -156,6 +188,9 @@ struct Candidate {
     c: f64,
     loads: [SurfaceLoad; 2],
     normals: [[f64; 3]; 2],
+    /// The tangent (friction) direction in each body's own frame, with the
+    /// normal's sign convention (the gear's both reversed).
+    tangents: [[f64; 3]; 2],
 }
 
 impl LtcaBodies {
@@ -238,7 +273,10 @@ impl LtcaBodies {
                 jobs.push((li, line, p, sets.clone(), set_index, first, flanks));
             }
         }
-        let built: Vec<Option<(Candidate, [f64; 4])>> = {
+        // the pinion's placed axis: r_t = (ω̂₁ × (x − o₁))·t
+        let axis = frames[0].rotate(self.pair.rotation_axes()[0]);
+        let origin = frames[0].translation;
+        let built: Vec<Option<(Candidate, [f64; 6])>> = {
             use rayon::prelude::*;
             jobs.par_iter()
                 .map(|(li, line, p, sets, set_index, first, flanks)| {
@@ -280,6 +318,11 @@ impl LtcaBodies {
                         frames[0].rotate_back(n),
                         frames[1].rotate_back([-n[0], -n[1], -n[2]]),
                     ];
+                    let t = p.tangent;
+                    let tangents = [
+                        frames[0].rotate_back(t),
+                        frames[1].rotate_back([-t[0], -t[1], -t[2]]),
+                    ];
                     let d = [
                         p.position[0] - first[0],
                         p.position[1] - first[1],
@@ -299,8 +342,16 @@ impl LtcaBodies {
                             c,
                             loads,
                             normals,
+                            tangents,
                         },
-                        [p.separation_mm, p.moment_arm_mm, radius, p.width_mm],
+                        [
+                            p.separation_mm,
+                            p.moment_arm_mm,
+                            radius,
+                            p.width_mm,
+                            dot(cross(axis, sub(p.position, origin)), p.tangent),
+                            p.sliding_velocity,
+                        ],
                     )))
                 })
                 .collect::<Result<_, FlankError>>()?
@@ -308,12 +359,15 @@ impl LtcaBodies {
         let mut cands: Vec<Candidate> = Vec::with_capacity(built.len());
         let (mut w, mut r, mut radius, mut width) =
             (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        for (c, [wi, ri, rad, wid]) in built.into_iter().flatten() {
+        let (mut r_t, mut v_s) = (Vec::new(), Vec::new());
+        for (c, [wi, ri, rad, wid, rti, vsi]) in built.into_iter().flatten() {
             cands.push(c);
             w.push(wi);
             r.push(ri);
             radius.push(rad);
             width.push(wid);
+            r_t.push(rti);
+            v_s.push(vsi);
         }
         let skipped = jobs.len() - cands.len();
         let n = cands.len();
@@ -325,12 +379,32 @@ impl LtcaBodies {
         }
         let cells_s = t0.elapsed().as_secs_f64();
         let t_f = Instant::now();
-        // bulk compliance from the tensors
+        // bulk compliance from the tensors (with friction also the
+        // tangential blocks: [nn, nt, tn, tt])
         let mut f_fe = vec![0.0; n * n];
-        for b in 0..2 {
-            let part = normal_compliance(&self.tensors[b], &cands, b);
-            for (x, y) in f_fe.iter_mut().zip(part) {
-                *x += y;
+        let mut blocks = [vec![], vec![], vec![], vec![]];
+        if settings.friction.is_some() {
+            blocks = [
+                vec![0.0; n * n],
+                vec![0.0; n * n],
+                vec![0.0; n * n],
+                vec![0.0; n * n],
+            ];
+            for b in 0..2 {
+                let part = directional_compliance(&self.tensors[b], &cands, b);
+                for (acc, p) in blocks.iter_mut().zip(part) {
+                    for (x, y) in acc.iter_mut().zip(p) {
+                        *x += y;
+                    }
+                }
+            }
+            f_fe.copy_from_slice(&blocks[0]);
+        } else {
+            for b in 0..2 {
+                let part = normal_compliance(&self.tensors[b], &cands, b);
+                for (x, y) in f_fe.iter_mut().zip(part) {
+                    *x += y;
+                }
             }
         }
         let compliance_s = t_f.elapsed().as_secs_f64();
@@ -370,7 +444,7 @@ impl LtcaBodies {
         } else {
             Vec::new()
         };
-        let mut solution: Option<QpSolution> = None;
+        let mut solution: Option<Answer> = None;
         let mut local_iterations = 0;
         for _ in 0..settings.local_iterations {
             local_iterations += 1;
@@ -393,13 +467,37 @@ impl LtcaBodies {
             }
             local_s += t_l.elapsed().as_secs_f64();
             let t_q = Instant::now();
-            let qp = ContactQp {
-                compliance: &f,
-                separation: &w,
-                moment_arm: &r,
-                torque,
+            let s = match &settings.friction {
+                None => Answer::of_qp(solve_contact_qp(
+                    &ContactQp {
+                        compliance: &f,
+                        separation: &w,
+                        moment_arm: &r,
+                        torque,
+                    },
+                    &settings.qp,
+                )?),
+                Some(fr) => {
+                    let sliding: Vec<f64> = v_s
+                        .iter()
+                        .zip(&r)
+                        .map(|(&v, &rn)| 1e3 * v / (fr.pinion_speed_rad_s * rn))
+                        .collect();
+                    let problem = FrictionProblem {
+                        c_nn: &f,
+                        c_nt: &blocks[1],
+                        c_tn: &blocks[2],
+                        c_tt: &blocks[3],
+                        separation: &w,
+                        arm_normal: &r,
+                        arm_tangential: &r_t,
+                        sliding: &sliding,
+                        mu: fr.mu,
+                        torque,
+                    };
+                    Answer::of_friction(&problem, fr)?
+                }
             };
-            let s = solve_contact_qp(&qp, &settings.qp)?;
             qp_s += t_q.elapsed().as_secs_f64();
             // new half-widths from the local loads per length
             let mut change: f64 = 0.0;
@@ -430,10 +528,16 @@ impl LtcaBodies {
         // per line and per point
         let nl = tca.lines.len();
         let mut line_force = vec![0.0; nl];
+        let mut line_friction = vec![0.0; nl];
         let mut points = Vec::with_capacity(n);
         let mut pmax: f64 = 0.0;
         for (i, c) in cands.iter().enumerate() {
             line_force[c.line] += s.load[i];
+            let (friction_n, state) = match &s.friction {
+                Some((pt, states)) => (pt[i], state_name(states[i])),
+                None => (0.0, "frictionless"),
+            };
+            line_friction[c.line] += friction_n;
             let q = s.load[i] / width[i];
             let (a, p) = hertz_line(q, radius[i], e_star);
             pmax = pmax.max(p);
@@ -447,6 +551,8 @@ impl LtcaBodies {
                 pressure_mpa: p,
                 half_width_mm: a,
                 gap_mm: s.gap[i],
+                friction_n,
+                state,
             });
         }
         let total: f64 = line_force.iter().sum();
@@ -479,15 +585,97 @@ impl LtcaBodies {
             skipped_points: skipped,
             qp_iterations: s.iterations,
             local_iterations,
-            kkt_max: s.kkt.max,
+            kkt_max: s.kkt_max,
             kkt_within_tolerance: s.within_tolerance,
             condition,
+            line_friction_n: line_friction,
+            friction: s.report.clone(),
             time_s,
             cells_s,
             compliance_s,
             local_s,
             qp_s,
         })
+    }
+}
+
+/// One solve of a position's contact problem, frictionless (the QP) or
+/// with friction (the incremental problem), in the terms the LTCA reports.
+struct Answer {
+    load: Vec<f64>,
+    rotation: f64,
+    gap: Vec<f64>,
+    iterations: usize,
+    /// KKT residual (QP) or the largest friction residual.
+    kkt_max: f64,
+    within_tolerance: bool,
+    /// Friction forces and states of the last increment.
+    friction: Option<(Vec<f64>, Vec<PointState>)>,
+    report: Option<serde_json::Value>,
+}
+
+impl Answer {
+    fn of_qp(s: QpSolution) -> Self {
+        Answer {
+            load: s.load,
+            rotation: s.rotation,
+            gap: s.gap,
+            iterations: s.iterations,
+            kkt_max: s.kkt.max,
+            within_tolerance: s.within_tolerance,
+            friction: None,
+            report: None,
+        }
+    }
+
+    fn of_friction(problem: &FrictionProblem, fr: &LtcaFriction) -> Result<Self, FlankError> {
+        let (sol, check) = if fr.cross_check {
+            let c = cross_check(problem, &fr.options)?;
+            let summary = serde_json::json!({
+                "load_difference": c.load_difference,
+                "rotation_difference": c.rotation_difference,
+                "state_differences": c.state_differences,
+                "lemke_within_tolerance": c.lemke.within_tolerance,
+            });
+            let sol = match fr.options.solver {
+                FrictionSolver::Lemke => c.lemke,
+                FrictionSolver::Clarabel => c.clarabel,
+            };
+            (sol, Some(summary))
+        } else {
+            (solve_friction(problem, &fr.options)?, None)
+        };
+        let last = sol.increments.last().ok_or_else(|| {
+            FlankError::Solver("friction LTCA: no load increment was solved".into())
+        })?;
+        let report = serde_json::json!({
+            "mu": fr.mu,
+            "solver": sol.solver.name(),
+            "increments": sol.increments.len(),
+            "max_residual": sol.max_residual,
+            "within_tolerance": sol.within_tolerance,
+            "limit_hit": sol.increments.iter().any(|k| k.limit_hit),
+            "cross_check": check,
+        });
+        Ok(Answer {
+            load: last.normal.clone(),
+            rotation: last.rotation,
+            gap: last.gap.clone(),
+            iterations: sol.increments.iter().map(|k| k.iterations).sum(),
+            kkt_max: sol.max_residual.max,
+            within_tolerance: sol.within_tolerance,
+            friction: Some((last.tangential.clone(), last.state.clone())),
+            report: Some(report),
+        })
+    }
+}
+
+fn state_name(s: PointState) -> &'static str {
+    match s {
+        PointState::Separated => "separated",
+        PointState::Stick => "stick",
+        PointState::SlipPositive => "slip+",
+        PointState::SlipNegative => "slip-",
     }
 }
 
@@ -589,4 +777,85 @@ fn normal_compliance(t: &ComplianceTensor, cands: &[Candidate], b: usize) -> Vec
         }
     }
     f
+}
+
+/// The four directional blocks [C_nn, C_nt, C_tn, C_tt] of one body for
+/// all candidate pairs (n × n, row-major; seed 001's c^{kl}_{ab} =
+/// a_kᵀ C^{kl} b_l with the candidates' normals and tangents in the body's
+/// own frame): per column j the displacements under the cell load along
+/// n_j and along t_j, read back with every cell's weights along n_i and
+/// t_i (as [`normal_compliance`], two load directions). C_nn and C_tt are
+/// symmetrised and C_tn set to C_ntᵀ (reciprocity; the round-off of the
+/// column-wise products is all that differs).
+fn directional_compliance(t: &ComplianceTensor, cands: &[Candidate], b: usize) -> [Vec<f64>; 4] {
+    use rayon::prelude::*;
+    let n = cands.len();
+    let dim = t.dim();
+    let mut nodes: Vec<u32> = cands
+        .iter()
+        .flat_map(|c| c.loads[b].weights.iter().map(|&(a, _)| a))
+        .collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    let index = |a: u32| nodes.binary_search(&a).expect("node of a cell");
+    // columns[j] = [(n_i·u(n_j), t_i·u(n_j), n_i·u(t_j), t_i·u(t_j)) for all i]
+    let columns: Vec<Vec<[f64; 4]>> = (0..n)
+        .into_par_iter()
+        .map(|j| {
+            let dirs = [cands[j].normals[b], cands[j].tangents[b]];
+            let mut u = [vec![0.0; 3 * nodes.len()], vec![0.0; 3 * nodes.len()]];
+            for &(c, w) in &cands[j].loads[b].weights {
+                for s in 0..3 {
+                    let f = [w * dirs[0][s], w * dirs[1][s]];
+                    if f == [0.0, 0.0] {
+                        continue;
+                    }
+                    let row = &t.matrix[(3 * c as usize + s) * dim..][..dim];
+                    for (k, &a) in nodes.iter().enumerate() {
+                        let x = &row[3 * a as usize..3 * a as usize + 3];
+                        for d in 0..2 {
+                            u[d][3 * k] += f[d] * x[0];
+                            u[d][3 * k + 1] += f[d] * x[1];
+                            u[d][3 * k + 2] += f[d] * x[2];
+                        }
+                    }
+                }
+            }
+            (0..n)
+                .map(|i| {
+                    let (ni, ti) = (cands[i].normals[b], cands[i].tangents[b]);
+                    let mut out = [0.0; 4];
+                    for &(a, w) in &cands[i].loads[b].weights {
+                        let k = index(a);
+                        let un = [u[0][3 * k], u[0][3 * k + 1], u[0][3 * k + 2]];
+                        let ut = [u[1][3 * k], u[1][3 * k + 1], u[1][3 * k + 2]];
+                        out[0] += w * dot(ni, un);
+                        out[1] += w * dot(ni, ut);
+                        out[2] += w * dot(ti, un);
+                        out[3] += w * dot(ti, ut);
+                    }
+                    out
+                })
+                .collect()
+        })
+        .collect();
+    let mut blocks = [
+        vec![0.0; n * n],
+        vec![0.0; n * n],
+        vec![0.0; n * n],
+        vec![0.0; n * n],
+    ];
+    for i in 0..n {
+        for j in 0..n {
+            // columns[j][i] = [nn_ij, nt_ij, tn_ij, tt_ij]
+            let (a, bt) = (columns[j][i], columns[i][j]);
+            blocks[0][i * n + j] = 0.5 * (a[0] + bt[0]);
+            blocks[3][i * n + j] = 0.5 * (a[3] + bt[3]);
+            // nt_ij and tn_ji are the same entry by reciprocity
+            let nt = 0.5 * (a[1] + bt[2]);
+            blocks[1][i * n + j] = nt;
+            blocks[2][j * n + i] = nt;
+        }
+    }
+    blocks
 }

@@ -222,6 +222,14 @@ pub fn major_axis_line(
             moment_arm_mm: dot(cross(axis, sub(xp, origin)), n),
             width_mm: width,
             across_mm: 0.0,
+            tangent: {
+                let t = add(c.sliding_direction, -dot(c.sliding_direction, n), n);
+                if norm(t) > 1e-12 {
+                    unit(t)
+                } else {
+                    d
+                }
+            },
             sliding_velocity: c.sliding_velocity,
             rolling_velocity: c.rolling_velocity,
             sum_velocity: 2.0 * c.rolling_velocity,

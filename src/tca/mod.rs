@@ -197,7 +197,12 @@ pub struct ContactPoint {
     pub width_mm: f64,
     /// Offset across the line in the plane of action (mm; 0 on the line).
     pub across_mm: f64,
-    /// v_t1 − v_t2 (m/s), signed.
+    /// Unit tangent (global) along which the sliding velocity is
+    /// measured: the LTCA's tangential (friction) direction. Spur and
+    /// helical pairs: the rolling direction across the line; point
+    /// contacts: the direction of v_t1 − v_t2.
+    pub tangent: [f64; 3],
+    /// v_t1 − v_t2 (m/s), signed, along `tangent`.
     pub sliding_velocity: f64,
     /// Entraining speed (v_t1 + v_t2)/2 (m/s), seed 002 eq. 9.
     pub rolling_velocity: f64,
@@ -482,6 +487,7 @@ impl Tca {
             moment_arm_mm: arm,
             width_mm: 0.0,
             across_mm: 0.0,
+            tangent: e,
             sliding_velocity: t1 - t2,
             rolling_velocity: 0.5 * (t1 + t2),
             sum_velocity: t1 + t2,

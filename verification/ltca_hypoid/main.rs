@@ -131,3 +131,101 @@ fn seed003_ltca_against_fe_contact() {
         assert!(d <= TOL_TE, "{roll}: TE {d}");
     }
 }
+
+/// Issue 19 point 1 on the hypoid pair: the frictional LTCA (seed 003:
+/// μ = 0.07, 10 increments) at roll 0, solved by clarabel and by Lemke
+/// (agreement ≤ 1e-8), μ = 0 through the friction solver equal to the
+/// frictionless QP (≤ 1e-10), the Coulomb law at every loaded point, and
+/// the direction of friction's effects (seed 003: p_max lower with
+/// friction by 3–5 %; every loaded point of a hypoid flank slips).
+#[test]
+fn seed003_frictional_ltca_cross_checks() {
+    use flank::ltca::friction::{FrictionOptions, Increments};
+    use flank::ltca::model::LtcaFriction;
+    let sc = scene();
+    let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("ltca_hypoid_friction");
+    let _ = std::fs::remove_dir_all(&work);
+    let base = BevelLtcaOptions {
+        out: work.clone(),
+        mesh: BodyMeshOptions {
+            flank_size: Some(2.0),
+            base_size: Some(8.0),
+            with_load: false,
+            element: None,
+        },
+        points_per_pair: 15,
+        threads: 2,
+        ..Default::default()
+    };
+    let frictionless = BevelLtca::new(&sc, &base).unwrap();
+    let r0 = frictionless.solve(0.0).unwrap();
+    // μ = 0 through the friction solver
+    let mut zero = base.clone();
+    zero.settings.friction = Some(LtcaFriction {
+        mu: 0.0,
+        options: FrictionOptions {
+            increments: Increments::Count(3),
+            ..Default::default()
+        },
+        pinion_speed_rad_s: sc.load.speed_rpm * std::f64::consts::PI / 30.0,
+        cross_check: false,
+    });
+    let rz = BevelLtca::new(&sc, &zero).unwrap().solve(0.0).unwrap();
+    let pmax0 = r0.points.iter().map(|p| p.force_n).fold(0.0f64, f64::max);
+    let dz = r0
+        .points
+        .iter()
+        .zip(&rz.points)
+        .map(|(a, b)| (a.force_n - b.force_n).abs() / pmax0)
+        .fold(0.0f64, f64::max);
+    let dte = (r0.te_urad - rz.te_urad).abs() / r0.te_urad.abs();
+    println!("VERIFY ltca_hypoid friction μ = 0 vs frictionless: loads {dz:.2e}, TE {dte:.2e} (tol 1e-10)");
+    assert!(dz <= 1e-10 && dte <= 1e-10, "{dz} {dte}");
+    // μ = 0.07 by both solvers
+    let mu = 0.07;
+    let with = BevelLtca::new(
+        &sc,
+        &BevelLtcaOptions {
+            friction_mu: mu,
+            increments: 10,
+            cross_check: true,
+            ..base.clone()
+        },
+    )
+    .unwrap();
+    let rf = with.solve(0.0).unwrap();
+    let report = rf.friction.as_ref().expect("a friction report");
+    let check = &report["cross_check"];
+    let load_diff = check["load_difference"].as_f64().unwrap();
+    let rot_diff = check["rotation_difference"].as_f64().unwrap();
+    println!(
+        "VERIFY ltca_hypoid friction clarabel vs Lemke: loads {load_diff:.2e}, rotation {rot_diff:.2e}, states differing {} (tol 1e-8); residual {:.2e}",
+        check["state_differences"],
+        report["max_residual"]["max"].as_f64().unwrap_or(f64::NAN)
+    );
+    assert!(load_diff <= 1e-8 && rot_diff <= 1e-8, "{check}");
+    assert_eq!(check["state_differences"], 0);
+    assert_eq!(report["within_tolerance"], true);
+    // Coulomb law: every loaded point slips with |P_t| = μ P_n
+    let (mut n_sum, mut t_sum) = (0.0, 0.0);
+    for p in &rf.points {
+        if p.force_n > 0.0 {
+            assert!(p.state.starts_with("slip"), "{}: {}", p.along_mm, p.state);
+            assert!((p.friction_n.abs() - mu * p.force_n).abs() <= 1e-9 * p.force_n);
+            n_sum += p.force_n;
+            t_sum += p.friction_n.abs();
+        }
+    }
+    let p_without = r0.max_pressure_mpa;
+    let p_with = rf.max_pressure_mpa;
+    let te = (with.te_arcsec(&rf), frictionless.te_arcsec(&r0));
+    println!(
+        "μ = {mu}: tangential / normal = {:.4}; Σ P_n {n_sum:.0} N (frictionless {:.0} N); p_max {p_with:.0} vs {p_without:.0} MPa ({:+.1} %); TE {:.2} vs {:.2}″",
+        t_sum / n_sum,
+        r0.points.iter().map(|p| p.force_n).sum::<f64>(),
+        100.0 * (p_with / p_without - 1.0),
+        te.0,
+        te.1
+    );
+    assert!(p_with < p_without);
+}
