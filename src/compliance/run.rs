@@ -134,6 +134,23 @@ pub struct BodyTensorOptions<'c> {
     pub campaign: Option<&'c ComplianceCache>,
 }
 
+impl<'c> BodyTensorOptions<'c> {
+    /// What the LTCA uses: the loaded flanks, the mount clamped, the
+    /// default method and file format, `threads`, and a campaign cache.
+    pub fn for_ltca(threads: usize, campaign: Option<&'c ComplianceCache>) -> Self {
+        BodyTensorOptions {
+            flanks: FlankSelection::Loaded,
+            clamp_cuts: false,
+            compliance: ComplianceOptions {
+                threads,
+                ..Default::default()
+            },
+            format: FileFormat::default_format(),
+            campaign,
+        }
+    }
+}
+
 /// One body's tensor and where it came from.
 pub struct BodyTensor {
     pub tensor: std::sync::Arc<ComplianceTensor>,

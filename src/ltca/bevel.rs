@@ -38,7 +38,7 @@ use std::time::Instant;
 use crate::compliance::body::{bevel_scene_body, BodyMeshOptions};
 use crate::compliance::cache::{ComplianceCache, FileFormat};
 use crate::compliance::run::{body_tensor, BodyTensorOptions};
-use crate::compliance::{ComplianceOptions, FlankInterpolator, FlankSelection};
+use crate::compliance::FlankInterpolator;
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
 use crate::geometry::gear_pair::PairPlacement;
@@ -188,16 +188,7 @@ impl BevelLtca {
             Some(d) => Some(ComplianceCache::in_dir(d, FileFormat::default_format())?),
             None => None,
         };
-        let topts = BodyTensorOptions {
-            flanks: FlankSelection::Loaded,
-            clamp_cuts: false,
-            compliance: ComplianceOptions {
-                threads: options.threads,
-                ..Default::default()
-            },
-            format: FileFormat::default_format(),
-            campaign: campaign.as_ref(),
-        };
+        let topts = BodyTensorOptions::for_ltca(options.threads, campaign.as_ref());
         let mut tensors = Vec::new();
         for name in ["pinion", "gear"] {
             let body = bevel_scene_body(scene, name, &options.mesh)?;

@@ -16,7 +16,6 @@ use std::time::Instant;
 use crate::compliance::body::{scene_body, BodyMeshOptions};
 use crate::compliance::cache::{ComplianceCache, FileFormat};
 use crate::compliance::run::{body_tensor, BodyTensorOptions};
-use crate::compliance::{ComplianceOptions, FlankSelection};
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
 use crate::geometry::gear_pair::{engagement_roll_angles, GearPair};
@@ -100,16 +99,7 @@ impl LtcaCycle {
             Some(d) => Some(ComplianceCache::in_dir(d, FileFormat::default_format())?),
             None => None,
         };
-        let topts = BodyTensorOptions {
-            flanks: FlankSelection::Loaded,
-            clamp_cuts: false,
-            compliance: ComplianceOptions {
-                threads: options.threads,
-                ..Default::default()
-            },
-            format: FileFormat::default_format(),
-            campaign: campaign.as_ref(),
-        };
+        let topts = BodyTensorOptions::for_ltca(options.threads, campaign.as_ref());
         let pinion = body_tensor(
             &scene_body(scene, "pinion", &mesh)?.into(),
             &topts,

@@ -726,12 +726,7 @@ fn normal_compliance(t: &ComplianceTensor, cands: &[Candidate], b: usize) -> Vec
     use rayon::prelude::*;
     let n = cands.len();
     let dim = t.dim();
-    let mut nodes: Vec<u32> = cands
-        .iter()
-        .flat_map(|c| c.loads[b].weights.iter().map(|&(a, _)| a))
-        .collect();
-    nodes.sort_unstable();
-    nodes.dedup();
+    let nodes = cell_nodes(cands, b);
     let index = |a: u32| nodes.binary_search(&a).expect("node of a cell");
     let columns: Vec<Vec<f64>> = (0..n)
         .into_par_iter()
@@ -791,12 +786,7 @@ fn directional_compliance(t: &ComplianceTensor, cands: &[Candidate], b: usize) -
     use rayon::prelude::*;
     let n = cands.len();
     let dim = t.dim();
-    let mut nodes: Vec<u32> = cands
-        .iter()
-        .flat_map(|c| c.loads[b].weights.iter().map(|&(a, _)| a))
-        .collect();
-    nodes.sort_unstable();
-    nodes.dedup();
+    let nodes = cell_nodes(cands, b);
     let index = |a: u32| nodes.binary_search(&a).expect("node of a cell");
     // columns[j] = [(n_i·u(n_j), t_i·u(n_j), n_i·u(t_j), t_i·u(t_j)) for all i]
     let columns: Vec<Vec<[f64; 4]>> = (0..n)
@@ -858,4 +848,15 @@ fn directional_compliance(t: &ComplianceTensor, cands: &[Candidate], b: usize) -
         }
     }
     blocks
+}
+
+/// The sorted union of the flank nodes that body `b`'s cells load.
+fn cell_nodes(cands: &[Candidate], b: usize) -> Vec<u32> {
+    let mut nodes: Vec<u32> = cands
+        .iter()
+        .flat_map(|c| c.loads[b].weights.iter().map(|&(a, _)| a))
+        .collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    nodes
 }

@@ -13,8 +13,8 @@ use plotters::prelude::*;
 
 use crate::error::FlankError;
 use crate::geometry::gear_pair::PairPlacement;
-use crate::report::figure::{font_available, write_svg_png, Figure};
-use crate::report::tca_plot::outline;
+use crate::report::figure::{write_svg_png, Figure};
+use crate::report::tca_plot::{outline, projection_chart};
 
 /// One loaded contact node at one position.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -73,54 +73,23 @@ impl Figure for FePattern<'_> {
     }
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
         let e = |e: &dyn std::fmt::Debug| format!("{e:?}");
-        root.fill(&WHITE).map_err(|x| e(&x))?;
-        let all = self
-            .outline
-            .iter()
-            .copied()
-            .chain(self.points.iter().map(|p| (p.0, p.1)));
-        let (x0, x1, y0, y1) = all.fold(
-            (
-                f64::INFINITY,
-                f64::NEG_INFINITY,
-                f64::INFINITY,
-                f64::NEG_INFINITY,
-            ),
-            |a, p| (a.0.min(p.0), a.1.max(p.0), a.2.min(p.1), a.3.max(p.1)),
-        );
-        let (mx, my) = (0.08 * (x1 - x0).max(1.0), 0.15 * (y1 - y0).max(1.0));
         let pmax = self
             .points
             .iter()
             .map(|p| p.2)
             .fold(0.0f64, f64::max)
             .max(1e-9);
-        let text = font_available();
-        let mut cb = ChartBuilder::on(root);
-        cb.margin(12);
-        if text {
-            cb.caption(
-                format!(
-                    "FE contact pattern over the cycle, {} drive flank (colour: pressure, max {pmax:.0} MPa)",
-                    self.member
-                ),
-                ("sans-serif", 16),
-            )
-            .x_label_area_size(40)
-            .y_label_area_size(50);
-        }
-        let mut chart = cb
-            .build_cartesian_2d((x0 - mx)..(x1 + mx), (y0 - my)..(y1 + my))
-            .map_err(|x| e(&x))?;
-        let mut mesh = chart.configure_mesh();
-        if text {
-            mesh.x_desc("along the face from the mean point (mm)")
-                .y_desc("height above the pitch cone (mm)");
-        }
-        mesh.draw().map_err(|x| e(&x))?;
-        chart
-            .draw_series(LineSeries::new(self.outline.clone(), BLACK.stroke_width(1)))
-            .map_err(|x| e(&x))?;
+        let title = format!(
+            "FE contact pattern over the cycle, {} drive flank (colour: pressure, max {pmax:.0} MPa)",
+            self.member
+        );
+        let mut chart = projection_chart(
+            root,
+            &title,
+            16,
+            &self.outline,
+            self.points.iter().map(|p| (p.0, p.1)),
+        )?;
         chart
             .draw_series(self.points.iter().map(|&(x, y, p)| {
                 let c = ViridisRGB::get_color_normalized(p, 0.0, pmax);

@@ -7,6 +7,7 @@
 
 use std::path::Path;
 
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -131,44 +132,12 @@ impl Figure for PatternPlot<'_> {
     }
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
         let e = |e: &dyn std::fmt::Debug| format!("{e:?}");
-        root.fill(&WHITE).map_err(|x| e(&x))?;
         let b = self.member;
-        let (x0, x1, y0, y1) = self.outline.iter().fold(
-            (
-                f64::INFINITY,
-                f64::NEG_INFINITY,
-                f64::INFINITY,
-                f64::NEG_INFINITY,
-            ),
-            |a, p| (a.0.min(p.0), a.1.max(p.0), a.2.min(p.1), a.3.max(p.1)),
+        let title = format!(
+            "Bearing pattern on the {} drive flank (axial projection)",
+            if b == 0 { "pinion" } else { "gear" }
         );
-        let (mx, my) = (0.08 * (x1 - x0), 0.15 * (y1 - y0));
-        let text = font_available();
-        let mut cb = ChartBuilder::on(root);
-        cb.margin(12);
-        if text {
-            cb.caption(
-                format!(
-                    "Bearing pattern on the {} drive flank (axial projection)",
-                    if b == 0 { "pinion" } else { "gear" }
-                ),
-                ("sans-serif", 18),
-            )
-            .x_label_area_size(40)
-            .y_label_area_size(50);
-        }
-        let mut chart = cb
-            .build_cartesian_2d((x0 - mx)..(x1 + mx), (y0 - my)..(y1 + my))
-            .map_err(|x| e(&x))?;
-        let mut mesh = chart.configure_mesh();
-        if text {
-            mesh.x_desc("along the face from the mean point (mm)")
-                .y_desc("height above the pitch cone (mm)");
-        }
-        mesh.draw().map_err(|x| e(&x))?;
-        chart
-            .draw_series(LineSeries::new(self.outline.clone(), BLACK.stroke_width(1)))
-            .map_err(|x| e(&x))?;
+        let mut chart = projection_chart(root, &title, 18, &self.outline, std::iter::empty())?;
         // major axes (with edges), only of pairs in contact at δ
         let delta = self.with.settings.approach_mm;
         for p in &self.with.positions {
@@ -214,6 +183,53 @@ impl Figure for PatternPlot<'_> {
         }
         Ok(())
     }
+}
+
+/// A chart over a member's axial projection (along the face from the mean
+/// point, height above the pitch cone), the flank's outline drawn; the
+/// bounds take the outline and `extra` points. Shared by the TCA's bearing
+/// pattern and FE contact's loaded pattern
+/// ([`crate::report::fe_pattern`]).
+pub(crate) fn projection_chart<'a, DB: DrawingBackend>(
+    root: &'a DrawingArea<DB, Shift>,
+    title: &str,
+    title_size: u32,
+    outline: &[(f64, f64)],
+    extra: impl Iterator<Item = (f64, f64)>,
+) -> Result<ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>, String> {
+    let e = |e: &dyn std::fmt::Debug| format!("{e:?}");
+    root.fill(&WHITE).map_err(|x| e(&x))?;
+    let (x0, x1, y0, y1) = outline.iter().copied().chain(extra).fold(
+        (
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ),
+        |a, p| (a.0.min(p.0), a.1.max(p.0), a.2.min(p.1), a.3.max(p.1)),
+    );
+    let (mx, my) = (0.08 * (x1 - x0).max(1.0), 0.15 * (y1 - y0).max(1.0));
+    let text = font_available();
+    let mut cb = ChartBuilder::on(root);
+    cb.margin(12);
+    if text {
+        cb.caption(title, ("sans-serif", title_size))
+            .x_label_area_size(40)
+            .y_label_area_size(50);
+    }
+    let mut chart = cb
+        .build_cartesian_2d((x0 - mx)..(x1 + mx), (y0 - my)..(y1 + my))
+        .map_err(|x| e(&x))?;
+    let mut mesh = chart.configure_mesh();
+    if text {
+        mesh.x_desc("along the face from the mean point (mm)")
+            .y_desc("height above the pitch cone (mm)");
+    }
+    mesh.draw().map_err(|x| e(&x))?;
+    chart
+        .draw_series(LineSeries::new(outline.to_vec(), BLACK.stroke_width(1)))
+        .map_err(|x| e(&x))?;
+    Ok(chart)
 }
 
 /// The outline of member `b`'s middle drive flank in its axial projection:
