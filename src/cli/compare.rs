@@ -13,7 +13,8 @@ pub struct Args {
     /// Output directory.
     #[arg(long, default_value = "out")]
     out: PathBuf,
-    /// K values of the LTCA runs.
+    /// K values of the LTCA runs (points per contact line; on hypoid
+    /// pairs per major axis).
     #[arg(long, value_delimiter = ',', default_value = "5,10,20,40")]
     points_per_line: Vec<usize>,
     /// FE-contact flank element sizes (mm); the smallest is the reference.
@@ -74,8 +75,21 @@ pub fn run(args: Args) -> Result<()> {
         threads,
         quiet,
     };
-    let s = compare_scene(&scene, &options)
-        .with_context(|| format!("LTCA against FE contact for {}", scene.display()))?;
+    let s = match flank::scene::read_any_scene(&scene)? {
+        flank::scene::AnyScene::Bevel(b) => {
+            let mut ltca = flank::ltca::bevel::BevelLtcaOptions {
+                mesh: sizes.body_options(false),
+                threads,
+                ..Default::default()
+            };
+            if let Some(l) = local {
+                ltca.settings.local = l;
+            }
+            flank::compare::bevel::compare_bevel(&b, &options, &ltca)
+        }
+        flank::scene::AnyScene::Cylindrical(_) => compare_scene(&scene, &options),
+    }
+    .with_context(|| format!("LTCA against FE contact for {}", scene.display()))?;
     if !quiet {
         let f = |k: &str| s[k].as_f64().unwrap_or(f64::NAN);
         println!(

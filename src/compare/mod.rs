@@ -32,6 +32,7 @@ use crate::mesh_cycle::run::{default_roll_angles, settings, MeshCycle, RunOption
 use crate::mesh_cycle::SlaveBody;
 use crate::scene::{read_scene, Scene};
 
+pub mod bevel;
 pub mod plot;
 
 /// Options of [`compare`].
@@ -51,6 +52,43 @@ pub struct CompareOptions {
     pub ltca: LtcaOptions,
     pub threads: usize,
     pub quiet: bool,
+}
+
+impl CompareOptions {
+    /// Checks the run lists and the step before anything runs.
+    pub fn validate(&self) -> Result<(), FlankError> {
+        if self.points_per_line.is_empty() || self.fe_flank_sizes.is_empty() {
+            return Err(FlankError::Model(
+                "compare needs at least one K (--points-per-line) and one FE flank size (--fe-flank-sizes)"
+                    .into(),
+            ));
+        }
+        if let Some(&k) = self
+            .points_per_line
+            .iter()
+            .find(|&&k| !(2..=2000).contains(&k))
+        {
+            return Err(FlankError::Model(format!(
+                "--points-per-line: points per line must be in 2 … 2000, got {k}"
+            )));
+        }
+        if let Some(&h) = self
+            .fe_flank_sizes
+            .iter()
+            .find(|&&h| !(h > 0.0 && h.is_finite()))
+        {
+            return Err(FlankError::Model(format!(
+                "--fe-flank-sizes: FE flank sizes must be > 0, got {h}"
+            )));
+        }
+        if !(self.roll_step_deg > 0.0 && self.roll_step_deg.is_finite()) {
+            return Err(FlankError::Model(format!(
+                "--roll-step: the roll step must be > 0, got {}",
+                self.roll_step_deg
+            )));
+        }
+        Ok(())
+    }
 }
 
 /// One run of either method over the positions.
@@ -95,7 +133,7 @@ fn shares(f: &[f64]) -> Vec<f64> {
 
 /// Fills the errors of `run` against `reference` (positions where the
 /// reference's pressure counts are flagged in `flank_positions`).
-fn errors(run: &mut MethodRun, reference: &MethodRun, flank_positions: &[bool]) {
+pub(crate) fn errors(run: &mut MethodRun, reference: &MethodRun, flank_positions: &[bool]) {
     let mut ls: f64 = 0.0;
     let mut te: f64 = 0.0;
     let mut pm: f64 = 0.0;
@@ -259,36 +297,7 @@ pub fn compare_scene(
 /// Runs both methods at the same positions, writes `compare.json`,
 /// `compare.md` and `error_vs_time.{svg,png}` into `options.out`.
 pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Value, FlankError> {
-    if options.points_per_line.is_empty() || options.fe_flank_sizes.is_empty() {
-        return Err(FlankError::Model(
-            "compare needs at least one K (--points-per-line) and one FE flank size (--fe-flank-sizes)"
-                .into(),
-        ));
-    }
-    if let Some(&k) = options
-        .points_per_line
-        .iter()
-        .find(|&&k| !(2..=2000).contains(&k))
-    {
-        return Err(FlankError::Model(format!(
-            "points per line must be in 2 … 2000, got {k}"
-        )));
-    }
-    if let Some(&h) = options
-        .fe_flank_sizes
-        .iter()
-        .find(|&&h| !(h > 0.0 && h.is_finite()))
-    {
-        return Err(FlankError::Model(format!(
-            "FE flank sizes must be > 0, got {h}"
-        )));
-    }
-    if !(options.roll_step_deg > 0.0 && options.roll_step_deg.is_finite()) {
-        return Err(FlankError::Model(format!(
-            "roll step must be > 0, got {}",
-            options.roll_step_deg
-        )));
-    }
+    options.validate()?;
     let out = &options.out;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
     let gear_pair = scene.gear_pair()?;
@@ -372,7 +381,14 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
         say(format!("plots not written: {e}"));
         Vec::new()
     });
-    let md = markdown(scene, &angles, &fe, &ltca, &reference, &flank_positions);
+    let md = markdown(
+        &scene.source,
+        &angles,
+        &fe,
+        &ltca,
+        &reference,
+        &flank_positions,
+    );
     let p = out.join("compare.md");
     std::fs::write(&p, &md).map_err(|e| FlankError::io(&p, e))?;
     let json = serde_json::json!({
@@ -407,8 +423,8 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
     Ok(json)
 }
 
-fn markdown(
-    scene: &Scene,
+pub(crate) fn markdown(
+    source: &Path,
     angles: &[f64],
     fe: &[MethodRun],
     ltca: &[MethodRun],
@@ -417,7 +433,7 @@ fn markdown(
 ) -> String {
     use std::fmt::Write;
     let mut s = String::new();
-    let _ = writeln!(s, "# LTCA against FE contact: {}\n", scene.source.display());
+    let _ = writeln!(s, "# LTCA against FE contact: {}\n", source.display());
     let _ = writeln!(
         s,
         "{} roll angles from {:.2}° to {:.2}°; reference: {} ({} positions with flank contact only, where p_max is compared).\n",

@@ -1,0 +1,203 @@
+//! `flank compare` on a bevel/hypoid scene (issue 19 point 5): the hypoid
+//! LTCA ([`crate::ltca::bevel`], frictionless, at several K on the
+//! tensors of one compliance mesh) against FE contact of the hypoid pair
+//! ([`crate::mesh_cycle::bevel`], hard contact, at several flank sizes) at
+//! the same roll angles, the finest FE the reference; the errors, times and
+//! files of the spur/helical comparison ([`super`]), with the TE as the
+//! pinion's loaded rotation (µrad; its relative error is the same at the
+//! gear).
+//!
+//! p_max is compared at every position; FE contact's p_max of a hypoid
+//! contact converges only when the elements resolve the loaded ellipse's
+//! width (≈ 1 mm here: `papers/seed003-hypoid/README.md`), so its error
+//! says how far the reference is from resolving it as much as how far the
+//! LTCA is off.
+
+use std::time::Instant;
+
+use crate::error::FlankError;
+use crate::ltca::bevel::{BevelLtca, BevelLtcaOptions};
+use crate::mesh::bevel_sector::BevelSectorOptions;
+use crate::mesh_cycle::bevel::{BevelCycle, BevelRunOptions};
+use crate::scene::BevelScene;
+use crate::tca::point_contact::ARCSEC_PER_RAD;
+
+use super::{errors, markdown, plot, CompareOptions, MethodRun};
+
+/// The hypoid comparison; writes `compare.json`, `compare.md` and
+/// `error_vs_time.{svg,png}` into `options.out`.
+pub fn compare_bevel(
+    scene: &BevelScene,
+    options: &CompareOptions,
+    ltca: &BevelLtcaOptions,
+) -> Result<serde_json::Value, FlankError> {
+    options.validate()?;
+    ltca.validate(scene)?;
+    let out = &options.out;
+    std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
+    let say = |m: String| {
+        if !options.quiet {
+            eprintln!("{m}");
+        }
+    };
+    // LTCA first (its TCA grid fixes the roll angles): tensors once
+    say("LTCA: compliance tensors and TCA …".into());
+    let mut lo = ltca.clone();
+    lo.out = out.join("ltca_bodies");
+    lo.friction_mu = 0.0;
+    let mut runs = Vec::new();
+    let mut angles: Vec<f64> = Vec::new();
+    let mut setup = 0.0;
+    for (i, &k) in options.points_per_line.iter().enumerate() {
+        lo.points_per_pair = k;
+        let t = Instant::now();
+        let l = BevelLtca::new(scene, &lo)?;
+        if i == 0 {
+            setup = t.elapsed().as_secs_f64();
+            let pitch = l.cycle_deg();
+            let n = lo.positions;
+            // the TCA grid's own angles, so both methods see the same ones
+            let want = options.roll_angles_deg.clone().unwrap_or_else(|| {
+                (0..n)
+                    .map(|j| -0.5 * pitch + pitch * j as f64 / n as f64)
+                    .collect()
+            });
+            angles = want
+                .iter()
+                .map(|&a| l.solve(a).map(|r| r.roll_deg))
+                .collect::<Result<_, _>>()?;
+        }
+        let t = Instant::now();
+        let results: Vec<_> = angles
+            .iter()
+            .map(|&a| l.solve(a))
+            .collect::<Result<_, _>>()?;
+        let cycle_s = t.elapsed().as_secs_f64();
+        runs.push(MethodRun {
+            method: "ltca".into(),
+            label: format!("LTCA K = {k}"),
+            points_per_line: Some(k),
+            flank_size_mm: ltca.mesh.flank_size,
+            nodes: None,
+            pair_force_n: results.iter().map(|r| l.pair_forces(r)).collect(),
+            te_urad: results.iter().map(|r| r.te_urad).collect(),
+            pmax_mpa: results.iter().map(|r| r.max_pressure_mpa).collect(),
+            cycle_s,
+            setup_s: setup,
+            slave: Vec::new(),
+            load_sharing_err: f64::NAN,
+            te_rel_err: f64::NAN,
+            pmax_rel_err: f64::NAN,
+        });
+    }
+    // FE contact, finest last
+    let mut sizes = options.fe_flank_sizes.clone();
+    sizes.sort_by(|a, b| b.total_cmp(a));
+    sizes.dedup();
+    let mut fe = Vec::new();
+    for &h in &sizes {
+        say(format!(
+            "FE contact, flank {h} mm, {} positions …",
+            angles.len()
+        ));
+        let t = Instant::now();
+        let cycle = BevelCycle::new(
+            scene,
+            &BevelRunOptions {
+                mesh: BevelSectorOptions {
+                    flank_size: h,
+                    base_size: options
+                        .fe_base_size
+                        .or(scene.mesh.base_size)
+                        .unwrap_or(scene.blank.cones.m_mn / 2.0)
+                        .max(h),
+                    ..Default::default()
+                },
+                threads: options.threads.max(1),
+                ..Default::default()
+            },
+        )?;
+        let setup_s = t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let steps: Vec<_> = angles
+            .iter()
+            .map(|&a| cycle.solve(a))
+            .collect::<Result<_, _>>()?;
+        let cycle_s = t.elapsed().as_secs_f64();
+        let ratio = scene.blank.z1 / scene.blank.z2;
+        fe.push(MethodRun {
+            method: "fe_contact".into(),
+            label: format!("FE flank {h} mm"),
+            points_per_line: None,
+            flank_size_mm: Some(h),
+            nodes: Some(cycle.model.model.mesh.node_count()),
+            pair_force_n: steps.iter().map(|s| s.pair_force_n.clone()).collect(),
+            // the pinion's loaded rotation (µrad) from the TE at the gear
+            te_urad: steps
+                .iter()
+                .map(|s| -s.te_arcsec / (ratio * ARCSEC_PER_RAD) * 1e6)
+                .collect(),
+            pmax_mpa: steps
+                .iter()
+                .map(|s| s.max_pressure_mpa.iter().copied().fold(0.0, f64::max))
+                .collect(),
+            cycle_s,
+            setup_s,
+            slave: Vec::new(),
+            load_sharing_err: f64::NAN,
+            te_rel_err: f64::NAN,
+            pmax_rel_err: f64::NAN,
+        });
+    }
+    let reference = fe.last().cloned().expect("one FE size");
+    let every = vec![true; angles.len()];
+    for r in fe.iter_mut().chain(runs.iter_mut()) {
+        errors(r, &reference, &every);
+    }
+    let best = runs
+        .iter()
+        .min_by(|a, b| {
+            let ea = a.load_sharing_err.max(a.te_rel_err);
+            let eb = b.load_sharing_err.max(b.te_rel_err);
+            ea.total_cmp(&eb)
+        })
+        .cloned()
+        .expect("one K");
+    let plots = plot::plot_error_vs_time(out, &fe, &runs).unwrap_or_else(|e| {
+        say(format!("plots not written: {e}"));
+        Vec::new()
+    });
+    let md = markdown(&scene.source, &angles, &fe, &runs, &reference, &every);
+    let p = out.join("compare.md");
+    std::fs::write(&p, &md).map_err(|e| FlankError::io(&p, e))?;
+    let json = serde_json::json!({
+        "scene": scene.source.display().to_string(),
+        "pair": "hypoid",
+        "positions": angles.len(),
+        "roll_angles_deg": angles,
+        "reference": reference.label,
+        "best_ltca": best.label,
+        "load_sharing_rel_err": best.load_sharing_err,
+        "te_rel_err": best.te_rel_err,
+        "pmax_rel_err": best.pmax_rel_err,
+        "ltca_cycle_s": best.cycle_s,
+        "fe_cycle_s": reference.cycle_s,
+        "fe_setup_s": reference.setup_s,
+        "speedup": reference.cycle_s / best.cycle_s,
+        "targets": {
+            "load_sharing_rel_err": 0.02, "te_rel_err": 0.03, "pmax_rel_err": 0.05,
+            "ltca_cycle_s": 1.0,
+        },
+        "ltca_settings": lo.settings,
+        "ltca_span_approach_mm": lo.span_approach_mm,
+        "runs": fe.iter().chain(runs.iter()).collect::<Vec<_>>(),
+        "files": {"markdown": "compare.md", "plots": plots},
+    });
+    let p = out.join("compare.json");
+    std::fs::write(
+        &p,
+        serde_json::to_string_pretty(&json).map_err(|e| FlankError::Model(e.to_string()))? + "\n",
+    )
+    .map_err(|e| FlankError::io(&p, e))?;
+    Ok(json)
+}
