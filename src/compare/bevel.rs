@@ -22,7 +22,7 @@ use crate::mesh_cycle::bevel::{BevelCycle, BevelRunOptions};
 use crate::scene::BevelScene;
 use crate::tca::point_contact::ARCSEC_PER_RAD;
 
-use super::{errors, markdown, plot, CompareOptions, MethodRun};
+use super::{best_ltca, errors, markdown, plot, CompareOptions, MethodRun};
 
 /// The hypoid comparison; writes `compare.json`, `compare.md` and
 /// `error_vs_time.{svg,png}` into `options.out`.
@@ -154,15 +154,7 @@ pub fn compare_bevel(
     for r in fe.iter_mut().chain(runs.iter_mut()) {
         errors(r, &reference, &every);
     }
-    let best = runs
-        .iter()
-        .min_by(|a, b| {
-            let ea = a.load_sharing_err.max(a.te_rel_err);
-            let eb = b.load_sharing_err.max(b.te_rel_err);
-            ea.total_cmp(&eb)
-        })
-        .cloned()
-        .expect("one K");
+    let best = best_ltca(&runs);
     let plots = plot::plot_error_vs_time(out, &fe, &runs).unwrap_or_else(|e| {
         say(format!("plots not written: {e}"));
         Vec::new()

@@ -131,6 +131,19 @@ fn shares(f: &[f64]) -> Vec<f64> {
         .collect()
 }
 
+/// The LTCA run with the smallest worst relative error (load sharing or
+/// TE); the first of equals.
+pub(crate) fn best_ltca(runs: &[MethodRun]) -> MethodRun {
+    runs.iter()
+        .min_by(|a, b| {
+            let ea = a.load_sharing_err.max(a.te_rel_err);
+            let eb = b.load_sharing_err.max(b.te_rel_err);
+            ea.total_cmp(&eb)
+        })
+        .cloned()
+        .expect("one K")
+}
+
 /// Fills the errors of `run` against `reference` (positions where the
 /// reference's pressure counts are flagged in `flank_positions`).
 pub(crate) fn errors(run: &mut MethodRun, reference: &MethodRun, flank_positions: &[bool]) {
@@ -367,16 +380,7 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
     for r in fe.iter_mut().chain(ltca.iter_mut()) {
         errors(r, &reference, &flank_positions);
     }
-    // best LTCA: smallest worst relative error, then fastest
-    let best = ltca
-        .iter()
-        .min_by(|a, b| {
-            let ea = a.load_sharing_err.max(a.te_rel_err);
-            let eb = b.load_sharing_err.max(b.te_rel_err);
-            ea.total_cmp(&eb)
-        })
-        .cloned()
-        .expect("one K");
+    let best = best_ltca(&ltca);
     let plots = plot::plot_error_vs_time(out, &fe, &ltca).unwrap_or_else(|e| {
         say(format!("plots not written: {e}"));
         Vec::new()
