@@ -45,8 +45,8 @@ pub struct Args {
     /// separation (mm; default 0.04).
     #[arg(long)]
     span_approach_mm: Option<f64>,
-    /// Bevel/hypoid pairs: Coulomb friction coefficient of the flanks
-    /// (seeds 001/003; 0 = frictionless).
+    /// Coulomb friction coefficient of the flanks (seeds 001/003; 0 =
+    /// frictionless; default the scene's `[analyses.ltca] friction_mu`).
     #[arg(long)]
     friction_mu: Option<f64>,
     /// Load increments of the frictional solve (default 10).
@@ -56,6 +56,11 @@ pub struct Args {
     /// difference from the clarabel path.
     #[arg(long)]
     cross_check: bool,
+    /// What the friction resists: incremental (seeds 001/003, default),
+    /// standstill (the mate held, as one static FE contact step) or
+    /// sliding (the running mesh: μP_n against the kinematic sliding).
+    #[arg(long, value_enum)]
+    friction_model: Option<flank::ltca::model::FrictionModel>,
     /// Print nothing but errors.
     #[arg(long, short)]
     quiet: bool,
@@ -79,6 +84,7 @@ pub fn run(args: Args) -> Result<()> {
         friction_mu,
         increments,
         cross_check,
+        friction_model,
         quiet,
     } = args;
     let solver = match solver {
@@ -111,6 +117,7 @@ pub fn run(args: Args) -> Result<()> {
             friction_mu: friction_mu.unwrap_or(0.0),
             increments: increments.unwrap_or(d.increments),
             cross_check,
+            friction_model: friction_model.unwrap_or_default(),
             settings,
             cache,
             threads,
@@ -140,15 +147,8 @@ pub fn run(args: Args) -> Result<()> {
         }
         return Ok(());
     }
-    for (given, name) in [
-        (span_approach_mm.is_some(), "--span-approach-mm"),
-        (friction_mu.is_some(), "--friction-mu"),
-        (increments.is_some(), "--increments"),
-        (cross_check, "--cross-check"),
-    ] {
-        if given {
-            anyhow::bail!("{name}: for bevel and hypoid scenes only (friction in the spur/helical LTCA is not in yet)");
-        }
+    if span_approach_mm.is_some() {
+        anyhow::bail!("--span-approach-mm: for bevel and hypoid scenes only");
     }
     let options = LtcaOptions {
         out: out.clone(),
@@ -162,6 +162,10 @@ pub fn run(args: Args) -> Result<()> {
         condition: !no_condition,
         threads,
         quiet,
+        friction_mu,
+        increments,
+        cross_check,
+        friction_model,
     };
     let s = run_scene(&scene, &options)
         .with_context(|| format!("LTCA mesh cycle of {}", scene.display()))?;
@@ -184,6 +188,21 @@ pub fn run(args: Args) -> Result<()> {
             100.0 * f("single_pair_force_error"),
             f("max_kkt")
         );
+        if let Some(fr) = s["friction"].as_object() {
+            let g = |k: &str| fr.get(k).and_then(|v| v.as_f64()).unwrap_or(f64::NAN);
+            println!(
+                "friction μ = {}: P_t/P_n {:.4}, mean friction power {:.1} W, mesh efficiency {:.4}; largest Coulomb residual {:.1e}{}",
+                g("mu"),
+                g("tangential_to_normal"),
+                g("mean_power_loss_w"),
+                g("mesh_efficiency"),
+                g("max_residual"),
+                match fr.get("cross_check_max_load_difference").and_then(|v| v.as_f64()) {
+                    Some(d) => format!(", Lemke cross-check {d:.1e}"),
+                    None => String::new(),
+                }
+            );
+        }
         print_notes(&s);
         for n in s["kkt_flagged"].as_array().into_iter().flatten() {
             println!("flagged: {}", n.as_str().unwrap_or(""));

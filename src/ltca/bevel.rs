@@ -70,6 +70,7 @@ pub struct BevelLtcaOptions {
     pub friction_mu: f64,
     pub increments: usize,
     pub cross_check: bool,
+    pub friction_model: crate::ltca::model::FrictionModel,
     pub cache: Option<PathBuf>,
     pub threads: usize,
 }
@@ -87,6 +88,7 @@ impl Default for BevelLtcaOptions {
             friction_mu: 0.0,
             increments: 10,
             cross_check: false,
+            friction_model: Default::default(),
             cache: None,
             threads: 0,
         }
@@ -234,6 +236,7 @@ impl BevelLtca {
                 },
                 pinion_speed_rad_s: scene.load.speed_rpm * std::f64::consts::PI / 30.0,
                 cross_check: options.cross_check,
+                model: options.friction_model,
             });
         }
         let bodies = LtcaBodies {
@@ -475,6 +478,7 @@ pub fn run_bevel(
         "te_peak_to_peak_arcsec": te_pp,
         "max_pressure_mpa": worst(|r| r.max_pressure_mpa),
         "max_kkt": worst(|r| r.kkt_max),
+        "friction": ltca.options.settings.friction.as_ref().map(|f| crate::ltca::cycle::friction_summary(&results, f, ltca.torque)),
         "pairs_loaded_at_a_flank_edge": edge_loaded,
         "compliance_s": ltca.compliance_s,
         "tca_s": ltca.tca_s,

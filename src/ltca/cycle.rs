@@ -20,8 +20,9 @@ use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
 use crate::geometry::gear_pair::{engagement_roll_angles, GearPair};
 use crate::load_sharing::LOADED_FRACTION;
+use crate::ltca::friction::{FrictionOptions, Increments};
 use crate::ltca::local::{contact_modulus, LocalModel};
-use crate::ltca::model::{LtcaBodies, LtcaSettings, PositionResult};
+use crate::ltca::model::{FrictionModel, LtcaBodies, LtcaFriction, LtcaSettings, PositionResult};
 use crate::ltca::qp::QpSolver;
 use crate::scene::{read_scene, Scene};
 use crate::tca::{Tca, TcaSettings};
@@ -47,7 +48,17 @@ pub struct LtcaOptions {
     pub condition: bool,
     pub threads: usize,
     pub quiet: bool,
+    /// Coulomb friction coefficient (0: frictionless; else the scene's
+    /// `[analyses.ltca] friction_mu`), load increments (default 10) and
+    /// the Lemke cross-check of every position.
+    pub friction_mu: Option<f64>,
+    pub increments: Option<usize>,
+    pub cross_check: bool,
+    pub friction_model: Option<FrictionModel>,
 }
+
+/// Default load increments of the frictional LTCA.
+pub const DEFAULT_INCREMENTS: usize = 10;
 
 /// What the setup cost and produced.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -144,6 +155,7 @@ impl LtcaCycle {
                 solver: options.solver.or(a.solver).unwrap_or(QpSolver::ActiveSet),
                 ..Default::default()
             },
+            friction: ltca_friction(scene, options)?,
             ..Default::default()
         };
         let setup = Setup {
@@ -238,6 +250,18 @@ impl LtcaCycle {
         f
     }
 
+    /// Friction force per pair (N, resisting slip along the tangent),
+    /// summed over its lines; zeros without friction.
+    pub fn pair_friction(&self, r: &PositionResult) -> Vec<f64> {
+        let mut f = vec![0.0; self.pair.sector_teeth()];
+        for (i, (k, _, _)) in r.lines.iter().enumerate() {
+            if (1..=self.pair.sector_teeth()).contains(k) {
+                f[k - 1] += r.line_friction_n.get(i).copied().unwrap_or(0.0);
+            }
+        }
+        f
+    }
+
     fn loaded(&self, r: &PositionResult, p: usize) -> bool {
         self.pair_forces(r)[p] > LOADED_FRACTION * self.nominal_force()
     }
@@ -275,6 +299,50 @@ impl LtcaCycle {
         }
         Ok(0.5 * (on + off))
     }
+}
+
+/// The frictional settings of the options (first) or of the scene's
+/// `[analyses.ltca]`; `None` for μ = 0. Friction needs the sliding
+/// direction, i.e. a pinion speed.
+fn ltca_friction(scene: &Scene, o: &LtcaOptions) -> Result<Option<LtcaFriction>, FlankError> {
+    let a = scene.analyses.ltca.clone().unwrap_or_default();
+    let mu = o.friction_mu.or(a.friction_mu).unwrap_or(0.0);
+    if !(mu.is_finite() && (0.0..=1.0).contains(&mu)) {
+        return Err(FlankError::Model(format!(
+            "--friction-mu {mu}: a coefficient in [0, 1] is needed"
+        )));
+    }
+    let increments = o.increments.or(a.increments).unwrap_or(DEFAULT_INCREMENTS);
+    if mu == 0.0 {
+        if o.cross_check || o.increments.is_some() || o.friction_model.is_some() {
+            return Err(FlankError::Model(
+                "--increments, --cross-check and --friction-model need friction (--friction-mu > 0 or [analyses.ltca] friction_mu)".into(),
+            ));
+        }
+        return Ok(None);
+    }
+    if !(1..=10_000).contains(&increments) {
+        return Err(FlankError::Model(format!(
+            "--increments {increments}: between 1 and 10000 load increments are needed"
+        )));
+    }
+    if !(scene.load.speed_rpm > 0.0) {
+        return Err(FlankError::Model(format!(
+            "{}: friction needs the sliding direction, from [load] speed_rpm > 0 (got {})",
+            scene.source.display(),
+            scene.load.speed_rpm
+        )));
+    }
+    Ok(Some(LtcaFriction {
+        mu,
+        options: FrictionOptions {
+            increments: Increments::Count(increments),
+            ..Default::default()
+        },
+        pinion_speed_rad_s: scene.load.speed_rpm * std::f64::consts::PI / 30.0,
+        cross_check: o.cross_check,
+        model: o.friction_model.or(a.friction_model).unwrap_or_default(),
+    }))
 }
 
 /// Roll angles of the scene's `[analyses.ltca]` (or the options'), and
@@ -366,7 +434,14 @@ pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, Fl
             )
         })
         .collect();
-    write_cycle_csv(&out.join("ltca_cycle.csv"), &results, &forces, nominal)?;
+    let friction: Vec<Vec<f64>> = results.iter().map(|r| cycle.pair_friction(r)).collect();
+    write_cycle_csv(
+        &out.join("ltca_cycle.csv"),
+        &results,
+        &forces,
+        &friction,
+        nominal,
+    )?;
     write_points_csv(&out.join("ltca_points.csv"), &results)?;
     let teeth: Vec<(usize, usize)> = (1..=np).map(|k| (k, cycle.pair.mate(k))).collect();
     let series: Vec<Vec<f64>> = (0..np)
@@ -419,6 +494,7 @@ pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, Fl
         "max_condition": results.iter().filter_map(|r| r.condition).reduce(f64::max),
         "kkt_flagged": flagged,
         "max_pressure_mpa": worst(|r| r.max_pressure_mpa),
+        "friction": cycle.settings.friction.as_ref().map(|f| friction_summary(&results, f, cycle.torque)),
         "peak_memory_mb": peak_memory_mb(),
         "tooth_pairs": teeth,
         "files": {"csv": ["ltca_cycle.csv", "ltca_points.csv"], "plots": plots, "contact_pattern": pattern},
@@ -436,10 +512,56 @@ pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, Fl
     Ok(summary)
 }
 
+/// The frictional LTCA over the cycle (seeds 001/003): the Coulomb
+/// solve's worst residual and, if run, the largest difference from Lemke's
+/// method; the tangential-to-normal force ratio; the friction power loss
+/// Σ |P_t v_s| (W) and the mesh efficiency 1 − P_loss/(T ω₁), mean over the
+/// positions (seed 001 eq. for P_loss; η as Xu & Kahraman's
+/// instantaneous mesh efficiency).
+pub(crate) fn friction_summary(
+    results: &[PositionResult],
+    friction: &LtcaFriction,
+    torque_nmm: f64,
+) -> serde_json::Value {
+    let num = |r: &PositionResult, k: &str| -> f64 {
+        r.friction
+            .as_ref()
+            .and_then(|f| f.pointer(k))
+            .and_then(serde_json::Value::as_f64)
+            .unwrap_or(0.0)
+    };
+    let max = |k: &str| results.iter().map(|r| num(r, k)).fold(0.0f64, f64::max);
+    let (pt, pn): (f64, f64) = results
+        .iter()
+        .flat_map(|r| &r.points)
+        .fold((0.0, 0.0), |(a, b), p| {
+            (a + p.friction_n.abs(), b + p.force_n)
+        });
+    let n = results.len().max(1) as f64;
+    let power: Vec<f64> = results.iter().map(|r| r.friction_power_w).collect();
+    let mean_power = power.iter().sum::<f64>() / n;
+    let input_w = torque_nmm * 1e-3 * friction.pinion_speed_rad_s;
+    let within = results.iter().all(|r| r.kkt_within_tolerance);
+    serde_json::json!({
+        "mu": friction.mu,
+        "increments": friction.options.increments,
+        "max_residual": max("/max_residual/max"),
+        "within_tolerance": within,
+        "cross_check_max_load_difference": friction.cross_check.then(|| max("/cross_check/load_difference")),
+        "cross_check_max_rotation_difference": friction.cross_check.then(|| max("/cross_check/rotation_difference")),
+        "tangential_to_normal": if pn > 0.0 { pt / pn } else { 0.0 },
+        "power_loss_w": power,
+        "mean_power_loss_w": mean_power,
+        "input_power_w": input_w,
+        "mesh_efficiency": if input_w > 0.0 { 1.0 - mean_power / input_w } else { f64::NAN },
+    })
+}
+
 fn write_cycle_csv(
     path: &Path,
     results: &[PositionResult],
     forces: &[Vec<f64>],
+    friction: &[Vec<f64>],
     nominal: f64,
 ) -> Result<(), FlankError> {
     use std::fmt::Write;
@@ -448,21 +570,28 @@ fn write_cycle_csv(
     for p in 1..=np {
         let _ = write!(s, ",force_pair{p}_n,share_pair{p}");
     }
-    s.push_str(",te_urad,te_um,unloaded_te_urad,mesh_stiffness_n_per_um,max_pressure_mpa,candidates,qp_iterations,local_iterations,kkt,condition,time_s\n");
-    for (r, f) in results.iter().zip(forces) {
+    for p in 1..=np {
+        let _ = write!(s, ",friction_pair{p}_n");
+    }
+    s.push_str(",te_urad,te_um,unloaded_te_urad,mesh_stiffness_n_per_um,max_pressure_mpa,friction_power_w,candidates,qp_iterations,local_iterations,kkt,condition,time_s\n");
+    for ((r, f), ft) in results.iter().zip(forces).zip(friction) {
         let _ = write!(s, "{}", r.roll_deg);
         let total: f64 = f.iter().sum::<f64>().max(1e-300);
         for &x in f {
             let _ = write!(s, ",{x},{}", if nominal > 0.0 { x / total } else { 0.0 });
         }
+        for &x in ft {
+            let _ = write!(s, ",{x}");
+        }
         let _ = writeln!(
             s,
-            ",{},{},{},{},{},{},{},{},{:e},{},{}",
+            ",{},{},{},{},{},{},{},{},{},{:e},{},{}",
             r.te_urad,
             r.te_um,
             r.unloaded_te_urad,
             r.mesh_stiffness_n_per_um,
             r.max_pressure_mpa,
+            r.friction_power_w,
             r.candidates,
             r.qp_iterations,
             r.local_iterations,
@@ -476,13 +605,13 @@ fn write_cycle_csv(
 
 pub(crate) fn write_points_csv(path: &Path, results: &[PositionResult]) -> Result<(), FlankError> {
     use std::fmt::Write;
-    let mut s = String::from("roll_deg,pinion_tooth,gear_tooth,kind,along_mm,x_mm,y_mm,z_mm,separation_um,force_n,load_per_length_n_per_mm,pressure_mpa,half_width_mm,gap_um\n");
+    let mut s = String::from("roll_deg,pinion_tooth,gear_tooth,kind,along_mm,x_mm,y_mm,z_mm,separation_um,force_n,load_per_length_n_per_mm,pressure_mpa,half_width_mm,gap_um,friction_n,state,sliding_velocity_m_s\n");
     for r in results {
         for p in &r.points {
             let (k, m, kind) = &r.lines[p.line];
             let _ = writeln!(
                 s,
-                "{},{k},{m},{kind},{},{},{},{},{},{},{},{},{},{}",
+                "{},{k},{m},{kind},{},{},{},{},{},{},{},{},{},{},{},{},{}",
                 r.roll_deg,
                 p.along_mm,
                 p.position[0],
@@ -493,7 +622,10 @@ pub(crate) fn write_points_csv(path: &Path, results: &[PositionResult]) -> Resul
                 p.load_per_length,
                 p.pressure_mpa,
                 p.half_width_mm,
-                p.gap_mm * 1e3
+                p.gap_mm * 1e3,
+                p.friction_n,
+                p.state,
+                p.sliding_velocity_m_s
             );
         }
     }

@@ -39,7 +39,8 @@ use crate::geometry::gear_pair::{Flank, PairPlacement};
 use crate::geometry::surface::ToothSurface;
 use crate::geometry::vec3::{cross, dot, sub};
 use crate::ltca::friction::{
-    cross_check, solve_friction, FrictionOptions, FrictionProblem, FrictionSolver, PointState,
+    cross_check, solve_friction, solve_sliding, FrictionOptions, FrictionProblem, FrictionSolver,
+    PointState,
 };
 use crate::ltca::local::{cell_influence, hertz_line, Cell, LocalModel};
 use crate::ltca::qp::{condition_number, solve_contact_qp, ContactQp, QpOptions, QpSolution};
@@ -77,6 +78,38 @@ pub struct LtcaFriction {
     /// Also solve every position by Lemke's method and report the
     /// largest difference ([`crate::ltca::friction::cross_check`]).
     pub cross_check: bool,
+    /// Which slip the friction resists.
+    pub model: FrictionModel,
+}
+
+/// What sets the slip, hence the friction direction, of the frictional
+/// LTCA (the physics behind each: [`crate::ltca::friction`]).
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum FrictionModel {
+    /// Seeds 001/003: the torque in load increments, stick/slip/separation,
+    /// the slip per unit rotation ρ = r_t + s r_n with the kinematic
+    /// sliding coefficient s = v_s/(ω₁ r_n).
+    #[default]
+    Incremental,
+    /// The same with s = 0: the torque taken up at a standing position
+    /// against the held mate, what one static FE contact step with Coulomb
+    /// friction models (`flank run --friction-mu`).
+    Standstill,
+    /// The running mesh: fully developed sliding, P_t = μ P_n against the
+    /// kinematic sliding velocity at every loaded point
+    /// ([`crate::ltca::friction::solve_sliding`]).
+    Sliding,
 }
 
 impl Default for LtcaSettings {
@@ -135,6 +168,9 @@ pub struct PointResult {
     /// `frictionless`).
     pub friction_n: f64,
     pub state: &'static str,
+    /// Kinematic sliding velocity v_t1 − v_t2 along the tangent (m/s, from
+    /// the TCA; 0 without a pinion speed).
+    pub sliding_velocity_m_s: f64,
 }
 
 /// The answer at one roll angle.
@@ -168,6 +204,9 @@ pub struct PositionResult {
     /// (residuals, increments, the Lemke cross-check if asked).
     pub line_friction_n: Vec<f64>,
     pub friction: Option<serde_json::Value>,
+    /// Friction power loss Σ |P_t v_s| over the points (W; 0 without
+    /// friction), seed 001's P_loss = Σ μ P_n |v_s| at slipping points.
+    pub friction_power_w: f64,
     /// Wall time of the position (s; the caller adds the TCA) and of its
     /// parts: candidate cells, the tensor part of F, the half-space
     /// correction and the QP solves (summed over local iterations).
@@ -478,11 +517,14 @@ impl LtcaBodies {
                     &settings.qp,
                 )?),
                 Some(fr) => {
-                    let sliding: Vec<f64> = v_s
-                        .iter()
-                        .zip(&r)
-                        .map(|(&v, &rn)| 1e3 * v / (fr.pinion_speed_rad_s * rn))
-                        .collect();
+                    let sliding: Vec<f64> = match fr.model {
+                        FrictionModel::Standstill => vec![0.0; n],
+                        _ => v_s
+                            .iter()
+                            .zip(&r)
+                            .map(|(&v, &rn)| 1e3 * v / (fr.pinion_speed_rad_s * rn))
+                            .collect(),
+                    };
                     let problem = FrictionProblem {
                         c_nn: &f,
                         c_nt: &blocks[1],
@@ -495,7 +537,17 @@ impl LtcaBodies {
                         mu: fr.mu,
                         torque,
                     };
-                    Answer::of_friction(&problem, fr)?
+                    if fr.model == FrictionModel::Sliding {
+                        // no friction where the flanks roll without sliding
+                        // (below 1 µm/s)
+                        let direction: Vec<f64> = v_s
+                            .iter()
+                            .map(|&v| if v.abs() < 1e-6 { 0.0 } else { v.signum() })
+                            .collect();
+                        Answer::of_sliding(&problem, &direction, fr, &settings.qp)?
+                    } else {
+                        Answer::of_friction(&problem, fr)?
+                    }
                 }
             };
             qp_s += t_q.elapsed().as_secs_f64();
@@ -553,9 +605,14 @@ impl LtcaBodies {
                 gap_mm: s.gap[i],
                 friction_n,
                 state,
+                sliding_velocity_m_s: v_s[i],
             });
         }
         let total: f64 = line_force.iter().sum();
+        let friction_power_w = points
+            .iter()
+            .map(|p| (p.friction_n * p.sliding_velocity_m_s).abs())
+            .sum();
         let theta0 = tca.unloaded_te_rad;
         let rb1 = self.te_radius_mm;
         let approach = self.nominal_moment_arm_mm * (s.rotation - theta0);
@@ -590,6 +647,7 @@ impl LtcaBodies {
             condition,
             line_friction_n: line_friction,
             friction: s.report.clone(),
+            friction_power_w,
             time_s,
             cells_s,
             compliance_s,
@@ -665,6 +723,52 @@ impl Answer {
             kkt_max: sol.max_residual.max,
             within_tolerance: sol.within_tolerance,
             friction: Some((last.tangential.clone(), last.state.clone())),
+            report: Some(report),
+        })
+    }
+}
+
+impl Answer {
+    fn of_sliding(
+        problem: &FrictionProblem,
+        direction: &[f64],
+        fr: &LtcaFriction,
+        qp: &QpOptions,
+    ) -> Result<Self, FlankError> {
+        let a = solve_sliding(problem, direction, qp)?;
+        let state = (0..direction.len())
+            .map(|i| {
+                if !(a.normal[i] > 0.0) {
+                    PointState::Separated
+                } else if direction[i] > 0.0 {
+                    PointState::SlipPositive
+                } else if direction[i] < 0.0 {
+                    PointState::SlipNegative
+                } else {
+                    PointState::Stick
+                }
+            })
+            .collect();
+        let max = a.residual.max(a.kkt);
+        let report = serde_json::json!({
+            "mu": fr.mu,
+            "model": fr.model,
+            "solver": "sliding fixed point",
+            "iterations": a.iterations,
+            "limit_hit": a.limit_hit,
+            "change": a.change,
+            "max_residual": {"max": max, "sliding_law": a.residual, "qp_kkt": a.kkt},
+            "within_tolerance": a.within_tolerance,
+            "cross_check": {"method": "direct solve on the loaded set", "load_difference": a.direct_difference},
+        });
+        Ok(Answer {
+            load: a.normal,
+            rotation: a.rotation,
+            gap: a.gap,
+            iterations: a.iterations,
+            kkt_max: max,
+            within_tolerance: a.within_tolerance,
+            friction: Some((a.tangential, state)),
             report: Some(report),
         })
     }

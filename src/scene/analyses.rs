@@ -111,6 +111,17 @@ pub struct LtcaAnalysis {
     /// (not the FE-contact `[mesh]` sizes, which are meant for FE contact).
     pub flank_size_mm: Option<f64>,
     pub base_size_mm: Option<f64>,
+    /// Coulomb friction coefficient of the flanks (0…1; absent or 0:
+    /// frictionless): the frictional LTCA of seeds 001/003
+    /// ([`crate::ltca::friction`]), the friction force against the
+    /// kinematic sliding. Needs `[load] speed_rpm` > 0.
+    pub friction_mu: Option<f64>,
+    /// Load increments of the frictional solve (1 … 10000; default 10).
+    pub increments: Option<usize>,
+    /// What the friction resists: `incremental` (default, seeds 001/003),
+    /// `standstill` (the mate held, as one static FE step) or `sliding`
+    /// (the running mesh), [`crate::ltca::model::FrictionModel`].
+    pub friction_model: Option<crate::ltca::model::FrictionModel>,
 }
 
 /// Options of the `lubrication` analysis (the wet–dry loop of seed 002,
@@ -388,6 +399,18 @@ fn check_ltca_analysis(v: &LtcaAnalysis) -> Result<(), String> {
             ));
         }
     }
+    if let Some(mu) = v.friction_mu {
+        if !(0.0..=1.0).contains(&mu) {
+            return Err(format!(
+                "friction_mu must be in 0…1 (lubricated steel flanks: 0.02–0.1), got {mu}"
+            ));
+        }
+    }
+    if let Some(k) = v.increments {
+        if !(1..=10_000).contains(&k) {
+            return Err(format!("increments must be in 1 … 10000, got {k}"));
+        }
+    }
     Ok(())
 }
 
@@ -445,6 +468,36 @@ mod tests {
         ] {
             let t = edit(SPUR, "mesh = {}\n", &format!("mesh = {{}}\n{bad}\n"));
             expect_err(&t, line_of(&t, "contact ="), words);
+        }
+    }
+
+    #[test]
+    fn ltca_friction_keys() {
+        let ok = edit(
+            SPUR,
+            "mesh = {}\n",
+                        "mesh = {}\nltca = { friction_mu = 0.05, increments = 20, friction_model = \"sliding\" }\n",
+        );
+        let l = parse(&ok).unwrap().analyses.ltca.unwrap();
+        assert_eq!((l.friction_mu, l.increments), (Some(0.05), Some(20)));
+        for (bad, words) in [
+            (
+                "ltca = { friction_mu = -0.01 }",
+                &["friction_mu", "0…1"][..],
+            ),
+            ("ltca = { friction_mu = 2.0 }", &["friction_mu", "0…1"][..]),
+            ("ltca = { increments = 0 }", &["increments", "10000"][..]),
+            (
+                "ltca = { increments = 20000 }",
+                &["increments", "10000"][..],
+            ),
+            (
+                "ltca = { friction_model = \"viscous\" }",
+                &["analyses.ltca", "viscous"][..],
+            ),
+        ] {
+            let t = edit(SPUR, "mesh = {}\n", &format!("mesh = {{}}\n{bad}\n"));
+            expect_err(&t, line_of(&t, "ltca ="), words);
         }
     }
 

@@ -50,11 +50,15 @@
 //! rigid part r_t Δθ (the virtual-work partner of the torque arm r_t), the
 //! kinematic sliding s r_n Δθ (s times the point's rigid normal approach
 //! r_n Δθ, the seeds' definition of s), less the elastic tangential
-//! deformation. In a running gear mesh the kinematic sliding dwarfs the
-//! elastic terms wherever the sliding speed is not ~0, so such points slip
-//! with the friction force against the kinematic sliding direction
-//! (sign s, for |s| r_n ≫ |r_t| and the elastic terms); stick can only
-//! occur where ρ = r_t + s r_n is ~0, e.g. near a spur pair's pitch point.
+//! deformation. The slip direction is that of ρ = r_t + s r_n only where
+//! ρ Δθ outweighs the elastic tangential motion C_tn ΔP_n + C_tt ΔP_t:
+//! on seed 002's spur pair the elastic part is about 0.4 of the normal
+//! approach, and r_t, s r_n are 8 and 0.6 mm/rad one degree past the pitch
+//! point, so there the points slip against ρ's direction or stick over
+//! about ±2° of roll. This is the load taken up at a standing position
+//! (the caller may set s = 0: the mate held, what one static FE contact
+//! step models). In the running mesh the friction follows the kinematic
+//! sliding: `sliding.rs` ([`solve_sliding`]).
 //! The normal part is total (elastic, path independent), the tangential
 //! part incremental (the Coulomb law is a rate law: backward Euler over the
 //! increment), so the answer depends on the load path when a point changes
@@ -115,6 +119,7 @@
 //! | `polish.rs` | the state-fixed linear system and active-set updates |
 //! | `lemke.rs` | the increment's LCP and Lemke's method |
 //! | `residual.rs` | gaps, slips, states and residuals of an answer |
+//! | `sliding.rs` | fully developed sliding (the running mesh, no stick) |
 //! | `tests.rs` | unit tests (references stated in each) |
 
 mod clarabel;
@@ -122,6 +127,7 @@ mod incremental;
 mod lemke;
 mod polish;
 mod residual;
+mod sliding;
 
 #[cfg(test)]
 mod tests;
@@ -131,6 +137,7 @@ use nalgebra::DMatrix;
 use crate::error::FlankError;
 
 pub use residual::{PointState, Residuals};
+pub use sliding::{solve_sliding, SlidingAnswer, MAX_SLIDING_ITERATIONS};
 
 /// Largest accepted asymmetry of the compliance (C_nn, C_tt symmetric,
 /// C_tn = C_ntᵀ), relative to max |C|; below it the symmetric part is used.
