@@ -169,6 +169,7 @@ fn seed003_frictional_ltca_cross_checks() {
         },
         pinion_speed_rad_s: sc.load.speed_rpm * std::f64::consts::PI / 30.0,
         cross_check: false,
+        model: Default::default(),
     });
     let rz = BevelLtca::new(&sc, &zero).unwrap().solve(0.0).unwrap();
     let pmax0 = r0.points.iter().map(|p| p.force_n).fold(0.0f64, f64::max);
