@@ -755,11 +755,12 @@ impl Answer {
             "model": fr.model,
             "solver": "sliding fixed point",
             "iterations": a.iterations,
+            "active_set_iterations": a.active_set_iterations,
             "limit_hit": a.limit_hit,
             "change": a.change,
             "max_residual": {"max": max, "sliding_law": a.residual, "qp_kkt": a.kkt},
             "within_tolerance": a.within_tolerance,
-            "cross_check": {"method": "direct solve on the loaded set", "load_difference": a.direct_difference},
+            "cross_check": (a.active_set_iterations == 0).then(|| serde_json::json!({"method": "direct solve on the loaded set", "load_difference": a.direct_difference})),
         });
         Ok(Answer {
             load: a.normal,
