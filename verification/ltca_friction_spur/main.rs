@@ -194,16 +194,14 @@ fn friction_ltca_closed_form_limits_and_solvers() {
 
 /// Checks 2 and 3 at `angles` (deg) on tensors of `mesh`.
 fn limits_and_solvers(scene: &Scene, mesh: BodyMeshOptions, angles: &[f64]) {
-    let frictionless = cycle_on(scene, mesh.clone(), 0.0, FrictionModel::Incremental, false);
+    let frictionless = cycle_on(scene, mesh, 0.0, FrictionModel::Incremental, false);
     println!("2./3. model | roll | μ→0 difference | cross-check");
     for &roll in angles {
         let r0 = frictionless.solve(roll).unwrap();
         for model in MODELS {
-            let zero = cycle_on(scene, mesh.clone(), 1e-300, model, false);
+            let zero = cycle_on(scene, mesh, 1e-300, model, false);
             let dz = largest_load_difference(&r0, &zero.solve(roll).unwrap());
-            let c = cycle_on(scene, mesh.clone(), MU, model, true)
-                .solve(roll)
-                .unwrap();
+            let c = cycle_on(scene, mesh, MU, model, true).solve(roll).unwrap();
             let dc = report_number(&c, "/cross_check/load_difference");
             println!("{model:?} | {roll:.3} | {dz:.1e} | {dc:.1e}");
             assert!(
