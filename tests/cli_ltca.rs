@@ -182,6 +182,81 @@ fn bad_ltca_keys_and_options_are_clear_errors() {
     assert!(!ok && err.contains("solver"), "{err}");
 }
 
+/// `flank ltca --friction-mu` on the spur scene (coarse, three positions,
+/// the running-mesh model): friction columns, the friction summary, P_t/P_n
+/// ≤ μ, an efficiency below 1; friction options without friction, a
+/// friction coefficient out of range and friction without a speed are
+/// errors.
+#[test]
+fn spur_ltca_with_friction() {
+    let d = dir("friction");
+    let (ok, out, err) = flank(&[
+        "ltca",
+        "papers/seed002-spur/scene.toml",
+        "--flank-size",
+        "1.5",
+        "--base-size",
+        "3",
+        "--points-per-line",
+        "10",
+        "--roll-angles=-8,4,15",
+        "--friction-mu",
+        "0.05",
+        "--friction-model",
+        "sliding",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(out.contains("mesh efficiency"), "{out}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap()).unwrap();
+    let f = &s["friction"];
+    let ratio = f["tangential_to_normal"].as_f64().unwrap();
+    assert!(ratio > 0.0 && ratio <= 0.05 + 1e-12, "P_t/P_n {ratio}");
+    let eta = f["mesh_efficiency"].as_f64().unwrap();
+    assert!(eta > 0.9 && eta < 1.0, "η {eta}");
+    assert!(f["within_tolerance"].as_bool().unwrap());
+    let csv = std::fs::read_to_string(d.join("ltca_cycle.csv")).unwrap();
+    assert!(csv.lines().next().unwrap().contains("friction_pair2_n"));
+    let points = std::fs::read_to_string(d.join("ltca_points.csv")).unwrap();
+    assert!(points.contains(",slip+,") || points.contains(",slip-,"));
+    for (args, expect) in [
+        (&["--increments", "5"][..], "need friction"),
+        (&["--friction-mu", "1.5"][..], "[0, 1]"),
+        (&["--friction-model", "viscous"][..], "viscous"),
+    ] {
+        let mut a = vec![
+            "ltca",
+            "papers/seed002-spur/scene.toml",
+            "--out",
+            d.to_str().unwrap(),
+        ];
+        a.extend_from_slice(args);
+        let (ok, _, err) = flank(&a);
+        assert!(!ok && err.contains(expect), "{args:?}: {err}");
+    }
+    let text = std::fs::read_to_string(
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("papers/seed002-spur/scene.toml"),
+    )
+    .unwrap();
+    let scene = d.join("still.toml");
+    std::fs::write(
+        &scene,
+        text.replace("speed_rpm = 11758.0", "speed_rpm = 0.0"),
+    )
+    .unwrap();
+    let (ok, _, err) = flank(&[
+        "ltca",
+        scene.to_str().unwrap(),
+        "--friction-mu",
+        "0.05",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!(!ok && err.contains("speed_rpm"), "{err}");
+}
+
 /// `flank ltca` on a hypoid scene (seed 003 eased, coarse tensors, three
 /// roll angles): the files and summary keys; per position the tooth pairs'
 /// shares add to 1, the loaded TE is finite and the KKT residual small;
