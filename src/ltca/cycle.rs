@@ -546,6 +546,7 @@ pub(crate) fn friction_summary(
         "mu": friction.mu,
         "increments": friction.options.increments,
         "max_residual": max("/max_residual/max"),
+        "max_coupling": max("/coupling"),
         "within_tolerance": within,
         "cross_check_max_load_difference": friction.cross_check.then(|| max("/cross_check/load_difference")),
         "cross_check_max_rotation_difference": friction.cross_check.then(|| max("/cross_check/rotation_difference")),

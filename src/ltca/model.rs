@@ -39,8 +39,8 @@ use crate::geometry::gear_pair::{Flank, PairPlacement};
 use crate::geometry::surface::ToothSurface;
 use crate::geometry::vec3::{cross, dot, sub};
 use crate::ltca::friction::{
-    cross_check, solve_friction, solve_sliding, FrictionOptions, FrictionProblem, FrictionSolver,
-    PointState,
+    cross_check, friction_coupling, solve_friction, solve_sliding, FrictionOptions,
+    FrictionProblem, FrictionSolver, PointState,
 };
 use crate::ltca::local::{cell_influence, hertz_line, Cell, LocalModel};
 use crate::ltca::qp::{condition_number, solve_contact_qp, ContactQp, QpOptions, QpSolution};
@@ -708,6 +708,8 @@ impl Answer {
         })?;
         let report = serde_json::json!({
             "mu": fr.mu,
+            "model": fr.model,
+            "coupling": friction_coupling(problem, &last.normal),
             "solver": sol.solver.name(),
             "increments": sol.increments.len(),
             "max_residual": sol.max_residual,
@@ -750,9 +752,11 @@ impl Answer {
             })
             .collect();
         let max = a.residual.max(a.kkt);
+        let coupling = friction_coupling(problem, &a.normal);
         let report = serde_json::json!({
             "mu": fr.mu,
             "model": fr.model,
+            "coupling": coupling,
             "solver": "sliding fixed point",
             "iterations": a.iterations,
             "active_set_iterations": a.active_set_iterations,

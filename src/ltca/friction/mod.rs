@@ -137,7 +137,7 @@ use nalgebra::DMatrix;
 use crate::error::FlankError;
 
 pub use residual::{PointState, Residuals};
-pub use sliding::{solve_sliding, SlidingAnswer, MAX_SLIDING_ITERATIONS};
+pub use sliding::{friction_coupling, solve_sliding, SlidingAnswer, MAX_SLIDING_ITERATIONS};
 
 /// Largest accepted asymmetry of the compliance (C_nn, C_tt symmetric,
 /// C_tn = C_ntᵀ), relative to max |C|; below it the symmetric part is used.

@@ -309,6 +309,28 @@ fn active_set(
     Ok(None)
 }
 
+/// μ ‖C_nn⁻¹ C_nt‖₂ over the loaded points: the Lipschitz constant of the
+/// map P_t ↦ μ S P_n on a fixed loaded set. Below 1 the sliding fixed
+/// point contracts and the frictional problem's answer is unique for that
+/// set (the classical small-μ condition of discrete Coulomb friction:
+/// Klarbring, Ing.-Arch. 60 (1990) 529–541); near or above 1 answers may
+/// be many, and the solvers may disagree. `None` if no point is loaded or
+/// C_nn is singular there.
+pub fn friction_coupling(pb: &FrictionProblem, normal: &[f64]) -> Option<f64> {
+    let m = normal.len();
+    let pmax = normal.iter().fold(0.0f64, |a, &x| a.max(x));
+    let loaded: Vec<usize> = (0..m).filter(|&i| normal[i] > 1e-12 * pmax).collect();
+    let k = loaded.len();
+    if k == 0 {
+        return None;
+    }
+    let a = DMatrix::from_fn(k, k, |r, c| pb.c_nn[loaded[r] * m + loaded[c]]);
+    let b = DMatrix::from_fn(k, k, |r, c| pb.c_nt[loaded[r] * m + loaded[c]]);
+    let x = a.lu().solve(&b)?;
+    let s = x.singular_values();
+    Some(pb.mu * s.iter().fold(0.0f64, |acc, &v| acc.max(v)))
+}
+
 /// Largest relative residual of the sliding law (see [`SlidingAnswer`]).
 fn sliding_residual(
     pb: &FrictionProblem,
