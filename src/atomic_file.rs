@@ -41,6 +41,36 @@ pub fn is_temp(name: &str) -> bool {
     name.starts_with(TEMP_PREFIX)
 }
 
+/// Removes the temporary files in `dir` left by killed processes: those of
+/// [`temp_path`] whose process no longer runs (Linux: no `/proc/<pid>`;
+/// elsewhere nothing is removed). Returns how many were removed. A file of
+/// a running writer, this process's included, is left alone.
+pub fn remove_stale_temps(dir: &Path) -> usize {
+    if !Path::new("/proc/self").exists() {
+        return 0;
+    }
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return 0;
+    };
+    let mut removed = 0;
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let Some(rest) = name.strip_prefix(TEMP_PREFIX) else {
+            continue;
+        };
+        let Some(pid) = rest.split('-').next().and_then(|p| p.parse::<u32>().ok()) else {
+            continue;
+        };
+        if pid != std::process::id()
+            && !Path::new(&format!("/proc/{pid}")).exists()
+            && std::fs::remove_file(e.path()).is_ok()
+        {
+            removed += 1;
+        }
+    }
+    removed
+}
+
 /// Writes `bytes` to `path` atomically (temporary name, sync, rename).
 pub fn write(path: &Path, bytes: impl AsRef<[u8]>) -> Result<(), FlankError> {
     write_with(path, |tmp| {
@@ -227,6 +257,21 @@ mod tests {
         drop(w);
         assert_eq!(std::fs::read_to_string(&p).unwrap(), "a,b\n");
         assert_eq!(names(&d), ["s.csv"]);
+    }
+
+    #[test]
+    fn stale_temporaries_of_dead_processes_are_removed() {
+        let d = dir("stale");
+        // pid 4194304 is above Linux's pid_max limit: never a live process
+        std::fs::write(d.join(".tmp-4194304-0.r.csv"), "half").unwrap();
+        let own = temp_path(&d.join("s.csv"));
+        std::fs::write(&own, "in progress").unwrap();
+        std::fs::write(d.join("r.csv"), "whole").unwrap();
+        assert_eq!(remove_stale_temps(&d), 1);
+        let own = own.file_name().unwrap().to_string_lossy().into_owned();
+        let mut want = vec![own, "r.csv".to_string()];
+        want.sort();
+        assert_eq!(names(&d), want);
     }
 
     #[test]

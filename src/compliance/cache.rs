@@ -885,6 +885,7 @@ impl ComplianceCache {
     /// A cache in memory and in `dir` (created if absent), files in `format`.
     pub fn in_dir(dir: &Path, format: FileFormat) -> Result<Self, FlankError> {
         std::fs::create_dir_all(dir).map_err(|e| FlankError::io(dir, e))?;
+        crate::atomic_file::remove_stale_temps(dir);
         Ok(ComplianceCache {
             dir: Some(dir.to_path_buf()),
             format,
@@ -1029,6 +1030,21 @@ mod tests {
         assert_eq!(read_key(&p).unwrap(), t.meta.cache_key);
         std::fs::write(tmp("junk.compliance.h5"), b"not hdf5").unwrap();
         assert!(read(&tmp("junk.compliance.h5")).is_err());
+        // one changed value of the matrix: the checksum attribute catches it
+        let mut bytes = std::fs::read(&p).unwrap();
+        let x = t.matrix[t.matrix.len() / 2].to_le_bytes();
+        let at = bytes
+            .windows(8)
+            .position(|w| w == x)
+            .expect("the matrix is stored raw");
+        bytes[at] ^= 0x01;
+        let bad = tmp("flipped.compliance.h5");
+        std::fs::write(&bad, &bytes).unwrap();
+        let e = read(&bad).unwrap_err().to_string();
+        assert!(e.contains("checksum mismatch"), "{e}");
+        // truncated: an HDF5 error, not trusted either
+        std::fs::write(&bad, &bytes[..bytes.len() / 2]).unwrap();
+        assert!(read(&bad).is_err());
     }
 
     #[test]

@@ -682,6 +682,8 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
     let settings = settings(scene, gear_pair.as_ref(), options)?;
     let out = &options.out;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
+    // what a killed earlier run left half-written (never a result file)
+    crate::atomic_file::remove_stale_temps(out);
     let t = Instant::now();
     let cycle = MeshCycle::new(scene, &options.mesh, settings, options.threads)?;
     let setup_s = t.elapsed().as_secs_f64();
