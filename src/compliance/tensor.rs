@@ -131,6 +131,10 @@ pub struct ComplianceStats {
     pub matrix_mb: f64,
     pub total_s: f64,
     pub peak_memory_mb: f64,
+    /// The memory guard's estimate of the peak (MB): the resident set after
+    /// the symbolic analysis plus the factor, its workspace and the dense
+    /// blocks.
+    pub estimated_peak_mb: f64,
     pub condition: Option<ConditionEstimate>,
 }
 
@@ -258,6 +262,8 @@ fn compute_in_pool(
         dense_mb + chol.factor_memory_mb(Precision::Double),
         DENSE_ALTERNATIVES,
     )?;
+    let estimated_peak_mb =
+        crate::resources::resident_mb() + dense_mb + chol.factor_memory_mb(Precision::Double);
     let name_of = |r: usize| -> String {
         let d = dofs
             .targets
@@ -326,6 +332,7 @@ fn compute_in_pool(
     };
     stats.total_s = t_total.elapsed().as_secs_f64();
     stats.peak_memory_mb = peak_memory_mb();
+    stats.estimated_peak_mb = estimated_peak_mb;
     Ok((matrix, stats))
 }
 
