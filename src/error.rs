@@ -34,6 +34,14 @@ pub enum FlankError {
     /// the machine, a failed job, a scheduler error).
     #[error("campaign: {0}")]
     Campaign(String),
+    /// A step that would need more memory than the process may allocate
+    /// ([`crate::resources::check_memory`]): the figures and alternatives.
+    #[error("memory: {0}")]
+    Memory(String),
+    /// A run stopped by the user (SIGINT) at a safe point; says what was
+    /// written and how to resume.
+    #[error("interrupted: {0}")]
+    Interrupted(String),
     /// An I/O error on `path`; the OS error is the source (printed by `{:#}`).
     #[error("{}", path.display())]
     Io {

@@ -57,6 +57,10 @@
 //! * [`compare`]: LTCA against FE contact, error against run time (`flank compare`).
 //! * [`load_sharing`]: when a tooth pair counts as loaded (shared by FE and LTCA).
 //! * [`report`]: VTU, CSV and JSON output, the plots shared by the analyses.
+//! * [`resources`], [`atomic_file`], [`interrupt`]: the lowest layer, used
+//!   by all: the memory guard (memory available vs a step's estimate), files
+//!   written whole or not at all (temporary name + rename, locks), and the
+//!   SIGINT flag a long run polls at its safe points.
 //! * [`campaign`]: studies over many variants of a scene (grid, Monte Carlo),
 //!   run as child `flank` processes locally or as a Slurm job array; the
 //!   top layer: nothing imports it.
@@ -87,6 +91,7 @@
 // `!(x > y)` is used on purpose: it is also true when x is NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod atomic_file;
 pub mod campaign;
 pub mod ccx;
 pub mod compare;
@@ -95,12 +100,14 @@ pub mod contact;
 pub mod error;
 pub mod fem;
 pub mod geometry;
+pub mod interrupt;
 pub mod load_sharing;
 pub mod ltca;
 pub mod lubrication;
 pub mod mesh;
 pub mod mesh_cycle;
 pub mod report;
+pub mod resources;
 pub mod scene;
 pub mod tca;
 #[cfg(test)]

@@ -13,6 +13,12 @@ use clap::{Parser, Subcommand};
     about = "Finite-element-first gear tooth contact: native 3D elasticity, FE contact, LTCA"
 )]
 struct Cli {
+    /// Memory limit (MB) for this flank process and the processes it
+    /// starts, below what the machine has: a factorization, Schur
+    /// complement or compliance tensor that would need more is refused with
+    /// the figures instead of being killed (same as FLANK_MEMORY_LIMIT_MB).
+    #[arg(long, global = true, value_name = "MB")]
+    memory_limit_mb: Option<f64>,
     #[command(subcommand)]
     command: Command,
 }
@@ -106,12 +112,25 @@ fn main() -> std::process::ExitCode {
         Err(e) => {
             // the whole context chain, no backtrace: the message says what and where
             eprintln!("error: {e:#}");
+            // stopped by SIGINT at a safe point: the shell's code for SIGINT
+            if let Some(flank::FlankError::Interrupted(_)) = e.downcast_ref::<flank::FlankError>() {
+                return std::process::ExitCode::from(130);
+            }
             std::process::ExitCode::FAILURE
         }
     }
 }
 
 fn run(cli: Cli) -> Result<()> {
+    if let Some(mb) = cli.memory_limit_mb {
+        anyhow::ensure!(
+            mb > 0.0 && mb.is_finite(),
+            "--memory-limit-mb {mb}: expected a positive number of megabytes"
+        );
+        flank::resources::set_memory_limit_mb(Some(mb));
+        // campaign jobs are child processes: they inherit the limit
+        std::env::set_var(flank::resources::LIMIT_VAR, mb.to_string());
+    }
     match cli.command {
         Command::Solve(args) => cli::solve::run(args),
         Command::Check(args) => cli::check::run(args),

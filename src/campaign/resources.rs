@@ -82,18 +82,9 @@ pub fn estimate_mb(analysis: &str, scene: &AnyScene, options: &[String]) -> f64 
     mb.max(FLOOR_MB)
 }
 
-/// The machine's memory (MB): (total, available) from /proc/meminfo; `None`
-/// where it cannot be read (not Linux).
-pub fn machine_memory_mb() -> Option<(f64, f64)> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let field = |name: &str| -> Option<f64> {
-        let line = text.lines().find(|l| l.starts_with(name))?;
-        let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-        Some(kb / 1024.0)
-    };
-    let total = field("MemTotal:")?;
-    Some((total, field("MemAvailable:").unwrap_or(total)))
-}
+/// The machine's memory (MB): (total, available); the one reader of
+/// /proc/meminfo is [`crate::resources`].
+pub use crate::resources::machine_memory_mb;
 
 /// Cores available to this process.
 pub fn cores() -> usize {

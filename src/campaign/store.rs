@@ -28,22 +28,10 @@ pub fn job_dir(out: &Path, job: &Job) -> PathBuf {
     out.join("jobs").join(job.id())
 }
 
-/// Writes `bytes` to `path` atomically: a temporary file beside it, synced,
-/// then renamed over `path` (POSIX rename is atomic on one file system).
+/// Writes `bytes` to `path` atomically (temporary name, sync, rename):
+/// [`crate::atomic_file::write`].
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let mut name = path.file_name().unwrap_or_default().to_os_string();
-    name.push(format!(".tmp{}", std::process::id()));
-    let tmp = path.with_file_name(name);
-    let write = || -> std::io::Result<()> {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()
-    };
-    write().map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        FlankError::io(&tmp, e)
-    })?;
-    std::fs::rename(&tmp, path).map_err(|e| FlankError::io(path, e))
+    crate::atomic_file::write(path, bytes)
 }
 
 /// The completion record of a job.

@@ -181,8 +181,8 @@ fn mesh_scene(
             "working_pressure_angle_deg": report.working_pressure_angle_deg,
         },
     });
-    std::fs::write(
-        out.join("mesh_report.json"),
+    flank::atomic_file::write(
+        &out.join("mesh_report.json"),
         serde_json::to_string_pretty(&summary)? + "\n",
     )?;
     println!("wrote {}", out.display());
@@ -285,8 +285,8 @@ fn mesh_bevel_scene(
             "teeth": [scene.blank.z1, scene.blank.z2],
         },
     });
-    std::fs::write(
-        out.join("mesh_report.json"),
+    flank::atomic_file::write(
+        &out.join("mesh_report.json"),
         serde_json::to_string_pretty(&summary)? + "\n",
     )?;
     println!("wrote {}", out.display());
@@ -307,14 +307,14 @@ fn write_body(
     flank::mesh::inp::write_deck(model, &out.join(format!("{name}.inp")))?;
     flank::report::vtu::write_vtu(&out.join(format!("{name}.vtu")), mesh, &[], &[])?;
     let uv_path = out.join(format!("{name}_flank_uv.csv"));
-    let mut w = std::io::BufWriter::new(std::fs::File::create(&uv_path)?);
+    let mut w = flank::atomic_file::AtomicWriter::create(&uv_path)?;
     writeln!(w, "{header}")?;
     let mut uv: Vec<(&usize, &(f64, f64))> = flank_uv.iter().collect();
     uv.sort_by_key(|(n, _)| **n);
     for (&n, &(u, v)) in uv {
         writeln!(w, "{},{:e},{:e}", mesh.node_labels[n], u, v)?;
     }
-    w.flush()?;
+    w.commit()?;
     Ok(mesh
         .node_sets
         .iter()

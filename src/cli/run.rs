@@ -53,6 +53,12 @@ pub struct Args {
     /// Print nothing but errors.
     #[arg(long, short)]
     quiet: bool,
+    /// Resume an interrupted run: take the positions kept in
+    /// OUT/checkpoint.json (same scene and options) and solve only the
+    /// others. Ctrl-C (SIGINT) stops a run at the next position boundary
+    /// and keeps what is solved; a second Ctrl-C ends it at once.
+    #[arg(long)]
+    resume: bool,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -72,12 +78,14 @@ pub fn run(args: Args) -> Result<()> {
         no_refine,
         threads,
         quiet,
+        resume,
     } = args;
     if let flank::scene::AnyScene::Bevel(b) = flank::scene::read_any_scene(&scene)? {
         let unsupported = [
             (reference_angles.is_some(), "--reference-angles"),
             (slave.is_some(), "--slave"),
             (friction_mu.is_some(), "--friction-mu"),
+            (resume, "--resume"),
         ];
         if let Some((_, name)) = unsupported.iter().find(|(given, _)| *given) {
             anyhow::bail!(
@@ -114,7 +122,10 @@ pub fn run(args: Args) -> Result<()> {
         decks,
         refine_contact_limits: no_refine.then_some(false),
         quiet,
+        resume,
     };
+    // the first Ctrl-C stops at the next position boundary
+    flank::interrupt::install_sigint_handler()?;
     let s = run_scene(&scene, &options)
         .with_context(|| format!("FE contact mesh cycle of {}", scene.display()))?;
     if !quiet {

@@ -69,8 +69,8 @@ pub fn run(args: Args) -> Result<()> {
     let s = &sol.stats;
     if !quiet {
         println!(
-            "{} nodes, {} elements, {} DOFs; nnz(L) = {} ({}); assembly {:.3} s, ordering {:.3} s, factorization {:.3} s ({:.1} GFLOP/s), solve {:.3} s; residual {:.1e}; peak memory {:.0} MB",
-            s.nodes, s.elements, s.dofs, s.nnz_factor, s.ordering, s.assembly_s, s.ordering_s, s.factorization_s, s.factorization_gflops, s.solve_s, s.relative_residual, s.peak_memory_mb
+            "{} nodes, {} elements, {} DOFs; nnz(L) = {} ({}); assembly {:.3} s, ordering {:.3} s, factorization {:.3} s ({:.1} GFLOP/s), solve {:.3} s; residual {:.1e}; peak memory {:.0} MB (estimated {:.0} MB)",
+            s.nodes, s.elements, s.dofs, s.nnz_factor, s.ordering, s.assembly_s, s.ordering_s, s.factorization_s, s.factorization_gflops, s.solve_s, s.relative_residual, s.peak_memory_mb, s.estimated_peak_mb
         );
         println!("results in {}", out.display());
     }

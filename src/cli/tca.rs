@@ -12,7 +12,6 @@
 //!   point) and `summary.json` (kinematic contact ratio, TE range).
 
 use std::fmt::Write as _;
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -131,8 +130,8 @@ pub fn run(args: Args) -> Result<()> {
                 "without_edges": variant_summary(&without),
                 "run_time_s": seconds,
             });
-            std::fs::write(
-                args.out.join("summary.json"),
+            flank::atomic_file::write(
+                &args.out.join("summary.json"),
                 serde_json::to_string_pretty(&summary)?,
             )?;
             flank::report::tca_plot::plot_point_tca(&args.out, pair.as_ref(), &with, &without)?;
@@ -238,7 +237,8 @@ fn sweep(
         }
     }
     let path = out.join("vh_sweep.csv");
-    std::fs::write(&path, s).with_context(|| format!("cannot write {}", path.display()))?;
+    flank::atomic_file::write(&path, s)
+        .with_context(|| format!("cannot write {}", path.display()))?;
     flank::report::vh_plot::plot_vh_sweep(out, &chart)?;
     Ok(())
 }
@@ -331,9 +331,8 @@ fn write_table(path: &Path, t: &PointTca) -> Result<()> {
             )?;
         }
     }
-    let mut f =
-        std::fs::File::create(path).with_context(|| format!("cannot write {}", path.display()))?;
-    f.write_all(s.as_bytes())?;
+    flank::atomic_file::write(path, s)
+        .with_context(|| format!("cannot write {}", path.display()))?;
     Ok(())
 }
 
@@ -350,6 +349,7 @@ fn write_transitions(path: &Path, with: &PointTca, without: &PointTca) -> Result
             )?;
         }
     }
-    std::fs::write(path, s).with_context(|| format!("cannot write {}", path.display()))?;
+    flank::atomic_file::write(path, s)
+        .with_context(|| format!("cannot write {}", path.display()))?;
     Ok(())
 }

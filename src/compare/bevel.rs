@@ -161,7 +161,7 @@ pub fn compare_bevel(
     });
     let md = markdown(&scene.source, &angles, &fe, &runs, &reference, &every);
     let p = out.join("compare.md");
-    std::fs::write(&p, &md).map_err(|e| FlankError::io(&p, e))?;
+    crate::atomic_file::write(&p, &md)?;
     let json = serde_json::json!({
         "scene": scene.source.display().to_string(),
         "pair": "hypoid",
@@ -186,10 +186,9 @@ pub fn compare_bevel(
         "files": {"markdown": "compare.md", "plots": plots},
     });
     let p = out.join("compare.json");
-    std::fs::write(
+    crate::atomic_file::write(
         &p,
         serde_json::to_string_pretty(&json).map_err(|e| FlankError::Model(e.to_string()))? + "\n",
-    )
-    .map_err(|e| FlankError::io(&p, e))?;
+    )?;
     Ok(json)
 }

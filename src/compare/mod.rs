@@ -295,7 +295,7 @@ fn fe_run_cached(
     let r = fe_run(scene, pair, (size, base), angles, threads)?;
     std::fs::create_dir_all(dir).map_err(|e| FlankError::io(dir, e))?;
     let t = serde_json::to_string(&r).map_err(|e| FlankError::Model(e.to_string()))?;
-    std::fs::write(&file, t).map_err(|e| FlankError::io(&file, e))?;
+    crate::atomic_file::write(&file, t)?;
     Ok((r, false))
 }
 
@@ -394,7 +394,7 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
         &flank_positions,
     );
     let p = out.join("compare.md");
-    std::fs::write(&p, &md).map_err(|e| FlankError::io(&p, e))?;
+    crate::atomic_file::write(&p, &md)?;
     let json = serde_json::json!({
         "scene": scene.source.display().to_string(),
         "positions": angles.len(),
@@ -419,11 +419,10 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
         "files": {"markdown": "compare.md", "plots": plots},
     });
     let p = out.join("compare.json");
-    std::fs::write(
+    crate::atomic_file::write(
         &p,
         serde_json::to_string_pretty(&json).map_err(|e| FlankError::Model(e.to_string()))? + "\n",
-    )
-    .map_err(|e| FlankError::io(&p, e))?;
+    )?;
     Ok(json)
 }
 

@@ -112,20 +112,17 @@ fn parse_err(path: &Path, message: impl Into<String>) -> FlankError {
 /// Writes `tensor` to `path` in the format of its extension (`.h5` or `.bin`).
 pub fn write(path: &Path, tensor: &ComplianceTensor) -> Result<(), FlankError> {
     check_tensor(tensor).map_err(|m| parse_err(path, format!("not written: {m}")))?;
-    let tmp = tmp_path(path);
-    let r = match FileFormat::of_path(path) {
-        Some(FileFormat::Native) => write_native(&tmp, tensor),
-        Some(FileFormat::Hdf5) => write_hdf5(&tmp, tensor),
-        None => Err(parse_err(
+    let format = FileFormat::of_path(path).ok_or_else(|| {
+        parse_err(
             path,
             "unknown compliance file extension (use .compliance.h5 or .compliance.bin)",
-        )),
-    };
-    if let Err(e) = r {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(e);
-    }
-    std::fs::rename(&tmp, path).map_err(|e| FlankError::io(path, e))
+        )
+    })?;
+    // a temporary name (unique per process and write) renamed over `path`
+    crate::atomic_file::write_with(path, |tmp| match format {
+        FileFormat::Native => write_native(tmp, tensor),
+        FileFormat::Hdf5 => write_hdf5(tmp, tensor),
+    })
 }
 
 /// Reads a compliance file written by [`write()`].
@@ -142,18 +139,6 @@ pub fn read(path: &Path) -> Result<ComplianceTensor, FlankError> {
     };
     check_tensor(&t).map_err(|m| parse_err(path, m))?;
     Ok(t)
-}
-
-/// A temporary name beside `path` that no other writer uses: the process
-/// id and a per-process sequence number (two writers of the same tensor in
-/// one process, e.g. parallel tests on a cold cache, must not share it).
-fn tmp_path(path: &Path) -> PathBuf {
-    use std::sync::atomic::{AtomicU64, Ordering};
-    static SEQUENCE: AtomicU64 = AtomicU64::new(0);
-    let n = SEQUENCE.fetch_add(1, Ordering::Relaxed);
-    let mut name = path.file_name().unwrap_or_default().to_os_string();
-    name.push(format!(".tmp{}.{n}", std::process::id()));
-    path.with_file_name(name)
 }
 
 /// Consistency of a tensor: lengths, indices, finite values, symmetry.
@@ -490,6 +475,44 @@ fn read_hdf5(path: &Path) -> Result<ComplianceTensor, FlankError> {
     ))
 }
 
+/// The checksum of an HDF5 compliance file (attribute `checksum`): the
+/// native format's FNV-1a 64 over every dataset's values, little-endian, in
+/// the order below, then the `meta_json` text (HDF5 itself checks no data).
+#[cfg(feature = "hdf5")]
+#[allow(clippy::too_many_arguments)]
+fn hdf5_checksum(
+    matrix: &[f64],
+    labels: &[u64],
+    uv: &[f64],
+    positions: &[f64],
+    normals: &[f64],
+    set_of: &[u32],
+    faces: &[i64],
+    face_set: &[u32],
+    meta_json: &str,
+) -> u64 {
+    let mut h = WordHash::new();
+    let mut f64s = |v: &[f64]| {
+        for x in v {
+            h.update(&x.to_le_bytes());
+        }
+    };
+    for v in [matrix, uv, positions, normals] {
+        f64s(v);
+    }
+    for x in labels {
+        h.update(&x.to_le_bytes());
+    }
+    for x in set_of.iter().chain(face_set) {
+        h.update(&x.to_le_bytes());
+    }
+    for x in faces {
+        h.update(&x.to_le_bytes());
+    }
+    h.update(meta_json.as_bytes());
+    h.finish()
+}
+
 #[cfg(feature = "hdf5")]
 fn write_hdf5(path: &Path, t: &ComplianceTensor) -> Result<(), FlankError> {
     use h5::types::VarLenUnicode;
@@ -523,8 +546,9 @@ fn write_hdf5(path: &Path, t: &ComplianceTensor) -> Result<(), FlankError> {
         .map_err(e)?
         .write_raw(&flat2[..])
         .map_err(e)?;
-    for (name, v) in [("positions", &f.positions), ("normals", &f.normals)] {
-        let flat: Vec<f64> = v.iter().flatten().copied().collect();
+    let positions: Vec<f64> = f.positions.iter().flatten().copied().collect();
+    let normals: Vec<f64> = f.normals.iter().flatten().copied().collect();
+    for (name, flat) in [("positions", &positions), ("normals", &normals)] {
         g.new_dataset::<f64>()
             .shape([n, 3])
             .create(name)
@@ -567,6 +591,17 @@ fn write_hdf5(path: &Path, t: &ComplianceTensor) -> Result<(), FlankError> {
         fss.write_raw(&face_set[..]).map_err(e)?;
     }
     let meta = &t.meta;
+    let meta_json = serde_json::to_string(meta).map_err(|err| parse_err(path, err.to_string()))?;
+    let checksum = hdf5_checksum(
+        &t.matrix, &f.labels, &flat2, &positions, &normals, &f.set_of, &faces, &face_set,
+        &meta_json,
+    );
+    g.new_attr::<u64>()
+        .shape(())
+        .create("checksum")
+        .map_err(e)?
+        .write_scalar(&checksum)
+        .map_err(e)?;
     let strings = [
         ("body", meta.body.clone()),
         ("mesh_hash", meta.mesh_hash.clone()),
@@ -582,10 +617,7 @@ fn write_hdf5(path: &Path, t: &ComplianceTensor) -> Result<(), FlankError> {
                 .collect::<Vec<_>>()
                 .join("; "),
         ),
-        (
-            "meta_json",
-            serde_json::to_string(meta).map_err(|err| parse_err(path, err.to_string()))?,
-        ),
+        ("meta_json", meta_json.clone()),
     ];
     for (name, value) in strings {
         g.new_attr::<VarLenUnicode>()
@@ -709,6 +741,29 @@ fn read_hdf5(path: &Path) -> Result<ComplianceTensor, FlankError> {
     if face_set.len() != nf {
         return Err(parse_err(path, "face_set and faces differ in length"));
     }
+    let stored: u64 = g
+        .attr("checksum")
+        .and_then(|a| a.read_scalar())
+        .map_err(|_| {
+            parse_err(
+                path,
+                "no attribute checksum: written by an older flank or not by flank; recompute it",
+            )
+        })?;
+    let sum = hdf5_checksum(
+        &matrix,
+        &labels,
+        &uv,
+        &pos,
+        &nor,
+        &set_of,
+        &faces_raw,
+        &face_set,
+        meta_json.as_str(),
+    );
+    if sum != stored {
+        return Err(parse_err(path, "checksum mismatch: the file is corrupt"));
+    }
     let mut faces = Vec::with_capacity(nf);
     for (k, row) in faces_raw.chunks_exact(8).enumerate() {
         let nodes: Vec<u32> = row
@@ -773,6 +828,30 @@ pub fn read_key(path: &Path) -> Result<String, FlankError> {
     }
 }
 
+/// The tensor of `path` if the file exists, names `key` and reads back
+/// whole (checksum, lengths, finite values); `None` otherwise. A file that
+/// exists but fails is reported on stderr as a warning (it will be
+/// recomputed and replaced), never trusted.
+pub fn read_trusted(path: &Path, key: &str) -> Option<ComplianceTensor> {
+    if !path.exists() {
+        return None;
+    }
+    let r = read_key(path).and_then(|k| {
+        if k == key {
+            read(path).map(Some)
+        } else {
+            Ok(None)
+        }
+    });
+    match r {
+        Ok(t) => t,
+        Err(e) => {
+            eprintln!("warning: compliance cache file not used, recomputing it: {e}");
+            None
+        }
+    }
+}
+
 /// Where a tensor came from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -806,6 +885,7 @@ impl ComplianceCache {
     /// A cache in memory and in `dir` (created if absent), files in `format`.
     pub fn in_dir(dir: &Path, format: FileFormat) -> Result<Self, FlankError> {
         std::fs::create_dir_all(dir).map_err(|e| FlankError::io(dir, e))?;
+        crate::atomic_file::remove_stale_temps(dir);
         Ok(ComplianceCache {
             dir: Some(dir.to_path_buf()),
             format,
@@ -822,6 +902,14 @@ impl ComplianceCache {
     }
 
     /// The tensor with `key`, from memory or disk, else `compute()`d and stored.
+    ///
+    /// A file is trusted only when its key and checksum match
+    /// ([`read_trusted`]); a corrupt, truncated or foreign file is recomputed
+    /// with a warning on stderr and replaced. Processes sharing the
+    /// directory take the key's lock file `<body>.<key>.lock`
+    /// ([`crate::atomic_file::FileLock`]) around "look up, else compute and
+    /// store": the second waits for the first and reads its file instead of
+    /// computing the same tensor again.
     pub fn get_or_compute(
         &self,
         body: &str,
@@ -831,9 +919,16 @@ impl ComplianceCache {
         if let Some(t) = self.lock()?.get(key) {
             return Ok((t.clone(), CacheOutcome::Memory));
         }
-        if let Some(p) = self.path(body, key) {
-            if p.exists() && read_key(&p).ok().as_deref() == Some(key) {
-                let t = Arc::new(read(&p)?);
+        let path = self.path(body, key);
+        let _file_lock = match &path {
+            Some(p) => Some(crate::atomic_file::FileLock::exclusive(
+                &p.with_extension("").with_extension("lock"),
+            )?),
+            None => None,
+        };
+        if let Some(p) = &path {
+            if let Some(t) = read_trusted(p, key) {
+                let t = Arc::new(t);
                 self.lock()?.insert(key.to_string(), t.clone());
                 return Ok((t, CacheOutcome::Disk));
             }
@@ -845,8 +940,8 @@ impl ComplianceCache {
                 t.meta.cache_key
             )));
         }
-        if let Some(p) = self.path(body, key) {
-            write(&p, &t)?;
+        if let Some(p) = &path {
+            write(p, &t)?;
         }
         let t = Arc::new(t);
         self.lock()?.insert(key.to_string(), t.clone());
@@ -935,6 +1030,21 @@ mod tests {
         assert_eq!(read_key(&p).unwrap(), t.meta.cache_key);
         std::fs::write(tmp("junk.compliance.h5"), b"not hdf5").unwrap();
         assert!(read(&tmp("junk.compliance.h5")).is_err());
+        // one changed value of the matrix: the checksum attribute catches it
+        let mut bytes = std::fs::read(&p).unwrap();
+        let x = t.matrix[t.matrix.len() / 2].to_le_bytes();
+        let at = bytes
+            .windows(8)
+            .position(|w| w == x)
+            .expect("the matrix is stored raw");
+        bytes[at] ^= 0x01;
+        let bad = tmp("flipped.compliance.h5");
+        std::fs::write(&bad, &bytes).unwrap();
+        let e = read(&bad).unwrap_err().to_string();
+        assert!(e.contains("checksum mismatch"), "{e}");
+        // truncated: an HDF5 error, not trusted either
+        std::fs::write(&bad, &bytes[..bytes.len() / 2]).unwrap();
+        assert!(read(&bad).is_err());
     }
 
     #[test]
@@ -961,5 +1071,47 @@ mod tests {
         // a different key computes (and the wrong key is caught)
         let e = c2.get_or_compute("box", "other", compute);
         assert!(e.is_err());
+    }
+
+    /// A cache file that is truncated, has a flipped byte, or is junk is
+    /// never trusted: recomputed (with a warning) and replaced by a whole
+    /// file; the lock file stays beside it.
+    #[test]
+    fn corrupt_cache_files_are_recomputed() {
+        let t = tensor();
+        let key = t.meta.cache_key.clone();
+        let dir = tmp("cache_corrupt");
+        let _ = std::fs::remove_dir_all(&dir);
+        let calls = Cell::new(0);
+        let compute = || {
+            calls.set(calls.get() + 1);
+            Ok(t.clone())
+        };
+        ComplianceCache::in_dir(&dir, FileFormat::Native)
+            .unwrap()
+            .get_or_compute("box", &key, compute)
+            .unwrap();
+        let c = ComplianceCache::in_dir(&dir, FileFormat::Native).unwrap();
+        let p = c.path("box", &key).unwrap();
+        let good = std::fs::read(&p).unwrap();
+        let mut flipped = good.clone();
+        let mid = flipped.len() - 100;
+        flipped[mid] ^= 0x10;
+        for bad in [good[..good.len() / 2].to_vec(), flipped, b"junk".to_vec()] {
+            std::fs::write(&p, &bad).unwrap();
+            let c = ComplianceCache::in_dir(&dir, FileFormat::Native).unwrap();
+            let (t2, o) = c.get_or_compute("box", &key, compute).unwrap();
+            assert_eq!(o, CacheOutcome::Computed);
+            assert_eq!(t2.matrix, t.matrix);
+            assert_eq!(std::fs::read(&p).unwrap(), good, "replaced whole");
+        }
+        assert_eq!(calls.get(), 4);
+        let mut names: Vec<String> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        assert_eq!(names.len(), 2, "{names:?}");
+        assert!(names[1].ends_with(".lock"), "{names:?}");
     }
 }

@@ -195,9 +195,10 @@ pub fn body_tensor(
         stats = Some(s);
         Ok(t)
     };
-    let (tensor, outcome) = if file.exists() && cache::read_key(&file).ok().as_deref() == Some(&key)
-    {
-        (std::sync::Arc::new(cache::read(&file)?), CacheOutcome::Disk)
+    // a file in `out` is reused only when its key and checksum match; a
+    // corrupt one is recomputed (with a warning) and replaced
+    let (tensor, outcome) = if let Some(t) = cache::read_trusted(&file, &key) {
+        (std::sync::Arc::new(t), CacheOutcome::Disk)
     } else {
         let (t, o) = match options.campaign {
             Some(c) => c.get_or_compute(name, &key, compute)?,
@@ -353,11 +354,10 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
         "peak_memory_mb": peak_memory_mb(),
     });
     let p = out.join("summary.json");
-    std::fs::write(
+    crate::atomic_file::write(
         &p,
         serde_json::to_string_pretty(&json).map_err(|e| FlankError::Model(e.to_string()))? + "\n",
-    )
-    .map_err(|e| FlankError::io(&p, e))?;
+    )?;
     Ok(json)
 }
 

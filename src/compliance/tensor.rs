@@ -131,6 +131,10 @@ pub struct ComplianceStats {
     pub matrix_mb: f64,
     pub total_s: f64,
     pub peak_memory_mb: f64,
+    /// The memory guard's estimate of the peak (MB): the resident set after
+    /// the symbolic analysis plus the factor, its workspace and the dense
+    /// blocks.
+    pub estimated_peak_mb: f64,
     pub condition: Option<ConditionEstimate>,
 }
 
@@ -210,24 +214,19 @@ fn compute_in_pool(
     let m = 3 * flank.len();
     let matrix_mb = (m * m * 8) as f64 / 1e6;
     // dense storage: C, plus L₂₂ and the inverse's workspace (Schur) or the
-    // right-hand-side blocks (blocked)
-    let need_mb = match options.method {
+    // right-hand-side blocks (blocked); checked with the factor's memory
+    // once the symbolic analysis knows nnz(L), below
+    let dense_mb = match options.method {
         Method::Schur => 3.0 * matrix_mb,
         Method::Blocked => matrix_mb + options.memory_budget_mb,
-    };
-    if let Some(avail) = available_memory_mb() {
-        if need_mb > avail {
-            return Err(FlankError::Solver(format!(
-                "{} flank nodes need a dense {m} × {m} compliance matrix: about {:.0} MB \
-                 with the {} method, but only {:.0} MB are available; use a coarser flank \
-                 mesh (--flank-size) or fewer flank sets",
-                flank.len(),
-                need_mb,
-                options.method.name(),
-                avail
-            )));
-        }
-    }
+    } * 1e6
+        / 1048576.0;
+    // a first check on the dense part alone, before the assembly
+    crate::resources::check_memory(
+        &dense_what(flank.len(), m, options.method),
+        dense_mb,
+        DENSE_ALTERNATIVES,
+    )?;
     let par = parallelism(options.threads);
     let mut stats = ComplianceStats {
         method: options.method.name().to_string(),
@@ -252,6 +251,19 @@ fn compute_in_pool(
     stats.assembly_s = t.elapsed().as_secs_f64();
     let (pattern, ordering_s) = (assembly.pattern, assembly.ordering_s);
     let mut chol = SparseCholesky::analyze(&pattern, options.ordering, ordering_s, par)?;
+    // the factor and the dense blocks live together: refuse before the
+    // factorization rather than after it
+    crate::resources::check_memory(
+        &format!(
+            "{} with its factorization (nnz(L) = {:.3e})",
+            dense_what(flank.len(), m, options.method),
+            chol.stats.nnz_factor
+        ),
+        dense_mb + chol.factor_memory_mb(Precision::Double),
+        DENSE_ALTERNATIVES,
+    )?;
+    let estimated_peak_mb =
+        crate::resources::resident_mb() + dense_mb + chol.factor_memory_mb(Precision::Double);
     let name_of = |r: usize| -> String {
         let d = dofs
             .targets
@@ -320,19 +332,22 @@ fn compute_in_pool(
     };
     stats.total_s = t_total.elapsed().as_secs_f64();
     stats.peak_memory_mb = peak_memory_mb();
+    stats.estimated_peak_mb = estimated_peak_mb;
     Ok((matrix, stats))
 }
 
-/// Memory available to this process (Linux `MemAvailable`, MB), if known.
-fn available_memory_mb() -> Option<f64> {
-    std::fs::read_to_string("/proc/meminfo").ok().and_then(|s| {
-        s.lines()
-            .find(|l| l.starts_with("MemAvailable:"))
-            .and_then(|l| l.split_whitespace().nth(1))
-            .and_then(|v| v.parse::<f64>().ok())
-            .map(|kb| kb / 1024.0)
-    })
+/// What a compliance computation's memory check refuses, in words.
+fn dense_what(nodes: usize, m: usize, method: Method) -> String {
+    format!(
+        "the compliance tensor of {nodes} flank nodes (a dense {m} × {m} matrix, {} method)",
+        method.name()
+    )
 }
+
+/// The memory guard's alternatives for a compliance tensor.
+const DENSE_ALTERNATIVES: &str = "use a coarser flank mesh (a larger --flank-size: the dense \
+matrix grows with the fourth power of 1/size), fewer flank sets or teeth in the sector, the \
+blocked method with a smaller --memory-budget-mb, or run where more memory is free";
 
 /// Schur complement: C_free = (L₂₂L₂₂ᵀ)⁻¹, lower triangle, column-major.
 fn schur(
@@ -643,6 +658,37 @@ mod tests {
         let d: f64 = a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum();
         let n: f64 = b.iter().map(|y| y * y).sum();
         (d / n).sqrt()
+    }
+
+    /// The memory guard: under a lowered limit (this thread's, 1 MB below
+    /// what the process already holds) the tensor is refused with the
+    /// dense matrix's size, the figures and the alternatives, for both
+    /// methods, before anything is assembled.
+    #[test]
+    fn refused_under_a_lowered_memory_limit() {
+        let (model, flank) = box_flank(BoxElement::Hex20);
+        let limit = crate::resources::resident_mb() - 1.0;
+        for method in [Method::Schur, Method::Blocked] {
+            let opts = ComplianceOptions {
+                method,
+                threads: 0,
+                ..Default::default()
+            };
+            let e = crate::resources::with_memory_limit_mb(limit, || {
+                compute_compliance(&model, &flank, &opts)
+            })
+            .unwrap_err();
+            let m = e.to_string();
+            assert!(matches!(e, FlankError::Memory(_)), "{m}");
+            let dim = 3 * flank.len();
+            assert!(m.contains(&format!("{dim} × {dim}")), "{m}");
+            assert!(
+                m.contains("needs about") && m.contains("--flank-size"),
+                "{m}"
+            );
+        }
+        // without the limit the same tensor is computed
+        compute_compliance(&model, &flank, &ComplianceOptions::default()).unwrap();
     }
 
     #[test]

@@ -38,6 +38,9 @@ pub struct SystemStats {
     pub assembly_s: f64,
     pub factorization_s: f64,
     pub floating_modes: usize,
+    /// The memory guard's estimated peak of the factorization (MB: the
+    /// resident set before it plus the factor and workspace).
+    pub estimated_peak_mb: f64,
 }
 
 /// The response of the pinned stiffness to the model's external loads
@@ -103,10 +106,21 @@ impl ElasticSystem {
         let par = parallelism(threads);
         let t = Instant::now();
         let asm = Assembly::new(&pinned, &mut dofs, ordering)?;
+        // the symbolic factorization needs only the pattern: the memory of
+        // the matrix values and of the factor is checked before either is
+        // allocated (a mesh too fine for the machine is refused in seconds)
+        let mut chol = SparseCholesky::analyze(&asm.pattern, ordering, asm.ordering_s, par)?;
+        crate::resources::check_memory(
+            &format!(
+                "the stiffness matrix and its sparse Cholesky factor ({} DOFs, nnz(L) = {:.3e})",
+                asm.pattern.n, chol.stats.nnz_factor
+            ),
+            (8 * asm.pattern.nnz()) as f64 / 1048576.0 + chol.factor_memory_mb(Precision::Double),
+            crate::resources::ALTERNATIVES,
+        )?;
         let sys = asm.assemble(&pinned, &dofs)?;
-        let assembly_s = t.elapsed().as_secs_f64();
+        let assembly_s = t.elapsed().as_secs_f64() - chol.stats.symbolic_s;
         let pattern = asm.pattern;
-        let mut chol = SparseCholesky::analyze(&pattern, ordering, asm.ordering_s, par)?;
         let names = crate::fem::static_analysis::reduced_dof_names(&pinned, &dofs);
         chol.factorize(&pattern, &sys.values, Precision::Double, &|r| {
             names.get(r).cloned().unwrap_or_else(|| r.to_string())
@@ -118,6 +132,7 @@ impl ElasticSystem {
             assembly_s,
             factorization_s: chol.stats.factorization_s,
             floating_modes: floating.modes.len(),
+            estimated_peak_mb: chol.stats.resident_before_mb + chol.stats.factor_estimate_mb,
         };
         Ok(ElasticSystem {
             external: std::sync::OnceLock::new(),

@@ -73,6 +73,12 @@ pub struct FactorStats {
     pub factorization_s: f64,
     /// min_j L_jj² / A_jj: how close the matrix came to a zero pivot (1 = diagonal).
     pub min_pivot_ratio: f64,
+    /// The memory guard's estimate of the numeric factorization's extra
+    /// memory (MB: factor values, faer's workspace, a single-precision copy
+    /// of the matrix) and the resident set when it was made (MB); their sum
+    /// is the estimated peak of the factorization.
+    pub factor_estimate_mb: f64,
+    pub resident_before_mb: f64,
 }
 
 /// A symbolic analysis plus (after [`factorize`](Self::factorize)) the numeric factor.
@@ -168,8 +174,35 @@ impl SparseCholesky {
         })
     }
 
+    /// Extra memory (MB) the numeric factorization in `precision` will
+    /// allocate: nnz(L) values, faer's workspace (from the symbolic
+    /// analysis: the largest supernode's dense update blocks), and for the
+    /// mixed precision the f32 copy of the matrix; known before any of it
+    /// is allocated.
+    pub fn factor_memory_mb(&self, precision: Precision) -> f64 {
+        let (value, scratch) = match precision {
+            Precision::Double => (
+                8,
+                self.symbolic
+                    .factorize_numeric_llt_scratch::<f64>(self.par, Default::default()),
+            ),
+            Precision::Mixed => (
+                4,
+                self.symbolic
+                    .factorize_numeric_llt_scratch::<f32>(self.par, Default::default()),
+            ),
+        };
+        let copy = match precision {
+            Precision::Double => 0,
+            Precision::Mixed => 4 * self.stats.nnz_matrix,
+        };
+        (value * self.symbolic.len_val() + scratch.size_bytes() + copy) as f64 / 1048576.0
+    }
+
     /// Numeric LLᵀ of the matrix with this pattern and lower-triangle `values`.
-    /// `dof_name` names a reduced DOF in error messages.
+    /// `dof_name` names a reduced DOF in error messages. Refused with a
+    /// [`FlankError::Memory`] before any allocation when the factor would
+    /// not fit in the memory available ([`crate::resources::check_memory`]).
     pub fn factorize(
         &mut self,
         pattern: &SparsePattern,
@@ -183,6 +216,17 @@ impl SparseCholesky {
                 "stiffness entry {k} is not finite"
             )));
         }
+        let need = self.factor_memory_mb(precision);
+        self.stats.factor_estimate_mb = need;
+        self.stats.resident_before_mb = crate::resources::resident_mb();
+        crate::resources::check_memory(
+            &format!(
+                "the sparse Cholesky factorization ({} DOFs, nnz(L) = {:.3e}, {:?} precision)",
+                n, self.stats.nnz_factor, precision
+            ),
+            need,
+            crate::resources::ALTERNATIVES,
+        )?;
         let t0 = Instant::now();
         let a = SparseColMatRef::new(
             SymbolicSparseColMatRef::new_checked(n, n, &pattern.col_ptr, None, &pattern.row_idx),

@@ -80,6 +80,9 @@ pub struct SolveStats {
     pub backward_error: f64,
     pub min_pivot_ratio: f64,
     pub peak_memory_mb: f64,
+    /// The memory guard's estimate of the peak (MB): the resident set before
+    /// the numeric factorization plus its estimated extra memory.
+    pub estimated_peak_mb: f64,
 }
 
 /// Result of a linear static analysis.
@@ -96,19 +99,7 @@ pub struct StaticSolution {
 }
 
 /// Peak resident memory of this process in MB (Linux `VmHWM`; 0 elsewhere).
-pub fn peak_memory_mb() -> f64 {
-    std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|s| {
-            s.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| {
-                l.split_whitespace()
-                    .nth(1)
-                    .and_then(|v| v.parse::<f64>().ok())
-            })
-        })
-        .map(|kb| kb / 1024.0)
-        .unwrap_or(0.0)
-}
+pub use crate::resources::peak_memory_mb;
 
 /// Checks the model's data before assembly: materials, sections.
 pub fn validate(model: &Model) -> Result<(), FlankError> {
@@ -468,7 +459,8 @@ fn solve_static_in_pool(
     let dof_names = reduced_dof_names(model, &dofs);
     let name_of = |r: usize| dof_names[r].clone();
     if let Err(e) = chol.factorize(&pattern, &system.values, options.precision, &name_of) {
-        if options.precision != Precision::Mixed {
+        // a refusal for memory is final: the f64 factor needs more
+        if options.precision != Precision::Mixed || matches!(e, FlankError::Memory(_)) {
             return Err(e);
         }
         // the f32 factor broke down (κ beyond single precision): factorize in f64
@@ -495,6 +487,7 @@ fn solve_static_in_pool(
     let fs: FactorStats = chol.stats.clone();
     stats.nnz_matrix = fs.nnz_matrix;
     stats.nnz_factor = fs.nnz_factor;
+    stats.estimated_peak_mb = fs.resident_before_mb + fs.factor_estimate_mb;
     stats.ordering = fs.ordering.clone();
     stats.precision = fs.precision.clone();
     stats.supernodal = fs.supernodal;

@@ -242,7 +242,7 @@ impl MeasurementGrid {
 
     /// Write [`Self::to_csv`] to `path`.
     pub fn write(&self, path: &Path, description: &str) -> Result<()> {
-        std::fs::write(path, self.to_csv(description)).map_err(|e| FlankError::io(path, e))
+        crate::atomic_file::write(path, self.to_csv(description))
     }
 
     /// Read a grid file (module docs).

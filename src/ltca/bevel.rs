@@ -457,7 +457,7 @@ pub fn run_bevel(
         }
     }
     let path = out.join("ltca_positions.csv");
-    std::fs::write(&path, csv).map_err(|e| FlankError::io(&path, e))?;
+    crate::atomic_file::write(&path, csv)?;
     crate::ltca::cycle::write_points_csv(&out.join("ltca_points.csv"), &results)?;
     let te_pp = te.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
         - te.iter().cloned().fold(f64::INFINITY, f64::min);
@@ -504,11 +504,10 @@ pub fn run_bevel(
         })).collect::<Vec<_>>(),
     });
     let path = out.join("summary.json");
-    std::fs::write(
+    crate::atomic_file::write(
         &path,
         serde_json::to_string_pretty(&summary).unwrap_or_default() + "\n",
-    )
-    .map_err(|e| FlankError::io(&path, e))?;
+    )?;
     Ok(summary)
 }
 

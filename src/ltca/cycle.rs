@@ -502,13 +502,12 @@ pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, Fl
         "steps": results,
     });
     let p = out.join("summary.json");
-    std::fs::write(
+    crate::atomic_file::write(
         &p,
         serde_json::to_string_pretty(&summary)
             .map_err(|e| FlankError::Model(format!("summary: {e}")))?
             + "\n",
-    )
-    .map_err(|e| FlankError::io(&p, e))?;
+    )?;
     Ok(summary)
 }
 
@@ -601,7 +600,7 @@ fn write_cycle_csv(
             r.time_s
         );
     }
-    std::fs::write(path, s).map_err(|e| FlankError::io(path, e))
+    crate::atomic_file::write(path, s)
 }
 
 pub(crate) fn write_points_csv(path: &Path, results: &[PositionResult]) -> Result<(), FlankError> {
@@ -630,5 +629,5 @@ pub(crate) fn write_points_csv(path: &Path, results: &[PositionResult]) -> Resul
             );
         }
     }
-    std::fs::write(path, s).map_err(|e| FlankError::io(path, e))
+    crate::atomic_file::write(path, s)
 }

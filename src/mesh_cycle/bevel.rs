@@ -413,9 +413,7 @@ pub fn run_bevel(
         }
     }
     let path = out.join("positions.csv");
-    let mut w = std::io::BufWriter::new(
-        std::fs::File::create(&path).map_err(|e| FlankError::io(&path, e))?,
-    );
+    let mut w = crate::atomic_file::AtomicWriter::create(&path)?;
     let io = |e| FlankError::io(&path, e);
     writeln!(
         w,
@@ -441,12 +439,10 @@ pub fn run_bevel(
             .map_err(io)?;
         }
     }
-    w.flush().map_err(io)?;
+    w.commit()?;
     // the contact pattern: every loaded node of every position
     let path = out.join("contact_pattern.csv");
-    let mut w = std::io::BufWriter::new(
-        std::fs::File::create(&path).map_err(|e| FlankError::io(&path, e))?,
-    );
+    let mut w = crate::atomic_file::AtomicWriter::create(&path)?;
     let io = |e| FlankError::io(&path, e);
     writeln!(
         w,
@@ -464,7 +460,7 @@ pub fn run_bevel(
             .map_err(io)?;
         }
     }
-    w.flush().map_err(io)?;
+    w.commit()?;
     let pattern: Vec<PatternNode> = steps.iter().flat_map(|s| s.pattern.clone()).collect();
     let plots = plot_fe_pattern(out, cycle.pair.as_ref(), &pattern)?;
     let te: Vec<f64> = steps.iter().map(|s| s.te_arcsec).collect();
@@ -502,11 +498,10 @@ pub fn run_bevel(
         "steps": steps,
     });
     let path = out.join("summary.json");
-    std::fs::write(
+    crate::atomic_file::write(
         &path,
         serde_json::to_string_pretty(&summary).unwrap_or_default() + "\n",
-    )
-    .map_err(|e| FlankError::io(&path, e))?;
+    )?;
     Ok(summary)
 }
 

@@ -287,7 +287,7 @@ fn write_contacts_csv(
             );
         }
     }
-    std::fs::write(path, s).map_err(|e| FlankError::io(path, e))
+    crate::atomic_file::write(path, s)
 }
 
 fn write_passes_csv(path: &Path, angles: &[f64], r: &LoopResult) -> Result<(), FlankError> {
@@ -311,5 +311,5 @@ fn write_passes_csv(path: &Path, angles: &[f64], r: &LoopResult) -> Result<(), F
             }
         }
     }
-    std::fs::write(path, s).map_err(|e| FlankError::io(path, e))
+    crate::atomic_file::write(path, s)
 }

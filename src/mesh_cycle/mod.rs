@@ -21,6 +21,7 @@
 //! from the gear-pair interface ([`crate::geometry::gear_pair`]).
 
 pub mod bevel;
+pub mod checkpoint;
 pub mod lubricated;
 pub mod pair_model;
 pub mod run;

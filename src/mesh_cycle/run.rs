@@ -26,6 +26,7 @@ use crate::fem::static_analysis::peak_memory_mb;
 use std::sync::Arc;
 
 use crate::geometry::gear_pair::{engagement_roll_angles, GearPair};
+use crate::mesh_cycle::checkpoint::{self, Checkpoint};
 use crate::mesh_cycle::pair_model::{pair_model, PairModel, SlaveBody};
 use crate::report::vtu::{write_vtu, PointField};
 use crate::scene::{read_scene, ContactAnalysis, Scene};
@@ -78,6 +79,9 @@ pub struct RunOptions {
     /// Bisect the middle pair's first and last loaded roll angles.
     pub refine_contact_limits: Option<bool>,
     pub quiet: bool,
+    /// Take the positions of `out/checkpoint.json` left by an interrupted
+    /// run of the same scene and options ([`super::checkpoint`]).
+    pub resume: bool,
 }
 
 /// How often a position is solved again with twice the search distance
@@ -87,7 +91,7 @@ pub const MAX_SEARCH_RAISES: usize = 3;
 pub use crate::load_sharing::LOADED_FRACTION;
 
 /// Contact patch of one tooth pair at one position (slave flank).
-#[derive(Clone, Debug, Default, serde::Serialize)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Patch {
     /// Slave nodes in contact.
     pub closed_nodes: usize,
@@ -101,7 +105,7 @@ pub struct Patch {
 }
 
 /// Results of one roll angle.
-#[derive(Clone, Debug, Default, serde::Serialize)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct StepResult {
     pub roll_deg: f64,
     /// The roll angle in the scene's reference convention (if it gives one).
@@ -678,6 +682,8 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
     let settings = settings(scene, gear_pair.as_ref(), options)?;
     let out = &options.out;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
+    // what a killed earlier run left half-written (never a result file)
+    crate::atomic_file::remove_stale_temps(out);
     let t = Instant::now();
     let cycle = MeshCycle::new(scene, &options.mesh, settings, options.threads)?;
     let setup_s = t.elapsed().as_secs_f64();
@@ -699,7 +705,12 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
         b
     };
     let mut steps = Vec::with_capacity(angles.len());
-    let solve = |a: f64| -> Result<StepResult, FlankError> {
+    let key = checkpoint::run_key(&scene.source, &options.mesh, &cycle.settings)?;
+    let mut checkpoint = Checkpoint::open(out, key, options.resume)?;
+    let mut solve = |a: f64| -> Result<StepResult, FlankError> {
+        if let Some(step) = checkpoint.take(a)? {
+            return Ok(step);
+        }
         let solved = cycle.solve(a)?;
         if cycle.settings.vtu {
             write_position_vtu(&cycle, out, a, &solved)?;
@@ -707,11 +718,21 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
         if options.decks {
             write_position_deck(&cycle, out, a)?;
         }
+        checkpoint.record(&solved.step)?;
         Ok(solved.step)
+    };
+    // SIGINT is polled between positions: what is solved is kept
+    let stop = |steps: &[StepResult]| -> Result<(), FlankError> {
+        if crate::interrupt::requested() {
+            bar.abandon();
+            return Err(interrupted(out, steps, np));
+        }
+        Ok(())
     };
     for &a in &angles {
         steps.push(solve(a)?);
         bar.inc(1);
+        stop(&steps)?;
     }
     // a default range grows while the middle pair is loaded at an end
     let mut extended = 0;
@@ -725,6 +746,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
             steps.insert(0, solve(steps[0].roll_deg - step)?);
             bar.inc(1);
             extended += 1;
+            stop(&steps)?;
         }
         for _ in 0..limit {
             let last = steps.len() - 1;
@@ -735,9 +757,11 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
             steps.push(solve(steps[last].roll_deg + step)?);
             bar.inc(1);
             extended += 1;
+            stop(&steps)?;
         }
     }
     bar.finish_and_clear();
+    let reused = checkpoint.reused();
     let mut notes: Vec<String> = Vec::new();
     // the wet–dry loop: the positions solved so far are its dry pass
     let mut lubrication = None;
@@ -854,6 +878,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
         "positions": steps.len(),
         "refinement_positions": refine_solves,
         "extension_positions": extended,
+        "resumed_positions": reused,
         "time_per_position_s": time_per_position_s,
         "setup_s": setup_s,
         "total_s": t_total.elapsed().as_secs_f64(),
@@ -872,6 +897,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
         "factorization_s": stats.factorization_s,
         "threads": crate::fem::solver::parallelism(options.threads).degree(),
         "peak_memory_mb": peak_memory_mb(),
+        "estimated_peak_memory_mb": stats.estimated_peak_mb,
     });
     let more2 = serde_json::json!({
         "te_positions": te.len(),
@@ -908,8 +934,33 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
     let text = serde_json::to_string_pretty(&summary)
         .map_err(|e| FlankError::Model(format!("summary: {e}")))?;
     let p = out.join("summary.json");
-    std::fs::write(&p, text).map_err(|e| FlankError::io(&p, e))?;
+    crate::atomic_file::write(&p, text)?;
+    // complete: summary.json holds every position
+    checkpoint.remove()?;
+    let _ = std::fs::remove_file(out.join("mesh_cycle.partial.csv"));
     Ok(summary)
+}
+
+/// The error of a run stopped by SIGINT after the positions `steps`: they
+/// are in checkpoint.json (and their VTU files), and in
+/// `mesh_cycle.partial.csv` for a look; the message says how to resume.
+fn interrupted(out: &Path, steps: &[StepResult], np: usize) -> FlankError {
+    let mut sorted = steps.to_vec();
+    sorted.sort_by(|a, b| a.roll_deg.total_cmp(&b.roll_deg));
+    let partial = out.join("mesh_cycle.partial.csv");
+    let written = match write_steps_csv(&partial, &sorted, np) {
+        Ok(()) => format!(" and {}", partial.display()),
+        Err(e) => format!(" ({e})"),
+    };
+    FlankError::Interrupted(format!(
+        "stopped at a position boundary after {} solved position(s); \
+         they are kept in {}{written}; resume with the same command and options plus \
+         --resume (`flank run SCENE --out {} ... --resume`): only the remaining positions \
+         are solved",
+        steps.len(),
+        out.join(checkpoint::FILE).display(),
+        out.display()
+    ))
 }
 
 /// `roll_…deg.inp`: the pair model with its nodes at the placed positions
@@ -1022,5 +1073,5 @@ fn write_steps_csv(path: &Path, steps: &[StepResult], np: usize) -> Result<(), F
         }
         s.push('\n');
     }
-    std::fs::write(path, s).map_err(|e| FlankError::io(path, e))
+    crate::atomic_file::write(path, s)
 }

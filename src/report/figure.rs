@@ -72,13 +72,16 @@ pub fn write_svg_png(
 pub fn write_pair(svg: &Path, png: &Path, figure: &impl Figure) -> Result<(), FlankError> {
     let err = |p: &Path, e: String| FlankError::Model(format!("plot {}: {e}", p.display()));
     let size = figure.size();
-    {
-        let root = SVGBackend::new(svg, size).into_drawing_area();
+    // drawn to temporary names (same extension: plotters picks the image
+    // format from it) and renamed: a killed run leaves no half plot
+    crate::atomic_file::write_with(svg, |tmp| {
+        let root = SVGBackend::new(tmp, size).into_drawing_area();
         figure.draw(&root).map_err(|e| err(svg, e))?;
-        root.present().map_err(|e| err(svg, e.to_string()))?;
-    }
-    let root = BitMapBackend::new(png, size).into_drawing_area();
-    figure.draw(&root).map_err(|e| err(png, e))?;
-    root.present().map_err(|e| err(png, e.to_string()))?;
-    Ok(())
+        root.present().map_err(|e| err(svg, e.to_string()))
+    })?;
+    crate::atomic_file::write_with(png, |tmp| {
+        let root = BitMapBackend::new(tmp, size).into_drawing_area();
+        figure.draw(&root).map_err(|e| err(png, e))?;
+        root.present().map_err(|e| err(png, e.to_string()))
+    })
 }

@@ -12,10 +12,9 @@ use crate::fem::model::Model;
 use crate::fem::static_analysis::StaticSolution;
 use crate::report::vtu::{write_vtu, PointField};
 
-fn create(path: &Path) -> Result<std::io::BufWriter<std::fs::File>, FlankError> {
-    Ok(std::io::BufWriter::new(
-        std::fs::File::create(path).map_err(|e| FlankError::io(path, e))?,
-    ))
+/// A result file written whole or not at all ([`crate::atomic_file`]).
+fn create(path: &Path) -> Result<crate::atomic_file::AtomicWriter, FlankError> {
+    crate::atomic_file::AtomicWriter::create(path)
 }
 
 /// `node,ux,uy,uz`, one row per node with the deck's node labels, full precision.
@@ -33,7 +32,7 @@ pub fn write_displacements_csv(path: &Path, model: &Model, u: &[f64]) -> Result<
         )
         .map_err(io)?;
     }
-    w.flush().map_err(io)
+    w.commit()
 }
 
 /// Writes every output file of a solve into `dir` (created if needed).
@@ -111,7 +110,7 @@ pub fn write_contact_csv(
         )
         .map_err(io)?;
     }
-    w.flush().map_err(io)
+    w.commit()
 }
 
 /// Writes the files of a contact solve: those of [`write_solution`] plus
@@ -183,7 +182,7 @@ fn write_all(
             )
             .map_err(io)?;
         }
-        w.flush().map_err(io)?;
+        w.commit()?;
         stress_flat = rec.stress.iter().flat_map(|s| s.iter().copied()).collect();
         point_fields.push(PointField {
             name: "stress",
@@ -214,7 +213,7 @@ fn write_all(
                 .map_err(io)?;
             }
         }
-        w.flush().map_err(io)?;
+        w.commit()?;
         point_fields.push(PointField {
             name: "reaction",
             components: 3,
@@ -244,11 +243,10 @@ fn write_all(
         }
     }
     let path = dir.join("summary.json");
-    std::fs::write(
+    crate::atomic_file::write(
         &path,
         serde_json::to_string_pretty(&summary).expect("json") + "\n",
     )
-    .map_err(|e| FlankError::io(&path, e))
 }
 
 /// Nodes with at least one prescribed DOF or in a rigid coupling.

@@ -81,7 +81,7 @@ pub fn write_vtu(
     cell_fields: &[CellField],
 ) -> Result<()> {
     let text = vtu_string(mesh, point_fields, cell_fields)?;
-    std::fs::write(path, text).map_err(|e| FlankError::io(path, e))
+    crate::atomic_file::write(path, text)
 }
 
 /// The `.vtu` document [`write_vtu`] would write, with the same checks.

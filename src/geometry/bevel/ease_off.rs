@@ -347,7 +347,7 @@ pub fn deviation_grid(eased: &EasedPinion, n: usize, m: usize) -> Result<Vec<Gri
 /// (µm).
 pub fn write_grid_csv(path: &Path, grid: &[GridNode]) -> Result<()> {
     let io = |e| FlankError::io(path, e);
-    let mut f = std::io::BufWriter::new(std::fs::File::create(path).map_err(io)?);
+    let mut f = crate::atomic_file::AtomicWriter::create(path)?;
     writeln!(f, "u_mm,v_mm,x_mm,y_mm,z_mm,nx,ny,nz,deviation_um").map_err(io)?;
     for g in grid {
         writeln!(
@@ -365,5 +365,5 @@ pub fn write_grid_csv(path: &Path, grid: &[GridNode]) -> Result<()> {
         )
         .map_err(io)?;
     }
-    f.flush().map_err(io)
+    f.commit()
 }

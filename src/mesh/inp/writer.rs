@@ -27,7 +27,7 @@ const PER_LINE: usize = 8;
 /// Writes the model as a CalculiX deck (see [`format_deck`]).
 pub fn write_deck(model: &Model, path: &Path) -> Result<()> {
     let text = format_deck(model)?;
-    std::fs::write(path, text).map_err(|e| FlankError::io(path, e))
+    crate::atomic_file::write(path, text)
 }
 
 /// The model as a CalculiX deck: *NODE (NSET=NALL), *ELEMENT blocks
