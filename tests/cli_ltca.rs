@@ -307,6 +307,31 @@ fn hypoid_ltca_writes_its_files() {
     }
     let csv = std::fs::read_to_string(d.join("ltca_positions.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 3 * 3);
+    // the positions are solved in parallel: one thread gives the same files
+    let d1 = dir("hypoid_one_thread");
+    let (ok, out, err) = flank(&[
+        "ltca",
+        "papers/seed003-hypoid/scene_eased.toml",
+        "--flank-size",
+        "2",
+        "--base-size",
+        "8",
+        "--roll-angles=-8.182,0,8.182",
+        "--points-per-line",
+        "11",
+        "--threads",
+        "1",
+        "--out",
+        d1.to_str().unwrap(),
+    ]);
+    assert!(ok, "{out}\n{err}");
+    for f in ["ltca_positions.csv", "ltca_points.csv"] {
+        assert_eq!(
+            std::fs::read_to_string(d.join(f)).unwrap(),
+            std::fs::read_to_string(d1.join(f)).unwrap(),
+            "{f}"
+        );
+    }
     let (ok, _, err) = flank(&[
         "ltca",
         "papers/seed002-spur/scene.toml",

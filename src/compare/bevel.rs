@@ -68,10 +68,7 @@ pub fn compare_bevel(
                 .collect::<Result<_, _>>()?;
         }
         let t = Instant::now();
-        let results: Vec<_> = angles
-            .iter()
-            .map(|&a| l.solve(a))
-            .collect::<Result<_, _>>()?;
+        let results = l.solve_cycle(&angles)?;
         let cycle_s = t.elapsed().as_secs_f64();
         runs.push(MethodRun {
             method: "ltca".into(),

@@ -85,6 +85,10 @@ impl ToothSurface for RotatedSurface {
         let (p, n, a, b) = self.surface.evaluate(u, v);
         (self.turn(p), self.turn(n), self.turn(a), self.turn(b))
     }
+    fn evaluate_checked(&self, u: f64, v: f64) -> Option<(V3, V3, V3, V3)> {
+        let (p, n, a, b) = self.surface.evaluate_checked(u, v)?;
+        Some((self.turn(p), self.turn(n), self.turn(a), self.turn(b)))
+    }
     fn second_derivatives(&self, u: f64, v: f64) -> [V3; 3] {
         self.surface.second_derivatives(u, v).map(|d| self.turn(d))
     }

@@ -61,6 +61,18 @@ pub trait ToothSurface: Debug + Send + Sync {
         (self.point(u, v), self.normal(u, v), pu, pv)
     }
 
+    /// [`Self::evaluate`] where the surface is defined at (u, v), `None`
+    /// where it is not: a surface evaluated by an inner solve (generated
+    /// and conjugate bevel flanks) returns `None` where that solve fails
+    /// (outside the generated region, e.g. beyond the tip of a conjugate
+    /// flank), where [`Self::evaluate`] falls back to a nearby point that is
+    /// not on the surface. A Newton search that meets such a parameter has
+    /// left the surface (`crate::tca::line_intersection` stops there
+    /// instead of cycling on fallback points). Default: always defined.
+    fn evaluate_checked(&self, u: f64, v: f64) -> Option<(V3, V3, V3, V3)> {
+        Some(self.evaluate(u, v))
+    }
+
     /// Second derivatives [r_uu, r_uv, r_vv]. Default: central differences
     /// of the first derivatives with steps of 1e-5 of the parameter spans
     /// (truncation error ~1e-10 relative for smooth surfaces).

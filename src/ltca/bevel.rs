@@ -334,6 +334,29 @@ impl BevelLtca {
             .solve(&position, &frames, self.torque, &self.options.settings)
     }
 
+    /// The positions nearest to `rolls_deg` ([`Self::solve`]), in that
+    /// order, solved in parallel: positions are independent (each reads the
+    /// tensors, the point TCA and the surfaces and writes only its own
+    /// result), so the results are the same on any number of threads. On
+    /// `options.threads` threads (0: rayon's global pool); the first failing
+    /// position's error, in the order given.
+    pub fn solve_cycle(&self, rolls_deg: &[f64]) -> Result<Vec<PositionResult>, FlankError> {
+        use rayon::prelude::*;
+        let run = || -> Result<Vec<PositionResult>, FlankError> {
+            let all: Vec<_> = rolls_deg.par_iter().map(|&r| self.solve(r)).collect();
+            all.into_iter().collect()
+        };
+        let n = self.options.threads;
+        if n > 0 && n != rayon::current_num_threads() {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map_err(|e| FlankError::Solver(format!("cannot start {n} threads: {e}")))?;
+            return pool.install(run);
+        }
+        run()
+    }
+
     /// Force per pinion tooth of the sector (N).
     pub fn pair_forces(&self, r: &PositionResult) -> Vec<f64> {
         let mut f = vec![0.0; self.pair.sector_teeth()];
@@ -378,10 +401,7 @@ pub fn run_bevel(
             .collect()
     });
     let t_cycle = Instant::now();
-    let results: Vec<PositionResult> = rolls
-        .iter()
-        .map(|&r| ltca.solve(r))
-        .collect::<Result<_, _>>()?;
+    let results = ltca.solve_cycle(&rolls)?;
     let cycle_s = t_cycle.elapsed().as_secs_f64();
     let np = ltca.pair.sector_teeth();
     let mut csv = String::from(

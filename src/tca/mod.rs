@@ -653,6 +653,11 @@ fn intersect(
 
 /// [`intersect`] to a step tolerance `tol` (mm): surfaces evaluated by an
 /// inner Newton (generated bevel flanks) carry round-off above 1e-12 mm.
+/// `None` also as soon as an iterate lands where the flank is not defined
+/// ([`ToothSurface::evaluate_checked`]): the line has left the generated
+/// surface (a candidate axis running past a conjugate pinion's tip), and
+/// Newton on the fallback points there only cycles until its 30 steps run
+/// out, each step a failed inner solve.
 pub(crate) fn line_intersection(
     fs: &dyn ToothSurface,
     frame: &Frame,
@@ -665,7 +670,7 @@ pub(crate) fn line_intersection(
     let m = frame.rotate_back(d).map(|x| -x);
     let (mut u, mut v, mut t) = (u, v, 0.0);
     for _ in 0..30 {
-        let (p, n, pu, pv) = fs.evaluate(u, v);
+        let (p, n, pu, pv) = fs.evaluate_checked(u, v)?;
         let r = add(sub(q0, p), -t, m);
         // [P_u P_v −d′] (du, dv, dt) = r by Cramer's rule
         let pvm = cross(pv, m);

@@ -855,3 +855,84 @@ fn point_contact_tca_of_crowned_cylindrical_pairs() {
         assert!(p.max_residual[0] <= 1e-9 && p.max_residual[1] <= 1e-9);
     }
 }
+
+/// A plane patch z = 0 (u = x, v = y) whose own solve "fails" for u > 1:
+/// there `evaluate` returns a fallback point off the plane that moves with
+/// u, as a generated flank's last Newton iterate does; evaluations counted.
+#[derive(Debug, Default)]
+struct HalfPlane {
+    evaluations: std::sync::atomic::AtomicUsize,
+}
+
+impl ToothSurface for HalfPlane {
+    fn u_range(&self) -> (f64, f64) {
+        (-2.0, 2.0)
+    }
+    fn v_range(&self) -> (f64, f64) {
+        (-2.0, 2.0)
+    }
+    fn u_tip(&self, _v: f64) -> f64 {
+        1.0
+    }
+    fn u_form(&self, _v: f64) -> f64 {
+        -1.0
+    }
+    fn u_root(&self, _v: f64) -> f64 {
+        -2.0
+    }
+    fn point(&self, u: f64, v: f64) -> V3 {
+        self.evaluate(u, v).0
+    }
+    fn normal(&self, u: f64, v: f64) -> V3 {
+        self.evaluate(u, v).1
+    }
+    fn derivatives(&self, u: f64, v: f64) -> (V3, V3) {
+        let (_, _, a, b) = self.evaluate(u, v);
+        (a, b)
+    }
+    fn evaluate(&self, u: f64, v: f64) -> (V3, V3, V3, V3) {
+        self.evaluations
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let x = if u > 1.0 { 1.0 - (u - 1.0) } else { u };
+        (
+            [x, v, 0.0],
+            [0.0, 0.0, 1.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+        )
+    }
+    fn evaluate_checked(&self, u: f64, v: f64) -> Option<(V3, V3, V3, V3)> {
+        (u <= 1.0).then(|| self.evaluate(u, v))
+    }
+}
+
+/// `line_intersection` meets the surface where it is defined (Newton from
+/// a neighbouring start, as before) and gives up at the first iterate
+/// where it is not, instead of cycling on fallback points for 30 steps.
+#[test]
+fn line_intersection_stops_where_the_surface_is_undefined() {
+    let s = HalfPlane::default();
+    let down = [0.0, 0.0, -1.0];
+    let (u, v, t, _) = line_intersection(
+        &s,
+        &Frame::IDENTITY,
+        [0.5, 0.25, 3.0],
+        down,
+        [0.0, 0.0],
+        1e-12,
+    )
+    .unwrap();
+    assert!((u - 0.5).abs() < 1e-12 && (v - 0.25).abs() < 1e-12 && (t - 3.0).abs() < 1e-12);
+    let before = s.evaluations.load(std::sync::atomic::Ordering::Relaxed);
+    let miss = line_intersection(
+        &s,
+        &Frame::IDENTITY,
+        [1.5, 0.0, 3.0],
+        down,
+        [0.9, 0.0],
+        1e-12,
+    );
+    assert!(miss.is_none());
+    let spent = s.evaluations.load(std::sync::atomic::Ordering::Relaxed) - before;
+    assert!(spent <= 2, "{spent} evaluations");
+}

@@ -784,4 +784,10 @@ impl ToothSurface for ConjugatePinion {
         let c = self.eval(u, v);
         (c.point, c.normal, c.r_u, c.r_v)
     }
+    /// `None` where [`ConjugatePinion::conjugate_point`] errs (not counted
+    /// as a failure: nothing falls back).
+    fn evaluate_checked(&self, u: f64, v: f64) -> Option<(V3, V3, V3, V3)> {
+        let c = self.conjugate_point(u, v).ok()?;
+        Some((c.point, c.normal, c.r_u, c.r_v))
+    }
 }

@@ -210,15 +210,17 @@ impl EasedPinion {
 
     fn modified(&self, u: f64, v: f64) -> (V3, V3, V3, V3) {
         let c = &self.conjugate;
-        let p = match c.conjugate_point(u, v) {
-            Ok(p) => p,
+        match c.conjugate_point(u, v) {
+            Ok(p) => self.modified_at(u, v, &p),
             // counted by the conjugate's own fallback
-            Err(_) => {
-                let (x, n, ru, rv) = c.evaluate(u, v);
-                return (x, n, ru, rv);
-            }
-        };
-        let e = self.ease_off_at(u, v, &p);
+            Err(_) => c.evaluate(u, v),
+        }
+    }
+
+    /// Point, normal, r_u, r_v of the modified flank from the conjugate
+    /// point `p` at (u, v).
+    fn modified_at(&self, u: f64, v: f64, p: &ConjugatePoint) -> (V3, V3, V3, V3) {
+        let e = self.ease_off_at(u, v, p);
         let x = add(p.point, -e.e, p.normal);
         let ru = add(add(p.r_u, -e.e_u, p.normal), -e.e, p.n_u);
         let rv = add(add(p.r_v, -e.e_v, p.normal), -e.e, p.n_v);
@@ -258,6 +260,11 @@ impl ToothSurface for EasedPinion {
     }
     fn evaluate(&self, u: f64, v: f64) -> (V3, V3, V3, V3) {
         self.modified(u, v)
+    }
+    /// `None` where the conjugate point does not exist.
+    fn evaluate_checked(&self, u: f64, v: f64) -> Option<(V3, V3, V3, V3)> {
+        let p = self.conjugate.conjugate_point(u, v).ok()?;
+        Some(self.modified_at(u, v, &p))
     }
 }
 

@@ -272,9 +272,55 @@ impl ToothSurface for GeneratedFlank {
     fn evaluate(&self, u: f64, v: f64) -> (V3, V3, V3, V3) {
         self.surface.evaluate(u, v)
     }
+    fn evaluate_checked(&self, u: f64, v: f64) -> Option<(V3, V3, V3, V3)> {
+        self.surface.evaluate_checked(u, v)
+    }
 }
 
 /// The map of a flank (for checks that need the raw jet).
 pub fn flank_map(f: &GeneratedFlank) -> &impl EnvelopeMap {
     f.surface.map()
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+
+    use super::*;
+    use crate::geometry::bevel::machine_settings::{
+        member_setup, CutterChoice, Member, MemberBlank,
+    };
+    use crate::geometry::bevel::{blank_design, BlankInputs};
+    use crate::geometry::rotated::RotatedSurface;
+    use crate::geometry::Hand;
+
+    /// `evaluate_checked` is `evaluate` where the flank's solve converges
+    /// and `None` where it errs (a parameter far beyond the tip, off the
+    /// blade), where `evaluate` returns a fallback point; a turned copy
+    /// forwards both, turned.
+    #[test]
+    fn checked_evaluation_is_none_off_the_generated_flank() {
+        let f2 = r#"{"method": 0, "Sigma_deg": 90, "a_mm": 0, "z1": 14, "z2": 39, "de2_mm": 176.893, "b2_mm": 25.4, "beta_m2_deg": 35.0, "rc0_mm": 114.3, "data_type": "II", "alpha_dD_deg": 20, "alpha_dC_deg": 20, "f_alim": 0, "c_ham": 0.24737, "k_d": 2.0, "k_c": 0.125, "k_t": 0.0915, "backlash": "outer normal jen 0.127", "theta_a2_deg": 2.1342, "theta_f2_deg": 6.4934}"#;
+        let design = blank_design(&BlankInputs::from_json(f2).unwrap()).unwrap();
+        let blank = MemberBlank::from_design(&design, Member::Gear).unwrap();
+        let cutter = CutterChoice {
+            mean_radius: 114.3,
+            edge_radius: 0.6,
+            blade_height: None,
+        };
+        let setup = member_setup(&blank, Hand::Left, &cutter, true).unwrap();
+        let flank = Arc::new(setup.flank(FlankKind::Convex).unwrap());
+        let v = blank.mean_cone_distance;
+        let on = flank
+            .evaluate_checked(0.0, v)
+            .expect("the mean point is on the flank");
+        assert_eq!(on, flank.evaluate(0.0, v));
+        let far = 50.0;
+        assert!(flank.try_evaluate(far, v).is_err());
+        assert!(flank.evaluate_checked(far, v).is_none());
+        let turned = RotatedSurface::new(flank.clone(), 0.3);
+        let t = turned.evaluate_checked(0.0, v).unwrap();
+        assert_eq!(t, turned.evaluate(0.0, v));
+        assert!(turned.evaluate_checked(far, v).is_none());
+    }
 }

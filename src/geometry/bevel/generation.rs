@@ -952,6 +952,10 @@ impl<M: EnvelopeMap> ToothSurface for EnvelopeFlank<M> {
         let (_, _, ru, rv) = self.evaluate(u, v);
         (ru, rv)
     }
+    /// `None` where [`EnvelopeFlank::try_evaluate`] errs.
+    fn evaluate_checked(&self, u: f64, v: f64) -> Option<(V3, V3, V3, V3)> {
+        self.try_evaluate(u, v).ok()
+    }
     fn evaluate(&self, u: f64, v: f64) -> (V3, V3, V3, V3) {
         match self.try_evaluate(u, v) {
             Ok(e) => e,

@@ -723,6 +723,9 @@ impl ToothSurface for HobbedFlank {
     fn evaluate(&self, u: f64, v: f64) -> (V3, V3, V3, V3) {
         self.surface.evaluate(u, v)
     }
+    fn evaluate_checked(&self, u: f64, v: f64) -> Option<(V3, V3, V3, V3)> {
+        self.surface.evaluate_checked(u, v)
+    }
 }
 
 #[cfg(test)]
