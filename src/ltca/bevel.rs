@@ -42,7 +42,6 @@ use crate::compliance::FlankInterpolator;
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
 use crate::geometry::gear_pair::PairPlacement;
-use crate::ltca::friction::{FrictionOptions, Increments};
 use crate::ltca::local::contact_modulus;
 use crate::ltca::model::{LtcaBodies, LtcaFriction, LtcaSettings, PositionResult};
 use crate::scene::BevelScene;
@@ -155,29 +154,21 @@ impl BevelLtcaOptions {
                 "--roll-angles: {r} is not a number"
             )));
         }
-        if !(self.friction_mu.is_finite() && (0.0..=1.0).contains(&self.friction_mu)) {
-            return Err(FlankError::Model(format!(
-                "--friction-mu {}: a coefficient in [0, 1] is needed",
-                self.friction_mu
-            )));
-        }
-        if self.friction_mu > 0.0 {
-            if !(1..=10_000).contains(&self.increments) {
-                return Err(FlankError::Model(format!(
-                    "--increments {}: between 1 and 10000 load increments are needed",
-                    self.increments
-                )));
-            }
-            if !(scene.load.speed_rpm > 0.0) {
-                return Err(FlankError::Model(format!(
-                    "{}: friction needs the sliding direction, from [load] speed_rpm > 0 (got {})",
-                    scene.source.display(),
-                    scene.load.speed_rpm
-                )));
-            }
-        }
+        self.friction(scene)?;
         crate::compliance::body::bevel_sector_options(scene, &self.mesh)?;
         Ok(())
+    }
+
+    /// The checked friction settings (`None` for μ = 0).
+    fn friction(&self, scene: &BevelScene) -> Result<Option<LtcaFriction>, FlankError> {
+        LtcaFriction::checked(
+            self.friction_mu,
+            self.increments,
+            self.friction_model,
+            self.cross_check,
+            scene.load.speed_rpm,
+            &scene.source,
+        )
     }
 }
 
@@ -227,18 +218,7 @@ impl BevelLtca {
         ];
         let flank_nodes = [pinion.node_count(), gear.node_count()];
         let mut options = options.clone();
-        if options.friction_mu > 0.0 {
-            options.settings.friction = Some(LtcaFriction {
-                mu: options.friction_mu,
-                options: FrictionOptions {
-                    increments: Increments::Count(options.increments),
-                    ..Default::default()
-                },
-                pinion_speed_rad_s: scene.load.speed_rpm * std::f64::consts::PI / 30.0,
-                cross_check: options.cross_check,
-                model: options.friction_model,
-            });
-        }
+        options.settings.friction = options.friction(scene)?;
         let bodies = LtcaBodies {
             tensors: [pinion, gear],
             grids,
@@ -359,20 +339,12 @@ impl BevelLtca {
 
     /// Force per pinion tooth of the sector (N).
     pub fn pair_forces(&self, r: &PositionResult) -> Vec<f64> {
-        let mut f = vec![0.0; self.pair.sector_teeth()];
-        for (i, (k, _, _)) in r.lines.iter().enumerate() {
-            f[k - 1] += r.line_force_n[i];
-        }
-        f
+        r.per_pair(&r.line_force_n, self.pair.sector_teeth())
     }
 
     /// Friction force per pinion tooth of the sector (N).
     pub fn pair_friction(&self, r: &PositionResult) -> Vec<f64> {
-        let mut f = vec![0.0; self.pair.sector_teeth()];
-        for (i, (k, _, _)) in r.lines.iter().enumerate() {
-            f[k - 1] += r.line_friction_n.get(i).copied().unwrap_or(0.0);
-        }
-        f
+        r.per_pair(&r.line_friction_n, self.pair.sector_teeth())
     }
 
     /// Loaded TE at the gear (arcsec), with the FE run's sign: −θ z₁/z₂.

@@ -20,7 +20,6 @@ use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
 use crate::geometry::gear_pair::{engagement_roll_angles, GearPair};
 use crate::load_sharing::LOADED_FRACTION;
-use crate::ltca::friction::{FrictionOptions, Increments};
 use crate::ltca::local::{contact_modulus, LocalModel};
 use crate::ltca::model::{FrictionModel, LtcaBodies, LtcaFriction, LtcaSettings, PositionResult};
 use crate::ltca::qp::QpSolver;
@@ -241,25 +240,13 @@ impl LtcaCycle {
 
     /// Normal force per pair (pinion tooth p + 1), summed over its lines.
     pub fn pair_forces(&self, r: &PositionResult) -> Vec<f64> {
-        let mut f = vec![0.0; self.pair.sector_teeth()];
-        for (i, (k, _, _)) in r.lines.iter().enumerate() {
-            if (1..=self.pair.sector_teeth()).contains(k) {
-                f[k - 1] += r.line_force_n[i];
-            }
-        }
-        f
+        r.per_pair(&r.line_force_n, self.pair.sector_teeth())
     }
 
     /// Friction force per pair (N, resisting slip along the tangent),
     /// summed over its lines; zeros without friction.
     pub fn pair_friction(&self, r: &PositionResult) -> Vec<f64> {
-        let mut f = vec![0.0; self.pair.sector_teeth()];
-        for (i, (k, _, _)) in r.lines.iter().enumerate() {
-            if (1..=self.pair.sector_teeth()).contains(k) {
-                f[k - 1] += r.line_friction_n.get(i).copied().unwrap_or(0.0);
-            }
-        }
-        f
+        r.per_pair(&r.line_friction_n, self.pair.sector_teeth())
     }
 
     fn loaded(&self, r: &PositionResult, p: usize) -> bool {
@@ -307,42 +294,19 @@ impl LtcaCycle {
 fn ltca_friction(scene: &Scene, o: &LtcaOptions) -> Result<Option<LtcaFriction>, FlankError> {
     let a = scene.analyses.ltca.clone().unwrap_or_default();
     let mu = o.friction_mu.or(a.friction_mu).unwrap_or(0.0);
-    if !(mu.is_finite() && (0.0..=1.0).contains(&mu)) {
-        return Err(FlankError::Model(format!(
-            "--friction-mu {mu}: a coefficient in [0, 1] is needed"
-        )));
+    if mu == 0.0 && (o.cross_check || o.increments.is_some() || o.friction_model.is_some()) {
+        return Err(FlankError::Model(
+            "--increments, --cross-check and --friction-model need friction (--friction-mu > 0 or [analyses.ltca] friction_mu)".into(),
+        ));
     }
-    let increments = o.increments.or(a.increments).unwrap_or(DEFAULT_INCREMENTS);
-    if mu == 0.0 {
-        if o.cross_check || o.increments.is_some() || o.friction_model.is_some() {
-            return Err(FlankError::Model(
-                "--increments, --cross-check and --friction-model need friction (--friction-mu > 0 or [analyses.ltca] friction_mu)".into(),
-            ));
-        }
-        return Ok(None);
-    }
-    if !(1..=10_000).contains(&increments) {
-        return Err(FlankError::Model(format!(
-            "--increments {increments}: between 1 and 10000 load increments are needed"
-        )));
-    }
-    if !(scene.load.speed_rpm > 0.0) {
-        return Err(FlankError::Model(format!(
-            "{}: friction needs the sliding direction, from [load] speed_rpm > 0 (got {})",
-            scene.source.display(),
-            scene.load.speed_rpm
-        )));
-    }
-    Ok(Some(LtcaFriction {
+    LtcaFriction::checked(
         mu,
-        options: FrictionOptions {
-            increments: Increments::Count(increments),
-            ..Default::default()
-        },
-        pinion_speed_rad_s: scene.load.speed_rpm * std::f64::consts::PI / 30.0,
-        cross_check: o.cross_check,
-        model: o.friction_model.or(a.friction_model).unwrap_or_default(),
-    }))
+        o.increments.or(a.increments).unwrap_or(DEFAULT_INCREMENTS),
+        o.friction_model.or(a.friction_model).unwrap_or_default(),
+        o.cross_check,
+        scene.load.speed_rpm,
+        &scene.source,
+    )
 }
 
 /// Roll angles of the scene's `[analyses.ltca]` (or the options'), and

@@ -82,6 +82,50 @@ pub struct LtcaFriction {
     pub model: FrictionModel,
 }
 
+impl LtcaFriction {
+    /// The checked settings of μ (`None` for μ = 0), `increments` equal
+    /// load steps and `model`, for a pinion at `speed_rpm` (friction needs
+    /// the sliding direction, i.e. a speed > 0; `source` names the scene).
+    pub fn checked(
+        mu: f64,
+        increments: usize,
+        model: FrictionModel,
+        cross_check: bool,
+        speed_rpm: f64,
+        source: &std::path::Path,
+    ) -> Result<Option<Self>, FlankError> {
+        if !(mu.is_finite() && (0.0..=1.0).contains(&mu)) {
+            return Err(FlankError::Model(format!(
+                "--friction-mu {mu}: a coefficient in [0, 1] is needed"
+            )));
+        }
+        if mu == 0.0 {
+            return Ok(None);
+        }
+        if !(1..=10_000).contains(&increments) {
+            return Err(FlankError::Model(format!(
+                "--increments {increments}: between 1 and 10000 load increments are needed"
+            )));
+        }
+        if !(speed_rpm > 0.0) {
+            return Err(FlankError::Model(format!(
+                "{}: friction needs the sliding direction, from [load] speed_rpm > 0 (got {speed_rpm})",
+                source.display()
+            )));
+        }
+        Ok(Some(LtcaFriction {
+            mu,
+            options: FrictionOptions {
+                increments: crate::ltca::friction::Increments::Count(increments),
+                ..Default::default()
+            },
+            pinion_speed_rad_s: speed_rpm * std::f64::consts::PI / 30.0,
+            cross_check,
+            model,
+        }))
+    }
+}
+
 /// What sets the slip, hence the friction direction, of the frictional
 /// LTCA (the physics behind each: [`crate::ltca::friction`]).
 #[derive(
@@ -654,6 +698,20 @@ impl LtcaBodies {
             local_s,
             qp_s,
         })
+    }
+}
+
+impl PositionResult {
+    /// A per-line value (e.g. [`Self::line_force_n`]) summed over the
+    /// lines of each pinion tooth 1..=`teeth` of the sector.
+    pub fn per_pair(&self, line_values: &[f64], teeth: usize) -> Vec<f64> {
+        let mut f = vec![0.0; teeth];
+        for (i, (k, _, _)) in self.lines.iter().enumerate() {
+            if (1..=teeth).contains(k) {
+                f[k - 1] += line_values.get(i).copied().unwrap_or(0.0);
+            }
+        }
+        f
     }
 }
 
