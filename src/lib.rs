@@ -101,6 +101,7 @@ pub mod error;
 pub mod fem;
 pub mod geometry;
 pub mod interrupt;
+pub mod iteration_limits;
 pub mod load_sharing;
 pub mod ltca;
 pub mod lubrication;

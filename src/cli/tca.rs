@@ -142,6 +142,11 @@ pub fn run(args: Args) -> Result<()> {
                 sweep(&args.out, &s.pair, mis, r, &settings)?;
             }
             println!("{}", serde_json::to_string_pretty(&summary)?);
+            for (variant, t) in [("with edges", &with), ("without edges", &without)] {
+                for w in t.iteration_limits.warnings() {
+                    eprintln!("warning: TCA {variant}: {w}; the trace ends there (summary.json: iteration_limits)");
+                }
+            }
             if let Some(c) = with.crossing {
                 eprintln!(
                     "warning: the flanks cross: at roll {:.3}° a point of the pinion's active flank (u, v) = ({:.3}, {:.3}) mm lies {:.4} mm inside the gear flank with the gear where the TE envelope puts it (pair offset {}); the pairs touch elsewhere first, and this TCA's TE and bearing are not the pair's (summary.json: crossing)",
@@ -254,6 +259,7 @@ fn variant_summary(t: &PointTca) -> serde_json::Value {
         "max_point_residual_mm": t.max_residual[0],
         "max_tangency_residual": t.max_residual[1],
         "newton_steps": t.newton_steps,
+        "iteration_limits": t.iteration_limits.to_json(),
         "crossing": t.crossing.map(|c| serde_json::json!({
             "roll_deg": c.roll_rad.to_degrees(),
             "pair_offset": c.pair_offset,

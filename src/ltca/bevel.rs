@@ -448,6 +448,8 @@ pub fn run_bevel(
             ));
         }
     }
+    let loops = crate::ltca::cycle::iteration_limits(&results);
+    notes.extend(loops.warnings());
     let path = out.join("ltca_positions.csv");
     crate::atomic_file::write(&path, csv)?;
     crate::ltca::cycle::write_points_csv(&out.join("ltca_points.csv"), &results)?;
@@ -470,6 +472,7 @@ pub fn run_bevel(
         "te_peak_to_peak_arcsec": te_pp,
         "max_pressure_mpa": worst(|r| r.max_pressure_mpa),
         "max_kkt": worst(|r| r.kkt_max),
+        "iteration_limits": loops.to_json(),
         "friction": ltca.options.settings.friction.as_ref().map(|f| crate::ltca::cycle::friction_summary(&results, f, ltca.torque)),
         "pairs_loaded_at_a_flank_edge": edge_loaded,
         "compliance_s": ltca.compliance_s,

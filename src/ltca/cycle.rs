@@ -17,6 +17,7 @@ use crate::compliance::body::{scene_body, BodyMeshOptions};
 use crate::compliance::cache::{ComplianceCache, FileFormat};
 use crate::compliance::run::{body_tensor, BodyTensorOptions};
 use crate::error::FlankError;
+use crate::iteration_limits::IterationLimits;
 use crate::fem::static_analysis::peak_memory_mb;
 use crate::geometry::gear_pair::{engagement_roll_angles, GearPair};
 use crate::load_sharing::LOADED_FRACTION;
@@ -434,6 +435,8 @@ pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, Fl
         notes.push(format!("contact pattern not plotted: {e}"));
         Vec::new()
     });
+    let loops = iteration_limits(&results);
+    notes.extend(loops.warnings());
     let time_per_position_s =
         results.iter().map(|r| r.time_s).sum::<f64>() / results.len().max(1) as f64;
     let worst = |f: fn(&PositionResult) -> f64| results.iter().map(f).fold(0.0f64, f64::max);
@@ -457,6 +460,7 @@ pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, Fl
         "max_kkt": worst(|r| r.kkt_max),
         "max_condition": results.iter().filter_map(|r| r.condition).reduce(f64::max),
         "kkt_flagged": flagged,
+        "iteration_limits": loops.to_json(),
         "max_pressure_mpa": worst(|r| r.max_pressure_mpa),
         "friction": cycle.settings.friction.as_ref().map(|f| friction_summary(&results, f, cycle.torque)),
         "peak_memory_mb": peak_memory_mb(),
@@ -473,6 +477,16 @@ pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, Fl
             + "\n",
     )?;
     Ok(summary)
+}
+
+/// The bounded loops of every position together (the summary's
+/// `iteration_limits`).
+pub(crate) fn iteration_limits(results: &[PositionResult]) -> IterationLimits {
+    let mut all = IterationLimits::new();
+    for r in results {
+        all.merge(&r.iteration_limits);
+    }
+    all
 }
 
 /// The frictional LTCA over the cycle (seeds 001/003): the Coulomb

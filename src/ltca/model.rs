@@ -35,16 +35,23 @@ use crate::compliance::interpolation::{CellShape, FlankGrids, FlankInterpolator,
 use crate::compliance::ComplianceTensor;
 use crate::contact::placement::Frame;
 use crate::error::FlankError;
+use crate::iteration_limits::{IterationLimits, LoopEnd};
 use crate::geometry::gear_pair::{Flank, PairPlacement};
 use crate::geometry::surface::ToothSurface;
 use crate::geometry::vec3::{cross, dot, sub};
 use crate::ltca::friction::{
     cross_check, friction_coupling, solve_friction, solve_sliding, FrictionOptions,
-    FrictionProblem, FrictionSolver, PointState,
+    FrictionProblem, FrictionSolver, PointState, MAX_ACTIVE_SET_ITERATIONS,
+    MAX_SLIDING_ITERATIONS, SLIDING_TOLERANCE,
 };
 use crate::ltca::local::{cell_influence, hertz_line, Cell, LocalModel};
 use crate::ltca::qp::{condition_number, solve_contact_qp, ContactQp, QpOptions, QpSolution};
 use crate::tca::{LineKind, TcaPosition};
+
+/// Relative change of the Hertz half-widths at which their fixed point
+/// stops: 1 % moves the near-field term by (2/(π E*)) P′ ln(1.01), < 1e-3 of
+/// the TE at gear loads.
+pub const HALF_WIDTH_TOLERANCE: f64 = 1e-2;
 
 /// Settings of the LTCA solve at one position.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -54,7 +61,9 @@ pub struct LtcaSettings {
     pub fe_cell_factor: f64,
     /// Gauss points per direction over a cell (tensor interpolation).
     pub cell_samples: usize,
-    /// Fixed-point iterations on the Hertz half-widths (≥ 1).
+    /// Limit on the fixed-point iterations on the Hertz half-widths (≥ 1);
+    /// the loop stops earlier when they change by less than
+    /// [`HALF_WIDTH_TOLERANCE`].
     pub local_iterations: usize,
     pub qp: QpOptions,
     /// Report κ(F) (one symmetric eigen-decomposition per position).
@@ -259,6 +268,11 @@ pub struct PositionResult {
     pub compliance_s: f64,
     pub local_s: f64,
     pub qp_s: f64,
+    /// How the position's bounded loops ended (the Hertz half-width fixed
+    /// point, the QP, the friction solve): gathered into the summary's
+    /// `iteration_limits`.
+    #[serde(skip)]
+    pub iteration_limits: IterationLimits,
 }
 
 /// A candidate point with its cells on both flanks.
@@ -529,6 +543,9 @@ impl LtcaBodies {
         };
         let mut solution: Option<Answer> = None;
         let mut local_iterations = 0;
+        let mut local_change = 0.0;
+        let mut local_converged = false;
+        let mut loops = IterationLimits::new();
         for _ in 0..settings.local_iterations {
             local_iterations += 1;
             let t_l = Instant::now();
@@ -559,7 +576,7 @@ impl LtcaBodies {
                         torque,
                     },
                     &settings.qp,
-                )?),
+                )?, &settings.qp),
                 Some(fr) => {
                     let sliding: Vec<f64> = match fr.model {
                         FrictionModel::Standstill => vec![0.0; n],
@@ -607,17 +624,32 @@ impl LtcaBodies {
                 } else {
                     half[i]
                 };
-                // relative change of a: 1 % moves the near-field term by
-                // (2/(π E*)) P′ ln(1.01), < 1e-3 of the TE at gear loads
+                // relative change of a (see HALF_WIDTH_TOLERANCE)
                 change = change.max((a - half[i]).abs() / half[i].max(1e-6));
                 half[i] = a;
             }
+            loops.merge(&s.loops);
             solution = Some(s);
-            if settings.local != LocalModel::HalfSpace || change < 1e-2 {
+            local_change = change;
+            if settings.local != LocalModel::HalfSpace || change < HALF_WIDTH_TOLERANCE {
+                local_converged = true;
                 break;
             }
         }
         let s = solution.expect("at least one iteration");
+        if settings.local == LocalModel::HalfSpace {
+            loops.record(
+                "ltca.hertz_half_width",
+                "relative change of the Hertz half-widths",
+                HALF_WIDTH_TOLERANCE,
+                LoopEnd {
+                    iterations: local_iterations,
+                    limit: settings.local_iterations,
+                    converged: local_converged,
+                    residual: local_change,
+                },
+            );
+        }
         let time_s = t0.elapsed().as_secs_f64();
         // reported, not part of the solve: outside the timed part
         let condition = settings.condition.then(|| condition_number(&f, n));
@@ -697,6 +729,7 @@ impl LtcaBodies {
             compliance_s,
             local_s,
             qp_s,
+            iteration_limits: loops,
         })
     }
 }
@@ -728,10 +761,20 @@ struct Answer {
     /// Friction forces and states of the last increment.
     friction: Option<(Vec<f64>, Vec<PointState>)>,
     report: Option<serde_json::Value>,
+    /// How the solve's bounded loops ended.
+    loops: IterationLimits,
 }
 
 impl Answer {
-    fn of_qp(s: QpSolution) -> Self {
+    fn of_qp(s: QpSolution, options: &QpOptions) -> Self {
+        // reaching the limit is an error of the QP: a returned answer met it
+        let mut loops = IterationLimits::new();
+        loops.record(
+            "ltca.contact_qp",
+            "largest relative KKT residual",
+            options.kkt_tolerance,
+            LoopEnd::converged(s.iterations, options.max_iterations, s.kkt.max),
+        );
         Answer {
             load: s.load,
             rotation: s.rotation,
@@ -741,6 +784,7 @@ impl Answer {
             within_tolerance: s.within_tolerance,
             friction: None,
             report: None,
+            loops,
         }
     }
 
@@ -764,6 +808,30 @@ impl Answer {
         let last = sol.increments.last().ok_or_else(|| {
             FlankError::Solver("friction LTCA: no load increment was solved".into())
         })?;
+        let mut loops = IterationLimits::new();
+        for k in &sol.increments {
+            let r = k.residual.max;
+            match sol.solver {
+                FrictionSolver::Clarabel => loops.record(
+                    "ltca.friction_fixed_point",
+                    "largest Coulomb residual of the increment",
+                    fr.options.tolerance,
+                    // a polished answer is the exact one of its states
+                    if k.limit_hit && !k.polished {
+                        LoopEnd::at_limit(k.iterations, fr.options.max_fixed_point, r)
+                    } else {
+                        LoopEnd::converged(k.iterations, fr.options.max_fixed_point, r)
+                    },
+                ),
+                // Lemke's pivot limit is an error
+                FrictionSolver::Lemke => loops.record(
+                    "ltca.lemke_pivots",
+                    "largest Coulomb residual of the increment",
+                    fr.options.tolerance,
+                    LoopEnd::converged(k.iterations, fr.options.max_pivots, r),
+                ),
+            }
+        }
         let report = serde_json::json!({
             "mu": fr.mu,
             "model": fr.model,
@@ -784,6 +852,7 @@ impl Answer {
             within_tolerance: sol.within_tolerance,
             friction: Some((last.tangential.clone(), last.state.clone())),
             report: Some(report),
+            loops,
         })
     }
 }
@@ -811,6 +880,27 @@ impl Answer {
             .collect();
         let max = a.residual.max(a.kkt);
         let coupling = friction_coupling(problem, &a.normal);
+        let mut loops = IterationLimits::new();
+        // the fixed point at its limit hands over to the active set, whose
+        // own limit is an error
+        loops.record(
+            "ltca.sliding_fixed_point",
+            "relative change of P_t",
+            SLIDING_TOLERANCE,
+            if a.limit_hit {
+                LoopEnd::at_limit(a.iterations, MAX_SLIDING_ITERATIONS, a.change)
+            } else {
+                LoopEnd::converged(a.iterations, MAX_SLIDING_ITERATIONS, a.change)
+            },
+        );
+        if a.active_set_iterations > 0 {
+            loops.record(
+                "ltca.sliding_active_set",
+                "largest residual of the sliding law",
+                fr.options.tolerance,
+                LoopEnd::converged(a.active_set_iterations, MAX_ACTIVE_SET_ITERATIONS, a.residual),
+            );
+        }
         let report = serde_json::json!({
             "mu": fr.mu,
             "model": fr.model,
@@ -833,6 +923,7 @@ impl Answer {
             within_tolerance: a.within_tolerance,
             friction: Some((a.tangential, state)),
             report: Some(report),
+            loops,
         })
     }
 }

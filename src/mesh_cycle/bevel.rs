@@ -24,6 +24,7 @@ use crate::contact::solve::{face_averaged_pressure, solve_pairs_placed, ContactO
 use crate::contact::system::ElasticSystem;
 use crate::contact::PressureOverclosure;
 use crate::error::FlankError;
+use crate::iteration_limits::{IterationLimits, LoopEnd};
 use crate::fem::ordering::OrderingMethod;
 use crate::geometry::gear_pair::PairPlacement;
 use crate::mesh::bevel_body::bevel_body_model;
@@ -471,6 +472,20 @@ pub fn run_bevel(
         .flat_map(|s| s.min_initial_gap_mm.iter())
         .cloned()
         .fold(f64::INFINITY, f64::min);
+    // the normal active set's limit is an error: every recorded call met it
+    let mut loops = IterationLimits::new();
+    for s in &steps {
+        loops.record(
+            "contact.active_set",
+            "largest contact-law violation (mm)",
+            f64::NAN,
+            LoopEnd::converged(
+                s.active_set_iterations,
+                cycle.contact.max_iterations,
+                s.max_violation_mm,
+            ),
+        );
+    }
     let summary = serde_json::json!({
         "scene": scene.source.display().to_string(),
         "positions": steps.len(),
@@ -487,6 +502,7 @@ pub fn run_bevel(
         "max_pressure_mpa": steps.iter().flat_map(|s| s.max_pressure_mpa.iter()).cloned().fold(0.0, f64::max),
         "largest_unloaded_interpenetration_mm": (-interference).max(0.0),
         "max_moment_balance": steps.iter().map(|s| s.moment_balance.abs()).fold(0.0, f64::max),
+        "iteration_limits": loops.to_json(),
         "tooth_pairs": cycle.model.teeth,
         "plots": plots,
         "kinematics": cycle.pair.describe(),

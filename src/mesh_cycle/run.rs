@@ -21,6 +21,7 @@ use crate::contact::solve::{face_averaged_pressure, solve_pairs_placed, ContactO
 use crate::contact::system::ElasticSystem;
 use crate::contact::{Friction, PressureOverclosure};
 use crate::error::FlankError;
+use crate::iteration_limits::{IterationLimits, LoopEnd};
 use crate::fem::ordering::OrderingMethod;
 use crate::fem::static_analysis::peak_memory_mb;
 use std::sync::Arc;
@@ -104,6 +105,40 @@ pub struct Patch {
     pub z_max_mm: f64,
 }
 
+/// The bounded loops of the FE positions (the summary's
+/// `iteration_limits`): the normal active set, whose limit
+/// (`active_set_limit`) is an error, so every recorded call met it, and the
+/// friction fixed point, whose limit (50 Tresca problems per working-set
+/// round, [`crate::contact::friction::FrictionOptions`]) leaves the last
+/// iterate flagged `friction_converged = false` when the polish fails too.
+pub(crate) fn iteration_limits(steps: &[StepResult], active_set_limit: usize) -> IterationLimits {
+    let per_round = crate::contact::friction::FrictionOptions::default();
+    let mut loops = IterationLimits::new();
+    for s in steps {
+        loops.record(
+            "contact.active_set",
+            "largest contact-law violation (mm)",
+            f64::NAN,
+            LoopEnd::converged(s.active_set_iterations, active_set_limit, s.max_violation_mm),
+        );
+        if let Some(converged) = s.friction_converged {
+            let limit = per_round.max_iterations * s.friction_rounds.max(1);
+            let (n, r) = (s.friction_iterations, s.friction_bound_change);
+            loops.record(
+                "contact.friction_fixed_point",
+                "relative change of the slip bounds",
+                per_round.tolerance,
+                if converged {
+                    LoopEnd::converged(n, limit, r)
+                } else {
+                    LoopEnd::at_limit(n, limit, r)
+                },
+            );
+        }
+    }
+    loops
+}
+
 /// Results of one roll angle.
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct StepResult {
@@ -151,6 +186,14 @@ pub struct StepResult {
     pub slip_nodes: usize,
     pub friction_converged: Option<bool>,
     pub coulomb_residual: f64,
+    /// Friction fixed point: Tresca problems solved (all working-set
+    /// rounds), rounds, and the last relative change of the slip bounds.
+    #[serde(default)]
+    pub friction_iterations: usize,
+    #[serde(default)]
+    pub friction_rounds: usize,
+    #[serde(default)]
+    pub friction_bound_change: f64,
     pub time_s: f64,
     pub warnings: Vec<String>,
 }
@@ -409,6 +452,9 @@ impl MeshCycle {
             slip_nodes: state.friction.as_ref().map_or(0, |f| f.slipping),
             friction_converged: state.friction.as_ref().map(|f| f.converged),
             coulomb_residual: state.friction.as_ref().map_or(0.0, |f| f.coulomb_residual),
+            friction_iterations: state.friction.as_ref().map_or(0, |f| f.iterations),
+            friction_rounds: state.friction.as_ref().map_or(0, |f| f.rounds),
+            friction_bound_change: state.friction.as_ref().map_or(0.0, |f| f.bound_change),
             ..Default::default()
         };
         let nn = model.mesh.node_count();
@@ -828,6 +874,8 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
                 .map(move |w| format!("{}°: {w}", s.roll_deg))
         })
         .collect();
+    let loops = iteration_limits(&steps, cycle.contact.max_iterations);
+    notes.extend(loops.warnings());
     write_steps_csv(&out.join("mesh_cycle.csv"), &steps, np)?;
     let (lpstc, hpstc) = cycle.gear_pair.single_contact();
     let (eng_a, eng_e) = cycle.gear_pair.engagement(cycle.gear_pair.middle());
@@ -908,6 +956,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
         "max_complementarity": worst(|s| s.complementarity),
         "max_equilibrium": worst(|s| s.equilibrium),
         "max_backward_error": worst(|s| s.backward_error),
+        "iteration_limits": loops.to_json(),
         "settings": cycle.settings,
         "law": match cycle.pair.model.contact.interactions[0].behavior {
             Some(PressureOverclosure::Linear { slope: Some(s), .. }) =>

@@ -42,6 +42,7 @@
 //!   the LTCA's tangential direction), rolling |v_t1 + v_t2| / 2 (m/s).
 
 use crate::error::FlankError;
+use crate::iteration_limits::{IterationLimits, LoopEnd};
 use crate::geometry::bevel::body::BevelGear;
 use crate::geometry::frame::Frame;
 use crate::geometry::gear_pair::{Flank, GearBody, PairPlacement};
@@ -216,6 +217,9 @@ pub struct PointTca {
     pub max_residual: [f64; 2],
     /// Newton steps, total over the trace.
     pub newton_steps: usize,
+    /// The tangency Newton solves at the grid rolls: most steps, and those
+    /// that ran out of iterations (the trace ends there).
+    pub iteration_limits: IterationLimits,
     /// The deepest interpenetration of a pair's flanks found on a grid
     /// over the pinion's active flank, at every position of one pitch and
     /// for the pairs i = −2..=2 around the middle one, the gear where the
@@ -420,6 +424,7 @@ fn trace(
     dir: i64,
     transitions: &mut Vec<Transition>,
     steps: &mut usize,
+    loops: &mut IterationLimits,
 ) -> Result<(Vec<Traced>, bool)> {
     let limit = (settings.max_pitches * settings.positions_per_pitch as f64).ceil() as i64;
     let mut out = Vec::new();
@@ -435,8 +440,18 @@ fn trace(
             seed.turn = 2.0 * prev.turn - pp.turn;
         }
         let solved = solve_at(pair, roll, system, &seed);
-        if let Ok(t) = &solved {
-            *steps += t.iterations;
+        match &solved {
+            Ok(t) => {
+                *steps += t.iterations;
+                record_newton(loops, LoopEnd::converged(t.iterations, tangency::MAX_ITERATIONS, t.point_residual));
+            }
+            // the trace ends where Newton fails; one that ran out of
+            // iterations is a bound hit, reported (the others say the
+            // contact left a surface)
+            Err(f) if f.iterations >= tangency::MAX_ITERATIONS => {
+                record_newton(loops, LoopEnd::at_limit(f.iterations, tangency::MAX_ITERATIONS, f.residual));
+            }
+            Err(_) => {}
         }
         let holds = match (&solved, system) {
             (Ok(t), ContactSystem::Flank) => crossed(pair, t).is_none(),
@@ -589,8 +604,13 @@ pub fn point_tca(pair: &dyn PairPlacement, settings: &PointTcaSettings) -> Resul
     }
     let mut transitions = Vec::new();
     let mut steps = start.iterations;
-    let (back, bound_b) = trace(pair, settings, h, &start, -1, &mut transitions, &mut steps)?;
-    let (fwd, bound_f) = trace(pair, settings, h, &start, 1, &mut transitions, &mut steps)?;
+    let mut loops = IterationLimits::new();
+    record_newton(
+        &mut loops,
+        LoopEnd::converged(start.iterations, tangency::MAX_ITERATIONS, start.point_residual),
+    );
+    let (back, bound_b) = trace(pair, settings, h, &start, -1, &mut transitions, &mut steps, &mut loops)?;
+    let (fwd, bound_f) = trace(pair, settings, h, &start, 1, &mut transitions, &mut steps, &mut loops)?;
     let mut traced: Vec<Traced> = back.into_iter().rev().collect();
     traced.push(Traced {
         index: 0,
@@ -789,6 +809,17 @@ pub fn point_tca(pair: &dyn PairPlacement, settings: &PointTcaSettings) -> Resul
         hit_trace_bound: bound_b || bound_f,
         max_residual,
         newton_steps: steps,
+        iteration_limits: loops,
         crossing,
     })
+}
+
+/// One tangency solve at a grid roll of the trace.
+fn record_newton(loops: &mut IterationLimits, end: LoopEnd) {
+    loops.record(
+        "tca.tangency_newton",
+        "point residual |r₁ − r₂| (mm; the merit at a failure)",
+        tangency::POINT_TOLERANCE,
+        end,
+    );
 }

@@ -137,7 +137,10 @@ use nalgebra::DMatrix;
 use crate::error::FlankError;
 
 pub use residual::{PointState, Residuals};
-pub use sliding::{friction_coupling, solve_sliding, SlidingAnswer, MAX_SLIDING_ITERATIONS};
+pub use sliding::{
+    friction_coupling, solve_sliding, SlidingAnswer, MAX_ACTIVE_SET_ITERATIONS,
+    MAX_SLIDING_ITERATIONS, SLIDING_TOLERANCE,
+};
 
 /// Largest accepted asymmetry of the compliance (C_nn, C_tt symmetric,
 /// C_tn = C_ntᵀ), relative to max |C|; below it the symmetric part is used.
