@@ -185,16 +185,38 @@ mod tests {
     #[test]
     fn tally_counts_calls_iterations_and_hits() {
         let mut l = IterationLimits::new();
-        l.record("a.newton", "|r| (mm)", 1e-10, LoopEnd::converged(3, 30, 1e-12));
-        l.record("a.newton", "|r| (mm)", 1e-10, LoopEnd::at_limit(30, 30, 2e-6));
-        l.record("a.newton", "|r| (mm)", 1e-10, LoopEnd::at_limit(30, 30, 5e-7));
+        l.record(
+            "a.newton",
+            "|r| (mm)",
+            1e-10,
+            LoopEnd::converged(3, 30, 1e-12),
+        );
+        l.record(
+            "a.newton",
+            "|r| (mm)",
+            1e-10,
+            LoopEnd::at_limit(30, 30, 2e-6),
+        );
+        l.record(
+            "a.newton",
+            "|r| (mm)",
+            1e-10,
+            LoopEnd::at_limit(30, 30, 5e-7),
+        );
         let t = l.get("a.newton").unwrap();
-        assert_eq!((t.calls, t.most_iterations, t.limit_hits, t.limit), (3, 30, 2, 30));
+        assert_eq!(
+            (t.calls, t.most_iterations, t.limit_hits, t.limit),
+            (3, 30, 2, 30)
+        );
         assert_eq!(t.largest_residual_at_limit, Some(2e-6));
         assert_eq!(l.limit_hits(), 2);
         let w = l.warnings();
         assert_eq!(w.len(), 1);
-        assert!(w[0].contains("2 of 3 calls") && w[0].contains("2.000e-6"), "{}", w[0]);
+        assert!(
+            w[0].contains("2 of 3 calls") && w[0].contains("2.000e-6"),
+            "{}",
+            w[0]
+        );
         let j = l.to_json();
         assert_eq!(j["a.newton"]["limit_hits"], 2);
         assert_eq!(j["a.newton"]["most_iterations"], 30);
@@ -203,7 +225,12 @@ mod tests {
     #[test]
     fn converged_calls_leave_no_residual_at_limit() {
         let mut l = IterationLimits::new();
-        l.record("b.fixed_point", "change", 1e-2, LoopEnd::converged(2, 4, 3e-3));
+        l.record(
+            "b.fixed_point",
+            "change",
+            1e-2,
+            LoopEnd::converged(2, 4, 3e-3),
+        );
         let t = l.get("b.fixed_point").unwrap();
         assert_eq!(t.largest_residual_at_limit, None);
         assert_eq!(t.largest_residual, 3e-3);
@@ -231,6 +258,11 @@ mod tests {
         let mut l = IterationLimits::new();
         l.record("n", "r", 1e-9, LoopEnd::at_limit(5, 5, 1.0));
         l.record("n", "r", 1e-9, LoopEnd::at_limit(5, 5, f64::NAN));
-        assert!(l.get("n").unwrap().largest_residual_at_limit.unwrap().is_nan());
+        assert!(l
+            .get("n")
+            .unwrap()
+            .largest_residual_at_limit
+            .unwrap()
+            .is_nan());
     }
 }

@@ -67,6 +67,88 @@ fn ltca_writes_the_cycle_files() {
         csv.lines().count() - 1,
         s["positions"].as_u64().unwrap() as usize
     );
+    // every bounded loop of the solve is tallied: one Hertz half-width
+    // fixed point per position, one QP per fixed-point iteration
+    let loops = &s["iteration_limits"];
+    let positions = s["positions"].as_u64().unwrap();
+    let hertz = &loops["ltca.hertz_half_width"];
+    assert_eq!(hertz["calls"].as_u64(), Some(positions), "{loops}");
+    let local: u64 = s["steps"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["local_iterations"].as_u64().unwrap())
+        .sum();
+    let qp = &loops["ltca.contact_qp"];
+    assert_eq!(qp["calls"].as_u64(), Some(local), "{loops}");
+    assert!(qp["most_iterations"].as_u64().unwrap() <= qp["limit"].as_u64().unwrap());
+    assert_eq!(qp["limit_hits"].as_u64(), Some(0), "{loops}");
+}
+
+/// A Hertz half-width fixed point cut to one iteration
+/// (`[analyses.ltca] local_iterations = 1`) stops at its limit with the
+/// half-widths still moving: summary.json's `iteration_limits` counts the
+/// hits with the change left, and a note says so.
+#[test]
+fn a_hit_iteration_limit_is_reported_with_its_residual() {
+    let d = dir("limit");
+    std::fs::create_dir_all(&d).unwrap();
+    let text = std::fs::read_to_string(
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("papers/seed002-spur/scene.toml"),
+    )
+    .unwrap();
+    let scene = d.join("scene.toml");
+    std::fs::write(
+        &scene,
+        text.replace(
+            "mesh = {}",
+            "mesh = {}\nltca = { local_iterations = 1, roll_angles_deg = [-4.0, 0.0, 4.0] }",
+        ),
+    )
+    .unwrap();
+    let out = d.join("out");
+    let (ok, _, err) = flank(&[
+        "ltca",
+        scene.to_str().unwrap(),
+        "--flank-size",
+        "1.5",
+        "--base-size",
+        "3",
+        "--points-per-line",
+        "10",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let hertz = &s["iteration_limits"]["ltca.hertz_half_width"];
+    assert_eq!(hertz["limit"].as_u64(), Some(1), "{hertz}");
+    let hits = hertz["limit_hits"].as_u64().unwrap();
+    assert!(hits >= 1, "{hertz}");
+    let left = hertz["largest_residual_at_limit"].as_f64().unwrap();
+    assert!(left >= hertz["tolerance"].as_f64().unwrap(), "{hertz}");
+    let notes = s["notes"].to_string();
+    assert!(
+        notes.contains("ltca.hertz_half_width") && notes.contains("iteration limit 1"),
+        "{notes}"
+    );
+    // out of range: a clear error at the key
+    std::fs::write(
+        &scene,
+        text.replace("mesh = {}", "mesh = {}\nltca = { local_iterations = 0 }"),
+    )
+    .unwrap();
+    let (ok, _, err) = flank(&[
+        "ltca",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(
+        !ok && err.contains("local_iterations") && err.contains("scene.toml:"),
+        "{err}"
+    );
 }
 
 #[test]

@@ -822,8 +822,9 @@ pub fn solve_friction(
             break;
         }
         if out.rounds >= options.max_rounds {
+            let deepest = entering.iter().map(|&i| -g[3 * i]).fold(0.0f64, f64::max);
             return Err(FlankError::Solver(format!(
-                "friction: {} candidate(s) outside the working set still penetrate after {} enlargements",
+                "friction: {} candidate(s) outside the working set still penetrate after {} enlargements (the limit), the deepest by {deepest:.3e} mm",
                 entering.len(),
                 out.rounds
             )));

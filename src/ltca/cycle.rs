@@ -17,9 +17,9 @@ use crate::compliance::body::{scene_body, BodyMeshOptions};
 use crate::compliance::cache::{ComplianceCache, FileFormat};
 use crate::compliance::run::{body_tensor, BodyTensorOptions};
 use crate::error::FlankError;
-use crate::iteration_limits::IterationLimits;
 use crate::fem::static_analysis::peak_memory_mb;
 use crate::geometry::gear_pair::{engagement_roll_angles, GearPair};
+use crate::iteration_limits::IterationLimits;
 use crate::load_sharing::LOADED_FRACTION;
 use crate::ltca::local::{contact_modulus, LocalModel};
 use crate::ltca::model::{FrictionModel, LtcaBodies, LtcaFriction, LtcaSettings, PositionResult};
@@ -156,6 +156,9 @@ impl LtcaCycle {
                 ..Default::default()
             },
             friction: ltca_friction(scene, options)?,
+            local_iterations: a
+                .local_iterations
+                .unwrap_or(LtcaSettings::default().local_iterations),
             ..Default::default()
         };
         let setup = Setup {

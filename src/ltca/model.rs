@@ -35,14 +35,14 @@ use crate::compliance::interpolation::{CellShape, FlankGrids, FlankInterpolator,
 use crate::compliance::ComplianceTensor;
 use crate::contact::placement::Frame;
 use crate::error::FlankError;
-use crate::iteration_limits::{IterationLimits, LoopEnd};
 use crate::geometry::gear_pair::{Flank, PairPlacement};
 use crate::geometry::surface::ToothSurface;
 use crate::geometry::vec3::{cross, dot, sub};
+use crate::iteration_limits::{IterationLimits, LoopEnd};
 use crate::ltca::friction::{
     cross_check, friction_coupling, solve_friction, solve_sliding, FrictionOptions,
-    FrictionProblem, FrictionSolver, PointState, MAX_ACTIVE_SET_ITERATIONS,
-    MAX_SLIDING_ITERATIONS, SLIDING_TOLERANCE,
+    FrictionProblem, FrictionSolver, PointState, MAX_ACTIVE_SET_ITERATIONS, MAX_SLIDING_ITERATIONS,
+    SLIDING_TOLERANCE,
 };
 use crate::ltca::local::{cell_influence, hertz_line, Cell, LocalModel};
 use crate::ltca::qp::{condition_number, solve_contact_qp, ContactQp, QpOptions, QpSolution};
@@ -568,15 +568,18 @@ impl LtcaBodies {
             local_s += t_l.elapsed().as_secs_f64();
             let t_q = Instant::now();
             let s = match &settings.friction {
-                None => Answer::of_qp(solve_contact_qp(
-                    &ContactQp {
-                        compliance: &f,
-                        separation: &w,
-                        moment_arm: &r,
-                        torque,
-                    },
+                None => Answer::of_qp(
+                    solve_contact_qp(
+                        &ContactQp {
+                            compliance: &f,
+                            separation: &w,
+                            moment_arm: &r,
+                            torque,
+                        },
+                        &settings.qp,
+                    )?,
                     &settings.qp,
-                )?, &settings.qp),
+                ),
                 Some(fr) => {
                     let sliding: Vec<f64> = match fr.model {
                         FrictionModel::Standstill => vec![0.0; n],
@@ -898,7 +901,11 @@ impl Answer {
                 "ltca.sliding_active_set",
                 "largest residual of the sliding law",
                 fr.options.tolerance,
-                LoopEnd::converged(a.active_set_iterations, MAX_ACTIVE_SET_ITERATIONS, a.residual),
+                LoopEnd::converged(
+                    a.active_set_iterations,
+                    MAX_ACTIVE_SET_ITERATIONS,
+                    a.residual,
+                ),
             );
         }
         let report = serde_json::json!({

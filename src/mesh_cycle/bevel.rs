@@ -24,9 +24,9 @@ use crate::contact::solve::{face_averaged_pressure, solve_pairs_placed, ContactO
 use crate::contact::system::ElasticSystem;
 use crate::contact::PressureOverclosure;
 use crate::error::FlankError;
-use crate::iteration_limits::{IterationLimits, LoopEnd};
 use crate::fem::ordering::OrderingMethod;
 use crate::geometry::gear_pair::PairPlacement;
+use crate::iteration_limits::{IterationLimits, LoopEnd};
 use crate::mesh::bevel_body::bevel_body_model;
 use crate::mesh::bevel_sector::BevelSectorOptions;
 use crate::mesh_cycle::pair_model::{

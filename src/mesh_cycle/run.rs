@@ -21,9 +21,9 @@ use crate::contact::solve::{face_averaged_pressure, solve_pairs_placed, ContactO
 use crate::contact::system::ElasticSystem;
 use crate::contact::{Friction, PressureOverclosure};
 use crate::error::FlankError;
-use crate::iteration_limits::{IterationLimits, LoopEnd};
 use crate::fem::ordering::OrderingMethod;
 use crate::fem::static_analysis::peak_memory_mb;
+use crate::iteration_limits::{IterationLimits, LoopEnd};
 use std::sync::Arc;
 
 use crate::geometry::gear_pair::{engagement_roll_angles, GearPair};
@@ -119,7 +119,11 @@ pub(crate) fn iteration_limits(steps: &[StepResult], active_set_limit: usize) ->
             "contact.active_set",
             "largest contact-law violation (mm)",
             f64::NAN,
-            LoopEnd::converged(s.active_set_iterations, active_set_limit, s.max_violation_mm),
+            LoopEnd::converged(
+                s.active_set_iterations,
+                active_set_limit,
+                s.max_violation_mm,
+            ),
         );
         if let Some(converged) = s.friction_converged {
             let limit = per_round.max_iterations * s.friction_rounds.max(1);

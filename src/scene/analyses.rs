@@ -101,6 +101,10 @@ pub struct LtcaAnalysis {
     pub local: Option<crate::ltca::local::LocalModel>,
     /// FE cell half-width across the line in flank element sizes (> 0; default 1).
     pub fe_cell_factor: Option<f64>,
+    /// Limit on the fixed-point iterations on the Hertz half-widths of the
+    /// half-space model (1 … 100; default 4). Reaching it without the 1 %
+    /// tolerance is reported under `iteration_limits` in summary.json.
+    pub local_iterations: Option<usize>,
     /// Misalignment of the gear axis (µrad): [in the plane of action, normal to it].
     pub misalignment_urad: Option<[f64; 2]>,
     /// Centre-distance error (µm, |Δa| < 1 mm).
@@ -375,6 +379,11 @@ fn check_ltca_analysis(v: &LtcaAnalysis) -> Result<(), String> {
     if let Some(k) = v.points_per_line {
         if !(2..=2000).contains(&k) {
             return Err(format!("points_per_line must be in 2 … 2000, got {k}"));
+        }
+    }
+    if let Some(k) = v.local_iterations {
+        if !(1..=100).contains(&k) {
+            return Err(format!("local_iterations must be in 1 … 100, got {k}"));
         }
     }
     let positive = |name: &str, x: Option<f64>| match x {

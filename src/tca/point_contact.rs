@@ -42,7 +42,6 @@
 //!   the LTCA's tangential direction), rolling |v_t1 + v_t2| / 2 (m/s).
 
 use crate::error::FlankError;
-use crate::iteration_limits::{IterationLimits, LoopEnd};
 use crate::geometry::bevel::body::BevelGear;
 use crate::geometry::frame::Frame;
 use crate::geometry::gear_pair::{Flank, GearBody, PairPlacement};
@@ -51,6 +50,7 @@ use crate::geometry::tangency::{
     self, ContactSystem, Edge, GearTurn, PlacedFlank, Tangency, TangencySeed,
 };
 use crate::geometry::vec3::{add, cross, dot, norm, sub, unit, V3};
+use crate::iteration_limits::{IterationLimits, LoopEnd};
 
 use super::ellipse::{curvature_ellipse, searched_ellipse, ContactEllipse, FlankAtContact};
 
@@ -443,13 +443,19 @@ fn trace(
         match &solved {
             Ok(t) => {
                 *steps += t.iterations;
-                record_newton(loops, LoopEnd::converged(t.iterations, tangency::MAX_ITERATIONS, t.point_residual));
+                record_newton(
+                    loops,
+                    LoopEnd::converged(t.iterations, tangency::MAX_ITERATIONS, t.point_residual),
+                );
             }
             // the trace ends where Newton fails; one that ran out of
             // iterations is a bound hit, reported (the others say the
             // contact left a surface)
             Err(f) if f.iterations >= tangency::MAX_ITERATIONS => {
-                record_newton(loops, LoopEnd::at_limit(f.iterations, tangency::MAX_ITERATIONS, f.residual));
+                record_newton(
+                    loops,
+                    LoopEnd::at_limit(f.iterations, tangency::MAX_ITERATIONS, f.residual),
+                );
             }
             Err(_) => {}
         }
@@ -607,10 +613,32 @@ pub fn point_tca(pair: &dyn PairPlacement, settings: &PointTcaSettings) -> Resul
     let mut loops = IterationLimits::new();
     record_newton(
         &mut loops,
-        LoopEnd::converged(start.iterations, tangency::MAX_ITERATIONS, start.point_residual),
+        LoopEnd::converged(
+            start.iterations,
+            tangency::MAX_ITERATIONS,
+            start.point_residual,
+        ),
     );
-    let (back, bound_b) = trace(pair, settings, h, &start, -1, &mut transitions, &mut steps, &mut loops)?;
-    let (fwd, bound_f) = trace(pair, settings, h, &start, 1, &mut transitions, &mut steps, &mut loops)?;
+    let (back, bound_b) = trace(
+        pair,
+        settings,
+        h,
+        &start,
+        -1,
+        &mut transitions,
+        &mut steps,
+        &mut loops,
+    )?;
+    let (fwd, bound_f) = trace(
+        pair,
+        settings,
+        h,
+        &start,
+        1,
+        &mut transitions,
+        &mut steps,
+        &mut loops,
+    )?;
     let mut traced: Vec<Traced> = back.into_iter().rev().collect();
     traced.push(Traced {
         index: 0,

@@ -129,8 +129,11 @@ pub(crate) fn lemke(
     let mut pivots = 1;
     loop {
         if pivots >= max_pivots {
+            // the artificial variable z₀ still in the basis measures how far
+            // the almost-complementary point is from a solution (0 there)
+            let z0_value = (0..n).find(|&i| basis[i] == z0).map_or(0.0, |i| rhs[i]);
             return Err(FlankError::Solver(format!(
-                "friction LTCA Lemke: pivot limit {max_pivots} (FrictionOptions::max_pivots) reached"
+                "friction LTCA Lemke: pivot limit {max_pivots} (FrictionOptions::max_pivots) reached with the artificial variable z₀ = {z0_value:.3e} (0 at a solution)"
             )));
         }
         let c = entering;

@@ -106,6 +106,18 @@ pub(super) fn active_set(prob: &Prepared, options: &QpOptions) -> Result<Raw, Fl
     iterate(prob, options, vec![k], load, rotation, 1)
 }
 
+/// max(0, −min gᵢ) with g = F p + w − θ r (mm): how far the iterate
+/// (p, θ) leaves a point inside its mate; its residual when the iteration
+/// limit stops it.
+fn largest_penetration(prob: &Prepared, p: &[f64], theta: f64) -> f64 {
+    (0..prob.n)
+        .map(|i| {
+            let fp: f64 = (0..prob.n).map(|j| prob.f[(i, j)] * p[j]).sum();
+            -(fp + prob.w[i] - theta * prob.r[i])
+        })
+        .fold(0.0f64, f64::max)
+}
+
 /// Active-set iterations from a feasible start: loads ≥ 0, zero outside
 /// `free`, rᵀp = T. If `done` > 0 the start is the equality-constrained
 /// minimizer on `free` (with multiplier `rotation`) and counts as `done`
@@ -143,9 +155,10 @@ pub(super) fn iterate(
             loop {
                 if iterations >= options.max_iterations {
                     return Err(FlankError::Solver(format!(
-                    "LTCA active set: iteration limit {} (QpOptions::max_iterations) reached with {} of {n} points loaded",
+                    "LTCA active set: iteration limit {} (QpOptions::max_iterations) reached with {} of {n} points loaded and the largest penetration of a point {:.3e} mm (the feasible iterate's residual)",
                     options.max_iterations,
-                    free.len()
+                    free.len(),
+                    largest_penetration(prob, &p, theta)
                 )));
                 }
                 iterations += 1;

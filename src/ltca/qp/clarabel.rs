@@ -152,8 +152,8 @@ pub(super) fn clarabel_raw(
         }
         SolverStatus::MaxIterations => {
             return Err(FlankError::Solver(format!(
-                "LTCA clarabel: iteration limit {} (QpOptions::max_iterations) reached",
-                options.max_iterations
+                "LTCA clarabel: iteration limit {} (QpOptions::max_iterations) reached with primal and dual residuals {:.3e} and {:.3e}",
+                options.max_iterations, sol.r_prim, sol.r_dual
             )));
         }
         other => {

@@ -502,6 +502,8 @@ fn bad_input() {
         };
         let e = solve_contact_qp(&big.qp(), &opts).unwrap_err().to_string();
         assert!(e.contains("iteration limit 2"), "{e}");
+        // with the residual the iterate was left with
+        assert!(e.contains("penetration") || e.contains("residuals"), "{e}");
     }
     assert!("simplex".parse::<QpSolver>().is_err());
     assert_eq!("clarabel".parse::<QpSolver>().unwrap(), QpSolver::Clarabel);
