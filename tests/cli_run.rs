@@ -58,6 +58,12 @@ fn run_writes_the_mesh_cycle_files() {
     let f = s["single_pair_force_n"].as_f64().unwrap();
     let nominal = s["nominal_force_n"].as_f64().unwrap();
     assert!((f / nominal - 1.0).abs() < 0.03, "{f} vs {nominal}");
+    // the active set of each position is tallied; its limit is an error,
+    // so no call stopped there
+    let active = &s["iteration_limits"]["contact.active_set"];
+    assert_eq!(active["calls"].as_u64(), Some(2), "{active}");
+    assert_eq!(active["limit_hits"].as_u64(), Some(0), "{active}");
+    assert!(active["most_iterations"].as_u64().unwrap() >= 1);
     for file in [
         "mesh_cycle.csv",
         "force_per_tooth.svg",
@@ -246,6 +252,24 @@ fn run_lubricated_loop_converges() {
         }
     }
     assert!(checked >= 5);
+    // the friction fixed point of each position of the final pass is
+    // tallied; its hits are exactly the positions flagged not converged
+    let fixed_point = &s["iteration_limits"]["contact.friction_fixed_point"];
+    let steps = s["steps"].as_array().unwrap();
+    assert_eq!(
+        fixed_point["calls"].as_u64(),
+        Some(steps.len() as u64),
+        "{fixed_point}"
+    );
+    let flagged = steps
+        .iter()
+        .filter(|p| p["friction_converged"] == serde_json::json!(false))
+        .count() as u64;
+    assert_eq!(
+        fixed_point["limit_hits"].as_u64(),
+        Some(flagged),
+        "{fixed_point}"
+    );
     for file in [
         "lubrication_mu.svg",
         "lubrication_film.png",

@@ -45,6 +45,11 @@ fn tca_of_the_seed000_hypoid_pair() {
         te[i] = s[v]["te_peak_to_peak_arcsec"].as_f64().unwrap();
         assert!(cr > 1.0 && cr < 4.0, "{v}: contact ratio {cr}");
         assert!(te[i].is_finite() && te[i] >= 0.0);
+        // every tangency solve of the trace is tallied, none ran out
+        let newton = &s[v]["iteration_limits"]["tca.tangency_newton"];
+        assert!(newton["calls"].as_u64().unwrap() > 10, "{newton}");
+        assert_eq!(newton["limit"].as_u64(), Some(60), "{newton}");
+        assert_eq!(newton["limit_hits"].as_u64(), Some(0), "{newton}");
     }
     // edge contact only adds contact: the ratio with edges is not smaller
     assert!(

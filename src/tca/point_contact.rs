@@ -423,8 +423,7 @@ fn trace(
     start: &Tangency,
     dir: i64,
     transitions: &mut Vec<Transition>,
-    steps: &mut usize,
-    loops: &mut IterationLimits,
+    newton: &mut NewtonTally,
 ) -> Result<(Vec<Traced>, bool)> {
     let limit = (settings.max_pitches * settings.positions_per_pitch as f64).ceil() as i64;
     let mut out = Vec::new();
@@ -442,20 +441,22 @@ fn trace(
         let solved = solve_at(pair, roll, system, &seed);
         match &solved {
             Ok(t) => {
-                *steps += t.iterations;
-                record_newton(
-                    loops,
-                    LoopEnd::converged(t.iterations, tangency::MAX_ITERATIONS, t.point_residual),
-                );
+                newton.steps += t.iterations;
+                newton.record(LoopEnd::converged(
+                    t.iterations,
+                    tangency::MAX_ITERATIONS,
+                    t.point_residual,
+                ));
             }
             // the trace ends where Newton fails; one that ran out of
             // iterations is a bound hit, reported (the others say the
             // contact left a surface)
             Err(f) if f.iterations >= tangency::MAX_ITERATIONS => {
-                record_newton(
-                    loops,
-                    LoopEnd::at_limit(f.iterations, tangency::MAX_ITERATIONS, f.residual),
-                );
+                newton.record(LoopEnd::at_limit(
+                    f.iterations,
+                    tangency::MAX_ITERATIONS,
+                    f.residual,
+                ));
             }
             Err(_) => {}
         }
@@ -524,7 +525,7 @@ fn trace(
         let Some(t) = here else {
             return Ok((out, false));
         };
-        *steps += t.iterations;
+        newton.steps += t.iterations;
         system = edge_system;
         prev_prev = None;
         prev = t;
@@ -609,36 +610,17 @@ pub fn point_tca(pair: &dyn PairPlacement, settings: &PointTcaSettings) -> Resul
         )));
     }
     let mut transitions = Vec::new();
-    let mut steps = start.iterations;
-    let mut loops = IterationLimits::new();
-    record_newton(
-        &mut loops,
-        LoopEnd::converged(
-            start.iterations,
-            tangency::MAX_ITERATIONS,
-            start.point_residual,
-        ),
-    );
-    let (back, bound_b) = trace(
-        pair,
-        settings,
-        h,
-        &start,
-        -1,
-        &mut transitions,
-        &mut steps,
-        &mut loops,
-    )?;
-    let (fwd, bound_f) = trace(
-        pair,
-        settings,
-        h,
-        &start,
-        1,
-        &mut transitions,
-        &mut steps,
-        &mut loops,
-    )?;
+    let mut newton = NewtonTally {
+        steps: start.iterations,
+        loops: IterationLimits::new(),
+    };
+    newton.record(LoopEnd::converged(
+        start.iterations,
+        tangency::MAX_ITERATIONS,
+        start.point_residual,
+    ));
+    let (back, bound_b) = trace(pair, settings, h, &start, -1, &mut transitions, &mut newton)?;
+    let (fwd, bound_f) = trace(pair, settings, h, &start, 1, &mut transitions, &mut newton)?;
     let mut traced: Vec<Traced> = back.into_iter().rev().collect();
     traced.push(Traced {
         index: 0,
@@ -836,18 +818,27 @@ pub fn point_tca(pair: &dyn PairPlacement, settings: &PointTcaSettings) -> Resul
         te_peak_to_peak_rad: te_pp,
         hit_trace_bound: bound_b || bound_f,
         max_residual,
-        newton_steps: steps,
-        iteration_limits: loops,
+        newton_steps: newton.steps,
+        iteration_limits: newton.loops,
         crossing,
     })
 }
 
-/// One tangency solve at a grid roll of the trace.
-fn record_newton(loops: &mut IterationLimits, end: LoopEnd) {
-    loops.record(
-        "tca.tangency_newton",
-        "point residual |r₁ − r₂| (mm; the merit at a failure)",
-        tangency::POINT_TOLERANCE,
-        end,
-    );
+/// The tangency solves of a trace: Newton steps in all, and how the
+/// grid-roll solves ended.
+struct NewtonTally {
+    steps: usize,
+    loops: IterationLimits,
+}
+
+impl NewtonTally {
+    /// One tangency solve at a grid roll of the trace.
+    fn record(&mut self, end: LoopEnd) {
+        self.loops.record(
+            "tca.tangency_newton",
+            "point residual |r₁ − r₂| (mm; the merit at a failure)",
+            tangency::POINT_TOLERANCE,
+            end,
+        );
+    }
 }
