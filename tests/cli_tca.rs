@@ -124,3 +124,58 @@ fn seed003_eased_pinion_bears() {
     assert!(ratio[1] <= 1.05, "centred at the pitch point: {}", ratio[1]);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `flank tca` on spur and helical scenes: the line TCA over a cycle with
+/// and without tip-corner contact, the same summary keys as for bevel
+/// pairs. Unmodified flanks: θ₀ = 0 and the contact ratio at δ is the
+/// kinematic total one (seed 002: ε_α = 1.484; seed 004: ε_α + ε_β = 2.81)
+/// to within the position spacing.
+#[test]
+fn tca_of_spur_and_helical_scenes() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for (scene, eps_gamma) in [("seed002-spur", 1.4844), ("seed004-helical", 2.8093)] {
+        let out =
+            std::env::temp_dir().join(format!("flank_cli_tca_{scene}_{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&out);
+        let o = Command::new(env!("CARGO_BIN_EXE_flank"))
+            .args(["tca"])
+            .arg(root.join("papers").join(scene).join("scene.toml"))
+            .args(["--positions-per-pitch", "40", "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        for f in [
+            "tca_with_edges.csv",
+            "tca_without_edges.csv",
+            "summary.json",
+            "transmission_error.svg",
+            "bearing_pattern_pinion.png",
+        ] {
+            assert!(out.join(f).is_file(), "{scene}: {f} missing");
+        }
+        let s: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
+                .unwrap();
+        let without = s["without_edges"]["contact_ratio"].as_f64().unwrap();
+        let with = s["with_edges"]["contact_ratio"].as_f64().unwrap();
+        assert!(
+            (without - eps_gamma).abs() <= 1.0 / 40.0 + 1e-3,
+            "{scene}: {without}"
+        );
+        assert!(with >= without, "{scene}");
+        for v in ["with_edges", "without_edges"] {
+            let te = s[v]["te_peak_to_peak_arcsec"].as_f64().unwrap();
+            assert!(te.abs() < 1e-6, "{scene} {v}: {te}");
+            assert_eq!(s[v]["positions"].as_u64(), Some(40));
+        }
+        // one row per position and pair in mesh
+        let csv = std::fs::read_to_string(out.join("tca_without_edges.csv")).unwrap();
+        let rows = csv.lines().count() - 1;
+        assert!(
+            rows as f64 >= 40.0 * (eps_gamma - 0.1).floor(),
+            "{scene}: {rows} rows"
+        );
+        let _ = std::fs::remove_dir_all(&out);
+    }
+}

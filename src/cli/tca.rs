@@ -7,9 +7,15 @@
 //!   and tooth pair), `transitions.csv`, `summary.json` (under
 //!   `with_edges` and `without_edges`: `contact_ratio`,
 //!   `te_peak_to_peak_arcsec`, …) and the plots of `tca_plot`.
-//! * Spur and helical scenes: the line-contact TCA ([`flank::tca::Tca`])
-//!   at the cycle's positions; writes `tca_lines.csv` (per position and
-//!   point) and `summary.json` (kinematic contact ratio, TE range).
+//! * Spur and helical scenes: the line-contact TCA over the cycle
+//!   ([`flank::tca::line_cycle`]) with and without tip-corner contact (the
+//!   edge contact of these pairs); writes `tca_with_edges.csv`,
+//!   `tca_without_edges.csv` (one row per position and tooth pair: θ₀, the
+//!   pair's lines, its smallest gap and closest point), `summary.json` (the
+//!   same keys as for bevel pairs, plus the transverse contact ratio and
+//!   the TE in µrad) and the plots `transmission_error` and
+//!   `bearing_pattern_pinion`. `--search-directions` does not apply (line
+//!   contact has no ellipse).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -18,7 +24,9 @@ use std::sync::Arc;
 use anyhow::{bail, Context, Result};
 use flank::geometry::gear_pair::{Misalignment, PairPlacement};
 use flank::scene::AnyScene;
+use flank::tca::line_cycle::{line_tca_cycle, LineTcaCycle};
 use flank::tca::point_contact::{point_tca, PointTca, PointTcaSettings, ARCSEC_PER_RAD};
+use flank::tca::{Tca, TcaSettings};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -159,10 +167,125 @@ pub fn run(args: Args) -> Result<()> {
             }
             Ok(())
         }
-        AnyScene::Cylindrical(_) => bail!(
-            "flank tca: spur and helical scenes are analysed by `flank ltca` (line contact) in this version"
-        ),
+        AnyScene::Cylindrical(s) => {
+            if args.sweep_mm.is_some() {
+                bail!("--sweep-mm: the V–H sweep is for bevel and hypoid scenes; a spur or helical pair's misalignment is swept by a campaign (docs/campaigns.md)");
+            }
+            // a sector with every pair that can be in mesh and one more on
+            // each side: ε_γ = ε_α + ε_β (ISO 21771), b the common face
+            let g = &s.pair;
+            let face = g.pinion.face_width.min(g.gear.face_width);
+            let eps_beta = face * g.pinion.helix_angle.sin().abs()
+                / (std::f64::consts::PI * g.pinion.normal_module);
+            let eps_alpha = flank::geometry::gear_pair::GearPair::kinematic_contact_ratio(
+                &s.cylindrical_pair()?,
+            );
+            let mut teeth =
+                (s.mesh.teeth_in_sector as usize).max((eps_alpha + eps_beta).ceil() as usize + 2);
+            if teeth.is_multiple_of(2) {
+                teeth += 1;
+            }
+            let pair: Arc<dyn flank::geometry::gear_pair::GearPair> = Arc::new(
+                flank::geometry::cylindrical::CylindricalPair::new(
+                    g,
+                    s.flank_modifications()?,
+                    teeth,
+                )?
+                .with_misalignment(mis)?,
+            );
+            let t0 = std::time::Instant::now();
+            let variant = |extension_mm: f64| -> Result<LineTcaCycle> {
+                let tca = Tca::new(
+                    Arc::clone(&pair),
+                    s.load.speed_rpm,
+                    TcaSettings {
+                        extension_mm,
+                        ..TcaSettings::default()
+                    },
+                )?;
+                Ok(line_tca_cycle(
+                    &tca,
+                    args.positions_per_pitch,
+                    args.approach_mm,
+                )?)
+            };
+            let with = variant(TcaSettings::default().extension_mm)?;
+            let without = variant(0.0)?;
+            let seconds = t0.elapsed().as_secs_f64();
+            std::fs::create_dir_all(&args.out)
+                .with_context(|| format!("cannot create {}", args.out.display()))?;
+            let ratio = pair.ratio();
+            write_line_table(&args.out.join("tca_with_edges.csv"), &with, ratio)?;
+            write_line_table(&args.out.join("tca_without_edges.csv"), &without, ratio)?;
+            let plots = flank::report::line_tca_plot::plot_line_tca(&args.out, &with, &without)?;
+            let summary = serde_json::json!({
+                "scene": args.scene.display().to_string(),
+                "pair": pair.describe(),
+                "approach_mm": args.approach_mm,
+                "misalignment": mis,
+                "positions_per_pitch": args.positions_per_pitch,
+                "sector_teeth": teeth,
+                "with_edges": line_variant_summary(&with, ratio),
+                "without_edges": line_variant_summary(&without, ratio),
+                "plots": plots,
+                "run_time_s": seconds,
+            });
+            flank::atomic_file::write(
+                &args.out.join("summary.json"),
+                serde_json::to_string_pretty(&summary)?,
+            )?;
+            println!("{}", serde_json::to_string_pretty(&summary)?);
+            Ok(())
+        }
     }
+}
+
+/// One variant of the line TCA in summary.json: the keys of the bevel
+/// variants (`contact_ratio`, `te_peak_to_peak_arcsec` at the gear) and
+/// the line TCA's own.
+fn line_variant_summary(c: &LineTcaCycle, ratio: f64) -> serde_json::Value {
+    serde_json::json!({
+        "contact_ratio": c.contact_ratio,
+        "transverse_contact_ratio": c.transverse_contact_ratio,
+        "te_peak_to_peak_arcsec": c.te_peak_to_peak_rad * ratio * ARCSEC_PER_RAD,
+        "te_peak_to_peak_urad": c.te_peak_to_peak_rad * 1e6,
+        "positions": c.positions.len(),
+        "tip_corners": c.corners,
+        "corner_contact_positions": c.corner_contact_positions,
+    })
+}
+
+/// One row per position and tooth pair of a line TCA cycle.
+fn write_line_table(path: &Path, c: &LineTcaCycle, ratio: f64) -> Result<()> {
+    let mut s = String::from(
+        "roll_deg,unloaded_te_urad,te_arcsec,pinion_tooth,gear_tooth,lines,length_mm,min_gap_mm,in_contact,pinion_u_rad,pinion_v_mm,x_mm,y_mm,z_mm,sliding_velocity_m_s,rolling_velocity_m_s,equivalent_radius_mm\n",
+    );
+    for p in &c.positions {
+        for q in &p.pairs {
+            let _ = writeln!(
+                s,
+                "{:.6},{:.6e},{:.6e},{},{},{},{:.6},{:.6e},{},{:.8},{:.6},{:.6},{:.6},{:.6},{:.6e},{:.6e},{:.6}",
+                p.roll_rad.to_degrees(),
+                p.unloaded_te_rad * 1e6,
+                -p.unloaded_te_rad * ratio * ARCSEC_PER_RAD,
+                q.pinion_tooth,
+                q.gear_tooth,
+                q.kinds,
+                q.length_mm,
+                q.min_gap_mm,
+                q.in_contact,
+                q.pinion_uv[0],
+                q.pinion_uv[1],
+                q.position_mm[0],
+                q.position_mm[1],
+                q.position_mm[2],
+                q.sliding_velocity_m_s,
+                q.rolling_velocity_m_s,
+                q.equivalent_radius_mm
+            );
+        }
+    }
+    flank::atomic_file::write(path, s).with_context(|| format!("cannot write {}", path.display()))
 }
 
 /// The V–H sweep (module docs of `--sweep-mm`).

@@ -101,6 +101,7 @@ use crate::geometry::gear_pair::{ContactSeed, Flank, GearPair, KinematicLine};
 use crate::geometry::surface::ToothSurface;
 
 pub mod ellipse;
+pub mod line_cycle;
 pub mod major_axis;
 pub mod point_contact;
 #[cfg(test)]

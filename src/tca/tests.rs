@@ -936,3 +936,67 @@ fn line_intersection_stops_where_the_surface_is_undefined() {
     let spent = s.evaluations.load(std::sync::atomic::Ordering::Relaxed) - before;
     assert!(spent <= 2, "{spent} evaluations");
 }
+
+/// The line TCA over a mesh cycle (`flank tca` on spur and helical
+/// scenes): on unmodified aligned pairs with tip corners off, the contact
+/// ratio at δ is the kinematic total ε_γ to within the position spacing and θ₀
+/// is zero everywhere; tip corners only add contact; bad settings are
+/// errors.
+#[test]
+fn line_cycle_of_spur_and_helical_pairs() {
+    use crate::tca::line_cycle::line_tca_cycle;
+    let n = 60;
+    for scene in [SPUR, HELICAL] {
+        // enough teeth for every pair in mesh (ε_γ up to 3)
+        let off = tca(
+            scene,
+            5,
+            [None, None],
+            Case {
+                extension_mm: 0.0,
+                points_per_line: 8,
+                ..Default::default()
+            },
+        );
+        let c = line_tca_cycle(&off, n, 0.00635).unwrap();
+        // total contact ratio ε_γ = ε_α + ε_β, ε_β = b sin β / (π m_n)
+        // (ISO 21771), b the common face width
+        let spec = pair(scene);
+        let b = spec.pinion.face_width.min(spec.gear.face_width);
+        let eps_beta =
+            b * spec.pinion.helix_angle.sin() / (std::f64::consts::PI * spec.pinion.normal_module);
+        let eps = off.kinematic_contact_ratio() + eps_beta;
+        eprintln!(
+            "{scene}: contact ratio at δ {:.4}, kinematic ε_γ {eps:.4}, TE p-p {:.2e} rad",
+            c.contact_ratio, c.te_peak_to_peak_rad
+        );
+        assert_eq!(c.positions.len(), n);
+        assert!(
+            (c.contact_ratio - eps).abs() <= 1.0 / n as f64 + 1e-9,
+            "{scene}"
+        );
+        assert!(c.te_peak_to_peak_rad.abs() < 1e-12, "{scene}");
+        assert!(c.positions.iter().all(|p| p.unloaded_te_rad.abs() < 1e-12));
+        assert_eq!(c.corner_contact_positions, 0);
+        assert!(!c.corners);
+        let on = tca(
+            scene,
+            5,
+            [None, None],
+            Case {
+                points_per_line: 8,
+                ..Default::default()
+            },
+        );
+        let e = line_tca_cycle(&on, n, 0.00635).unwrap();
+        assert!(e.corners);
+        assert!(e.contact_ratio >= c.contact_ratio, "{scene}");
+        // the corners close continuously at the path ends: some positions
+        // next to them have a corner within δ
+        assert!(e.corner_contact_positions > 0, "{scene}");
+    }
+    let t = tca(SPUR, 3, [None, None], Case::default());
+    assert!(line_tca_cycle(&t, 1, 0.00635).is_err());
+    assert!(line_tca_cycle(&t, 30, 0.0).is_err());
+    assert!(line_tca_cycle(&t, 30, f64::NAN).is_err());
+}
