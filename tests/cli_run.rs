@@ -153,6 +153,13 @@ fn run_lubricated_loop_converges() {
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     let l = &s["lubrication"];
+    // the dry → wet change of the largest subsurface shear (seed 002
+    // Fig. 10: +2.51 % / −1.09 %): finite and small, the two signs in order
+    let (hi, lo) = (
+        l["subsurface_change_max_pct"].as_f64().unwrap(),
+        l["subsurface_change_min_pct"].as_f64().unwrap(),
+    );
+    assert!(lo <= hi && hi.abs() < 5.0 && lo.abs() < 5.0, "{lo} … {hi}");
     for key in [
         "iterations",
         "mu_max",

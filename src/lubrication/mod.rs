@@ -21,6 +21,7 @@
 pub mod film;
 pub mod lubricant;
 pub mod operating_point;
+pub mod subsurface;
 pub mod traction;
 pub mod wet_dry;
 

@@ -128,6 +128,35 @@ pub fn lubricated_cycle(
         .iter()
         .map(|c| c.traction.mu)
         .fold(f64::INFINITY, f64::min);
+    // largest subsurface shear under each contact, dry pass against the
+    // last wet pass (seed 002 Fig. 10): the Hertz line-contact peak
+    // p₀ = √(w′ E′ / (2π R_x)) (Johnson eq. 4.45 with E′ = 2E*; not the
+    // FE contact area, which one or two node rows resolve) times the
+    // McEwen/Smith–Liu maximum for the μ the pass used
+    let nu = 0.5 * (scene.pinion_material.poisson + scene.gear_material.poisson);
+    let tau_max = |pass: &crate::lubrication::wet_dry::Pass, i: usize, p: usize| -> Option<f64> {
+        let c = pass.contacts[i][p].as_ref()?;
+        let q = &c.point;
+        let p0 = (q.load_n / q.length_mm * q.reduced_modulus_mpa
+            / (2.0 * std::f64::consts::PI * q.radius_x_mm))
+            .sqrt();
+        if !(p0.is_finite() && p0 > 0.0) {
+            return None;
+        }
+        let mu = pass.mu_used[i][p].abs();
+        Some(p0 * crate::lubrication::subsurface::max_subsurface_shear(mu, nu))
+    };
+    let dry = &result.passes[0];
+    // per position: the largest over its contacts (as the paper's Fig. 10)
+    let position_max = |pass: &crate::lubrication::wet_dry::Pass, i: usize| -> Option<f64> {
+        (0..np).filter_map(|p| tau_max(pass, i, p)).reduce(f64::max)
+    };
+    let subsurface_change_pct: Vec<f64> = (0..angles.len())
+        .filter_map(|i| {
+            let (d, w) = (position_max(dry, i)?, position_max(last, i)?);
+            (d > 0.0).then(|| 100.0 * (w / d - 1.0))
+        })
+        .collect();
     let count = |f: &dyn Fn(&ContactEhl) -> bool| all.iter().filter(|c| f(c)).count();
     use crate::lubrication::{FilmFlag, TractionFlag};
     let flags = serde_json::json!({
@@ -208,6 +237,9 @@ pub fn lubricated_cycle(
         "mu_max": mu_max,
         "mu_min": if mu_min.is_finite() { Some(mu_min) } else { None },
         "mu_last_change_rel": result.mu_last_change_rel,
+        "subsurface_change_max_pct": subsurface_change_pct.iter().cloned().reduce(f64::max),
+        "subsurface_change_min_pct": subsurface_change_pct.iter().cloned().reduce(f64::min),
+        "subsurface_stress": "per position the largest principal shear below its contacts, Hertz line contacts with the pass's sliding friction (McEwen 1949, Smith & Liu 1953; lubrication::subsurface), last wet pass against the dry pass",
         "power_loss_w": power_loss_w,
         "efficiency": efficiency,
         "input_power_w": input_power_w,
