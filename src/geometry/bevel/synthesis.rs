@@ -274,6 +274,19 @@ pub struct PinionSynthesisVariables {
     pub pressure_angle_correction_rad: f64,
     /// Pinion roll θ_M at which the contact is at M (rad).
     pub mean_roll_rad: f64,
+    /// Shift (t_x, t_y) of the cradle axis in the cradle plane against the
+    /// pinion and its cutter, which keeps the cutter's tangency at M
+    /// (mm): E_m = t_y, ΔX_B = t_x tan γ_m, ΔX_G = t_x / cos γ_m on top of
+    /// the basic setup's (module docs).
+    pub cradle_shift_mm: [f64; 2],
+    /// Cutter tilt i (rad) about the cradle-plane line from the cutter
+    /// centre toward M (swivel j: that line's angle), which leaves M on the
+    /// blade and turns the blade's pressure angle along the face.
+    pub tilt_rad: f64,
+    /// Curvature 1/ρ_w of the drive (outside) blade's edge (1/mm; 0 =
+    /// straight; positive bends the edge toward the work: profile
+    /// crowning).
+    pub blade_curvature_per_mm: f64,
 }
 
 impl PinionSynthesisVariables {
@@ -287,6 +300,9 @@ impl PinionSynthesisVariables {
             spiral_angle_correction_rad: 0.0,
             pressure_angle_correction_rad: 0.0,
             mean_roll_rad: 0.0,
+            cradle_shift_mm: [0.0; 2],
+            tilt_rad: 0.0,
+            blade_curvature_per_mm: 0.0,
         }
     }
 
@@ -298,7 +314,11 @@ impl PinionSynthesisVariables {
             2 => &mut y.modified_roll_2c,
             3 => &mut y.spiral_angle_correction_rad,
             4 => &mut y.pressure_angle_correction_rad,
-            _ => &mut y.mean_roll_rad,
+            5 => &mut y.mean_roll_rad,
+            6 => &mut y.cradle_shift_mm[0],
+            7 => &mut y.cradle_shift_mm[1],
+            8 => &mut y.tilt_rad,
+            _ => &mut y.blade_curvature_per_mm,
         };
         *f += d;
         y
@@ -364,16 +384,21 @@ pub const MAX_CONTINUATION_STEPS: usize = 60;
 const MIN_CONTINUATION_STEP: f64 = 1e-3;
 /// Step halvings at most per Newton iteration.
 const MAX_HALVINGS: usize = 10;
+/// Number of variables ([`PinionSynthesisVariables`]).
+const NX: usize = 10;
 /// Forward-difference steps of the Jacobian: r_c (mm), k, 2C, Δβ, Δα,
-/// θ_M (rad).
-const JACOBIAN_STEPS: [f64; N] = [0.05, 1e-5, 1e-4, 1e-6, 1e-6, 1e-5];
+/// θ_M (rad), E_m, ΔX_B (mm).
+const JACOBIAN_STEPS: [f64; NX] = [0.05, 1e-5, 1e-4, 1e-6, 1e-6, 1e-5, 1e-4, 1e-4, 1e-6, 1e-7];
 /// Tolerance and rounds of the basic setup's match to the blank.
 const FIRST_ORDER_TOL: f64 = 1e-10;
 const FIRST_ORDER_ROUNDS: usize = 40;
-/// Unknowns and conditions of the first order: Δβ, Δα, θ_M against the
-/// contact position and the TE slope.
+/// Conditions of the first order: the contact position and the TE slope.
 const FIRST_ORDER: [usize; 3] = [3, 4, 5];
-const UNKNOWNS: [usize; N] = [0, 1, 2, 3, 4, 5];
+/// Unknowns of the first order, Litvin's for a hypoid pinion: E_m, ΔX_B
+/// and θ_M (the blade and machine spiral angles stay the blank's).
+const LITVIN_FIRST_ORDER: [usize; 3] = [6, 7, 5];
+/// The earlier choice: the machine spiral and blade angles Δβ, Δα and θ_M.
+const ANGLE_FIRST_ORDER: [usize; 3] = [3, 4, 5];
 const CONDITIONS: [usize; N] = [0, 1, 2, 3, 4, 5];
 
 fn max_abs(r: &[f64; N], active: &[usize]) -> f64 {
@@ -478,7 +503,7 @@ pub fn synthesize_pinion(
         setup,
         mean: first,
     };
-    let (mut state, mut iterations) = newton(problem, &basic, &t, (&FIRST_ORDER, &FIRST_ORDER))
+    let (mut state, mut iterations) = newton(problem, &basic, &t, (&ANGLE_FIRST_ORDER, &FIRST_ORDER))
         .map_err(|e| {
             fail(format!(
                 "first order (contact at the mean point, TE slope 0): {e}"
@@ -510,7 +535,8 @@ pub fn synthesize_pinion(
         }
         steps += 1;
         let next = (s + ds).min(1.0);
-        match newton(problem, &state, &at(next), (&UNKNOWNS, &CONDITIONS)) {
+        let (unknowns, conditions) = problem.system();
+        match newton(problem, &state, &at(next), (&unknowns, &conditions)) {
             Ok((st, it)) => {
                 iterations += it;
                 state = st;
@@ -539,7 +565,7 @@ pub fn synthesize_pinion(
         targets: t,
         iterations,
         continuation_steps: steps,
-        residual: max_abs(&r, &CONDITIONS),
+        residual: max_abs(&r, &problem.system().1),
     })
 }
 
@@ -558,6 +584,54 @@ pub struct SynthesisProblem<'a> {
     /// flank completes the trial pinions' tooth.
     pub basic: MemberSetup,
     basic_coast: Arc<dyn ToothSurface>,
+    /// The equation of meshing at M on the basic setup: (X_M · w, w/|w|²)
+    /// with X_M the cutter point at M in the cradle plane's frame and
+    /// w = n × k ([`cradle_shift_for_meshing`]).
+    meshing_line: (f64, [f64; 2]),
+    /// The settings that carry the second order (variable indices) and
+    /// the second-order targets imposed (0 path, 1 2a, 2 TE level), as
+    /// many of each.
+    pub second_order: Vec<usize>,
+    pub imposed: Vec<usize>,
+}
+
+/// The equation of meshing of the pinion and its cutter at M kept for a
+/// ratio of roll k·R_a (Litvin & Fuentes §20.5 on the equation of meshing
+/// n · v^(c1) = 0; the settings E_m, ΔX_B from it as in Litvin & Zhang,
+/// NASA CR-4342 §4): at ψ = 0 the cradle turns about k with unit speed and
+/// the work about −d with 1/R_a, so the relative velocity at the cutter
+/// point X_M is v = k × X_M + d × (X_M − A)/R_a. On the basic setup
+/// (k = 1) n · v = 0 (M is generated at ψ = 0). Moving the cradle axis by
+/// t in the cradle plane against the pinion and the cutter (which keeps
+/// the cutter tangent to the pinion at M) and scaling R_a by k gives
+/// n · v = t · w + (1 − 1/k) X_M · w, w = n × k: the least shift that
+/// keeps M generated at ψ = 0 is t = −(1 − 1/k) (X_M · w) w/|w|². Returns
+/// (X_M · w, w/|w|²).
+fn cradle_shift_for_meshing(setup: &MemberSetup) -> Result<(f64, [f64; 2])> {
+    let flank = setup.flank(FlankKind::Concave)?;
+    let rm = setup.blank.mean_cone_distance;
+    let p = flank.envelope().solve(0.0, rm).map_err(|e| {
+        FlankError::Model(format!(
+            "local synthesis: the basic pinion's mean point is not generated ({e})"
+        ))
+    })?;
+    let map = flank.envelope().map();
+    let [s, th, _] = p.q;
+    let x: [f64; 3] = map.cradle_point(s, th);
+    let h = 1e-5;
+    let d = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let xs = d(map.cradle_point(s + h, th), map.cradle_point(s - h, th));
+    let xt = d(map.cradle_point(s, th + h), map.cradle_point(s, th - h));
+    let n = crate::geometry::vec3::cross(xs, xt);
+    // w = n × e_z
+    let w = [n[1], -n[0]];
+    let w2 = w[0] * w[0] + w[1] * w[1];
+    if !(w2 > 0.0) {
+        return Err(FlankError::Model(
+            "local synthesis: the cutter normal at the mean point is along the cradle axis".into(),
+        ));
+    }
+    Ok((x[0] * w[0] + x[1] * w[1], [w[0] / w2, w[1] / w2]))
 }
 
 impl<'a> SynthesisProblem<'a> {
@@ -579,6 +653,7 @@ impl<'a> SynthesisProblem<'a> {
             FIRST_ORDER_ROUNDS,
         )?;
         let basic_coast: Arc<dyn ToothSurface> = Arc::new(basic.flank(FlankKind::Convex)?);
+        let meshing_line = cradle_shift_for_meshing(&basic)?;
         Ok(SynthesisProblem {
             design,
             pinion_hand,
@@ -588,7 +663,20 @@ impl<'a> SynthesisProblem<'a> {
             targets,
             basic,
             basic_coast,
+            meshing_line,
+            second_order: vec![0, 1, 2],
+            imposed: vec![0, 1, 2],
         })
+    }
+
+    /// The Newton system's unknowns and conditions: the second-order
+    /// settings and targets, then the first order's.
+    fn system(&self) -> (Vec<usize>, Vec<usize>) {
+        let mut u = self.second_order.clone();
+        u.extend(ANGLE_FIRST_ORDER);
+        let mut c = self.imposed.clone();
+        c.extend(FIRST_ORDER);
+        (u, c)
     }
 
     /// The pinion setup of the variables: the basic setup's angles
@@ -604,7 +692,7 @@ impl<'a> SynthesisProblem<'a> {
             ratio_of_roll_factor: x.ratio_of_roll_factor,
             modified_roll: (x.modified_roll_2c, 0.0),
         };
-        setup_with(
+        let mut setup = setup_with(
             &self.basic.blank,
             self.pinion_hand,
             &cutter,
@@ -616,7 +704,34 @@ impl<'a> SynthesisProblem<'a> {
             ),
             a.width_correction,
             &roll,
-        )
+        )?;
+        let [tx, ty] = {
+            let (c, w) = self.meshing_line;
+            let f = -(1.0 - 1.0 / x.ratio_of_roll_factor) * c;
+            [
+                x.cradle_shift_mm[0] + f * w[0],
+                x.cradle_shift_mm[1] + f * w[1],
+            ]
+        };
+        let (sg, cg) = setup.settings.machine_root_angle.sin_cos();
+        let m = &mut setup.settings;
+        m.blank_offset += ty;
+        m.sliding_base += tx * sg / cg;
+        m.machine_center_to_back += tx / cg;
+        let c = (setup.cutter_centre.0 + tx, setup.cutter_centre.1 + ty);
+        m.radial_distance = c.0.hypot(c.1);
+        m.cradle_angle = c.1.atan2(c.0);
+        setup.cutter_centre = c;
+        setup.mean_root_x += tx;
+        // the tilt axis: from the cutter centre toward the mean root point
+        let m = &mut setup.settings;
+        m.tilt = x.tilt_rad;
+        m.swivel = (ty - c.1).atan2(setup.mean_root_x - c.0);
+        let k = x.blade_curvature_per_mm;
+        setup.head.outside.curvature_radius = (k != 0.0).then(|| 1.0 / k);
+        setup.head.outside.profile()?;
+        setup.settings.validate()?;
+        Ok(setup)
     }
 
     /// The trial pair of a setup (one tooth per body): its drive flank and
@@ -708,7 +823,13 @@ mod tests {
             setup,
             mean: m0,
         };
-        let (first, it) = newton(problem, &basic, &PROBE, (&FIRST_ORDER, &FIRST_ORDER)).unwrap();
+        let (first, it) = newton(
+            problem,
+            &basic,
+            &PROBE,
+            (&ANGLE_FIRST_ORDER, &FIRST_ORDER),
+        )
+        .unwrap();
         (basic, first, it)
     }
 
@@ -768,5 +889,61 @@ mod tests {
             "seed003 nearby synthesis: {:?} in {} iterations, {} steps",
             s.variables, s.iterations, s.continuation_steps
         );
+    }
+
+    /// Exploration: the synthesis toward seed 003's bearing targets.
+    #[test]
+    fn explore_seed003_bearing() {
+        let d = design();
+        let targets = SynthesisTargets {
+            path_angle_rad: 0.0,
+            major_axis_mm: 0.3 * 38.0,
+            te_level_rad: (8.0f64 / 3600.0).to_radians(),
+            approach_mm: 0.00635,
+        };
+        let problem = seed003(&d, targets);
+        let x0 = PinionSynthesisVariables::basic(problem.cutter.mean_radius);
+        let (basic, first, it) = basic_and_first_order(&problem);
+        let (_, _, r0) = {
+            let (su, m) = problem.measure(&first.x).unwrap();
+            let r = residual(&m, &targets, &targets, d.cutting_blank().wheel.rm).unwrap();
+            (su, m, r)
+        };
+        for j in 0..NX {
+            let h = JACOBIAN_STEPS[j];
+            match problem.measure(&first.x.with(j, h)) {
+                Ok((_, m)) => {
+                    let r = residual(&m, &targets, &targets, d.cutting_blank().wheel.rm).unwrap();
+                    let col: Vec<String> = (0..N).map(|i| format!("{:+.3e}", (r[i] - r0[i]) / h)).collect();
+                    eprintln!("d/dx{j}: {}", col.join(" "));
+                }
+                Err(e) => eprintln!("d/dx{j}: {e}"),
+            }
+        }
+        eprintln!("basic {:?}", basic.mean);
+        for k in [0.9, 1.0, 1.1] {
+            let mut x = first.x;
+            x.ratio_of_roll_factor = k;
+            let su = problem.setup(&x).unwrap();
+            let f = su.flank(FlankKind::Concave).unwrap();
+            let q = f.envelope().solve(0.0, su.blank.mean_cone_distance).unwrap().q;
+            eprintln!("k {k}: psi_M {:.3e} settings {:?}", q[2], su.settings);
+        }
+        eprintln!("first order ({it} it) {:?}\n  {:?}", first.mean, first.x);
+        let cases: [(&[usize], &[usize]); 6] = [
+            (&[0, 9], &[2, 1]),
+            (&[1, 9], &[2, 1]),
+            (&[0, 1, 9], &[2, 0, 1]),
+            (&[1, 2, 9], &[2, 0, 1]),
+            (&[0, 2, 9], &[2, 0, 1]),
+            (&[0, 1, 2], &[2, 0, 1]),
+        ];
+        for (so, imp) in cases {
+            let problem = SynthesisProblem { second_order: so.to_vec(), imposed: imp.to_vec(), ..seed003(&d, targets) };
+            match synthesize_pinion(&problem, x0) {
+                Ok(s) => eprintln!("{so:?} synthesis {:?}\n {:?}\n {} it {} steps\n SETTINGS {:?}", s.achieved, s.variables, s.iterations, s.continuation_steps, s.setup.settings),
+                Err(e) => eprintln!("{so:?} synthesis failed: {e}"),
+            }
+        }
     }
 }
