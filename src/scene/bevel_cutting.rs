@@ -355,6 +355,7 @@ fn synthesis_targets(
         major_axis_mm: major,
         te_level_rad: (level / 3600.0).to_radians(),
         approach_mm: approach,
+        te_cubic_rad: 0.0,
     })
 }
 

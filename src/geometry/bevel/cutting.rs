@@ -548,6 +548,7 @@ fn synthesised(
             "path_angle_deg": deg(m.path_angle_rad),
             "major_axis_mm": m.major_axis_mm,
             "te_level_arcsec": arcsec(m.te_level_rad),
+            "te_cubic_arcsec": arcsec(m.te_cubic_rad),
             "te_slope": m.te_slope,
         })
     };

@@ -47,14 +47,16 @@
 //!   unknowns, central-difference Jacobian, step halving). The default
 //!   ([`default_stages`]): the ratio of roll (k on the pure-rolling value)
 //!   and the drive blade's edge curvature carry the TE level and 2a, then
-//!   the cutter radius joins for the path. The modified roll 2C and the
-//!   cutter tilt are offered as settings too.
+//!   the cutter radius joins for the path, then the third-order modified
+//!   roll 6D for the TE's cubic term (TE''' = 0 at M: without it the TE
+//!   turns back up a pitch from M and the neighbours take the load early).
+//!   The modified roll 2C and the cutter tilt are offered as settings too.
 //!
 //! The second-order figures of a trial are measured on the trial pair (its
 //! contact at M by the tangency system, [`crate::geometry::tangency`], at
-//! rolls θ_M, θ_M ± h): the path inclination from the gear contact points
-//! at ±h, 2a from the relative curvature at M ([`curvature_ellipse`]), TE''
-//! by the central second difference. Litvin solves the curvature
+//! rolls θ_M, θ_M ± h, θ_M ± 2h): the path inclination from the gear
+//! contact points at ±h, 2a from the relative curvature at M
+//! ([`curvature_ellipse`]), TE'' and TE''' by central differences. Litvin solves the curvature
 //! relations for the pinion's principal curvatures in closed form first;
 //! here the same three conditions are solved on the settings directly and
 //! the result is checked by the full point TCA (tests).
@@ -70,8 +72,8 @@
 //! its own settings.
 //!
 //! **Status** (papers/seed003-hypoid/README.md, "Local synthesis"): seed
-//! 003's bearing targets are met and checked by the TCA. Not yet offered
-//! in scenes.
+//! 003's bearing targets are met and checked by the TCA; scenes offer it
+//! as `process = "synthesised"` ([`crate::geometry::bevel::cutting`]).
 
 use std::f64::consts::PI;
 use std::sync::Arc;
@@ -103,6 +105,10 @@ pub struct SynthesisTargets {
     pub te_level_rad: f64,
     /// Elastic approach δ of the ellipse (mm).
     pub approach_mm: f64,
+    /// The TE's cubic term at ±π/z₁, (TE'''/6)(π/z₁)³ (rad, gear angle):
+    /// 0 asks a TE symmetric about M to third order. Imposed only by a
+    /// stage that lists [`Target::TeCubic`].
+    pub te_cubic_rad: f64,
 }
 
 impl SynthesisTargets {
@@ -131,6 +137,12 @@ impl SynthesisTargets {
                 self.te_level_rad
             ));
         }
+        if !self.te_cubic_rad.is_finite() {
+            return bad(format!(
+                "te_cubic {} rad: a finite cubic term is needed",
+                self.te_cubic_rad
+            ));
+        }
         if !(self.approach_mm.is_finite() && self.approach_mm > 0.0) {
             return bad(format!(
                 "approach δ = {} mm: a positive elastic approach is needed",
@@ -152,6 +164,8 @@ pub struct MeanContact {
     pub te_curvature: f64,
     /// −½ TE'' (π/z₁)² (rad).
     pub te_level_rad: f64,
+    /// (TE'''/6)(π/z₁)³ (rad): the cubic term at ±π/z₁.
+    pub te_cubic_rad: f64,
     /// Path inclination η (rad, module docs).
     pub path_angle_rad: f64,
     /// 2a at the approach (mm); `None`: line contact.
@@ -222,11 +236,15 @@ pub fn mean_contact(pair: &BevelPair, roll: f64, approach_mm: f64) -> Result<Mea
     let (t0, f1, f2) = solve(roll, &seed)?;
     let (tp, _, _) = solve(roll + h, &t0.seed())?;
     let (tm, _, _) = solve(roll - h, &t0.seed())?;
+    let (tpp, _, _) = solve(roll + 2.0 * h, &tp.seed())?;
+    let (tmm, _, _) = solve(roll - 2.0 * h, &tm.seed())?;
     // gear lag in its drive sense (the TCA's TE)
     let sense2 = pair.rotation_axes()[1][2].signum();
     let lag = |t: &tangency::Tangency| sense2 * t.turn;
     let te_slope = (lag(&tp) - lag(&tm)) / (2.0 * h);
     let te_curvature = (lag(&tp) - 2.0 * lag(&t0) + lag(&tm)) / (h * h);
+    // central third difference
+    let te_third = (lag(&tpp) - 2.0 * lag(&tp) + 2.0 * lag(&tm) - lag(&tmm)) / (2.0 * h * h * h);
     let (du, dv) = (tp.gear_uv[0] - tm.gear_uv[0], tp.gear_uv[1] - tm.gear_uv[1]);
     let mut path = du.atan2(dv);
     if path > 0.5 * PI {
@@ -255,6 +273,7 @@ pub fn mean_contact(pair: &BevelPair, roll: f64, approach_mm: f64) -> Result<Mea
         te_slope,
         te_curvature,
         te_level_rad: -0.5 * te_curvature * half_pitch * half_pitch,
+        te_cubic_rad: te_third / 6.0 * half_pitch.powi(3),
         path_angle_rad: path,
         major_axis_mm: ellipse.semi_major_mm.map(|a| 2.0 * a),
         minor_axis_mm: 2.0 * ellipse.semi_minor_mm,
@@ -274,6 +293,8 @@ pub struct PinionSynthesisVariables {
     pub ratio_of_roll_factor: f64,
     /// Modified-roll coefficient 2C.
     pub modified_roll_2c: f64,
+    /// Third-order modified-roll coefficient 6D.
+    pub modified_roll_6d: f64,
     /// Corrections of the machine spiral angle and of the drive (outside)
     /// blade angle against the basic setup's (rad): the first order
     /// (module docs).
@@ -299,6 +320,7 @@ impl PinionSynthesisVariables {
             cutter_radius_mm,
             ratio_of_roll_factor: 1.0,
             modified_roll_2c: 0.0,
+            modified_roll_6d: 0.0,
             spiral_angle_correction_rad: 0.0,
             pressure_angle_correction_rad: 0.0,
             mean_roll_rad: 0.0,
@@ -317,7 +339,8 @@ impl PinionSynthesisVariables {
             4 => &mut y.pressure_angle_correction_rad,
             5 => &mut y.mean_roll_rad,
             6 => &mut y.tilt_rad,
-            _ => &mut y.blade_curvature_per_mm,
+            7 => &mut y.blade_curvature_per_mm,
+            _ => &mut y.modified_roll_6d,
         };
         *f += d;
         y
@@ -325,7 +348,7 @@ impl PinionSynthesisVariables {
 }
 
 /// Number of unknowns and conditions.
-const N: usize = 6;
+const N: usize = 7;
 
 /// The synthesised pinion: its setup, the variables, the mean contact
 /// before and after, and the iterations' record.
@@ -348,7 +371,8 @@ pub struct PinionSynthesis {
 
 /// Scaled residuals (module docs): η − η* (rad), (2a − 2a*)/2a_final,
 /// (L − L*)/L_final, the gear contact's (u, v) from the mean point
-/// (0, R_m2) (mm) and the TE slope over [`TE_SLOPE_SCALE`]. Converged when
+/// (0, R_m2) (mm), the TE slope over [`TE_SLOPE_SCALE`] and the cubic
+/// term's error over the final level. Converged when
 /// every one is below [`TOLERANCE`].
 fn residual(
     m: &MeanContact,
@@ -368,6 +392,7 @@ fn residual(
         m.gear_uv[0],
         m.gear_uv[1] - rm2,
         m.te_slope / TE_SLOPE_SCALE,
+        (m.te_cubic_rad - now.te_cubic_rad) / last.te_level_rad,
     ])
 }
 
@@ -386,10 +411,10 @@ const MIN_CONTINUATION_STEP: f64 = 1e-3;
 /// Step halvings at most per Newton iteration.
 const MAX_HALVINGS: usize = 10;
 /// Number of variables ([`PinionSynthesisVariables`]).
-const NX: usize = 8;
+const NX: usize = 9;
 /// Central-difference steps of the Jacobian: r_c (mm), k, 2C, Δβ, Δα,
-/// θ_M, tilt (rad), blade curvature (1/mm).
-const JACOBIAN_STEPS: [f64; NX] = [0.05, 1e-5, 1e-4, 1e-6, 1e-6, 1e-5, 1e-6, 1e-7];
+/// θ_M, tilt (rad), blade curvature (1/mm), 6D.
+const JACOBIAN_STEPS: [f64; NX] = [0.05, 1e-5, 1e-4, 1e-6, 1e-6, 1e-5, 1e-6, 1e-7, 1e-4];
 /// Tolerance and rounds of the basic setup's match to the blank.
 const FIRST_ORDER_TOL: f64 = 1e-10;
 const FIRST_ORDER_ROUNDS: usize = 40;
@@ -531,12 +556,14 @@ pub fn synthesize_pinion(
             })?,
             te_level_rad: state.mean.te_level_rad,
             approach_mm: t.approach_mm,
+            te_cubic_rad: state.mean.te_cubic_rad,
         };
         let at = |s: f64| SynthesisTargets {
             path_angle_rad: from.path_angle_rad + s * (t.path_angle_rad - from.path_angle_rad),
             major_axis_mm: from.major_axis_mm + s * (t.major_axis_mm - from.major_axis_mm),
             te_level_rad: from.te_level_rad + s * (t.te_level_rad - from.te_level_rad),
             approach_mm: t.approach_mm,
+            te_cubic_rad: from.te_cubic_rad + s * (t.te_cubic_rad - from.te_cubic_rad),
         };
         let mut unknowns: Vec<usize> = stage.settings.iter().map(|s| s.index()).collect();
         unknowns.extend(ANGLE_FIRST_ORDER);
@@ -596,7 +623,8 @@ pub fn synthesize_pinion(
 
 /// The default stages (module docs): the ratio of roll and the blade
 /// curvature carry the TE level and 2a, then the cutter radius joins them
-/// for the path.
+/// for the path, then the third-order modified roll 6D for the TE's cubic
+/// term (0: the TE symmetric about M to third order).
 pub fn default_stages() -> Vec<SynthesisStage> {
     use Setting::*;
     use Target::*;
@@ -608,6 +636,10 @@ pub fn default_stages() -> Vec<SynthesisStage> {
         SynthesisStage {
             settings: vec![RatioOfRoll, BladeCurvature, CutterRadius],
             targets: vec![TeLevel, MajorAxis, PathAngle],
+        },
+        SynthesisStage {
+            settings: vec![RatioOfRoll, BladeCurvature, CutterRadius, ModifiedRoll6D],
+            targets: vec![TeLevel, MajorAxis, PathAngle, TeCubic],
         },
     ]
 }
@@ -622,6 +654,8 @@ pub enum Setting {
     RatioOfRoll,
     /// Modified-roll coefficient 2C.
     ModifiedRoll,
+    /// Third-order modified-roll coefficient 6D.
+    ModifiedRoll6D,
     /// Cutter tilt about the line from the cutter centre to M.
     Tilt,
     /// Curvature of the drive blade's edge.
@@ -634,6 +668,7 @@ impl Setting {
             Setting::CutterRadius => 0,
             Setting::RatioOfRoll => 1,
             Setting::ModifiedRoll => 2,
+            Setting::ModifiedRoll6D => 8,
             Setting::Tilt => 6,
             Setting::BladeCurvature => 7,
         }
@@ -646,6 +681,8 @@ pub enum Target {
     PathAngle,
     MajorAxis,
     TeLevel,
+    /// The cubic term of the TE ([`SynthesisTargets::te_cubic_rad`]).
+    TeCubic,
 }
 
 impl Target {
@@ -654,6 +691,7 @@ impl Target {
             Target::PathAngle => 0,
             Target::MajorAxis => 1,
             Target::TeLevel => 2,
+            Target::TeCubic => 6,
         }
     }
 }
@@ -773,7 +811,7 @@ impl<'a> SynthesisProblem<'a> {
         };
         let roll = RollChoice {
             ratio_of_roll_factor: x.ratio_of_roll_factor,
-            modified_roll: (x.modified_roll_2c, 0.0),
+            modified_roll: (x.modified_roll_2c, x.modified_roll_6d),
         };
         let mut setup = setup_with(
             &self.basic.blank,

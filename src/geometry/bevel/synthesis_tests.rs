@@ -48,6 +48,7 @@ const PROBE: SynthesisTargets = SynthesisTargets {
     major_axis_mm: 10.0,
     te_level_rad: 1e-4,
     approach_mm: 0.00635,
+    te_cubic_rad: 0.0,
 };
 
 /// The basic pinion's state and the first-order solve from it.
@@ -102,6 +103,8 @@ fn second_order_meets_nearby_targets() {
         major_axis_mm: 1.05 * f.major_axis_mm.unwrap(),
         te_level_rad: f.te_level_rad + (40.0f64 / 3600.0).to_radians(),
         approach_mm: 0.00635,
+        // the third stage keeps the first-order pinion's cubic term
+        te_cubic_rad: f.te_cubic_rad,
     };
     let problem = SynthesisProblem { targets, ..problem };
     let s = synthesize_pinion(&problem, x0).unwrap();
@@ -229,6 +232,7 @@ fn seed003_targets() -> SynthesisTargets {
         major_axis_mm: 0.3 * 38.0,
         te_level_rad: (8.0f64 / 3600.0).to_radians(),
         approach_mm: 0.00635,
+        te_cubic_rad: 0.0,
     }
 }
 
@@ -260,7 +264,7 @@ fn seed003_synthesised_pinion_meets_its_targets_in_the_tca() {
         "seed003 synthesis ({:.1} s): {} Newton iterations, {} continuation steps, residual {:.2e}\n\
          basic {:?}\nfirst order {:?}\nachieved {:?}\nvariables {:?}\nsettings {:?}\nhead {:?}\n\
          TCA ({} points): path {:.3}° (target {:.3}°), 2a {:.3} mm (target {:.3}), level {:.3}″ (target {:.3}″), \
-         TE fall over ±π/z₁ {:?}″",
+         TE fall over ±π/z₁ {:?}″, cubic term {:.2e}″",
         synth_time.as_secs_f64(),
         s.iterations,
         s.continuation_steps,
@@ -279,6 +283,7 @@ fn seed003_synthesised_pinion_meets_its_targets_in_the_tca() {
         arcsec(f.te_level_rad),
         arcsec(targets.te_level_rad),
         f.te_fall_half_pitch_rad.map(arcsec),
+        arcsec(s.achieved.te_cubic_rad),
     );
     assert!(
         (f.path_angle_rad - targets.path_angle_rad).abs() <= PATH_TOL_RAD,
