@@ -885,6 +885,37 @@ mod tests {
         }
     }
 
+    /// Seed 003's synthesised scene (papers/seed003-hypoid/scene_synthesised.toml):
+    /// the pinion's report carries the synthesis record, its achieved
+    /// figures on the targets, the drive machine apart from the coast one,
+    /// and the tooth closes.
+    #[test]
+    fn seed003_synthesised_scene_reports_its_synthesis() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("papers/seed003-hypoid/scene_synthesised.toml");
+        let text = std::fs::read_to_string(&path).unwrap();
+        let s = parse(&text).unwrap();
+        let r = &s.cutting_report[0];
+        assert!(r["settings_source"]
+            .as_str()
+            .unwrap()
+            .starts_with("local synthesis"));
+        let a = &r["synthesis"]["achieved"];
+        assert!(a["path_angle_deg"].as_f64().unwrap().abs() < 1e-4, "{a}");
+        assert!(
+            (a["major_axis_mm"].as_f64().unwrap() - 11.4).abs() < 1e-4,
+            "{a}"
+        );
+        assert!(
+            (a["te_level_arcsec"].as_f64().unwrap() - 8.0).abs() < 1e-3,
+            "{a}"
+        );
+        assert_ne!(r["machine"], r["coast_machine"]);
+        assert!(r["cutter"]["outside_blade"]["curvature_radius_mm"].is_number());
+        let (land, _) = s.bodies[0].check_tooth().unwrap();
+        assert!(land > 0.0);
+    }
+
     /// A conjugate pinion with an ease-off: both flanks built from the
     /// gear's, tooth 1 centred on +y (the tooth check passes), the
     /// spiral angle at the mean point within 1° of the blank's β_m1 (the
