@@ -277,10 +277,9 @@ pub fn mean_contact(pair: &BevelPair, roll: f64, approach_mm: f64) -> Result<Mea
         path_angle_rad: path,
         major_axis_mm: ellipse.semi_major_mm.map(|a| 2.0 * a),
         minor_axis_mm: 2.0 * ellipse.semi_minor_mm,
-        residual_mm: t0
-            .point_residual
-            .max(tp.point_residual)
-            .max(tm.point_residual),
+        residual_mm: [&tp, &tm, &tpp, &tmm]
+            .iter()
+            .fold(t0.point_residual, |r, t| r.max(t.point_residual)),
     })
 }
 
