@@ -87,8 +87,8 @@ fn first_order_puts_the_contact_on_the_mean_point() {
 }
 
 /// The second order: from the first-order pinion, targets 0.5° of path
-/// inclination, 5 % of 2a and 40″ of TE level away are met to the
-/// tolerance by the continuation on all six unknowns, and the path,
+/// inclination, 5 % of 2a and 40″ of TE level away (and its cubic term
+/// kept) are met to the tolerance by the default stages, and the path,
 /// 2a and level move by what was asked (the residual definition is not
 /// the only check: the figures are measured again on the result).
 #[test]
