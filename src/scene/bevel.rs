@@ -19,7 +19,8 @@
 //! [pinion]
 //! bore_diameter_mm = 30.0
 //! material = "steel"
-//! process = "generated"             # or "formate", "conjugate" (+ [pinion.ease_off])
+//! process = "generated"             # or "formate", "conjugate" (+ [pinion.ease_off]),
+//!                                   # "synthesised" (+ [pinion.synthesis])
 //!
 //! [gear]
 //! bore_diameter_mm = 120.0
@@ -48,7 +49,9 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use super::analyses::{self, Analyses, RawAnalyses};
-use super::bevel_cutting::{self, Process, RawCutter, RawEaseOff, RawMachine, RawMemberCutting};
+use super::bevel_cutting::{
+    self, Process, RawCutter, RawEaseOff, RawMachine, RawMemberCutting, RawSynthesis,
+};
 use super::load::{self, Load, RawLoad};
 use super::location::{Cx, Res};
 use super::materials::{self, RawMaterial};
@@ -121,6 +124,7 @@ struct RawBevelGear {
     cutter: Option<Spanned<RawCutter>>,
     machine: Option<Spanned<RawMachine>>,
     ease_off: Option<Spanned<RawEaseOff>>,
+    synthesis: Option<Spanned<RawSynthesis>>,
 }
 
 impl RawBevelGear {
@@ -131,6 +135,7 @@ impl RawBevelGear {
             cutter: self.cutter.take(),
             machine: self.machine.take(),
             ease_off: self.ease_off.take(),
+            synthesis: self.synthesis.take(),
         }
     }
 }

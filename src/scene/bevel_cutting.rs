@@ -30,14 +30,34 @@
 //! swivel_deg = 0.0             # optional, default 0
 //!
 //! [pinion]
-//! process = "conjugate"        # "generated" (default), "formate" or "conjugate"
+//! process = "conjugate"        # "generated" (default), "formate", "conjugate"
+//!                              # or "synthesised"
 //! [pinion.ease_off]            # conjugate only; all optional, default 0
 //! centre_height_mm = 2.0       # pattern centre above the pitch cone at R_m1
 //! profile_crowning_um = 10.0   # at the ends of the active profile
 //! lengthwise_crowning_um = 20.0 # at toe and heel
 //! bias_um = 0.0                # diagonal (uv) term at the corners
 //! te_level_arcsec = 30.0       # parabolic TE, rise over one mesh cycle
+//!
+//! [pinion.synthesis]           # synthesised only (face milling); all optional
+//! path_angle_deg = 0.0         # path of contact on the gear flank projection,
+//!                              # from the face direction, + rising to the heel
+//! major_axis_mm = 11.4         # 2a of the contact ellipse at M (default 0.3 × the
+//!                              # gear's face width)
+//! te_level_arcsec = 8.0        # parabolic TE: fall of Δφ₂ (gear angle) over
+//!                              # ±π/z₁ from M (default 8)
+//! approach_mm = 0.00635        # elastic approach δ of the ellipse (default 0.00635)
 //! ```
+//!
+//! A synthesised pinion ([`crate::geometry::bevel::synthesis`]): its drive
+//! flank's machine settings and outside blade come from Litvin's local
+//! synthesis against the gear at the mean point M (first order: contact at
+//! M, TE slope 0; second order: the three targets above), its coast flank
+//! is cut on the settings from its blank. `[pinion.cutter]` may give the
+//! starting cutter radius, edge radius and blade height; `[pinion.machine]`
+//! and `[pinion.ease_off]` are refused. Targets the settings cannot reach
+//! (or a synthesis that does not converge within its bounds) are refused at
+//! `[pinion.synthesis]` with the reason.
 
 use serde::Deserialize;
 use toml::Spanned;
@@ -47,8 +67,9 @@ use crate::error::FlankError;
 use crate::geometry::bevel::cradle_machine::MachineSettings;
 use crate::geometry::bevel::cutter::{Blade, BladeSide, CutterHead};
 use crate::geometry::bevel::cutting::{
-    CutterSpec, CuttingProcess, EaseOffAmounts, MachineCut, MillingMachine, PinionCut,
+    CutterSpec, CuttingProcess, EaseOffAmounts, MachineCut, MillingMachine, PinionCut, SynthesisCut,
 };
+use crate::geometry::bevel::synthesis::SynthesisTargets;
 use crate::geometry::bevel::BlankDesign;
 
 /// `process` of a member.
@@ -58,6 +79,7 @@ pub(super) enum Process {
     Generated,
     Formate,
     Conjugate,
+    Synthesised,
 }
 
 #[derive(Deserialize)]
@@ -99,6 +121,15 @@ pub(super) struct RawEaseOff {
     te_level_arcsec: Option<Spanned<f64>>,
 }
 
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawSynthesis {
+    path_angle_deg: Option<Spanned<f64>>,
+    major_axis_mm: Option<Spanned<f64>>,
+    te_level_arcsec: Option<Spanned<f64>>,
+    approach_mm: Option<Spanned<f64>>,
+}
+
 /// The cutting keys of one member's section.
 #[derive(Default)]
 pub(super) struct RawMemberCutting {
@@ -106,6 +137,7 @@ pub(super) struct RawMemberCutting {
     pub(super) cutter: Option<Spanned<RawCutter>>,
     pub(super) machine: Option<Spanned<RawMachine>>,
     pub(super) ease_off: Option<Spanned<RawEaseOff>>,
+    pub(super) synthesis: Option<Spanned<RawSynthesis>>,
 }
 
 fn opt(cx: &Cx, v: &Option<Spanned<f64>>, key: &str, default: f64) -> Res<f64> {
@@ -253,7 +285,78 @@ fn refuse_ease_off(cx: &Cx, name: &str, raw: &RawMemberCutting) -> Res<()> {
             format!("[{name}.ease_off]: an ease-off is specified on a conjugate pinion only (`pinion.process = \"conjugate\"`)"),
         ));
     }
+    refuse_synthesis(cx, name, raw)
+}
+
+fn refuse_synthesis(cx: &Cx, name: &str, raw: &RawMemberCutting) -> Res<()> {
+    if let Some(e) = &raw.synthesis {
+        return Err(cx.err(
+            e.span(),
+            format!("[{name}.synthesis]: synthesis targets are given for a synthesised pinion only (`pinion.process = \"synthesised\"`)"),
+        ));
+    }
     Ok(())
+}
+
+/// The synthesised pinion's targets from `[pinion.synthesis]` (module
+/// docs; defaults: path 0°, 2a = 0.3 b₂, level 8″, δ = 0.00635 mm).
+fn synthesis_targets(
+    cx: &Cx,
+    raw: &RawMemberCutting,
+    design: &BlankDesign,
+) -> Res<SynthesisTargets> {
+    let w = design.cutting_blank().wheel;
+    let face = w.re - w.ri;
+    let none = RawSynthesis {
+        path_angle_deg: None,
+        major_axis_mm: None,
+        te_level_arcsec: None,
+        approach_mm: None,
+    };
+    let t = raw.synthesis.as_ref().map_or(&none, |t| t.get_ref());
+    let path = opt(
+        cx,
+        &t.path_angle_deg,
+        "pinion.synthesis.path_angle_deg",
+        0.0,
+    )?;
+    if let Some(v) = &t.path_angle_deg {
+        if !(path.abs() < 90.0) {
+            return Err(cx.err(
+                v.span(),
+                format!("`pinion.synthesis.path_angle_deg` = {path}: a path inclination strictly between −90 and 90 degrees is needed"),
+            ));
+        }
+    }
+    let major = match &t.major_axis_mm {
+        Some(v) => cx.positive(v, "pinion.synthesis.major_axis_mm")?,
+        None => 0.3 * face,
+    };
+    let level = opt(
+        cx,
+        &t.te_level_arcsec,
+        "pinion.synthesis.te_level_arcsec",
+        8.0,
+    )?;
+    if let Some(v) = &t.te_level_arcsec {
+        if level == 0.0 {
+            return Err(cx.err(
+                v.span(),
+                "`pinion.synthesis.te_level_arcsec` = 0: a non-zero TE level is needed (the parabola's vertex must be a strict extremum)".into(),
+            ));
+        }
+    }
+    let approach = match &t.approach_mm {
+        Some(v) => cx.positive(v, "pinion.synthesis.approach_mm")?,
+        None => 0.00635,
+    };
+    Ok(SynthesisTargets {
+        path_angle_rad: path.to_radians(),
+        major_axis_mm: major,
+        te_level_rad: (level / 3600.0).to_radians(),
+        approach_mm: approach,
+        te_cubic_rad: 0.0,
+    })
 }
 
 /// A member cut on a machine.
@@ -288,10 +391,10 @@ pub(super) fn gear_cut(cx: &Cx, raw: &RawMemberCutting, design: &BlankDesign) ->
     let generated = match raw.process.as_ref().map(|p| (*p.get_ref(), p.span())) {
         None | Some((Process::Generated, _)) => true,
         Some((Process::Formate, _)) => false,
-        Some((Process::Conjugate, span)) => {
+        Some((Process::Conjugate | Process::Synthesised, span)) => {
             return Err(cx.err(
                 span,
-                "`gear.process` = \"conjugate\": the gear is cut on a machine (\"generated\" or \"formate\"); the pinion may be conjugate to it".into(),
+                "`gear.process` = \"conjugate\" or \"synthesised\": the gear is cut on a machine (\"generated\" or \"formate\"); the pinion may be conjugate to it or synthesised against it".into(),
             ))
         }
     };
@@ -307,7 +410,33 @@ pub(super) fn pinion_cut(cx: &Cx, raw: &RawMemberCutting, design: &BlankDesign) 
         Some(Process::Formate) => Ok(PinionCut::Machine(Box::new(machine_cut(
             cx, "pinion", raw, design, false,
         )?))),
+        Some(Process::Synthesised) => {
+            for (present, table, what) in [
+                (
+                    raw.machine.as_ref().map(|c| c.span()),
+                    "pinion.machine",
+                    "its settings are synthesised",
+                ),
+                (
+                    raw.ease_off.as_ref().map(|c| c.span()),
+                    "pinion.ease_off",
+                    "its bearing comes from [pinion.synthesis]",
+                ),
+            ] {
+                if let Some(span) = present {
+                    return Err(cx.err(
+                        span,
+                        format!("[{table}]: not read for a synthesised pinion ({what}; remove the table or change `pinion.process`)"),
+                    ));
+                }
+            }
+            Ok(PinionCut::Synthesised(Box::new(SynthesisCut {
+                cutter: cutter_spec(cx, "pinion", raw, design)?,
+                targets: synthesis_targets(cx, raw, design)?,
+            })))
+        }
         Some(Process::Conjugate) => {
+            refuse_synthesis(cx, "pinion", raw)?;
             for (present, table) in [
                 (raw.cutter.as_ref().map(|c| c.span()), "pinion.cutter"),
                 (raw.machine.as_ref().map(|c| c.span()), "pinion.machine"),
@@ -458,6 +587,12 @@ pub(super) fn cutting_error(
             ),
         ),
         None => match (&raw.machine, &raw.cutter, &raw.ease_off, &raw.process) {
+            _ if raw.synthesis.is_some() && message.contains("local synthesis") => (
+                raw.synthesis
+                    .as_ref()
+                    .map_or(fallback.clone(), |s| s.span()),
+                format!("[{name}.synthesis]"),
+            ),
             (Some(m), _, _, _) => (m.span(), format!("[{name}.machine]")),
             (None, _, Some(e), _) => (e.span(), format!("[{name}.ease_off]")),
             (None, Some(c), None, _) => (c.span(), format!("[{name}.cutter]")),
@@ -748,6 +883,37 @@ mod tests {
                 "{key}: {e}"
             );
         }
+    }
+
+    /// Seed 003's synthesised scene (papers/seed003-hypoid/scene_synthesised.toml):
+    /// the pinion's report carries the synthesis record, its achieved
+    /// figures on the targets, the drive machine apart from the coast one,
+    /// and the tooth closes.
+    #[test]
+    fn seed003_synthesised_scene_reports_its_synthesis() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("papers/seed003-hypoid/scene_synthesised.toml");
+        let text = std::fs::read_to_string(&path).unwrap();
+        let s = parse(&text).unwrap();
+        let r = &s.cutting_report[0];
+        assert!(r["settings_source"]
+            .as_str()
+            .unwrap()
+            .starts_with("local synthesis"));
+        let a = &r["synthesis"]["achieved"];
+        assert!(a["path_angle_deg"].as_f64().unwrap().abs() < 1e-4, "{a}");
+        assert!(
+            (a["major_axis_mm"].as_f64().unwrap() - 11.4).abs() < 1e-4,
+            "{a}"
+        );
+        assert!(
+            (a["te_level_arcsec"].as_f64().unwrap() - 8.0).abs() < 1e-3,
+            "{a}"
+        );
+        assert_ne!(r["machine"], r["coast_machine"]);
+        assert!(r["cutter"]["outside_blade"]["curvature_radius_mm"].is_number());
+        let (land, _) = s.bodies[0].check_tooth().unwrap();
+        assert!(land > 0.0);
     }
 
     /// A conjugate pinion with an ease-off: both flanks built from the

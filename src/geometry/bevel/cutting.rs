@@ -41,6 +41,9 @@ use crate::geometry::bevel::ease_off::{EaseOffSpec, EasedPinion};
 use crate::geometry::bevel::generated_surface::{FlankKind, FlankMeasure};
 use crate::geometry::bevel::hobbing_settings::{self, HobbingBlank, HobbingCutter, HobbingSetup};
 use crate::geometry::bevel::machine_settings::{self, CutterChoice, MemberSetup};
+use crate::geometry::bevel::synthesis::{
+    synthesize_pinion, PinionSynthesisVariables, SynthesisProblem, SynthesisTargets,
+};
 use crate::geometry::bevel::{BlankDesign, BlankInputs};
 use crate::geometry::rotated::RotatedSurface;
 use crate::geometry::surface::ToothSurface;
@@ -138,6 +141,17 @@ pub enum PinionCut {
     Machine(Box<MachineCut>),
     /// Conjugate to the gear, with an optional ease-off.
     Conjugate(Option<EaseOffAmounts>),
+    /// Face milled, its drive flank's settings by local synthesis
+    /// ([`crate::geometry::bevel::synthesis`]) from the gear's and the
+    /// targets; its coast flank on the settings from its blank.
+    Synthesised(Box<SynthesisCut>),
+}
+
+/// A synthesised pinion's cutter and design targets.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SynthesisCut {
+    pub cutter: CutterSpec,
+    pub targets: SynthesisTargets,
 }
 
 /// The two flanks of a member's tooth 1 and what was used to cut them.
@@ -168,12 +182,16 @@ fn deg(x: f64) -> f64 {
 
 fn head_report(head: &CutterHead) -> serde_json::Value {
     let blade = |b: &crate::geometry::bevel::cutter::Blade| {
-        json!({
+        let mut j = json!({
             "point_radius_mm": b.point_radius,
             "blade_angle_deg": deg(b.pressure_angle),
             "edge_radius_mm": b.edge_radius,
             "height_mm": b.height,
-        })
+        });
+        if let Some(r) = b.curvature_radius {
+            j["curvature_radius_mm"] = json!(r);
+        }
+        j
     };
     json!({ "inside_blade": blade(&head.inside), "outside_blade": blade(&head.outside) })
 }
@@ -470,7 +488,107 @@ pub fn cut_pinion(
         PinionCut::Conjugate(ease) => {
             conjugate(inputs, design, hand.opposite(), ease.as_ref(), gear)
         }
+        PinionCut::Synthesised(cut) => match CuttingProcess::of_method(design.method) {
+            CuttingProcess::FaceMilling => synthesised(inputs, design, hand, cut, gear),
+            CuttingProcess::FaceHobbing => Err(FlankError::Model(format!(
+                "local synthesis: the pinion's settings are synthesised for face-milled sets (methods 0, 1); this blank is method {} (face hobbing: use `process = \"conjugate\"` with [pinion.ease_off])",
+                design.method
+            ))),
+        },
     }
+}
+
+/// A face-milled pinion whose drive flank's settings come from the local
+/// synthesis against `gear` ([`crate::geometry::bevel::synthesis`]); its
+/// coast flank is cut on the settings from its blank.
+fn synthesised(
+    inputs: &BlankInputs,
+    design: &BlankDesign,
+    hand: Hand,
+    cut: &SynthesisCut,
+    gear: &MemberFlanks,
+) -> Result<MemberFlanks> {
+    let w = design.cutting_blank().wheel;
+    let toe_root = w.axial_point(-w.dedendum(w.ri), w.ri).1;
+    // one tooth: the synthesis looks at the middle pair only
+    let gear_body = member_body(design, false, gear, 0.5 * toe_root, 1)?;
+    let assembly = assembly_for(inputs, design, hand.opposite())?;
+    let choice = CutterChoice {
+        mean_radius: cut.cutter.radius,
+        edge_radius: cut.cutter.edge_radius,
+        blade_height: cut.cutter.blade_height,
+    };
+    let problem = SynthesisProblem::new(
+        design,
+        hand,
+        choice,
+        Arc::new(gear_body),
+        assembly,
+        cut.targets,
+    )?;
+    let s = synthesize_pinion(
+        &problem,
+        PinionSynthesisVariables::basic(choice.mean_radius),
+    )?;
+    let drive: Arc<dyn ToothSurface> = Arc::new(s.setup.flank(FlankKind::Concave)?);
+    let coast: Arc<dyn ToothSurface> = Arc::new(problem.basic.flank(FlankKind::Convex)?);
+    let blank = s.setup.blank;
+    for (f, what) in [(&drive, "drive flank"), (&coast, "coast flank")] {
+        check_hand(
+            f.as_ref(),
+            hand,
+            blank.pitch_angle,
+            blank.mean_cone_distance,
+            what,
+        )?;
+    }
+    let arcsec = |r: f64| r.to_degrees() * 3600.0;
+    let figures = |m: &crate::geometry::bevel::synthesis::MeanContact| {
+        json!({
+            "path_angle_deg": deg(m.path_angle_rad),
+            "major_axis_mm": m.major_axis_mm,
+            "te_level_arcsec": arcsec(m.te_level_rad),
+            "te_cubic_arcsec": arcsec(m.te_cubic_rad),
+            "te_slope": m.te_slope,
+        })
+    };
+    let t = &cut.targets;
+    let report = json!({
+        "process": "face_milling",
+        "generated": true,
+        "hand": format!("{hand:?}").to_lowercase(),
+        "settings_source": "local synthesis (drive flank: machine and outside blade; coast flank: machine and inside blade from the blank)",
+        "cutter": head_report(&CutterHead {
+            inside: problem.basic.head.inside,
+            outside: s.setup.head.outside,
+        }),
+        "machine": settings_report(&s.setup.settings),
+        "coast_machine": settings_report(&problem.basic.settings),
+        "synthesis": {
+            "targets": {
+                "path_angle_deg": deg(t.path_angle_rad),
+                "major_axis_mm": t.major_axis_mm,
+                "te_level_arcsec": arcsec(t.te_level_rad),
+                "approach_mm": t.approach_mm,
+            },
+            "basic": figures(&s.start),
+            "first_order": figures(&s.first_order),
+            "achieved": figures(&s.achieved),
+            "newton_iterations": s.iterations,
+            "continuation_steps": s.continuation_steps,
+            "largest_scaled_residual": s.residual,
+            "cutter_radius_mm": s.variables.cutter_radius_mm,
+            "ratio_of_roll_factor": s.variables.ratio_of_roll_factor,
+            "mean_roll_deg": deg(s.variables.mean_roll_rad),
+        },
+        "mean_point": measure_report(drive.as_ref(), coast.as_ref(), blank.pitch_angle, blank.mean_cone_distance),
+    });
+    Ok(MemberFlanks {
+        drive,
+        coast,
+        report,
+        eased: None,
+    })
 }
 
 /// A conjugate flank as built: the surface, its ease-off report (JSON)
