@@ -43,7 +43,9 @@ use crate::ltca::friction::{
     FrictionProblem, FrictionSolver, PointState,
 };
 use crate::ltca::local::{cell_influence, hertz_line, Cell, LocalModel};
-use crate::ltca::qp::{condition_number, solve_contact_qp, ContactQp, QpOptions, QpSolution};
+use crate::ltca::qp::{
+    condition_number, singular_on, solve_contact_qp, ContactQp, QpOptions, QpSolution,
+};
 use crate::tca::{LineKind, TcaPosition};
 
 /// Settings of the LTCA solve at one position.
@@ -633,6 +635,22 @@ impl LtcaBodies {
         let time_s = t0.elapsed().as_secs_f64();
         // reported, not part of the solve: outside the timed part
         let condition = settings.condition.then(|| condition_number(&f, n));
+        // the loads are unique only if F is regular on the loaded points
+        // (always checked: a Cholesky of that block); tip-corner points
+        // carry no half-space term, and more of them on a line than the
+        // edge has nodes along it make F singular there
+        let mut warnings: Vec<String> =
+            crate::load_sharing::large_rotation_warning(s.rotation * 1e6)
+                .into_iter()
+                .collect();
+        let loaded: Vec<usize> = (0..n).filter(|&i| s.load[i] > 0.0).collect();
+        if singular_on(&f, n, &loaded) {
+            let corners = loaded.iter().filter(|&&i| corner[i]).count();
+            warnings.push(format!(
+                "the compliance F is singular on the {} loaded points ({corners} of them on tip corners): the loads per point (and p_max) are not unique, θ and the gaps are; fewer points per line (K) than nodes along a tip edge avoid it",
+                loaded.len()
+            ));
+        }
         let condition_loaded = settings.condition.then(|| {
             let on: Vec<usize> = (0..n).filter(|&i| s.load[i] > 0.0).collect();
             let m = on.len();
@@ -714,9 +732,7 @@ impl LtcaBodies {
             corner_extension_mm: f64::NAN,
             condition,
             condition_loaded,
-            warnings: crate::load_sharing::large_rotation_warning(s.rotation * 1e6)
-                .into_iter()
-                .collect(),
+            warnings,
             line_friction_n: line_friction,
             friction: s.report.clone(),
             friction_power_w,

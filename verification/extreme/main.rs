@@ -460,6 +460,7 @@ fn run_case(name: &str, p: &Pair, law: Option<Fe>, ltca_too: bool) -> Vec<Row> {
 }
 
 const LARGE: &str = "small-displacement (linear) model";
+const SINGULAR: &str = "the compliance F is singular on the";
 
 // ---------------------------------------------------------------- cases
 
@@ -478,7 +479,9 @@ fn e_ratio_70_steel_on_polymer() {
     p.young[1] = p.young[0] / 70.0;
     let r = run_case("e_ratio_70", &p, Some(Fe::Hard), true);
     r[0].within().flagged(LARGE);
-    r[1].within_except(&["condition"]).secondary_within().flagged(LARGE);
+    r[1].within_except(&["condition"])
+        .flagged(LARGE)
+        .flagged(SINGULAR);
 }
 
 #[test]
@@ -529,8 +532,8 @@ fn e_ratio_1e4() {
         .secondary_within()
         .flagged(LARGE);
     r[1].within_except(&["condition"])
-        .secondary_within()
-        .flagged(LARGE);
+        .flagged(LARGE)
+        .flagged(SINGULAR);
 }
 
 #[test]
@@ -568,8 +571,8 @@ fn torque_100() {
     let r = run_case("torque_100", &p, Some(Fe::Hard), true);
     r[0].within().flagged(LARGE);
     r[1].within_except(&["condition"])
-        .secondary_within()
-        .flagged(LARGE);
+        .flagged(LARGE)
+        .flagged(SINGULAR);
 }
 
 #[test]
@@ -621,7 +624,9 @@ fn module_0_3() {
     let p = Pair::seed002().scaled(0.3 / 3.8);
     let r = run_case("module_0.3", &p, Some(Fe::Hard), true);
     r[0].within();
-    r[1].within_except(&["condition"]).secondary_within();
+    r[1].within_except(&["condition"])
+        .secondary_within()
+        .not_flagged(SINGULAR);
 }
 
 #[test]
@@ -669,7 +674,8 @@ fn six_teeth_shifted() {
     r[0].within().flagged(LARGE);
     r[1].within_except(&["condition"])
         .secondary_within()
-        .flagged(LARGE);
+        .flagged(LARGE)
+        .not_flagged(SINGULAR);
 }
 
 #[test]
