@@ -25,3 +25,20 @@ pub fn large_rotation_warning(te_urad: f64) -> Option<String> {
         )
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn large_rotation_warning_above_the_threshold_only() {
+        assert!(large_rotation_warning(4935.0).is_none());
+        assert!(large_rotation_warning(-19_999.0).is_none());
+        let w = large_rotation_warning(104_940.0).unwrap();
+        assert!(
+            w.contains("0.1049 rad") && w.contains("small-displacement"),
+            "{w}"
+        );
+        assert!(large_rotation_warning(-25_000.0).is_some());
+    }
+}

@@ -733,6 +733,14 @@ mod tests {
             };
             let (cb, sb) = compute_compliance(&model, &flank, &opts).unwrap();
             assert_eq!(sb.blocks, m.div_ceil(7));
+            // the probe solve of both methods is backward stable
+            for st in [&ss, &sb] {
+                assert!(
+                    st.backward_error > 0.0 && st.backward_error < 1e-14,
+                    "{kind:?}: probe backward error {}",
+                    st.backward_error
+                );
+            }
             assert!(
                 rel(&cs, &cb) < 1e-12,
                 "{kind:?}: schur vs blocked {}",

@@ -88,16 +88,13 @@ pub fn inverse_norm1_estimate(n: usize, solve: impl Fn(&mut [f64])) -> (f64, usi
             .collect();
         solve(&mut z); // A symmetric: A⁻ᵀ = A⁻¹
         solves += 1;
-        let (j, zj) = z
-            .iter()
-            .enumerate()
-            .fold((0, 0.0f64), |(bj, bv), (i, &v)| {
-                if v.abs() > bv {
-                    (i, v.abs())
-                } else {
-                    (bj, bv)
-                }
-            });
+        let (j, zj) = z.iter().enumerate().fold((0, 0.0f64), |(bj, bv), (i, &v)| {
+            if v.abs() > bv {
+                (i, v.abs())
+            } else {
+                (bj, bv)
+            }
+        });
         let ztx: f64 = z.iter().zip(&x).map(|(a, b)| a * b).sum();
         if k > 0 && (zj <= ztx || j == last_j) {
             break;
@@ -221,9 +218,8 @@ mod tests {
 
     #[test]
     fn condition_estimate_of_a_diagonal_matrix_is_exact() {
-        let a = DMatrix::from_diagonal(&nalgebra::DVector::from_vec(vec![
-            1e6, 2.0, 3.0, 1e-4, 5.0,
-        ]));
+        let a =
+            DMatrix::from_diagonal(&nalgebra::DVector::from_vec(vec![1e6, 2.0, 3.0, 1e-4, 5.0]));
         let (p, v) = csc(&a);
         let k = condition_estimate(&p, &v, solver(&a));
         assert!((k / 1e10 - 1.0).abs() < 1e-12, "{k}");
