@@ -415,7 +415,7 @@ pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, Fl
             extended += 1;
         }
     }
-    let mut notes = Vec::new();
+    let mut notes = scene.material_warnings();
     let limits = cycle.loaded_limits(&angles, &results)?;
     if limits.is_none() {
         notes.push("contact ratio not measured: the roll angles do not cover the middle pair's whole engagement with an unloaded position before and after".to_string());

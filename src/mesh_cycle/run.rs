@@ -768,7 +768,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
     }
     bar.finish_and_clear();
     let reused = checkpoint.reused();
-    let mut notes: Vec<String> = Vec::new();
+    let mut notes: Vec<String> = scene.material_warnings();
     // the wet–dry loop: the positions solved so far are its dry pass
     let mut lubrication = None;
     if let Some(ls) = cycle.settings.lubrication.clone() {

@@ -560,6 +560,13 @@ fn e_ratio_1e4() {
 fn nearly_incompressible_wedge15() {
     let mut p = Pair::seed002();
     p.poisson = [0.4999; 2];
+    // the scene's summaries carry the locking warning; the nominal's not
+    let s = scene_of(&p, "nu_0.4999_scene").unwrap();
+    assert!(s.material_warnings()[0].contains("lock volumetrically"));
+    assert!(scene_of(&Pair::seed002(), "nu_0.3_scene")
+        .unwrap()
+        .material_warnings()
+        .is_empty());
     let r = run_case("nu_0.4999_wedge15", &p, Some(Fe::Hard), true);
     r[0].within();
     r[1].within();
