@@ -309,7 +309,7 @@ fn ltca(p: &Pair, scene: &Scene, name: &str) -> Result<Figures, String> {
 fn misses(f: &Figures, path: &str) -> Vec<(&'static str, String)> {
     let mut m = Vec::new();
     let mut lim = |key: &'static str, what: &str, v: f64, l: f64| {
-        if !(v <= l) {
+        if v.is_nan() || v > l {
             m.push((key, format!("{what} {v:.2e} > {l:.0e}")));
         }
     };
