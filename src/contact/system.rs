@@ -45,6 +45,8 @@ pub struct SystemStats {
     /// ([`ElasticSystem::condition_estimate`]).
     pub condition_estimate: f64,
     pub scaled_condition_estimate: f64,
+    /// Wall time of both estimates (s; about 10 solves with the factor).
+    pub condition_s: f64,
 }
 
 /// The response of the pinned stiffness to the model's external loads
@@ -139,6 +141,7 @@ impl ElasticSystem {
             estimated_peak_mb: chol.stats.resident_before_mb + chol.stats.factor_estimate_mb,
             condition_estimate: f64::NAN,
             scaled_condition_estimate: f64::NAN,
+            condition_s: 0.0,
         };
         let mut system = ElasticSystem {
             external: std::sync::OnceLock::new(),
@@ -151,10 +154,12 @@ impl ElasticSystem {
             par,
             stats,
         };
+        let t = Instant::now();
         (
             system.stats.condition_estimate,
             system.stats.scaled_condition_estimate,
         ) = system.condition_estimate();
+        system.stats.condition_s = t.elapsed().as_secs_f64();
         Ok(system)
     }
 

@@ -909,6 +909,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
         "factorization_s": stats.factorization_s,
         "condition_estimate": stats.condition_estimate,
         "scaled_condition_estimate": stats.scaled_condition_estimate,
+        "condition_estimate_s": stats.condition_s,
         "threads": crate::fem::solver::parallelism(options.threads).degree(),
         "peak_memory_mb": peak_memory_mb(),
         "estimated_peak_memory_mb": stats.estimated_peak_mb,

@@ -243,6 +243,13 @@ fn fe(p: &Pair, scene: &Scene, law: Fe, name: &str) -> Result<Figures, String> {
     let s = settings(scene, gp.as_ref(), &o).map_err(|e| e.to_string())?;
     let c = MeshCycle::new(scene, &mesh_of(p), s, 0).map_err(|e| e.to_string())?;
     let r = c.solve(roll).map_err(|e| e.to_string())?.step;
+    println!(
+        "COST {name}: factorization {:.2} s, both κ estimates {:.2} s, one position {:.2} s ({} DOFs)",
+        c.system.stats.factorization_s,
+        c.system.stats.condition_s,
+        r.time_s,
+        c.system.stats.dofs
+    );
     let total: f64 = r.pair_force_n.iter().sum();
     let delta = (r.te_um * 1e-3).abs();
     Ok(Figures {
