@@ -136,7 +136,14 @@ pub struct ComplianceStats {
     /// blocks.
     pub estimated_peak_mb: f64,
     pub condition: Option<ConditionEstimate>,
+    /// Backward error of a probe solve with the factor (unit loads on every
+    /// free flank DOF; [`crate::fem::residual::backward_error`]).
+    pub backward_error: f64,
 }
+
+/// Largest backward error of the probe solve accepted (the FE contact
+/// path's limit for its final solve, `contact::solve`).
+pub const MAX_BACKWARD_ERROR: f64 = 1e-10;
 
 /// Computes C (3N × 3N, full symmetric, node-major x, y, z, mm/N) for the
 /// flank nodes of `flank` (which must carry mesh indices) of `model`, whose
@@ -277,7 +284,27 @@ fn compute_in_pool(
         )
     };
     chol.factorize(&pattern, &system.values, Precision::Double, &name_of)?;
+    // backward error of the factor on a probe: unit loads on every free
+    // flank DOF at once (the right-hand sides the tensor is made of)
+    let mut probe = vec![0.0; pattern.n];
+    for n in &flank.nodes {
+        for c in 0..3 {
+            if let DofTarget::Free(r) = dofs.targets[3 * n + c] {
+                probe[r] = 1.0;
+            }
+        }
+    }
+    let mut x = probe.clone();
+    chol.solve_in_place(&mut x);
+    let (_, backward_error) =
+        crate::fem::residual::backward_error(&pattern, &system.values, &x, &probe);
     drop(system);
+    stats.backward_error = backward_error;
+    if !(backward_error <= MAX_BACKWARD_ERROR) {
+        return Err(FlankError::Solver(format!(
+            "compliance tensor: backward error {backward_error:.2e} of a probe solve (limit {MAX_BACKWARD_ERROR:.0e}): the factorization of the body's stiffness is not trustworthy"
+        )));
+    }
     let fs = chol.stats.clone();
     stats.ordering = fs.ordering.clone();
     stats.nnz_factor = fs.nnz_factor;
@@ -706,6 +733,14 @@ mod tests {
             };
             let (cb, sb) = compute_compliance(&model, &flank, &opts).unwrap();
             assert_eq!(sb.blocks, m.div_ceil(7));
+            // the probe solve of both methods is backward stable
+            for st in [&ss, &sb] {
+                assert!(
+                    st.backward_error > 0.0 && st.backward_error < 1e-14,
+                    "{kind:?}: probe backward error {}",
+                    st.backward_error
+                );
+            }
             assert!(
                 rel(&cs, &cb) < 1e-12,
                 "{kind:?}: schur vs blocked {}",

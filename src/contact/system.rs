@@ -41,6 +41,12 @@ pub struct SystemStats {
     /// The memory guard's estimated peak of the factorization (MB: the
     /// resident set before it plus the factor and workspace).
     pub estimated_peak_mb: f64,
+    /// Estimates of κ₁(K₀) and of κ₁ of the diagonally scaled K₀
+    /// ([`ElasticSystem::condition_estimate`]).
+    pub condition_estimate: f64,
+    pub scaled_condition_estimate: f64,
+    /// Wall time of both estimates (s; about 10 solves with the factor).
+    pub condition_s: f64,
 }
 
 /// The response of the pinned stiffness to the model's external loads
@@ -133,8 +139,11 @@ impl ElasticSystem {
             factorization_s: chol.stats.factorization_s,
             floating_modes: floating.modes.len(),
             estimated_peak_mb: chol.stats.resident_before_mb + chol.stats.factor_estimate_mb,
+            condition_estimate: f64::NAN,
+            scaled_condition_estimate: f64::NAN,
+            condition_s: 0.0,
         };
-        Ok(ElasticSystem {
+        let mut system = ElasticSystem {
             external: std::sync::OnceLock::new(),
             floating,
             dofs,
@@ -144,7 +153,14 @@ impl ElasticSystem {
             prescribed_load: sys.prescribed_load,
             par,
             stats,
-        })
+        };
+        let t = Instant::now();
+        (
+            system.stats.condition_estimate,
+            system.stats.scaled_condition_estimate,
+        ) = system.condition_estimate();
+        system.stats.condition_s = t.elapsed().as_secs_f64();
+        Ok(system)
     }
 
     pub fn reduced_count(&self) -> usize {
@@ -259,37 +275,23 @@ impl ElasticSystem {
             .collect()
     }
 
-    /// Relative residual ‖K₀q − b‖/‖b‖ and backward error of a solution.
+    /// Relative residual ‖K₀q − b‖/‖b‖ and backward error of a solution
+    /// ([`crate::fem::residual::backward_error`]).
     pub fn residual(&self, q: &[f64], b: &[f64]) -> (f64, f64) {
-        let kq = self.pattern.sym_mul(&self.values, q);
-        let mut rn = 0.0;
-        let mut bn = 0.0;
-        let mut rinf = 0.0f64;
-        for (k, bi) in kq.iter().zip(b) {
-            rn += (bi - k) * (bi - k);
-            bn += bi * bi;
-            rinf = rinf.max((bi - k).abs());
-        }
-        let mut row = vec![0.0; self.pattern.n];
-        for c in 0..self.pattern.n {
-            for k in self.pattern.col_ptr[c]..self.pattern.col_ptr[c + 1] {
-                let r = self.pattern.row_idx[k];
-                row[r] += self.values[k].abs();
-                if r != c {
-                    row[c] += self.values[k].abs();
-                }
-            }
-        }
-        let knorm = row.iter().fold(0.0f64, |a, v| a.max(*v));
-        let qn = q.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        let binf = b.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        let rel = if bn > 0.0 {
-            (rn / bn).sqrt()
-        } else {
-            rn.sqrt()
-        };
-        let den = knorm * qn + binf;
-        (rel, if den > 0.0 { rinf / den } else { rinf })
+        crate::fem::residual::backward_error(&self.pattern, &self.values, q, b)
+    }
+
+    /// Estimates of the 1-norm condition number κ₁(K₀) of the pinned
+    /// stiffness and of its diagonally scaled form
+    /// ([`crate::fem::residual::condition_estimate`],
+    /// [`crate::fem::residual::scaled_condition_estimate`]: a few solves
+    /// with the factor each).
+    pub fn condition_estimate(&self) -> (f64, f64) {
+        let solve = |x: &mut [f64]| self.chol.solve_in_place(x);
+        (
+            crate::fem::residual::condition_estimate(&self.pattern, &self.values, solve),
+            crate::fem::residual::scaled_condition_estimate(&self.pattern, &self.values, solve),
+        )
     }
 
     /// Motion of each coupling's reference DOFs in a reduced solution.

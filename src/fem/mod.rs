@@ -16,6 +16,7 @@ pub mod material;
 pub mod model;
 pub mod ordering;
 pub mod quadrature;
+pub mod residual;
 pub mod solver;
 pub mod static_analysis;
 pub mod stress;

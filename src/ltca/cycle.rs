@@ -57,6 +57,14 @@ pub struct LtcaOptions {
     pub friction_model: Option<FrictionModel>,
 }
 
+/// The corner-contact extension must exceed the loaded approach by this
+/// factor ([`LtcaCycle::solve`]).
+pub const EXTENSION_MARGIN: f64 = 1.5;
+
+/// How often a position is solved again with a raised corner-contact
+/// extension ([`LtcaCycle::solve`]).
+pub const MAX_EXTENSION_RAISES: usize = 3;
+
 /// Default load increments of the frictional LTCA.
 pub const DEFAULT_INCREMENTS: usize = 10;
 
@@ -67,6 +75,10 @@ pub struct Setup {
     /// computed here (else read), seconds.
     pub flank_nodes: [usize; 2],
     pub computed: [bool; 2],
+    /// Backward error of each body's probe solve when its tensor was
+    /// computed here (`None`: read from a file or the cache, checked when
+    /// it was computed).
+    pub backward_error: [Option<f64>; 2],
     pub compliance_s: f64,
     pub flank_size_mm: f64,
     pub base_size_mm: f64,
@@ -164,6 +176,10 @@ impl LtcaCycle {
         let setup = Setup {
             flank_nodes: [pinion.tensor.node_count(), gear.tensor.node_count()],
             computed: [pinion.stats.is_some(), gear.stats.is_some()],
+            backward_error: [
+                pinion.stats.as_ref().map(|s| s.backward_error),
+                gear.stats.as_ref().map(|s| s.backward_error),
+            ],
             compliance_s,
             flank_size_mm: mesh.flank_size.unwrap_or(f64::NAN),
             base_size_mm: mesh.base_size.unwrap_or(f64::NAN),
@@ -229,17 +245,43 @@ impl LtcaCycle {
     }
 
     /// The LTCA at one roll angle (deg).
+    ///
+    /// The candidate set must hold every point that closes under load. Tip
+    /// corners beyond the kinematic path are candidates up to a separation
+    /// of `extension_mm`; when the loaded approach (θ − θ₀)·r comes within
+    /// [`EXTENSION_MARGIN`] of it, the position is solved again with the
+    /// extension raised to twice the margin times the approach (at most
+    /// [`MAX_EXTENSION_RAISES`] times, then a clear error), as the FE
+    /// contact raises its search distance. An extension of 0 (corner
+    /// contact switched off) is kept.
     pub fn solve(&self, roll_deg: f64) -> Result<PositionResult, FlankError> {
         let t = Instant::now();
         let roll = roll_deg.to_radians();
-        let position = self.tca.position(roll)?;
-        let frames = self.tca.frames(roll);
-        let tca_s = t.elapsed().as_secs_f64();
-        let mut r = self
-            .bodies
-            .solve(&position, &frames, self.torque, &self.settings)?;
-        r.time_s += tca_s;
-        Ok(r)
+        let mut tca = std::borrow::Cow::Borrowed(&self.tca);
+        let mut raises = 0;
+        loop {
+            let position = tca.position(roll)?;
+            let frames = tca.frames(roll);
+            let mut r = self
+                .bodies
+                .solve(&position, &frames, self.torque, &self.settings)?;
+            let ext = tca.settings().extension_mm;
+            r.corner_extension_mm = ext;
+            if ext == 0.0 || !(EXTENSION_MARGIN * r.loaded_approach_mm > ext) {
+                r.time_s = t.elapsed().as_secs_f64();
+                return Ok(r);
+            }
+            if raises == MAX_EXTENSION_RAISES {
+                return Err(FlankError::Model(format!(
+                    "LTCA at roll {roll_deg:.4}°: the loaded approach {:.4} mm still reaches the corner-contact extension {ext:.4} mm after {MAX_EXTENSION_RAISES} raises: points that may close under this load are not candidates (the load deforms the teeth by more than a linear model covers?)",
+                    r.loaded_approach_mm
+                )));
+            }
+            raises += 1;
+            let mut s = tca.settings().clone();
+            s.extension_mm = 2.0 * EXTENSION_MARGIN * r.loaded_approach_mm;
+            tca = std::borrow::Cow::Owned(tca.with_settings(s)?);
+        }
     }
 
     /// Normal force per pair (pinion tooth p + 1), summed over its lines.
@@ -377,7 +419,7 @@ pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, Fl
             extended += 1;
         }
     }
-    let mut notes = Vec::new();
+    let mut notes = scene.material_warnings();
     let limits = cycle.loaded_limits(&angles, &results)?;
     if limits.is_none() {
         notes.push("contact ratio not measured: the roll angles do not cover the middle pair's whole engagement with an unloaded position before and after".to_string());
@@ -462,6 +504,12 @@ pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, Fl
         "settings": cycle.settings,
         "max_kkt": worst(|r| r.kkt_max),
         "max_condition": results.iter().filter_map(|r| r.condition).reduce(f64::max),
+        "max_condition_loaded": results.iter().filter_map(|r| r.condition_loaded).reduce(f64::max),
+        "tensor_backward_error": cycle.setup.backward_error,
+        "warnings": results
+            .iter()
+            .flat_map(|r| r.warnings.iter().map(move |w| format!("{:.4}°: {w}", r.roll_deg)))
+            .collect::<Vec<_>>(),
         "kkt_flagged": flagged,
         "iteration_limits": loops.to_json(),
         "max_pressure_mpa": worst(|r| r.max_pressure_mpa),

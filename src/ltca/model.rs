@@ -45,7 +45,9 @@ use crate::ltca::friction::{
     SLIDING_TOLERANCE,
 };
 use crate::ltca::local::{cell_influence, hertz_line, Cell, LocalModel};
-use crate::ltca::qp::{condition_number, solve_contact_qp, ContactQp, QpOptions, QpSolution};
+use crate::ltca::qp::{
+    condition_number, singular_on, solve_contact_qp, ContactQp, QpOptions, QpSolution,
+};
 use crate::tca::{LineKind, TcaPosition};
 
 /// Relative change of the Hertz half-widths at which their fixed point
@@ -251,8 +253,20 @@ pub struct PositionResult {
     pub local_iterations: usize,
     pub kkt_max: f64,
     pub kkt_within_tolerance: bool,
-    /// 2-norm condition number of F (if asked).
+    /// Loaded approach (θ − θ₀)·r on the line of action (mm) and the
+    /// corner-contact extension of the TCA that was solved with (mm;
+    /// [`crate::ltca::cycle::LtcaCycle::solve`] raises it when the approach
+    /// comes near it).
+    pub loaded_approach_mm: f64,
+    pub corner_extension_mm: f64,
+    /// 2-norm condition number of F (if asked) over every candidate, and
+    /// over the loaded points only (the matrix the loads are solved with:
+    /// a singular F on unloaded points leaves the answer unique).
     pub condition: Option<f64>,
+    pub condition_loaded: Option<f64>,
+    /// Warnings of the position (a loaded TE beyond the small-displacement
+    /// model, [`crate::load_sharing::large_rotation_warning`]).
+    pub warnings: Vec<String>,
     /// Friction force per line (N) and the friction solve's report
     /// (residuals, increments, the Lemke cross-check if asked).
     pub line_friction_n: Vec<f64>,
@@ -656,6 +670,32 @@ impl LtcaBodies {
         let time_s = t0.elapsed().as_secs_f64();
         // reported, not part of the solve: outside the timed part
         let condition = settings.condition.then(|| condition_number(&f, n));
+        // the loads are unique only if F is regular on the loaded points
+        // (always checked: a Cholesky of that block); tip-corner points
+        // carry no half-space term, and more of them on a line than the
+        // edge has nodes along it make F singular there
+        let mut warnings: Vec<String> =
+            crate::load_sharing::large_rotation_warning(s.rotation * 1e6)
+                .into_iter()
+                .collect();
+        let loaded: Vec<usize> = (0..n).filter(|&i| s.load[i] > 0.0).collect();
+        if singular_on(&f, n, &loaded) {
+            let corners = loaded.iter().filter(|&&i| corner[i]).count();
+            warnings.push(format!(
+                "the compliance F is singular on the {} loaded points ({corners} of them on tip corners): the loads per point (and p_max) are not unique, θ and the gaps are; fewer points per line (K) than nodes along a tip edge avoid it",
+                loaded.len()
+            ));
+        }
+        let condition_loaded = settings.condition.then(|| {
+            let on: Vec<usize> = (0..n).filter(|&i| s.load[i] > 0.0).collect();
+            let m = on.len();
+            let sub: Vec<f64> = on
+                .iter()
+                .flat_map(|&i| on.iter().map(move |&j| (i, j)))
+                .map(|(i, j)| f[i * n + j])
+                .collect();
+            condition_number(&sub, m)
+        });
         // per line and per point
         let nl = tca.lines.len();
         let mut line_force = vec![0.0; nl];
@@ -723,7 +763,11 @@ impl LtcaBodies {
             local_iterations,
             kkt_max: s.kkt_max,
             kkt_within_tolerance: s.within_tolerance,
+            loaded_approach_mm: approach,
+            corner_extension_mm: f64::NAN,
             condition,
+            condition_loaded,
+            warnings,
             line_friction_n: line_friction,
             friction: s.report.clone(),
             friction_power_w,

@@ -186,6 +186,18 @@ impl Scene {
         )
     }
 
+    /// Warnings about the members' materials (ν near ½:
+    /// [`crate::fem::material::Material::locking_warning`]), one per
+    /// material, for the analyses' summaries.
+    pub fn material_warnings(&self) -> Vec<String> {
+        let mut w: Vec<String> = [&self.pinion_material, &self.gear_material]
+            .iter()
+            .filter_map(|m| m.locking_warning())
+            .collect();
+        w.dedup();
+        w
+    }
+
     /// The scene's pair behind the gear-pair interface
     /// ([`crate::geometry::gear_pair::GearPair`]): what every analysis uses.
     pub fn gear_pair(&self) -> Result<Arc<dyn GearPair>, FlankError> {

@@ -120,3 +120,48 @@ pub fn condition_number(compliance: &[f64], n: usize) -> f64 {
         lmax / lmin
     }
 }
+
+/// Relative pivot below which [`singular_on`] calls a block singular
+/// (κ₂ of the order of its inverse or above).
+pub const SINGULAR_PIVOT: f64 = 1e-12;
+
+/// Whether the principal block of F (n × n row-major, symmetric part) on
+/// the points `on` is numerically singular: a Cholesky factorization of it
+/// meets a pivot ≤ [`SINGULAR_PIVOT`] × its largest diagonal entry. A
+/// singular block on the loaded points means the loads there are not
+/// unique (any null vector with rᵀv = 0 can be added), although the gaps
+/// and θ are. O(m³/3) for m points.
+pub fn singular_on(compliance: &[f64], n: usize, on: &[usize]) -> bool {
+    let m = on.len();
+    if m == 0 {
+        return false;
+    }
+    let mut a = vec![0.0; m * m];
+    for (x, &i) in on.iter().enumerate() {
+        for (y, &j) in on.iter().enumerate() {
+            a[x * m + y] = 0.5 * (compliance[i * n + j] + compliance[j * n + i]);
+        }
+    }
+    let dmax = (0..m).map(|k| a[k * m + k]).fold(0.0f64, f64::max);
+    if !(dmax > 0.0) {
+        return true;
+    }
+    // right-looking Cholesky on the lower triangle
+    for k in 0..m {
+        let d = a[k * m + k];
+        if !(d > SINGULAR_PIVOT * dmax) {
+            return true;
+        }
+        let l = d.sqrt();
+        for i in k + 1..m {
+            a[i * m + k] /= l;
+        }
+        for j in k + 1..m {
+            let ljk = a[j * m + k];
+            for i in j..m {
+                a[i * m + j] -= a[i * m + k] * ljk;
+            }
+        }
+    }
+    false
+}

@@ -119,7 +119,7 @@ use crate::error::FlankError;
 use active_set::active_set;
 use clarabel::solve_clarabel;
 use kkt::residuals;
-pub use kkt::{condition_number, kkt};
+pub use kkt::{condition_number, kkt, singular_on};
 
 /// Largest accepted asymmetry of F, max |Fᵢⱼ − Fⱼᵢ| / max |Fᵢⱼ|; below it
 /// the symmetric part is used.

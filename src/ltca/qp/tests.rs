@@ -522,6 +522,36 @@ fn bad_input() {
 }
 
 #[test]
+fn singular_blocks_on_chosen_points() {
+    // rank 1 on points {0, 1}, regular on {0, 2} and {2}
+    let f = [1.0, 1.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 2.0];
+    assert!(singular_on(&f, 3, &[0, 1]));
+    assert!(!singular_on(&f, 3, &[0, 2]));
+    assert!(!singular_on(&f, 3, &[2]));
+    assert!(!singular_on(&f, 3, &[]));
+    // three points' loads interpolated from two nodes (the corner-line
+    // case): F = Lᵀ C L with L 2 × 3 is singular; plus a diagonal is not
+    let l = [[1.0, 0.5, 0.0], [0.0, 0.5, 1.0]];
+    let c = [[2.0, 0.3], [0.3, 1.0]];
+    let mut g = [0.0; 9];
+    for i in 0..3 {
+        for j in 0..3 {
+            for a in 0..2 {
+                for b in 0..2 {
+                    g[i * 3 + j] += l[a][i] * c[a][b] * l[b][j];
+                }
+            }
+        }
+    }
+    assert!(singular_on(&g, 3, &[0, 1, 2]));
+    assert!(!singular_on(&g, 3, &[0, 2]));
+    for k in 0..3 {
+        g[k * 4] += 1e-3;
+    }
+    assert!(!singular_on(&g, 3, &[0, 1, 2]));
+}
+
+#[test]
 fn condition_numbers() {
     assert!((condition_number(&[1.0, 0.0, 0.0, 4.0], 2) - 4.0).abs() < 1e-12);
     assert_eq!(condition_number(&[1.0, 1.0, 1.0, 1.0], 2), f64::INFINITY);
