@@ -109,66 +109,53 @@ pub struct MaxStresses {
     pub max_von_mises_at: [f64; 2],
 }
 
+/// The maximum of f(x, z) over |x| ≤ nx h, 0 ≤ z ≤ nz h on a grid of
+/// step h, refined twice by 10× on a ±`reach` step grid around the best
+/// point; returns the maximum and where.
+fn grid_maximum(
+    f: &dyn Fn(f64, f64) -> f64,
+    h: f64,
+    nx: i32,
+    nz: i32,
+    reach: i32,
+) -> (f64, [f64; 2]) {
+    let mut best = (f64::NEG_INFINITY, [0.0, 0.0]);
+    let visit = |x: f64, z: f64, best: &mut (f64, [f64; 2])| {
+        let v = f(x, z);
+        if v > best.0 {
+            *best = (v, [x, z]);
+        }
+    };
+    for i in -nx..=nx {
+        for j in 0..=nz {
+            visit(i as f64 * h, j as f64 * h, &mut best);
+        }
+    }
+    for step in [0.1 * h, 0.01 * h] {
+        let [x0, z0] = best.1;
+        for i in -reach..=reach {
+            for j in -reach..=reach {
+                let (x, z) = (x0 + i as f64 * step, (z0 + j as f64 * step).max(0.0));
+                visit(x, z, &mut best);
+            }
+        }
+    }
+    best
+}
+
 /// The largest principal shear (units of p₀) below a Hertz line contact
 /// with sliding friction μ: the maximum of [`PlaneStress::max_shear`] over
 /// |x| ≤ 1.5a, 0 ≤ z ≤ 1.2a (grid 0.02a refined twice by 10×: to about
 /// 1e-6 p₀; about 0.5 ms).
 pub fn max_subsurface_shear(mu: f64, nu: f64) -> f64 {
-    let f = |x: f64, z: f64| stress(x, z, mu, nu).max_shear();
-    let mut best = (f64::NEG_INFINITY, [0.0, 0.0]);
-    for i in -75..=75 {
-        for j in 0..=60 {
-            let (x, z) = (i as f64 * 0.02, j as f64 * 0.02);
-            let v = f(x, z);
-            if v > best.0 {
-                best = (v, [x, z]);
-            }
-        }
-    }
-    for h in [2e-3, 2e-4] {
-        let [x0, z0] = best.1;
-        for i in -10..=10 {
-            for j in -10..=10 {
-                let (x, z) = (x0 + i as f64 * h, (z0 + j as f64 * h).max(0.0));
-                let v = f(x, z);
-                if v > best.0 {
-                    best = (v, [x, z]);
-                }
-            }
-        }
-    }
-    best.0
+    grid_maximum(&|x, z| stress(x, z, mu, nu).max_shear(), 0.02, 75, 60, 10).0
 }
 
 /// The maxima of [`stress`] over −2a ≤ x ≤ 2a, 0 ≤ z ≤ 2a (a grid of
-/// 0.01 a refined by a local grid of 1e-4 a around each maximum: the
-/// maxima to about 1e-6 p₀).
+/// 0.01 a refined twice by 10× around each maximum: the maxima to about
+/// 1e-6 p₀).
 pub fn max_stresses(mu: f64, nu: f64) -> MaxStresses {
-    fn search(f: &dyn Fn(f64, f64) -> f64) -> (f64, [f64; 2]) {
-        let mut best = (f64::NEG_INFINITY, [0.0, 0.0]);
-        for i in -200..=200 {
-            for j in 0..=200 {
-                let (x, z) = (i as f64 * 0.01, j as f64 * 0.01);
-                let v = f(x, z);
-                if v > best.0 {
-                    best = (v, [x, z]);
-                }
-            }
-        }
-        for h in [1e-3, 1e-4] {
-            let [x0, z0] = best.1;
-            for i in -20..=20 {
-                for j in -20..=20 {
-                    let (x, z) = (x0 + i as f64 * h, (z0 + j as f64 * h).max(0.0));
-                    let v = f(x, z);
-                    if v > best.0 {
-                        best = (v, [x, z]);
-                    }
-                }
-            }
-        }
-        best
-    }
+    let search = |f: &dyn Fn(f64, f64) -> f64| grid_maximum(f, 0.01, 200, 200, 20);
     let (s, s_at) = search(&|x, z| stress(x, z, mu, nu).max_shear());
     let (o, o_at) = search(&|x, z| stress(x, z, mu, nu).tau_xz.abs());
     let (v, v_at) = search(&|x, z| stress(x, z, mu, nu).von_mises());

@@ -26,7 +26,7 @@ use crate::contact::PressureOverclosure;
 use crate::error::FlankError;
 use crate::fem::ordering::OrderingMethod;
 use crate::geometry::gear_pair::PairPlacement;
-use crate::iteration_limits::{IterationLimits, LoopEnd};
+use crate::iteration_limits::IterationLimits;
 use crate::mesh::bevel_body::bevel_body_model;
 use crate::mesh::bevel_sector::BevelSectorOptions;
 use crate::mesh_cycle::pair_model::{
@@ -472,18 +472,13 @@ pub fn run_bevel(
         .flat_map(|s| s.min_initial_gap_mm.iter())
         .cloned()
         .fold(f64::INFINITY, f64::min);
-    // the normal active set's limit is an error: every recorded call met it
     let mut loops = IterationLimits::new();
     for s in &steps {
-        loops.record(
-            "contact.active_set",
-            "largest contact-law violation (mm)",
-            f64::NAN,
-            LoopEnd::converged(
-                s.active_set_iterations,
-                cycle.contact.max_iterations,
-                s.max_violation_mm,
-            ),
+        crate::mesh_cycle::run::record_active_set(
+            &mut loops,
+            s.active_set_iterations,
+            cycle.contact.max_iterations,
+            s.max_violation_mm,
         );
     }
     let summary = serde_json::json!({

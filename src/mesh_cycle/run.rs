@@ -119,15 +119,11 @@ pub(crate) fn iteration_limits(steps: &[StepResult], active_set_limit: usize) ->
     let per_round = crate::contact::friction::FrictionOptions::default();
     let mut loops = IterationLimits::new();
     for s in steps {
-        loops.record(
-            "contact.active_set",
-            "largest contact-law violation (mm)",
-            f64::NAN,
-            LoopEnd::converged(
-                s.active_set_iterations,
-                active_set_limit,
-                s.max_violation_mm,
-            ),
+        record_active_set(
+            &mut loops,
+            s.active_set_iterations,
+            active_set_limit,
+            s.max_violation_mm,
         );
         if let Some(converged) = s.friction_converged {
             let limit = per_round.max_iterations * s.friction_rounds.max(1);
@@ -145,6 +141,23 @@ pub(crate) fn iteration_limits(steps: &[StepResult], active_set_limit: usize) ->
         }
     }
     loops
+}
+
+/// One position's normal active set in `loops`: its limit is an error, so
+/// a recorded call met it; the residual is the largest contact-law
+/// violation (mm).
+pub(crate) fn record_active_set(
+    loops: &mut IterationLimits,
+    iterations: usize,
+    limit: usize,
+    violation_mm: f64,
+) {
+    loops.record(
+        "contact.active_set",
+        "largest contact-law violation (mm)",
+        f64::NAN,
+        LoopEnd::converged(iterations, limit, violation_mm),
+    );
 }
 
 /// Results of one roll angle.
