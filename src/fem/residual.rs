@@ -37,24 +37,29 @@ pub fn sym_norm_inf(pattern: &SparsePattern, values: &[f64]) -> f64 {
 /// ‖Ax − b‖∞/(‖A‖∞‖x‖∞ + ‖b‖∞) of a solution `x` of A x = b.
 pub fn backward_error(pattern: &SparsePattern, values: &[f64], x: &[f64], b: &[f64]) -> (f64, f64) {
     let ax = pattern.sym_mul(values, x);
-    let mut rn = 0.0;
-    let mut bn = 0.0;
-    let mut rinf = 0.0f64;
-    for (k, bi) in ax.iter().zip(b) {
-        rn += (bi - k) * (bi - k);
-        bn += bi * bi;
-        rinf = rinf.max((bi - k).abs());
-    }
-    let anorm = sym_norm_inf(pattern, values);
-    let xn = x.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    let binf = b.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    let rel = if bn > 0.0 {
-        (rn / bn).sqrt()
+    let r: Vec<f64> = b.iter().zip(&ax).map(|(b, k)| b - k).collect();
+    residual_norms(&r, sym_norm_inf(pattern, values), x, b)
+}
+
+/// max |vᵢ|.
+pub fn inf_norm(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |a, x| a.max(x.abs()))
+}
+
+/// (‖r‖₂/‖b‖₂, normwise backward error ‖r‖∞ / (‖A‖∞‖x‖∞ + ‖b‖∞)) of the
+/// residual r = b − A x, with `a_norm` = ‖A‖∞ (Higham, *Accuracy and
+/// Stability of Numerical Algorithms*, §7.1).
+pub fn residual_norms(r: &[f64], a_norm: f64, x: &[f64], b: &[f64]) -> (f64, f64) {
+    let rn = r.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let bn = b.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let rel = if bn > 0.0 { rn / bn } else { rn };
+    let denom = a_norm * inf_norm(x) + inf_norm(b);
+    let eta = if denom > 0.0 {
+        inf_norm(r) / denom
     } else {
-        rn.sqrt()
+        inf_norm(r)
     };
-    let den = anorm * xn + binf;
-    (rel, if den > 0.0 { rinf / den } else { rinf })
+    (rel, eta)
 }
 
 /// Estimate of ‖A⁻¹‖₁ for a symmetric A, given a solve `x ← A⁻¹x`

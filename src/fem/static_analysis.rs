@@ -16,6 +16,7 @@ use crate::fem::constraints::{DofMap, DofTarget};
 use crate::fem::loads::load_vector;
 use crate::fem::model::Model;
 use crate::fem::ordering::OrderingMethod;
+use crate::fem::residual::{residual_norms, sym_norm_inf};
 use crate::fem::solver::{parallelism, FactorStats, Precision, SparseCholesky};
 use crate::fem::stress::{recover, Recovery};
 
@@ -468,7 +469,7 @@ fn solve_static_in_pool(
         chol.factorize(&pattern, &system.values, Precision::Double, &name_of)?;
     }
     let t = Instant::now();
-    let k_norm = sym_inf_norm(&pattern, &system.values);
+    let k_norm = sym_norm_inf(&pattern, &system.values);
     let solved = match solve_refined(&chol, &pattern, &system.values, k_norm, &b, &mut stats) {
         Some(s) => s,
         None => {
@@ -581,39 +582,6 @@ fn residual(
     let r: Vec<f64> = b.iter().zip(&kq).map(|(b, k)| b - k).collect();
     let (rel, eta) = residual_norms(&r, k_norm, q, b);
     (r, rel, eta)
-}
-
-fn inf_norm(v: &[f64]) -> f64 {
-    v.iter().fold(0.0f64, |a, x| a.max(x.abs()))
-}
-
-/// (‖r‖/‖b‖, backward error) of a residual.
-fn residual_norms(r: &[f64], k_norm: f64, q: &[f64], b: &[f64]) -> (f64, f64) {
-    let rn = r.iter().map(|v| v * v).sum::<f64>().sqrt();
-    let bn = b.iter().map(|v| v * v).sum::<f64>().sqrt();
-    let rel = if bn > 0.0 { rn / bn } else { rn };
-    let denom = k_norm * inf_norm(q) + inf_norm(b);
-    let eta = if denom > 0.0 {
-        inf_norm(r) / denom
-    } else {
-        inf_norm(r)
-    };
-    (rel, eta)
-}
-
-/// ‖K‖∞ (maximum absolute row sum) of the symmetric matrix stored by its lower triangle.
-fn sym_inf_norm(pattern: &crate::fem::assembly::SparsePattern, values: &[f64]) -> f64 {
-    let mut row = vec![0.0; pattern.n];
-    for c in 0..pattern.n {
-        for k in pattern.col_ptr[c]..pattern.col_ptr[c + 1] {
-            let r = pattern.row_idx[k];
-            row[r] += values[k].abs();
-            if r != c {
-                row[c] += values[k].abs();
-            }
-        }
-    }
-    inf_norm(&row)
 }
 
 /// Solves K q = b with the factor. With a single-precision factor the f32
