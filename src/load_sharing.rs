@@ -26,9 +26,34 @@ pub fn large_rotation_warning(te_urad: f64) -> Option<String> {
     })
 }
 
+/// The error for a loaded TE (µrad) of a whole angular pitch
+/// `pitch_rad` (2π/z₁) or more: the pinion would turn its next tooth into
+/// the place of this one, so the tooth pairs the model holds are not the
+/// ones in contact and its answer has no meaning at all (a linear model
+/// of small displacements is far past its range long before).
+pub fn beyond_pitch_error(te_urad: f64, pitch_rad: f64) -> Option<String> {
+    let pitch = pitch_rad.abs();
+    (te_urad.abs() * 1e-6 >= pitch).then(|| {
+        format!(
+            "the loaded TE {:.4} rad reaches the angular pitch {pitch:.4} rad: the pinion would turn by a whole tooth under this load, so the linear model's tooth pairs are not the ones in contact and no answer is given (lower the torque or stiffen the bodies; the small-displacement model holds to about {LARGE_ROTATION_RAD} rad)",
+            te_urad * 1e-6
+        )
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn beyond_pitch_error_from_one_pitch_on() {
+        let pitch = 2.0 * std::f64::consts::PI / 13.0;
+        assert!(beyond_pitch_error(423_557.0, pitch).is_none());
+        assert!(beyond_pitch_error(-423_557.0, -pitch).is_none());
+        let e = beyond_pitch_error(8_055_759.0, pitch).unwrap();
+        assert!(e.contains("8.0558 rad") && e.contains("0.4833 rad"), "{e}");
+        assert!(beyond_pitch_error(-500_000.0, pitch).is_some());
+    }
 
     #[test]
     fn large_rotation_warning_above_the_threshold_only() {

@@ -5,7 +5,7 @@
 //!   (`FLANK_MEMORY_LIMIT_MB`, `--memory-limit-mb`) is refused with the
 //!   figures and the alternatives, exit code 1 (never a panic's 101, never
 //!   the OOM killer), and writes no result;
-//! * SIGINT during `flank run` stops at a position boundary, keeps what is
+//! * SIGINT during `flank run` (spur and hypoid) stops at a position boundary, keeps what is
 //!   complete and says how to resume; `--resume` then solves only the rest;
 //! * SIGKILL at random instants of `flank run` leaves only complete,
 //!   loadable files;
@@ -286,6 +286,85 @@ fn sigint_stops_at_a_position_and_resumes() {
         "{}",
         text(&o).1
     );
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// `flank run` on the hypoid scene (seed 003, coarse, one thread so that
+/// whole and resumed runs compare bit for bit).
+fn hypoid_run_command(out: &Path, angles: &str) -> Command {
+    let mut c = flank();
+    c.args([
+        "run",
+        "papers/seed003-hypoid/scene.toml",
+        "--flank-size",
+        "2",
+        "--base-size",
+        "8",
+        "--threads",
+        "1",
+        "-q",
+        &format!("--roll-angles={angles}"),
+        "--out",
+    ])
+    .arg(out);
+    c
+}
+
+/// SIGINT during a hypoid `flank run` (9 positions): exit code 130 after
+/// the position under way, the solved positions kept in checkpoint.json,
+/// the message says how to resume; `--resume` solves only the rest and
+/// writes positions.csv and contact_pattern.csv identical to those of an
+/// uninterrupted run (the contact pattern of the kept positions included).
+#[test]
+fn hypoid_sigint_stops_at_a_position_and_resumes() {
+    let d = tmp("sigint_hypoid");
+    let (out, whole) = (d.join("out"), d.join("whole"));
+    let angles = "-8,-6,-4,-2,0,2,4,6,8";
+    assert!(hypoid_run_command(&whole, angles)
+        .status()
+        .unwrap()
+        .success());
+    assert!(!whole.join("checkpoint.json").exists());
+    let mut child = hypoid_run_command(&out, angles)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let checkpoint = out.join("checkpoint.json");
+    let t = Instant::now();
+    while !checkpoint.exists() {
+        assert!(t.elapsed() < CHILD_TIMEOUT, "no position solved");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    signal(&child, libc::SIGINT);
+    let status = wait(&mut child);
+    let mut err = String::new();
+    std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut err).unwrap();
+    assert_eq!(status.code(), Some(130), "{err}");
+    assert!(
+        err.contains("position boundary") && err.contains("--resume"),
+        "{err}"
+    );
+    let kept: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&checkpoint).unwrap()).unwrap();
+    let n = kept["steps"].as_array().unwrap().len();
+    assert!((1..9).contains(&n), "{n} positions kept");
+    assert!(!out.join("summary.json").exists());
+    let o = hypoid_run_command(&out, angles)
+        .arg("--resume")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o).1);
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["positions"].as_u64(), Some(9));
+    assert_eq!(s["resumed_positions"].as_u64(), Some(n as u64));
+    assert!(!checkpoint.exists());
+    for f in ["positions.csv", "contact_pattern.csv"] {
+        let a = std::fs::read_to_string(whole.join(f)).unwrap();
+        let b = std::fs::read_to_string(out.join(f)).unwrap();
+        assert!(a.lines().count() > 9, "{f}: {} lines", a.lines().count());
+        assert!(a == b, "{f} differs between the whole and the resumed run");
+    }
     let _ = std::fs::remove_dir_all(&d);
 }
 

@@ -85,7 +85,6 @@ pub fn run(args: Args) -> Result<()> {
             (reference_angles.is_some(), "--reference-angles"),
             (slave.is_some(), "--slave"),
             (friction_mu.is_some(), "--friction-mu"),
-            (resume, "--resume"),
         ];
         if let Some((_, name)) = unsupported.iter().find(|(given, _)| *given) {
             anyhow::bail!(
@@ -96,6 +95,7 @@ pub fn run(args: Args) -> Result<()> {
             law: law.unwrap_or(flank::mesh_cycle::ContactLaw::Hard),
             penalty_factor: penalty_factor.unwrap_or(1.0),
             decks,
+            resume,
         };
         return run_bevel_scene(
             &scene,
@@ -183,6 +183,7 @@ struct BevelContact {
     law: flank::mesh_cycle::ContactLaw,
     penalty_factor: f64,
     decks: bool,
+    resume: bool,
 }
 
 /// `flank run` on a bevel/hypoid scene ([`flank::mesh_cycle::bevel`]).
@@ -215,9 +216,12 @@ fn run_bevel_scene(
         law: contact.law,
         penalty_factor: contact.penalty_factor,
         decks: contact.decks,
+        resume: contact.resume,
         threads,
         ..Default::default()
     };
+    // the first Ctrl-C stops at the next position boundary
+    flank::interrupt::install_sigint_handler()?;
     let s = run_bevel(scene, &options, roll_angles, out)
         .with_context(|| format!("FE contact of the hypoid pair of {}", path.display()))?;
     if !quiet {

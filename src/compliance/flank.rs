@@ -103,6 +103,25 @@ pub(crate) fn norm(a: [f64; 3]) -> f64 {
 }
 
 impl FlankNodes {
+    /// The largest extent in v (the face direction) of a flank face: the
+    /// element length along the face (0 without faces).
+    pub fn largest_face_length_v(&self) -> f64 {
+        self.faces
+            .iter()
+            .map(|f| {
+                let (lo, hi) = f
+                    .nodes
+                    .iter()
+                    .map(|&a| self.uv[a as usize][1])
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+                        (l.min(v), h.max(v))
+                    });
+                hi - lo
+            })
+            .filter(|d| d.is_finite())
+            .fold(0.0, f64::max)
+    }
+
     /// Collects the nodes of the named sets of `mesh` with their (u, v)
     /// from `uv` (mesh index → (u, v)), finds the flank faces, and sets the
     /// normals by `normal(set index, u, v)` if given, else from the faces

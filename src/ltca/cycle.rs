@@ -144,6 +144,13 @@ impl LtcaCycle {
             extension_mm: a
                 .extension_mm
                 .unwrap_or(TcaSettings::default().extension_mm),
+            // one corner point per FE element length along the face (the
+            // coarser body's): well inside the 2n + 1 edge load patterns
+            corner_spacing_mm: pinion
+                .tensor
+                .flank
+                .largest_face_length_v()
+                .max(gear.tensor.flank.largest_face_length_v()),
             ..TcaSettings::default()
         };
         tca_settings.validate()?;

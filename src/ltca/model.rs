@@ -674,6 +674,14 @@ impl LtcaBodies {
         // (always checked: a Cholesky of that block); tip-corner points
         // carry no half-space term, and more of them on a line than the
         // edge has nodes along it make F singular there
+        if let Some(e) =
+            crate::load_sharing::beyond_pitch_error(s.rotation * 1e6, self.pair.tooth_roll_step())
+        {
+            return Err(FlankError::Model(format!(
+                "LTCA at roll {:.4}°: {e}",
+                tca.roll.to_degrees()
+            )));
+        }
         let mut warnings: Vec<String> =
             crate::load_sharing::large_rotation_warning(s.rotation * 1e6)
                 .into_iter()

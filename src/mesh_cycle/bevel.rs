@@ -29,6 +29,7 @@ use crate::geometry::gear_pair::PairPlacement;
 use crate::iteration_limits::IterationLimits;
 use crate::mesh::bevel_body::bevel_body_model;
 use crate::mesh::bevel_sector::BevelSectorOptions;
+use crate::mesh_cycle::checkpoint::{self, Checkpoint, Position};
 use crate::mesh_cycle::pair_model::{
     combine, set_automatic_penalty, PairBody, PairModel, SlaveBody,
 };
@@ -57,6 +58,10 @@ pub struct BevelRunOptions {
     /// [`run_bevel`] also writes each position's model as a CalculiX deck
     /// ([`BevelCycle::write_deck`]).
     pub decks: bool,
+    /// [`run_bevel`] takes the positions of `out/checkpoint.json` left by
+    /// an interrupted run of the same scene and options
+    /// ([`crate::mesh_cycle::checkpoint`]).
+    pub resume: bool,
 }
 
 impl Default for BevelRunOptions {
@@ -68,12 +73,13 @@ impl Default for BevelRunOptions {
             law: ContactLaw::Hard,
             penalty_factor: 1.0,
             decks: false,
+            resume: false,
         }
     }
 }
 
 /// One solved roll angle.
-#[derive(Clone, Debug, Default, serde::Serialize)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct BevelStep {
     pub roll_deg: f64,
     /// Per tooth pair (pinion tooth k = 1..n against its mate).
@@ -101,6 +107,20 @@ pub struct BevelStep {
     /// The loaded slave nodes (the contact pattern of this position).
     #[serde(skip)]
     pub pattern: Vec<PatternNode>,
+}
+
+/// A position as the checkpoint keeps it: the step with its contact
+/// pattern (which summary.json leaves out).
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
+struct KeptStep {
+    step: BevelStep,
+    pattern: Vec<PatternNode>,
+}
+
+impl Position for KeptStep {
+    fn roll_deg(&self) -> f64 {
+        self.step.roll_deg
+    }
 }
 
 /// A factorized hypoid pair model, ready to solve roll angles.
@@ -402,11 +422,48 @@ pub fn run_bevel(
     if let Some(r) = rolls.iter().find(|r| !r.is_finite()) {
         return Err(FlankError::Model(format!("roll angle {r} is not a number")));
     }
-    let steps: Vec<BevelStep> = rolls
-        .iter()
-        .map(|&r| cycle.solve(r))
-        .collect::<Result<_, _>>()?;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
+    // every position is kept in checkpoint.json as it is solved; SIGINT is
+    // polled between positions (the spur cycle's protocol)
+    let settings = format!(
+        "{:?}",
+        (
+            options.search_distance_mm,
+            &options.law,
+            options.penalty_factor
+        )
+    );
+    let key = checkpoint::key(&scene.source, &options.mesh, &settings);
+    let mut kept: Checkpoint<KeptStep> = Checkpoint::open(out, key, options.resume)?;
+    let mut steps: Vec<BevelStep> = Vec::with_capacity(rolls.len());
+    for &r in &rolls {
+        let step = match kept.take(r)? {
+            Some(k) => BevelStep {
+                pattern: k.pattern,
+                ..k.step
+            },
+            None => {
+                let step = cycle.solve(r)?;
+                kept.record(&KeptStep {
+                    pattern: step.pattern.clone(),
+                    step: step.clone(),
+                })?;
+                step
+            }
+        };
+        steps.push(step);
+        if crate::interrupt::requested() {
+            return Err(FlankError::Interrupted(format!(
+                "stopped at a position boundary after {} solved position(s); they are kept in {}; \
+                 resume with the same command and options plus --resume (`flank run SCENE --out {} ... --resume`): \
+                 only the remaining positions are solved",
+                steps.len(),
+                kept.path().display(),
+                out.display()
+            )));
+        }
+    }
+    let resumed = kept.reused();
     if options.decks {
         for &r in &rolls {
             let name = crate::mesh_cycle::run::vtu_name(r).replace(".vtu", ".inp");
@@ -506,6 +563,7 @@ pub fn run_bevel(
             _ => serde_json::json!("hard"),
         },
         "slave": "pinion",
+        "resumed_positions": resumed,
         "steps": steps,
     });
     let path = out.join("summary.json");
@@ -513,6 +571,7 @@ pub fn run_bevel(
         &path,
         serde_json::to_string_pretty(&summary).unwrap_or_default() + "\n",
     )?;
+    kept.remove()?;
     Ok(summary)
 }
 

@@ -1,8 +1,11 @@
 //! The positions of a `flank run` solved so far, kept on disk so that an
 //! interrupted run (SIGINT, a kill, a lost node) resumes where it stopped.
+//! One format for both mesh cycles: the cylindrical one ([`StepResult`])
+//! and the hypoid one ([`crate::mesh_cycle::bevel::BevelStep`]), through
+//! [`Position`].
 //!
 //! `OUT/checkpoint.json` holds `{"format": 1, "key": …, "steps": [...]}`:
-//! every position solved so far (its whole [`StepResult`]), rewritten
+//! every position solved so far (its whole result), rewritten
 //! atomically ([`crate::atomic_file`]) after each position, removed when
 //! the run completes (summary.json then holds everything). The key is a
 //! SHA-256 of what determines a position's result: the flank version, the
@@ -33,14 +36,27 @@ struct Stored {
     steps: Vec<serde_json::Value>,
 }
 
+/// A position's result as a checkpoint keeps it: serialisable both ways
+/// and known by its roll angle.
+pub trait Position: serde::Serialize + serde::de::DeserializeOwned + Clone {
+    /// The roll angle (deg) the result belongs to.
+    fn roll_deg(&self) -> f64;
+}
+
+impl Position for StepResult {
+    fn roll_deg(&self) -> f64 {
+        self.roll_deg
+    }
+}
+
 /// The checkpoint of one run.
-pub struct Checkpoint {
+pub struct Checkpoint<T: Position = StepResult> {
     path: PathBuf,
     key: String,
     /// Positions solved by this run or taken from the resumed checkpoint.
-    steps: Vec<StepResult>,
+    steps: Vec<T>,
     /// Positions of the resumed checkpoint, by the bits of their roll angle.
-    resumed: HashMap<u64, StepResult>,
+    resumed: HashMap<u64, T>,
     /// Positions taken from it so far.
     reused: usize,
 }
@@ -55,6 +71,13 @@ pub fn run_key(
     s.roll_angles_deg.clear();
     let settings =
         serde_json::to_string(&s).map_err(|e| FlankError::Model(format!("checkpoint key: {e}")))?;
+    Ok(key(scene_source, mesh, &settings))
+}
+
+/// The key of a run from its scene file's text, its mesh options and its
+/// other settings (`settings`, their serialised form without the roll
+/// angles), with the flank version.
+pub fn key(scene_source: &Path, mesh: &impl std::fmt::Debug, settings: &str) -> String {
     let scene = std::fs::read(scene_source).unwrap_or_default();
     let mut h = Sha256::new();
     for part in [
@@ -67,10 +90,10 @@ pub fn run_key(
         h.update((part.len() as u64).to_le_bytes());
         h.update(part);
     }
-    Ok(h.finalize().iter().map(|b| format!("{b:02x}")).collect())
+    h.finalize().iter().map(|b| format!("{b:02x}")).collect()
 }
 
-impl Checkpoint {
+impl<T: Position> Checkpoint<T> {
     /// A checkpoint in `out` with `key`; with `resume`, the positions of an
     /// existing checkpoint of the same key are taken (none there: a fresh
     /// start). A checkpoint of another key, or one that cannot be read, is
@@ -94,8 +117,8 @@ impl Checkpoint {
                 )));
             }
             for v in stored.steps {
-                if let Ok(s) = serde_json::from_value::<StepResult>(v) {
-                    resumed.insert(s.roll_deg.to_bits(), s);
+                if let Ok(s) = serde_json::from_value::<T>(v) {
+                    resumed.insert(s.roll_deg().to_bits(), s);
                 }
             }
         }
@@ -110,7 +133,7 @@ impl Checkpoint {
 
     /// The resumed result of `roll_deg`, if the checkpoint has it (it is
     /// then recorded as solved by this run too).
-    pub fn take(&mut self, roll_deg: f64) -> Result<Option<StepResult>, FlankError> {
+    pub fn take(&mut self, roll_deg: f64) -> Result<Option<T>, FlankError> {
         match self.resumed.remove(&roll_deg.to_bits()) {
             Some(s) => {
                 self.reused += 1;
@@ -122,9 +145,9 @@ impl Checkpoint {
     }
 
     /// Records a solved position and rewrites the file (atomically).
-    pub fn record(&mut self, step: &StepResult) -> Result<(), FlankError> {
+    pub fn record(&mut self, step: &T) -> Result<(), FlankError> {
         self.steps.push(step.clone());
-        let mut steps: Vec<&StepResult> = self.steps.iter().collect();
+        let mut steps: Vec<&T> = self.steps.iter().collect();
         // positions not asked for this time are kept for a later resume
         steps.extend(self.resumed.values());
         let stored = serde_json::json!({

@@ -17,7 +17,7 @@ use crate::report::figure::{write_svg_png, Figure};
 use crate::report::tca_plot::{outline, projection_chart};
 
 /// One loaded contact node at one position.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PatternNode {
     /// Tooth pair (1-based, as in `positions.csv`).
     pub pair: usize,

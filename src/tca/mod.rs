@@ -130,6 +130,14 @@ pub struct TcaSettings {
     /// Largest separation (mm) of a tip-corner point kept beyond the
     /// kinematic path ends; 0 switches corner contact off.
     pub extension_mm: f64,
+    /// Least spacing of the points on a tip-corner line, in the lines'
+    /// parameter ξ (axial mm for cylindrical pairs); 0 = no limit (K
+    /// points). The LTCA sets
+    /// it to the face length of the FE elements: a tip edge carries only
+    /// 2n + 1 independent nodal load patterns over n quadratic elements,
+    /// and corner points have no half-space term, so more points than
+    /// that make the compliance F singular (`verification/extreme`).
+    pub corner_spacing_mm: f64,
 }
 
 impl Default for TcaSettings {
@@ -139,6 +147,7 @@ impl Default for TcaSettings {
             points_across: 1,
             across_spacing_mm: 0.1,
             extension_mm: 0.2,
+            corner_spacing_mm: 0.0,
         }
     }
 }
@@ -173,7 +182,25 @@ impl TcaSettings {
                 self.extension_mm
             ));
         }
+        if !(self.corner_spacing_mm.is_finite() && self.corner_spacing_mm >= 0.0) {
+            return err(format!(
+                "corner_spacing_mm = {}: a finite value ≥ 0 is needed",
+                self.corner_spacing_mm
+            ));
+        }
         Ok(())
+    }
+}
+
+/// Points on a corner line of span `span` (ξ): K, or fewer so that
+/// their spacing span/n is at least `spacing` (never below 2; 0 = K).
+fn corner_points(k: usize, span: f64, spacing: f64) -> usize {
+    if spacing > 0.0 {
+        let fit = (span / spacing).floor();
+        // `fit` is finite and ≥ 0 here (span, spacing > 0 and finite)
+        k.min((fit as usize).max(2))
+    } else {
+        k
     }
 }
 
@@ -535,7 +562,11 @@ impl Tca {
         if !(zb - za > 1e-9 * line.face_span) {
             return Ok(None);
         }
-        let n = self.settings.points_per_line;
+        let n = corner_points(
+            self.settings.points_per_line,
+            zb - za,
+            self.settings.corner_spacing_mm,
+        );
         let width = (zb - za) / line.param_per_mm / n as f64;
         let mut points = Vec::new();
         for i in 0..n {

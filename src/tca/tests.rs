@@ -78,6 +78,7 @@ impl Case {
             points_across: self.points_across,
             across_spacing_mm: self.across_spacing_mm,
             extension_mm: self.extension_mm,
+            corner_spacing_mm: 0.0,
         }
     }
 }
@@ -999,4 +1000,15 @@ fn line_cycle_of_spur_and_helical_pairs() {
     assert!(line_tca_cycle(&t, 1, 0.00635).is_err());
     assert!(line_tca_cycle(&t, 30, 0.0).is_err());
     assert!(line_tca_cycle(&t, 30, f64::NAN).is_err());
+}
+
+/// A corner line keeps K points unless a least spacing says fewer: then
+/// ⌊span/spacing⌋, never below 2.
+#[test]
+fn corner_points_respect_the_least_spacing() {
+    assert_eq!(super::corner_points(20, 13.3, 0.0), 20);
+    assert_eq!(super::corner_points(20, 13.3, 1.9), 7);
+    assert_eq!(super::corner_points(20, 13.3, 0.5), 20);
+    assert_eq!(super::corner_points(20, 0.3, 1.9), 2);
+    assert_eq!(super::corner_points(5, 13.3, 1.9), 5);
 }
