@@ -270,6 +270,177 @@ fn hertz_convergence_refined() {
 }
 
 // ---------------------------------------------------------------------------
+// Subsurface stress below the contact (issue 20, point 4)
+// ---------------------------------------------------------------------------
+
+/// Line load of the subsurface case (N/mm): a tenth of the contact
+/// cases', so that a = 0.105 mm is small against the block (9 × 30 mm:
+/// 86 a wide, 285 a deep). On the 6 × 6 mm block at 1000 N/mm (18 a × 18 a)
+/// the finite block shifted σ_x by ≈ +0.03 p₀ everywhere below the contact
+/// (first run, README), a 5 % error in τ₁ that is the block's, not the
+/// method's.
+const SUBSURFACE_LOAD: f64 = 100.0;
+
+/// The subsurface case's model: the contact cases' geometry with a wider,
+/// deeper block and the slice 0.3 a thick.
+fn subsurface_model(fine: usize) -> (Model, f64, f64) {
+    let estar = E / (2.0 * (1.0 - NU * NU));
+    let a = (4.0 * SUBSURFACE_LOAD * R / (PI * estar)).sqrt();
+    let p0 = (SUBSURFACE_LOAD * estar / (PI * R)).sqrt();
+    let g = HertzMesh {
+        width: 9.0,
+        depth: 30.0,
+        thickness: 0.3 * a,
+        fine_extent: 1.5 * a,
+        ..geometry(fine)
+    };
+    let m = hertz_model(
+        &g,
+        E,
+        NU,
+        HertzLoad::Force(SUBSURFACE_LOAD),
+        PressureOverclosure::Hard,
+    )
+    .expect("Hertz model");
+    (m, a, p0)
+}
+
+/// Depth below which the FE field is compared (units of a): within about
+/// two fine cells of the surface the node-to-surface contact loads the
+/// block by nodal forces of the cylinder's face nodes (the corner nodes of
+/// 8-node faces carry none, see above), and the stresses there are those of
+/// that nodal load pattern, not of a smooth Hertz traction (first run:
+/// σ_z = −1.6 p₀ at the surface node). Fixed before the second run.
+const SUBSURFACE_FROM: f64 = 0.25;
+
+/// The block's nodal stresses on the symmetry line x = 0 (front face
+/// z = 0) against the closed form below a frictionless Hertz contact
+/// (McEwen 1949, `flank::lubrication::subsurface::stress` with μ = 0),
+/// evaluated with the closed-form p₀ and a: the whole chain (FE contact
+/// pressure → FE stress field → nodal recovery) against Johnson §4.2's
+/// field. Mapping: closed-form x, depth z, σ_x, σ_z, τ_xz, σ_y =
+/// FE x, −y, σ_xx, σ_yy, τ_xy, σ_zz (plane strain through u_z = 0).
+/// Returns (largest principal shear τ₁/p₀, its depth/a, largest |error|
+/// of τ₁/p₀ over depths ≤ 3a, von Mises maximum/p₀ and its depth/a, the
+/// nodes compared).
+fn subsurface_profile(fine: usize) -> ([f64; 5], [f64; 2], usize, f64) {
+    use flank::lubrication::subsurface::stress;
+    let (m, a, p0) = subsurface_model(fine);
+    let t = Instant::now();
+    let sol = solve_contact(&m, &ContactOptions::default()).expect("contact solve");
+    let secs = t.elapsed().as_secs_f64();
+    let rec = sol.solution.recovery.as_ref().expect("stresses recovered");
+    // block nodes on the line x = 0, z = 0, depth ≤ 3a (the block's own
+    // nodes: the cylinder's are other nodes)
+    let block: std::collections::HashSet<usize> = m.mesh.element_sets["FLAT"]
+        .iter()
+        .flat_map(|&e| m.mesh.elements[e].nodes.iter().copied())
+        .collect();
+    let mut line: Vec<(f64, [f64; 6])> = block
+        .iter()
+        .filter(|&&n| {
+            let c = m.mesh.coords[n];
+            c[0].abs() < 1e-12 && c[2].abs() < 1e-12 && -c[1] <= 3.0 * a
+        })
+        .map(|&n| (-m.mesh.coords[n][1] / a, rec.stress[n]))
+        .collect();
+    line.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let shear = |s: &[f64; 6]| {
+        // largest principal shear of the full tensor in the x–y plane
+        // (τ_yz = τ_xz = 0 on the symmetry plane of a plane-strain slice)
+        let c = 0.5 * (s[0] + s[1]);
+        let r = (0.25 * (s[0] - s[1]).powi(2) + s[3] * s[3]).sqrt();
+        let p = [c + r, c - r, s[2]];
+        0.5 * (p.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+            - p.iter().cloned().fold(f64::INFINITY, f64::min))
+    };
+    let (mut tau, mut at, mut err, mut vm, mut vm_at) = (0.0, 0.0, 0.0f64, 0.0, 0.0);
+    let mut around = [0.0, 0.0];
+    println!("| depth z/a | τ₁/p₀ FE | τ₁/p₀ closed form | σ_x/p₀ FE | closed | σ_z/p₀ FE | closed | σ_y/p₀ FE | closed |");
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for (i, (z, s)) in line.iter().enumerate() {
+        let c = stress(0.0, *z, 0.0, NU);
+        let t1 = shear(s) / p0;
+        if *z < SUBSURFACE_FROM {
+            println!(
+                "| {z:.3} (surface zone) | {t1:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} |",
+                c.max_shear(),
+                s[0] / p0,
+                c.sigma_x,
+                s[1] / p0,
+                c.sigma_z,
+                s[2] / p0,
+                c.sigma_y
+            );
+            continue;
+        }
+        err = err.max((t1 - c.max_shear()).abs());
+        if t1 > tau {
+            (tau, at) = (t1, *z);
+            // the neighbouring nodes: the depth resolution there
+            around = [
+                line[i.saturating_sub(1)].0,
+                line[(i + 1).min(line.len() - 1)].0,
+            ];
+        }
+        let v = flank::fem::material::von_mises(s) / p0;
+        if v > vm {
+            (vm, vm_at) = (v, *z);
+        }
+        println!(
+            "| {z:.3} | {t1:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} |",
+            c.max_shear(),
+            s[0] / p0,
+            c.sigma_x,
+            s[1] / p0,
+            c.sigma_z,
+            s[2] / p0,
+            c.sigma_y
+        );
+    }
+    ([tau, at, err, vm, vm_at], around, line.len(), secs)
+}
+
+/// The largest subsurface principal shear of the FE field within 3 % of
+/// the closed form's 0.3003 p₀ (issue 20's acceptance) at fine 16 and 32,
+/// its depth between the nodes next to the FE maximum (the block's cells
+/// grow by 1.25 from h at the surface: about 0.14 a apart there at fine
+/// 16); the von Mises maximum (0.5575 p₀ at 0.704 a) within 3 % too.
+#[test]
+fn subsurface_stress_below_the_contact() {
+    let closed = flank::lubrication::subsurface::max_stresses(0.0, NU);
+    println!("closed form (μ = 0, ν = {NU}): {closed:?}");
+    for fine in [16, 32] {
+        let ([tau, at, err, vm, vm_at], around, nodes, secs) = subsurface_profile(fine);
+        let h = 1.5 / fine as f64;
+        println!(
+            "fine {fine} (cell {h:.4} a): τ₁ max {tau:.4} p₀ at {at:.3} a, von Mises max {vm:.4} p₀ at {vm_at:.3} a, largest |Δτ₁| {err:.4} p₀ over {nodes} nodes to 3 a, {secs:.2} s"
+        );
+        common::check(
+            "hertz_contact",
+            &format!("subsurface τ₁ max, fine {fine}"),
+            tau,
+            closed.max_shear,
+            0.03,
+            secs,
+        );
+        common::check(
+            "hertz_contact",
+            &format!("subsurface von Mises max, fine {fine}"),
+            vm,
+            closed.max_von_mises,
+            0.03,
+            secs,
+        );
+        let depth = closed.max_shear_at[1];
+        assert!(
+            around[0] <= depth && depth <= around[1],
+            "depth of τ₁ max {at} a (nodes {around:?}) vs {depth} a"
+        );
+    }
+}
+
+// ---------------------------------------------------------------------------
 // Cross-code: the same deck in flank (`flank solve`) and CalculiX
 // ---------------------------------------------------------------------------
 
