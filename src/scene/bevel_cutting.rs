@@ -32,6 +32,10 @@
 //! [pinion]
 //! process = "conjugate"        # "generated" (default), "formate", "conjugate"
 //!                              # or "synthesised"
+//! cutter_tilt = "from_blank"   # face-hobbed generated pinion: "none" (default,
+//!                              # head upright on the gear's crown gear) or
+//!                              # "from_blank" (Cyclo-Palloid tilt meeting the
+//!                              # blank's pressure angles, geometry::bevel::cyclo_palloid)
 //! [pinion.ease_off]            # conjugate only; all optional, default 0
 //! centre_height_mm = 2.0       # pattern centre above the pitch cone at R_m1
 //! profile_crowning_um = 10.0   # at the ends of the active profile
@@ -80,6 +84,18 @@ pub(super) enum Process {
     Formate,
     Conjugate,
     Synthesised,
+}
+
+/// `cutter_tilt` of a face-hobbed pinion: `"none"` (the head upright on the
+/// gear's crown gear, the default) or `"from_blank"` (the Klingelnberg
+/// Cyclo-Palloid tilt, swivel, blade angle and point width that meet the
+/// blank's pressure angles at the mean point,
+/// [`crate::geometry::bevel::cyclo_palloid`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum CutterTilt {
+    None,
+    FromBlank,
 }
 
 #[derive(Deserialize)]
@@ -138,6 +154,7 @@ pub(super) struct RawMemberCutting {
     pub(super) machine: Option<Spanned<RawMachine>>,
     pub(super) ease_off: Option<Spanned<RawEaseOff>>,
     pub(super) synthesis: Option<Spanned<RawSynthesis>>,
+    pub(super) cutter_tilt: Option<Spanned<CutterTilt>>,
 }
 
 fn opt(cx: &Cx, v: &Option<Spanned<f64>>, key: &str, default: f64) -> Res<f64> {
@@ -379,10 +396,34 @@ fn machine_cut(
         ));
     }
     let machine = explicit_machine(cx, name, raw, &cutter, design, generated)?;
+    let tilt_from_blank = match &raw.cutter_tilt {
+        None => false,
+        Some(t) => {
+            let from_blank = *t.get_ref() == CutterTilt::FromBlank;
+            let refuse = if name != "pinion" {
+                Some("the Cyclo-Palloid head tilt is derived for the pinion only (the gear is cut on its own crown gear)".to_string())
+            } else if from_blank
+                && CuttingProcess::of_method(design.method) != CuttingProcess::FaceHobbing
+            {
+                Some(format!("derived for face-hobbed pinions (methods 2, 3); this blank is method {} (face-milled settings are matched to the blank without it)", design.method))
+            } else if from_blank && !generated {
+                Some(
+                    "derived for a generated pinion (`pinion.process = \"generated\"`)".to_string(),
+                )
+            } else {
+                None
+            };
+            if let Some(why) = refuse {
+                return Err(cx.err(t.span(), format!("`{name}.cutter_tilt`: {why}")));
+            }
+            from_blank
+        }
+    };
     Ok(MachineCut {
         generated,
         cutter,
         machine,
+        tilt_from_blank,
     })
 }
 
@@ -410,6 +451,13 @@ pub(super) fn pinion_cut(cx: &Cx, raw: &RawMemberCutting, design: &BlankDesign) 
         Some(Process::Formate) => Ok(PinionCut::Machine(Box::new(machine_cut(
             cx, "pinion", raw, design, false,
         )?))),
+        Some(Process::Synthesised | Process::Conjugate) if raw.cutter_tilt.is_some() => {
+            let span = raw.cutter_tilt.as_ref().map_or(0..0, |t| t.span());
+            Err(cx.err(
+                span,
+                "`pinion.cutter_tilt`: read for a pinion cut on a machine only (`pinion.process = \"generated\"`)".into(),
+            ))
+        }
         Some(Process::Synthesised) => {
             for (present, table, what) in [
                 (
@@ -549,6 +597,9 @@ pub(super) fn cutting_error(
             spans.push(("centre_height_mm", &["centre_height"][..], v.span()));
         }
     }
+    if let Some(t) = &raw.cutter_tilt {
+        spans.push(("cutter_tilt", &["Cyclo-Palloid pinion tilt"][..], t.span()));
+    }
     let mentions = |names: &[&str]| {
         names.iter().any(|s| {
             // whole words only ("radius" is not in "edge_radius")
@@ -573,6 +624,7 @@ pub(super) fn cutting_error(
         None
     };
     let (span, place) = match hit {
+        Some(("cutter_tilt", span)) => (span, format!("`{name}.cutter_tilt`")),
         Some((k, span)) => (
             span,
             format!(
