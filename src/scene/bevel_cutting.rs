@@ -667,8 +667,10 @@ mod tests {
 
     /// Seed 003's scene (method 1, face milling).
     const MILLED: &str = include_str!("../../papers/seed003-hypoid/scene.toml");
-    /// Seed 000's scene (method 3, face hobbing).
+    /// Seed 000's scene (method 3, face hobbing), and with the pinion's
+    /// Cyclo-Palloid head tilt.
     const HOBBED: &str = include_str!("../../papers/seed000-hypoid/scene.toml");
+    const TILTED: &str = include_str!("../../papers/seed000-hypoid/scene_tilted.toml");
 
     fn parse(text: &str) -> Result<BevelScene, FlankError> {
         match parse_any_scene(text, Path::new("s.toml"))? {
@@ -685,7 +687,11 @@ mod tests {
     /// apart.
     #[test]
     fn scenes_cut_both_members_on_their_blank() {
-        for (text, name) in [(MILLED, "seed003 milled"), (HOBBED, "seed000 hobbed")] {
+        for (text, name) in [
+            (MILLED, "seed003 milled"),
+            (HOBBED, "seed000 hobbed"),
+            (TILTED, "seed000 hobbed tilted"),
+        ] {
             let s = parse(text).unwrap();
             let cut = s.blank.cutting_blank();
             for (b, body) in s.bodies.iter().enumerate() {
@@ -696,7 +702,7 @@ mod tests {
                     s.pinion_hand.opposite()
                 };
                 // settings corrected to the blank at the mean point
-                let corrected = name.contains("milled") || b == 1;
+                let corrected = name.contains("milled") || name.contains("tilted") || b == 1;
                 assert_eq!(body.sector_teeth(), 3);
                 let mut sides = [0.0; 2];
                 for (k, side) in [Flank::Left, Flank::Right].into_iter().enumerate() {
@@ -712,7 +718,8 @@ mod tests {
                     assert!((meas.cone_distance - m.rm).abs() < 1e-6, "{name}: {meas:?}");
                     // 20°/20° blanks (f_alim = 0): both flanks at 20°, except
                     // the face-hobbed pinion cut on the gear's crown gear
-                    // without the Cyclo-Palloid tilt (not derived): ±1°
+                    // with its head upright (scene.toml): ±1°; with the
+                    // Cyclo-Palloid tilt (scene_tilted.toml): 1e-6
                     let tol = if corrected { 1e-6 } else { 1.5f64.to_radians() };
                     assert!(
                         (meas.pressure_angle - 20f64.to_radians()).abs() < tol,
@@ -738,7 +745,11 @@ mod tests {
                     "{name} body {b}: s_mn measured {s_mn:.6} mm, blank {:.6} mm",
                     m.smn
                 );
-                let tol = if name.contains("milled") { 1e-6 } else { 5e-3 };
+                let tol = if name.contains("milled") || (name.contains("tilted") && b == 0) {
+                    1e-6
+                } else {
+                    5e-3
+                };
                 assert!(
                     (s_mn - m.smn).abs() < tol,
                     "{name} body {b}: s_mn {s_mn} vs {}",
@@ -810,6 +821,26 @@ mod tests {
 
     #[test]
     fn bad_cutting_keys_point_at_the_key() {
+        // the Cyclo-Palloid tilt: pinion only, face hobbing only, generated
+        let t = TILTED.replace("[gear]\n", "[gear]\ncutter_tilt = \"from_blank\"\n");
+        expect_any_err(
+            &t,
+            line_of(&t, "[gear]") + 1,
+            &["gear.cutter_tilt", "pinion only"],
+        );
+        let t = MILLED.replace("[pinion]\n", "[pinion]\ncutter_tilt = \"from_blank\"\n");
+        expect_any_err(
+            &t,
+            line_of(&t, "cutter_tilt"),
+            &["pinion.cutter_tilt", "face-hobbed", "method 1"],
+        );
+        let key = "cutter_tilt = \"from_blank\"  #";
+        let t = TILTED.replace("[pinion]\n", "[pinion]\nprocess = \"formate\"\n");
+        expect_any_err(&t, line_of(&t, key), &["pinion.cutter_tilt", "generated"]);
+        let t = TILTED.replace("[pinion]\n", "[pinion]\nprocess = \"conjugate\"\n");
+        expect_any_err(&t, line_of(&t, key), &["pinion.cutter_tilt", "machine"]);
+        let t = TILTED.replace(key, "cutter_tilt = \"sideways\"  #");
+        expect_any_err(&t, line_of(&t, "\"sideways\""), &["sideways"]);
         let with = |base: &str, section: &str, extra: &str| {
             let t = base.replacen(section, &format!("{section}\n{extra}"), 1);
             assert_ne!(t, base);
