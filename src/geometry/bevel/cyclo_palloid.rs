@@ -10,46 +10,63 @@
 //! generatrix, so the points of its flanks on its own pitch cone are not
 //! generated in the crown plane, and their pressure angles differ from the
 //! crown gear's blade angles in opposite senses on the two flanks (seed
-//! 000: 20.54° / 19.04° against the blank's 20° / 20°; the offset effect
-//! that ISO 23509 clause 6 describes by the limit pressure angle α_lim).
+//! 000: 20.54° / 19.04° against the blank's 20° / 20°; on a spiral bevel
+//! set, offset 0, they agree to 1e-5°).
 //! Klingelnberg corrects this on the pinion by tilting the cutter head
-//! (cutter tilt on the Cyclo-Palloid machines; Klingelnberg, *Bevel Gear:
-//! Fundamentals and Applications*, Springer 2016, ch. 3 on the generating
-//! machine's head tilt; Litvin & Fuentes, *Gear Geometry and Applied
+//! (cutter tilt on the Cyclo-Palloid machines; Klingelnberg (ed.), *Bevel
+//! Gear: Fundamentals and Applications*, Springer 2016, on the Cyclo-Palloid
+//! process; Litvin & Fuentes, *Gear Geometry and Applied
 //! Theory*, 2nd ed., §20.5 on tilt i and swivel j; Vimercati, Mech. Mach.
 //! Theory 42 (2007) §3, tilt on the face-hobbed pinion). To first order a
 //! head turned by the small rotation ω about a line of the crown plane
-//! turns each flank normal n by ω × n: the component of ω along the tooth
-//! trace changes the two flanks' pressure angles by ±ω_t (the difference),
-//! the component across the trace the spiral angle. The mean of the two
-//! pressure-angle errors is of second order in ω and is met by the pinion
-//! head's blade angle (one angle on both blades, a standard Cyclo-Palloid
-//! head's blades are symmetric); the tooth thickness by the point width.
+//! turns each flank normal n = ±cos α e_p + sin α e_z (e_p ⟂ the trace t
+//! in the plane) by ω × n: the component of ω along t changes the two
+//! flanks' pressure angles by ∓ω_t (their difference), the component
+//! along e_p their spiral angles by ±ω_p tan α (again the difference, which
+//! the blank does not fix: face hobbing's two flanks differ anyway), and
+//! neither moves the mean of the two pressure angles or of the two spiral
+//! angles to first order. So the head is tilted about t (the swivel puts
+//! the tilt axis along t), the mean pressure-angle error is met by the
+//! pinion head's blade angle (one angle on both blades: a standard
+//! Cyclo-Palloid head's blades are symmetric) and the tooth thickness by the
+//! point width. (A Newton on tilt and swivel alone for the two pressure
+//! angles, or with the mean spiral angle as a third target, is singular to
+//! first order: tried, it wandered to a 2.8° tilt on a spiral bevel set
+//! that needs none.)
 //!
 //! **Construction** (frames of [`crate::geometry::bevel::cradle_machine`]):
-//! the variables are the head's rotation vector in the cradle plane
-//! ω = (ω_x, ω_y, 0) = i (cos j, sin j, 0) (tilt i = |ω|, swivel j: the
-//! tilt rotation Rot_z(j) Rot_x(i) Rot_z(−j) of the machine), the change
-//! Δα of both blade angles and the change Δw of the blades' spacing at the
-//! pitch height (each blade moved by Δw/2 in its plane, away from the
-//! other). The head turns about the **mean point** P at the pitch height
-//! (the middle of the pinion's tooth, [`HobbingSetup::mean_point`]), so
-//! the tooth is not cut deeper or shifted: the head centre C₀ moves to
+//! the variables are the signed tilt i about the mean trace's tangent t at
+//! P (swivel j with (cos j, sin j, 0) = t, [`HobbingSetup::mean_trace_swivel`];
+//! the tilt rotation Rot_z(j) Rot_x(i) Rot_z(−j) of the machine), the
+//! change Δα of both blade angles and the change Δw of the blades' spacing
+//! at the pitch height (each blade moved by Δw/2 in its plane, away from
+//! the other). The head turns about the **mean point** P at the pitch
+//! height (the middle of the pinion's tooth, [`HobbingSetup::mean_point`]),
+//! so the tooth is not cut deeper or shifted: the head centre C₀ moves to
 //! C₁ = P + T (C₀ − P); its in-plane part gives the radial distance and the
 //! cradle angle, its height C₁,z is taken up by the sliding base
 //! (ΔX_B − C₁,z: moving the work along the cradle axis is the same relative
 //! motion as moving the cutter, since the cradle turns about that axis).
 //! Changing a blade angle keeps the blade's in-plane coordinate at the
-//! pitch height.
+//! pitch height. The tilted tip plane no longer sweeps the root cone; the
+//! flank's root line is put where the tip reaches
+//! ([`HobbingSetup::generated_root`], the blank's root slope kept).
 //!
 //! **Newton** ([`cyclo_palloid_pinion`]): the residual
-//! (α_concave − α*_concave, α_convex − α*_convex, ½(β_concave + β_convex) −
-//! β_m1, (s_mn − s*_mn)/R_m1) measured on the generated flanks at their mean
-//! points (u = 0, v = R_m1; pressure and spiral angles on the pinion's
-//! pitch cone as [`FlankMeasure::on_pitch_cone`]; s_mn = ρ_m Δφ cos β_m1 as
+//! (α_concave − α*_concave, α_convex − α*_convex, (s_mn − s*_mn)/R_m1)
+//! measured on the generated flanks at their mean points (u = 0, v = R_m1;
+//! pressure angles on the pinion's pitch cone as
+//! [`FlankMeasure::on_pitch_cone`]; s_mn = ρ_m Δφ cos β_m1 as
 //! `machine_settings::check_mean_point`), its Jacobian by forward
-//! differences, a bounded number of steps with step halving; the error
-//! names the residual reached.
+//! differences, at most `max_iterations` steps, each bounded and halved
+//! until the residual decreases (≤ 20 halvings); the error names the
+//! residual reached.
+//!
+//! **What it does to the pair** (seed 000, `papers/seed000-hypoid`): the
+//! upright pinion is the near-conjugate mate of the gear (TE 0.02″); the
+//! tilted one meets the blank's pressure angles, so it departs from that
+//! mate by the same ±0.5°–1° at the mean point: a deliberate profile
+//! mismatch that localises the contact (README there has the TCA).
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -394,6 +411,9 @@ mod tests {
             assert!((a - pb.pressure_angle_concave).abs() > 0.5f64.to_radians());
         }
         assert!(fit.residual <= 1e-10 && fit.variables.tilt != 0.0);
+        // the tilt axis is the mean trace's tangent, which makes β_m1 with
+        // the pinion's generatrix (+x_m) on this left-hand pinion
+        assert!((fit.swivel - pb.spiral_angle).abs() < 1e-9, "{}", fit.swivel);
         let rm = pb.mean_cone_distance;
         let (cc, cv) = (
             s.flank(BladeSide::Outside).unwrap(),
