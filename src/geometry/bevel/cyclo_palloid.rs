@@ -413,7 +413,11 @@ mod tests {
         assert!(fit.residual <= 1e-10 && fit.variables.tilt != 0.0);
         // the tilt axis is the mean trace's tangent, which makes β_m1 with
         // the pinion's generatrix (+x_m) on this left-hand pinion
-        assert!((fit.swivel - pb.spiral_angle).abs() < 1e-9, "{}", fit.swivel);
+        assert!(
+            (fit.swivel - pb.spiral_angle).abs() < 1e-9,
+            "{}",
+            fit.swivel
+        );
         let rm = pb.mean_cone_distance;
         let (cc, cv) = (
             s.flank(BladeSide::Outside).unwrap(),
