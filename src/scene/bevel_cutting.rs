@@ -839,6 +839,8 @@ mod tests {
         expect_any_err(&t, line_of(&t, key), &["pinion.cutter_tilt", "generated"]);
         let t = TILTED.replace("[pinion]\n", "[pinion]\nprocess = \"conjugate\"\n");
         expect_any_err(&t, line_of(&t, key), &["pinion.cutter_tilt", "machine"]);
+        let t = TILTED.replace("[gear]\n", "[gear]\nprocess = \"formate\"\n");
+        expect_any_err(&t, line_of(&t, key), &["pinion.cutter_tilt", "formate"]);
         let t = TILTED.replace(key, "cutter_tilt = \"sideways\"  #");
         expect_any_err(&t, line_of(&t, "\"sideways\""), &["sideways"]);
         let with = |base: &str, section: &str, extra: &str| {
