@@ -50,7 +50,7 @@ use toml::Spanned;
 
 use super::analyses::{self, Analyses, RawAnalyses};
 use super::bevel_cutting::{
-    self, Process, RawCutter, RawEaseOff, RawMachine, RawMemberCutting, RawSynthesis,
+    self, CutterTilt, Process, RawCutter, RawEaseOff, RawMachine, RawMemberCutting, RawSynthesis,
 };
 use super::load::{self, Load, RawLoad};
 use super::location::{Cx, Res};
@@ -125,6 +125,7 @@ struct RawBevelGear {
     machine: Option<Spanned<RawMachine>>,
     ease_off: Option<Spanned<RawEaseOff>>,
     synthesis: Option<Spanned<RawSynthesis>>,
+    cutter_tilt: Option<Spanned<CutterTilt>>,
 }
 
 impl RawBevelGear {
@@ -136,6 +137,7 @@ impl RawBevelGear {
             machine: self.machine.take(),
             ease_off: self.ease_off.take(),
             synthesis: self.synthesis.take(),
+            cutter_tilt: self.cutter_tilt.take(),
         }
     }
 }

@@ -32,6 +32,10 @@
 //! [pinion]
 //! process = "conjugate"        # "generated" (default), "formate", "conjugate"
 //!                              # or "synthesised"
+//! cutter_tilt = "from_blank"   # face-hobbed generated pinion: "none" (default,
+//!                              # head upright on the gear's crown gear) or
+//!                              # "from_blank" (Cyclo-Palloid tilt meeting the
+//!                              # blank's pressure angles, geometry::bevel::cyclo_palloid)
 //! [pinion.ease_off]            # conjugate only; all optional, default 0
 //! centre_height_mm = 2.0       # pattern centre above the pitch cone at R_m1
 //! profile_crowning_um = 10.0   # at the ends of the active profile
@@ -80,6 +84,18 @@ pub(super) enum Process {
     Formate,
     Conjugate,
     Synthesised,
+}
+
+/// `cutter_tilt` of a face-hobbed pinion: `"none"` (the head upright on the
+/// gear's crown gear, the default) or `"from_blank"` (the Klingelnberg
+/// Cyclo-Palloid tilt, swivel, blade angle and point width that meet the
+/// blank's pressure angles at the mean point,
+/// [`crate::geometry::bevel::cyclo_palloid`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum CutterTilt {
+    None,
+    FromBlank,
 }
 
 #[derive(Deserialize)]
@@ -138,6 +154,7 @@ pub(super) struct RawMemberCutting {
     pub(super) machine: Option<Spanned<RawMachine>>,
     pub(super) ease_off: Option<Spanned<RawEaseOff>>,
     pub(super) synthesis: Option<Spanned<RawSynthesis>>,
+    pub(super) cutter_tilt: Option<Spanned<CutterTilt>>,
 }
 
 fn opt(cx: &Cx, v: &Option<Spanned<f64>>, key: &str, default: f64) -> Res<f64> {
@@ -379,10 +396,34 @@ fn machine_cut(
         ));
     }
     let machine = explicit_machine(cx, name, raw, &cutter, design, generated)?;
+    let tilt_from_blank = match &raw.cutter_tilt {
+        None => false,
+        Some(t) => {
+            let from_blank = *t.get_ref() == CutterTilt::FromBlank;
+            let refuse = if name != "pinion" {
+                Some("the Cyclo-Palloid head tilt is derived for the pinion only (the gear is cut on its own crown gear)".to_string())
+            } else if from_blank
+                && CuttingProcess::of_method(design.method) != CuttingProcess::FaceHobbing
+            {
+                Some(format!("derived for face-hobbed pinions (methods 2, 3); this blank is method {} (face-milled settings are matched to the blank without it)", design.method))
+            } else if from_blank && !generated {
+                Some(
+                    "derived for a generated pinion (`pinion.process = \"generated\"`)".to_string(),
+                )
+            } else {
+                None
+            };
+            if let Some(why) = refuse {
+                return Err(cx.err(t.span(), format!("`{name}.cutter_tilt`: {why}")));
+            }
+            from_blank
+        }
+    };
     Ok(MachineCut {
         generated,
         cutter,
         machine,
+        tilt_from_blank,
     })
 }
 
@@ -410,6 +451,13 @@ pub(super) fn pinion_cut(cx: &Cx, raw: &RawMemberCutting, design: &BlankDesign) 
         Some(Process::Formate) => Ok(PinionCut::Machine(Box::new(machine_cut(
             cx, "pinion", raw, design, false,
         )?))),
+        Some(Process::Synthesised | Process::Conjugate) if raw.cutter_tilt.is_some() => {
+            let span = raw.cutter_tilt.as_ref().map_or(0..0, |t| t.span());
+            Err(cx.err(
+                span,
+                "`pinion.cutter_tilt`: read for a pinion cut on a machine only (`pinion.process = \"generated\"`)".into(),
+            ))
+        }
         Some(Process::Synthesised) => {
             for (present, table, what) in [
                 (
@@ -549,6 +597,9 @@ pub(super) fn cutting_error(
             spans.push(("centre_height_mm", &["centre_height"][..], v.span()));
         }
     }
+    if let Some(t) = &raw.cutter_tilt {
+        spans.push(("cutter_tilt", &["Cyclo-Palloid pinion tilt"][..], t.span()));
+    }
     let mentions = |names: &[&str]| {
         names.iter().any(|s| {
             // whole words only ("radius" is not in "edge_radius")
@@ -573,6 +624,7 @@ pub(super) fn cutting_error(
         None
     };
     let (span, place) = match hit {
+        Some(("cutter_tilt", span)) => (span, format!("`{name}.cutter_tilt`")),
         Some((k, span)) => (
             span,
             format!(
@@ -615,8 +667,10 @@ mod tests {
 
     /// Seed 003's scene (method 1, face milling).
     const MILLED: &str = include_str!("../../papers/seed003-hypoid/scene.toml");
-    /// Seed 000's scene (method 3, face hobbing).
+    /// Seed 000's scene (method 3, face hobbing), and with the pinion's
+    /// Cyclo-Palloid head tilt.
     const HOBBED: &str = include_str!("../../papers/seed000-hypoid/scene.toml");
+    const TILTED: &str = include_str!("../../papers/seed000-hypoid/scene_tilted.toml");
 
     fn parse(text: &str) -> Result<BevelScene, FlankError> {
         match parse_any_scene(text, Path::new("s.toml"))? {
@@ -633,7 +687,11 @@ mod tests {
     /// apart.
     #[test]
     fn scenes_cut_both_members_on_their_blank() {
-        for (text, name) in [(MILLED, "seed003 milled"), (HOBBED, "seed000 hobbed")] {
+        for (text, name) in [
+            (MILLED, "seed003 milled"),
+            (HOBBED, "seed000 hobbed"),
+            (TILTED, "seed000 hobbed tilted"),
+        ] {
             let s = parse(text).unwrap();
             let cut = s.blank.cutting_blank();
             for (b, body) in s.bodies.iter().enumerate() {
@@ -644,7 +702,7 @@ mod tests {
                     s.pinion_hand.opposite()
                 };
                 // settings corrected to the blank at the mean point
-                let corrected = name.contains("milled") || b == 1;
+                let corrected = name.contains("milled") || name.contains("tilted") || b == 1;
                 assert_eq!(body.sector_teeth(), 3);
                 let mut sides = [0.0; 2];
                 for (k, side) in [Flank::Left, Flank::Right].into_iter().enumerate() {
@@ -660,7 +718,8 @@ mod tests {
                     assert!((meas.cone_distance - m.rm).abs() < 1e-6, "{name}: {meas:?}");
                     // 20°/20° blanks (f_alim = 0): both flanks at 20°, except
                     // the face-hobbed pinion cut on the gear's crown gear
-                    // without the Cyclo-Palloid tilt (not derived): ±1°
+                    // with its head upright (scene.toml): ±1°; with the
+                    // Cyclo-Palloid tilt (scene_tilted.toml): 1e-6
                     let tol = if corrected { 1e-6 } else { 1.5f64.to_radians() };
                     assert!(
                         (meas.pressure_angle - 20f64.to_radians()).abs() < tol,
@@ -686,7 +745,11 @@ mod tests {
                     "{name} body {b}: s_mn measured {s_mn:.6} mm, blank {:.6} mm",
                     m.smn
                 );
-                let tol = if name.contains("milled") { 1e-6 } else { 5e-3 };
+                let tol = if name.contains("milled") || (name.contains("tilted") && b == 0) {
+                    1e-6
+                } else {
+                    5e-3
+                };
                 assert!(
                     (s_mn - m.smn).abs() < tol,
                     "{name} body {b}: s_mn {s_mn} vs {}",
@@ -758,6 +821,28 @@ mod tests {
 
     #[test]
     fn bad_cutting_keys_point_at_the_key() {
+        // the Cyclo-Palloid tilt: pinion only, face hobbing only, generated
+        let t = TILTED.replace("[gear]\n", "[gear]\ncutter_tilt = \"from_blank\"\n");
+        expect_any_err(
+            &t,
+            line_of(&t, "[gear]") + 1,
+            &["gear.cutter_tilt", "pinion only"],
+        );
+        let t = MILLED.replace("[pinion]\n", "[pinion]\ncutter_tilt = \"from_blank\"\n");
+        expect_any_err(
+            &t,
+            line_of(&t, "cutter_tilt"),
+            &["pinion.cutter_tilt", "face-hobbed", "method 1"],
+        );
+        let key = "cutter_tilt = \"from_blank\"  #";
+        let t = TILTED.replace("[pinion]\n", "[pinion]\nprocess = \"formate\"\n");
+        expect_any_err(&t, line_of(&t, key), &["pinion.cutter_tilt", "generated"]);
+        let t = TILTED.replace("[pinion]\n", "[pinion]\nprocess = \"conjugate\"\n");
+        expect_any_err(&t, line_of(&t, key), &["pinion.cutter_tilt", "machine"]);
+        let t = TILTED.replace("[gear]\n", "[gear]\nprocess = \"formate\"\n");
+        expect_any_err(&t, line_of(&t, key), &["pinion.cutter_tilt", "formate"]);
+        let t = TILTED.replace(key, "cutter_tilt = \"sideways\"  #");
+        expect_any_err(&t, line_of(&t, "\"sideways\""), &["sideways"]);
         let with = |base: &str, section: &str, extra: &str| {
             let t = base.replacen(section, &format!("{section}\n{extra}"), 1);
             assert_ne!(t, base);

@@ -335,3 +335,4 @@ fn e_bad_input_names_the_setting() {
 }
 
 mod palloid;
+mod tilt;

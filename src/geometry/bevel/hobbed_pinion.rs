@@ -21,8 +21,9 @@ impl HobbingSetup {
     /// ([`Self::new`]), `pinion` the pinion's blank. Tilt and swivel are 0:
     /// the pinion's blades sweep exactly the gear blades' surface in the
     /// crown gear, so a spiral bevel pair (offset 0) cut this way is
-    /// conjugate (line contact); the Cyclo-Palloid tilt that localises the
-    /// bearing is not derived here.
+    /// conjugate (line contact). The Cyclo-Palloid head tilt that makes a
+    /// hypoid pinion meet its blank's pressure angles is derived from this
+    /// setup in [`crate::geometry::bevel::cyclo_palloid`].
     ///
     /// Construction (crown-plane coordinates of the gear's machine, crown
     /// centre O, the gear's mean point P = (R_m2, 0)):

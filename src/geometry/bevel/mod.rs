@@ -32,6 +32,7 @@ pub mod conjugate;
 pub mod cradle_machine;
 pub mod cutter;
 pub mod cutting;
+pub mod cyclo_palloid;
 pub mod ease_off;
 pub mod face_angles;
 pub mod face_hobbing;

@@ -16,6 +16,7 @@ fn seed003(design: &BlankDesign, targets: SynthesisTargets) -> SynthesisProblem<
         generated: true,
         cutter: spec,
         machine: None,
+        tilt_from_blank: false,
     };
     let gear_hand = Hand::Right;
     let gear = cut_gear(design, gear_hand, &cut).unwrap();
