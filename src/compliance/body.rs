@@ -70,22 +70,50 @@ pub fn bevel_sector_options(
     let mn = scene.blank.cones.m_mn;
     let flank_size = o.flank_size.or(scene.mesh.flank_size).unwrap_or(mn / 8.0);
     let base_size = o.base_size.or(scene.mesh.base_size).unwrap_or(mn / 2.0);
+    // where a size came from: the option, the scene's key (file:line) or the default
+    let source =
+        |given: Option<f64>, line: Option<usize>, option: &str, key: &str| match (given, line) {
+            (Some(_), _) => option.to_string(),
+            (None, Some(l)) => format!("{} `{key}`", scene.at(l)),
+            _ => format!("the default {option}"),
+        };
+    let flank_source = source(
+        o.flank_size,
+        scene.lines.flank_size,
+        "--flank-size",
+        "mesh.flank_size_mm",
+    );
+    let base_source = source(
+        o.base_size,
+        scene.lines.base_size,
+        "--base-size",
+        "mesh.base_size_mm",
+    );
     if !(flank_size > 0.0 && base_size >= flank_size) {
         return Err(FlankError::Model(format!(
-            "--flank-size / --base-size (or the scene's [mesh] flank_size_mm / base_size_mm): element sizes must satisfy 0 < flank size ({flank_size}) ≤ base size ({base_size})"
+            "{flank_source} / {base_source}: element sizes must satisfy 0 < flank size ({flank_size}) ≤ base size ({base_size})"
         )));
     }
     // at least two flank elements along the face width and the working
-    // depth of each member: coarser sizes leave one distorted layer (a
-    // 50 mm flank size on seed 003 meshed with scaled Jacobians of 0.12)
+    // depth of each member, and two along the face (their length there is
+    // the base size): coarser sizes leave one distorted layer (a 50 mm
+    // flank size on seed 003 meshed with scaled Jacobians of 0.12, a 60 mm
+    // base size with one face layer and an aspect ratio of 71)
     for (name, body) in ["pinion", "gear"].iter().zip(&scene.bodies) {
         let c = body.cones();
         let limit = 0.5 * c.b.min(c.ham + c.hfm);
         if flank_size > limit {
             return Err(FlankError::Model(format!(
-                "--flank-size / [mesh] flank_size_mm = {flank_size} mm: the flank elements do not fit the {name}'s teeth twice (face width {:.3} mm, mean whole depth {:.3} mm): at most {limit:.3} mm",
+                "{flank_source} = {flank_size} mm: the flank elements do not fit the {name}'s teeth twice (face width {:.3} mm, mean whole depth {:.3} mm): at most {limit:.3} mm",
                 c.b,
                 c.ham + c.hfm
+            )));
+        }
+        if base_size > 0.5 * c.b {
+            return Err(FlankError::Model(format!(
+                "{base_source} = {base_size} mm: the flank elements do not fit the {name}'s face width {:.3} mm twice along the face (their length there is the base size): at most {:.3} mm",
+                c.b,
+                0.5 * c.b
             )));
         }
     }

@@ -106,6 +106,30 @@ pub struct BevelScene {
     /// A conjugate pinion's eased flanks `[drive, coast]` (with an
     /// `[pinion.ease_off]`): the ease-off reads back against them.
     pub pinion_eased: Option<[Arc<crate::geometry::bevel::ease_off::EasedPinion>; 2]>,
+    /// Lines of the keys the analyses' own checks point at.
+    pub lines: BevelKeyLines,
+}
+
+/// 1-based lines in [`BevelScene::source`] of the tables and keys that
+/// checks made after the scene is read (FE contact, meshing) point at.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BevelKeyLines {
+    /// The `[pinion]` table (its cut: process, machine, ease-off).
+    pub pinion: usize,
+    /// `load.torque_nm`.
+    pub torque: usize,
+    /// `mesh.teeth_in_sector`, `mesh.flank_size_mm`, `mesh.base_size_mm`
+    /// when given.
+    pub teeth_in_sector: Option<usize>,
+    pub flank_size: Option<usize>,
+    pub base_size: Option<usize>,
+}
+
+impl BevelScene {
+    /// `file:line` of a line of the scene.
+    pub fn at(&self, line: usize) -> String {
+        format!("{}:{line}", self.source.display())
+    }
 }
 
 #[derive(Deserialize)]
@@ -262,6 +286,14 @@ pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<BevelScene> {
         ));
     }
     let mesh = mesh::mesh_options(cx, raw.mesh.as_ref(), inputs.z1, blank.cones.m_mn)?;
+    let [teeth_in_sector, flank_size, base_size] = mesh::key_lines(cx, raw.mesh.as_ref());
+    let lines = BevelKeyLines {
+        pinion: cx.line(raw.pinion.span().start),
+        torque: load::torque_line(cx, &raw.load),
+        teeth_in_sector,
+        flank_size,
+        base_size,
+    };
 
     // how each member is cut, and the members
     let pinion_hand = *raw.pair.pinion_hand.get_ref();
@@ -291,6 +323,7 @@ pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<BevelScene> {
     let gear_body = cutting::member_body(&blank, false, &gear_flanks, 0.5 * bore_diameter[1], n)
         .map_err(gear_error)?;
     let bodies = [Arc::new(pinion_body), Arc::new(gear_body)];
+    mesh::check_bevel_sizes(cx, raw.mesh.as_ref(), &bodies)?;
     let pair = cutting::assembly_for(&inputs, &blank, gear_hand)
         .and_then(|assembly| BevelPair::new(bodies.clone(), assembly))
         .map_err(|e| cx.err(raw.pair.pinion_hand.span(), format!("`[pair]`: {e}")))?;
@@ -312,6 +345,7 @@ pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<BevelScene> {
         pair: Arc::new(pair),
         pinion_eased: pinion_flanks.eased.clone(),
         cutting_report: [pinion_flanks.report, gear_flanks.report],
+        lines,
     })
 }
 
