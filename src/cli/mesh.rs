@@ -230,7 +230,7 @@ fn mesh_bevel_scene(
             &scene.bodies[i],
             name,
             material,
-            &options,
+            &options.member(i == 0),
             torque,
         )?);
     }
@@ -258,6 +258,7 @@ fn mesh_bevel_scene(
                 "mesher": "native",
                 "lattice": body.sector.counts,
                 "mount": body.sector.mount,
+                "shank": body.sector.shank,
                 "min_scaled_jacobian": q.min_scaled_jacobian,
                 "max_aspect_ratio": q.max_aspect_ratio,
                 "nominal_load": body.load.map(|(n, f)| serde_json::json!({

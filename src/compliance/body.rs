@@ -126,6 +126,7 @@ pub fn bevel_sector_options(
     Ok(BevelSectorOptions {
         flank_size,
         base_size,
+        shank: scene.pinion_shank,
         ..Default::default()
     })
 }
@@ -157,7 +158,7 @@ pub fn bevel_scene_body(
         gear,
         name,
         material,
-        &sector,
+        &sector.member(index == 0),
         options.with_load.then_some(torque),
     )?;
     Ok(SectorBody {

@@ -133,14 +133,14 @@ impl BevelCycle {
             &scene.bodies[0],
             "pinion",
             &scene.pinion_material,
-            &options.mesh,
+            &options.mesh.member(true),
             None,
         )?;
         let gear = bevel_body_model(
             &scene.bodies[1],
             "gear",
             &scene.gear_material,
-            &options.mesh,
+            &options.mesh.member(false),
             None,
         )?;
         let mut model = combine(
