@@ -234,6 +234,13 @@ fn mesh_bevel_scene(
             torque,
         )?);
     }
+    let partial = scene.mesh.teeth_in_sector < scene.blank_inputs.z1;
+    if options.shank.is_some() && partial {
+        println!(
+            "warning: {}",
+            flank::mesh::bevel_sector::SHANK_SECTOR_WARNING
+        );
+    }
     std::fs::create_dir_all(out)?;
     let mut bodies = serde_json::Map::new();
     for ((name, _), body) in members.iter().zip(&models) {

@@ -425,11 +425,14 @@ pub fn run_bevel(
     if let Some(r) = rolls.iter().find(|r| !r.is_finite()) {
         return Err(FlankError::Model(format!("roll angle {r} is not a number")));
     }
-    // the bad inputs refused before the factorization (bevel_checks)
     let mut run_warnings = Vec::new();
+    // the bad inputs refused before the factorization (bevel_checks)
     let t_check = Instant::now();
     // meshing first: a member that cannot be meshed is the more basic error
     let model = BevelCycle::pair_model(scene, options)?;
+    if options.mesh.shank.is_some() && scene.mesh.teeth_in_sector < scene.blank_inputs.z1 {
+        run_warnings.push(crate::mesh::bevel_sector::SHANK_SECTOR_WARNING.to_string());
+    }
     if checks::check_sector(scene, &rolls)?.is_none() {
         run_warnings.push(
             "the point TCA did not run: whether the sector holds every pair in mesh is not checked"

@@ -73,6 +73,12 @@
 //! shank's outer cylinder), `BORE` the bore through teeth and shank,
 //! `SHANK_END` the end plane.
 //!
+//! The shank is a sector of the tube as the teeth are a sector of the
+//! gear: its torsional stiffness is that of an open sector, far below the
+//! closed tube's, so the pinion's rotation at a bearing seat is only the
+//! real one with the whole pinion meshed (`[mesh] teeth_in_sector` = z₁);
+//! [`SHANK_SECTOR_WARNING`] says so.
+//!
 //! Not here (yet): wedge15 coarsening along the profile, a ring gear's bore
 //! (its mount is the mounting plane).
 //!
@@ -125,6 +131,9 @@ pub struct BevelSectorOptions {
     /// The pinion's shank (module docs); bore mounts only.
     pub shank: Option<Shank>,
 }
+
+/// The warning of a shank on a partial sector (module docs).
+pub const SHANK_SECTOR_WARNING: &str = "the pinion's shank is meshed as a sector of the tube, like the teeth: an open sector is far softer in torsion than the closed tube, so the pinion turns more at its bearing seat than it would; mesh the whole pinion (`[mesh] teeth_in_sector` = z1) for the shank's torsion";
 
 /// A pinion shank: a cylinder of `diameter` and axial `length` (mm) beyond
 /// the heel face (module docs).
