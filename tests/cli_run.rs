@@ -287,7 +287,8 @@ fn run_lubricated_loop_converges() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// `flank run` on a hypoid scene (seed 003, coarse, three roll angles):
+/// `flank run` on a hypoid scene (seed 003 with the eased pinion; the
+/// milled one is refused, its flanks cross; coarse, three roll angles):
 /// positions.csv and summary.json; per position the contact forces balance
 /// the torque about the pinion axis and the shares add to 1.
 #[test]
@@ -297,7 +298,7 @@ fn seed003_hypoid_run_writes_balanced_positions() {
     let status = std::process::Command::new(env!("CARGO_BIN_EXE_flank"))
         .args([
             "run",
-            "papers/seed003-hypoid/scene.toml",
+            "papers/seed003-hypoid/scene_eased.toml",
             "--flank-size",
             "2",
             "--base-size",

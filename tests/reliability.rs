@@ -289,13 +289,13 @@ fn sigint_stops_at_a_position_and_resumes() {
     let _ = std::fs::remove_dir_all(&d);
 }
 
-/// `flank run` on the hypoid scene (seed 003, coarse, one thread so that
+/// `flank run` on the eased hypoid scene (seed 003, coarse, one thread so that
 /// whole and resumed runs compare bit for bit).
 fn hypoid_run_command(out: &Path, angles: &str) -> Command {
     let mut c = flank();
     c.args([
         "run",
-        "papers/seed003-hypoid/scene.toml",
+        "papers/seed003-hypoid/scene_eased.toml",
         "--flank-size",
         "2",
         "--base-size",

@@ -230,9 +230,16 @@ fn mesh_bevel_scene(
             &scene.bodies[i],
             name,
             material,
-            &options,
+            &options.member(i == 0),
             torque,
         )?);
+    }
+    let partial = scene.mesh.teeth_in_sector < scene.blank_inputs.z1;
+    if options.shank.is_some() && partial {
+        println!(
+            "warning: {}",
+            flank::mesh::bevel_sector::SHANK_SECTOR_WARNING
+        );
     }
     std::fs::create_dir_all(out)?;
     let mut bodies = serde_json::Map::new();
@@ -258,6 +265,7 @@ fn mesh_bevel_scene(
                 "mesher": "native",
                 "lattice": body.sector.counts,
                 "mount": body.sector.mount,
+                "shank": body.sector.shank,
                 "min_scaled_jacobian": q.min_scaled_jacobian,
                 "max_aspect_ratio": q.max_aspect_ratio,
                 "nominal_load": body.load.map(|(n, f)| serde_json::json!({

@@ -240,6 +240,9 @@ fn run_bevel_scene(
             f("max_pressure_mpa"),
             f("max_moment_balance")
         );
+        for w in s["warnings"].as_array().into_iter().flatten() {
+            println!("warning: {}", w.as_str().unwrap_or_default());
+        }
         let pen = f("largest_unloaded_interpenetration_mm");
         if pen > 1e-3 {
             println!(

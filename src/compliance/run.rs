@@ -247,7 +247,10 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
             sector_options(s, &options.mesh)?;
         }
         AnyScene::Bevel(s) => {
-            bevel_sector_options(s, &options.mesh)?;
+            bevel_sector_options(
+                s,
+                &crate::compliance::body::compliance_sizes(s, &options.mesh),
+            )?;
         }
     }
     let format = options.format.unwrap_or_else(FileFormat::default_format);

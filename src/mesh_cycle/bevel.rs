@@ -137,30 +137,34 @@ pub struct BevelCycle {
 impl BevelCycle {
     /// Meshes both members, builds the pair model and factorizes it.
     pub fn new(scene: &BevelScene, options: &BevelRunOptions) -> Result<Self, FlankError> {
+        let model = Self::pair_model(scene, options)?;
+        Self::factorize(scene, model, options)
+    }
+
+    /// Both members meshed and combined into the pair model (the law of
+    /// `options`), not yet factorized.
+    pub fn pair_model(
+        scene: &BevelScene,
+        options: &BevelRunOptions,
+    ) -> Result<PairModel, FlankError> {
+        crate::mesh_cycle::bevel_checks::check_torque(scene)?;
         let torque = scene.load.torque_nmm;
-        if !(torque > 0.0 && torque.is_finite()) {
-            return Err(FlankError::Model(format!(
-                "FE contact needs a positive pinion torque ([load] torque_nm); got {} N·m",
-                torque / 1000.0
-            )));
-        }
         let pinion = bevel_body_model(
             &scene.bodies[0],
             "pinion",
             &scene.pinion_material,
-            &options.mesh,
+            &options.mesh.member(true),
             None,
         )?;
         let gear = bevel_body_model(
             &scene.bodies[1],
             "gear",
             &scene.gear_material,
-            &options.mesh,
+            &options.mesh.member(false),
             None,
         )?;
-        let pair = scene.pair.clone();
         let mut model = combine(
-            pair.as_ref(),
+            scene.pair.as_ref(),
             [
                 PairBody::of("pinion", &pinion.model, &pinion.sector.flank_uv),
                 PairBody::of("gear", &gear.model, &gear.sector.flank_uv),
@@ -172,6 +176,31 @@ impl BevelCycle {
         if options.law == ContactLaw::Penalty {
             set_automatic_penalty(&mut model, options.penalty_factor)?;
         }
+        Ok(model)
+    }
+
+    /// The contact options of the run's pairing and active set.
+    fn contact_options(options: &BevelRunOptions) -> ContactOptions {
+        ContactOptions {
+            ordering: OrderingMethod::Metis,
+            threads: options.threads,
+            recover_stress: false,
+            pairing: PairingOptions {
+                search_distance: Some(options.search_distance_mm),
+                max_initial_penetration: None,
+            },
+            max_iterations: 1000,
+            gap_tolerance: None,
+        }
+    }
+
+    /// Factorizes the pair model of [`Self::pair_model`].
+    pub fn factorize(
+        scene: &BevelScene,
+        model: PairModel,
+        options: &BevelRunOptions,
+    ) -> Result<Self, FlankError> {
+        let torque = scene.load.torque_nmm;
         let system = ElasticSystem::new(
             &model.model,
             &model.contact_nodes,
@@ -192,20 +221,10 @@ impl BevelCycle {
             .map(|v| v.iter().copied().collect())
             .unwrap_or_default();
         Ok(BevelCycle {
-            pair,
+            pair: scene.pair.clone(),
             model,
             system,
-            contact: ContactOptions {
-                ordering: OrderingMethod::Metis,
-                threads: options.threads,
-                recover_stress: false,
-                pairing: PairingOptions {
-                    search_distance: Some(options.search_distance_mm),
-                    max_initial_penetration: None,
-                },
-                max_iterations: 1000,
-                gap_tolerance: None,
-            },
+            contact: Self::contact_options(options),
             torque,
             tip_nodes,
         })
@@ -377,10 +396,15 @@ impl BevelCycle {
             }
         }
         let total: f64 = step.pair_force_n.iter().sum();
-        if total > 0.0 {
-            for p in 0..np {
-                step.load_share[p] = step.pair_force_n[p] / total;
-            }
+        if !(total > 0.0) {
+            return Err(at(FlankError::Model(format!(
+                "no tooth pair carries load under the pinion torque {} N·m ({} candidates): the modelled pairs do not reach each other",
+                self.torque / 1000.0,
+                step.candidates
+            ))));
+        }
+        for p in 0..np {
+            step.load_share[p] = step.pair_force_n[p] / total;
         }
         step.moment_balance = -moment / self.torque - 1.0;
         let rz = state.coupling_motion[0][5];
@@ -409,11 +433,10 @@ pub fn run_bevel(
     roll_angles_deg: Option<Vec<f64>>,
     out: &std::path::Path,
 ) -> Result<serde_json::Value, FlankError> {
+    use crate::mesh_cycle::bevel_checks as checks;
     use std::io::Write;
-    let t0 = Instant::now();
-    let cycle = BevelCycle::new(scene, options)?;
-    let factorization_s = t0.elapsed().as_secs_f64();
-    let pitch = cycle.cycle_deg();
+    checks::check_torque(scene)?;
+    let pitch = scene.pair.tooth_roll_step().abs().to_degrees();
     let rolls = roll_angles_deg.unwrap_or_else(|| {
         (0..DEFAULT_POSITIONS)
             .map(|i| -0.5 * pitch + pitch * i as f64 / DEFAULT_POSITIONS as f64)
@@ -422,6 +445,31 @@ pub fn run_bevel(
     if let Some(r) = rolls.iter().find(|r| !r.is_finite()) {
         return Err(FlankError::Model(format!("roll angle {r} is not a number")));
     }
+    let mut run_warnings = Vec::new();
+    // the bad inputs refused before the factorization (bevel_checks)
+    let t_check = Instant::now();
+    // meshing first: a member that cannot be meshed is the more basic error
+    let model = BevelCycle::pair_model(scene, options)?;
+    if options.mesh.shank.is_some() && scene.mesh.teeth_in_sector < scene.blank_inputs.z1 {
+        run_warnings.push(crate::mesh::bevel_sector::SHANK_SECTOR_WARNING.to_string());
+    }
+    if checks::check_sector(scene, &rolls)?.is_none() {
+        run_warnings.push(
+            "the point TCA did not run: whether the sector holds every pair in mesh is not checked"
+                .to_string(),
+        );
+    }
+    let unloaded = checks::exact_depths(
+        &model,
+        scene.pair.as_ref(),
+        &rolls,
+        &BevelCycle::contact_options(options).pairing,
+    )?;
+    checks::check_interpenetration(scene, &model, &unloaded)?;
+    let checks_s = t_check.elapsed().as_secs_f64();
+    let t0 = Instant::now();
+    let cycle = BevelCycle::factorize(scene, model, options)?;
+    let factorization_s = t0.elapsed().as_secs_f64();
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
     // every position is kept in checkpoint.json as it is solved; SIGINT is
     // polled between positions (the spur cycle's protocol)
@@ -546,6 +594,10 @@ pub fn run_bevel(
         "elements_per_body": cycle.model.elements,
         "dofs": 3 * cycle.model.model.mesh.node_count(),
         "factorization_s": factorization_s,
+        "input_checks_s": checks_s,
+        "largest_exact_unloaded_interpenetration_mm": unloaded.iter().map(|u| u.exact_depth_mm).fold(0.0, f64::max),
+        "gross_interpenetration_limit_mm": checks::GROSS_INTERPENETRATION_MODULE * scene.blank.cones.m_mn,
+        "warnings": run_warnings,
         "time_per_position_s": steps.iter().map(|s| s.time_s).sum::<f64>() / steps.len().max(1) as f64,
         "peak_memory_mb": crate::fem::static_analysis::peak_memory_mb(),
         "mesh_cycle_deg": pitch,

@@ -13,6 +13,8 @@
 //!             (`report::cycle_plot`)
 //! bevel       a bevel/hypoid pair's FE contact at a roll angle (the
 //!             bevel sector meshes, the same pair model and solver)
+//! bevel_checks  the bad inputs a hypoid run refuses before factorizing:
+//!             no torque, a sector too small, interpenetrating bodies
 //! lubricated  the wet–dry loop of seed 002 (`[analyses.lubrication]`):
 //!             EHL μ per tooth pair and position, wet passes
 //! ```
@@ -21,6 +23,7 @@
 //! from the gear-pair interface ([`crate::geometry::gear_pair`]).
 
 pub mod bevel;
+pub mod bevel_checks;
 pub mod checkpoint;
 pub mod lubricated;
 pub mod pair_model;

@@ -18,6 +18,8 @@
 //!
 //! [pinion]
 //! bore_diameter_mm = 30.0
+//! shank_length_mm = 40.0            # optional: the stem with its bearing seats
+//! shank_diameter_mm = 26.0          # (either key models it; `pinion_shank`)
 //! material = "steel"
 //! process = "generated"             # or "formate", "conjugate" (+ [pinion.ease_off]),
 //!                                   # "synthesised" (+ [pinion.synthesis])
@@ -106,6 +108,106 @@ pub struct BevelScene {
     /// A conjugate pinion's eased flanks `[drive, coast]` (with an
     /// `[pinion.ease_off]`): the ease-off reads back against them.
     pub pinion_eased: Option<[Arc<crate::geometry::bevel::ease_off::EasedPinion>; 2]>,
+    /// Lines of the keys the analyses' own checks point at.
+    pub lines: BevelKeyLines,
+    /// The pinion's shank (`[pinion] shank_length_mm`,
+    /// `shank_diameter_mm`; [`pinion_shank`]), `None` when neither is given.
+    pub pinion_shank: Option<crate::mesh::bevel_sector::Shank>,
+}
+
+/// Longest shank, in face widths: a longer stem is a shaft (a beam), not
+/// part of the gear blank.
+const MAX_SHANK_FACE_WIDTHS: f64 = 10.0;
+
+/// The pinion's shank from `[pinion]`: modelled when either key is given
+/// (it changes the pinion's compliance, so it is not on by default). A
+/// missing key takes flank's proportion (no standard gives one; the seeds
+/// give none):
+/// * diameter d_s = d_f,e − 2 h_m: the root-cone diameter at the heel less
+///   one mean whole depth on each side, a shoulder one whole depth high
+///   (the proportion the ring gear's rim below the teeth gets,
+///   `mesh::bevel_sector`); seed 000: 78.12 − 2 × 8.53 = 61.06 mm,
+///   seed 003: 54.72 mm;
+/// * length L = b₁, one face width of bearing seat beyond the heel face.
+///
+/// Range: bore < d_s < d_f,e (the mesher also needs d_s below the rim's top
+/// at the heel and reports that bound), 0 < L ≤ 10 b₁.
+fn pinion_shank(
+    cx: &Cx,
+    raw: &RawBevelGear,
+    bore: f64,
+    cut: &crate::geometry::bevel::MemberBlank,
+    face_width: f64,
+    whole_depth: f64,
+) -> Res<Option<crate::mesh::bevel_sector::Shank>> {
+    if raw.shank_length_mm.is_none() && raw.shank_diameter_mm.is_none() {
+        return Ok(None);
+    }
+    let root_heel = 2.0 * cut.axial_point(-cut.dedendum(cut.re), cut.re).1;
+    let diameter = match &raw.shank_diameter_mm {
+        Some(v) => {
+            let d = cx.positive(v, "pinion.shank_diameter_mm")?;
+            if !(d > bore && d < root_heel) {
+                return Err(cx.err(
+                    v.span(),
+                    format!(
+                        "`pinion.shank_diameter_mm` = {d}: the shank must be wider than the bore ({bore} mm) and narrower than the root cone at the heel ({root_heel:.3} mm)"
+                    ),
+                ));
+            }
+            d
+        }
+        None => root_heel - 2.0 * whole_depth,
+    };
+    let length = match &raw.shank_length_mm {
+        Some(v) => {
+            let l = cx.positive(v, "pinion.shank_length_mm")?;
+            let max = MAX_SHANK_FACE_WIDTHS * face_width;
+            if l > max {
+                return Err(cx.err(
+                    v.span(),
+                    format!(
+                        "`pinion.shank_length_mm` = {l}: at most {MAX_SHANK_FACE_WIDTHS} face widths ({max:.3} mm); a longer stem is a shaft, not part of the blank"
+                    ),
+                ));
+            }
+            l
+        }
+        None => face_width,
+    };
+    if !(diameter > bore) {
+        return Err(cx.err(
+            raw.shank_length_mm
+                .as_ref()
+                .map_or(0..0, |v| v.span()),
+            format!(
+                "`pinion.shank_length_mm` given without `pinion.shank_diameter_mm`: the default diameter {diameter:.3} mm (root cone at the heel less a whole depth each side) is not wider than the bore ({bore} mm); give the diameter"
+            ),
+        ));
+    }
+    Ok(Some(crate::mesh::bevel_sector::Shank { length, diameter }))
+}
+
+/// 1-based lines in [`BevelScene::source`] of the tables and keys that
+/// checks made after the scene is read (FE contact, meshing) point at.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BevelKeyLines {
+    /// The `[pinion]` table (its cut: process, machine, ease-off).
+    pub pinion: usize,
+    /// `load.torque_nm`.
+    pub torque: usize,
+    /// `mesh.teeth_in_sector`, `mesh.flank_size_mm`, `mesh.base_size_mm`
+    /// when given.
+    pub teeth_in_sector: Option<usize>,
+    pub flank_size: Option<usize>,
+    pub base_size: Option<usize>,
+}
+
+impl BevelScene {
+    /// `file:line` of a line of the scene.
+    pub fn at(&self, line: usize) -> String {
+        format!("{}:{line}", self.source.display())
+    }
 }
 
 #[derive(Deserialize)]
@@ -120,6 +222,8 @@ struct RawBevelPair {
 struct RawBevelGear {
     bore_diameter_mm: Spanned<f64>,
     material: Spanned<String>,
+    shank_length_mm: Option<Spanned<f64>>,
+    shank_diameter_mm: Option<Spanned<f64>>,
     process: Option<Spanned<Process>>,
     cutter: Option<Spanned<RawCutter>>,
     machine: Option<Spanned<RawMachine>>,
@@ -264,6 +368,14 @@ pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<BevelScene> {
         ));
     }
     let mesh = mesh::mesh_options(cx, raw.mesh.as_ref(), inputs.z1, blank.cones.m_mn)?;
+    let [teeth_in_sector, flank_size, base_size] = mesh::key_lines(cx, raw.mesh.as_ref());
+    let lines = BevelKeyLines {
+        pinion: cx.line(raw.pinion.span().start),
+        torque: load::torque_line(cx, &raw.load),
+        teeth_in_sector,
+        flank_size,
+        base_size,
+    };
 
     // how each member is cut, and the members
     let pinion_hand = *raw.pair.pinion_hand.get_ref();
@@ -293,6 +405,25 @@ pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<BevelScene> {
     let gear_body = cutting::member_body(&blank, false, &gear_flanks, 0.5 * bore_diameter[1], n)
         .map_err(gear_error)?;
     let bodies = [Arc::new(pinion_body), Arc::new(gear_body)];
+    mesh::check_bevel_sizes(cx, raw.mesh.as_ref(), &bodies)?;
+    let g = raw.gear.get_ref();
+    if let Some(v) = g.shank_length_mm.as_ref().or(g.shank_diameter_mm.as_ref()) {
+        return Err(cx.err(
+            v.span(),
+            "[gear]: a shank is the pinion's (`[pinion] shank_length_mm`, `shank_diameter_mm`); the ring gear is held by its mounting plane".into(),
+        ));
+    }
+    let pinion_shank = {
+        let c = bodies[0].cones();
+        pinion_shank(
+            cx,
+            raw.pinion.get_ref(),
+            bore_diameter[0],
+            &blank.cutting_blank().pinion,
+            c.b,
+            c.ham + c.hfm,
+        )?
+    };
     let pair = cutting::assembly_for(&inputs, &blank, gear_hand)
         .and_then(|assembly| BevelPair::new(bodies.clone(), assembly))
         .map_err(|e| cx.err(raw.pair.pinion_hand.span(), format!("`[pair]`: {e}")))?;
@@ -314,6 +445,8 @@ pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<BevelScene> {
         pair: Arc::new(pair),
         pinion_eased: pinion_flanks.eased.clone(),
         cutting_report: [pinion_flanks.report, gear_flanks.report],
+        lines,
+        pinion_shank,
     })
 }
 
@@ -418,5 +551,66 @@ speed_rpm = 1000.0
             let t = edit("a_mm = 30.0", &format!("a_mm = {bad}"));
             expect_any_err(&t, line_of(&t, "a_mm ="), &["blank.a_mm", "finite"]);
         }
+    }
+
+    /// `[pinion] shank_length_mm` / `shank_diameter_mm`: none given, no
+    /// shank; one given, the other from the proportions of
+    /// [`pinion_shank`] (d_s = d_f,e − 2 h_m, L = b₁); out of range at the
+    /// key's line; on the gear refused. The key lines the FE checks point
+    /// at are the scene's.
+    #[test]
+    fn pinion_shank_keys_default_and_range() {
+        let bevel = |t: &str| match parse(t).unwrap() {
+            AnyScene::Bevel(s) => s,
+            _ => panic!("not a bevel scene"),
+        };
+        let s = bevel(SCENE);
+        assert_eq!(s.pinion_shank, None);
+        assert_eq!(s.lines.pinion, line_of(SCENE, "[pinion]"));
+        assert_eq!(s.lines.torque, line_of(SCENE, "torque_nm"));
+        let edit = |from: &str, to: &str| SCENE.replacen(from, to, 1);
+        let pin = "bore_diameter_mm = 20.0";
+        let t = edit(pin, "bore_diameter_mm = 20.0\nshank_length_mm = 50.0");
+        let sh = bevel(&t).pinion_shank.unwrap();
+        let c = s.bodies[0].cones();
+        let m = s.blank.cutting_blank().pinion;
+        let root_heel = 2.0 * m.axial_point(-m.dedendum(m.re), m.re).1;
+        println!(
+            "seed 000 pinion: d_f,e = {root_heel:.3} mm, h_m = {:.3} mm, b = {:.3} mm: default shank diameter {:.3} mm",
+            c.ham + c.hfm,
+            c.b,
+            sh.diameter
+        );
+        assert_eq!(sh.length, 50.0);
+        assert!((sh.diameter - (root_heel - 2.0 * (c.ham + c.hfm))).abs() < 1e-12);
+        let t = edit(pin, "bore_diameter_mm = 20.0\nshank_diameter_mm = 30.0");
+        let sh = bevel(&t).pinion_shank.unwrap();
+        assert_eq!((sh.length, sh.diameter), (c.b, 30.0));
+        for (bad, words) in [
+            (
+                "shank_diameter_mm = 15.0",
+                &["pinion.shank_diameter_mm", "bore"][..],
+            ),
+            (
+                "shank_diameter_mm = 500.0",
+                &["pinion.shank_diameter_mm", "root cone at the heel"],
+            ),
+            (
+                "shank_length_mm = -1.0",
+                &["pinion.shank_length_mm", "positive"],
+            ),
+            (
+                "shank_length_mm = 1e4",
+                &["pinion.shank_length_mm", "face widths"],
+            ),
+        ] {
+            let t = edit(pin, &format!("bore_diameter_mm = 20.0\n{bad}"));
+            expect_any_err(&t, line_of(&t, bad), words);
+        }
+        let t = edit(
+            "bore_diameter_mm = 130.0",
+            "bore_diameter_mm = 130.0\nshank_length_mm = 50.0",
+        );
+        expect_any_err(&t, line_of(&t, "shank_length_mm"), &["[gear]", "pinion's"]);
     }
 }

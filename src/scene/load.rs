@@ -31,6 +31,11 @@ pub(super) fn load(cx: &Cx, raw: &RawLoad) -> Res<Load> {
     })
 }
 
+/// Line of `load.torque_nm` (checks made after the scene is read point at it).
+pub(super) fn torque_line(cx: &Cx, raw: &RawLoad) -> usize {
+    cx.line(raw.torque_nm.span().start)
+}
+
 #[cfg(test)]
 mod tests {
     use crate::scene::test_support::*;

@@ -96,6 +96,66 @@ pub(super) fn mesh_options(
     Ok(out)
 }
 
+/// Lines of `teeth_in_sector`, `flank_size_mm` and `base_size_mm` when given.
+pub(super) fn key_lines(cx: &Cx, raw: Option<&RawMesh>) -> [Option<usize>; 3] {
+    let Some(m) = raw else {
+        return [None; 3];
+    };
+    [
+        m.teeth_in_sector.as_ref().map(|v| cx.line(v.span().start)),
+        m.flank_size_mm.as_ref().map(|v| cx.line(v.span().start)),
+        m.base_size_mm.as_ref().map(|v| cx.line(v.span().start)),
+    ]
+}
+
+/// A bevel/hypoid scene's element sizes against its members' teeth: the
+/// flank size must fit each member's face width and mean whole depth twice
+/// and the base size (the element length along the face) the face width
+/// twice: with one element along the face or the depth the hex20 flank
+/// faces cannot follow the spiral or the profile (a 50 mm flank size on
+/// seed 003 meshed with scaled Jacobians of 0.12, a 60 mm base size with
+/// one face layer and an aspect ratio of 71).
+pub(super) fn check_bevel_sizes(
+    cx: &Cx,
+    raw: Option<&RawMesh>,
+    bodies: &[std::sync::Arc<crate::geometry::bevel::body::BevelGear>; 2],
+) -> Res<()> {
+    let Some(m) = raw else {
+        return Ok(());
+    };
+    for (name, body) in ["pinion", "gear"].iter().zip(bodies) {
+        let c = body.cones();
+        let depth = c.ham + c.hfm;
+        if let Some(v) = &m.flank_size_mm {
+            let limit = 0.5 * c.b.min(depth);
+            if *v.get_ref() > limit {
+                return Err(cx.err(
+                    v.span(),
+                    format!(
+                        "`mesh.flank_size_mm` = {}: the flank elements do not fit the {name}'s teeth twice (face width {:.3} mm, mean whole depth {depth:.3} mm): at most {limit:.3} mm",
+                        v.get_ref(),
+                        c.b
+                    ),
+                ));
+            }
+        }
+        if let Some(v) = &m.base_size_mm {
+            let limit = 0.5 * c.b;
+            if *v.get_ref() > limit {
+                return Err(cx.err(
+                    v.span(),
+                    format!(
+                        "`mesh.base_size_mm` = {}: the flank elements do not fit the {name}'s face width {:.3} mm twice along the face: at most {limit:.3} mm",
+                        v.get_ref(),
+                        c.b
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use crate::scene::test_support::*;

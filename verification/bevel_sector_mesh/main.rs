@@ -9,7 +9,9 @@
 //! at its mounting plane and loaded at the drive flank's mean point, is
 //! written as a deck and solved by flank and by ccx: the displacements of
 //! every node must agree to 1e-6 (relative to the largest), the figure of
-//! the ccx cross-check of the other decks.
+//! the ccx cross-check of the other decks. The coarse seed 003 pinion with
+//! a shank (30 mm diameter, 40 mm long), held at its bearing seat, is
+//! checked the same way.
 
 #[path = "../common/mod.rs"]
 mod common;
@@ -20,7 +22,7 @@ use std::time::Instant;
 use flank::ccx::relative_difference;
 use flank::fem::static_analysis::{solve_static, SolveOptions};
 use flank::mesh::bevel_body::bevel_body_model;
-use flank::mesh::bevel_sector::{bevel_sector, flank_edge_deviation, BevelSectorOptions};
+use flank::mesh::bevel_sector::{bevel_sector, flank_edge_deviation, BevelSectorOptions, Shank};
 use flank::mesh::inp::{read_deck, write_deck};
 use flank::scene::{read_any_scene, AnyScene, BevelScene};
 
@@ -84,23 +86,59 @@ fn hypoid_members_mesh_validly() {
 /// The coarse seed 003 ring gear as a deck: flank and ccx agree.
 #[test]
 fn seed003_gear_deck_matches_ccx() {
+    deck_matches_ccx(1, None, 1.0, true);
+}
+
+/// The seed 003 pinion with a shank (30 mm × 40 mm), clamped at its
+/// bearing seat, as a deck at 2 mm (ccx needs 130 s at 1 mm, whose figure
+/// the README gives): flank and ccx agree; beside it the load point's
+/// displacement without the shank (clamped at the bore; flank only).
+#[test]
+fn seed003_pinion_with_shank_deck_matches_ccx() {
+    let plain = deck_matches_ccx(0, None, 2.0, false);
+    let shank = deck_matches_ccx(
+        0,
+        Some(Shank {
+            length: 40.0,
+            diameter: 30.0,
+        }),
+        2.0,
+        true,
+    );
+    println!(
+        "pinion load point along the force: {plain:.4e} mm held at the bore, {shank:.4e} mm held at the shank's bearing seat (×{:.2})",
+        shank / plain
+    );
+    assert!(shank > plain, "{shank} {plain}");
+}
+
+/// Member `m` of seed 003 at flank size `fs` (base 4 fs; with `shank`),
+/// loaded at the drive flank's mean point: the deck solved by flank and
+/// (with `ccx`, when installed) by ccx agree to 1e-6; returns the load
+/// point's displacement along the load.
+fn deck_matches_ccx(m: usize, shank: Option<Shank>, fs: f64, ccx: bool) -> f64 {
     let sc = scene("seed003-hypoid");
     let opts = BevelSectorOptions {
-        flank_size: 1.0,
-        base_size: 4.0,
+        flank_size: fs,
+        base_size: 4.0 * fs,
+        shank,
         ..Default::default()
     };
-    let torque = sc.load.torque_nmm * sc.blank.z2 / sc.blank.z1;
-    let body = bevel_body_model(
-        &sc.bodies[1],
-        "gear",
-        &sc.gear_material,
-        &opts,
-        Some(torque),
-    )
-    .unwrap();
+    let torque = sc.load.torque_nmm * [1.0, sc.blank.z2 / sc.blank.z1][m];
+    let name = ["pinion", "gear"][m];
+    let material = [&sc.pinion_material, &sc.gear_material][m];
+    let body = bevel_body_model(&sc.bodies[m], name, material, &opts, Some(torque)).unwrap();
+    if let Some(sh) = body.sector.shank {
+        println!(
+            "{name} with shank: {} nodes, min scaled Jacobian {:.3}, max aspect {:.1}; {sh:?}",
+            body.model.mesh.node_count(),
+            body.sector.quality.min_scaled_jacobian,
+            body.sector.quality.max_aspect_ratio
+        );
+    }
     let work = common::scratch_dir("bevel_sector_mesh");
-    let deck = work.join("gear.inp");
+    let tag = if shank.is_some() { "_shank" } else { "" };
+    let deck = work.join(format!("{name}{tag}.inp"));
     write_deck(&body.model, &deck).unwrap();
     let parsed = read_deck(&deck).unwrap();
     let t = Instant::now();
@@ -118,20 +156,21 @@ fn seed003_gear_deck_matches_ccx() {
     let fnorm = f.iter().map(|x| x * x).sum::<f64>().sqrt();
     let along = (d[0] * f[0] + d[1] * f[1] + d[2] * f[2]) / fnorm;
     println!(
-        "gear deck: {} nodes, {} dofs; load {fnorm:.1} N at the drive flank's mean point, displacement along it {along:.4e} mm; flank {t_flank:.2} s",
+        "{name}{tag} deck: {} nodes, {} dofs; load {fnorm:.1} N at the drive flank's mean point, displacement along it {along:.4e} mm; flank {t_flank:.2} s",
         parsed.model.mesh.node_count(),
         sol.stats.dofs
     );
     assert!(along > 0.0);
-    if !common::ccx_available() {
-        return;
+    if !(ccx && common::ccx_available()) {
+        return along;
     }
-    let ccx = common::run_ccx(&deck, &work.join("ccx"));
+    let ccx = common::run_ccx(&deck, &work.join(format!("ccx_{name}{tag}")));
     let diff =
         relative_difference(&parsed.model.mesh, &sol.displacement, &ccx.displacements).unwrap();
     println!(
-        "VERIFY bevel_sector_mesh seed003 gear deck: max|du|/max|u| = {diff:.2e} (tol 1e-6); flank {t_flank:.2} s, ccx {:.2} s",
+        "VERIFY bevel_sector_mesh seed003 {name}{tag} deck: max|du|/max|u| = {diff:.2e} (tol 1e-6); flank {t_flank:.2} s, ccx {:.2} s",
         ccx.wall_s
     );
     assert!(diff <= 1e-6, "{diff}");
+    along
 }

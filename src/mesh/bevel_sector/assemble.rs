@@ -76,6 +76,8 @@ fn node_role(idx: [usize; 3]) -> Option<bool> {
 struct BlockIds {
     width: usize,
     height: usize,
+    /// Element layers (between level pairs 2l, 2l + 2).
+    layers: usize,
     ids: Vec<usize>,
 }
 
@@ -190,6 +192,78 @@ pub(super) fn assemble(
                 BlockIds {
                     width: w,
                     height: h,
+                    layers: c.face,
+                    ids,
+                },
+            ));
+        }
+    }
+    // the shank: the heel face's rim rows 0..=row extruded along +z
+    let (mut bore_nodes, mut seat, mut shank_end) = (Vec::new(), Vec::new(), Vec::new());
+    // heel nodes the shank covers (inside the body now)
+    let mut covered = std::collections::HashSet::new();
+    let mut shank_blocks = Vec::new();
+    if let Some(sh) = &face.shank {
+        let heel = &sections[nst - 1];
+        let v1 = face.stations[nst - 1].v;
+        let (w, h, nl) = (rw, sh.row + 1, 2 * sh.layers + 1);
+        for k in 0..teeth {
+            let mut ids = vec![usize::MAX; nl * w * h];
+            for ll in 0..nl {
+                let t = ll as f64 / (nl - 1) as f64;
+                for ii in 0..w {
+                    for kk in 0..h {
+                        let Some(corner) = node_role([ll, ii, kk]) else {
+                            continue;
+                        };
+                        let p = &heel.rim[ii * rh + kk];
+                        let (z0, rho) = face.cones.axial_point(p.u, v1);
+                        // the row on r_s and the bore exactly on their cylinders
+                        let rho = match kk {
+                            0 => sh.bore,
+                            x if x == sh.row => sh.radius,
+                            _ => rho,
+                        };
+                        let z = if ll == 0 {
+                            z0
+                        } else {
+                            z0 + t * (sh.z_end - z0)
+                        };
+                        let th = p.theta + k as f64 * pitch;
+                        let x = if ll == 0 {
+                            point(p, v1, k)?
+                        } else {
+                            [rho * th.sin(), rho * th.cos(), z]
+                        };
+                        let id = reg.add(x, corner)?;
+                        ids[(ll * w + ii) * h + kk] = id;
+                        if kk == 0 {
+                            bore_nodes.push(id);
+                        }
+                        if kk == sh.row && z >= sh.z_start - 1e-9 * face.cones.re {
+                            seat.push(id);
+                        }
+                        if ll == nl - 1 {
+                            shank_end.push(id);
+                        }
+                        if ll == 0 && kk < sh.row {
+                            covered.insert(id);
+                        }
+                        if k == 0 && ii == 0 {
+                            cut_a.push(id);
+                        }
+                        if k + 1 == teeth && ii == w - 1 {
+                            cut_b.push(id);
+                        }
+                    }
+                }
+            }
+            shank_blocks.push((
+                k,
+                BlockIds {
+                    width: w,
+                    height: h,
+                    layers: sh.layers,
                     ids,
                 },
             ));
@@ -205,7 +279,11 @@ pub(super) fn assemble(
     // elements: 2D cell (I, J) of a block between stations 2L and 2L + 2
     let kind = opts.element;
     let mut quality = Quality::empty();
-    for (k, upper, b) in &blocks {
+    let all_blocks = blocks
+        .iter()
+        .map(|(k, upper, b)| (*k, if *upper { "upper" } else { "rim" }, b))
+        .chain(shank_blocks.iter().map(|(k, b)| (*k, "shank", b)));
+    for (k, block, b) in all_blocks {
         for i in 0..(b.width - 1) / 2 {
             for j in 0..(b.height - 1) / 2 {
                 let (i0, j0) = (2 * i, 2 * j);
@@ -216,7 +294,7 @@ pub(super) fn assemble(
                     (i0 + 1, j0 + 2),
                     (i0, j0 + 1),
                 ];
-                for l in 0..c.face {
+                for l in 0..b.layers {
                     let (mut s0, sm, mut s1) = (2 * l, 2 * l + 1, 2 * l + 2);
                     // orientation: (e_across × e_up) · e_face > 0
                     let x = |s: usize, p: (usize, usize)| reg.coords[b.at(s, p.0, p.1)];
@@ -248,9 +326,8 @@ pub(super) fn assemble(
                             label,
                             kind,
                             message: format!(
-                                "{message} (bevel sector {name}: tooth {} {} block, cell ({i}, {j}), face layer {})",
+                                "{message} (bevel sector {name}: tooth {} {block} block, cell ({i}, {j}), layer {})",
                                 k + 1,
-                                if *upper { "upper" } else { "rim" },
                                 l + 1
                             ),
                         },
@@ -274,15 +351,24 @@ pub(super) fn assemble(
         mesh.extend_node_set(&nm, dedup(v));
     }
     let mount_set = dedup(mount);
-    if matches!(face.mount, Mount::Bore { .. }) {
-        mesh.extend_node_set("BORE", mount_set.clone());
+    if face.shank.is_some() {
+        // the bore runs through teeth and shank; the mount is the bearing seat
+        bore_nodes.extend(mount_set);
+        mesh.extend_node_set("BORE", dedup(bore_nodes));
+        mesh.extend_node_set("MOUNT", dedup(seat));
+        mesh.extend_node_set("SHANK_END", dedup(shank_end));
+    } else {
+        if matches!(face.mount, Mount::Bore { .. }) {
+            mesh.extend_node_set("BORE", mount_set.clone());
+        }
+        mesh.extend_node_set("MOUNT", mount_set);
     }
-    mesh.extend_node_set("MOUNT", mount_set);
     mesh.extend_node_set("CUT_A", dedup(cut_a));
     mesh.extend_node_set("CUT_B", dedup(cut_b));
     mesh.extend_node_set("TIP_LAND", dedup(tip_land));
     mesh.extend_node_set("GAP_LAND", dedup(gap_land));
     mesh.extend_node_set("TOE", dedup(toe));
+    heel.retain(|n| !covered.contains(n));
     mesh.extend_node_set("HEEL", dedup(heel));
     let n = mesh.node_count();
     mesh.extend_node_set("NALL", 0..n);
@@ -294,5 +380,11 @@ pub(super) fn assemble(
         quality,
         mount: face.mount,
         counts: c,
+        shank: face.shank.as_ref().map(|sh| super::ShankReport {
+            bore_radius_mm: sh.bore,
+            radius_mm: sh.radius,
+            z_mm: [sh.z_start, sh.z_end],
+            layers: sh.layers,
+        }),
     })
 }

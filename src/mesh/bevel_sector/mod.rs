@@ -61,8 +61,26 @@
 //! fillet ends), `NALL`, `EALL`. Flank
 //! parameters of every flank node in [`BevelSectorMesh::flank_uv`].
 //!
-//! Not here (yet): wedge15 coarsening along the profile, the pinion shank
-//! beyond the teeth (bearing seats), a ring gear's bore.
+//! **Pinion shank** ([`BevelSectorOptions::shank`], bore mounts only): a
+//! hollow cylinder ρ ∈ [r_b, r_s] (r_s = half the shank diameter) on the
+//! heel side, the pinion's stem with its bearing seats. The rim's rows are
+//! graded so that one row lies on ρ = r_s at the heel; the heel face's rim
+//! rows from the bore up to that row are extruded along +z (each node
+//! keeps θ and ρ, z runs linearly from the heel cone to the shank's end
+//! plane z_e), so the shank is exactly the cylinder r_s of axial length L
+//! from where it leaves the heel face (z_e = z_heel(r_s) + L); the heel
+//! face above r_s is the shoulder. `MOUNT` is then the bearing seat (the
+//! shank's outer cylinder), `BORE` the bore through teeth and shank,
+//! `SHANK_END` the end plane.
+//!
+//! The shank is a sector of the tube as the teeth are a sector of the
+//! gear: its torsional stiffness is that of an open sector, far below the
+//! closed tube's, so the pinion's rotation at a bearing seat is only the
+//! real one with the whole pinion meshed (`[mesh] teeth_in_sector` = z₁);
+//! [`SHANK_SECTOR_WARNING`] says so.
+//!
+//! Not here (yet): wedge15 coarsening along the profile, a ring gear's bore
+//! (its mount is the mounting plane).
 //!
 //! [`Flank::Left`]: crate::geometry::gear_pair::Flank::Left
 //! [`Flank::Right`]: crate::geometry::gear_pair::Flank::Right
@@ -110,6 +128,29 @@ pub struct BevelSectorOptions {
     /// Ring gears (δ ≥ 45°): distance of the mounting plane behind the
     /// deepest point of the gap land (mm); `None` = one mean whole depth.
     pub rim_thickness: Option<f64>,
+    /// The pinion's shank (module docs); bore mounts only.
+    pub shank: Option<Shank>,
+}
+
+/// The warning of a shank on a partial sector (module docs).
+pub const SHANK_SECTOR_WARNING: &str = "the pinion's shank is meshed as a sector of the tube, like the teeth: an open sector is far softer in torsion than the closed tube, so the pinion turns more at its bearing seat than it would; mesh the whole pinion (`[mesh] teeth_in_sector` = z1) for the shank's torsion";
+
+/// A pinion shank: a cylinder of `diameter` and axial `length` (mm) beyond
+/// the heel face (module docs).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Shank {
+    pub length: f64,
+    pub diameter: f64,
+}
+
+impl BevelSectorOptions {
+    /// The options of one member of a pair: the shank is the pinion's.
+    pub fn member(&self, pinion: bool) -> BevelSectorOptions {
+        BevelSectorOptions {
+            shank: if pinion { self.shank } else { None },
+            ..self.clone()
+        }
+    }
 }
 
 impl Default for BevelSectorOptions {
@@ -120,6 +161,7 @@ impl Default for BevelSectorOptions {
             face_layers: 0,
             element: ElementKind::C3D20,
             rim_thickness: None,
+            shank: None,
         }
     }
 }
@@ -145,6 +187,20 @@ pub struct BevelSectorMesh {
     /// Lattice counts: across the tooth, up the boundary (land, fillet,
     /// flank), rim rows, face layers.
     pub counts: LatticeCounts,
+    /// The shank as meshed: radii, axial extent of the bearing seat, layers.
+    pub shank: Option<ShankReport>,
+}
+
+/// The meshed shank ([`BevelSectorMesh::shank`]).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct ShankReport {
+    pub bore_radius_mm: f64,
+    pub radius_mm: f64,
+    /// z of the shank's outer cylinder where it leaves the heel face and at
+    /// its end plane (mm, member frame).
+    pub z_mm: [f64; 2],
+    /// Element layers along the shank.
+    pub layers: usize,
 }
 
 /// The lattice counts of a sector (elements; the same on every station).
@@ -191,6 +247,18 @@ pub fn bevel_sector(
             "{name}: need 0 < flank_size ({}) ≤ base_size ({})",
             opts.flank_size, opts.base_size
         )));
+    }
+    if let Some(sh) = opts.shank {
+        if !(sh.length > 0.0
+            && sh.length.is_finite()
+            && sh.diameter > 0.0
+            && sh.diameter.is_finite())
+        {
+            return Err(err(format!(
+                "{name}: shank length {} mm and diameter {} mm must be positive",
+                sh.length, sh.diameter
+            )));
+        }
     }
     if let Some(t) = opts.rim_thickness {
         if !(t > 0.0 && t.is_finite()) {

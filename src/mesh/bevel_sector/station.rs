@@ -159,6 +159,20 @@ pub(super) struct FaceLayout<'a> {
     pub(super) rim: Vec<f64>,
     pub(super) mount: Mount,
     pub(super) flank_size: f64,
+    pub(super) shank: Option<ShankLayout>,
+}
+
+/// The shank's place in the lattice (module docs of [`super`]).
+pub(super) struct ShankLayout {
+    /// Half index kk of the rim row on ρ = r_s (the rows 0..=kk are extruded).
+    pub(super) row: usize,
+    pub(super) radius: f64,
+    pub(super) bore: f64,
+    /// z of the end plane and of the heel face at r_s (mm).
+    pub(super) z_end: f64,
+    pub(super) z_start: f64,
+    /// Element layers along the shank.
+    pub(super) layers: usize,
 }
 
 impl<'a> FaceLayout<'a> {
@@ -350,15 +364,77 @@ impl<'a> FaceLayout<'a> {
         // the rim: graded from the cut's last step to base_size
         let cut_step = cut_depth * (across[2 * nc] - across[2 * nc - 2]) / across[2 * nc];
         let rim_len = max(&|s: &Station| s.u_cut - cut_depth - s.u_mount);
-        let rim_sizes = graded(
-            rim_len,
-            cut_step,
-            GROWTH,
-            opts.base_size,
-            "rim below the teeth",
-        )
-        .map_err(|e| err(format!("{name}: {e}")))?;
-        let rim = half_lattice(&rim_sizes);
+        let grade = |len: f64, first: f64, what: &str| {
+            graded(len, first, GROWTH, opts.base_size, what)
+                .map_err(|e| err(format!("{name}: {e}")))
+        };
+        let (rim_sizes, rim, shank) = match opts.shank {
+            None => {
+                let sizes = grade(rim_len, cut_step, "rim below the teeth")?;
+                let rim = half_lattice(&sizes);
+                (sizes, rim, None)
+            }
+            Some(sh) => {
+                let Mount::Bore { radius: bore } = mount else {
+                    return Err(err(format!(
+                        "{name}: a shank is for a member held by its bore (a pinion, pitch angle below 45°); this one has a mounting plane"
+                    )));
+                };
+                // the heel station's rim: from the Π bottom u_i down to the bore
+                let heel = stations.last().expect("stations");
+                let u_i = heel.u_cut - cut_depth;
+                let rho_i = heel.radius(&cones, u_i);
+                let r_s = 0.5 * sh.diameter;
+                if !(r_s > bore && r_s < rho_i) {
+                    return Err(err(format!(
+                        "{name}: `pinion.shank_diameter_mm` = {}: the shank must lie between the bore (diameter {:.3} mm) and the rim below the teeth at the heel (diameter {:.3} mm)",
+                        sh.diameter,
+                        2.0 * bore,
+                        2.0 * rho_i
+                    )));
+                }
+                // fraction of the rim (from the Π bottom) where ρ = r_s at the heel
+                let u_s = (r_s - heel.v * sd) / cd;
+                let g = (u_i - u_s) / (u_i - heel.u_mount);
+                let upper = grade(g * rim_len, cut_step, "rim above the shank")?;
+                let last = *upper.last().expect("graded sizes");
+                let lower = grade((1.0 - g) * rim_len, last, "rim over the shank")?;
+                let mut rim: Vec<f64> = half_lattice(&upper).iter().map(|f| g * f).collect();
+                rim.extend(
+                    half_lattice(&lower)
+                        .iter()
+                        .skip(1)
+                        .map(|f| g + (1.0 - g) * f),
+                );
+                // z on the heel cone at ρ (the back cone v = v₁)
+                let z_heel = |rho: f64| cones.axial_point((rho - heel.v * sd) / cd, heel.v).0;
+                let (z_start, z_bore) = (z_heel(r_s), z_heel(bore));
+                let z_end = z_start + sh.length;
+                if !(z_end > z_bore.max(z_start)) {
+                    return Err(err(format!(
+                        "{name}: `pinion.shank_length_mm` = {}: the shank must reach beyond the heel face at the bore ({:.3} mm behind where it leaves the face)",
+                        sh.length,
+                        z_bore - z_start
+                    )));
+                }
+                let layers = ((z_end - z_start.min(z_bore)) / opts.base_size)
+                    .ceil()
+                    .max(1.0) as usize;
+                let nr = upper.len() + lower.len();
+                let shank = ShankLayout {
+                    row: 2 * lower.len(),
+                    radius: r_s,
+                    bore,
+                    z_end,
+                    z_start,
+                    layers,
+                };
+                debug_assert_eq!(rim.len(), 2 * nr + 1);
+                let mut sizes = upper;
+                sizes.extend(lower);
+                (sizes, rim, Some(shank))
+            }
+        };
         Ok(FaceLayout {
             cones,
             pitch,
@@ -378,6 +454,7 @@ impl<'a> FaceLayout<'a> {
             rim,
             mount,
             flank_size: fs,
+            shank,
         })
     }
 }

@@ -56,6 +56,48 @@ fn flank_deviation(gear: &BevelGear, r: &BevelSectorMesh) -> (f64, [f64; 2]) {
     (node_dist, flank_edge_deviation(gear, r))
 }
 
+/// Conformity: no face is shared by more than two elements, and every
+/// face used once (a free face) has all its corners on one boundary set,
+/// so no crack lies inside the body where blocks or pitches meet.
+fn assert_conforming(mesh: &crate::mesh::Mesh, m: usize) {
+    let mut faces: HashMap<Vec<usize>, usize> = HashMap::new();
+    for e in &mesh.elements {
+        for f in 1..=6 {
+            let nodes = face_nodes(e.kind, f).unwrap();
+            let mut key: Vec<usize> = nodes[..4].iter().map(|&i| e.nodes[i]).collect();
+            key.sort_unstable();
+            *faces.entry(key).or_default() += 1;
+        }
+    }
+    let boundary: HashSet<usize> = mesh
+        .node_sets
+        .iter()
+        .filter(|(k, _)| !matches!(k.as_str(), "NALL"))
+        .flat_map(|(_, v)| v.iter().copied())
+        .collect();
+    let mut free = 0;
+    for (key, count) in &faces {
+        assert!(*count <= 2, "a face shared by {count} elements");
+        if *count == 1 {
+            free += 1;
+            // a boundary face has all its corners on one boundary set
+            let on_one = mesh.node_sets.iter().any(|(k, v)| {
+                k != "NALL"
+                    && key
+                        .iter()
+                        .all(|n| v.binary_search(n).is_ok() || v.contains(n))
+            });
+            assert!(
+                on_one,
+                "member {m}: a free face inside the body (corners {:?}, on boundary sets: {:?})",
+                key.iter().map(|n| mesh.coords[*n]).collect::<Vec<_>>(),
+                key.iter().map(|n| boundary.contains(n)).collect::<Vec<_>>()
+            );
+        }
+    }
+    assert!(free > 0);
+}
+
 /// Seed 003's pinion (bore) and ring gear (mounting plane), coarse: every
 /// element valid; the mesh is conforming (every face used once lies on a
 /// boundary set: no crack where blocks or pitches meet); flank nodes are
@@ -69,43 +111,7 @@ fn seed003_sectors_are_valid_conforming_and_exact_on_the_flanks() {
         let r = bevel_sector(gear, "body", &coarse()).unwrap();
         let mesh = &r.mesh;
         assert!(r.quality.min_scaled_jacobian > 0.2, "{:?}", r.quality);
-        // conformity
-        let mut faces: HashMap<Vec<usize>, usize> = HashMap::new();
-        for e in &mesh.elements {
-            for f in 1..=6 {
-                let nodes = face_nodes(e.kind, f).unwrap();
-                let mut key: Vec<usize> = nodes[..4].iter().map(|&i| e.nodes[i]).collect();
-                key.sort_unstable();
-                *faces.entry(key).or_default() += 1;
-            }
-        }
-        let boundary: HashSet<usize> = mesh
-            .node_sets
-            .iter()
-            .filter(|(k, _)| !matches!(k.as_str(), "NALL"))
-            .flat_map(|(_, v)| v.iter().copied())
-            .collect();
-        let mut free = 0;
-        for (key, count) in &faces {
-            assert!(*count <= 2, "a face shared by {count} elements");
-            if *count == 1 {
-                free += 1;
-                // a boundary face has all its corners on one boundary set
-                let on_one = mesh.node_sets.iter().any(|(k, v)| {
-                    k != "NALL"
-                        && key
-                            .iter()
-                            .all(|n| v.binary_search(n).is_ok() || v.contains(n))
-                });
-                assert!(
-                    on_one,
-                    "member {m}: a free face inside the body (corners {:?}, on boundary sets: {:?})",
-                    key.iter().map(|n| mesh.coords[*n]).collect::<Vec<_>>(),
-                    key.iter().map(|n| boundary.contains(n)).collect::<Vec<_>>()
-                );
-            }
-        }
-        assert!(free > 0);
+        assert_conforming(mesh, m);
         // flank nodes and flank edges
         let (node_dist, dev) = flank_deviation(gear, &r);
         println!(
@@ -233,4 +239,92 @@ fn bad_sectors_are_refused_with_the_reason() {
     let s0 = scene("seed000-hypoid");
     let m = msg(&coarse(), &s0.bodies[0]);
     assert!(m.contains("no gap land"), "{m}");
+}
+
+/// Seed 003's pinion with a shank (40 mm long, 30 mm diameter), coarse:
+/// every element valid and no worse than without it, the mesh conforming;
+/// the bearing seat (`MOUNT`) on the cylinder r_s from where it leaves the
+/// heel face to the end plane 40 mm further, `BORE` on the bore through
+/// teeth and shank, `SHANK_END` on the end plane, the cuts extended into
+/// the shank; a shank wider than the rim, or on the ring gear, is refused.
+#[test]
+fn pinion_shank_is_an_exact_cylinder_on_the_heel_face() {
+    let sc = scene("seed003-hypoid");
+    let gear = &sc.bodies[0];
+    let plain = bevel_sector(gear, "pinion", &coarse()).unwrap();
+    let opts = BevelSectorOptions {
+        shank: Some(Shank {
+            length: 40.0,
+            diameter: 30.0,
+        }),
+        ..coarse()
+    };
+    let r = bevel_sector(gear, "pinion", &opts).unwrap();
+    let mesh = &r.mesh;
+    let sh = r.shank.unwrap();
+    println!(
+        "pinion with shank: {} nodes ({} without), {} elements, Jacobian {:.3} ({:.3} without), aspect {:.1}; shank {sh:?}",
+        mesh.node_count(),
+        plain.mesh.node_count(),
+        mesh.elements.len(),
+        r.quality.min_scaled_jacobian,
+        plain.quality.min_scaled_jacobian,
+        r.quality.max_aspect_ratio
+    );
+    assert!(r.quality.min_scaled_jacobian >= plain.quality.min_scaled_jacobian - 1e-9);
+    assert!(mesh.elements.len() > plain.mesh.elements.len());
+    assert_conforming(mesh, 0);
+    let tol = 1e-9 * gear.cones().re;
+    assert!((sh.radius_mm - 15.0).abs() < tol && (sh.z_mm[1] - sh.z_mm[0] - 40.0).abs() < tol);
+    let rho = |n: usize| mesh.coords[n][0].hypot(mesh.coords[n][1]);
+    for &n in &mesh.node_sets["MOUNT"] {
+        let z = mesh.coords[n][2];
+        assert!((rho(n) - 15.0).abs() < 1e-9, "seat node at ρ = {}", rho(n));
+        assert!(
+            z > sh.z_mm[0] - tol && z < sh.z_mm[1] + tol,
+            "seat node at z = {z}"
+        );
+    }
+    let zs: Vec<f64> = mesh.node_sets["MOUNT"]
+        .iter()
+        .map(|&n| mesh.coords[n][2])
+        .collect();
+    let (zmin, zmax) = zs
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &z| {
+            (a.min(z), b.max(z))
+        });
+    assert!(
+        (zmin - sh.z_mm[0]).abs() < 1e-6 && (zmax - sh.z_mm[1]).abs() < 1e-6,
+        "{zmin} {zmax}"
+    );
+    for &n in &mesh.node_sets["BORE"] {
+        assert!(
+            (rho(n) - sh.bore_radius_mm).abs() < 1e-9,
+            "bore node at ρ = {}",
+            rho(n)
+        );
+    }
+    assert!(mesh.node_sets["BORE"].len() > plain.mesh.node_sets["BORE"].len());
+    for &n in &mesh.node_sets["SHANK_END"] {
+        assert!((mesh.coords[n][2] - sh.z_mm[1]).abs() < tol);
+    }
+    assert!(mesh.node_sets["CUT_A"].len() > plain.mesh.node_sets["CUT_A"].len());
+    // refused: wider than the rim below the teeth, or on the ring gear
+    let wide = BevelSectorOptions {
+        shank: Some(Shank {
+            length: 40.0,
+            diameter: 200.0,
+        }),
+        ..coarse()
+    };
+    let m = bevel_sector(gear, "pinion", &wide).unwrap_err().to_string();
+    assert!(
+        m.contains("shank_diameter_mm") && m.contains("rim below the teeth"),
+        "{m}"
+    );
+    let m = bevel_sector(&sc.bodies[1], "gear", &opts)
+        .unwrap_err()
+        .to_string();
+    assert!(m.contains("mounting plane"), "{m}");
 }
