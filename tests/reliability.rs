@@ -231,21 +231,14 @@ fn check_files_complete(dir: &Path) -> (usize, usize) {
     (checked, temps)
 }
 
-/// SIGINT during `flank run` (13 positions): exit code 130 after the
-/// position under way, the solved positions kept (checkpoint.json,
-/// mesh_cycle.partial.csv, their VTU files), the message says how to
-/// resume; `--resume` then solves only the rest, and the complete run
-/// leaves no checkpoint.
-#[test]
-fn sigint_stops_at_a_position_and_resumes() {
-    let d = tmp("sigint");
-    let out = d.join("out");
-    let angles = "-12,-10,-8,-6,-4,-2,0,2,4,6,8,10,12";
-    let mut child = run_command(&out, angles)
+/// Starts `command`, sends SIGINT once `checkpoint` exists (a position is
+/// solved), and checks the stop: exit code 130, a message that says how to
+/// resume, no panic. Returns the positions the checkpoint kept.
+fn interrupt_after_a_position(mut command: Command, checkpoint: &Path) -> usize {
+    let mut child = command
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
-    let checkpoint = out.join("checkpoint.json");
     let t = Instant::now();
     while !checkpoint.exists() {
         assert!(t.elapsed() < CHILD_TIMEOUT, "no position solved");
@@ -262,8 +255,22 @@ fn sigint_stops_at_a_position_and_resumes() {
     );
     assert!(!err.contains("panicked"), "{err}");
     let kept: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&checkpoint).unwrap()).unwrap();
-    let n = kept["steps"].as_array().unwrap().len();
+        serde_json::from_str(&std::fs::read_to_string(checkpoint).unwrap()).unwrap();
+    kept["steps"].as_array().unwrap().len()
+}
+
+/// SIGINT during `flank run` (13 positions): exit code 130 after the
+/// position under way, the solved positions kept (checkpoint.json,
+/// mesh_cycle.partial.csv, their VTU files), the message says how to
+/// resume; `--resume` then solves only the rest, and the complete run
+/// leaves no checkpoint.
+#[test]
+fn sigint_stops_at_a_position_and_resumes() {
+    let d = tmp("sigint");
+    let out = d.join("out");
+    let angles = "-12,-10,-8,-6,-4,-2,0,2,4,6,8,10,12";
+    let checkpoint = out.join("checkpoint.json");
+    let n = interrupt_after_a_position(run_command(&out, angles), &checkpoint);
     assert!((1..13).contains(&n), "{n} positions kept");
     assert_eq!(csv_rows(&out.join("mesh_cycle.partial.csv")), n);
     assert!(!out.join("summary.json").exists());
@@ -325,28 +332,8 @@ fn hypoid_sigint_stops_at_a_position_and_resumes() {
         .unwrap()
         .success());
     assert!(!whole.join("checkpoint.json").exists());
-    let mut child = hypoid_run_command(&out, angles)
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
     let checkpoint = out.join("checkpoint.json");
-    let t = Instant::now();
-    while !checkpoint.exists() {
-        assert!(t.elapsed() < CHILD_TIMEOUT, "no position solved");
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    signal(&child, libc::SIGINT);
-    let status = wait(&mut child);
-    let mut err = String::new();
-    std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut err).unwrap();
-    assert_eq!(status.code(), Some(130), "{err}");
-    assert!(
-        err.contains("position boundary") && err.contains("--resume"),
-        "{err}"
-    );
-    let kept: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&checkpoint).unwrap()).unwrap();
-    let n = kept["steps"].as_array().unwrap().len();
+    let n = interrupt_after_a_position(hypoid_run_command(&out, angles), &checkpoint);
     assert!((1..9).contains(&n), "{n} positions kept");
     assert!(!out.join("summary.json").exists());
     let o = hypoid_run_command(&out, angles)
