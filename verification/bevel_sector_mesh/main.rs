@@ -136,8 +136,10 @@ fn deck_matches_ccx(m: usize, shank: Option<Shank>, fs: f64, ccx: bool) -> f64 {
             body.sector.quality.max_aspect_ratio
         );
     }
-    let work = common::scratch_dir("bevel_sector_mesh");
     let tag = if shank.is_some() { "_shank" } else { "" };
+    // one folder per deck: the tests run in parallel, and a shared scratch
+    // folder was emptied under a running ccx ("cannot open frd file")
+    let work = common::scratch_dir(&format!("bevel_sector_mesh/{name}{tag}"));
     let deck = work.join(format!("{name}{tag}.inp"));
     write_deck(&body.model, &deck).unwrap();
     let parsed = read_deck(&deck).unwrap();
