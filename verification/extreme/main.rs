@@ -314,40 +314,34 @@ fn ltca(p: &Pair, scene: &Scene, name: &str) -> Result<Figures, String> {
     })
 }
 
-/// Which primary limits an answer misses: (limit name, text); empty:
+/// Which primary limits an answer misses (one text each); empty:
 /// within all.
-fn misses(f: &Figures, path: &str) -> Vec<(&'static str, String)> {
+fn misses(f: &Figures, path: &str) -> Vec<String> {
     let mut m = Vec::new();
-    let mut lim = |key: &'static str, what: &str, v: f64, l: f64| {
+    let mut lim = |what: &str, v: f64, l: f64| {
         if v.is_nan() || v > l {
-            m.push((key, format!("{what} {v:.2e} > {l:.0e}")));
+            m.push(format!("{what} {v:.2e} > {l:.0e}"));
         }
     };
     if path == "FE" {
-        lim("backward", "backward error", f.backward, FE_BACKWARD);
-        lim("equilibrium", "equilibrium", f.equilibrium, FE_EQUILIBRIUM);
-        lim("violation", "violation/δ", f.violation, FE_VIOLATION);
+        lim("backward error", f.backward, FE_BACKWARD);
+        lim("equilibrium", f.equilibrium, FE_EQUILIBRIUM);
+        lim("violation/δ", f.violation, FE_VIOLATION);
         lim(
-            "complementarity",
             "complementarity/(Fδ)",
             f.complementarity,
             FE_COMPLEMENTARITY,
         );
     } else {
-        lim("kkt", "KKT", f.kkt, LTCA_KKT);
+        lim("KKT", f.kkt, LTCA_KKT);
         // NaN: both tensors read from the cache (checked when computed)
         if !f.backward.is_nan() {
-            lim(
-                "backward",
-                "tensor backward error",
-                f.backward,
-                LTCA_BACKWARD,
-            );
+            lim("tensor backward error", f.backward, LTCA_BACKWARD);
         }
     }
-    lim("condition", "condition", f.condition, CONDITION);
+    lim("condition", f.condition, CONDITION);
     if !f.te_urad.is_finite() || f.shares.iter().any(|s| !s.is_finite()) {
-        m.push(("finite", "non-finite answer".into()));
+        m.push("non-finite answer".into());
     }
     m
 }
@@ -367,13 +361,9 @@ impl Row {
         }
     }
 
-    /// Within every primary limit but those named in `except`.
-    fn within_except(&self, except: &[&str]) -> &Self {
-        let m: Vec<String> = misses(self.answer(), self.path)
-            .into_iter()
-            .filter(|(k, _)| !except.contains(k))
-            .map(|(_, t)| t)
-            .collect();
+    /// Within every primary limit (the second round has no exceptions).
+    fn within(&self) -> &Self {
+        let m = misses(self.answer(), self.path);
         assert!(
             m.is_empty(),
             "{} {}: {}",
@@ -382,10 +372,6 @@ impl Row {
             m.join(", ")
         );
         self
-    }
-
-    fn within(&self) -> &Self {
-        self.within_except(&[])
     }
 
     fn flagged(&self, fragment: &str) -> &Self {
@@ -446,7 +432,7 @@ fn run_case(name: &str, p: &Pair, law: Option<Fe>, ltca_too: bool) -> Vec<Row> {
         let secs = t.elapsed().as_secs_f64();
         match &result {
             Ok(f) => {
-                let m: Vec<String> = misses(f, path).into_iter().map(|x| x.1).collect();
+                let m = misses(f, path);
                 println!(
                     "ROW | {name} | {path} | TE {:.1} µrad, shares {:.3?}, p_max {:.0} MPa | it {} | bwd {:.1e} | eq {:.1e} | viol {:.1e} | compl {:.1e} | KKT {:.1e} | κ {:.1e} (other {:.1e}) | ext {:.3} mm | {secs:.1} s | {} | notes {:?}",
                     f.te_urad, f.shares, f.max_pressure_mpa, f.iterations, f.backward, f.equilibrium, f.violation, f.complementarity, f.kkt, f.condition, f.other_condition, f.extension_mm,
