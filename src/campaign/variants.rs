@@ -359,11 +359,12 @@ mod tests {
     }
 
     fn campaign(extra: &str) -> (Campaign, PathBuf) {
-        let dir = std::env::temp_dir().join(format!(
-            "flank-variants-{}-{}",
-            std::process::id(),
-            extra.len()
-        ));
+        // one folder per call: tests run in parallel and two calls with the
+        // same `extra` once shared a folder, one truncating the other's file
+        static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+        let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let dir =
+            std::env::temp_dir().join(format!("flank-variants-{}-{call}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("papers/seed002-spur/scene.toml");
         let p = write(
