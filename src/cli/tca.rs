@@ -113,6 +113,7 @@ pub fn run(args: Args) -> Result<()> {
                 search_directions: args.search_directions,
                 max_pitches: 3.0,
                 speed_rpm: s.load.speed_rpm,
+                crossing_exhaustive: false,
             };
             let t0 = std::time::Instant::now();
             let with = point_tca(pair.as_ref(), &settings)?;
@@ -390,6 +391,7 @@ fn variant_summary(t: &PointTca) -> serde_json::Value {
             "pinion_uv_mm": c.pinion_uv,
             "gear_uv_mm": c.gear_uv,
         })),
+        "crossing_scan": t.crossing_scan,
     })
 }
 

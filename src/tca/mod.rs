@@ -100,6 +100,7 @@ pub use crate::geometry::gear_pair::LineKind;
 use crate::geometry::gear_pair::{ContactSeed, Flank, GearPair, KinematicLine};
 use crate::geometry::surface::ToothSurface;
 
+pub mod crossing;
 pub mod ellipse;
 pub mod line_cycle;
 pub mod major_axis;

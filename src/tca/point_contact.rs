@@ -52,6 +52,8 @@ use crate::geometry::tangency::{
 use crate::geometry::vec3::{add, cross, dot, norm, sub, unit, V3};
 use crate::iteration_limits::{IterationLimits, LoopEnd};
 
+pub use super::crossing::Crossing;
+use super::crossing::{CrossingScan, ScanCount};
 use super::ellipse::{curvature_ellipse, searched_ellipse, ContactEllipse, FlankAtContact};
 
 type Result<T> = std::result::Result<T, FlankError>;
@@ -75,6 +77,9 @@ pub struct PointTcaSettings {
     pub max_pitches: f64,
     /// Pinion speed for the velocities (rpm).
     pub speed_rpm: f64,
+    /// The crossing check tests every grid point exactly instead of
+    /// screening them ([`super::crossing`]; the screen's reference).
+    pub crossing_exhaustive: bool,
 }
 
 impl Default for PointTcaSettings {
@@ -86,6 +91,7 @@ impl Default for PointTcaSettings {
             search_directions: 18,
             max_pitches: 3.0,
             speed_rpm: 1000.0,
+            crossing_exhaustive: false,
         }
     }
 }
@@ -223,92 +229,13 @@ pub struct PointTca {
     /// The deepest interpenetration of a pair's flanks found on a grid
     /// over the pinion's active flank, at every position of one pitch and
     /// for the pairs i = −2..=2 around the middle one, the gear where the
-    /// TE envelope puts it ([`crossing_check`]); `None` when no grid point
+    /// TE envelope puts it ([`super::crossing`]); `None` when no grid point
     /// lies inside the gear: the traced contacts are where the bodies
     /// touch, as the method assumes.
     pub crossing: Option<Crossing>,
-}
-
-/// Where the flanks cross (module docs of [`crossing_check`]).
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct Crossing {
-    /// Roll angle of the position (rad).
-    pub roll_rad: f64,
-    /// The pair: the middle pair's offset i (pair i at this roll is the
-    /// middle pair at roll − i·step).
-    pub pair_offset: i64,
-    /// Depth of the pinion point inside the gear flank (mm, > 0).
-    pub depth_mm: f64,
-    /// Pinion and gear flank parameters there.
-    pub pinion_uv: [f64; 2],
-    pub gear_uv: [f64; 2],
-}
-
-/// Grid over the pinion's active flank of [`crossing_check`]: profile ×
-/// face points.
-const CROSSING_GRID: (usize, usize) = (9, 17);
-/// Depth (mm) below which a grid point counts as crossing: far above the
-/// closest-point accuracy, far below any approach δ.
-const CROSSING_TOLERANCE_MM: f64 = 1e-5;
-
-/// The check the point TCA owes its assumption that the traced tangencies
-/// are where the bodies touch: with the gear turned by `turn` (where the
-/// TE envelope puts it) no point of the pinion's active flank may lie
-/// inside the gear flank. A pair whose flanks cross (an ease-off that is
-/// not convex) or whose trace ended where its flanks still interfere
-/// (a contact that left the active flank with no edge taking over) stops
-/// the gear elsewhere, and the TE and bearing are then not the pair's. Samples a
-/// [`CROSSING_GRID`] over the pinion's active flank (form line to tip,
-/// toe to heel), placed; the signed distance to the gear flank by closest
-/// point (two starts), counted where the closest point lies strictly
-/// inside the gear's active flank. Returns the deepest point below −[`CROSSING_TOLERANCE_MM`].
-fn crossing_check(pair: &dyn PairPlacement, roll: f64, turn: f64) -> Option<Crossing> {
-    let p = placement(pair, roll);
-    let g2t = Frame::about_axis(p.turn.point, p.turn.axis, turn).compose(&p.gear.frame);
-    let (gv0, gv1) = p.gear.surface.v_range();
-    let mid = [0.0, 0.5 * (gv0 + gv1)];
-    let (ps, gs) = (p.pinion.surface, p.gear.surface);
-    let (pv0, pv1) = ps.v_range();
-    let mut worst: Option<Crossing> = None;
-    for j in 0..CROSSING_GRID.1 {
-        let v = pv0 + (pv1 - pv0) * j as f64 / (CROSSING_GRID.1 - 1) as f64;
-        let mut warm = mid;
-        for i in 0..CROSSING_GRID.0 {
-            let u = ps.u_form(v)
-                + (ps.u_tip(v) - ps.u_form(v)) * i as f64 / (CROSSING_GRID.0 - 1) as f64;
-            let x = p.pinion.frame.place(ps.point(u, v));
-            let own = g2t.rotate_back(sub(x, g2t.translation));
-            let mut best: Option<(f64, f64, f64)> = None;
-            for start in [warm, mid] {
-                let (gu, gv, d) = gs.closest_point_from(own, start[0], start[1]);
-                // strictly inside: a closest point clamped to the domain's
-                // edge (a pinion point beyond the gear's face) has no
-                // meaningful sign
-                let inside = gu > gs.u_form(gv) + 1e-9
-                    && gu < gs.u_tip(gv) - 1e-9
-                    && gv > gv0 + 1e-9
-                    && gv < gv1 - 1e-9;
-                if inside && best.is_none_or(|b| d < b.2) {
-                    best = Some((gu, gv, d));
-                }
-            }
-            let Some((gu, gv, d)) = best else {
-                continue;
-            };
-            warm = [gu, gv];
-            // the gear's outward normal: d < 0 is inside the gear tooth
-            if d < -CROSSING_TOLERANCE_MM && worst.is_none_or(|w| -d > w.depth_mm) {
-                worst = Some(Crossing {
-                    roll_rad: roll,
-                    pair_offset: 0,
-                    depth_mm: -d,
-                    pinion_uv: [u, v],
-                    gear_uv: [gu, gv],
-                });
-            }
-        }
-    }
-    worst
+    /// Grid points of the crossing check, and how many of them the screen
+    /// sent to the exact closest-point test.
+    pub crossing_scan: ScanCount,
 }
 
 /// The middle pair's placed flanks and turn axis at a roll.
@@ -793,21 +720,40 @@ pub fn point_tca(pair: &dyn PairPlacement, settings: &PointTcaSettings) -> Resul
     let te_pp = te.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
         - te.iter().cloned().fold(f64::INFINITY, f64::min);
     // the gear where the envelope puts it, every modelled pair around it
-    let crossing = (0..shift.abs())
+    let scan = CrossingScan::new(pair);
+    let checks: Vec<(Option<Crossing>, ScanCount)> = (0..shift.abs())
         .into_par_iter()
         .flat_map_iter(|j| (-2i64..=2).map(move |i| (j, i)))
-        .filter_map(|(j, i)| {
+        .map(|(j, i)| {
             let te = envelope(j);
-            te.is_finite()
-                .then(|| crossing_check(pair, (j - i * shift) as f64 * h, sense2 * te))
-                .flatten()
-                .map(|c| Crossing {
-                    roll_rad: j as f64 * h,
-                    pair_offset: i,
-                    ..c
-                })
+            if !te.is_finite() {
+                return (None, ScanCount::default());
+            }
+            let (roll, turn) = ((j - i * shift) as f64 * h, sense2 * te);
+            let (c, n) = if settings.crossing_exhaustive {
+                scan.check_every_point(roll, turn)
+            } else {
+                scan.check(roll, turn)
+            };
+            let c = c.map(|c| Crossing {
+                roll_rad: j as f64 * h,
+                pair_offset: i,
+                ..c
+            });
+            (c, n)
         })
-        .reduce_with(|a, b| if b.depth_mm > a.depth_mm { b } else { a });
+        .collect();
+    let mut crossing_scan = ScanCount::default();
+    for (_, n) in &checks {
+        crossing_scan += *n;
+    }
+    let crossing = checks.into_iter().filter_map(|(c, _)| c).reduce(|a, b| {
+        if b.depth_mm > a.depth_mm {
+            b
+        } else {
+            a
+        }
+    });
     Ok(PointTca {
         settings: settings.clone(),
         pitch_rad: pitch,
@@ -821,6 +767,7 @@ pub fn point_tca(pair: &dyn PairPlacement, settings: &PointTcaSettings) -> Resul
         newton_steps: newton.steps,
         iteration_limits: newton.loops,
         crossing,
+        crossing_scan,
     })
 }
 
