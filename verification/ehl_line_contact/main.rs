@@ -30,8 +30,8 @@ const ETA0: f64 = 0.00468;
 const ALPHA: f64 = 10e-9;
 /// Equivalent radius of the gear-like grid (m).
 const RADIUS: f64 = 0.01;
-/// Grid spacing of the comparison runs (units of b).
-const DX: f64 = 0.01;
+/// Nodes of the comparison runs (Δ = 0.005b on the default [−4.5b, 1.5b]).
+const NODES: usize = 1201;
 /// Agreement band with the film formulas, fixed from the literature's
 /// 10–20 % before the table was computed (README.md).
 const BAND: f64 = 0.20;
@@ -63,16 +63,14 @@ fn gear_case(p_hertz: f64, speed: f64) -> Case {
 /// moderate and high loads) or, when the contact is light, ten inlet
 /// lengths √(2H_c) upstream (rigid gap 101 h_c, Grubin's estimate of h_c),
 /// so that the inlet is flooded; outlet 1.5b.
-fn gear_grid(c: &Case, dx: f64, inlet_factor: f64) -> Grid {
+fn gear_grid(c: &Case, nodes: usize, inlet_factor: f64) -> Grid {
     let (u, g, w) = c.groups();
     let hc = 1.95 * (g * u).powf(8.0 / 11.0) * w.powf(-1.0 / 11.0) * c.radius;
     let big_h = hc * c.radius / (c.b() * c.b());
-    let x_in = -(4.5f64.max(10.0 * (2.0 * big_h).sqrt()) * inlet_factor / dx).ceil() * dx;
-    let x_out = 1.5;
     Grid {
-        x_in,
-        x_out,
-        n: ((x_out - x_in) / dx).round() as usize + 1,
+        x_in: -4.5f64.max(10.0 * (2.0 * big_h).sqrt()) * inlet_factor,
+        x_out: 1.5,
+        n: nodes,
     }
 }
 
@@ -116,7 +114,11 @@ fn check_converged(what: &str, s: &Solution) {
     assert!(s.converged, "{what}: not converged");
     assert!(s.reynolds_residual < MAX_REYNOLDS_RESIDUAL, "{what}");
     assert!(s.load_error < MAX_LOAD_ERROR, "{what}");
-    assert!(s.p.iter().all(|&p| p >= 0.0), "{what}: negative pressure");
+    // P ≥ 0 up to the Newton tolerance (a pressurised node satisfies
+    // P_i > −c_i L_i with L_i at round-off)
+    let pmax = s.p.iter().cloned().fold(0.0, f64::max);
+    let pmin = s.p.iter().cloned().fold(f64::INFINITY, f64::min);
+    assert!(pmin >= -1e-9 * pmax, "{what}: negative pressure {pmin}");
 }
 
 #[test]
@@ -227,4 +229,262 @@ fn rigid_isoviscous_limit_is_martin() {
     }
     let (e, e_inf) = errs[1];
     assert!(e.abs() < 0.01 && e_inf.abs() < 0.01, "{e} {e_inf}");
+}
+
+#[test]
+fn low_load_elastic_isoviscous_approaches_martin() {
+    // the full solver (elastic, Roelands law with α = 0, i.e. isoviscous,
+    // incompressible) at Moes M = 0.05: elastic flattening ≪ film
+    let mut case = gear_case(1.0e9, 5.0);
+    case.alpha = 0.0;
+    case.compressible = false;
+    let (u, _, _) = case.groups();
+    case.load = 0.05 * (2.0 * u).sqrt() * E_PRIME * RADIUS;
+    let h_inf = 4.896 * case.eta0 * case.speed * case.radius / case.load;
+    let len = (2.0 * case.radius * h_inf).sqrt() / case.b();
+    let grid = Grid {
+        x_in: -30.0 * len,
+        x_out: 3.0 * len,
+        n: 801,
+    };
+    let s = solve(&case, &grid, &Settings::default());
+    check_converged("low load, elastic", &s);
+    let exact = martin_h0(&case, grid.x_in * case.b());
+    let e = s.h_min / exact - 1.0;
+    println!(
+        "M = {:.3}, p_H = {:.1} MPa: h_min {:.5e} m, rigid exact {exact:.5e} ({e:+.2e}), Martin {h_inf:.5e} ({:+.2e})",
+        case.moes().0,
+        case.p_hertz() * 1e-6,
+        s.h_min,
+        s.h_min / h_inf - 1.0
+    );
+    assert!(e.abs() < 0.02, "{e}");
+}
+
+#[test]
+fn dry_limit_is_hertz() {
+    // isoviscous, incompressible, slow: M = 100, 300, 1000 at p_H = 1 GPa
+    let mut last = (0.0, 0.0);
+    let mut start = None;
+    for m in [100.0, 300.0, 1000.0] {
+        let mut case = gear_case(1.0e9, 1.0);
+        case.alpha = 0.0;
+        case.compressible = false;
+        let (_, _, w) = case.groups();
+        // M = W′(2U)^−½ → U = (W′/M)²/2
+        case.speed = 0.5 * (w / m).powi(2) * E_PRIME * RADIUS / case.eta0;
+        let grid = Grid {
+            x_in: -2.0,
+            x_out: 1.5,
+            n: 701,
+        };
+        // continuation: each M starts from the previous solution
+        let set = Settings {
+            start: start.take(),
+            ..Default::default()
+        };
+        let s = solve(&case, &grid, &set);
+        check_converged(&format!("dry limit M = {m}"), &s);
+        start = Some((s.p.clone(), s.h0));
+        // half-width from the second moment: ∫X²P/∫P = b²/4 for Hertz
+        let dx = (grid.x_out - grid.x_in) / (grid.n - 1) as f64;
+        let m0: f64 = s.p.iter().sum::<f64>() * dx;
+        let m2: f64 = s.x.iter().zip(&s.p).map(|(x, p)| x * x * p).sum::<f64>() * dx;
+        let xm: f64 = s.x.iter().zip(&s.p).map(|(x, p)| x * p).sum::<f64>() * dx / m0;
+        let half = (4.0 * (m2 / m0 - xm * xm)).sqrt();
+        let ep = s.p_max / s.p_hertz - 1.0;
+        let eb = half - 1.0;
+        println!(
+            "M = {m}: u = {:.2e} m/s, p_max/p_H − 1 = {ep:+.2e}, half-width/b − 1 = {eb:+.2e} (centroid {xm:+.3e} b), h_c = {:.3e} m",
+            case.speed, s.h_central
+        );
+        last = (ep, eb);
+    }
+    assert!(last.0.abs() < 0.02 && last.1.abs() < 0.02, "{last:?}");
+}
+
+/// One operating point of the gear grid: numerical films and the formulas' (m).
+struct Row {
+    what: String,
+    hc: f64,
+    hm: f64,
+    pan: (f64, f64),
+    flank: (f64, f64),
+}
+
+fn d(num: f64, formula: f64) -> f64 {
+    num / formula - 1.0
+}
+
+/// The 3 × 3 grid p_H ∈ {0.5, 1, 1.5} GPa × u ∈ {1, 5, 20} m/s with the
+/// given viscosity law; prints the README's table, asserts convergence.
+fn gear_table(viscosity: Viscosity) -> Vec<Row> {
+    println!("{viscosity:?}:");
+    println!(
+        "| p_H (GPa) | u (m/s) | M | L | nodes | h_c (µm) | h_min (µm) | h_c PH | Δ | h_min PH | Δ | h_c D–T | Δ | h_min D–H | Δ | Newton | residual | s |"
+    );
+    println!("|{}", "---|".repeat(18));
+    let t0 = Instant::now();
+    let mut rows = Vec::new();
+    for ph in [0.5e9, 1.0e9, 1.5e9] {
+        for u in [1.0, 5.0, 20.0] {
+            let mut c = gear_case(ph, u);
+            c.viscosity = viscosity;
+            let grid = gear_grid(&c, NODES, 1.0);
+            let t = Instant::now();
+            let s = solve(&c, &grid, &Settings::default());
+            let what = format!("p_H {} GPa, u {u} m/s", ph * 1e-9);
+            assert!(s.converged, "{what}: not converged");
+            assert!(s.reynolds_residual < MAX_REYNOLDS_RESIDUAL, "{what}");
+            assert!(s.load_error < MAX_LOAD_ERROR, "{what}");
+            let (pc, pm) = pan_hamrock(&c);
+            let (fc, fm) = flank_line_fit(&c);
+            let (m, l) = c.moes();
+            println!(
+                "| {:.1} | {u} | {m:.1} | {l:.2} | {} | {:.4} | {:.4} | {:.4} | {:+.1} % | {:.4} | {:+.1} % | {:.4} | {:+.1} % | {:.4} | {:+.1} % | {} | {:.0e} | {:.2} |",
+                ph * 1e-9,
+                grid.n,
+                s.h_central * 1e6,
+                s.h_min * 1e6,
+                pc * 1e6,
+                100.0 * d(s.h_central, pc),
+                pm * 1e6,
+                100.0 * d(s.h_min, pm),
+                fc * 1e6,
+                100.0 * d(s.h_central, fc),
+                fm * 1e6,
+                100.0 * d(s.h_min, fm),
+                s.newton_iterations,
+                s.reynolds_residual,
+                t.elapsed().as_secs_f64()
+            );
+            rows.push(Row {
+                what,
+                hc: s.h_central,
+                hm: s.h_min,
+                pan: (pc, pm),
+                flank: (fc, fm),
+            });
+        }
+    }
+    println!("{viscosity:?} grid: {:.1} s", t0.elapsed().as_secs_f64());
+    rows
+}
+
+/// The rows' films outside ±BAND against the formulas `pick` selects.
+fn misses(rows: &[Row], pick: &[&str]) -> Vec<String> {
+    let mut out = Vec::new();
+    for r in rows {
+        for (name, num, f) in [
+            ("h_c vs Pan–Hamrock", r.hc, r.pan.0),
+            ("h_min vs Pan–Hamrock", r.hm, r.pan.1),
+            ("h_c vs flank Dowson–Toyoda", r.hc, r.flank.0),
+            ("h_min vs flank Dowson–Higginson", r.hm, r.flank.1),
+        ] {
+            if pick.iter().any(|p| name.contains(p)) && d(num, f).abs() > BAND {
+                out.push(format!("{}: {name} {:+.1} %", r.what, 100.0 * d(num, f)));
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn film_formulas_over_gear_conditions() {
+    let rows = gear_table(Viscosity::Roelands);
+    let m = misses(&rows, &["Pan–Hamrock", "Dowson–Higginson"]);
+    println!(
+        "Pan–Hamrock (h_c, h_min), flank h_min outside ±{:.0} %: {m:#?}",
+        BAND * 100.0
+    );
+    println!(
+        "flank's central fit (kept as the ignored test): {:#?}",
+        misses(&rows, &["Dowson–Toyoda"])
+    );
+    assert!(m.is_empty(), "{m:#?}");
+}
+
+#[test]
+#[ignore = "miss kept: flank's central line fit (Dowson–Toyoda 1979) is 20–30 % above the numerical h_c at p_H ≥ 1 GPa (README)"]
+fn flank_central_line_fit_within_band() {
+    let rows = gear_table(Viscosity::Roelands);
+    let m = misses(&rows, &["Dowson–Toyoda"]);
+    assert!(m.is_empty(), "{m:#?}");
+}
+
+#[test]
+#[ignore = "informative, 20–30 s: the gear grid with Barus' law (README)"]
+fn barus_instead_of_roelands() {
+    // informative: the same grid with Barus' law (the fits of the 1960s–70s
+    // were made with exponential viscosity); convergence asserted only
+    let rows = gear_table(Viscosity::Barus);
+    println!(
+        "Barus, outside ±{:.0} %: {:#?}",
+        BAND * 100.0,
+        misses(&rows, &["Pan", "Dowson"])
+    );
+}
+
+/// Films on `nodes` nodes and an inlet `factor` × the rule's.
+fn refine(c: &Case, nodes: &[usize], factor: f64) -> Vec<(f64, f64)> {
+    nodes
+        .iter()
+        .map(|&n| {
+            let grid = gear_grid(c, n, factor);
+            let t = Instant::now();
+            let s = solve(c, &grid, &Settings::default());
+            let dx = (grid.x_out - grid.x_in) / (n - 1) as f64;
+            check_converged(
+                &format!("{n} nodes (Δ = {dx:.4}), inlet {:.2} b", grid.x_in),
+                &s,
+            );
+            println!(
+                "   h_c {:.5} µm, h_min {:.5} µm, p_max/p_H {:.4} ({:.2} s)",
+                s.h_central * 1e6,
+                s.h_min * 1e6,
+                s.p_max / s.p_hertz,
+                t.elapsed().as_secs_f64()
+            );
+            (s.h_central, s.h_min)
+        })
+        .collect()
+}
+
+#[test]
+fn grid_and_inlet_convergence() {
+    // highest M of the grid (1.5 GPa, 1 m/s, M = 136): 601, 1201 (the
+    // table's), 2401 nodes on [−4.5b, 1.5b]
+    let hi = refine(&gear_case(1.5e9, 1.0), &[601, 1201, 2401], 1.0);
+    for k in 1..3 {
+        println!(
+            "M = 136, Δ halved: h_c {:+.2} %, h_min {:+.2} %",
+            100.0 * d(hi[k].0, hi[k - 1].0),
+            100.0 * d(hi[k].1, hi[k - 1].1)
+        );
+    }
+    // lowest M (0.5 GPa, 20 m/s, M = 3.4, inlet −10b): 601 and 1201 nodes,
+    // and the inlet doubled on 1201 nodes (same Δ as 601 on the rule's inlet)
+    let c = gear_case(0.5e9, 20.0);
+    let lo = refine(&c, &[601, 1201], 1.0);
+    let inlet = refine(&c, &[1201], 2.0);
+    let dl = (d(lo[1].0, lo[0].0), d(lo[1].1, lo[0].1));
+    let di = (d(inlet[0].0, lo[0].0), d(inlet[0].1, lo[0].1));
+    println!(
+        "M = 3.4: Δ halved: h_c {:+.2} %, h_min {:+.2} %; inlet doubled: h_c {:+.2} %, h_min {:+.2} %",
+        100.0 * dl.0,
+        100.0 * dl.1,
+        100.0 * di.0,
+        100.0 * di.1
+    );
+    // the table's grid is within 2 % of the next finer one (small against the band)
+    for e in [
+        d(hi[2].0, hi[1].0),
+        d(hi[2].1, hi[1].1),
+        dl.0,
+        dl.1,
+        di.0,
+        di.1,
+    ] {
+        assert!(e.abs() < 0.02, "{e}");
+    }
 }

@@ -122,8 +122,8 @@ pub struct Grid {
     pub n: usize,
 }
 
-/// Iteration bounds and tolerances.
-#[derive(Clone, Copy, Debug)]
+/// Iteration bounds, tolerances and the starting point.
+#[derive(Clone, Debug)]
 pub struct Settings {
     pub max_newton: usize,
     /// Converged when the scaled Reynolds residual, the load error and the
@@ -133,6 +133,9 @@ pub struct Settings {
     /// H_c = 1.95 (GU)^(8/11) W′^(−1/11) (Grubin 1949), or Martin's
     /// 4.9U/W′ for a rigid or isoviscous case, whichever is larger.
     pub film_guess: Option<f64>,
+    /// Start from (P, H₀) of an earlier solution on the same grid
+    /// (continuation); None: the Hertz pressure and the film guess.
+    pub start: Option<(Vec<f64>, f64)>,
 }
 
 impl Default for Settings {
@@ -141,6 +144,7 @@ impl Default for Settings {
             max_newton: 100,
             tol: 1e-10,
             film_guess: None,
+            start: None,
         }
     }
 }
@@ -373,6 +377,11 @@ pub fn solve(case: &Case, grid: &Grid, set: &Settings) -> Solution {
         guess
     };
 
+    if let Some((p_start, h0_start)) = &set.start {
+        assert_eq!(p_start.len(), n, "continuation start on another grid");
+        p.clone_from(p_start);
+        h0 = *h0_start;
+    }
     let m = n - 1; // unknowns: P_1..P_{n-2}, H₀
     let mut st = evaluate(case, &k, &x, &p, h0, lam, dx);
     let mut it = 0;
