@@ -119,6 +119,7 @@ fn check_converged(what: &str, s: &Solution) {
     let pmax = s.p.iter().cloned().fold(0.0, f64::max);
     let pmin = s.p.iter().cloned().fold(f64::INFINITY, f64::min);
     assert!(pmin >= -1e-9 * pmax, "{what}: negative pressure {pmin}");
+    assert!(s.h.iter().all(|&h| h > 0.0), "{what}: film ≤ 0");
 }
 
 #[test]
@@ -295,8 +296,9 @@ fn dry_limit_is_hertz() {
         let ep = s.p_max / s.p_hertz - 1.0;
         let eb = half - 1.0;
         println!(
-            "M = {m}: u = {:.2e} m/s, p_max/p_H − 1 = {ep:+.2e}, half-width/b − 1 = {eb:+.2e} (centroid {xm:+.3e} b), h_c = {:.3e} m",
-            case.speed, s.h_central
+            "M = {m}: u = {:.2e} m/s, p_max/p_H − 1 = {ep:+.2e}, half-width/b − 1 = {eb:+.2e} (b = {:.1} µm, centroid {xm:+.3e} b), h_c = {:.3e} m",
+            case.speed,
+            s.b * 1e6, s.h_central
         );
         last = (ep, eb);
     }
@@ -332,7 +334,20 @@ fn gear_table(viscosity: Viscosity) -> Vec<Row> {
             c.viscosity = viscosity;
             let grid = gear_grid(&c, NODES, 1.0);
             let t = Instant::now();
-            let s = solve(&c, &grid, &Settings::default());
+            // Barus: continued from the Roelands solution (from the Hertz
+            // start Newton stalls at 1.5 GPa, 1 m/s)
+            let start = (viscosity == Viscosity::Barus).then(|| {
+                let r = solve(&gear_case(ph, u), &grid, &Settings::default());
+                (r.p, r.h0)
+            });
+            let s = solve(
+                &c,
+                &grid,
+                &Settings {
+                    start,
+                    ..Default::default()
+                },
+            );
             let what = format!("p_H {} GPa, u {u} m/s", ph * 1e-9);
             assert!(s.converged, "{what}: not converged");
             assert!(s.reynolds_residual < MAX_REYNOLDS_RESIDUAL, "{what}");

@@ -166,11 +166,13 @@ pub struct Solution {
     /// Steps whose backtracking reached its bound (step taken anyway).
     pub line_search_bound_hits: usize,
     pub converged: bool,
-    /// max_i |flux imbalance of cell i| / (ρ̄H)(X = 0): the Reynolds residual
-    /// on the pressurised nodes (min(P, −L) on all nodes).
+    /// Reynolds residual: the largest flux imbalance |L_i|Δ of a pressurised
+    /// cell relative to H(X = 0) (the Couette flow through the centre), or
+    /// |P_i| of a cavitated node.
     pub reynolds_residual: f64,
     /// |Δ Σ P − π/2| / (π/2).
     pub load_error: f64,
+    /// Hertz half-width b (m) and pressure p_H (Pa) of the scaling.
     pub b: f64,
     pub p_hertz: f64,
 }
@@ -497,12 +499,6 @@ pub fn solve(case: &Case, grid: &Grid, set: &Settings) -> Solution {
                 let (ft, _, _) = residual(&stt, &pt, dx, qt);
                 let mt = merit(&ft, &stt, &pt, dx);
                 let last = accepted.is_none() && omega < 1.0 / 1024.0;
-                if std::env::var("EHL_DEBUG").is_ok() {
-                    eprintln!(
-                        "   try {omega} merit {mt:.3e} vs {m0:.3e} dh0 {:.3e}",
-                        step[(m - 1, 0)]
-                    );
-                }
                 let mt = if frozen { mt - ft[m - 1].powi(2) } else { mt };
                 let m0 = if frozen { m0 - f[m - 1].powi(2) } else { m0 };
                 if mt < (1.0 - 1e-4 * omega) * m0 || last {
@@ -519,9 +515,6 @@ pub fn solve(case: &Case, grid: &Grid, set: &Settings) -> Solution {
             bound_hits += 1;
             break; // no admissible step (H ≤ 0 along the whole search)
         };
-        if std::env::var("EHL_DEBUG").is_ok() {
-            eprintln!("   omega {omega}");
-        }
         last_dh0 = ((h0t - h0) / h0t.abs().max(1e-300)).abs();
         p = pt;
         h0 = h0t;
