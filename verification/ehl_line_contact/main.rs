@@ -18,7 +18,7 @@
 
 mod solver;
 
-use flank::lubrication::{film_thickness, FilmInput, FilmModel};
+use flank::lubrication::{film_thickness, FilmFlag, FilmInput, FilmModel};
 use solver::{deformation, kernel, solve, Case, Grid, Settings, Solution, Viscosity};
 use std::f64::consts::PI;
 use std::time::Instant;
@@ -84,27 +84,35 @@ fn pan_hamrock(c: &Case) -> (f64, f64) {
     )
 }
 
-/// flank's line fit (Dowson–Higginson H_min, Dowson–Toyoda H_c) through
-/// `film_thickness` in flank's units (mm, N, s, MPa), R_y = ∞, any length.
-fn flank_line_fit(c: &Case) -> (f64, f64) {
-    let length = 10.0; // mm; the fit sees w′ = w/L only
+/// flank's film formula `model` through `film_thickness` in flank's units
+/// (mm, N, s, MPa), R_y = ∞, contact length `length_mm` (the line fit sees
+/// w′ = w/L only; a point-contact fit at R_y = ∞ sees the total load w′L).
+fn flank_fit(c: &Case, model: FilmModel, length_mm: f64) -> (f64, f64) {
     let f = film_thickness(
-        FilmModel::DowsonHigginson,
+        model,
         &FilmInput {
             viscosity: c.eta0 * 1e-6,
             pressure_viscosity: c.alpha * 1e6,
             reduced_modulus: c.e_prime * 1e-6,
             radius_x: c.radius * 1e3,
             radius_y: f64::INFINITY,
-            load: c.load * length * 1e-3,
-            length,
+            load: c.load * length_mm * 1e-3,
+            length: length_mm,
             entraining_speed: c.speed * 1e3,
         },
     )
-    .expect("line fit");
-    assert!(f.flags.is_empty(), "{:?}", f.flags);
+    .expect("film formula");
+    if model == FilmModel::DowsonHigginson {
+        assert!(f.flags.is_empty(), "{:?}", f.flags);
+    } else {
+        assert_eq!(f.flags, vec![FilmFlag::OutsideEllipticityRange]);
+    }
     (f.central * 1e-3, f.minimum * 1e-3)
 }
+
+/// Seed 002's face width (mm): the line length its lubricated run gives
+/// the Chittenden fit (`papers/seed002-spur/`).
+const SEED_FACE_WIDTH_MM: f64 = 13.3;
 
 fn check_converged(what: &str, s: &Solution) {
     println!(
@@ -312,6 +320,8 @@ struct Row {
     hm: f64,
     pan: (f64, f64),
     flank: (f64, f64),
+    /// flank's Chittenden fit at R_y = ∞ with seed 002's face width (flagged).
+    chittenden: (f64, f64),
 }
 
 fn d(num: f64, formula: f64) -> f64 {
@@ -323,9 +333,9 @@ fn d(num: f64, formula: f64) -> f64 {
 fn gear_table(viscosity: Viscosity) -> Vec<Row> {
     println!("{viscosity:?}:");
     println!(
-        "| p_H (GPa) | u (m/s) | M | L | nodes | h_c (µm) | h_min (µm) | h_c PH | Δ | h_min PH | Δ | h_c D–T | Δ | h_min D–H | Δ | Newton | residual | s |"
+        "| p_H (GPa) | u (m/s) | M | L | nodes | h_c (µm) | h_min (µm) | h_c PH | Δ | h_min PH | Δ | h_c D–T | Δ | h_min D–H | Δ | h_c Ch. | Δ | h_min Ch. | Δ | Newton | residual | s |"
     );
-    println!("|{}", "---|".repeat(18));
+    println!("|{}", "---|".repeat(22));
     let t0 = Instant::now();
     let mut rows = Vec::new();
     for ph in [0.5e9, 1.0e9, 1.5e9] {
@@ -353,10 +363,11 @@ fn gear_table(viscosity: Viscosity) -> Vec<Row> {
             assert!(s.reynolds_residual < MAX_REYNOLDS_RESIDUAL, "{what}");
             assert!(s.load_error < MAX_LOAD_ERROR, "{what}");
             let (pc, pm) = pan_hamrock(&c);
-            let (fc, fm) = flank_line_fit(&c);
+            let (fc, fm) = flank_fit(&c, FilmModel::DowsonHigginson, 10.0);
+            let (cc, cm) = flank_fit(&c, FilmModel::Chittenden, SEED_FACE_WIDTH_MM);
             let (m, l) = c.moes();
             println!(
-                "| {:.1} | {u} | {m:.1} | {l:.2} | {} | {:.4} | {:.4} | {:.4} | {:+.1} % | {:.4} | {:+.1} % | {:.4} | {:+.1} % | {:.4} | {:+.1} % | {} | {:.0e} | {:.2} |",
+                "| {:.1} | {u} | {m:.1} | {l:.2} | {} | {:.4} | {:.4} | {:.4} | {:+.1} % | {:.4} | {:+.1} % | {:.4} | {:+.1} % | {:.4} | {:+.1} % | {:.4} | {:+.1} % | {:.4} | {:+.1} % | {} | {:.0e} | {:.2} |",
                 ph * 1e-9,
                 grid.n,
                 s.h_central * 1e6,
@@ -369,6 +380,10 @@ fn gear_table(viscosity: Viscosity) -> Vec<Row> {
                 100.0 * d(s.h_central, fc),
                 fm * 1e6,
                 100.0 * d(s.h_min, fm),
+                cc * 1e6,
+                100.0 * d(s.h_central, cc),
+                cm * 1e6,
+                100.0 * d(s.h_min, cm),
                 s.newton_iterations,
                 s.reynolds_residual,
                 t.elapsed().as_secs_f64()
@@ -379,6 +394,7 @@ fn gear_table(viscosity: Viscosity) -> Vec<Row> {
                 hm: s.h_min,
                 pan: (pc, pm),
                 flank: (fc, fm),
+                chittenden: (cc, cm),
             });
         }
     }
@@ -395,6 +411,8 @@ fn misses(rows: &[Row], pick: &[&str]) -> Vec<String> {
             ("h_min vs Pan–Hamrock", r.hm, r.pan.1),
             ("h_c vs flank Dowson–Toyoda", r.hc, r.flank.0),
             ("h_min vs flank Dowson–Higginson", r.hm, r.flank.1),
+            ("h_c vs flank Chittenden (R_y = ∞)", r.hc, r.chittenden.0),
+            ("h_min vs flank Chittenden (R_y = ∞)", r.hm, r.chittenden.1),
         ] {
             if pick.iter().any(|p| name.contains(p)) && d(num, f).abs() > BAND {
                 out.push(format!("{}: {name} {:+.1} %", r.what, 100.0 * d(num, f)));
@@ -407,9 +425,9 @@ fn misses(rows: &[Row], pick: &[&str]) -> Vec<String> {
 #[test]
 fn film_formulas_over_gear_conditions() {
     let rows = gear_table(Viscosity::Roelands);
-    let m = misses(&rows, &["Pan–Hamrock", "Dowson–Higginson"]);
+    let m = misses(&rows, &["Pan–Hamrock", "Dowson–Higginson", "Chittenden"]);
     println!(
-        "Pan–Hamrock (h_c, h_min), flank h_min outside ±{:.0} %: {m:#?}",
+        "Pan–Hamrock, flank Dowson–Higginson h_min, flank Chittenden (R_y = ∞) outside ±{:.0} %: {m:#?}",
         BAND * 100.0
     );
     println!(
@@ -436,7 +454,7 @@ fn barus_instead_of_roelands() {
     println!(
         "Barus, outside ±{:.0} %: {:#?}",
         BAND * 100.0,
-        misses(&rows, &["Pan", "Dowson"])
+        misses(&rows, &["Pan", "Dowson", "Chittenden"])
     );
 }
 
