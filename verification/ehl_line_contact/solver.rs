@@ -414,7 +414,6 @@ pub fn solve(case: &Case, grid: &Grid, set: &Settings) -> Solution {
         let a: Vec<f64> = (0..n)
             .map(|i| st.eps[i] * (st.drho[i] / st.rho[i] - st.dlneta[i]))
             .collect();
-        let ks = |i: usize, j: usize| if case.elastic { k[i.abs_diff(j)] } else { 0.0 };
         for i in 1..n - 1 {
             let r = i - 1;
             if !st.pressurised(&p, i) {
@@ -428,7 +427,7 @@ pub fn solve(case: &Case, grid: &Grid, set: &Settings) -> Solution {
             let dm = p[i] - p[i - 1];
             let d2 = dx * dx;
             // coefficients of dε_k and dq_k (q = ρ̄H) in L_i
-            let mut ce: Vec<(usize, f64)> = vec![
+            let ce: [(usize, f64); 3] = [
                 (i - 1, -0.5 * dm / d2),
                 (i, 0.5 * (dp - dm) / d2),
                 (i + 1, 0.5 * dp / d2),
@@ -454,13 +453,12 @@ pub fn solve(case: &Case, grid: &Grid, set: &Settings) -> Solution {
             }
             if case.elastic {
                 for j in 1..n - 1 {
-                    let s: f64 = dense.iter().map(|&(kk, c)| c * ks(kk, j)).sum();
+                    let s: f64 = dense.iter().map(|&(kk, c)| c * k[kk.abs_diff(j)]).sum();
                     jac[(r, j - 1)] -= s;
                 }
             }
             jac[(r, m - 1)] -= h0col;
             // Poiseuille stencil
-            ce.clear();
             if i > 1 {
                 jac[(r, r - 1)] -= em / d2;
             }
