@@ -6,7 +6,7 @@
 //! formulas over a 3 × 3 grid of gear-like loads and speeds.
 //!
 //! * Kernel: the deformation of the Hertz pressure plus X²/2 is the
-//!   constant 1/4 + ln2/2 on |X| < 1 (Johnson, *Contact Mechanics*, §5.6).
+//!   constant 1/4 + ln2/2 on |X| < 1 (Johnson, *Contact Mechanics*, ch. 4).
 //! * Rigid, isoviscous: Martin (1916) with Reynolds' exit condition, in the
 //!   closed form derived in README.md (w′ = 24ηuR/h₀ · J, J → 0.2040 for an
 //!   infinite inlet, i.e. w′ = 4.896ηuR/h₀), 1 %.
