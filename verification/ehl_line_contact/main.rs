@@ -24,7 +24,9 @@
 mod solver;
 
 use flank::lubrication::{film_thickness, FilmFlag, FilmInput, FilmModel};
-use solver::{deformation, kernel, solve, Case, Grid, Settings, Solution, Viscosity};
+use solver::{
+    deformation, jacobian_check, kernel, solve, Case, Grid, Settings, Solution, Viscosity,
+};
 use std::f64::consts::PI;
 use std::time::Instant;
 
@@ -157,6 +159,39 @@ fn kernel_gives_the_flat_hertz_film() {
     // converging, and within 0.1 % of the constant on the finest cells
     assert!(errs[1] < errs[0] && errs[2] < errs[1], "{errs:?}");
     assert!(errs[2] < 1e-3 * (0.25 + 0.5 * 2f64.ln()), "{errs:?}");
+}
+
+#[test]
+fn jacobian_matches_finite_differences() {
+    // the hand-derived Newton Jacobian against central differences of the
+    // Reynolds operator, at the Hertz start and at the converged solution
+    // (1 GPa, 5 m/s; 201 nodes), and for rigid cylinders
+    let c = gear_case(1.0e9, 5.0);
+    let grid = Grid {
+        x_in: -4.5,
+        x_out: 1.5,
+        n: 201,
+    };
+    let hertz: Vec<f64> = (0..grid.n)
+        .map(|i| {
+            let x = grid.x_in + i as f64 * 0.03;
+            (1.0 - x * x).max(0.0).sqrt()
+        })
+        .collect();
+    let e0 = jacobian_check(&c, &grid, &hertz, 0.1);
+    let s = solve(&c, &grid, &Settings::default());
+    check_converged("Jacobian check point", &s);
+    let e1 = jacobian_check(&c, &grid, &s.p, s.h0);
+    let mut rigid = c;
+    rigid.elastic = false;
+    let e2 = jacobian_check(&rigid, &grid, &s.p, s.h0 + 1.0);
+    println!(
+        "Jacobian vs finite differences: Hertz start {e0:.1e}, converged {e1:.1e}, rigid {e2:.1e}"
+    );
+    // row-wise: |J − FD| / max|FD row| (small entries are FD noise)
+    for e in [e0, e1, e2] {
+        assert!(e < 1e-5, "{e}");
+    }
 }
 
 /// Rigid, isoviscous, incompressible cylinder on a plane with Reynolds'

@@ -337,6 +337,122 @@ fn films(x: &[f64], h: &[f64]) -> (f64, f64) {
     (hc, hm)
 }
 
+/// Jacobian of the Newton system at (P, H₀) (rows: −L_i or P_i by the
+/// current active set; the load row is left to the caller): dε_k and
+/// d(ρ̄H)_k through η̄(P_k), ρ̄(P_k) and H(P, H₀), the kernel coupling every node.
+fn jacobian(case: &Case, k: &[f64], p: &[f64], st: &State, dx: f64) -> Mat<f64> {
+    let n = p.len();
+    let m = n - 1;
+    let mut jac = Mat::<f64>::zeros(m, m);
+    // ∂ε/∂H (H depends on H₀, and on P through the kernel when elastic)
+    let g3: Vec<f64> = (0..n).map(|i| 3.0 * st.eps[i] / st.h[i]).collect();
+    let a: Vec<f64> = (0..n)
+        .map(|i| st.eps[i] * (st.drho[i] / st.rho[i] - st.dlneta[i]))
+        .collect();
+    for i in 1..n - 1 {
+        let r = i - 1;
+        if !st.pressurised(p, i) {
+            jac[(r, r)] = 1.0;
+            continue;
+        }
+        // F_i = −L_i
+        let ep = 0.5 * (st.eps[i] + st.eps[i + 1]);
+        let em = 0.5 * (st.eps[i - 1] + st.eps[i]);
+        let dp = p[i + 1] - p[i];
+        let dm = p[i] - p[i - 1];
+        let d2 = dx * dx;
+        // coefficients of dε_k and dq_k (q = ρ̄H) in L_i
+        let ce: [(usize, f64); 3] = [
+            (i - 1, -0.5 * dm / d2),
+            (i, 0.5 * (dp - dm) / d2),
+            (i + 1, 0.5 * dp / d2),
+        ];
+        let cq: Vec<(usize, f64)> = wedge(i).into_iter().map(|(j, c)| (j, -c / dx)).collect();
+        let mut dense: Vec<(usize, f64)> = Vec::new();
+        let mut h0col = 0.0;
+        for &(kk, c) in &ce {
+            // dε_k = a_k dP_k + g_k (K dP + dH₀)
+            if (1..n - 1).contains(&kk) {
+                jac[(r, kk - 1)] -= c * a[kk];
+            }
+            dense.push((kk, c * g3[kk]));
+            h0col += c * g3[kk];
+        }
+        for &(kk, c) in &cq {
+            // dq_k = ρ̄′_k H_k dP_k + ρ̄_k (K dP + dH₀)
+            if (1..n - 1).contains(&kk) {
+                jac[(r, kk - 1)] -= c * st.drho[kk] * st.h[kk];
+            }
+            dense.push((kk, c * st.rho[kk]));
+            h0col += c * st.rho[kk];
+        }
+        if case.elastic {
+            for j in 1..n - 1 {
+                let s: f64 = dense.iter().map(|&(kk, c)| c * k[kk.abs_diff(j)]).sum();
+                jac[(r, j - 1)] -= s;
+            }
+        }
+        jac[(r, m - 1)] -= h0col;
+        // Poiseuille stencil
+        if i > 1 {
+            jac[(r, r - 1)] -= em / d2;
+        }
+        jac[(r, r)] += (ep + em) / d2;
+        if i + 2 < n {
+            jac[(r, r + 1)] -= ep / d2;
+        }
+    }
+    jac
+}
+
+/// Largest difference between the analytic Jacobian of the pressurised
+/// Reynolds rows (active set frozen at (P, H₀)) and central finite
+/// differences of L, relative to the row's largest entry.
+pub fn jacobian_check(case: &Case, grid: &Grid, p: &[f64], h0: f64) -> f64 {
+    let n = grid.n;
+    let dx = (grid.x_out - grid.x_in) / (n - 1) as f64;
+    let x: Vec<f64> = (0..n).map(|i| grid.x_in + i as f64 * dx).collect();
+    let k = kernel(n, dx);
+    let lam = case.lambda();
+    let st = evaluate(case, &k, &x, p, h0, lam, dx);
+    let jac = jacobian(case, &k, p, &st, dx);
+    let m = n - 1;
+    let mut fd = Mat::<f64>::zeros(m, m);
+    for j in 0..m {
+        let mut pp = p.to_vec();
+        let mut pm = p.to_vec();
+        let (mut hp, mut hm) = (h0, h0);
+        let del = if j + 1 < m {
+            let d = 1e-5 * p[j + 1].abs().max(1e-3);
+            pp[j + 1] += d;
+            pm[j + 1] -= d;
+            d
+        } else {
+            let d = 1e-5 * h0.abs().max(1e-3);
+            hp += d;
+            hm -= d;
+            d
+        };
+        let sp = evaluate(case, &k, &x, &pp, hp, lam, dx);
+        let sm = evaluate(case, &k, &x, &pm, hm, lam, dx);
+        for i in 1..n - 1 {
+            fd[(i - 1, j)] = -(sp.l[i] - sm.l[i]) / (2.0 * del);
+        }
+    }
+    let mut worst: f64 = 0.0;
+    for i in 1..n - 1 {
+        if !st.pressurised(p, i) {
+            continue;
+        }
+        let r = i - 1;
+        let big = (0..m).map(|j| fd[(r, j)].abs()).fold(0.0, f64::max);
+        for j in 0..m {
+            worst = worst.max((jac[(r, j)] - fd[(r, j)]).abs() / big);
+        }
+    }
+    worst
+}
+
 /// Solve one operating point on one grid.
 pub fn solve(case: &Case, grid: &Grid, set: &Settings) -> Solution {
     let n = grid.n;
@@ -407,66 +523,7 @@ pub fn solve(case: &Case, grid: &Grid, set: &Settings) -> Solution {
             break;
         }
         it += 1;
-        // Jacobian
-        let mut jac = Mat::<f64>::zeros(m, m);
-        // ∂ε/∂H (H depends on H₀, and on P through the kernel when elastic)
-        let g3: Vec<f64> = (0..n).map(|i| 3.0 * st.eps[i] / st.h[i]).collect();
-        let a: Vec<f64> = (0..n)
-            .map(|i| st.eps[i] * (st.drho[i] / st.rho[i] - st.dlneta[i]))
-            .collect();
-        for i in 1..n - 1 {
-            let r = i - 1;
-            if !st.pressurised(&p, i) {
-                jac[(r, r)] = 1.0;
-                continue;
-            }
-            // F_i = −L_i
-            let ep = 0.5 * (st.eps[i] + st.eps[i + 1]);
-            let em = 0.5 * (st.eps[i - 1] + st.eps[i]);
-            let dp = p[i + 1] - p[i];
-            let dm = p[i] - p[i - 1];
-            let d2 = dx * dx;
-            // coefficients of dε_k and dq_k (q = ρ̄H) in L_i
-            let ce: [(usize, f64); 3] = [
-                (i - 1, -0.5 * dm / d2),
-                (i, 0.5 * (dp - dm) / d2),
-                (i + 1, 0.5 * dp / d2),
-            ];
-            let cq: Vec<(usize, f64)> = wedge(i).into_iter().map(|(j, c)| (j, -c / dx)).collect();
-            let mut dense: Vec<(usize, f64)> = Vec::new();
-            let mut h0col = 0.0;
-            for &(kk, c) in &ce {
-                // dε_k = a_k dP_k + g_k (K dP + dH₀)
-                if (1..n - 1).contains(&kk) {
-                    jac[(r, kk - 1)] -= c * a[kk];
-                }
-                dense.push((kk, c * g3[kk]));
-                h0col += c * g3[kk];
-            }
-            for &(kk, c) in &cq {
-                // dq_k = ρ̄′_k H_k dP_k + ρ̄_k (K dP + dH₀)
-                if (1..n - 1).contains(&kk) {
-                    jac[(r, kk - 1)] -= c * st.drho[kk] * st.h[kk];
-                }
-                dense.push((kk, c * st.rho[kk]));
-                h0col += c * st.rho[kk];
-            }
-            if case.elastic {
-                for j in 1..n - 1 {
-                    let s: f64 = dense.iter().map(|&(kk, c)| c * k[kk.abs_diff(j)]).sum();
-                    jac[(r, j - 1)] -= s;
-                }
-            }
-            jac[(r, m - 1)] -= h0col;
-            // Poiseuille stencil
-            if i > 1 {
-                jac[(r, r - 1)] -= em / d2;
-            }
-            jac[(r, r)] += (ep + em) / d2;
-            if i + 2 < n {
-                jac[(r, r + 1)] -= ep / d2;
-            }
-        }
+        let mut jac = jacobian(case, &k, &p, &st, dx);
         // rigid cylinders: H₀ held at its guess until the Reynolds rows are
         // solved (for fixed H₀ they are linear in P), then the load row
         let frozen = !case.elastic && rres > 1e-6 && it <= set.max_newton / 2;
