@@ -702,6 +702,7 @@ fn run_variant(
     let path = out.join("ltca_positions.csv");
     crate::atomic_file::write(&path, csv)?;
     crate::ltca::cycle::write_points_csv(&out.join("ltca_points.csv"), &results)?;
+    let plots = plot_variant(ltca, out, &results)?;
     let te_pp = te.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
         - te.iter().cloned().fold(f64::INFINITY, f64::min);
     let worst = |f: fn(&PositionResult) -> f64| results.iter().map(f).fold(0.0f64, f64::max);
@@ -775,22 +776,7 @@ fn run_variant(
         "peak_memory_mb": peak_memory_mb(),
         "settings": options.settings,
         "notes": notes,
-        "steps": results.iter().zip(&te).map(|(r, &t)| serde_json::json!({
-            "roll_deg": r.roll_deg,
-            "pair_force_n": ltca.pair_forces(r),
-            "load_share": shares(&ltca.pair_forces(r)),
-            "pair_friction_n": ltca.pair_friction(r),
-            "friction": r.friction,
-            "te_arcsec": t,
-            "lines": r.lines,
-            "line_force_n": r.line_force_n,
-            "unloaded_te_arcsec": -r.unloaded_te_urad * 1e-6 * ltca.pair.ratio() * ARCSEC_PER_RAD,
-            "max_pressure_mpa": r.max_pressure_mpa,
-            "candidates": r.candidates,
-            "qp_iterations": r.qp_iterations,
-            "kkt_max": r.kkt_max,
-            "time_s": r.time_s,
-        })).collect::<Vec<_>>(),
+        "steps": results.iter().zip(&te).map(|(r, &t)| step_json(ltca, r, t)).collect::<Vec<_>>(),
     });
     // (a second object: one json! of all keys passes the macro's recursion
     // limit)
@@ -805,6 +791,7 @@ fn run_variant(
             })
             .fold(0.0f64, f64::max)),
         "edge_contact": ltca.edges,
+        "plots": plots,
         "positions_without_contact_deg": gaps,
         "edge_candidate_points": edge_points,
         "max_edge_force_n": edge_force,
@@ -818,6 +805,99 @@ fn run_variant(
         s.extend(m.clone());
     }
     Ok(summary)
+}
+
+/// One position of a variant's summary.
+fn step_json(ltca: &BevelLtca, r: &PositionResult, t: f64) -> serde_json::Value {
+    let mut j = serde_json::json!({
+            "roll_deg": r.roll_deg,
+            "pair_force_n": ltca.pair_forces(r),
+            "load_share": shares(&ltca.pair_forces(r)),
+            "pair_friction_n": ltca.pair_friction(r),
+            "friction": r.friction,
+            "te_arcsec": t,
+            "unloaded_te_arcsec": -r.unloaded_te_urad * 1e-6 * ltca.pair.ratio() * ARCSEC_PER_RAD,
+            "max_pressure_mpa": r.max_pressure_mpa,
+            "candidates": r.candidates,
+            "qp_iterations": r.qp_iterations,
+            "kkt_max": r.kkt_max,
+            "time_s": r.time_s,
+    });
+    j["lines"] = serde_json::json!(r.lines);
+    j["line_force_n"] = serde_json::json!(r.line_force_n);
+    j["skipped_points"] = r.skipped_points.into();
+    j
+}
+
+/// `load_sharing.{svg,png}` (share of each pinion tooth against roll) and
+/// `transmission_error.{svg,png}` (loaded and unloaded TE, gear arcsec) in
+/// `out`; returns the file names.
+fn plot_variant(
+    ltca: &BevelLtca,
+    out: &std::path::Path,
+    results: &[PositionResult],
+) -> Result<Vec<String>, FlankError> {
+    use crate::report::cycle_plot::plot_series;
+    let np = ltca.pair.sector_teeth();
+    let shares: Vec<Vec<f64>> = results
+        .iter()
+        .map(|r| shares(&ltca.pair_forces(r)))
+        .collect();
+    let curves: Vec<(String, Vec<(f64, f64)>)> = (0..np)
+        .filter(|&p| shares.iter().any(|s| s[p] > 0.0))
+        .map(|p| {
+            (
+                format!(
+                    "pinion tooth {} / gear tooth {}",
+                    p + 1,
+                    ltca.pair.mate(p + 1)
+                ),
+                results
+                    .iter()
+                    .zip(&shares)
+                    .map(|(r, s)| (r.roll_deg, s[p]))
+                    .collect(),
+            )
+        })
+        .collect();
+    let variant = if ltca.edges {
+        "with edge contact"
+    } else {
+        "without edge contact"
+    };
+    let mut files = plot_series(
+        out,
+        "load_sharing",
+        &format!("Load share per tooth pair, {variant}"),
+        "pinion roll angle (deg)",
+        "share of the normal force",
+        &curves,
+    )?;
+    let arcsec = |x: f64| -x * 1e-6 * ltca.pair.ratio() * ARCSEC_PER_RAD;
+    files.extend(plot_series(
+        out,
+        "transmission_error",
+        &format!("Transmission error at the gear, {variant}"),
+        "pinion roll angle (deg)",
+        "TE (arcsec)",
+        &[
+            (
+                "loaded".into(),
+                results
+                    .iter()
+                    .map(|r| (r.roll_deg, arcsec(r.te_urad)))
+                    .collect(),
+            ),
+            (
+                "unloaded".into(),
+                results
+                    .iter()
+                    .map(|r| (r.roll_deg, arcsec(r.unloaded_te_urad)))
+                    .collect(),
+            ),
+        ],
+    )?);
+    Ok(files)
 }
 
 /// The point TCA of the LTCA (no ellipse search: the flank axes take the
