@@ -617,6 +617,7 @@ fn run_variant(
     let mut te = Vec::new();
     let mut edge_loaded = 0usize;
     let mut beyond = 0usize;
+    let mut beyond_rolls = Vec::new();
     for r in &results {
         let forces = ltca.pair_forces(r);
         let friction = ltca.pair_friction(r);
@@ -677,8 +678,8 @@ fn run_variant(
         );
         for (offset, sep) in ltca.beyond_sector(r.roll_deg, r.loaded_approach_mm) {
             beyond += 1;
-            notes.push(format!(
-                "{:.3}°: the pair {offset} pitches from the middle one lies outside the {np}-tooth sector (not modelled) with a separation of {:.1} µm, below the loaded approach {:.1} µm: raise [mesh] teeth_in_sector",
+            beyond_rolls.push(format!(
+                "{:.3}° (pair {offset}: {:.1} µm < {:.1} µm)",
                 r.roll_deg,
                 1e3 * sep,
                 1e3 * r.loaded_approach_mm
@@ -696,6 +697,14 @@ fn run_variant(
                 r.kkt_max
             ));
         }
+    }
+    if !beyond_rolls.is_empty() {
+        notes.push(format!(
+            "a pair outside the {np}-tooth sector (not modelled; pitches from the middle pair) lies within the loaded approach at {} of {} positions: {} (its unloaded separation < the loaded approach (θ − θ₀) r): raise [mesh] teeth_in_sector",
+            beyond_rolls.len(),
+            results.len(),
+            beyond_rolls.join(", ")
+        ));
     }
     let loops = crate::ltca::cycle::iteration_limits(&results);
     notes.extend(loops.warnings());
