@@ -171,11 +171,19 @@ pub fn edge_line(
     let frames = pair.frames(roll);
     let ef = &frames[edge_body];
     let mf = &frames[mate_body];
-    // arc length per unit edge parameter at the contact (central difference)
+    // arc length per unit edge parameter at the contact (a difference
+    // kept on the edge: a contact at an edge's end is one-sided)
     let t_c = uv[edge_body][1];
     let on_edge = |t: f64| ef.place(es.point(es.u_tip(t), t));
     let eta = 1e-4 * (v1 - v0);
-    let speed = norm(sub(on_edge(t_c + eta), on_edge(t_c - eta))) / (2.0 * eta);
+    let chord = |t: f64| {
+        let (a, b) = ((t - eta).max(v0), (t + eta).min(v1));
+        (sub(on_edge(b), on_edge(a)), b - a)
+    };
+    let speed = {
+        let (d, dt) = chord(t_c);
+        norm(d) / dt
+    };
     if !(speed > 0.0 && speed.is_finite()) {
         return Err(FlankError::Model(format!(
             "edge line: the {} tip edge has no length at v = {t_c}",
@@ -237,7 +245,7 @@ pub fn edge_line(
             if norm(ts) > 1e-12 {
                 unit(ts)
             } else {
-                let d = sub(on_edge(t + eta), on_edge(t - eta));
+                let d = chord(t).0;
                 unit(add(d, -dot(d, n), n))
             }
         };
