@@ -61,9 +61,29 @@ pub struct Args {
     /// sliding (the running mesh: μP_n against the kinematic sliding).
     #[arg(long, value_enum)]
     friction_model: Option<flank::ltca::model::FrictionModel>,
+    /// Bevel/hypoid pairs: LTCA with the TCA's edge contacts as candidates,
+    /// without them, or both (seed 000; default the scene's
+    /// `[analyses.ltca] edges`, else without).
+    #[arg(long, value_enum)]
+    edges: Option<flank::ltca::edges::EdgeVariants>,
     /// Print nothing but errors.
     #[arg(long, short)]
     quiet: bool,
+}
+
+/// The variant summaries of a bevel LTCA summary (one, unnamed, or
+/// `with_edges` and `without_edges`).
+fn variants(s: &serde_json::Value) -> Vec<(&serde_json::Value, Option<&'static str>)> {
+    let named: Vec<_> = ["with_edges", "without_edges"]
+        .into_iter()
+        .filter(|k| s[*k].is_object())
+        .map(|k| (&s[k], Some(k)))
+        .collect();
+    if named.is_empty() {
+        vec![(s, None)]
+    } else {
+        named
+    }
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -85,6 +105,7 @@ pub fn run(args: Args) -> Result<()> {
         increments,
         cross_check,
         friction_model,
+        edges,
         quiet,
     } = args;
     let solver = match solver {
@@ -121,12 +142,21 @@ pub fn run(args: Args) -> Result<()> {
             settings,
             cache,
             threads,
+            edges: edges
+                .or(b.analyses.ltca.as_ref().and_then(|l| l.edges))
+                .unwrap_or(d.edges),
             ..d
         };
-        let s = run_bevel(&b, &options)
+        let all = run_bevel(&b, &options)
             .with_context(|| format!("LTCA mesh cycle of {}", scene.display()))?;
-        if !quiet {
+        for (s, name) in variants(&all) {
+            if quiet {
+                continue;
+            }
             let f = |k: &str| s[k].as_f64().unwrap_or(f64::NAN);
+            if let Some(name) = name {
+                println!("{name}:");
+            }
             println!(
                 "{} positions, K = {} per major axis: {:.3} s for the cycle ({:.1} ms per position); tensors {:.1} s, TCA {:.2} s",
                 s["positions"],
@@ -142,13 +172,29 @@ pub fn run(args: Args) -> Result<()> {
                 f("max_pressure_mpa"),
                 f("max_kkt")
             );
-            print_notes(&s);
+            let sharing = &s["load_sharing"];
+            if sharing.is_object() {
+                println!(
+                    "functional contact ratio {:.3} (pairs loaded above {} % of the force: {}…{}; single-pair zone {:.2}° of roll)",
+                    f("functional_contact_ratio"),
+                    100.0 * sharing["loaded_share_threshold"].as_f64().unwrap_or(f64::NAN),
+                    sharing["min_loaded_pairs"],
+                    sharing["max_loaded_pairs"],
+                    sharing["single_pair_span_deg"].as_f64().unwrap_or(f64::NAN)
+                );
+            }
+            print_notes(s);
+        }
+        if !quiet {
             println!("wrote {}", out.display());
         }
         return Ok(());
     }
     if span_approach_mm.is_some() {
         anyhow::bail!("--span-approach-mm: for bevel and hypoid scenes only");
+    }
+    if edges.is_some() {
+        anyhow::bail!("--edges: for bevel and hypoid scenes only (a spur/helical LTCA always takes its tip corners as candidates)");
     }
     let options = LtcaOptions {
         out: out.clone(),

@@ -27,9 +27,16 @@
 //! solution. Positions are the point TCA's grid (`positions` per pitch);
 //! requested roll angles are taken at the nearest grid position.
 //!
+//! **Edge contact** (seed 000, [`crate::ltca::edges`]): with
+//! [`BevelLtcaOptions::edges`] the point TCA runs with edges on and a pair
+//! in edge contact contributes K points along the edge; `Both` runs the
+//! variant with edges and the one without on the same tensors.
+//!
 //! Outputs (`out`): `ltca_positions.csv` (per position and tooth pair, the
 //! columns of the FE run's `positions.csv`), `ltca_points.csv` (load along
-//! every axis), `summary.json`.
+//! every axis), `summary.json`; with `edges = Both` the two CSVs of each
+//! variant in `out/with_edges/` and `out/without_edges/`, and summary.json
+//! with one object per variant under `with_edges` and `without_edges`.
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -42,6 +49,8 @@ use crate::compliance::FlankInterpolator;
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
 use crate::geometry::gear_pair::PairPlacement;
+use crate::geometry::tangency::ContactSystem;
+use crate::ltca::edges::{edge_line, EdgeLine, EdgeVariants};
 use crate::ltca::local::contact_modulus;
 use crate::ltca::model::{LtcaBodies, LtcaFriction, LtcaSettings, PositionResult};
 use crate::scene::BevelScene;
@@ -72,6 +81,9 @@ pub struct BevelLtcaOptions {
     pub friction_model: crate::ltca::model::FrictionModel,
     pub cache: Option<PathBuf>,
     pub threads: usize,
+    /// Edge contact (module docs): [`BevelLtca::new`] traces the TCA with
+    /// edges for `With` and `Both`; [`run_bevel`] runs the variants named.
+    pub edges: EdgeVariants,
 }
 
 impl Default for BevelLtcaOptions {
@@ -90,6 +102,7 @@ impl Default for BevelLtcaOptions {
             friction_model: Default::default(),
             cache: None,
             threads: 0,
+            edges: EdgeVariants::Without,
         }
     }
 }
@@ -113,6 +126,8 @@ pub struct BevelLtca {
     pub compliance_s: f64,
     pub tca_s: f64,
     pub flank_nodes: [usize; 2],
+    /// Whether the TCA traced edge contacts and they are candidates.
+    pub edges: bool,
 }
 
 impl BevelLtcaOptions {
@@ -184,22 +199,18 @@ impl BevelLtca {
         let topts = BodyTensorOptions::for_ltca(options.threads, campaign.as_ref());
         let mut tensors = Vec::new();
         for name in ["pinion", "gear"] {
-            let body = bevel_scene_body(scene, name, &options.mesh)?;
+            let body =
+                bevel_scene_body(scene, name, &options.mesh).map_err(|e| mesh_hint(scene, e))?;
             tensors.push(body_tensor(&body, &topts, &options.out)?.tensor);
         }
         let compliance_s = t.elapsed().as_secs_f64();
-        let t = Instant::now();
-        let tca = point_tca(
+        let edges = options.edges != EdgeVariants::Without;
+        let (tca, tca_s) = trace(
             scene.pair.as_ref(),
-            &PointTcaSettings {
-                positions_per_pitch: options.positions,
-                edges: false,
-                search_directions: 0,
-                speed_rpm: scene.load.speed_rpm,
-                ..Default::default()
-            },
+            options.positions,
+            edges,
+            scene.load.speed_rpm,
         )?;
-        let tca_s = t.elapsed().as_secs_f64();
         // the mean contact's moment arm: the nominal normal force's
         let arm = tca
             .positions
@@ -239,6 +250,32 @@ impl BevelLtca {
             compliance_s,
             tca_s,
             flank_nodes,
+            edges,
+        })
+    }
+
+    /// The same tensors with the TCA traced with edge contact on or off
+    /// (the other variant of a `Both` run).
+    pub fn with_edges(&self, edges: bool, speed_rpm: f64) -> Result<Self, FlankError> {
+        let (tca, tca_s) = trace(self.pair.as_ref(), self.options.positions, edges, speed_rpm)?;
+        let b = &self.bodies;
+        Ok(BevelLtca {
+            pair: Arc::clone(&self.pair),
+            tca,
+            bodies: LtcaBodies {
+                tensors: [Arc::clone(&b.tensors[0]), Arc::clone(&b.tensors[1])],
+                grids: [Arc::clone(&b.grids[0]), Arc::clone(&b.grids[1])],
+                pair: Arc::clone(&b.pair),
+                nominal_moment_arm_mm: b.nominal_moment_arm_mm,
+                te_radius_mm: b.te_radius_mm,
+                contact_modulus: b.contact_modulus,
+            },
+            options: self.options.clone(),
+            torque: self.torque,
+            compliance_s: 0.0,
+            tca_s,
+            flank_nodes: self.flank_nodes,
+            edges,
         })
     }
 
@@ -248,70 +285,206 @@ impl BevelLtca {
     }
 
     /// The TCA grid position nearest to `roll_deg`, as the LTCA's contact
-    /// lines (one major axis per tooth pair in the sector).
+    /// lines (one major axis per tooth pair in the sector in flank contact;
+    /// with [`Self::edges`] one edge line per pair in edge contact).
     pub fn position(&self, roll_deg: f64) -> Result<TcaPosition, FlankError> {
-        let p = self
-            .tca
-            .positions
-            .iter()
-            .min_by(|a, b| {
-                (a.roll_rad.to_degrees() - roll_deg)
-                    .abs()
-                    .total_cmp(&(b.roll_rad.to_degrees() - roll_deg).abs())
-            })
-            .ok_or_else(|| FlankError::Model("LTCA: the point TCA traced no position".into()))?;
-        let step = self.tca.pitch_rad.to_degrees() / self.options.positions as f64;
-        if (p.roll_rad.to_degrees() - roll_deg).abs() > 0.51 * step {
+        Ok(self.position_and_notes(roll_deg)?.0)
+    }
+
+    /// [`Self::position`] with notes on edge contacts left out or taken
+    /// whole ([`crate::ltca::edges`]).
+    fn position_and_notes(&self, roll_deg: f64) -> Result<(TcaPosition, Vec<String>), FlankError> {
+        let Some(p) = self.tca_at(roll_deg) else {
             return Err(FlankError::Model(format!(
-                "LTCA: roll angle {roll_deg}° lies beyond the traced contact ({:.3}° … {:.3}°)",
-                self.tca.positions[0].roll_rad.to_degrees(),
-                self.tca.positions[self.tca.positions.len() - 1]
-                    .roll_rad
-                    .to_degrees()
+                "LTCA: roll angle {roll_deg}° lies beyond the traced contact ({:.3}° … {:.3}°, and a pitch on either side)",
+                self.tca.positions.first().map(|p| p.roll_rad.to_degrees()).unwrap_or(f64::NAN),
+                self.tca.positions.last().map(|p| p.roll_rad.to_degrees()).unwrap_or(f64::NAN)
             )));
-        }
+        };
         // one major axis per pair, the pairs in parallel
         use rayon::prelude::*;
-        let lines: Vec<_> = p
+        let (k, delta, span) = (
+            self.options.points_per_pair,
+            self.tca.settings.approach_mm,
+            self.options.span_approach_mm,
+        );
+        let built: Vec<_> = p
             .pairs
             .par_iter()
             .map(|c| {
-                major_axis_line(
-                    self.pair.as_ref(),
-                    c,
-                    p.roll_rad,
-                    self.options.points_per_pair,
-                    self.tca.settings.approach_mm,
-                    self.options.span_approach_mm,
-                )
+                if c.system == ContactSystem::Flank {
+                    major_axis_line(self.pair.as_ref(), c, p.roll_rad, k, delta, span)
+                        .map(|l| (l, None))
+                } else if self.edges {
+                    Ok(
+                        match edge_line(self.pair.as_ref(), c, p.roll_rad, k, delta, span)? {
+                            Some(EdgeLine::Line { line, whole_edge }) => (
+                                Some(line),
+                                whole_edge.then(|| {
+                                    format!(
+                                        "{:.3}°: the {} contact of pinion tooth {} has no closed patch at δ: its whole edge is the candidate line",
+                                        p.roll_rad.to_degrees(),
+                                        c.system.name(),
+                                        c.teeth.map(|t| t[0]).unwrap_or(0)
+                                    )
+                                }),
+                            ),
+                            Some(EdgeLine::Unsupported(e)) => (
+                                None,
+                                Some(format!(
+                                    "{:.3}°: the {} contact of pinion tooth {} is left out ({} edges are not candidates, crate::ltca::edges)",
+                                    p.roll_rad.to_degrees(),
+                                    c.system.name(),
+                                    c.teeth.map(|t| t[0]).unwrap_or(0),
+                                    e.name()
+                                )),
+                            ),
+                            Some(EdgeLine::Empty) | None => (None, None),
+                        },
+                    )
+                } else {
+                    Ok((None, None))
+                }
             })
-            .collect::<Result<Vec<_>, _>>()?
-            .into_iter()
-            .flatten()
-            .collect();
+            .collect::<Result<Vec<_>, FlankError>>()?;
+        let mut lines = Vec::new();
+        let mut notes = Vec::new();
+        for (l, n) in built {
+            lines.extend(l);
+            notes.extend(n);
+        }
         let unloaded = lines
             .iter()
             .flat_map(|l| l.points.iter())
             .map(|q| q.separation_mm / q.moment_arm_mm)
             .fold(f64::INFINITY, f64::min);
-        Ok(TcaPosition {
-            roll: p.roll_rad,
-            unloaded_te_rad: unloaded,
-            lines,
-        })
+        Ok((
+            TcaPosition {
+                roll: p.roll_rad,
+                unloaded_te_rad: unloaded,
+                lines,
+            },
+            notes,
+        ))
+    }
+
+    /// The TCA grid position nearest to `roll_deg` (within half a grid
+    /// step). The TCA lists positions over the middle pair's trace only;
+    /// a roll beyond it is taken from the position m tooth steps away,
+    /// every pair's offset raised by m (pair i at roll θ is the middle pair
+    /// at θ − i·step, [`crate::tca::point_contact`]: the same contacts,
+    /// other teeth), for |m| ≤ 3.
+    fn tca_at(&self, roll_deg: f64) -> Option<crate::tca::point_contact::PointTcaPosition> {
+        let h = self.tca.pitch_rad.to_degrees() / self.options.positions as f64;
+        let nearest = |r: f64| {
+            self.tca
+                .positions
+                .iter()
+                .min_by(|a, b| {
+                    (a.roll_rad.to_degrees() - r)
+                        .abs()
+                        .total_cmp(&(b.roll_rad.to_degrees() - r).abs())
+                })
+                .filter(|p| (p.roll_rad.to_degrees() - r).abs() <= 0.51 * h)
+        };
+        if let Some(p) = nearest(roll_deg) {
+            return Some(p.clone());
+        }
+        let step = self.pair.tooth_roll_step();
+        let (km, n) = (self.pair.middle() as i64, self.pair.sector_teeth() as i64);
+        for m in [1i64, -1, 2, -2, 3, -3] {
+            let Some(p) = nearest(roll_deg - (m as f64 * step).to_degrees()) else {
+                continue;
+            };
+            let mut q = p.clone();
+            q.roll_rad += m as f64 * step;
+            for c in &mut q.pairs {
+                c.offset += m;
+                let k = km + c.offset;
+                c.teeth = (k >= 1 && k <= n).then(|| [k as usize, self.pair.mate(k as usize)]);
+            }
+            return Some(q);
+        }
+        None
+    }
+
+    /// The pairs of the TCA position nearest to `roll_deg` outside the
+    /// sector (not modelled) whose separation lies below `approach_mm`:
+    /// (pair offset, separation mm).
+    pub fn beyond_sector(&self, roll_deg: f64, approach_mm: f64) -> Vec<(i64, f64)> {
+        self.tca_at(roll_deg)
+            .into_iter()
+            .flat_map(|p| p.pairs)
+            .filter(|c| c.teeth.is_none() && c.separation_mm < approach_mm)
+            .map(|c| (c.offset, c.separation_mm))
+            .collect()
     }
 
     /// Solves the position nearest to `roll_deg`.
     pub fn solve(&self, roll_deg: f64) -> Result<PositionResult, FlankError> {
-        let position = self.position(roll_deg)?;
+        let (position, notes) = self.position_and_notes(roll_deg)?;
         if position.lines.is_empty() {
             return Err(FlankError::Model(format!(
                 "LTCA at roll {roll_deg}°: no tooth pair of the sector has a flank contact"
             )));
         }
         let frames = self.pair.frames(position.roll);
-        self.bodies
-            .solve(&position, &frames, self.torque, &self.options.settings)
+        let mut r = self
+            .bodies
+            .solve(&position, &frames, self.torque, &self.options.settings)?;
+        r.warnings.extend(notes);
+        Ok(r)
+    }
+
+    /// [`Self::solve`], or `None` where no tooth pair of the sector is in
+    /// contact at all: a roll that no pair's trace reaches (a pair whose
+    /// flank path is shorter than a pitch, without the edge contact that
+    /// would carry it across).
+    pub fn solve_or_gap(&self, roll_deg: f64) -> Result<Option<PositionResult>, FlankError> {
+        let Some(p) = self.tca_at(roll_deg) else {
+            // no position within the reach of tca_at: a gap inside it, an
+            // error (Self::solve's) beyond it
+            let reach = 3.0 * self.pair.tooth_roll_step().abs().to_degrees();
+            let (first, last) = (
+                self.tca.positions.first().map(|p| p.roll_rad.to_degrees()),
+                self.tca.positions.last().map(|p| p.roll_rad.to_degrees()),
+            );
+            if let (Some(a), Some(b)) = (first, last) {
+                if roll_deg > a - reach && roll_deg < b + reach {
+                    return Ok(None);
+                }
+            }
+            return self.solve(roll_deg).map(Some);
+        };
+        if p.pairs.iter().all(|c| c.teeth.is_none()) || self.position(roll_deg)?.lines.is_empty() {
+            return Ok(None);
+        }
+        self.solve(roll_deg).map(Some)
+    }
+
+    /// [`Self::solve_or_gap`] at every roll, in parallel, as
+    /// [`Self::solve_cycle`].
+    pub fn solve_cycle_gaps(
+        &self,
+        rolls_deg: &[f64],
+    ) -> Result<Vec<Option<PositionResult>>, FlankError> {
+        use rayon::prelude::*;
+        let run = || -> Result<Vec<Option<PositionResult>>, FlankError> {
+            let all: Vec<_> = rolls_deg
+                .par_iter()
+                .map(|&r| self.solve_or_gap(r))
+                .collect();
+            all.into_iter().collect()
+        };
+        let n = self.options.threads;
+        if n > 0 && n != rayon::current_num_threads() {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map_err(|e| FlankError::Solver(format!("cannot start {n} threads: {e}")))?;
+            return pool.install(run);
+        }
+        run()
     }
 
     /// The positions nearest to `rolls_deg` ([`Self::solve`]), in that
@@ -354,27 +527,88 @@ impl BevelLtca {
 }
 
 /// `flank ltca` on a bevel/hypoid scene: the cycle's positions, the files
-/// of the module docs; returns the summary.
+/// of the module docs, for each variant of [`BevelLtcaOptions::edges`];
+/// returns the summary.
 pub fn run_bevel(
     scene: &BevelScene,
     options: &BevelLtcaOptions,
 ) -> Result<serde_json::Value, FlankError> {
-    use std::fmt::Write;
     let t_total = Instant::now();
     options.validate(scene)?;
     let out = &options.out;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
-    let ltca = BevelLtca::new(scene, options)?;
+    let first = BevelLtca::new(scene, options)?;
+    let runs = options.edges.runs();
+    if runs.len() == 1 {
+        let mut s = run_variant(scene, &first, out)?;
+        s["edges"] = runs[0].1.into();
+        s["total_s"] = t_total.elapsed().as_secs_f64().into();
+        write_summary(out, &s)?;
+        return Ok(s);
+    }
+    let mut summary = serde_json::json!({
+        "scene": scene.source.display().to_string(),
+        "analysis": "ltca_bevel_cycle",
+        "edges": "both",
+        "compliance_s": first.compliance_s,
+        "flank_nodes": first.flank_nodes,
+    });
+    let mut ratios = serde_json::Map::new();
+    for (edges, name) in runs {
+        let other;
+        let ltca = if edges == first.edges {
+            &first
+        } else {
+            other = first.with_edges(edges, scene.load.speed_rpm)?;
+            &other
+        };
+        let dir = out.join(name);
+        std::fs::create_dir_all(&dir).map_err(|e| FlankError::io(&dir, e))?;
+        let s = run_variant(scene, ltca, &dir)?;
+        ratios.insert(name.into(), s["functional_contact_ratio"].clone());
+        summary[name] = s;
+    }
+    summary["functional_contact_ratio"] = ratios.into();
+    summary["total_s"] = t_total.elapsed().as_secs_f64().into();
+    summary["peak_memory_mb"] = peak_memory_mb().into();
+    write_summary(out, &summary)?;
+    Ok(summary)
+}
+
+/// Writes `out/summary.json`.
+fn write_summary(out: &std::path::Path, summary: &serde_json::Value) -> Result<(), FlankError> {
+    crate::atomic_file::write(
+        &out.join("summary.json"),
+        serde_json::to_string_pretty(summary).unwrap_or_default() + "\n",
+    )
+}
+
+/// One variant's cycle: its CSVs in `out`, its summary returned.
+fn run_variant(
+    scene: &BevelScene,
+    ltca: &BevelLtca,
+    out: &std::path::Path,
+) -> Result<serde_json::Value, FlankError> {
+    use std::fmt::Write;
+    let options = &ltca.options;
     let pitch = ltca.cycle_deg();
     let n = options.positions;
+    let default_cycle = options.roll_angles_deg.is_none();
     let rolls = options.roll_angles_deg.clone().unwrap_or_else(|| {
         (0..n)
             .map(|i| -0.5 * pitch + pitch * i as f64 / n as f64)
             .collect()
     });
     let t_cycle = Instant::now();
-    let results = ltca.solve_cycle(&rolls)?;
+    let solved = ltca.solve_cycle_gaps(&rolls)?;
     let cycle_s = t_cycle.elapsed().as_secs_f64();
+    let gaps: Vec<f64> = rolls
+        .iter()
+        .zip(&solved)
+        .filter(|(_, r)| r.is_none())
+        .map(|(&x, _)| x)
+        .collect();
+    let results: Vec<PositionResult> = solved.iter().flatten().cloned().collect();
     let np = ltca.pair.sector_teeth();
     let mut csv = String::from(
         "roll_deg,pair,pinion_tooth,gear_tooth,force_n,load_share,max_pressure_mpa,te_arcsec,friction_n\n",
@@ -382,6 +616,8 @@ pub fn run_bevel(
     let mut notes = Vec::new();
     let mut te = Vec::new();
     let mut edge_loaded = 0usize;
+    let mut beyond = 0usize;
+    let mut beyond_rolls = Vec::new();
     for r in &results {
         let forces = ltca.pair_forces(r);
         let friction = ltca.pair_friction(r);
@@ -435,6 +671,20 @@ pub fn run_bevel(
                 edge_loaded += 1;
             }
         }
+        notes.extend(
+            r.warnings
+                .iter()
+                .map(|w| format!("{:.3}°: {w}", r.roll_deg)),
+        );
+        for (offset, sep) in ltca.beyond_sector(r.roll_deg, r.loaded_approach_mm) {
+            beyond += 1;
+            beyond_rolls.push(format!(
+                "{:.3}° (pair {offset}: {:.1} µm < {:.1} µm)",
+                r.roll_deg,
+                1e3 * sep,
+                1e3 * r.loaded_approach_mm
+            ));
+        }
         if !r.kkt_within_tolerance {
             notes.push(format!(
                 "{:.3}°: {} residual {:.2e} above tolerance",
@@ -448,15 +698,68 @@ pub fn run_bevel(
             ));
         }
     }
+    if !beyond_rolls.is_empty() {
+        notes.push(format!(
+            "a pair outside the {np}-tooth sector (not modelled; pitches from the middle pair) lies within the loaded approach at {} of {} positions: {} (its unloaded separation < the loaded approach (θ − θ₀) r): raise [mesh] teeth_in_sector",
+            beyond_rolls.len(),
+            results.len(),
+            beyond_rolls.join(", ")
+        ));
+    }
     let loops = crate::ltca::cycle::iteration_limits(&results);
     notes.extend(loops.warnings());
     let path = out.join("ltca_positions.csv");
     crate::atomic_file::write(&path, csv)?;
     crate::ltca::cycle::write_points_csv(&out.join("ltca_points.csv"), &results)?;
+    let plots = plot_variant(ltca, out, &results)?;
     let te_pp = te.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
         - te.iter().cloned().fold(f64::INFINITY, f64::min);
     let worst = |f: fn(&PositionResult) -> f64| results.iter().map(f).fold(0.0f64, f64::max);
-    let summary = serde_json::json!({
+    // the functional contact ratio needs the default cycle (positions
+    // spread evenly over one pitch)
+    // (a position without contact counts with no loaded pair)
+    let sharing = default_cycle
+        .then(|| {
+            let forces: Vec<Vec<f64>> = solved
+                .iter()
+                .map(|r| match r {
+                    Some(r) => ltca.pair_forces(r),
+                    None => vec![0.0; np],
+                })
+                .collect();
+            crate::ltca::sharing::cycle_sharing(&forces, pitch)
+        })
+        .flatten();
+    if !gaps.is_empty() {
+        notes.push(format!(
+            "no tooth pair of the sector is in contact at {} of {} positions ({}°): the pair cannot carry the torque there{}",
+            gaps.len(),
+            rolls.len(),
+            gaps.iter().map(|g| format!("{g:.3}")).collect::<Vec<_>>().join(", "),
+            if ltca.edges { "" } else { " without edge contact" }
+        ));
+    }
+    let edge_points: usize = results
+        .iter()
+        .map(|r| {
+            r.points
+                .iter()
+                .filter(|q| r.lines[q.line].2 != "Flank")
+                .count()
+        })
+        .sum();
+    let edge_force: f64 = results
+        .iter()
+        .map(|r| {
+            r.line_force_n
+                .iter()
+                .zip(&r.lines)
+                .filter(|(_, l)| l.2 != "Flank")
+                .map(|(f, _)| f)
+                .sum::<f64>()
+        })
+        .fold(0.0, f64::max);
+    let mut summary = serde_json::json!({
         "scene": scene.source.display().to_string(),
         "analysis": "ltca_bevel_cycle",
         "positions": results.len(),
@@ -479,11 +782,43 @@ pub fn run_bevel(
         "tca_s": ltca.tca_s,
         "cycle_s": cycle_s,
         "time_per_position_s": cycle_s / results.len().max(1) as f64,
-        "total_s": t_total.elapsed().as_secs_f64(),
         "peak_memory_mb": peak_memory_mb(),
         "settings": options.settings,
         "notes": notes,
-        "steps": results.iter().zip(&te).map(|(r, &t)| serde_json::json!({
+        "steps": results.iter().zip(&te).map(|(r, &t)| step_json(ltca, r, t)).collect::<Vec<_>>(),
+    });
+    // (a second object: one json! of all keys passes the macro's recursion
+    // limit)
+    let more = serde_json::json!({
+        // frictionless: Σ P r = T (with friction the tangential forces
+        // take part of the torque)
+        "max_torque_balance_error": (options.friction_mu == 0.0).then(|| results
+            .iter()
+            .map(|r| {
+                let m: f64 = r.points.iter().map(|q| q.force_n * q.moment_arm_mm).sum();
+                (m - ltca.torque).abs() / ltca.torque
+            })
+            .fold(0.0f64, f64::max)),
+        "edge_contact": ltca.edges,
+        "plots": plots,
+        "positions_without_contact_deg": gaps,
+        "edge_candidate_points": edge_points,
+        "max_edge_force_n": edge_force,
+        "pairs_beyond_sector_within_approach": beyond,
+        "functional_contact_ratio": sharing.as_ref().map(|s| s.functional_contact_ratio),
+        "load_sharing": sharing,
+        "tca_contact_ratio": ltca.tca.contact_ratio,
+        "tca_transitions": ltca.tca.transitions,
+    });
+    if let (Some(s), Some(m)) = (summary.as_object_mut(), more.as_object()) {
+        s.extend(m.clone());
+    }
+    Ok(summary)
+}
+
+/// One position of a variant's summary.
+fn step_json(ltca: &BevelLtca, r: &PositionResult, t: f64) -> serde_json::Value {
+    let mut j = serde_json::json!({
             "roll_deg": r.roll_deg,
             "pair_force_n": ltca.pair_forces(r),
             "load_share": shares(&ltca.pair_forces(r)),
@@ -496,14 +831,123 @@ pub fn run_bevel(
             "qp_iterations": r.qp_iterations,
             "kkt_max": r.kkt_max,
             "time_s": r.time_s,
-        })).collect::<Vec<_>>(),
     });
-    let path = out.join("summary.json");
-    crate::atomic_file::write(
-        &path,
-        serde_json::to_string_pretty(&summary).unwrap_or_default() + "\n",
+    j["lines"] = serde_json::json!(r.lines);
+    j["line_force_n"] = serde_json::json!(r.line_force_n);
+    j["skipped_points"] = r.skipped_points.into();
+    j
+}
+
+/// `load_sharing.{svg,png}` (share of each pinion tooth against roll) and
+/// `transmission_error.{svg,png}` (loaded and unloaded TE, gear arcsec) in
+/// `out`; returns the file names.
+fn plot_variant(
+    ltca: &BevelLtca,
+    out: &std::path::Path,
+    results: &[PositionResult],
+) -> Result<Vec<String>, FlankError> {
+    use crate::report::cycle_plot::plot_series;
+    let np = ltca.pair.sector_teeth();
+    let shares: Vec<Vec<f64>> = results
+        .iter()
+        .map(|r| shares(&ltca.pair_forces(r)))
+        .collect();
+    let curves: Vec<(String, Vec<(f64, f64)>)> = (0..np)
+        .filter(|&p| shares.iter().any(|s| s[p] > 0.0))
+        .map(|p| {
+            (
+                format!(
+                    "pinion tooth {} / gear tooth {}",
+                    p + 1,
+                    ltca.pair.mate(p + 1)
+                ),
+                results
+                    .iter()
+                    .zip(&shares)
+                    .map(|(r, s)| (r.roll_deg, s[p]))
+                    .collect(),
+            )
+        })
+        .collect();
+    let variant = if ltca.edges {
+        "with edge contact"
+    } else {
+        "without edge contact"
+    };
+    let mut files = plot_series(
+        out,
+        "load_sharing",
+        &format!("Load share per tooth pair, {variant}"),
+        "pinion roll angle (deg)",
+        "share of the normal force",
+        &curves,
     )?;
-    Ok(summary)
+    let arcsec = |x: f64| -x * 1e-6 * ltca.pair.ratio() * ARCSEC_PER_RAD;
+    files.extend(plot_series(
+        out,
+        "transmission_error",
+        &format!("Transmission error at the gear, {variant}"),
+        "pinion roll angle (deg)",
+        "TE (arcsec)",
+        &[
+            (
+                "loaded".into(),
+                results
+                    .iter()
+                    .map(|r| (r.roll_deg, arcsec(r.te_urad)))
+                    .collect(),
+            ),
+            (
+                "unloaded".into(),
+                results
+                    .iter()
+                    .map(|r| (r.roll_deg, arcsec(r.unloaded_te_urad)))
+                    .collect(),
+            ),
+        ],
+    )?);
+    Ok(files)
+}
+
+/// The point TCA of the LTCA (no ellipse search: the flank axes take the
+/// curvature ellipse, the edge lines search their own) and its time (s).
+fn trace(
+    pair: &crate::geometry::bevel::pair::BevelPair,
+    positions: usize,
+    edges: bool,
+    speed_rpm: f64,
+) -> Result<(PointTca, f64), FlankError> {
+    let t = Instant::now();
+    let tca = point_tca(
+        pair,
+        &PointTcaSettings {
+            positions_per_pitch: positions,
+            edges,
+            search_directions: 0,
+            speed_rpm,
+            ..Default::default()
+        },
+    )?;
+    Ok((tca, t.elapsed().as_secs_f64()))
+}
+
+/// A sector body that cannot be meshed: the error, with what clears a toe
+/// slot whose fillets meet (seed 000's upright pinion).
+fn mesh_hint(scene: &BevelScene, e: FlankError) -> FlankError {
+    let m = match &e {
+        FlankError::Model(m) if m.contains("no gap land") => m.clone(),
+        _ => return e,
+    };
+    let tilted = scene
+        .source
+        .parent()
+        .map(|d| d.join("scene_tilted.toml"))
+        .filter(|p| p.is_file())
+        .map(|p| format!(" (as {})", p.display()))
+        .unwrap_or_default();
+    FlankError::Model(format!(
+        "{m}. The LTCA needs the compliance tensors of both sector bodies, so both must be meshed: a pinion cut with the Cyclo-Palloid head tilt, `[pinion] cutter_tilt = \"from_blank\"`{tilted}, opens the toe slot"
+    ))
 }
 
 /// Each force's share of their sum (0 without load).

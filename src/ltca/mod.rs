@@ -10,13 +10,17 @@
 //!   (Tresca QPs, fixed point, polish) and cross-checked by Lemke's method.
 //! * [`cycle`]: spur/helical pairs over a mesh cycle (line contact);
 //!   [`bevel`]: bevel/hypoid pairs (candidate points on each pair's
-//!   contact-ellipse major axis), both through [`model::LtcaBodies`].
+//!   contact-ellipse major axis), both through [`model::LtcaBodies`];
+//!   [`edges`]: a bevel pair's edge contacts as candidate lines (seed 000),
+//!   [`sharing`]: load sharing and the functional contact ratio.
 
 pub mod bevel;
 pub mod cycle;
+pub mod edges;
 pub mod friction;
 pub mod hertz_elliptic;
 pub mod local;
 pub mod model;
 pub mod pattern;
 pub mod qp;
+pub mod sharing;

@@ -211,6 +211,8 @@ pub struct PointResult {
     pub along_mm: f64,
     pub separation_mm: f64,
     pub force_n: f64,
+    /// Moment arm r of the normal force about the pinion axis (mm).
+    pub moment_arm_mm: f64,
     /// Load per unit length of line (N/mm) and Hertz peak pressure (MPa;
     /// 0 at tip-corner points, whose edge radius is zero).
     pub load_per_length: f64,
@@ -726,6 +728,7 @@ impl LtcaBodies {
                 along_mm: c.along,
                 separation_mm: w[i],
                 force_n: s.load[i],
+                moment_arm_mm: r[i],
                 load_per_length: q,
                 pressure_mpa: p,
                 half_width_mm: a,

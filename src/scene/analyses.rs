@@ -126,6 +126,11 @@ pub struct LtcaAnalysis {
     /// `standstill` (the mate held, as one static FE step) or `sliding`
     /// (the running mesh), [`crate::ltca::model::FrictionModel`].
     pub friction_model: Option<crate::ltca::model::FrictionModel>,
+    /// Bevel/hypoid pairs: the LTCA variants with respect to edge contact
+    /// (seed 000): `without` (default: flank contacts only), `with` (the
+    /// TCA's edge contacts are candidates too) or `both`
+    /// ([`crate::ltca::edges::EdgeVariants`]).
+    pub edges: Option<crate::ltca::edges::EdgeVariants>,
 }
 
 /// Options of the `lubrication` analysis (the wet–dry loop of seed 002,
@@ -165,6 +170,9 @@ pub struct Analyses {
     /// Where `lubrication` was given (byte span; for errors found later).
     #[serde(skip)]
     pub(super) lubrication_span: Option<std::ops::Range<usize>>,
+    /// Where `ltca` was given (byte span; for errors found later).
+    #[serde(skip)]
+    pub(super) ltca_span: Option<std::ops::Range<usize>>,
 }
 
 impl Analyses {
@@ -231,6 +239,7 @@ pub(super) fn analyses(cx: &Cx, raw: Option<&RawAnalyses>) -> Res<Analyses> {
                 check_ltca_analysis(&v)
                     .map_err(|m| cx.err(value.span(), format!("`analyses.ltca`: {m}")))?;
                 out.ltca = Some(v);
+                out.ltca_span = Some(value.span());
             }
             "lubrication" => {
                 let v: LubricationAnalysis = value.get_ref().clone().try_into().map_err(|e| {

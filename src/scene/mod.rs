@@ -318,6 +318,18 @@ fn build(cx: &Cx, raw: RawScene) -> Res<Scene> {
     ];
 
     let analyses = analyses::analyses(cx, raw.analyses.as_ref())?;
+    if let (Some(span), Some(e)) = (
+        analyses.ltca_span.clone(),
+        analyses.ltca.as_ref().and_then(|l| l.edges),
+    ) {
+        return Err(cx.err(
+            span,
+            format!(
+                "`analyses.ltca`: edges = \"{}\" is for bevel and hypoid pairs (their TCA's edge contacts); a spur/helical LTCA always takes its tip corners as candidates",
+                serde_json::to_value(e).ok().and_then(|v| v.as_str().map(String::from)).unwrap_or_default()
+            ),
+        ));
+    }
     let lubricant = match &raw.lubricant {
         Some(l) => Some(lubricant::lubricant(cx, l)?),
         None => None,
