@@ -203,6 +203,7 @@ pub fn run(args: Args) -> Result<()> {
                 }
             );
         }
+        crate::cli::common::print_lubrication(&s);
         print_notes(&s);
         for n in s["kkt_flagged"].as_array().into_iter().flatten() {
             println!("flagged: {}", n.as_str().unwrap_or(""));

@@ -11,12 +11,17 @@
 //! * [`cycle`]: spur/helical pairs over a mesh cycle (line contact);
 //!   [`bevel`]: bevel/hypoid pairs (candidate points on each pair's
 //!   contact-ellipse major axis), both through [`model::LtcaBodies`].
+//! * [`lubricated`]: the wet–dry loop of seed 002 through the frictional
+//!   spur/helical LTCA (μ per position and tooth pair from the EHL model of
+//!   [`crate::lubrication`]).
 
 pub mod bevel;
 pub mod cycle;
 pub mod friction;
+pub mod friction_settings;
 pub mod hertz_elliptic;
 pub mod local;
+pub mod lubricated;
 pub mod model;
 pub mod pattern;
 pub mod qp;
