@@ -398,9 +398,9 @@ pub fn run_scene(path: &Path, options: &LtcaOptions) -> Result<serde_json::Value
 pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, FlankError> {
     let t_total = Instant::now();
     let out = &options.out;
-    std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
     // the wet–dry loop (seed 002): the cycle below is its dry pass at μ₀
     let lubricated = crate::ltca::lubricated::loop_settings(scene, options)?;
+    std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
     let dry_options;
     let options = match &lubricated {
         Some(l) => {

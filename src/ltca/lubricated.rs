@@ -14,10 +14,13 @@
 //! * A (for `mean_pressure = "contact_area"`): Σ 2aᵢ wᵢ over the pair's
 //!   loaded points, aᵢ the Hertz half-width of the point's load per length
 //!   on its TCA radius (the LTCA's own local model) and wᵢ the length it
-//!   represents; tip-corner points (edge radius 0) carry load but no area.
-//!   On a uniformly loaded line this is the Hertz area 2bL, so the two P̄
-//!   options differ by the load's variation along the line and by corner
-//!   loads (both are in `lubrication.csv`).
+//!   represents; at a tip-corner point (edge radius 0, no Hertz width of
+//!   its own) aᵢ is the Hertz half-width of its load per length on the
+//!   operating point's R_x (the path end's, flagged `OutsidePath`, which
+//!   the film and traction use too). On a uniformly loaded line this is
+//!   the Hertz area 2bL, so the two P̄ options differ by the load's
+//!   variation along the line and by corner loads (both are in
+//!   `lubrication.csv`).
 //!
 //! The friction model defaults to `sliding` (P_t = μ P_n against the
 //! kinematic sliding: the traction of a sliding EHL contact, and what the
@@ -31,6 +34,7 @@ use crate::error::FlankError;
 use crate::geometry::cylindrical::MeshKinematics;
 use crate::load_sharing::LOADED_FRACTION;
 use crate::ltca::cycle::{LtcaCycle, LtcaOptions};
+use crate::ltca::local::hertz_line;
 use crate::ltca::model::{FrictionModel, LtcaSettings, PositionResult};
 use crate::lubrication::{
     involute_contact, reduced_modulus, wet_dry_loop, LoopResult, LoopSettings, OperatingPoint,
@@ -121,12 +125,22 @@ pub struct LubricatedLtca {
     pub summary: serde_json::Value,
 }
 
-/// Σ 2aᵢ wᵢ (mm²) over the loaded points of pinion tooth `k` (module doc).
-pub fn loaded_area(r: &PositionResult, k: usize) -> f64 {
+/// Σ 2aᵢ wᵢ (mm²) over the loaded points of pinion tooth `k`; a point
+/// without a Hertz width of its own (a tip corner) takes that of its load
+/// per length on `radius_x` (mm) with contact modulus `e_star` (MPa)
+/// (module doc).
+pub fn loaded_area(r: &PositionResult, k: usize, radius_x: f64, e_star: f64) -> f64 {
     r.points
         .iter()
         .filter(|p| p.force_n > 0.0 && p.load_per_length > 0.0 && r.lines[p.line].0 == k)
-        .map(|p| 2.0 * p.half_width_mm * p.force_n / p.load_per_length)
+        .map(|p| {
+            let a = if p.half_width_mm > 0.0 {
+                p.half_width_mm
+            } else {
+                hertz_line(p.load_per_length, radius_x, e_star).0
+            };
+            2.0 * a * p.force_n / p.load_per_length
+        })
         .sum()
 }
 
@@ -173,6 +187,7 @@ pub fn lubricated_cycle(
     let length = kin.face_width[0].min(kin.face_width[1]) / kin.base_helix_angle.cos();
     let speed = scene.load.speed_rpm;
     let nominal = cycle.nominal_force();
+    let e_star = cycle.bodies.contact_modulus;
     let mut current = dry;
     let mut pass_forces: Vec<Vec<Vec<f64>>> = Vec::new();
     let mut pass_s: Vec<f64> = Vec::new();
@@ -199,12 +214,12 @@ pub fn lubricated_cycle(
             .map(|(r, f)| {
                 (0..np)
                     .map(|p| {
-                        let area = loaded_area(r, p + 1);
-                        if !(f[p] > LOADED_FRACTION * nominal && area > 0.0) {
+                        if !(f[p] > LOADED_FRACTION * nominal) {
                             return Ok(None);
                         }
                         let s = cycle.pair.path_position(p + 1, r.roll_deg.to_radians());
                         let c = involute_contact(&kin, s, speed, crowning)?;
+                        let area = loaded_area(r, p + 1, c.radius_x_mm, e_star);
                         OperatingPoint::new(&c, f[p], area, length, e_prime, settings.mean_pressure)
                             .map(Some)
                     })
@@ -244,7 +259,7 @@ pub fn lubricated_cycle(
         );
         m.insert(
             "contact_area".into(),
-            "Σ 2aᵢwᵢ over the pair's loaded LTCA points: Hertz half-width of each point's load per length on its TCA radius, times the length it represents (corner points: no area)".into(),
+            "Σ 2aᵢwᵢ over the pair's loaded LTCA points: Hertz half-width of each point's load per length on its TCA radius (tip corners: on the operating point's R_x), times the length it represents".into(),
         );
         m.insert("wet_pass_s".into(), pass_s.into());
         m.insert("loop_s".into(), t0.elapsed().as_secs_f64().into());
