@@ -271,3 +271,87 @@ pub fn lubricated_cycle(
         summary,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scene() -> Scene {
+        crate::scene::read_scene(
+            &Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("papers/seed002-spur/scene_lubricated.toml"),
+        )
+        .unwrap()
+    }
+
+    fn with_ltca_mu(mu: f64) -> Scene {
+        let mut s = scene();
+        s.analyses.ltca = Some(crate::scene::LtcaAnalysis {
+            friction_mu: Some(mu),
+            ..Default::default()
+        });
+        s
+    }
+
+    #[test]
+    fn settings_and_contradictions() {
+        let o = LtcaOptions::default();
+        let l = loop_settings(&scene(), &o).unwrap().unwrap();
+        assert_eq!(l.settings.initial_mu, 0.05);
+        assert_eq!(l.model, FrictionModel::Sliding);
+        let dry = l.dry_options(&o);
+        assert_eq!(
+            (dry.friction_mu, dry.friction_model),
+            (Some(0.05), Some(FrictionModel::Sliding))
+        );
+        // the model may be chosen
+        let o2 = LtcaOptions {
+            friction_model: Some(FrictionModel::Standstill),
+            ..Default::default()
+        };
+        assert_eq!(
+            loop_settings(&scene(), &o2).unwrap().unwrap().model,
+            FrictionModel::Standstill
+        );
+        // the same μ₀ twice is no contradiction; without initial_mu the
+        // LTCA's friction_mu is μ₀
+        assert!(loop_settings(&with_ltca_mu(0.05), &o).is_ok());
+        let mut s = with_ltca_mu(0.07);
+        s.analyses.lubrication.as_mut().unwrap().initial_mu = None;
+        assert_eq!(
+            loop_settings(&s, &o).unwrap().unwrap().settings.initial_mu,
+            0.07
+        );
+        // contradictions name their keys and options
+        let cases: [(Scene, LtcaOptions, &[&str]); 3] = [
+            (
+                scene(),
+                LtcaOptions {
+                    friction_mu: Some(0.05),
+                    ..Default::default()
+                },
+                &["--friction-mu", "[analyses.lubrication]", "initial_mu"],
+            ),
+            (
+                with_ltca_mu(0.0),
+                o.clone(),
+                &["friction_mu = 0", "frictionless"],
+            ),
+            (
+                with_ltca_mu(0.03),
+                o.clone(),
+                &["friction_mu = 0.03", "initial_mu = 0.05"],
+            ),
+        ];
+        for (s, o, words) in cases {
+            let e = loop_settings(&s, &o).unwrap_err().to_string();
+            for w in words {
+                assert!(e.contains(w), "{e} lacks {w}");
+            }
+        }
+        // no loop without [analyses.lubrication]
+        let mut s = scene();
+        s.analyses.lubrication = None;
+        assert!(loop_settings(&s, &o).unwrap().is_none());
+    }
+}
