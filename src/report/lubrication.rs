@@ -50,8 +50,8 @@ pub fn write_loop_outputs(o: &LoopOutputs) -> Result<serde_json::Value, FlankErr
     let settings = o.settings;
     let np = o.teeth.len();
     let last = result.last();
-    write_contacts_csv(&o.out.join("lubrication.csv"), &angles, &last.contacts)?;
-    write_passes_csv(&o.out.join("lubrication_passes.csv"), &angles, &result)?;
+    write_contacts_csv(&o.out.join("lubrication.csv"), angles, &last.contacts)?;
+    write_passes_csv(&o.out.join("lubrication_passes.csv"), angles, result)?;
 
     // cycle power loss: mean over one angular pitch around roll 0
     let pitch = o.pitch_deg;
