@@ -457,7 +457,7 @@ pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, Fl
         let lc = crate::ltca::lubricated::lubricated_cycle(&cycle, scene, l, dry, &angles, out)?;
         results = lc.results;
         notes.push(format!(
-            "lubricated: the contact-limit bisection and `friction` ran at the dry pass's μ₀ = {}; the positions are the last wet pass's (μ per tooth pair: lubrication.csv)",
+            "lubricated: the contact-limit bisection ran at the dry pass's μ₀ = {}; the positions, and the forces and power of `friction` (whose `mu` is μ₀; its power is the mean over all positions, the `lubrication` one over one pitch), are the last wet pass's, solved with μ per tooth pair (lubrication_passes.csv)",
             l.settings.initial_mu
         ));
         lubrication = Some(lc.summary);
