@@ -55,6 +55,7 @@ fn bench(c: &mut Criterion) {
             arm_tangential: &d.r_t,
             sliding: &d.s,
             mu: 0.1,
+            point_mu: None,
             torque: 1e5,
         };
         for solver in [FrictionSolver::Clarabel, FrictionSolver::Lemke] {

@@ -475,3 +475,52 @@ fn hypoid_compare_writes_the_spur_keys() {
     assert!(s["load_sharing_rel_err"].as_f64().unwrap() < 0.05, "{s}");
     assert!(d.join("compare.md").exists());
 }
+
+/// `flank ltca` on seed 002's lubricated scene runs the wet–dry loop
+/// (coarse tensors, three positions): the console line, the files and the
+/// summary's `lubrication` object as `flank run` writes them.
+#[test]
+fn spur_ltca_runs_the_wet_dry_loop() {
+    let d = dir("lubricated");
+    let (ok, out, err) = flank(&[
+        "ltca",
+        "papers/seed002-spur/scene_lubricated.toml",
+        "--flank-size",
+        "1.5",
+        "--base-size",
+        "3",
+        "--points-per-line",
+        "10",
+        "--roll-angles=-4,0,4",
+        "--no-condition",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("lubrication: ") && out.contains("wet pass(es), converged"),
+        "{out}"
+    );
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap()).unwrap();
+    let l = &s["lubrication"];
+    for key in [
+        "iterations",
+        "mu_max",
+        "mu_last_change_rel",
+        "subsurface_change_max_pct",
+        "subsurface_change_min_pct",
+        "power_loss_w",
+        "efficiency",
+    ] {
+        assert!(l[key].is_number(), "lubrication lacks {key}: {l}");
+    }
+    assert_eq!(l["friction_model"], "sliding");
+    for f in [
+        "lubrication.csv",
+        "lubrication_passes.csv",
+        "lubrication_mu.svg",
+    ] {
+        assert!(d.join(f).exists(), "{f} missing");
+    }
+}

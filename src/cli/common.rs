@@ -1,5 +1,5 @@
 //! Pieces shared by the subcommands: the sector mesh options of the scene
-//! commands and the printing of a summary's notes.
+//! commands and the printing of a summary's notes and wet–dry loop.
 
 /// Sector mesh sizes and element of the scene's bodies, overriding its [mesh].
 #[derive(clap::Args, Clone, Copy)]
@@ -39,5 +39,30 @@ pub enum MeshElement {
 pub fn print_notes(summary: &serde_json::Value) {
     for n in summary["notes"].as_array().into_iter().flatten() {
         println!("note: {}", n.as_str().unwrap_or(""));
+    }
+}
+
+/// Prints the one-line summary of the wet–dry loop (the summary's
+/// `lubrication` object, `flank run` and `flank ltca`) and its warnings.
+pub fn print_lubrication(summary: &serde_json::Value) {
+    let Some(l) = summary.get("lubrication") else {
+        return;
+    };
+    let g = |k: &str| l[k].as_f64().unwrap_or(f64::NAN);
+    println!(
+        "lubrication: {} wet pass(es), {}; last change of μ {:+.3} %; μ max {:.4}; mesh power loss {:.0} W, efficiency {:.3} %",
+        l["iterations"],
+        if l["converged"] == true {
+            "converged"
+        } else {
+            "NOT converged (iteration bound hit)"
+        },
+        100.0 * g("mu_last_change_rel"),
+        g("mu_max"),
+        g("power_loss_w"),
+        100.0 * g("efficiency")
+    );
+    for w in l["warnings"].as_array().into_iter().flatten() {
+        println!("warning: {}", w.as_str().unwrap_or_default());
     }
 }

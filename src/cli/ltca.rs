@@ -46,7 +46,8 @@ pub struct Args {
     #[arg(long)]
     span_approach_mm: Option<f64>,
     /// Coulomb friction coefficient of the flanks (seeds 001/003; 0 =
-    /// frictionless; default the scene's `[analyses.ltca] friction_mu`).
+    /// frictionless; default the scene's `[analyses.ltca] friction_mu`;
+    /// refused with `[analyses.lubrication]`, whose loop sets μ).
     #[arg(long)]
     friction_mu: Option<f64>,
     /// Load increments of the frictional solve (default 10).
@@ -58,7 +59,8 @@ pub struct Args {
     cross_check: bool,
     /// What the friction resists: incremental (seeds 001/003, default),
     /// standstill (the mate held, as one static FE contact step) or
-    /// sliding (the running mesh: μP_n against the kinematic sliding).
+    /// sliding (the running mesh: μP_n against the kinematic sliding;
+    /// the default of the lubricated loop).
     #[arg(long, value_enum)]
     friction_model: Option<flank::ltca::model::FrictionModel>,
     /// Bevel/hypoid pairs: LTCA with the TCA's edge contacts as candidates,
@@ -249,6 +251,7 @@ pub fn run(args: Args) -> Result<()> {
                 }
             );
         }
+        crate::cli::common::print_lubrication(&s);
         print_notes(&s);
         for n in s["kkt_flagged"].as_array().into_iter().flatten() {
             println!("flagged: {}", n.as_str().unwrap_or(""));

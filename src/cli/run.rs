@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 
-use crate::cli::common::{print_notes, SectorArgs};
+use crate::cli::common::{print_lubrication, print_notes, SectorArgs};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -149,25 +149,7 @@ pub fn run(args: Args) -> Result<()> {
             f("te_peak_to_peak_urad")
         );
         println!("contact law: {}", s["law"]);
-        if let Some(l) = s.get("lubrication") {
-            let g = |k: &str| l[k].as_f64().unwrap_or(f64::NAN);
-            println!(
-                "lubrication: {} wet pass(es), {}; last change of μ {:+.3} %; μ max {:.4}; mesh power loss {:.0} W, efficiency {:.3} %",
-                l["iterations"],
-                if l["converged"] == true {
-                    "converged"
-                } else {
-                    "NOT converged (iteration bound hit)"
-                },
-                100.0 * g("mu_last_change_rel"),
-                g("mu_max"),
-                g("power_loss_w"),
-                100.0 * g("efficiency")
-            );
-            for w in l["warnings"].as_array().into_iter().flatten() {
-                println!("warning: {}", w.as_str().unwrap_or_default());
-            }
-        }
+        print_lubrication(&s);
         print_notes(&s);
         let w = s["warnings"].as_array().map_or(0, Vec::len);
         if w > 0 {

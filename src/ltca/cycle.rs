@@ -262,6 +262,16 @@ impl LtcaCycle {
     /// contact raises its search distance. An extension of 0 (corner
     /// contact switched off) is kept.
     pub fn solve(&self, roll_deg: f64) -> Result<PositionResult, FlankError> {
+        self.solve_with(roll_deg, &self.settings)
+    }
+
+    /// [`LtcaCycle::solve`] with other settings (the wet–dry loop's μ per
+    /// tooth pair, [`crate::ltca::lubricated`]).
+    pub fn solve_with(
+        &self,
+        roll_deg: f64,
+        settings: &LtcaSettings,
+    ) -> Result<PositionResult, FlankError> {
         let t = Instant::now();
         let roll = roll_deg.to_radians();
         let mut tca = std::borrow::Cow::Borrowed(&self.tca);
@@ -271,7 +281,7 @@ impl LtcaCycle {
             let frames = tca.frames(roll);
             let mut r = self
                 .bodies
-                .solve(&position, &frames, self.torque, &self.settings)?;
+                .solve(&position, &frames, self.torque, settings)?;
             let ext = tca.settings().extension_mm;
             r.corner_extension_mm = ext;
             if ext == 0.0 || !(EXTENSION_MARGIN * r.loaded_approach_mm > ext) {
@@ -388,7 +398,17 @@ pub fn run_scene(path: &Path, options: &LtcaOptions) -> Result<serde_json::Value
 pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, FlankError> {
     let t_total = Instant::now();
     let out = &options.out;
+    // the wet–dry loop (seed 002): the cycle below is its dry pass at μ₀
+    let lubricated = crate::ltca::lubricated::loop_settings(scene, options)?;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
+    let dry_options;
+    let options = match &lubricated {
+        Some(l) => {
+            dry_options = l.dry_options(options);
+            &dry_options
+        }
+        None => options,
+    };
     let cycle = LtcaCycle::new(scene, options)?;
     let (mut angles, default_range) = roll_angles(scene, cycle.pair.as_ref(), options);
     let mid = cycle.pair.middle() - 1;
@@ -430,6 +450,17 @@ pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, Fl
     let limits = cycle.loaded_limits(&angles, &results)?;
     if limits.is_none() {
         notes.push("contact ratio not measured: the roll angles do not cover the middle pair's whole engagement with an unloaded position before and after".to_string());
+    }
+    let mut lubrication = None;
+    if let Some(l) = &lubricated {
+        let dry = std::mem::take(&mut results);
+        let lc = crate::ltca::lubricated::lubricated_cycle(&cycle, scene, l, dry, &angles, out)?;
+        results = lc.results;
+        notes.push(format!(
+            "lubricated: the contact-limit bisection ran at the dry pass's μ₀ = {}; the positions, and the forces and power of `friction` (whose `mu` is μ₀; its power is the mean over all positions, the `lubrication` one over one pitch), are the last wet pass's, solved with μ per tooth pair (lubrication_passes.csv)",
+            l.settings.initial_mu
+        ));
+        lubrication = Some(lc.summary);
     }
     let pitch_deg = cycle.pair.pinion().angular_pitch().to_degrees();
     let contact_ratio = limits.map(|(s, e)| (e - s) / pitch_deg);
@@ -527,6 +558,10 @@ pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, Fl
         "notes": notes,
         "steps": results,
     });
+    let mut summary = summary;
+    if let (Some(m), Some(l)) = (summary.as_object_mut(), lubrication) {
+        m.insert("lubrication".into(), l);
+    }
     let p = out.join("summary.json");
     crate::atomic_file::write(
         &p,

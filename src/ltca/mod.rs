@@ -13,13 +13,18 @@
 //!   contact-ellipse major axis), both through [`model::LtcaBodies`];
 //!   [`edges`]: a bevel pair's edge contacts as candidate lines (seed 000),
 //!   [`sharing`]: load sharing and the functional contact ratio.
+//! * [`lubricated`]: the wet–dry loop of seed 002 through the frictional
+//!   spur/helical LTCA (μ per position and tooth pair from the EHL model of
+//!   [`crate::lubrication`]).
 
 pub mod bevel;
 pub mod cycle;
 pub mod edges;
 pub mod friction;
+pub mod friction_settings;
 pub mod hertz_elliptic;
 pub mod local;
+pub mod lubricated;
 pub mod model;
 pub mod pattern;
 pub mod qp;

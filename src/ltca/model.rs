@@ -40,15 +40,16 @@ use crate::geometry::surface::ToothSurface;
 use crate::geometry::vec3::{cross, dot, sub};
 use crate::iteration_limits::{IterationLimits, LoopEnd};
 use crate::ltca::friction::{
-    cross_check, friction_coupling, solve_friction, solve_sliding, FrictionOptions,
-    FrictionProblem, FrictionSolver, PointState, MAX_ACTIVE_SET_ITERATIONS, MAX_SLIDING_ITERATIONS,
-    SLIDING_TOLERANCE,
+    cross_check, friction_coupling, solve_friction, solve_sliding, FrictionProblem, FrictionSolver,
+    PointState, MAX_ACTIVE_SET_ITERATIONS, MAX_SLIDING_ITERATIONS, SLIDING_TOLERANCE,
 };
 use crate::ltca::local::{cell_influence, hertz_line, Cell, LocalModel};
 use crate::ltca::qp::{
     condition_number, singular_on, solve_contact_qp, ContactQp, QpOptions, QpSolution,
 };
 use crate::tca::{LineKind, TcaPosition};
+
+pub use crate::ltca::friction_settings::{FrictionModel, LtcaFriction};
 
 /// Relative change of the Hertz half-widths at which their fixed point
 /// stops: 1 % moves the near-field term by (2/(π E*)) P′ ln(1.01), < 1e-3 of
@@ -72,99 +73,9 @@ pub struct LtcaSettings {
     pub condition: bool,
     /// Coulomb friction (seeds 001/003); `None`: frictionless.
     pub friction: Option<LtcaFriction>,
-}
-
-/// Coulomb friction in the LTCA: the problem of [`crate::ltca::friction`]
-/// on the candidates (C_nn with the near field as without friction; C_nt,
-/// C_tn, C_tt from the tensors along each point's tangent, the sliding
-/// direction), in load increments.
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct LtcaFriction {
-    pub mu: f64,
-    pub options: FrictionOptions,
-    /// Pinion speed ω₁ (rad/s) of the TCA velocities: the sliding
-    /// coefficient of a point is s = v_s / (ω₁ r_n) (sliding distance per
-    /// unit normal approach of the pinion's rotation, seeds 001/003).
-    pub pinion_speed_rad_s: f64,
-    /// Also solve every position by Lemke's method and report the
-    /// largest difference ([`crate::ltca::friction::cross_check`]).
-    pub cross_check: bool,
-    /// Which slip the friction resists.
-    pub model: FrictionModel,
-}
-
-impl LtcaFriction {
-    /// The checked settings of μ (`None` for μ = 0), `increments` equal
-    /// load steps and `model`, for a pinion at `speed_rpm` (friction needs
-    /// the sliding direction, i.e. a speed > 0; `source` names the scene).
-    pub fn checked(
-        mu: f64,
-        increments: usize,
-        model: FrictionModel,
-        cross_check: bool,
-        speed_rpm: f64,
-        source: &std::path::Path,
-    ) -> Result<Option<Self>, FlankError> {
-        if !(mu.is_finite() && (0.0..=1.0).contains(&mu)) {
-            return Err(FlankError::Model(format!(
-                "--friction-mu {mu}: a coefficient in [0, 1] is needed"
-            )));
-        }
-        if mu == 0.0 {
-            return Ok(None);
-        }
-        if !(1..=10_000).contains(&increments) {
-            return Err(FlankError::Model(format!(
-                "--increments {increments}: between 1 and 10000 load increments are needed"
-            )));
-        }
-        if !(speed_rpm > 0.0) {
-            return Err(FlankError::Model(format!(
-                "{}: friction needs the sliding direction, from [load] speed_rpm > 0 (got {speed_rpm})",
-                source.display()
-            )));
-        }
-        Ok(Some(LtcaFriction {
-            mu,
-            options: FrictionOptions {
-                increments: crate::ltca::friction::Increments::Count(increments),
-                ..Default::default()
-            },
-            pinion_speed_rad_s: speed_rpm * std::f64::consts::PI / 30.0,
-            cross_check,
-            model,
-        }))
-    }
-}
-
-/// What sets the slip, hence the friction direction, of the frictional
-/// LTCA (the physics behind each: [`crate::ltca::friction`]).
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    Default,
-    PartialEq,
-    Eq,
-    serde::Serialize,
-    serde::Deserialize,
-    clap::ValueEnum,
-)]
-#[serde(rename_all = "kebab-case")]
-pub enum FrictionModel {
-    /// Seeds 001/003: the torque in load increments, stick/slip/separation,
-    /// the slip per unit rotation ρ = r_t + s r_n with the kinematic
-    /// sliding coefficient s = v_s/(ω₁ r_n).
-    #[default]
-    Incremental,
-    /// The same with s = 0: the torque taken up at a standing position
-    /// against the held mate, what one static FE contact step with Coulomb
-    /// friction models (`flank run --friction-mu`).
-    Standstill,
-    /// The running mesh: fully developed sliding, P_t = μ P_n against the
-    /// kinematic sliding velocity at every loaded point
-    /// ([`crate::ltca::friction::solve_sliding`]).
-    Sliding,
+    /// μ per tooth pair (entry k − 1 for pinion tooth k), replacing
+    /// `friction.mu` (the wet–dry loop, [`crate::ltca::lubricated`]).
+    pub pair_mu: Option<Vec<f64>>,
 }
 
 impl Default for LtcaSettings {
@@ -177,6 +88,7 @@ impl Default for LtcaSettings {
             qp: QpOptions::default(),
             condition: false,
             friction: None,
+            pair_mu: None,
         }
     }
 }
@@ -605,6 +517,8 @@ impl LtcaBodies {
                             .map(|(&v, &rn)| 1e3 * v / (fr.pinion_speed_rad_s * rn))
                             .collect(),
                     };
+                    let point_mu =
+                        settings.point_mu(cands.iter().map(|c| tca.lines[c.line].pinion_tooth))?;
                     let problem = FrictionProblem {
                         c_nn: &f,
                         c_nt: &blocks[1],
@@ -615,6 +529,7 @@ impl LtcaBodies {
                         arm_tangential: &r_t,
                         sliding: &sliding,
                         mu: fr.mu,
+                        point_mu: point_mu.as_deref(),
                         torque,
                     };
                     if fr.model == FrictionModel::Sliding {

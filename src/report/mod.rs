@@ -3,6 +3,7 @@ pub mod cycle_plot;
 pub mod fe_pattern;
 pub mod figure;
 pub mod line_tca_plot;
+pub mod lubrication;
 pub mod solution;
 pub mod tca_plot;
 pub mod vh_plot;

@@ -258,6 +258,9 @@ pub(super) struct RawBevelScene {
     load: RawLoad,
     analyses: Option<RawAnalyses>,
     mesh: Option<RawMesh>,
+    /// Read only to refuse it by name (the lubricated analysis is spur and
+    /// helical only so far).
+    lubricant: Option<Spanned<toml::Value>>,
 }
 
 /// TOML value → JSON value (the blank inputs are read by their JSON reader).
@@ -365,6 +368,13 @@ pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<BevelScene> {
         return Err(cx.err(
             span,
             "`analyses.lubrication`: the lubricated analysis handles spur and helical pairs only so far".into(),
+        ));
+    }
+    if let Some(l) = &raw.lubricant {
+        return Err(cx.err(
+            l.span(),
+            "[lubricant]: the lubricated analysis handles spur and helical pairs only so far"
+                .into(),
         ));
     }
     let mesh = mesh::mesh_options(cx, raw.mesh.as_ref(), inputs.z1, blank.cones.m_mn)?;

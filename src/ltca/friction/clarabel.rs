@@ -185,7 +185,7 @@ pub(crate) fn step(
 ) -> Result<StepAnswer, FlankError> {
     let m = prob.m;
     let g_prev = gaps(prob, prev.pn, prev.pt, prev.theta);
-    let mut bound: Vec<f64> = prev.pn.iter().map(|&p| prob.mu * p.max(0.0)).collect();
+    let mut bound: Vec<f64> = (0..m).map(|i| prob.mu[i] * prev.pn[i].max(0.0)).collect();
     let mut dtheta_kin = 0.0;
     let mut inner = 0;
     let mut iterations = 0;
@@ -198,12 +198,12 @@ pub(crate) fn step(
         iterations += 1;
         let t = tresca(prob, prev, &g_prev, dtorque, &bound, dtheta_kin, options)?;
         inner += t.iterations;
-        let new_bound: Vec<f64> = t.pn.iter().map(|&p| prob.mu * p.max(0.0)).collect();
+        let new_bound: Vec<f64> = (0..m).map(|i| prob.mu[i] * t.pn[i].max(0.0)).collect();
         let db = (0..m).fold(0.0f64, |a, i| a.max((new_bound[i] - bound[i]).abs()));
-        let change = if prob.mu == 0.0 {
+        let change = if prob.mu_max == 0.0 {
             0.0
         } else {
-            (db / (prob.mu * prob.p0)).max((t.dtheta - dtheta_kin).abs() / ts)
+            (db / (prob.mu_max * prob.p0)).max((t.dtheta - dtheta_kin).abs() / ts)
         };
         bound = new_bound;
         dtheta_kin = t.dtheta;

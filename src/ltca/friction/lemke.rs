@@ -219,7 +219,7 @@ pub(crate) fn lemke(
 /// The LCP of the increment (module doc) for shift `c`.
 fn build(prob: &Prepared, prev: &Previous, torque: f64, c: f64) -> (DMatrix<f64>, Vec<f64>) {
     let m = prob.m;
-    let f = if prob.mu > 0.0 { m } else { 0 };
+    let f = if prob.mu_max > 0.0 { m } else { 0 };
     let n = m + 3 * f + 1;
     let (bp, bm, lam, th) = (m, m + f, m + 2 * f, m + 3 * f);
     let k = prob.p0 / prob.d0;
@@ -258,7 +258,7 @@ fn build(prob: &Prepared, prev: &Previous, torque: f64, c: f64) -> (DMatrix<f64>
         a[(bm + i, lam + i)] = 1.0;
         a[(bp + i, th)] = -rho;
         a[(bm + i, th)] = rho;
-        a[(lam + i, i)] = prob.mu;
+        a[(lam + i, i)] = prob.mu[i];
         a[(lam + i, bp + i)] = -1.0;
         a[(lam + i, bm + i)] = -1.0;
         a[(th, bp + i)] = prob.r_t[i] / r0;
@@ -279,7 +279,7 @@ pub(crate) fn step(
     options: &FrictionOptions,
 ) -> Result<StepAnswer, FlankError> {
     let m = prob.m;
-    let f = if prob.mu > 0.0 { m } else { 0 };
+    let f = if prob.mu_max > 0.0 { m } else { 0 };
     let th = m + 3 * f;
     let mut c = 1.0;
     for retry in 0..=SHIFT_RETRIES {

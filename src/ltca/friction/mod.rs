@@ -169,8 +169,13 @@ pub struct FrictionProblem<'a> {
     pub arm_tangential: &'a [f64],
     /// s: kinematic sliding along +t per unit normal approach.
     pub sliding: &'a [f64],
-    /// μ ≥ 0.
+    /// μ ≥ 0, the same at every point unless `point_mu` is given.
     pub mu: f64,
+    /// μᵢ ≥ 0 per point (M entries), replacing `mu`: the lubricated LTCA
+    /// gives each tooth pair its own traction coefficient
+    /// ([`crate::ltca::lubricated`]). Every condition of the module doc
+    /// holds pointwise with μᵢ.
+    pub point_mu: Option<&'a [f64]>,
     /// T ≥ 0 (N·mm), on the loaded member.
     pub torque: f64,
 }
@@ -179,6 +184,43 @@ impl FrictionProblem<'_> {
     /// Number of candidate points M.
     pub fn points(&self) -> usize {
         self.separation.len()
+    }
+
+    /// μ of point i.
+    pub fn mu_at(&self, i: usize) -> f64 {
+        self.point_mu.map_or(self.mu, |v| v[i])
+    }
+
+    /// The largest μ over the points (μ itself without `point_mu`).
+    pub fn mu_max(&self) -> f64 {
+        self.point_mu
+            .map_or(self.mu, |v| v.iter().fold(0.0f64, |a, &b| a.max(b)))
+    }
+
+    /// μ (or every μᵢ, M of them) finite and ≥ 0.
+    pub(crate) fn check_mu(&self, what: &str) -> Result<(), FlankError> {
+        if !(self.mu >= 0.0 && self.mu.is_finite()) {
+            return Err(FlankError::Model(format!(
+                "{what}: μ = {} must be finite and ≥ 0",
+                self.mu
+            )));
+        }
+        if let Some(v) = self.point_mu {
+            if v.len() != self.points() {
+                return Err(FlankError::Model(format!(
+                    "{what}: μ per point has {} entries for {} points",
+                    v.len(),
+                    self.points()
+                )));
+            }
+            if let Some(i) = v.iter().position(|x| !(*x >= 0.0 && x.is_finite())) {
+                return Err(FlankError::Model(format!(
+                    "{what}: μ[{i}] = {} must be finite and ≥ 0",
+                    v[i]
+                )));
+            }
+        }
+        Ok(())
     }
 }
 
@@ -328,7 +370,9 @@ pub(crate) struct Prepared {
     pub(crate) r_t: Vec<f64>,
     /// ρ = r_t + s r_n.
     pub(crate) rho: Vec<f64>,
-    pub(crate) mu: f64,
+    /// μᵢ per point and their largest value.
+    pub(crate) mu: Vec<f64>,
+    pub(crate) mu_max: f64,
     pub(crate) torque: f64,
     /// P₀ = T / min r_n (1 N if T = 0).
     pub(crate) p0: f64,
@@ -374,12 +418,9 @@ impl Prepared {
         ] {
             check_len(name, c, m * m)?;
         }
-        if !(pb.mu >= 0.0 && pb.mu.is_finite()) {
-            return Err(FlankError::Model(format!(
-                "friction LTCA: μ = {} must be finite and ≥ 0",
-                pb.mu
-            )));
-        }
+        pb.check_mu("friction LTCA")?;
+        let mu: Vec<f64> = (0..m).map(|i| pb.mu_at(i)).collect();
+        let mu_max = pb.mu_max();
         if !(pb.torque >= 0.0 && pb.torque.is_finite()) {
             return Err(FlankError::Model(format!(
                 "friction LTCA: torque {} N·mm must be finite and ≥ 0",
@@ -392,12 +433,12 @@ impl Prepared {
                 pb.arm_normal[i]
             )));
         }
-        if let Some(i) = (0..m).find(|&i| !(pb.arm_normal[i] > pb.mu * pb.arm_tangential[i].abs()))
+        if let Some(i) = (0..m).find(|&i| !(pb.arm_normal[i] > mu[i] * pb.arm_tangential[i].abs()))
         {
             return Err(FlankError::Model(format!(
                 "friction LTCA: self-locking at point {i}: r_n = {} ≤ μ|r_t| = {} (friction alone could carry the torque)",
                 pb.arm_normal[i],
-                pb.mu * pb.arm_tangential[i].abs()
+                mu[i] * pb.arm_tangential[i].abs()
             )));
         }
         let cmax = [pb.c_nn, pb.c_nt, pb.c_tn, pb.c_tt]
@@ -428,7 +469,7 @@ impl Prepared {
                 pb.c_nn[i * m + i]
             )));
         }
-        if pb.mu > 0.0 {
+        if mu_max > 0.0 {
             if let Some(i) = (0..m).find(|&i| !(pb.c_tt[i * m + i] > 0.0)) {
                 return Err(FlankError::Model(format!(
                     "friction LTCA: C_tt[{i}][{i}] = {} mm/N must be > 0",
@@ -442,7 +483,7 @@ impl Prepared {
         let c_nt = DMatrix::from_fn(m, m, |i, j| 0.5 * (pb.c_nt[i * m + j] + pb.c_tn[j * m + i]));
         let c_tn = c_nt.transpose();
         let max_diag = (0..m).fold(0.0f64, |a, i| a.max(c_nn[(i, i)]));
-        if pb.mu > 0.0 {
+        if mu_max > 0.0 {
             // the full compliance must be positive semidefinite (clarabel's
             // QP is convex only then); a shift of 1e-12 max diag forgives round-off
             let mut full = DMatrix::zeros(2 * m, 2 * m);
@@ -484,7 +525,8 @@ impl Prepared {
             rho: (0..m)
                 .map(|i| pb.arm_tangential[i] + pb.sliding[i] * pb.arm_normal[i])
                 .collect(),
-            mu: pb.mu,
+            mu,
+            mu_max,
             torque: pb.torque,
             p0,
             d0,

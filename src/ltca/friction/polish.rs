@@ -26,19 +26,19 @@ pub(crate) fn solve_states(
     state: &[PointState],
 ) -> Result<(Vec<f64>, Vec<f64>, f64), FlankError> {
     let m = prob.m;
-    let mu = prob.mu;
+    let mu = &prob.mu;
     let closed: Vec<usize> = (0..m)
         .filter(|&i| state[i] != PointState::Separated)
         .collect();
-    let stick: Vec<usize> = if mu > 0.0 {
+    let stick: Vec<usize> = if prob.mu_max > 0.0 {
         (0..m).filter(|&i| state[i] == PointState::Stick).collect()
     } else {
         Vec::new()
     };
     // σ for the P_n columns: the slip sign (P_t = σμP_n), 0 for stick
     let sigma = |j: usize| match state[j] {
-        PointState::SlipPositive => mu,
-        PointState::SlipNegative => -mu,
+        PointState::SlipPositive => mu[j],
+        PointState::SlipNegative => -mu[j],
         _ => 0.0,
     };
     let (nc, ns) = (closed.len(), stick.len());
@@ -146,10 +146,10 @@ pub(crate) fn update_states(
             if !closed {
                 return PointState::Separated;
             }
-            if prob.mu == 0.0 {
+            if prob.mu_max == 0.0 {
                 return PointState::Stick;
             }
-            let bound = prob.mu * pn[i].max(0.0);
+            let bound = prob.mu[i] * pn[i].max(0.0);
             match state[i] {
                 PointState::Stick => {
                     if pt[i].abs() <= bound + eps * p0 {

@@ -119,8 +119,8 @@ pub(crate) fn states(
         .map(|i| {
             if !(pn[i] / prob.p0 > gap[i] / prob.d0) {
                 PointState::Separated
-            } else if prob.mu > 0.0
-                && slip[i].abs() / prob.d0 > (prob.mu * pn[i] - pt[i].abs()) / prob.p0
+            } else if prob.mu_max > 0.0
+                && slip[i].abs() / prob.d0 > (prob.mu[i] * pn[i] - pt[i].abs()) / prob.p0
             {
                 if slip[i] > 0.0 {
                     PointState::SlipPositive
@@ -155,7 +155,7 @@ pub(crate) fn residuals(
         ..Residuals::default()
     };
     for i in 0..prob.m {
-        let bound = prob.mu * pn[i].max(0.0);
+        let bound = prob.mu[i] * pn[i].max(0.0);
         r.min_gap = r.min_gap.min(gap[i]);
         r.min_load = r.min_load.min(pn[i]);
         r.gap = r.gap.max(-gap[i] / d0);
@@ -163,7 +163,7 @@ pub(crate) fn residuals(
         r.complementarity = r
             .complementarity
             .max((pn[i].max(0.0) / p0).min(gap[i].abs() / d0));
-        r.cone = r.cone.max((pt[i].abs() - prob.mu * pn[i]) / p0);
+        r.cone = r.cone.max((pt[i].abs() - prob.mu[i] * pn[i]) / p0);
         let y = (pt[i] + kappa * slip[i]).clamp(-bound, bound);
         r.coulomb = r.coulomb.max((pt[i] - y).abs() / p0);
     }

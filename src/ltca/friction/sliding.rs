@@ -107,21 +107,16 @@ pub fn solve_sliding(
             )));
         }
     }
-    if !(pb.mu.is_finite() && pb.mu >= 0.0) {
-        return Err(FlankError::Model(format!(
-            "sliding friction: μ = {} must be ≥ 0",
-            pb.mu
-        )));
-    }
+    pb.check_mu("sliding friction")?;
     // the effective torque arm r_n + μ S r_t must stay positive: otherwise
     // friction alone could carry the torque (self-locking)
-    if let Some(i) =
-        (0..m).find(|&i| !(pb.arm_normal[i] + pb.mu * direction[i] * pb.arm_tangential[i] > 0.0))
+    if let Some(i) = (0..m)
+        .find(|&i| !(pb.arm_normal[i] + pb.mu_at(i) * direction[i] * pb.arm_tangential[i] > 0.0))
     {
         return Err(FlankError::Model(format!(
             "sliding friction: point {i} locks (r_n {:.4} + μ r_t {:.4} ≤ 0)",
             pb.arm_normal[i],
-            pb.mu * direction[i] * pb.arm_tangential[i]
+            pb.mu_at(i) * direction[i] * pb.arm_tangential[i]
         )));
     }
     let cnt = |i: usize, pt: &[f64]| (0..m).map(|j| pb.c_nt[i * m + j] * pt[j]).sum::<f64>();
@@ -152,7 +147,9 @@ pub fn solve_sliding(
             },
             qp,
         )?;
-        let next: Vec<f64> = (0..m).map(|i| pb.mu * direction[i] * s.load[i]).collect();
+        let next: Vec<f64> = (0..m)
+            .map(|i| pb.mu_at(i) * direction[i] * s.load[i])
+            .collect();
         if first_load.is_empty() {
             first_load = s.load.clone();
         }
@@ -163,7 +160,7 @@ pub fn solve_sliding(
             .fold(0.0f64, f64::max)
             / scale;
         converged = change <= SLIDING_TOLERANCE
-            || pb.mu == 0.0
+            || pb.mu_max() == 0.0
             || (change <= SLIDING_FLOOR && change >= 0.5 * previous);
         last = Some(s);
         if converged {
@@ -194,7 +191,9 @@ pub fn solve_sliding(
         if let Some((p, th, k)) = tried {
             normal = p;
             rotation = th;
-            pt = (0..m).map(|i| pb.mu * direction[i] * normal[i]).collect();
+            pt = (0..m)
+                .map(|i| pb.mu_at(i) * direction[i] * normal[i])
+                .collect();
             limit_hit = false;
             active_set_iterations = k;
         }
@@ -248,11 +247,11 @@ fn solve_loaded_set(
     let mut b = DVector::<f64>::zeros(k + 1);
     for (r, &i) in loaded.iter().enumerate() {
         for (c, &j) in loaded.iter().enumerate() {
-            a[(r, c)] = pb.c_nn[i * m + j] + pb.mu * pb.c_nt[i * m + j] * direction[j];
+            a[(r, c)] = pb.c_nn[i * m + j] + pb.mu_at(j) * pb.c_nt[i * m + j] * direction[j];
         }
         a[(r, k)] = -pb.arm_normal[i];
         b[r] = -pb.separation[i];
-        a[(k, r)] = pb.arm_normal[i] + pb.mu * direction[i] * pb.arm_tangential[i];
+        a[(k, r)] = pb.arm_normal[i] + pb.mu_at(i) * direction[i] * pb.arm_tangential[i];
     }
     b[k] = pb.torque;
     let x = a.lu().solve(&b)?;
@@ -284,7 +283,7 @@ fn active_set(
         let Some((p, th)) = solve_loaded_set(pb, direction, &set) else {
             return Ok(None);
         };
-        let pt: Vec<f64> = (0..m).map(|i| pb.mu * direction[i] * p[i]).collect();
+        let pt: Vec<f64> = (0..m).map(|i| pb.mu_at(i) * direction[i] * p[i]).collect();
         let scale = pb.c_nn.iter().fold(0.0f64, |a, &x| a.max(x.abs()))
             * p.iter().fold(0.0f64, |a, &x| a.max(x.abs()));
         let next: Vec<bool> = (0..m)
@@ -327,8 +326,14 @@ pub fn friction_coupling(pb: &FrictionProblem, normal: &[f64]) -> Option<f64> {
     let a = DMatrix::from_fn(k, k, |r, c| pb.c_nn[loaded[r] * m + loaded[c]]);
     let b = DMatrix::from_fn(k, k, |r, c| pb.c_nt[loaded[r] * m + loaded[c]]);
     let x = a.lu().solve(&b)?;
-    let s = x.singular_values();
-    Some(pb.mu * s.iter().fold(0.0f64, |acc, &v| acc.max(v)))
+    match pb.point_mu {
+        None => Some(pb.mu * x.singular_values().max()),
+        // μ per point: the map is C_nn⁻¹ C_nt diag(μ)
+        Some(mu) => {
+            let scaled = DMatrix::from_fn(k, k, |r, c| x[(r, c)] * mu[loaded[c]]);
+            Some(scaled.singular_values().max())
+        }
+    }
 }
 
 /// Largest relative residual of the sliding law (see [`SlidingAnswer`]).
@@ -356,7 +361,9 @@ fn sliding_residual(
         r = r.max((-gap[i]).max(0.0) / gscale);
         r = r.max((gap[i] * pn[i]).abs() / (gscale * pmax));
         r = r.max((-pn[i]).max(0.0) / pmax);
-        r = r.max((pt[i] - pb.mu * direction[i] * pn[i]).abs() / (pb.mu * pmax).max(1e-300));
+        r = r.max(
+            (pt[i] - pb.mu_at(i) * direction[i] * pn[i]).abs() / (pb.mu_max() * pmax).max(1e-300),
+        );
     }
     r
 }
@@ -400,6 +407,7 @@ mod tests {
                 arm_tangential: &[rt],
                 sliding: &[0.0],
                 mu,
+                point_mu: None,
                 torque: t,
             };
             let a = solve_sliding(&pb, &[dir], &QpOptions::default()).unwrap();
@@ -451,6 +459,7 @@ mod tests {
             arm_tangential: &rt,
             sliding: &x,
             mu,
+            point_mu: None,
             torque: 2e5,
         };
         let a = solve_sliding(&pb(0.08), &dir, &QpOptions::default()).unwrap();
@@ -491,6 +500,7 @@ mod tests {
             arm_tangential: &[-30.0],
             sliding: &[0.0],
             mu: 0.5,
+            point_mu: None,
             torque: 1e3,
         };
         let e = solve_sliding(&pb, &[0.5], &QpOptions::default()).unwrap_err();

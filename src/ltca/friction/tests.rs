@@ -36,6 +36,7 @@ impl Data {
             arm_tangential: &self.r_t,
             sliding: &self.s,
             mu: self.mu,
+            point_mu: None,
             torque: self.t,
         }
     }

@@ -1,0 +1,298 @@
+//! The outputs of the wet–dry loop of seed 002, the same for the FE mesh
+//! cycle ([`crate::mesh_cycle::lubricated`]) and the LTCA
+//! ([`crate::ltca::lubricated`]): `lubrication.csv` (final pass: per
+//! position and tooth pair W, P̄, R_x, R_y, u, v_s, slide-to-roll, h_c,
+//! h_min, λ, μ, friction force, power loss, flags), `lubrication_passes.csv`
+//! (μ used and μ from the EHL of every pass), plots of μ, h_c and power
+//! loss against roll angle, and the `lubrication` object of summary.json.
+//!
+//! The mesh power loss is the mean over the positions within one angular
+//! pitch around roll 0 (the cycle repeats every pitch) of Σ_pairs μ W |v_s|;
+//! efficiency 1 − P_loss/(T ω₁). The subsurface change per position is the
+//! largest principal shear below its contacts, last wet pass against the
+//! dry pass (seed 002 Fig. 10): the Hertz line-contact peak
+//! p₀ = √(w′ E′ / (2π R_x)) times the McEwen/Smith–Liu maximum for the μ
+//! the pass used ([`crate::lubrication::subsurface`]).
+
+use std::path::Path;
+
+use crate::error::FlankError;
+use crate::lubrication::{ContactEhl, LoopResult, LoopSettings, Lubricant};
+
+/// What the loop's outputs are made of.
+pub struct LoopOutputs<'a> {
+    /// Output directory.
+    pub out: &'a Path,
+    /// Roll angle of every position (deg).
+    pub angles: &'a [f64],
+    pub result: &'a LoopResult,
+    /// The contact solver's normal force per position and pair, per pass (N).
+    pub pass_forces: &'a [Vec<Vec<f64>>],
+    /// (pinion tooth, gear tooth) of every pair.
+    pub teeth: &'a [(usize, usize)],
+    pub settings: &'a LoopSettings,
+    pub lubricant: &'a Lubricant,
+    /// Angular pitch of the pinion (deg), its speed (rpm) and torque (N·mm).
+    pub pitch_deg: f64,
+    pub speed_rpm: f64,
+    pub torque_nmm: f64,
+    /// Poisson's ratio of the flanks (the mean of both bodies').
+    pub poisson: f64,
+    /// E′ (MPa) and the contact line length L (mm) of the operating points.
+    pub reduced_modulus_mpa: f64,
+    pub contact_length_mm: f64,
+}
+
+/// Writes the CSV files and plots and returns the `lubrication` object.
+pub fn write_loop_outputs(o: &LoopOutputs) -> Result<serde_json::Value, FlankError> {
+    let result = o.result;
+    let angles = o.angles;
+    let settings = o.settings;
+    let np = o.teeth.len();
+    let last = result.last();
+    write_contacts_csv(&o.out.join("lubrication.csv"), angles, &last.contacts)?;
+    write_passes_csv(&o.out.join("lubrication_passes.csv"), angles, result)?;
+
+    // cycle power loss: mean over one angular pitch around roll 0
+    let pitch = o.pitch_deg;
+    let loss: Vec<f64> = last
+        .contacts
+        .iter()
+        .map(|row| row.iter().flatten().map(|c| c.power_loss_w).sum())
+        .collect();
+    let window: Vec<usize> = (0..angles.len())
+        .filter(|&i| angles[i] >= -0.5 * pitch && angles[i] < 0.5 * pitch)
+        .collect();
+    let mut notes = Vec::new();
+    let used: Vec<usize> = if window.len() >= 2 {
+        window
+    } else {
+        notes.push(format!(
+            "fewer than two positions within one angular pitch ({pitch:.3}°) around roll 0: the power loss is the mean over all {} positions",
+            angles.len()
+        ));
+        (0..angles.len()).collect()
+    };
+    let power_loss_w = used.iter().map(|&i| loss[i]).sum::<f64>() / used.len().max(1) as f64;
+    let omega1 = o.speed_rpm * std::f64::consts::PI / 30.0;
+    let input_power_w = o.torque_nmm * omega1 * 1e-3;
+    let efficiency = 1.0 - power_loss_w / input_power_w;
+    let all: Vec<&ContactEhl> = last.contacts.iter().flatten().flatten().collect();
+    let mu_max = all.iter().map(|c| c.traction.mu).fold(0.0f64, f64::max);
+    let mu_min = all
+        .iter()
+        .map(|c| c.traction.mu)
+        .fold(f64::INFINITY, f64::min);
+    // largest subsurface shear under each contact, dry pass against the
+    // last wet pass (seed 002 Fig. 10): the Hertz line-contact peak
+    // p₀ = √(w′ E′ / (2π R_x)) (Johnson eq. 4.45 with E′ = 2E*; not the
+    // FE contact area, which one or two node rows resolve) times the
+    // McEwen/Smith–Liu maximum for the μ the pass used
+    let nu = o.poisson;
+    let tau_max = |pass: &crate::lubrication::wet_dry::Pass, i: usize, p: usize| -> Option<f64> {
+        let c = pass.contacts[i][p].as_ref()?;
+        let q = &c.point;
+        let p0 = (q.load_n / q.length_mm * q.reduced_modulus_mpa
+            / (2.0 * std::f64::consts::PI * q.radius_x_mm))
+            .sqrt();
+        if !(p0.is_finite() && p0 > 0.0) {
+            return None;
+        }
+        let mu = pass.mu_used[i][p].abs();
+        Some(p0 * crate::lubrication::subsurface::max_subsurface_shear(mu, nu))
+    };
+    let dry = &result.passes[0];
+    // per position: the largest over its contacts (as the paper's Fig. 10)
+    let position_max = |pass: &crate::lubrication::wet_dry::Pass, i: usize| -> Option<f64> {
+        (0..np).filter_map(|p| tau_max(pass, i, p)).reduce(f64::max)
+    };
+    let subsurface_change_pct: Vec<f64> = (0..angles.len())
+        .filter_map(|i| {
+            let (d, w) = (position_max(dry, i)?, position_max(last, i)?);
+            (d > 0.0).then(|| 100.0 * (w / d - 1.0))
+        })
+        .collect();
+    let count = |f: &dyn Fn(&ContactEhl) -> bool| all.iter().filter(|c| f(c)).count();
+    use crate::lubrication::{FilmFlag, TractionFlag};
+    let flags = serde_json::json!({
+        "contacts": all.len(),
+        "outside_ellipticity_range": count(&|c| c.film.flags.contains(&FilmFlag::OutsideEllipticityRange)),
+        "point_contact_in_line_fit": count(&|c| c.film.flags.contains(&FilmFlag::PointContactInLineFit)),
+        "not_eyring": count(&|c| c.traction.flags.contains(&TractionFlag::NotEyring)),
+        "isothermal_below_thermal": count(&|c| c.traction.flags.contains(&TractionFlag::IsothermalBelowThermal)),
+        "thermal_formula_not_positive": count(&|c| c.traction.flags.contains(&TractionFlag::ThermalFormulaNotPositive)),
+        "outside_path": count(&|c| c.point.outside_path),
+    });
+    // plots
+    let series = |f: &dyn Fn(&ContactEhl) -> f64| -> Vec<(String, Vec<(f64, f64)>)> {
+        (0..np)
+            .map(|p| {
+                let (k, m) = o.teeth[p];
+                (
+                    format!("pinion tooth {k} / gear tooth {m}"),
+                    (0..angles.len())
+                        .filter_map(|i| last.contacts[i][p].as_ref().map(|c| (angles[i], f(c))))
+                        .collect(),
+                )
+            })
+            .collect()
+    };
+    let mut files = Vec::new();
+    for (stem, title, y, f) in [
+        (
+            "lubrication_mu",
+            "Traction coefficient (Evans & Johnson), wet pass",
+            "μ",
+            (&|c: &ContactEhl| c.traction.mu) as &dyn Fn(&ContactEhl) -> f64,
+        ),
+        (
+            "lubrication_film",
+            "Central film thickness",
+            "h_c (µm)",
+            &|c: &ContactEhl| c.film.central * 1e3,
+        ),
+        (
+            "lubrication_power_loss",
+            "Sliding power loss μ W |v_s|",
+            "power loss (W)",
+            &|c: &ContactEhl| c.power_loss_w,
+        ),
+    ] {
+        match crate::report::cycle_plot::plot_series(
+            o.out,
+            stem,
+            title,
+            "pinion roll angle (deg)",
+            y,
+            &series(f),
+        ) {
+            Ok(v) => files.extend(v),
+            Err(e) => notes.push(format!("plot {stem} not written: {e}")),
+        }
+    }
+    let passes: Vec<serde_json::Value> = result
+        .passes
+        .iter()
+        .zip(o.pass_forces)
+        .map(|(p, f)| {
+            serde_json::json!({
+                "pass": p.index,
+                "kind": if p.index == 0 { "dry" } else { "wet" },
+                "mu_used_max": p.mu_used.iter().flatten().fold(0.0f64, |a, &b| a.max(b)),
+                "mu_ehl_max": p.contacts.iter().flatten().flatten().map(|c| c.traction.mu).fold(0.0f64, f64::max),
+                "mu_change_rel": p.change_rel,
+                "mu_change_at": p.change_at.map(|(i, q)| serde_json::json!({"roll_deg": angles[i], "tooth_pair": q + 1})),
+                "pair_force_n": f,
+            })
+        })
+        .collect();
+    let summary = serde_json::json!({
+        "iterations": result.iterations,
+        "converged": result.converged,
+        "mu_max": mu_max,
+        "mu_min": if mu_min.is_finite() { Some(mu_min) } else { None },
+        "mu_last_change_rel": result.mu_last_change_rel,
+        "subsurface_change_max_pct": subsurface_change_pct.iter().cloned().reduce(f64::max),
+        "subsurface_change_min_pct": subsurface_change_pct.iter().cloned().reduce(f64::min),
+        "subsurface_stress": "per position the largest principal shear below its contacts, Hertz line contacts with the pass's sliding friction (McEwen 1949, Smith & Liu 1953; lubrication::subsurface), last wet pass against the dry pass",
+        "power_loss_w": power_loss_w,
+        "efficiency": efficiency,
+        "input_power_w": input_power_w,
+        "power_loss_positions": used.len(),
+        "initial_mu": settings.initial_mu,
+        "tolerance": settings.tolerance,
+        "max_iterations": settings.max_iterations,
+        "film_model": settings.film.name(),
+        "mean_pressure": settings.mean_pressure.name(),
+        "reduced_modulus_mpa": o.reduced_modulus_mpa,
+        "contact_length_mm": o.contact_length_mm,
+        "lubricant": o.lubricant,
+        "flags": flags,
+        "passes": passes,
+        "files": {"csv": ["lubrication.csv", "lubrication_passes.csv"], "plots": files},
+        "notes": notes,
+        "warnings": result.warnings,
+    });
+    Ok(summary)
+}
+
+fn flag_text(c: &ContactEhl) -> String {
+    let mut v: Vec<String> = c
+        .film
+        .flags
+        .iter()
+        .map(|f| format!("{f:?}"))
+        .chain(c.traction.flags.iter().map(|f| format!("{f:?}")))
+        .collect();
+    if c.point.outside_path {
+        v.push("OutsidePath".into());
+    }
+    v.join(" ")
+}
+
+fn write_contacts_csv(
+    path: &Path,
+    angles: &[f64],
+    contacts: &[Vec<Option<ContactEhl>>],
+) -> Result<(), FlankError> {
+    use std::fmt::Write as _;
+    let mut s = String::from("roll_deg,tooth_pair,load_n,mean_pressure_mpa,other_mean_pressure_mpa,radius_x_mm,radius_y_mm,entraining_speed_m_s,sliding_speed_m_s,slide_to_roll,central_film_um,minimum_film_um,lambda_ratio,zeta,mu,mu_thermal,friction_force_n,power_loss_w,flags\n");
+    for (i, row) in contacts.iter().enumerate() {
+        for (p, c) in row.iter().enumerate() {
+            let Some(c) = c else { continue };
+            let o = &c.point;
+            let _ = writeln!(
+                s,
+                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                angles[i],
+                p + 1,
+                o.load_n,
+                o.mean_pressure_mpa,
+                o.other_mean_pressure_mpa,
+                o.radius_x_mm,
+                if o.radius_y_mm.is_finite() {
+                    o.radius_y_mm.to_string()
+                } else {
+                    "line".into()
+                },
+                o.entraining_speed_mm_s * 1e-3,
+                o.sliding_speed_mm_s * 1e-3,
+                o.slide_to_roll(),
+                c.film.central * 1e3,
+                c.film.minimum * 1e3,
+                c.lambda_ratio.map_or(String::new(), |l| l.to_string()),
+                c.traction.zeta,
+                c.traction.mu,
+                c.traction.mu_thermal,
+                c.friction_force_n,
+                c.power_loss_w,
+                flag_text(c)
+            );
+        }
+    }
+    crate::atomic_file::write(path, s)
+}
+
+fn write_passes_csv(path: &Path, angles: &[f64], r: &LoopResult) -> Result<(), FlankError> {
+    use std::fmt::Write as _;
+    let mut s = String::from("pass,roll_deg,tooth_pair,mu_used,mu_ehl,load_n,central_film_um\n");
+    for pass in &r.passes {
+        for (i, row) in pass.contacts.iter().enumerate() {
+            for (p, c) in row.iter().enumerate() {
+                let Some(c) = c else { continue };
+                let _ = writeln!(
+                    s,
+                    "{},{},{},{},{},{},{}",
+                    pass.index,
+                    angles[i],
+                    p + 1,
+                    pass.mu_used[i][p],
+                    c.traction.mu,
+                    c.point.load_n,
+                    c.film.central * 1e3
+                );
+            }
+        }
+    }
+    crate::atomic_file::write(path, s)
+}
