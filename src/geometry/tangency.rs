@@ -442,8 +442,11 @@ pub fn solve(
             let f2 = turned(gear, turn, psi);
             let out = f2.rotate(edge.outward(gear.surface, e.gear_uv));
             let m = unit(add(out, -dot(out, e.n2), e.n2));
-            // seen from the gear, the normal into the pinion is n₂
-            (e.residual[3].abs(), dot(e.n2, m))
+            // as for the pinion's edge with the roles swapped: the mating
+            // (pinion) flank's normal into its own body, −n₁, across the
+            // gear's edge (m lies in the gear's tangent plane, so n₂·m,
+            // used here before, is 0 by construction)
+            (e.residual[3].abs(), -dot(e.n1, m))
         }
     };
     Ok(Tangency {
@@ -599,6 +602,52 @@ mod tests {
         // flank contact from the same seed sits beyond the tip (u > 0.6)
         let f = solve(ContactSystem::Flank, &placed(&pinion), &g, &turn, &seed).unwrap();
         assert!(f.pinion_uv[0] > 0.6, "{:?}", f.pinion_uv);
+    }
+
+    /// The mirror of [`tip_edge_against_a_flank`]: the small ball is the
+    /// gear (its tip edge u = 0.6), the large one the pinion, fixed; the
+    /// gear turns until its edge touches. The lean is measured the same
+    /// way from the gear's side (the share of the pinion's contact normal,
+    /// into the pinion, that leans out across the gear's edge): > 0 here,
+    /// as the flank contact from the same seed lies beyond the gear's tip.
+    #[test]
+    fn gear_tip_edge_against_a_pinion_flank() {
+        let gear = Ball {
+            c: [0.0, 0.0, 0.0],
+            r: 10.0,
+        };
+        let pinion = Ball {
+            c: [0.0, 0.0, 0.0],
+            r: 200.0,
+        };
+        let a: f64 = 0.9;
+        let centre = [210.0 * a.cos(), 210.0 * a.sin(), 0.0];
+        let frame = Frame::about_z(a + std::f64::consts::PI, centre);
+        let p = PlacedFlank {
+            surface: &pinion,
+            frame,
+        };
+        let turn = GearTurn {
+            point: [0.0, 300.0, 0.0],
+            axis: [0.0, 0.0, 1.0],
+        };
+        let seed = TangencySeed {
+            pinion_uv: [0.0, 0.0],
+            gear_uv: [0.6, 0.01],
+            turn: 0.0,
+        };
+        let sys = ContactSystem::GearEdge(Edge::Tip);
+        let t = solve(sys, &p, &placed(&gear), &turn, &seed).unwrap();
+        assert_eq!(t.gear_uv[0], 0.6);
+        assert!(t.tangency_residual < 1e-10 && t.point_residual < 1e-10);
+        assert!(t.edge_lean > 1e-3, "{}", t.edge_lean);
+        // touching, not cutting: the pinion ball's closest point to the
+        // contact point is the point itself
+        let own = frame.rotate_back(sub(t.point, frame.translation));
+        let (_, _, dist) = closest_point_newton(&pinion, own, 0.0, 0.0);
+        assert!(dist.abs() < 1e-9, "{dist}");
+        let f = solve(ContactSystem::Flank, &p, &placed(&gear), &turn, &seed).unwrap();
+        assert!(f.gear_uv[0] > 0.6, "{:?}", f.gear_uv);
     }
 
     #[test]

@@ -433,11 +433,13 @@ fn trace(
             });
             return Ok((out, false));
         };
-        // the edge contact from the crossing, then at this grid roll
+        // the edge contact from the crossing, then at this grid roll, where
+        // it must hold. At the crossing itself the flank normal lies in the
+        // edge's plane (lean 0 in exact arithmetic), so whether it holds
+        // there is round-off; it only seeds the solve at the grid roll
         let at_crossing = solve_at(pair, b, edge_system, &last.seed());
         let here = at_crossing
             .ok()
-            .filter(|t| edge_holds(pair, t))
             .and_then(|t| solve_at(pair, roll, edge_system, &t.seed()).ok())
             .filter(|t| edge_holds(pair, t));
         transitions.push(Transition {
