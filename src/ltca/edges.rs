@@ -40,7 +40,8 @@
 //! * **Toe and heel edges** run across the face, but the LTCA's cells are
 //!   laid out with the line along the face parameter v; toe/heel edge
 //!   contacts are therefore not candidates ([`EdgeLine::Unsupported`]),
-//!   reported by the caller. (Seed 000's tilted pair has only tip edges.)
+//!   reported by the caller. (Seed 000's tilted pair has a gear heel edge
+//!   contact 53–64 µm off its TE envelope, beyond the candidate span.)
 
 use crate::error::FlankError;
 use crate::geometry::contact_curvature::FlankAtContact;
