@@ -8,11 +8,15 @@
 //! section refinement). Target (issue 17): a cycle with ellipses and edge
 //! checks under 50 ms.
 //!
-//! Criterion medians (2 threads, 2-core machine, 10 samples): 61.1 ms
-//! with curvature ellipses (target missed by 22 %; 307 Newton steps, 74
-//! positions: ≈ 0.2 ms a tangency solve on the face-hobbed surfaces, whose
-//! every evaluation is an envelope solve), 4.2 s with the search (≈ 30 ms a
-//! searched ellipse, 1 300 separation probes of two section points each).
+//! Criterion medians (2 threads, 2-core machine, 10 samples, 2026-11-26,
+//! after the gear-edge lean fix: 91 positions, 358 Newton steps, 4
+//! transitions): **49.6 ms** (45.8–52.2 ms) with curvature ellipses,
+//! target 50 ms met at the median only; 5.15 s with the search (≈ 30 ms a
+//! searched ellipse). Before the crossing check was screened
+//! (`tca::crossing`) the same cycle took about 2.8 s, 98 % of it in the
+//! check's 22 950 exact closest points on face-hobbed flanks (each an
+//! envelope solve per evaluation); the figure of 61 ms measured before the
+//! check existed had not been updated.
 //!
 //! `cargo bench --bench tca`.
 
