@@ -1,7 +1,7 @@
 //! A whole point-contact TCA cycle (`flank::tca::point_contact`) of seed
 //! 000's hypoid pair (`papers/seed000-hypoid/scene.toml`, both members
 //! face-hobbed): the middle pair traced at 30 positions a pitch over its
-//! whole engagement (≈ 72 positions, 2.4 pitches, every pair in mesh read
+//! whole engagement (91 positions, 3.0 pitches, every pair in mesh read
 //! off the trace), flank and edge systems with the bisected transitions,
 //! curvature ellipses and velocities at every traced point; with and
 //! without the numerical ellipse search (18 planes over 180°, golden-
