@@ -40,7 +40,7 @@
 use crate::geometry::frame::Frame;
 use crate::geometry::gear_pair::{Flank, PairPlacement};
 use crate::geometry::surface::ToothSurface;
-use crate::geometry::vec3::{dot, norm, sub, V3};
+use crate::geometry::vec3::{dot, norm, solve3, sub, V3};
 
 /// Grid over the pinion's active flank: profile × face points.
 pub const CROSSING_GRID: (usize, usize) = (9, 17);
@@ -181,7 +181,7 @@ impl Screen {
                 }
                 rows.push((row, h));
             }
-            let ii = solve3(ata, atb)?;
+            let ii = solve3(&ata, atb)?;
             let error = rows
                 .iter()
                 .map(|(row, h)| (row[0] * ii[0] + row[1] * ii[1] + row[2] * ii[2] - h).abs())
@@ -258,27 +258,6 @@ fn neighbours(k: usize) -> impl Iterator<Item = usize> {
         .flat_map(move |dj| (-1i64..=1).map(move |di| (i + di, j + dj)))
         .filter(move |&(a, b)| (a, b) != (i, j) && a >= 0 && a < nu && b >= 0 && b < nv)
         .map(move |(a, b)| (b * nu + a) as usize)
-}
-
-/// 3 × 3 linear solve by Cramer's rule; `None` when singular.
-fn solve3(a: [[f64; 3]; 3], b: [f64; 3]) -> Option<[f64; 3]> {
-    let det = |m: [[f64; 3]; 3]| {
-        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-    };
-    let d = det(a);
-    let scale = a.iter().flatten().map(|x| x.abs()).fold(0.0, f64::max);
-    if !(d.abs() > 1e-14 * scale * scale * scale) {
-        return None;
-    }
-    Some(std::array::from_fn(|c| {
-        let mut m = a;
-        for r in 0..3 {
-            m[r][c] = b[r];
-        }
-        det(m) / d
-    }))
 }
 
 /// The crossing check of one pair over a TCA (module docs): the pinion
