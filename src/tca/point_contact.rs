@@ -14,11 +14,13 @@
 //!   is read off the trace.
 //! * **Flank and edge systems** (seed `000_…`): the flank system holds
 //!   while its contact lies on both active flanks (form line to tip, toe to
-//!   heel). Where it leaves them the crossing is located by bisection and,
-//!   with edges on, the trace goes on with the edge system of the boundary
-//!   crossed: beyond the pinion's tip (toe, heel) the pinion's tip (toe,
-//!   heel) edge against the gear flank, beyond the gear's the gear's edge
-//!   against the pinion flank. An edge contact holds while its point stays
+//!   heel). Where it leaves them the crossing is located (regula falsi on
+//!   the contact's distance to the flanks' boundaries, safeguarded by
+//!   bisection) and, with edges on, the trace goes on with the edge system
+//!   that takes over: each of the six edges (pinion or gear tip, toe,
+//!   heel, against the mating flank) is solved at the next grid roll, and
+//!   of those that hold the one that stops the gear first (largest lag, as
+//!   for the TE envelope below) is the contact. An edge contact holds while its point stays
 //!   on the edge and on the mating active flank and the mating flank rests
 //!   on the edge (lean > 0, [`crate::geometry::tangency::Tangency::edge_lean`]).
 //!   Each change of system is reported with its roll angle. The trace is
@@ -401,66 +403,212 @@ fn trace(
         }
         // locate the change between the previous roll and this one
         let roll_prev = (index - dir) as f64 * h;
-        let (mut a, mut b) = (roll_prev, roll);
-        let mut last = prev;
-        for _ in 0..40 {
-            let m = 0.5 * (a + b);
-            match solve_at(pair, m, system, &last.seed()) {
-                Ok(t)
-                    if (system == ContactSystem::Flank && crossed(pair, &t).is_none())
-                        || (system != ContactSystem::Flank && edge_holds(pair, &t)) =>
-                {
-                    last = t;
-                    a = m;
-                }
-                _ => b = m,
-            }
-        }
-        let next = if system == ContactSystem::Flank && settings.edges {
-            // the flank contact just past the crossing says which edge
-            solve_at(pair, b, ContactSystem::Flank, &last.seed())
-                .ok()
-                .and_then(|t| crossed(pair, &t))
-                .flatten()
+        let at_b = solved.ok().map(|t| holding_margin(pair, &t));
+        let (a, b, last) = locate_change(pair, system, (roll_prev, prev), (roll, at_b));
+        // which edge takes over: every edge system solved just past the
+        // crossing and then at this grid roll; of those that hold, the one
+        // that stops the gear first (module docs)
+        let here = if system == ContactSystem::Flank && settings.edges {
+            let uv = |t: &Tangency| [t.pinion_uv, t.gear_uv];
+            let moved = uv(&prev)
+                .iter()
+                .zip(uv(&last))
+                .map(|(p, l)| (p[0] - l[0]).hypot(p[1] - l[1]))
+                .fold(0.0, f64::max);
+            take_over(pair, b, roll, &last, moved, newton)
         } else {
             None
         };
-        let Some(edge_system) = next else {
-            transitions.push(Transition {
-                roll_rad: 0.5 * (a + b),
-                from: system.name(),
-                to: "none".into(),
-            });
-            return Ok((out, false));
-        };
-        // the edge contact from the crossing, then at this grid roll, where
-        // it must hold. At the crossing itself the flank normal lies in the
-        // edge's plane (lean 0 in exact arithmetic), so whether it holds
-        // there is round-off; it only seeds the solve at the grid roll
-        let at_crossing = solve_at(pair, b, edge_system, &last.seed());
-        let here = at_crossing
-            .ok()
-            .and_then(|t| solve_at(pair, roll, edge_system, &t.seed()).ok())
-            .filter(|t| edge_holds(pair, t));
         transitions.push(Transition {
             roll_rad: 0.5 * (a + b),
             from: system.name(),
-            to: if here.is_some() {
-                edge_system.name()
-            } else {
-                "none".into()
-            },
+            to: here.map_or_else(|| "none".into(), |t| t.system.name()),
         });
         let Some(t) = here else {
             return Ok((out, false));
         };
-        newton.steps += t.iterations;
-        system = edge_system;
+        system = t.system;
         prev_prev = None;
         prev = t;
         out.push(Traced { index, contact: t });
     }
     Ok((out, true))
+}
+
+/// The edge systems a flank contact can hand over to.
+const EDGE_SYSTEMS: [ContactSystem; 6] = [
+    ContactSystem::PinionEdge(Edge::Tip),
+    ContactSystem::PinionEdge(Edge::Toe),
+    ContactSystem::PinionEdge(Edge::Heel),
+    ContactSystem::GearEdge(Edge::Tip),
+    ContactSystem::GearEdge(Edge::Toe),
+    ContactSystem::GearEdge(Edge::Heel),
+];
+
+/// How far a flank contact lies inside each edge of the active flanks
+/// (mm in the flanks' (u, v); < 0 beyond it), in [`EDGE_SYSTEMS`]' order.
+fn edge_distances(pair: &dyn PairPlacement, t: &Tangency) -> [f64; 6] {
+    let km = pair.middle();
+    let ps = pair.pinion().flank(Flank::Right, km).unwrap();
+    let gs = pair.gear().flank(Flank::Right, pair.mate(km)).unwrap();
+    let three = |s: &dyn ToothSurface, [u, v]: [f64; 2]| {
+        let (v0, v1) = s.v_range();
+        [s.u_tip(v) - u, v - v0, v1 - v]
+    };
+    let (p, g) = (three(ps, t.pinion_uv), three(gs, t.gear_uv));
+    [p[0], p[1], p[2], g[0], g[1], g[2]]
+}
+
+/// The edge contact that takes over where the flank contact `last` leaves
+/// the active flanks (just before roll `past`), at the grid roll `roll`.
+/// The candidates are the edges the contact is near: within twice the
+/// distance it moved over the last grid step (`moved`, mm) of the flank
+/// solution just past the crossing (the contact moves continuously from
+/// the flank onto an edge). Each is solved at `past` from `last` (at the
+/// crossing the mating normal lies in the edge's plane, lean 0 in exact
+/// arithmetic, so that solve only seeds) and then at `roll`, where it must
+/// hold; of those that hold, the one with the largest gear lag, the
+/// feature that stops the gear first (the TE envelope's rule applied to
+/// the edges). Trying every near edge, rather than only the one whose
+/// boundary the flank solution just past the crossing lies beyond, makes
+/// the choice independent of how precisely the crossing is located (two
+/// boundaries can be a round-off apart there).
+fn take_over(
+    pair: &dyn PairPlacement,
+    past: f64,
+    roll: f64,
+    last: &Tangency,
+    moved: f64,
+    newton: &mut NewtonTally,
+) -> Option<Tangency> {
+    let sense2 = pair.rotation_axes()[1][2].signum();
+    let beyond = solve_at(pair, past, ContactSystem::Flank, &last.seed()).unwrap_or(*last);
+    let near = edge_distances(pair, &beyond).map(|d| d <= 2.0 * moved + 1e-3);
+    let mut best: Option<Tangency> = None;
+    for (system, _) in EDGE_SYSTEMS.into_iter().zip(near).filter(|(_, n)| *n) {
+        let seed = solve_at(pair, past, system, &last.seed())
+            .map(|t| t.seed())
+            .unwrap_or_else(|_| last.seed());
+        let Ok(t) = solve_at(pair, roll, system, &seed) else {
+            continue;
+        };
+        newton.steps += t.iterations;
+        if edge_holds(pair, &t) && best.is_none_or(|b| sense2 * t.turn > sense2 * b.turn) {
+            best = Some(t);
+        }
+    }
+    best
+}
+
+/// The bracket of [`locate_change`] shrinks to this share of the grid
+/// step (h/2⁴⁰, the 40 bisections it replaced).
+const CHANGE_WIDTH: f64 = 1.0 / (1u64 << 40) as f64;
+/// Solves [`locate_change`] may spend (it needs about 10; bisection
+/// alone needs 40).
+const CHANGE_SOLVES: usize = 120;
+
+/// How far a solved contact lies inside the region where its system holds
+/// (mm; ≥ 0 inside, < 0 outside): the least distance in (u, v) to the
+/// active flanks' boundaries (form line, tip, toe, heel) and, for an edge
+/// system, to the edge's ends and the edge lean (10 mm per unit share). It
+/// only guides [`locate_change`]'s trial rolls: whether a contact holds is
+/// decided by [`crossed`] and [`edge_holds`].
+fn holding_margin(pair: &dyn PairPlacement, t: &Tangency) -> f64 {
+    let km = pair.middle();
+    let ps = pair.pinion().flank(Flank::Right, km).unwrap();
+    let gs = pair.gear().flank(Flank::Right, pair.mate(km)).unwrap();
+    let face = |s: &dyn ToothSurface, v: f64| {
+        let (v0, v1) = s.v_range();
+        (v - v0).min(v1 - v)
+    };
+    let profile = |s: &dyn ToothSurface, [u, v]: [f64; 2]| (s.u_tip(v) - u).min(u - s.u_form(v));
+    let flank = |s: &dyn ToothSurface, uv: [f64; 2]| {
+        let f = face(s, uv[1]);
+        // the form line is a Newton of envelope solves: not asked off the face
+        if f < 0.0 {
+            f
+        } else {
+            f.min(profile(s, uv))
+        }
+    };
+    let edge = |s: &dyn ToothSurface, e: Edge, uv: [f64; 2]| match e {
+        Edge::Tip => face(s, uv[1]),
+        Edge::Toe | Edge::Heel => profile(s, uv),
+    };
+    match t.system {
+        ContactSystem::Flank => flank(ps, t.pinion_uv).min(flank(gs, t.gear_uv)),
+        ContactSystem::PinionEdge(e) => (10.0 * t.edge_lean)
+            .min(edge(ps, e, t.pinion_uv))
+            .min(flank(gs, t.gear_uv)),
+        ContactSystem::GearEdge(e) => (10.0 * t.edge_lean)
+            .min(edge(gs, e, t.gear_uv))
+            .min(flank(ps, t.pinion_uv)),
+    }
+}
+
+/// Where `system` stops holding between roll a (it holds there: the
+/// contact `at_a`) and roll b (it does not; the margin of its solution
+/// there, `None` when it did not solve): the bracket [a, b] shrunk to
+/// [`CHANGE_WIDTH`] of its width, and the last contact that holds. Trial
+/// rolls by regula falsi on [`holding_margin`] with the Illinois halving,
+/// a bisection when the margin at b is unknown or the bracket did not
+/// halve in two trials; each trial solved from the last contact that
+/// holds. Bounded by [`CHANGE_SOLVES`] solves (the bracket is then wider).
+fn locate_change(
+    pair: &dyn PairPlacement,
+    system: ContactSystem,
+    (a0, at_a): (f64, Tangency),
+    (b0, margin_b): (f64, Option<f64>),
+) -> (f64, f64, Tangency) {
+    let holds = |t: &Tangency| match system {
+        ContactSystem::Flank => crossed(pair, t).is_none(),
+        _ => edge_holds(pair, t),
+    };
+    let width = (b0 - a0).abs() * CHANGE_WIDTH;
+    let (mut a, mut b, mut last) = (a0, b0, at_a);
+    let mut ga = holding_margin(pair, &at_a).max(0.0);
+    let mut gb = margin_b.filter(|g| g.is_finite() && *g <= 0.0);
+    // which end was kept by the last trial (Illinois), and the bracket's
+    // width two trials ago
+    let mut kept: Option<bool> = None;
+    let mut widths = [(b - a).abs(); 2];
+    for _ in 0..CHANGE_SOLVES {
+        if (b - a).abs() <= width {
+            break;
+        }
+        let secant = match gb {
+            Some(g) if ga - g > 0.0 && (b - a).abs() <= 0.5 * widths[0] => {
+                Some((ga / (ga - g)).clamp(1e-3, 1.0 - 1e-3))
+            }
+            _ => None,
+        };
+        let share = secant.unwrap_or(0.5);
+        let m = a + share * (b - a);
+        widths = [widths[1], (b - a).abs()];
+        match solve_at(pair, m, system, &last.seed()) {
+            Ok(t) if holds(&t) => {
+                last = t;
+                a = m;
+                ga = holding_margin(pair, &t).max(0.0);
+                if kept == Some(false) {
+                    gb = gb.map(|g| 0.5 * g);
+                }
+                kept = Some(false);
+            }
+            solved => {
+                b = m;
+                gb = solved
+                    .ok()
+                    .map(|t| holding_margin(pair, &t))
+                    .filter(|g| g.is_finite() && *g <= 0.0);
+                if kept == Some(true) {
+                    ga *= 0.5;
+                }
+                kept = Some(true);
+            }
+        }
+    }
+    (a, b, last)
 }
 
 /// Axial-section projection of an own-frame point (module docs of
