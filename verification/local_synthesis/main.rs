@@ -40,7 +40,8 @@ fn scene(targets: Option<&str>, name: &str) -> Result<BevelScene, String> {
             let start = text.find("[pinion.synthesis]").unwrap();
             let end = start + text[start..].find("\n\n").unwrap();
             let text = format!("{}[pinion.synthesis]\n{t}{}", &text[..start], &text[end..]);
-            let dir = std::env::temp_dir().join(format!("flank_local_synthesis_{}", std::process::id()));
+            let dir =
+                std::env::temp_dir().join(format!("flank_local_synthesis_{}", std::process::id()));
             std::fs::create_dir_all(&dir).unwrap();
             let p = dir.join(name);
             std::fs::write(&p, text).unwrap();
@@ -122,7 +123,9 @@ fn measure(s: &BevelScene, approach_mm: f64) -> Figures {
     let (lag, points) = fit(centre, 2, &|c| c.gear_lag_rad);
     let (v, _) = fit(centre, 1, &|c| c.projection_mm[1][0]);
     let (u, _) = fit(centre, 1, &|c| c.projection_mm[1][1]);
-    let (major, _) = fit(centre, 1, &|c| 2.0 * c.ellipse.unwrap().semi_major_mm.unwrap());
+    let (major, _) = fit(centre, 1, &|c| {
+        2.0 * c.ellipse.unwrap().semi_major_mm.unwrap()
+    });
     let mut path = u[1].atan2(v[1]);
     if path > 0.5 * PI {
         path -= PI;
@@ -145,9 +148,18 @@ fn check(name: &str, f: &Figures, path_deg: f64, major_mm: f64, level_arcsec: f6
         f.mean_roll_deg, f.points, f.path_angle_deg, f.major_axis_mm, f.te_level_arcsec
     );
     assert!(f.points >= 9, "{f:?}");
-    assert!((f.path_angle_deg - path_deg).abs() <= PATH_TOL_DEG, "{name}: {f:?}");
-    assert!((f.major_axis_mm / major_mm - 1.0).abs() <= MAJOR_AXIS_TOL, "{name}: {f:?}");
-    assert!((f.te_level_arcsec / level_arcsec - 1.0).abs() <= TE_LEVEL_TOL, "{name}: {f:?}");
+    assert!(
+        (f.path_angle_deg - path_deg).abs() <= PATH_TOL_DEG,
+        "{name}: {f:?}"
+    );
+    assert!(
+        (f.major_axis_mm / major_mm - 1.0).abs() <= MAJOR_AXIS_TOL,
+        "{name}: {f:?}"
+    );
+    assert!(
+        (f.te_level_arcsec / level_arcsec - 1.0).abs() <= TE_LEVEL_TOL,
+        "{name}: {f:?}"
+    );
 }
 
 /// (a) Seed 003's targets (its README, chosen before any run): η = 0°,
@@ -158,7 +170,10 @@ fn seed003_synthesised_pinion_meets_its_targets() {
     let s = scene(None, "a.toml").unwrap();
     let load = t0.elapsed().as_secs_f64();
     let f = measure(&s, 0.00635);
-    eprintln!("scene load with synthesis {load:.1} s, TCA {:.1} s", t0.elapsed().as_secs_f64() - load);
+    eprintln!(
+        "scene load with synthesis {load:.1} s, TCA {:.1} s",
+        t0.elapsed().as_secs_f64() - load
+    );
     check("(a) seed 003", &f, 0.0, 11.4, 8.0);
 }
 
@@ -175,7 +190,10 @@ fn a_biased_path_is_met_too() {
     .unwrap();
     let load = t0.elapsed().as_secs_f64();
     let f = measure(&s, 0.00635);
-    eprintln!("scene load with synthesis {load:.1} s, TCA {:.1} s", t0.elapsed().as_secs_f64() - load);
+    eprintln!(
+        "scene load with synthesis {load:.1} s, TCA {:.1} s",
+        t0.elapsed().as_secs_f64() - load
+    );
     check("(b) biased", &f, 15.0, 9.5, 12.0);
 }
 
@@ -189,6 +207,9 @@ fn unreachable_targets_are_refused_at_the_table() {
     )
     .unwrap_err();
     eprintln!("(c) {e}");
-    assert!(e.contains("pinion.synthesis") || e.contains("synthesis"), "{e}");
+    assert!(
+        e.contains("pinion.synthesis") || e.contains("synthesis"),
+        "{e}"
+    );
     assert!(e.contains("c.toml"), "{e}");
 }
