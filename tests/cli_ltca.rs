@@ -428,6 +428,41 @@ fn hypoid_ltca_writes_its_files() {
     );
 }
 
+/// The hypoid `flank ltca` takes its `[analyses.ltca]` keys from the scene
+/// (they were read from the command line only): friction, increments, K and
+/// the roll angles of seed 003 eased given in the scene reach the summary.
+#[test]
+fn hypoid_ltca_reads_the_scene_keys() {
+    let d = dir("hypoid_scene_keys");
+    std::fs::create_dir_all(&d).unwrap();
+    let text = std::fs::read_to_string("papers/seed003-hypoid/scene_eased.toml").unwrap();
+    let scene = d.join("scene.toml");
+    std::fs::write(
+        &scene,
+        format!("{text}\n[analyses]\nltca = {{ roll_angles_deg = [0.0], points_per_line = 11, friction_mu = 0.07, increments = 2 }}\n"),
+    )
+    .unwrap();
+    let out = d.join("out");
+    let (ok, o, err) = flank(&[
+        "ltca",
+        scene.to_str().unwrap(),
+        "--flank-size",
+        "2",
+        "--base-size",
+        "8",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{o}\n{err}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["positions"], 1);
+    assert_eq!(s["points_per_pair"], 11);
+    assert_eq!(s["friction_mu"], 0.07);
+    assert_eq!(s["increments"], 2);
+}
+
 /// `flank compare` on a hypoid scene (issue 19 point 5; seed 003 eased,
 /// coarse): the keys of the spur comparison, the finest FE as reference
 /// (its own errors zero), the LTCA rows at the same roll angles.

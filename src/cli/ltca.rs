@@ -120,33 +120,43 @@ pub fn run(args: Args) -> Result<()> {
     if let flank::scene::AnyScene::Bevel(b) = flank::scene::read_any_scene(&scene)? {
         use flank::ltca::bevel::{run_bevel, BevelLtcaOptions};
         let d = BevelLtcaOptions::default();
+        // the command line first, then the scene's [analyses.ltca] (its
+        // spur-only keys are refused when the scene loads), then defaults
+        let a = b.analyses.ltca.clone().unwrap_or_default();
         let mut settings = d.settings.clone();
-        if let Some(s) = solver {
+        if let Some(s) = solver.or(a.solver) {
             settings.qp.solver = s;
         }
-        if let Some(l) = local {
+        if let Some(l) = local.or(a.local) {
             settings.local = l;
         }
-        if let Some(f) = fe_cell_factor {
+        if let Some(f) = fe_cell_factor.or(a.fe_cell_factor) {
             settings.fe_cell_factor = f;
         }
+        if let Some(n) = a.local_iterations {
+            settings.local_iterations = n;
+        }
         settings.condition = !no_condition;
+        let friction_mu = friction_mu.or(a.friction_mu).unwrap_or(0.0);
+        if friction_mu == 0.0 && (cross_check || increments.is_some() || friction_model.is_some()) {
+            anyhow::bail!("--increments, --cross-check and --friction-model need friction (--friction-mu > 0 or [analyses.ltca] friction_mu)");
+        }
         let options = BevelLtcaOptions {
             out: out.clone(),
             mesh: sizes.body_options(false),
-            points_per_pair: points_per_line.unwrap_or(d.points_per_pair),
-            roll_angles_deg: roll_angles,
+            points_per_pair: points_per_line
+                .or(a.points_per_line)
+                .unwrap_or(d.points_per_pair),
+            roll_angles_deg: roll_angles.or(a.roll_angles_deg),
             span_approach_mm: span_approach_mm.unwrap_or(d.span_approach_mm),
-            friction_mu: friction_mu.unwrap_or(0.0),
-            increments: increments.unwrap_or(d.increments),
+            friction_mu,
+            increments: increments.or(a.increments).unwrap_or(d.increments),
             cross_check,
-            friction_model: friction_model.unwrap_or_default(),
+            friction_model: friction_model.or(a.friction_model).unwrap_or_default(),
             settings,
             cache,
             threads,
-            edges: edges
-                .or(b.analyses.ltca.as_ref().and_then(|l| l.edges))
-                .unwrap_or(d.edges),
+            edges: edges.or(a.edges).unwrap_or(d.edges),
             ..d
         };
         let all = run_bevel(&b, &options)

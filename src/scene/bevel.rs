@@ -370,6 +370,11 @@ pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<BevelScene> {
             "`analyses.lubrication`: the lubricated analysis handles spur and helical pairs only so far".into(),
         ));
     }
+    if let (Some(l), Some(span)) = (&analyses.ltca, analyses.ltca_span.clone()) {
+        if let Some(key) = spur_only_ltca_key(l) {
+            return Err(cx.err(span, format!("`analyses.ltca.{key}`: {}", SPUR_ONLY_LTCA)));
+        }
+    }
     if let Some(l) = &raw.lubricant {
         return Err(cx.err(
             l.span(),
@@ -458,6 +463,29 @@ pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<BevelScene> {
         lines,
         pinion_shank,
     })
+}
+
+/// Why a spur/helical `[analyses.ltca]` key is refused on a hypoid scene.
+const SPUR_ONLY_LTCA: &str = "a key of the spur/helical LTCA; a hypoid LTCA takes `roll_angles_deg` (default one mesh cycle of 20 positions), `points_per_line` (K on each major axis), `solver`, `local`, `fe_cell_factor`, `local_iterations`, `friction_mu`, `increments`, `friction_model` and `edges` from the scene, its compliance mesh from `--flank-size`/`--base-size` and the candidate span from `--span-approach-mm`; it has no misalignment (the hypoid TCA takes it, `flank tca --offset-error-mm` …)";
+
+/// The first key of `l` that only the spur/helical LTCA reads, if any.
+fn spur_only_ltca_key(l: &analyses::LtcaAnalysis) -> Option<&'static str> {
+    [
+        ("roll_start_deg", l.roll_start_deg.is_some()),
+        ("roll_end_deg", l.roll_end_deg.is_some()),
+        ("roll_step_deg", l.roll_step_deg.is_some()),
+        ("misalignment_urad", l.misalignment_urad.is_some()),
+        (
+            "centre_distance_error_um",
+            l.centre_distance_error_um.is_some(),
+        ),
+        ("extension_mm", l.extension_mm.is_some()),
+        ("flank_size_mm", l.flank_size_mm.is_some()),
+        ("base_size_mm", l.base_size_mm.is_some()),
+    ]
+    .into_iter()
+    .find(|(_, given)| *given)
+    .map(|(key, _)| key)
 }
 
 #[cfg(test)]
