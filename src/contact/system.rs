@@ -34,6 +34,9 @@ use crate::fem::static_analysis::{check_rigid_body_modes, validate};
 pub struct SystemStats {
     pub dofs: usize,
     pub nnz_factor: usize,
+    /// Floating-point operations of the numeric factorization
+    /// ([`crate::fem::solver::FactorStats::flops`]).
+    pub flops: f64,
     pub ordering: String,
     pub assembly_s: f64,
     pub factorization_s: f64,
@@ -134,6 +137,7 @@ impl ElasticSystem {
         let stats = SystemStats {
             dofs: dofs.reduced_count,
             nnz_factor: chol.stats.nnz_factor,
+            flops: chol.stats.flops,
             ordering: chol.stats.ordering.clone(),
             assembly_s,
             factorization_s: chol.stats.factorization_s,

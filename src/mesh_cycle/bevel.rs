@@ -594,6 +594,12 @@ pub fn run_bevel(
         "elements_per_body": cycle.model.elements,
         "dofs": 3 * cycle.model.model.mesh.node_count(),
         "factorization_s": factorization_s,
+        "nnz_factor": cycle.system.stats.nnz_factor,
+        "factorization_flops": cycle.system.stats.flops,
+        // the numeric factorization alone (factorization_s above also
+        // holds assembly, ordering and the condition estimates)
+        "numeric_factorization_s": cycle.system.stats.factorization_s,
+        "factorization_gflop_per_s": cycle.system.stats.flops / cycle.system.stats.factorization_s.max(1e-9) / 1e9,
         "input_checks_s": checks_s,
         "largest_exact_unloaded_interpenetration_mm": unloaded.iter().map(|u| u.exact_depth_mm).fold(0.0, f64::max),
         "gross_interpenetration_limit_mm": checks::GROSS_INTERPENETRATION_MODULE * scene.blank.cones.m_mn,

@@ -978,6 +978,8 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
         "elements_per_body": cycle.pair.elements,
         "dofs": stats.dofs,
         "nnz_factor": stats.nnz_factor,
+        "factorization_flops": stats.flops,
+        "factorization_gflop_per_s": stats.flops / stats.factorization_s.max(1e-9) / 1e9,
         "ordering": stats.ordering,
         "assembly_s": stats.assembly_s,
         "factorization_s": stats.factorization_s,
