@@ -89,7 +89,7 @@ const TOL_BALANCE: f64 = 1e-3;
 /// Position of lattice index `l` (0..=2n) on cell boundaries `d`: even =
 /// a boundary, odd = the middle of a cell.
 fn lattice(d: &[f64], l: usize) -> f64 {
-    if l % 2 == 0 {
+    if l.is_multiple_of(2) {
         d[l / 2]
     } else {
         0.5 * (d[l / 2] + d[l / 2 + 1])
@@ -114,6 +114,9 @@ fn as_plane(s: &[f64; 6]) -> PlaneStress {
         tau_xz: -s[3] / P0,
     }
 }
+
+/// A traction field on a face: t(x) (MPa) at the point x (mm).
+type Traction<'a> = &'a dyn Fn([f64; 3]) -> [f64; 3];
 
 /// The slab with `n` cells per a in the fine zone and the loads of
 /// friction μ. Returns the model, the resultant of the top loads (N) and
@@ -186,7 +189,7 @@ fn slab(n: usize, mu: f64) -> (Model, [f64; 2], [f64; 2]) {
     };
     let mut f = vec![0.0; model.dof_count()];
     let (mut top, mut all) = ([0.0; 2], [0.0; 2]);
-    let faces: [(&str, &dyn Fn([f64; 3]) -> [f64; 3]); 4] = [
+    let faces: [(&str, Traction); 4] = [
         ("Y1", &hertz),
         ("X0", &left),
         ("X1", &right),
