@@ -1,4 +1,5 @@
-//! Load vectors: nodal forces and consistent nodal loads of face pressures.
+//! Load vectors: nodal forces and consistent nodal loads of face pressures
+//! and tractions (uniform, or a field t(x) evaluated at the face rule's points).
 //!
 //! Pressure p on a face gives f_a = −∫ p N_a n dA, with n dA = ∂x/∂ξ × ∂x/∂η
 //! (outward for CalculiX's face node order). The face rules are CalculiX's
@@ -93,6 +94,38 @@ pub fn traction_face_load(
     Some(out)
 }
 
+/// Consistent nodal forces f_a = ∫ N_a t(x) dA of a traction field `t`
+/// (MPa, global components, a function of the point x on the face) on face
+/// `face` (1-based), evaluated at the points of the same face rules as
+/// pressures (3×3 Gauss on C3D20 faces: a smooth t(x) is integrated to the
+/// rule's degree; a kink such as the edge of a Hertz pressure belongs on a
+/// face boundary).
+pub fn traction_field_face_load(
+    kind: ElementKind,
+    x: &[[f64; 3]],
+    face: usize,
+    t: impl Fn([f64; 3]) -> [f64; 3],
+) -> Option<Vec<(usize, [f64; 3])>> {
+    let nodes = face_nodes(kind, face)?;
+    let mut out: Vec<(usize, [f64; 3])> = nodes.iter().map(|&a| (a, [0.0; 3])).collect();
+    for_each_face_point(kind, x, nodes, |n, nda| {
+        let da = (nda[0] * nda[0] + nda[1] * nda[1] + nda[2] * nda[2]).sqrt();
+        let mut p = [0.0; 3];
+        for (k, &a) in nodes.iter().enumerate() {
+            for i in 0..3 {
+                p[i] += n[k] * x[a][i];
+            }
+        }
+        let tp = t(p);
+        for (k, o) in out.iter_mut().enumerate() {
+            for i in 0..3 {
+                o.1[i] += n[k] * da * tp[i];
+            }
+        }
+    });
+    Some(out)
+}
+
 /// Full load vector (node-major DOFs) of the model's nodal forces and pressures.
 pub fn load_vector(model: &Model) -> Result<Vec<f64>, FlankError> {
     let nn = model.mesh.node_count();
@@ -165,5 +198,34 @@ mod tests {
         let fy: f64 = l.iter().map(|(_, f)| f[1]).sum();
         assert!((fy - 2.0).abs() < 1e-12, "{fy}");
         assert!(pressure_face_load(ElementKind::C3D15, &WEDGE15_NODES, 6, 1.0).is_none());
+    }
+
+    /// A constant field gives the uniform traction's loads; a linear field
+    /// t_y = c·x on the face z = 0.5 of a 4 × 2 × 1 hex sums to ∫ t dA = 0
+    /// and its moment Σ x_a f_a = c ∫ x² dA = c · 2 · 2 · 2³/3 (exact: the
+    /// rule integrates the cubic N_a x exactly).
+    #[test]
+    fn traction_field_resultant_and_moment() {
+        let x: Vec<[f64; 3]> = HEX20_NODES
+            .iter()
+            .map(|p| [2.0 * p[0], p[1], 0.5 * p[2]])
+            .collect();
+        let t = [0.3, -1.2, 2.0];
+        let a = traction_face_load(ElementKind::C3D20, &x, 2, t).unwrap();
+        let b = traction_field_face_load(ElementKind::C3D20, &x, 2, |_| t).unwrap();
+        for ((na, fa), (nb, fb)) in a.iter().zip(&b) {
+            assert_eq!(na, nb);
+            for i in 0..3 {
+                assert!((fa[i] - fb[i]).abs() < 1e-14, "{fa:?} vs {fb:?}");
+            }
+        }
+        let c = 0.7;
+        let l =
+            traction_field_face_load(ElementKind::C3D20, &x, 2, |p| [0.0, c * p[0], 0.0]).unwrap();
+        let fy: f64 = l.iter().map(|(_, f)| f[1]).sum();
+        let m: f64 = l.iter().map(|(a, f)| x[*a][0] * f[1]).sum();
+        assert!(fy.abs() < 1e-14, "{fy}");
+        assert!((m - c * 2.0 * 2.0 * 8.0 / 3.0).abs() < 1e-13, "{m}");
+        assert!(traction_field_face_load(ElementKind::C3D20, &x, 7, |_| t).is_none());
     }
 }

@@ -4,12 +4,16 @@
 //! ```text
 //! lubricant        oil and solid thermal data, range checks (internal units)
 //! film             central/minimum film: Chittenden et al. 1985 (seed eq. 2–3),
-//!                  Hamrock–Dowson 1977, Dowson–Higginson line contact
+//!                  Hamrock–Dowson 1977, Dowson–Higginson and Pan–Hamrock 1989
+//!                  line contact
 //! traction         Evans & Johnson 1986 thermal Eyring μ (seed eq. 4–5), regime flags
 //! operating_point  closed-form involute R_x, R_y, u, v_s; W, P̄ from the contact
 //!                  solution; film + traction + friction force + power loss
 //! wet_dry          dry pass at μ₀ → μ per contact → wet passes until the
 //!                  change of μ is below the tolerance (bounded)
+//! subsurface       McEwen / Smith–Liu stresses below a Hertz line contact
+//!                  with traction μp and their maxima (FE check:
+//!                  `verification/subsurface_stress`)
 //! ```
 //!
 //! Layers: uses geometry (involute kinematics) only; the analyses

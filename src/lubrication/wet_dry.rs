@@ -179,7 +179,7 @@ where
             "the wet–dry loop stopped at its bound of {} wet passes with a largest relative change of μ of {:+.3} % (tolerance {} %)",
             settings.max_iterations,
             100.0 * last,
-            100.0 * settings.tolerance
+            percent(settings.tolerance)
         ));
     }
     Ok(LoopResult {
@@ -189,6 +189,19 @@ where
         passes,
         warnings,
     })
+}
+
+/// A relative figure as a percentage for messages: up to three decimals
+/// with the trailing zeros dropped ("0.5") from 0.001 % on, else in
+/// exponent form ("1.0e-7"), never the float's full expansion.
+fn percent(rel: f64) -> String {
+    let p = 100.0 * rel;
+    if p.abs() >= 1e-3 && p.abs() < 1e6 {
+        let s = format!("{p:.3}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        format!("{p:.1e}")
+    }
 }
 
 #[cfg(test)]
@@ -253,5 +266,21 @@ mod tests {
         assert!(!r.converged);
         assert_eq!(r.iterations, 3);
         assert!(r.warnings[0].contains("bound of 3"), "{:?}", r.warnings);
+        // 1e-9 relative is 1e-7 % (it printed "0.00000010000000000000001 %")
+        assert!(
+            r.warnings[0].contains("(tolerance 1.0e-7 %)"),
+            "{:?}",
+            r.warnings
+        );
+    }
+
+    #[test]
+    fn tolerances_print_short() {
+        assert_eq!(percent(0.005), "0.5");
+        assert_eq!(percent(0.01), "1");
+        assert_eq!(percent(0.0012345), "0.123");
+        assert_eq!(percent(1e-9), "1.0e-7");
+        assert_eq!(percent(1e-5), "0.001");
+        assert_eq!(percent(2e-6), "2.0e-4");
     }
 }

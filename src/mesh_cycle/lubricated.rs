@@ -18,6 +18,46 @@ use crate::lubrication::{
 use crate::mesh_cycle::run::{MeshCycle, StepResult};
 use crate::scene::Scene;
 
+/// The loop of the scene's `[analyses.lubrication]` for `flank run` (`None`
+/// without it). The loop sets μ itself: `--friction-mu` (`cli_mu`) is
+/// refused, as in `flank ltca`; the dry pass runs at `initial_mu`, else at
+/// a positive `[analyses.contact] friction_mu`, else at 0.05 (seed 002).
+pub fn loop_settings(
+    scene: &Scene,
+    cli_mu: Option<f64>,
+) -> Result<Option<LoopSettings>, FlankError> {
+    let Some(l) = &scene.analyses.lubrication else {
+        return Ok(None);
+    };
+    if scene.lubricant.is_none() {
+        return Err(FlankError::Model(
+            "[analyses.lubrication] needs a [lubricant] table".into(),
+        ));
+    }
+    if let Some(mu) = cli_mu {
+        return Err(FlankError::Model(format!(
+            "--friction-mu {mu}: not with [analyses.lubrication] in {}: the wet–dry loop sets μ itself (the dry pass at `initial_mu`, then μ per position and tooth pair from the EHL model); give the dry pass's μ as [analyses.lubrication] initial_mu",
+            scene.source.display()
+        )));
+    }
+    let scene_mu = scene
+        .analyses
+        .contact
+        .as_ref()
+        .and_then(|c| c.friction_mu)
+        .filter(|&m| m > 0.0);
+    let s = LoopSettings {
+        film: l.film.unwrap_or_default(),
+        tolerance: l.tolerance.unwrap_or(0.005),
+        max_iterations: l.max_iterations.unwrap_or(10),
+        initial_mu: l.initial_mu.or(scene_mu).unwrap_or(0.05),
+        composite_roughness_mm: l.composite_roughness_um.map(|r| r * 1e-3),
+        mean_pressure: l.mean_pressure.unwrap_or_default(),
+    };
+    crate::lubrication::wet_dry::check_settings(&s)?;
+    Ok(Some(s))
+}
+
 /// The figures of the loop for summary.json, and the final pass's steps.
 pub struct LubricatedCycle {
     pub steps: Vec<StepResult>,
@@ -109,4 +149,35 @@ pub fn lubricated_cycle(
         result,
         summary,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scene() -> Scene {
+        crate::scene::read_scene(
+            &Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("papers/seed002-spur/scene_lubricated.toml"),
+        )
+        .unwrap()
+    }
+
+    /// `--friction-mu` is refused with the loop (it used to become μ₀
+    /// silently); without it the dry pass runs at the scene's μ₀.
+    #[test]
+    fn the_loop_refuses_a_command_line_mu() {
+        let s = scene();
+        let e = loop_settings(&s, Some(0.08)).unwrap_err().to_string();
+        assert!(
+            e.contains("--friction-mu 0.08") && e.contains("[analyses.lubrication]"),
+            "{e}"
+        );
+        assert!(e.contains("initial_mu"), "{e}");
+        let l = loop_settings(&s, None).unwrap().unwrap();
+        assert_eq!(l.initial_mu, 0.05);
+        let mut dry = s.clone();
+        dry.analyses.lubrication = None;
+        assert!(loop_settings(&dry, Some(0.08)).unwrap().is_none());
+    }
 }

@@ -628,31 +628,10 @@ pub fn settings(
     let law = o.law.or(a.law).unwrap_or_default();
     let penalty_factor = o.penalty_factor.or(a.penalty_factor).unwrap_or(1.0);
     let mut friction_mu = o.friction_mu.or(a.friction_mu).unwrap_or(0.0);
-    let lubrication = match (&scene.analyses.lubrication, &scene.lubricant) {
-        (Some(l), Some(_)) => {
-            let s = crate::lubrication::LoopSettings {
-                film: l.film.unwrap_or_default(),
-                tolerance: l.tolerance.unwrap_or(0.005),
-                max_iterations: l.max_iterations.unwrap_or(10),
-                initial_mu: l.initial_mu.unwrap_or(if friction_mu > 0.0 {
-                    friction_mu
-                } else {
-                    0.05
-                }),
-                composite_roughness_mm: l.composite_roughness_um.map(|r| r * 1e-3),
-                mean_pressure: l.mean_pressure.unwrap_or_default(),
-            };
-            crate::lubrication::wet_dry::check_settings(&s)?;
-            friction_mu = s.initial_mu;
-            Some(s)
-        }
-        (Some(_), None) => {
-            return Err(FlankError::Model(
-                "[analyses.lubrication] needs a [lubricant] table".into(),
-            ))
-        }
-        _ => None,
-    };
+    let lubrication = crate::mesh_cycle::lubricated::loop_settings(scene, o.friction_mu)?;
+    if let Some(s) = &lubrication {
+        friction_mu = s.initial_mu;
+    }
     if !(0.0..=1.0).contains(&friction_mu) {
         return Err(FlankError::Model(format!(
             "friction coefficient {friction_mu} must be in 0…1"

@@ -148,8 +148,8 @@ pub struct LubricationAnalysis {
     /// μ₀ of the dry pass (0 < μ₀ ≤ 1; default `analyses.contact.friction_mu`
     /// if > 0, else 0.05 as seed 002).
     pub initial_mu: Option<f64>,
-    /// Film fit: `chittenden` (default, seed 002 eq. 2), `hamrock_dowson`
-    /// or `dowson_higginson` (line contact).
+    /// Film fit: `chittenden` (default, seed 002 eq. 2), `hamrock_dowson`,
+    /// or the line-contact fits `dowson_higginson` and `pan_hamrock`.
     pub film: Option<crate::lubrication::FilmModel>,
     /// Composite roughness σ = (R_q1² + R_q2²)^½ (µm, > 0) for the λ ratio.
     pub composite_roughness_um: Option<f64>,

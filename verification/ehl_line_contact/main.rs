@@ -111,7 +111,7 @@ fn flank_fit(c: &Case, model: FilmModel, length_mm: f64) -> (f64, f64) {
         },
     )
     .expect("film formula");
-    if model == FilmModel::DowsonHigginson {
+    if matches!(model, FilmModel::DowsonHigginson | FilmModel::PanHamrock) {
         assert!(f.flags.is_empty(), "{:?}", f.flags);
     } else {
         assert_eq!(f.flags, vec![FilmFlag::OutsideEllipticityRange]);
@@ -405,6 +405,13 @@ fn gear_table(viscosity: Viscosity) -> Vec<Row> {
             assert!(s.reynolds_residual < MAX_REYNOLDS_RESIDUAL, "{what}");
             assert!(s.load_error < MAX_LOAD_ERROR, "{what}");
             let (pc, pm) = pan_hamrock(&c);
+            // flank's `FilmModel::PanHamrock` is this formula (unit conversions
+            // and the load per length included)
+            let (qc, qm) = flank_fit(&c, FilmModel::PanHamrock, 10.0);
+            assert!(
+                d(qc, pc).abs() < 1e-12 && d(qm, pm).abs() < 1e-12,
+                "{what}: flank Pan–Hamrock {qc:e}, {qm:e} vs {pc:e}, {pm:e}"
+            );
             let (fc, fm) = flank_fit(&c, FilmModel::DowsonHigginson, 10.0);
             let (cc, cm) = flank_fit(&c, FilmModel::Chittenden, SEED_FACE_WIDTH_MM);
             let (m, l) = c.moes();
