@@ -234,6 +234,19 @@ fn position_flank_vs_ccx() {
         "total force flank {fd:.3} N, ccx {fc:.3} N; TE flank {te_flank:.4}″, ccx {te_ccx:.4}″; max λ/A flank {max_pn_flank:.1} MPa, max CSTR ccx {max_pn_ccx:.1} MPa; ccx {:.1} s",
         run.wall_s
     );
+    // the benchmark side by side (issue 18): flank's factorization and
+    // position against ccx's whole run on the same deck
+    let st = &c.system.stats;
+    println!(
+        "flank: {} DOFs, nnz(L) {:.3e}, numeric factorization {:.2} GFLOP in {:.2} s ({:.1} GFLOP/s), this position {:.2} s; ccx: {:.1} s wall for the deck",
+        st.dofs,
+        st.nnz_factor as f64,
+        st.flops / 1e9,
+        st.factorization_s,
+        st.flops / st.factorization_s.max(1e-9) / 1e9,
+        step.time_s,
+        run.wall_s
+    );
     let mut misses = Vec::new();
     let mut check = |what: &str, err: f64, tol: f64| {
         let verdict = if err <= tol { "ok" } else { "MISS" };
