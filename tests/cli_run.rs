@@ -347,3 +347,66 @@ fn seed003_hypoid_run_writes_balanced_positions() {
     }
     assert_eq!(s["plots"].as_array().unwrap().len(), 4);
 }
+
+/// `flank run --friction-mu` on a hypoid scene (seed 003 eased, coarse,
+/// roll 0): the Coulomb law met, the contact forces (normal and friction)
+/// balance the torque about the pinion axis, every pair's friction force
+/// at most μ times its normal force, and friction changes the answer.
+#[test]
+fn seed003_hypoid_run_with_friction_balances() {
+    let run = |name: &str, extra: &[&str]| -> serde_json::Value {
+        let out = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+        let _ = std::fs::remove_dir_all(&out);
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_flank"))
+            .args([
+                "run",
+                "papers/seed003-hypoid/scene_eased.toml",
+                "--flank-size",
+                "2",
+                "--base-size",
+                "8",
+                "--roll-angles=0",
+                "--threads",
+                "2",
+                "--quiet",
+            ])
+            .args(extra)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap()
+    };
+    let dry = run("cli_run_seed003_mu0", &[]);
+    let s = run("cli_run_seed003_mu", &["--friction-mu", "0.07"]);
+    assert_eq!(s["friction_mu"], 0.07);
+    assert_eq!(s["friction_not_converged"], 0);
+    let balance = s["max_moment_balance"].as_f64().unwrap();
+    let coulomb = s["max_coulomb_residual"].as_f64().unwrap();
+    let (st, st0) = (&s["steps"][0], &dry["steps"][0]);
+    let floats = |v: &serde_json::Value| -> Vec<f64> {
+        v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect()
+    };
+    let (normal, friction, normal0) = (
+        floats(&st["pair_force_n"]),
+        floats(&st["friction_force_n"]),
+        floats(&st0["pair_force_n"]),
+    );
+    eprintln!(
+        "hypoid FE with friction 0.07 at roll 0: normal {normal:?} (frictionless {normal0:?}), friction {friction:?}, TE {} (frictionless {}), moment balance {balance:.1e}, Coulomb residual {coulomb:.1e}, stick/slip {}/{}",
+        st["te_arcsec"], st0["te_arcsec"], st["stick_nodes"], st["slip_nodes"]
+    );
+    assert!(balance < 1e-8, "{balance}");
+    for (f, n) in friction.iter().zip(&normal) {
+        assert!(*f <= 0.07 * n * (1.0 + 1e-9) + 1e-9, "{f} > μ {n}");
+    }
+    let total_f: f64 = friction.iter().sum();
+    assert!(total_f > 1e-3 * normal.iter().sum::<f64>(), "{total_f}");
+    let moved = normal
+        .iter()
+        .zip(&normal0)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(moved > 1.0, "friction changed no pair force by 1 N ({moved})");
+}

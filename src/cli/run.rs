@@ -84,18 +84,24 @@ pub fn run(args: Args) -> Result<()> {
         let unsupported = [
             (reference_angles.is_some(), "--reference-angles"),
             (slave.is_some(), "--slave"),
-            (friction_mu.is_some(), "--friction-mu"),
         ];
         if let Some((_, name)) = unsupported.iter().find(|(given, _)| *given) {
             anyhow::bail!(
-                "{name}: not available for bevel and hypoid scenes yet (their FE contact is frictionless, with the pinion as slave)"
+                "{name}: not available for bevel and hypoid scenes yet (their FE contact has the pinion as slave)"
             );
+        }
+        let friction_mu = friction_mu
+            .or(b.analyses.contact.as_ref().and_then(|c| c.friction_mu))
+            .unwrap_or(0.0);
+        if !(0.0..=1.0).contains(&friction_mu) {
+            anyhow::bail!("--friction-mu {friction_mu}: must be in 0…1");
         }
         let contact = BevelContact {
             law: law.unwrap_or(flank::mesh_cycle::ContactLaw::Hard),
             penalty_factor: penalty_factor.unwrap_or(1.0),
             decks,
             resume,
+            friction_mu,
         };
         return run_bevel_scene(
             &scene,
@@ -166,6 +172,7 @@ struct BevelContact {
     penalty_factor: f64,
     decks: bool,
     resume: bool,
+    friction_mu: f64,
 }
 
 /// `flank run` on a bevel/hypoid scene ([`flank::mesh_cycle::bevel`]).
@@ -199,6 +206,7 @@ fn run_bevel_scene(
         penalty_factor: contact.penalty_factor,
         decks: contact.decks,
         resume: contact.resume,
+        friction_mu: contact.friction_mu,
         threads,
         ..Default::default()
     };

@@ -62,6 +62,11 @@ pub struct BevelRunOptions {
     /// an interrupted run of the same scene and options
     /// ([`crate::mesh_cycle::checkpoint`]).
     pub resume: bool,
+    /// Coulomb friction coefficient of the flanks (0 = frictionless): the
+    /// FE contact's static Coulomb law ([`crate::contact::friction`]), the
+    /// friction resisting the slip of the loading step (the LTCA's
+    /// `standstill` model), not the kinematic sliding.
+    pub friction_mu: f64,
 }
 
 impl Default for BevelRunOptions {
@@ -74,6 +79,7 @@ impl Default for BevelRunOptions {
             penalty_factor: 1.0,
             decks: false,
             resume: false,
+            friction_mu: 0.0,
         }
     }
 }
@@ -104,6 +110,27 @@ pub struct BevelStep {
     pub complementarity: f64,
     pub warnings: Vec<String>,
     pub time_s: f64,
+    /// With friction (μ > 0): magnitude of the resultant tangential force
+    /// per tooth pair (N), stick and slip node counts, whether the Coulomb
+    /// law was met, its largest residual, and the fixed point's effort
+    /// (Tresca problems, working-set rounds, last relative change of the
+    /// slip bounds).
+    #[serde(default)]
+    pub friction_force_n: Vec<f64>,
+    #[serde(default)]
+    pub stick_nodes: usize,
+    #[serde(default)]
+    pub slip_nodes: usize,
+    #[serde(default)]
+    pub friction_converged: Option<bool>,
+    #[serde(default)]
+    pub coulomb_residual: f64,
+    #[serde(default)]
+    pub friction_iterations: usize,
+    #[serde(default)]
+    pub friction_rounds: usize,
+    #[serde(default)]
+    pub friction_bound_change: f64,
     /// The loaded slave nodes (the contact pattern of this position).
     #[serde(skip)]
     pub pattern: Vec<PatternNode>,
@@ -175,6 +202,20 @@ impl BevelCycle {
         )?;
         if options.law == ContactLaw::Penalty {
             set_automatic_penalty(&mut model, options.penalty_factor)?;
+        }
+        if !(0.0..=1.0).contains(&options.friction_mu) {
+            return Err(FlankError::Model(format!(
+                "friction coefficient {} must be in 0…1",
+                options.friction_mu
+            )));
+        }
+        if options.friction_mu > 0.0 {
+            for i in model.model.contact.interactions.iter_mut() {
+                i.friction = Some(crate::contact::Friction {
+                    mu: options.friction_mu,
+                    stick_slope: None,
+                });
+            }
         }
         Ok(model)
     }
@@ -339,6 +380,14 @@ impl BevelCycle {
                 .into_iter()
                 .chain(state.warnings.iter().cloned())
                 .collect(),
+            friction_force_n: vec![0.0; np],
+            stick_nodes: state.friction.as_ref().map_or(0, |f| f.stick),
+            slip_nodes: state.friction.as_ref().map_or(0, |f| f.slipping),
+            friction_converged: state.friction.as_ref().map(|f| f.converged),
+            coulomb_residual: state.friction.as_ref().map_or(0.0, |f| f.coulomb_residual),
+            friction_iterations: state.friction.as_ref().map_or(0, |f| f.iterations),
+            friction_rounds: state.friction.as_ref().map_or(0, |f| f.rounds),
+            friction_bound_change: state.friction.as_ref().map_or(0.0, |f| f.bound_change),
             ..Default::default()
         };
         // moments about the pinion axis (own frame: +z through the origin)
@@ -349,6 +398,25 @@ impl BevelCycle {
         for (p, g) in pairs.iter().enumerate() {
             let k = g.constraints.len();
             let lam = &state.active_set.lambda[offset..offset + k];
+            // friction: the force on each slave node along the slip rows'
+            // slave terms (the master's tangents in the pinion's own
+            // frame), their resultant per pair and their moments
+            if let Some(fr) = &state.friction {
+                let mut resultant = [0.0; 3];
+                for (c, lt) in g.constraints.iter().zip(&fr.lambda_t[offset..offset + k]) {
+                    let x = model.mesh.coords[c.slave];
+                    for (a, rows) in c.tangent_terms.iter().enumerate() {
+                        let Some(&(_, t)) = rows.iter().find(|(node, _)| *node == c.slave) else {
+                            continue;
+                        };
+                        for d in 0..3 {
+                            resultant[d] += lt[a] * t[d];
+                        }
+                        moment += lt[a] * (x[0] * t[1] - x[1] * t[0]) * sense;
+                    }
+                }
+                step.friction_force_n[p] = crate::geometry::vec3::norm(resultant);
+            }
             let smooth = face_averaged_pressure(model, g, lam);
             for (i, c) in g.constraints.iter().enumerate() {
                 step.pair_force_n[p] += lam[i];
@@ -478,7 +546,8 @@ pub fn run_bevel(
         (
             options.search_distance_mm,
             &options.law,
-            options.penalty_factor
+            options.penalty_factor,
+            options.friction_mu
         )
     );
     let key = checkpoint::key(&scene.source, &options.mesh, &settings);
@@ -585,6 +654,15 @@ pub fn run_bevel(
             cycle.contact.max_iterations,
             s.max_violation_mm,
         );
+        if let Some(converged) = s.friction_converged {
+            crate::mesh_cycle::run::record_friction(
+                &mut loops,
+                converged,
+                s.friction_iterations,
+                s.friction_rounds,
+                s.friction_bound_change,
+            );
+        }
     }
     let summary = serde_json::json!({
         "scene": scene.source.display().to_string(),
@@ -621,6 +699,9 @@ pub fn run_bevel(
             _ => serde_json::json!("hard"),
         },
         "slave": "pinion",
+        "friction_mu": options.friction_mu,
+        "max_coulomb_residual": steps.iter().map(|s| s.coulomb_residual).fold(0.0, f64::max),
+        "friction_not_converged": steps.iter().filter(|s| s.friction_converged == Some(false)).count(),
         "resumed_positions": resumed,
         "steps": steps,
     });

@@ -120,7 +120,6 @@ pub struct Patch {
 /// round, [`crate::contact::friction::FrictionOptions`]) leaves the last
 /// iterate flagged `friction_converged = false` when the polish fails too.
 pub(crate) fn iteration_limits(steps: &[StepResult], active_set_limit: usize) -> IterationLimits {
-    let per_round = crate::contact::friction::FrictionOptions::default();
     let mut loops = IterationLimits::new();
     for s in steps {
         record_active_set(
@@ -130,21 +129,40 @@ pub(crate) fn iteration_limits(steps: &[StepResult], active_set_limit: usize) ->
             s.max_violation_mm,
         );
         if let Some(converged) = s.friction_converged {
-            let limit = per_round.max_iterations * s.friction_rounds.max(1);
-            let (n, r) = (s.friction_iterations, s.friction_bound_change);
-            loops.record(
-                "contact.friction_fixed_point",
-                "relative change of the slip bounds",
-                per_round.tolerance,
-                if converged {
-                    LoopEnd::converged(n, limit, r)
-                } else {
-                    LoopEnd::at_limit(n, limit, r)
-                },
+            record_friction(
+                &mut loops,
+                converged,
+                s.friction_iterations,
+                s.friction_rounds,
+                s.friction_bound_change,
             );
         }
     }
     loops
+}
+
+/// One position's friction fixed point in `loops` (`iterations` Tresca
+/// problems over `rounds` working-set rounds, the last relative change of
+/// the slip bounds), shared by the spur and hypoid FE cycles.
+pub(crate) fn record_friction(
+    loops: &mut IterationLimits,
+    converged: bool,
+    iterations: usize,
+    rounds: usize,
+    bound_change: f64,
+) {
+    let per_round = crate::contact::friction::FrictionOptions::default();
+    let limit = per_round.max_iterations * rounds.max(1);
+    loops.record(
+        "contact.friction_fixed_point",
+        "relative change of the slip bounds",
+        per_round.tolerance,
+        if converged {
+            LoopEnd::converged(iterations, limit, bound_change)
+        } else {
+            LoopEnd::at_limit(iterations, limit, bound_change)
+        },
+    );
 }
 
 /// One position's normal active set in `loops`: its limit is an error, so
