@@ -386,7 +386,11 @@ fn seed003_hypoid_run_with_friction_balances() {
     let coulomb = s["max_coulomb_residual"].as_f64().unwrap();
     let (st, st0) = (&s["steps"][0], &dry["steps"][0]);
     let floats = |v: &serde_json::Value| -> Vec<f64> {
-        v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect()
+        v.as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
     };
     let (normal, friction, normal0) = (
         floats(&st["pair_force_n"]),
@@ -408,5 +412,8 @@ fn seed003_hypoid_run_with_friction_balances() {
         .zip(&normal0)
         .map(|(a, b)| (a - b).abs())
         .fold(0.0, f64::max);
-    assert!(moved > 1.0, "friction changed no pair force by 1 N ({moved})");
+    assert!(
+        moved > 1.0,
+        "friction changed no pair force by 1 N ({moved})"
+    );
 }
