@@ -257,7 +257,7 @@ fn seed003_friction_effect_against_fe_contact() {
     let ltca = |friction_mu: f64| {
         let o = BevelLtcaOptions {
             out: work.clone(),
-            mesh: mesh.clone(),
+            mesh,
             friction_mu,
             increments: 10,
             threads: 2,
