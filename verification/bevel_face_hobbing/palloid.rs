@@ -487,7 +487,8 @@ fn h_formate_gear_and_its_generated_pinion() {
             );
         }
     }
-    // F4's own 9/34 at 20°: refused with an error naming the settings
+    // F4's own 9/34 at 20°: refused with an error naming the settings and
+    // the limit line of undercut
     let d = super::design();
     let g = gear_setup(&d, false);
     let s = HobbingSetup::pinion_for_formate_gear(
@@ -498,6 +499,8 @@ fn h_formate_gear_and_its_generated_pinion() {
     let e = s.flank(BladeSide::Inside).unwrap_err().to_string();
     println!("(h) F4 9/34, 20°: {e}");
     assert!(e.contains("tilt") && e.contains("radial_distance"));
+    // … and says what it is: the envelope folds above the root line
+    assert!(e.contains("limit line of undercut"), "{e}");
     // a generated gear is refused
     let e = HobbingSetup::pinion_for_formate_gear(
         &gear_setup(&d, true),

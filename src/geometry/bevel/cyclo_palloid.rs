@@ -183,26 +183,10 @@ impl HobbingSetup {
         machine.sliding_base = m0.sliding_base - c1[2];
         machine.tilt = tilt;
         machine.swivel = swivel;
-        let h = self.blank.mean_dedendum;
-        let pitch_x = |b: &HobbingBlade| {
-            b.blade.point_radius + b.blade.side.sigma() * h * b.blade.pressure_angle.tan()
-        };
-        let mid = 0.5 * (pitch_x(&self.inside) + pitch_x(&self.outside));
-        let change = |b: &HobbingBlade| -> Result<HobbingBlade> {
-            let x0 = pitch_x(b);
-            let xn = x0 + 0.5 * x.width_change * (x0 - mid).signum();
-            let alpha = b.blade.pressure_angle + x.blade_angle_change;
-            let mut nb = *b;
-            nb.blade.pressure_angle = alpha;
-            nb.blade.point_radius = xn - b.blade.side.sigma() * h * alpha.tan();
-            nb.blade.profile()?;
-            Ok(nb)
-        };
-        let mut out = *self;
+        let mut out =
+            self.with_blade_changes(x.width_change, (x.blade_angle_change, x.blade_angle_change))?;
         out.settings.machine = machine;
         out.settings.validate()?;
-        out.inside = change(&self.inside)?;
-        out.outside = change(&self.outside)?;
         out.mean_point = [k[0], k[1], k[2] - c1[2]];
         Ok(out)
     }
