@@ -60,7 +60,7 @@ pub const FORMAT_VERSION: u32 = 1;
 const MAGIC: &[u8; 8] = b"FLANKCMP";
 
 /// On-disk format of a compliance file.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum FileFormat {
     /// `<body>.compliance.h5` (feature `hdf5`).
@@ -869,7 +869,11 @@ pub enum CacheOutcome {
 pub struct ComplianceCache {
     dir: Option<PathBuf>,
     format: FileFormat,
-    memory: Mutex<HashMap<String, Arc<ComplianceTensor>>>,
+    /// key → (body, tensor)
+    memory: Mutex<HashMap<String, (String, Arc<ComplianceTensor>)>>,
+    /// Keep only the last tensor of each body name in memory
+    /// ([`ComplianceCache::shared`]).
+    last_per_body: bool,
 }
 
 impl ComplianceCache {
@@ -879,6 +883,7 @@ impl ComplianceCache {
             dir: None,
             format: FileFormat::default_format(),
             memory: Mutex::new(HashMap::new()),
+            last_per_body: false,
         }
     }
 
@@ -890,7 +895,49 @@ impl ComplianceCache {
             dir: Some(dir.to_path_buf()),
             format,
             memory: Mutex::new(HashMap::new()),
+            last_per_body: false,
         })
+    }
+
+    /// This process's cache of `dir` in `format`, the same one for every
+    /// analysis the process runs (a campaign worker running a block of
+    /// jobs reads each body's tensor from disk once, not once per job).
+    /// It keeps in memory only the last tensor of each body name: a
+    /// process never holds more tensors than one analysis needs, however
+    /// many variants with other bodies it runs.
+    pub fn shared(dir: &Path, format: FileFormat) -> Result<Arc<Self>, FlankError> {
+        type Registry = Mutex<HashMap<(PathBuf, FileFormat), Arc<ComplianceCache>>>;
+        static REGISTRY: std::sync::OnceLock<Registry> = std::sync::OnceLock::new();
+        // the same directory however it is spelled (relative to another
+        // working directory, through a link)
+        std::fs::create_dir_all(dir).map_err(|e| FlankError::io(dir, e))?;
+        let canonical = dir.canonicalize().map_err(|e| FlankError::io(dir, e))?;
+        let mut reg = REGISTRY
+            .get_or_init(Default::default)
+            .lock()
+            .map_err(|_| FlankError::Solver("compliance cache registry poisoned".into()))?;
+        if let Some(c) = reg.get(&(canonical.clone(), format)) {
+            return Ok(Arc::clone(c));
+        }
+        let mut c = Self::in_dir(&canonical, format)?;
+        c.last_per_body = true;
+        let c = Arc::new(c);
+        reg.insert((canonical, format), Arc::clone(&c));
+        Ok(c)
+    }
+
+    /// How many tensors this cache holds in memory.
+    pub fn in_memory_count(&self) -> usize {
+        self.lock().map_or(0, |m| m.len())
+    }
+
+    fn remember(&self, body: &str, key: &str, t: &Arc<ComplianceTensor>) -> Result<(), FlankError> {
+        let mut m = self.lock()?;
+        if self.last_per_body {
+            m.retain(|_, (b, _)| b != body);
+        }
+        m.insert(key.to_string(), (body.to_string(), Arc::clone(t)));
+        Ok(())
     }
 
     /// The file of `key` for `body` in the cache directory.
@@ -899,6 +946,33 @@ impl ComplianceCache {
         self.dir
             .as_ref()
             .map(|d| d.join(format!("{body}.{short}.{}", self.format.extension())))
+    }
+
+    /// Puts the cache's file of `key` at `target` as a hard link (made under
+    /// a temporary name and renamed over `target`, so a reader sees the old
+    /// file or the whole new one): the bytes [`write()`] would write, without
+    /// writing 2 × 20 MB per LTCA job. `false` (nothing done) when there is
+    /// no such file, its header names another key, `target` has another
+    /// format, or the link fails (e.g. another file system): then the
+    /// caller writes the file.
+    pub fn link_into(&self, body: &str, key: &str, target: &Path) -> bool {
+        let Some(src) = self.path(body, key) else {
+            return false;
+        };
+        if FileFormat::of_path(target) != Some(self.format)
+            || read_key(&src).ok().as_deref() != Some(key)
+        {
+            return false;
+        }
+        let tmp = crate::atomic_file::temp_path(target);
+        if std::fs::hard_link(&src, &tmp).is_err() {
+            return false;
+        }
+        let renamed = std::fs::rename(&tmp, target).is_ok();
+        // a rename between two links of one file does nothing (POSIX): the
+        // temporary name stays and must go
+        let _ = std::fs::remove_file(&tmp);
+        renamed
     }
 
     /// The tensor with `key`, from memory or disk, else `compute()`d and stored.
@@ -916,7 +990,7 @@ impl ComplianceCache {
         key: &str,
         compute: impl FnOnce() -> Result<ComplianceTensor, FlankError>,
     ) -> Result<(Arc<ComplianceTensor>, CacheOutcome), FlankError> {
-        if let Some(t) = self.lock()?.get(key) {
+        if let Some((_, t)) = self.lock()?.get(key) {
             return Ok((t.clone(), CacheOutcome::Memory));
         }
         let path = self.path(body, key);
@@ -929,7 +1003,7 @@ impl ComplianceCache {
         if let Some(p) = &path {
             if let Some(t) = read_trusted(p, key) {
                 let t = Arc::new(t);
-                self.lock()?.insert(key.to_string(), t.clone());
+                self.remember(body, key, &t)?;
                 return Ok((t, CacheOutcome::Disk));
             }
         }
@@ -944,13 +1018,17 @@ impl ComplianceCache {
             write(p, &t)?;
         }
         let t = Arc::new(t);
-        self.lock()?.insert(key.to_string(), t.clone());
+        self.remember(body, key, &t)?;
         Ok((t, CacheOutcome::Computed))
     }
 
+    #[allow(clippy::type_complexity)]
     fn lock(
         &self,
-    ) -> Result<std::sync::MutexGuard<'_, HashMap<String, Arc<ComplianceTensor>>>, FlankError> {
+    ) -> Result<
+        std::sync::MutexGuard<'_, HashMap<String, (String, Arc<ComplianceTensor>)>>,
+        FlankError,
+    > {
         self.memory
             .lock()
             .map_err(|_| FlankError::Solver("compliance cache lock poisoned".into()))
@@ -1071,6 +1149,70 @@ mod tests {
         // a different key computes (and the wrong key is caught)
         let e = c2.get_or_compute("box", "other", compute);
         assert!(e.is_err());
+    }
+
+    /// The shared cache is one per directory however it is spelled, keeps
+    /// only the last tensor of each body in memory, and links its files
+    /// into a result folder (the bytes `write` writes) instead of writing.
+    #[test]
+    fn shared_cache_keeps_the_last_tensor_per_body_and_links_its_files() {
+        use std::os::unix::fs::MetadataExt;
+        let t = tensor();
+        let key = t.meta.cache_key.clone();
+        let dir = tmp("cache_shared");
+        let _ = std::fs::remove_dir_all(&dir);
+        let a = ComplianceCache::shared(&dir, FileFormat::Native).unwrap();
+        let b = ComplianceCache::shared(&dir.join("..").join("cache_shared"), FileFormat::Native)
+            .unwrap();
+        assert!(Arc::ptr_eq(&a, &b));
+        let calls = Cell::new(0);
+        let compute = |t: &ComplianceTensor| {
+            calls.set(calls.get() + 1);
+            Ok(t.clone())
+        };
+        let (_, o) = a.get_or_compute("box", &key, || compute(&t)).unwrap();
+        assert_eq!(o, CacheOutcome::Computed);
+        let (_, o) = b.get_or_compute("box", &key, || compute(&t)).unwrap();
+        assert_eq!(o, CacheOutcome::Memory);
+        // another tensor of the same body replaces it in memory; one of
+        // another body is kept beside it
+        let mut other = t.clone();
+        other.meta.cache_key = "0123456789abcdef-other".into();
+        let mut lid = t.clone();
+        lid.meta.cache_key = "fedcba9876543210-lid".into();
+        a.get_or_compute("box", &other.meta.cache_key.clone(), || compute(&other))
+            .unwrap();
+        assert_eq!(a.in_memory_count(), 1);
+        a.get_or_compute("lid", &lid.meta.cache_key.clone(), || compute(&lid))
+            .unwrap();
+        assert_eq!(a.in_memory_count(), 2);
+        let (t2, o) = a.get_or_compute("box", &key, || compute(&t)).unwrap();
+        assert_eq!(o, CacheOutcome::Disk);
+        assert_eq!(t2.matrix, t.matrix);
+        assert_eq!(calls.get(), 3);
+        // linked: the same bytes as a written file, one inode with the cache's
+        let out = tmp("cache_shared_out");
+        std::fs::create_dir_all(&out).unwrap();
+        let linked = out.join("box.compliance.bin");
+        let written = out.join("written.compliance.bin");
+        assert!(a.link_into("box", &key, &linked));
+        write(&written, &t).unwrap();
+        assert_eq!(
+            std::fs::read(&linked).unwrap(),
+            std::fs::read(&written).unwrap()
+        );
+        assert!(std::fs::metadata(&linked).unwrap().nlink() >= 2);
+        // linking again replaces the link; no temporary left
+        assert!(a.link_into("box", &key, &linked));
+        let names: Vec<String> = std::fs::read_dir(&out)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(names.len(), 2, "{names:?}");
+        // no file for that key, another format: nothing linked
+        assert!(!a.link_into("box", "no-such-key", &out.join("x.compliance.bin")));
+        assert!(!a.link_into("box", &key, &out.join("box.compliance.h5")));
+        assert!(!out.join("x.compliance.bin").exists());
     }
 
     /// A cache file that is truncated, has a flipped byte, or is junk is
