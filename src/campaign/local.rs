@@ -1,10 +1,13 @@
-//! The local executor: a pool of worker threads, each running one job at a
-//! time as a child process (`flank campaign run-task CAMPAIGN --index I`,
-//! the program being this executable), so a crash or kill of one job
-//! cannot corrupt another. Workers: cores / threads per job (or `workers`);
-//! a job starts only while the running jobs' memory estimates plus its own
-//! fit the budget (the machine's available memory by default), and a job
-//! whose estimate exceeds the machine is refused before anything starts.
+//! The local executor: a pool of worker threads, each running a block of
+//! jobs at a time in a child process (`flank campaign run-task CAMPAIGN
+//! --index 40-71`, the program being this executable; a block of one job
+//! is `--index I`), so a crash or kill of one process cannot corrupt
+//! another's jobs, and the jobs of a block share what the process keeps
+//! (cached compliance tensors: [`super::task::run_block`]). Workers: cores
+//! / threads per job (or `workers`); a block starts only while the running
+//! blocks' memory estimates plus its own (its largest job's) fit the budget
+//! (the machine's available memory by default), and a job whose estimate
+//! exceeds the machine is refused before anything starts.
 
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
