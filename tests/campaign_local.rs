@@ -21,21 +21,31 @@ fn dir(name: &str) -> PathBuf {
 }
 
 fn campaign_text(torques: &[f64]) -> String {
+    campaign_text_with(torques, "")
+}
+
+/// The campaign with `extra` appended to the LTCA's options.
+fn campaign_text_with(torques: &[f64], extra: &str) -> String {
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("papers/seed002-spur/scene.toml");
     let list: Vec<String> = torques.iter().map(|t| format!("{t:.1}")).collect();
     format!(
-        "[campaign]\nscene = \"{}\"\nanalyses = [\"ltca\"]\n\n[args]\nltca = [\"--no-condition\", \"--roll-angles\", \"-5,0,5\", \"--flank-size\", \"2\", \"--base-size\", \"3\", \"--points-per-line\", \"10\"]\n\n[grid]\n\"load.torque_nm\" = [{}]\n",
+        "[campaign]\nscene = \"{}\"\nanalyses = [\"ltca\"]\n\n[args]\nltca = [\"--no-condition\", \"--roll-angles\", \"-5,0,5\", \"--flank-size\", \"2\", \"--base-size\", \"3\", \"--points-per-line\", \"10\"{extra}]\n\n[grid]\n\"load.torque_nm\" = [{}]\n",
         scene.display(),
         list.join(", ")
     )
 }
 
 fn run(campaign: &Path, out: &Path) -> (bool, String, String) {
+    run_with(campaign, out, &[])
+}
+
+fn run_with(campaign: &Path, out: &Path, args: &[&str]) -> (bool, String, String) {
     let o = Command::new(env!("CARGO_BIN_EXE_flank"))
         .args(["campaign", "run"])
         .arg(campaign)
         .arg("--out")
         .arg(out)
+        .args(args)
         .output()
         .unwrap();
     (
@@ -167,6 +177,115 @@ fn killed_campaign_resumes_to_the_same_table() {
     let starts = events(&killed, "start");
     assert_eq!(starts.len(), before + 1);
     assert_eq!(starts.last().unwrap().0, 5);
+}
+
+/// Blocks of 4 jobs per worker process (`--batch 4`) sharing a compliance
+/// cache: killed mid-block and rerun, the table equals that of one process
+/// per job (`--batch 1`), no finished job runs again, every job has its
+/// own log and completion record, and the result's tensor files are links
+/// to the cache's (not rewritten).
+#[test]
+fn batched_workers_resume_to_the_one_process_per_job_table() {
+    use std::os::unix::fs::MetadataExt;
+    let d = dir("batch");
+    let c = d.join("batch.toml");
+    let cache = d.join("cache");
+    let extra = format!(", \"--cache\", \"{}\"", cache.display());
+    std::fs::write(&c, campaign_text_with(&TORQUES, &extra)).unwrap();
+    // the tensors computed before either run: the job that computes them
+    // reports their backward error, and which job that is depends on the
+    // order the workers reach the cache, not on the executor
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("papers/seed002-spur/scene.toml");
+    let o = Command::new(env!("CARGO_BIN_EXE_flank"))
+        .arg("ltca")
+        .arg(&scene)
+        .args(["--out"])
+        .arg(d.join("warm"))
+        .args(["--quiet", "--no-condition", "--roll-angles", "0"])
+        .args(["--flank-size", "2", "--base-size", "3", "--cache"])
+        .arg(&cache)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+
+    let single = d.join("single");
+    let (ok, out, err) = run_with(&c, &single, &["--batch", "1"]);
+    assert!(ok, "{out}\n{err}");
+    assert!(err.contains("up to 1 jobs per process"), "{err}");
+    assert!(!single.join("workers.log").exists());
+    let (head, ref_rows) = figures(&single);
+    assert_eq!(ref_rows.len(), 8);
+    assert!(ref_rows.iter().all(|r| r[3] == "done"), "{ref_rows:?}");
+    assert!(
+        !head.iter().any(|h| h.starts_with("tensor_backward")),
+        "{head:?}"
+    );
+
+    let batched = d.join("batched");
+    std::fs::create_dir_all(&batched).unwrap();
+    let mut child = {
+        use std::os::unix::process::CommandExt;
+        Command::new(env!("CARGO_BIN_EXE_flank"))
+            .args(["campaign", "run", "-q", "--batch", "4"])
+            .arg(&c)
+            .arg("--out")
+            .arg(&batched)
+            .process_group(0)
+            .spawn()
+            .unwrap()
+    };
+    let t0 = Instant::now();
+    while events(&batched, "done").len() < 2 {
+        assert!(
+            t0.elapsed() < Duration::from_secs(120),
+            "no job finished in 120 s"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    // SAFETY: kill(2) of the process group this test created
+    unsafe {
+        libc::killpg(child.id() as i32, libc::SIGKILL);
+    }
+    child.wait().unwrap();
+    std::thread::sleep(Duration::from_millis(300));
+    let done_at_kill = events(&batched, "done");
+    assert!(
+        (2..8).contains(&done_at_kill.len()),
+        "the kill should land mid-run: {} done",
+        done_at_kill.len()
+    );
+    let (ok, out, err) = run_with(&c, &batched, &["--batch", "4"]);
+    assert!(ok, "{out}\n{err}");
+    assert!(
+        out.contains(&format!("8 jobs: {} done before", done_at_kill.len())),
+        "{out}"
+    );
+    let starts = events(&batched, "start");
+    for (i, id) in &done_at_kill {
+        let n = starts.iter().filter(|(_, s)| s == id).count();
+        assert_eq!(n, 1, "job {i} ({id}) started {n} times");
+    }
+    assert_eq!(events(&batched, "done").len(), 8);
+    assert_eq!(figures(&batched), (head, ref_rows));
+    // blocks ran: the workers' log has their lines
+    let workers = std::fs::read_to_string(batched.join("workers.log")).unwrap();
+    assert!(workers.contains(" finished, "), "{workers}");
+    for e in std::fs::read_dir(batched.join("jobs")).unwrap().flatten() {
+        let p = e.path();
+        assert!(p.join("done.json").is_file(), "{}", p.display());
+        let log = std::fs::read_to_string(p.join("log.txt")).unwrap();
+        assert!(log.contains("finished in"), "{}: {log}", p.display());
+        for body in ["pinion", "gear"] {
+            // .bin, or .h5 when built with the hdf5 feature
+            let file = ["bin", "h5"]
+                .iter()
+                .map(|e| p.join(format!("result/{body}.compliance.{e}")))
+                .find(|f| f.is_file())
+                .unwrap_or_else(|| panic!("{}: no {body} tensor", p.display()));
+            let m = std::fs::metadata(&file).unwrap();
+            assert!(m.nlink() >= 2, "{}: not linked", file.display());
+        }
+    }
 }
 
 #[test]

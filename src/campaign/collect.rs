@@ -8,9 +8,8 @@
 //! `figures` paths (dot-separated, `*` expands an array or object), or by
 //! default every number at the top level, in top-level objects, and in
 //! numeric arrays of at most four values (`name.0`, …); `steps` and
-//! `settings` are left out unless named. Parquet is not written: the Rust
-//! Parquet writer (`parquet` with `arrow`) would add well over a hundred
-//! crates to a build that runs on 2 cores; pandas and polars read the CSV.
+//! `settings` are left out unless named. `table.parquet` holds the same
+//! columns ([`super::parquet`]).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -305,7 +304,7 @@ pub fn write_all(campaign: &Campaign, table: &Table) -> Result<Written> {
         }
     }
     let mut md = format!(
-        "# Campaign {}\n\n{} jobs: {} done, {} failed, {} pending. Table: `table.csv`. flank {}\n\n",
+        "# Campaign {}\n\n{} jobs: {} done, {} failed, {} pending. Table: `table.csv` (and `table.parquet`). flank {}\n\n",
         campaign.file.name,
         table.rows.len(),
         w.done,
@@ -315,6 +314,9 @@ pub fn write_all(campaign: &Campaign, table: &Table) -> Result<Written> {
     );
     let p = out.join("table.csv");
     store::write_atomic(&p, table.csv().as_bytes())?;
+    w.files.push(p);
+    let p = out.join("table.parquet");
+    super::parquet::write_table(table, &p)?;
     w.files.push(p);
     let figures: Vec<&String> = table
         .figure_keys

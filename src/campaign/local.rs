@@ -1,10 +1,13 @@
-//! The local executor: a pool of worker threads, each running one job at a
-//! time as a child process (`flank campaign run-task CAMPAIGN --index I`,
-//! the program being this executable), so a crash or kill of one job
-//! cannot corrupt another. Workers: cores / threads per job (or `workers`);
-//! a job starts only while the running jobs' memory estimates plus its own
-//! fit the budget (the machine's available memory by default), and a job
-//! whose estimate exceeds the machine is refused before anything starts.
+//! The local executor: a pool of worker threads, each running a block of
+//! jobs at a time in a child process (`flank campaign run-task CAMPAIGN
+//! --index 40-71`, the program being this executable; a block of one job
+//! is `--index I`), so a crash or kill of one process cannot corrupt
+//! another's jobs, and the jobs of a block share what the process keeps
+//! (cached compliance tensors: [`super::task::run_block`]). Workers: cores
+//! / threads per job (or `workers`); a block starts only while the running
+//! blocks' memory estimates plus its own (its largest job's) fit the budget
+//! (the machine's available memory by default), and a job whose estimate
+//! exceeds the machine is refused before anything starts.
 
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
@@ -27,6 +30,8 @@ pub struct LocalOptions {
     pub workers: Option<usize>,
     /// Memory budget (MB; default: the machine's available memory).
     pub memory_mb: Option<f64>,
+    /// Jobs per worker process (default [`default_batch`]).
+    pub batch: Option<usize>,
     /// No progress output.
     pub quiet: bool,
 }
@@ -69,8 +74,27 @@ pub fn check_memory(campaign: &Campaign, jobs: &[Job], budget_mb: f64) -> Result
     Ok(())
 }
 
+/// Jobs per worker process when not given: the pending jobs / (4 ×
+/// workers), within 1 … [`MAX_BATCH`]: blocks long enough that a process
+/// start, a scene's meshing setup and a tensor read are paid once per
+/// block, short enough that the workers finish together (4 blocks each at
+/// least) and that a few slow jobs (FE contact) still get one process each.
+pub fn default_batch(pending: usize, workers: usize) -> usize {
+    pending.div_ceil(4 * workers.max(1)).clamp(1, MAX_BATCH)
+}
+
+/// The largest default block.
+pub const MAX_BATCH: usize = 32;
+
+/// A block of jobs (indices into the job list) run by one process, and its
+/// memory: the largest of its jobs' (they run one after the other).
+struct Block {
+    jobs: Vec<usize>,
+    memory_mb: f64,
+}
+
 struct Pool {
-    queue: VecDeque<usize>,
+    queue: VecDeque<Block>,
     memory_in_use: f64,
     running: usize,
 }
@@ -93,6 +117,10 @@ pub fn run_local(campaign: &Campaign, jobs: &[Job], options: &LocalOptions) -> R
         .workers
         .unwrap_or_else(|| (resources::cores() / threads).max(1))
         .clamp(1, pending.len().max(1));
+    let batch = options
+        .batch
+        .unwrap_or_else(|| default_batch(pending.len(), workers))
+        .max(1);
     let mut report = LocalReport {
         jobs: jobs.len(),
         skipped: jobs.len() - pending.len(),
@@ -101,7 +129,7 @@ pub fn run_local(campaign: &Campaign, jobs: &[Job], options: &LocalOptions) -> R
     };
     if !options.quiet {
         eprintln!(
-            "{}: {} jobs, {} done before, {} to run on {workers} workers ({} thread(s) each, memory budget {:.1} GB)",
+            "{}: {} jobs, {} done before, {} to run on {workers} workers ({} thread(s) each, up to {batch} jobs per process, memory budget {:.1} GB)",
             campaign.file.name,
             jobs.len(),
             report.skipped,
@@ -116,7 +144,13 @@ pub fn run_local(campaign: &Campaign, jobs: &[Job], options: &LocalOptions) -> R
     );
     let bar = progress_bar(pending.len(), options.quiet);
     let pool = Mutex::new(Pool {
-        queue: pending.into_iter().collect(),
+        queue: pending
+            .chunks(batch)
+            .map(|c| Block {
+                jobs: c.to_vec(),
+                memory_mb: c.iter().map(|&i| jobs[i].memory_mb).fold(0.0, f64::max),
+            })
+            .collect(),
         memory_in_use: 0.0,
         running: 0,
     });
@@ -128,59 +162,61 @@ pub fn run_local(campaign: &Campaign, jobs: &[Job], options: &LocalOptions) -> R
     std::thread::scope(|s| {
         for _ in 0..workers {
             s.spawn(|| loop {
-                let i = {
+                let block = {
                     let mut p = pool.lock().unwrap_or_else(|e| e.into_inner());
                     loop {
                         if p.queue.is_empty() {
                             return;
                         }
-                        let fits = p.queue.iter().position(|&i| {
-                            p.running == 0 || p.memory_in_use + jobs[i].memory_mb <= budget
+                        let fits = p.queue.iter().position(|b| {
+                            p.running == 0 || p.memory_in_use + b.memory_mb <= budget
                         });
                         if let Some(k) = fits {
-                            let i = p.queue.remove(k).unwrap_or_default();
-                            p.memory_in_use += jobs[i].memory_mb;
+                            let Some(b) = p.queue.remove(k) else { return };
+                            p.memory_in_use += b.memory_mb;
                             p.running += 1;
-                            break i;
+                            break b;
                         }
                         p = cv.wait(p).unwrap_or_else(|e| e.into_inner());
                     }
                 };
-                let job = &jobs[i];
-                let ok = match run_child(campaign, job, &options.exe, campaign_dir) {
-                    Ok((ok, log)) => {
-                        outcomes.lock().unwrap_or_else(|e| e.into_inner()).push((
-                            i,
-                            ok,
-                            log.clone(),
-                        ));
-                        let line = if ok {
-                            format!("job {i} ({}) done", job.analysis)
-                        } else {
-                            format!("job {i} ({}) FAILED: see {}", job.analysis, log.display())
-                        };
-                        if !options.quiet {
-                            match &bar {
-                                Some(b) => b.println(line),
-                                None => eprintln!("{line}"),
+                let block_jobs: Vec<&Job> = block.jobs.iter().map(|&i| &jobs[i]).collect();
+                match run_block_child(campaign, &block_jobs, &options.exe, campaign_dir) {
+                    Ok(results) => {
+                        // in block order; `i` is the job's index in the campaign
+                        for (i, ok, log) in results {
+                            let Some(job) = block_jobs.iter().find(|j| j.index == i) else {
+                                continue;
+                            };
+                            let line = if ok {
+                                format!("job {i} ({}) done", job.analysis)
+                            } else {
+                                format!("job {i} ({}) FAILED: see {}", job.analysis, log.display())
+                            };
+                            if !options.quiet {
+                                match &bar {
+                                    Some(b) => b.println(line),
+                                    None => eprintln!("{line}"),
+                                }
                             }
+                            if let Some(b) = &bar {
+                                b.inc(1);
+                            }
+                            outcomes
+                                .lock()
+                                .unwrap_or_else(|e| e.into_inner())
+                                .push((i, ok, log));
                         }
-                        ok
                     }
                     Err(e) => {
                         spawn_error
                             .lock()
                             .unwrap_or_else(|e| e.into_inner())
                             .get_or_insert(e);
-                        false
                     }
-                };
-                let _ = ok;
-                if let Some(b) = &bar {
-                    b.inc(1);
                 }
                 let mut p = pool.lock().unwrap_or_else(|e| e.into_inner());
-                p.memory_in_use -= job.memory_mb;
+                p.memory_in_use -= block.memory_mb;
                 p.running -= 1;
                 cv.notify_all();
             });
@@ -219,26 +255,66 @@ fn progress_bar(n: usize, quiet: bool) -> Option<indicatif::ProgressBar> {
     Some(b)
 }
 
-/// Runs one job as a child process, its output in the job's `log.txt`;
-/// whether it finished, and the log.
-fn run_child(campaign: &Campaign, job: &Job, exe: &Path, cwd: &Path) -> Result<(bool, PathBuf)> {
-    let dir = store::job_dir(&campaign.out, job);
-    std::fs::create_dir_all(&dir).map_err(|e| FlankError::io(&dir, e))?;
-    let log_path = dir.join("log.txt");
-    let log = std::fs::File::create(&log_path).map_err(|e| FlankError::io(&log_path, e))?;
+/// Runs a block of jobs in one child process (`run-task --index 0-31`,
+/// each job's output in its `log.txt`, the process's own in
+/// `OUT/workers.log`); a block of one job runs as before, its output in its
+/// log. A job the process did not finish and did not record as failed
+/// (the process died under it, or before it) runs again alone, so that it
+/// gets its own attempt and log. Per job of the block: index, whether it
+/// finished, its log.
+fn run_block_child(
+    campaign: &Campaign,
+    block: &[&Job],
+    exe: &Path,
+    cwd: &Path,
+) -> Result<Vec<(usize, bool, PathBuf)>> {
+    if let [job] = block {
+        return Ok(vec![run_child(campaign, job, exe, cwd)?]);
+    }
+    // file times come from a coarse kernel clock (a few ms behind): a
+    // failure record newer than 50 ms before the start is this attempt's
+    let started = std::time::SystemTime::now() - std::time::Duration::from_millis(50);
+    let list = super::slurm::index_list(&block.iter().map(|j| j.index).collect::<Vec<_>>());
+    let log_path = campaign.out.join("workers.log");
+    let log = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(&log_path)
+        .map_err(|e| FlankError::io(&log_path, e))?;
     let log2 = log.try_clone().map_err(|e| FlankError::io(&log_path, e))?;
+    let mut cmd = child_command(campaign, &list, exe, cwd);
+    cmd.stdout(log).stderr(log2);
+    cmd.status()
+        .map_err(|e| FlankError::Campaign(format!("cannot start {}: {e}", exe.display())))?;
+    let mut results = Vec::with_capacity(block.len());
+    for job in block {
+        let log = store::job_dir(&campaign.out, job).join("log.txt");
+        if store::done(&campaign.out, job).is_some() {
+            results.push((job.index, true, log));
+        } else if store::failed_since(&campaign.out, job, started) {
+            results.push((job.index, false, log));
+        } else if crate::interrupt::requested() {
+            results.push((job.index, false, log_path.clone()));
+        } else {
+            results.push(run_child(campaign, job, exe, cwd)?);
+        }
+    }
+    Ok(results)
+}
+
+/// `flank campaign run-task CAMPAIGN --index LIST --out OUT`, killed with
+/// this process (Linux).
+fn child_command(campaign: &Campaign, list: &str, exe: &Path, cwd: &Path) -> Command {
     let mut cmd = Command::new(exe);
     cmd.arg("campaign")
         .arg("run-task")
         .arg(&campaign.file.path)
         .arg("--index")
-        .arg(job.index.to_string())
+        .arg(list)
         .arg("--out")
         .arg(&campaign.out)
         .current_dir(cwd)
-        .stdin(Stdio::null())
-        .stdout(log)
-        .stderr(log2);
+        .stdin(Stdio::null());
     #[cfg(target_os = "linux")]
     {
         use std::os::unix::process::CommandExt;
@@ -252,8 +328,26 @@ fn run_child(campaign: &Campaign, job: &Job, exe: &Path, cwd: &Path) -> Result<(
             });
         }
     }
+    cmd
+}
+
+/// Runs one job as a child process, its output in the job's `log.txt`;
+/// its index, whether it finished, and the log.
+fn run_child(
+    campaign: &Campaign,
+    job: &Job,
+    exe: &Path,
+    cwd: &Path,
+) -> Result<(usize, bool, PathBuf)> {
+    let dir = store::job_dir(&campaign.out, job);
+    std::fs::create_dir_all(&dir).map_err(|e| FlankError::io(&dir, e))?;
+    let log_path = dir.join("log.txt");
+    let log = std::fs::File::create(&log_path).map_err(|e| FlankError::io(&log_path, e))?;
+    let log2 = log.try_clone().map_err(|e| FlankError::io(&log_path, e))?;
+    let mut cmd = child_command(campaign, &job.index.to_string(), exe, cwd);
+    cmd.stdout(log).stderr(log2);
     let status = cmd
         .status()
         .map_err(|e| FlankError::Campaign(format!("cannot start {}: {e}", exe.display())))?;
-    Ok((status.success(), log_path))
+    Ok((job.index, status.success(), log_path))
 }

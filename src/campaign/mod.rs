@@ -7,7 +7,7 @@
 //! [`variants`] resolves jobs and their identities, [`resources`] estimates
 //! memory, [`store`] keeps the job folders, [`task`] runs one job,
 //! [`local`] is the local executor, [`slurm`] the Slurm one, [`collect`] (with [`convergence`],
-//! [`stats`], [`plots`]) gathers the table and its summaries. The analyses themselves run
+//! [`stats`], [`plots`], [`parquet`]) gathers the table and its summaries. The analyses themselves run
 //! through the `flank` executable (a child process per job): nothing here
 //! imports the analysis code, and no lower layer imports this one.
 
@@ -15,6 +15,7 @@ pub mod collect;
 pub mod convergence;
 pub mod file;
 pub mod local;
+pub mod parquet;
 pub mod plots;
 pub mod resources;
 pub mod sample;

@@ -63,6 +63,14 @@ pub fn failed(out: &Path, job: &Job) -> Option<String> {
     Some(v["error"].as_str().unwrap_or("").to_string())
 }
 
+/// Whether `job`'s last attempt failed at or after `since` (its
+/// `failed.json` was written then).
+pub fn failed_since(out: &Path, job: &Job, since: std::time::SystemTime) -> bool {
+    std::fs::metadata(job_dir(out, job).join("failed.json"))
+        .and_then(|m| m.modified())
+        .is_ok_and(|t| t >= since)
+}
+
 /// Creates the job's folder with its scene and description (idempotent),
 /// and removes what an interrupted attempt left: `tmp-*` folders and a
 /// `result` folder without completion record.

@@ -175,6 +175,128 @@ pub fn run_task(
     Ok(TaskOutcome::Finished(seconds))
 }
 
+/// What [`run_block`] did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct BlockReport {
+    /// Finished now, with seconds.
+    pub finished: Vec<(usize, f64)>,
+    /// Done before: not run.
+    pub already_done: Vec<usize>,
+    /// Failed, with the message.
+    pub failed: Vec<(usize, String)>,
+    /// Not run because a stop was requested (SIGINT).
+    pub not_run: Vec<usize>,
+}
+
+/// Runs jobs `indices` of `campaign` one after the other in this process
+/// (a local worker's block: `flank campaign run-task CAMPAIGN --index
+/// 0-31`), each exactly as [`run_task`] runs it (its own temporary folder,
+/// rename, completion record): a kill loses only the job under way. The
+/// process keeps what the jobs share, e.g. the compliance tensors of a
+/// campaign cache ([`crate::compliance::cache::ComplianceCache::shared`]),
+/// so the second job of a block reads no tensor file. A failed job does
+/// not stop the block; a stop request (SIGINT) does, before the next job.
+/// With `job_logs`, each job's output (this process's stdout and stderr
+/// while it runs) goes to its folder's `log.txt`, as the local executor
+/// gives a single job's.
+pub fn run_block(
+    campaign: &Campaign,
+    indices: &[usize],
+    job_logs: bool,
+    analysis: &dyn Fn(&[String]) -> std::result::Result<(), String>,
+) -> Result<BlockReport> {
+    let mut report = BlockReport::default();
+    for (k, &index) in indices.iter().enumerate() {
+        if crate::interrupt::requested() {
+            report.not_run.extend_from_slice(&indices[k..]);
+            break;
+        }
+        let job = campaign.job(index)?;
+        if store::done(&campaign.out, &job).is_some() {
+            report.already_done.push(index);
+            continue;
+        }
+        let _log = if job_logs {
+            let dir = store::job_dir(&campaign.out, &job);
+            std::fs::create_dir_all(&dir).map_err(|e| FlankError::io(&dir, e))?;
+            Some(OutputTo::file(&dir.join("log.txt"))?)
+        } else {
+            None
+        };
+        match run_task(campaign, index, analysis) {
+            Ok(TaskOutcome::Finished(s)) => {
+                println!("job {index}: finished in {s:.2} s");
+                report.finished.push((index, s));
+            }
+            Ok(TaskOutcome::AlreadyDone) => {
+                println!("job {index}: done before");
+                report.already_done.push(index);
+            }
+            Err(e) => {
+                eprintln!("error: {e}");
+                report.failed.push((index, e.to_string()));
+            }
+        }
+    }
+    Ok(report)
+}
+
+/// This process's stdout and stderr sent to a file until dropped (then
+/// back where they were).
+struct OutputTo {
+    #[cfg(unix)]
+    saved: [i32; 2],
+}
+
+impl OutputTo {
+    fn file(path: &Path) -> Result<Self> {
+        use std::io::Write;
+        let _ = std::io::stdout().flush();
+        let _ = std::io::stderr().flush();
+        let f = std::fs::File::create(path).map_err(|e| FlankError::io(path, e))?;
+        #[cfg(unix)]
+        {
+            use std::os::fd::AsRawFd;
+            // SAFETY: dup/dup2 on this process's own descriptors 1 and 2 and
+            // on an open file; the copies are restored and closed in drop.
+            let saved = unsafe { [libc::dup(1), libc::dup(2)] };
+            let fd = f.as_raw_fd();
+            let ok = saved.iter().all(|&s| s >= 0)
+                && unsafe { libc::dup2(fd, 1) >= 0 && libc::dup2(fd, 2) >= 0 };
+            if !ok {
+                let e = std::io::Error::last_os_error();
+                let g = OutputTo { saved };
+                drop(g);
+                return Err(FlankError::io(path, e));
+            }
+            Ok(OutputTo { saved })
+        }
+        #[cfg(not(unix))]
+        {
+            drop(f);
+            Ok(OutputTo {})
+        }
+    }
+}
+
+impl Drop for OutputTo {
+    fn drop(&mut self) {
+        use std::io::Write;
+        let _ = std::io::stdout().flush();
+        let _ = std::io::stderr().flush();
+        #[cfg(unix)]
+        for (k, &s) in self.saved.iter().enumerate() {
+            if s >= 0 {
+                // SAFETY: s is this process's duplicate of descriptor k + 1
+                unsafe {
+                    libc::dup2(s, k as i32 + 1);
+                    libc::close(s);
+                }
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::glob_match;

@@ -39,18 +39,25 @@ enum Sub {
         /// Run only these job indices (e.g. 0-2,5); the rest stay as they are.
         #[arg(long)]
         only: Option<String>,
+        /// Jobs per worker process (run one after the other, sharing what
+        /// they can, e.g. cached compliance tensors); default: the pending
+        /// jobs / (4 × workers), 1 … 32.
+        #[arg(long)]
+        batch: Option<usize>,
         /// Print nothing but errors.
         #[arg(long, short)]
         quiet: bool,
     },
     /// Run one job (what every executor runs: Slurm array task I is
-    /// `flank campaign run-task CAMPAIGN --index I`).
+    /// `flank campaign run-task CAMPAIGN --index I`), or a block of jobs
+    /// one after the other in this process (`--index 0-31`: what a local
+    /// worker runs; each job's output then goes to its folder's log.txt).
     RunTask {
         #[command(flatten)]
         common: Common,
-        /// The job's index (0-based).
+        /// The job's index (0-based), or a list of them (0-31,40).
         #[arg(long)]
-        index: usize,
+        index: String,
     },
     /// Submit the jobs not done yet as Slurm job arrays (sbatch), one
     /// array task per job.
@@ -91,6 +98,7 @@ pub fn run(args: Args) -> Result<()> {
             workers,
             memory_gb,
             only,
+            batch,
             quiet,
         } => {
             let c = open(&common)?;
@@ -98,7 +106,7 @@ pub fn run(args: Args) -> Result<()> {
             let selected: Vec<flank::campaign::Job> = match &only {
                 None => jobs.clone(),
                 Some(list) => {
-                    let keep = parse_index_list(list, jobs.len())?;
+                    let keep = parse_index_list(list, jobs.len()).context("--only")?;
                     jobs.iter()
                         .filter(|j| keep.contains(&j.index))
                         .cloned()
@@ -110,6 +118,7 @@ pub fn run(args: Args) -> Result<()> {
                 exe,
                 workers,
                 memory_mb: memory_gb.map(|g| g * 1024.0),
+                batch,
                 quiet,
             };
             let r = flank::campaign::local::run_local(&c, &selected, &options)?;
@@ -142,20 +151,42 @@ pub fn run(args: Args) -> Result<()> {
         }
         Sub::RunTask { common, index } => {
             let c = open(&common)?;
-            let outcome = flank::campaign::task::run_task(&c, index, &|argv| {
+            let indices = parse_index_list(&index, c.job_count()).context("--index")?;
+            anyhow::ensure!(!indices.is_empty(), "--index `{index}`: no job index");
+            let analysis = |argv: &[String]| {
                 let cli = crate::Cli::try_parse_from(
                     std::iter::once("flank".to_string()).chain(argv.iter().cloned()),
                 )
                 .map_err(|e| e.to_string())?;
                 crate::run(cli).map_err(|e| format!("{e:#}"))
-            })?;
-            match outcome {
-                flank::campaign::task::TaskOutcome::AlreadyDone => {
-                    println!("job {index}: done before")
+            };
+            if let [index] = indices[..] {
+                match flank::campaign::task::run_task(&c, index, &analysis)? {
+                    flank::campaign::task::TaskOutcome::AlreadyDone => {
+                        println!("job {index}: done before")
+                    }
+                    flank::campaign::task::TaskOutcome::Finished(s) => {
+                        println!("job {index}: finished in {s:.2} s")
+                    }
                 }
-                flank::campaign::task::TaskOutcome::Finished(s) => {
-                    println!("job {index}: finished in {s:.2} s")
-                }
+                return Ok(());
+            }
+            let r = flank::campaign::task::run_block(&c, &indices, true, &analysis)?;
+            println!(
+                "{} jobs: {} finished, {} done before, {} failed, {} not run (stopped)",
+                indices.len(),
+                r.finished.len(),
+                r.already_done.len(),
+                r.failed.len(),
+                r.not_run.len()
+            );
+            if !r.failed.is_empty() || !r.not_run.is_empty() {
+                let list: Vec<String> = r.failed.iter().map(|(i, _)| i.to_string()).collect();
+                anyhow::bail!(
+                    "job(s) failed: [{}] (messages in their log.txt); not run: {:?}",
+                    list.join(", "),
+                    r.not_run
+                );
             }
             Ok(())
         }
@@ -261,14 +292,14 @@ fn parse_index_list(list: &str, n: usize) -> Result<Vec<usize>> {
         let (a, b): (usize, usize) = (
             a.trim()
                 .parse()
-                .with_context(|| format!("--only: `{part}` is not an index or a range"))?,
+                .with_context(|| format!("`{part}` is not an index or a range"))?,
             b.trim()
                 .parse()
-                .with_context(|| format!("--only: `{part}` is not an index or a range"))?,
+                .with_context(|| format!("`{part}` is not an index or a range"))?,
         );
         if a > b || b >= n {
             anyhow::bail!(
-                "--only: `{part}`: the campaign's jobs are 0 … {}",
+                "`{part}`: the campaign's jobs are 0 … {}",
                 n.saturating_sub(1)
             );
         }

@@ -42,15 +42,11 @@
 //! [`FlankError::Parse`] naming the file. Files are written to a temporary
 //! name and renamed, so an interrupted run leaves no half-written cache.
 //!
-//! **Cache.** [`ComplianceCache`] keeps tensors by their
-//! [`crate::compliance::cache_key`] (mesh hash + Dirichlet conditions +
-//! couplings + material + flank nodes), in memory and in a directory: the
-//! same body is computed once per campaign.
+//! **Cache.** [`ComplianceCache`] ([`super::tensor_cache`]) keeps tensors by
+//! their [`crate::compliance::cache_key`] in memory and in a directory.
 
-use std::collections::HashMap;
 use std::io::Write;
-use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex};
+use std::path::Path;
 
 use crate::compliance::{ComplianceMeta, ComplianceTensor, FlankFace, FlankNodes};
 use crate::error::FlankError;
@@ -60,7 +56,7 @@ pub const FORMAT_VERSION: u32 = 1;
 const MAGIC: &[u8; 8] = b"FLANKCMP";
 
 /// On-disk format of a compliance file.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum FileFormat {
     /// `<body>.compliance.h5` (feature `hdf5`).
@@ -852,110 +848,7 @@ pub fn read_trusted(path: &Path, key: &str) -> Option<ComplianceTensor> {
     }
 }
 
-/// Where a tensor came from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum CacheOutcome {
-    /// Computed now (and stored).
-    Computed,
-    /// Found in this process's memory.
-    Memory,
-    /// Read from a file in the cache directory.
-    Disk,
-}
-
-/// Compliance tensors by cache key: in memory, and as files
-/// `<body>.<key>.compliance.{h5,bin}` in a directory.
-pub struct ComplianceCache {
-    dir: Option<PathBuf>,
-    format: FileFormat,
-    memory: Mutex<HashMap<String, Arc<ComplianceTensor>>>,
-}
-
-impl ComplianceCache {
-    /// A cache in memory only.
-    pub fn in_memory() -> Self {
-        ComplianceCache {
-            dir: None,
-            format: FileFormat::default_format(),
-            memory: Mutex::new(HashMap::new()),
-        }
-    }
-
-    /// A cache in memory and in `dir` (created if absent), files in `format`.
-    pub fn in_dir(dir: &Path, format: FileFormat) -> Result<Self, FlankError> {
-        std::fs::create_dir_all(dir).map_err(|e| FlankError::io(dir, e))?;
-        crate::atomic_file::remove_stale_temps(dir);
-        Ok(ComplianceCache {
-            dir: Some(dir.to_path_buf()),
-            format,
-            memory: Mutex::new(HashMap::new()),
-        })
-    }
-
-    /// The file of `key` for `body` in the cache directory.
-    pub fn path(&self, body: &str, key: &str) -> Option<PathBuf> {
-        let short = &key[..key.len().min(16)];
-        self.dir
-            .as_ref()
-            .map(|d| d.join(format!("{body}.{short}.{}", self.format.extension())))
-    }
-
-    /// The tensor with `key`, from memory or disk, else `compute()`d and stored.
-    ///
-    /// A file is trusted only when its key and checksum match
-    /// ([`read_trusted`]); a corrupt, truncated or foreign file is recomputed
-    /// with a warning on stderr and replaced. Processes sharing the
-    /// directory take the key's lock file `<body>.<key>.lock`
-    /// ([`crate::atomic_file::FileLock`]) around "look up, else compute and
-    /// store": the second waits for the first and reads its file instead of
-    /// computing the same tensor again.
-    pub fn get_or_compute(
-        &self,
-        body: &str,
-        key: &str,
-        compute: impl FnOnce() -> Result<ComplianceTensor, FlankError>,
-    ) -> Result<(Arc<ComplianceTensor>, CacheOutcome), FlankError> {
-        if let Some(t) = self.lock()?.get(key) {
-            return Ok((t.clone(), CacheOutcome::Memory));
-        }
-        let path = self.path(body, key);
-        let _file_lock = match &path {
-            Some(p) => Some(crate::atomic_file::FileLock::exclusive(
-                &p.with_extension("").with_extension("lock"),
-            )?),
-            None => None,
-        };
-        if let Some(p) = &path {
-            if let Some(t) = read_trusted(p, key) {
-                let t = Arc::new(t);
-                self.lock()?.insert(key.to_string(), t.clone());
-                return Ok((t, CacheOutcome::Disk));
-            }
-        }
-        let t = compute()?;
-        if t.meta.cache_key != key {
-            return Err(FlankError::Model(format!(
-                "computed tensor has key {} instead of {key}",
-                t.meta.cache_key
-            )));
-        }
-        if let Some(p) = &path {
-            write(p, &t)?;
-        }
-        let t = Arc::new(t);
-        self.lock()?.insert(key.to_string(), t.clone());
-        Ok((t, CacheOutcome::Computed))
-    }
-
-    fn lock(
-        &self,
-    ) -> Result<std::sync::MutexGuard<'_, HashMap<String, Arc<ComplianceTensor>>>, FlankError> {
-        self.memory
-            .lock()
-            .map_err(|_| FlankError::Solver("compliance cache lock poisoned".into()))
-    }
-}
+pub use super::tensor_cache::{CacheOutcome, ComplianceCache};
 
 #[cfg(test)]
 mod tests {
@@ -963,7 +856,6 @@ mod tests {
     use crate::compliance::flank::tests::box_flank;
     use crate::compliance::{compliance_tensor, ComplianceOptions};
     use crate::mesh::structured::BoxElement;
-    use std::cell::Cell;
 
     fn tensor() -> ComplianceTensor {
         let (model, flank) = box_flank(BoxElement::Hex20);
@@ -972,7 +864,7 @@ mod tests {
             .0
     }
 
-    fn tmp(name: &str) -> PathBuf {
+    fn tmp(name: &str) -> std::path::PathBuf {
         let d = std::env::temp_dir().join(format!("flank_cache_test_{}", std::process::id()));
         std::fs::create_dir_all(&d).unwrap();
         d.join(name)
@@ -1045,73 +937,5 @@ mod tests {
         // truncated: an HDF5 error, not trusted either
         std::fs::write(&bad, &bytes[..bytes.len() / 2]).unwrap();
         assert!(read(&bad).is_err());
-    }
-
-    #[test]
-    fn cache_computes_once() {
-        let t = tensor();
-        let key = t.meta.cache_key.clone();
-        let dir = tmp("cache_dir");
-        let _ = std::fs::remove_dir_all(&dir);
-        let calls = Cell::new(0);
-        let compute = || {
-            calls.set(calls.get() + 1);
-            Ok(t.clone())
-        };
-        let c = ComplianceCache::in_dir(&dir, FileFormat::Native).unwrap();
-        let (_, o1) = c.get_or_compute("box", &key, compute).unwrap();
-        let (_, o2) = c.get_or_compute("box", &key, compute).unwrap();
-        assert_eq!((o1, o2), (CacheOutcome::Computed, CacheOutcome::Memory));
-        // a new cache over the same directory finds the file
-        let c2 = ComplianceCache::in_dir(&dir, FileFormat::Native).unwrap();
-        let (t2, o3) = c2.get_or_compute("box", &key, compute).unwrap();
-        assert_eq!(o3, CacheOutcome::Disk);
-        assert_eq!(calls.get(), 1);
-        assert_eq!(t2.matrix, t.matrix);
-        // a different key computes (and the wrong key is caught)
-        let e = c2.get_or_compute("box", "other", compute);
-        assert!(e.is_err());
-    }
-
-    /// A cache file that is truncated, has a flipped byte, or is junk is
-    /// never trusted: recomputed (with a warning) and replaced by a whole
-    /// file; the lock file stays beside it.
-    #[test]
-    fn corrupt_cache_files_are_recomputed() {
-        let t = tensor();
-        let key = t.meta.cache_key.clone();
-        let dir = tmp("cache_corrupt");
-        let _ = std::fs::remove_dir_all(&dir);
-        let calls = Cell::new(0);
-        let compute = || {
-            calls.set(calls.get() + 1);
-            Ok(t.clone())
-        };
-        ComplianceCache::in_dir(&dir, FileFormat::Native)
-            .unwrap()
-            .get_or_compute("box", &key, compute)
-            .unwrap();
-        let c = ComplianceCache::in_dir(&dir, FileFormat::Native).unwrap();
-        let p = c.path("box", &key).unwrap();
-        let good = std::fs::read(&p).unwrap();
-        let mut flipped = good.clone();
-        let mid = flipped.len() - 100;
-        flipped[mid] ^= 0x10;
-        for bad in [good[..good.len() / 2].to_vec(), flipped, b"junk".to_vec()] {
-            std::fs::write(&p, &bad).unwrap();
-            let c = ComplianceCache::in_dir(&dir, FileFormat::Native).unwrap();
-            let (t2, o) = c.get_or_compute("box", &key, compute).unwrap();
-            assert_eq!(o, CacheOutcome::Computed);
-            assert_eq!(t2.matrix, t.matrix);
-            assert_eq!(std::fs::read(&p).unwrap(), good, "replaced whole");
-        }
-        assert_eq!(calls.get(), 4);
-        let mut names: Vec<String> = std::fs::read_dir(&dir)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        names.sort();
-        assert_eq!(names.len(), 2, "{names:?}");
-        assert!(names[1].ends_with(".lock"), "{names:?}");
     }
 }

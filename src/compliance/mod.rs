@@ -85,6 +85,7 @@ pub mod interpolation;
 pub mod plot;
 pub mod run;
 pub mod tensor;
+pub mod tensor_cache;
 
 pub use cache::{ComplianceCache, FileFormat};
 pub use flank::{FlankFace, FlankNodes};

@@ -200,12 +200,21 @@ pub fn body_tensor(
     let (tensor, outcome) = if let Some(t) = cache::read_trusted(&file, &key) {
         (std::sync::Arc::new(t), CacheOutcome::Disk)
     } else {
-        let (t, o) = match options.campaign {
-            Some(c) => c.get_or_compute(name, &key, compute)?,
-            None => (std::sync::Arc::new(compute()?), CacheOutcome::Computed),
-        };
-        cache::write(&file, &t)?;
-        (t, o)
+        match options.campaign {
+            Some(c) => {
+                let (t, o) = c.get_or_compute(name, &key, compute)?;
+                // the cache's file is the same bytes: linked, not rewritten
+                if !c.link_into(name, &key, &file) {
+                    cache::write(&file, &t)?;
+                }
+                (t, o)
+            }
+            None => {
+                let t = std::sync::Arc::new(compute()?);
+                cache::write(&file, &t)?;
+                (t, CacheOutcome::Computed)
+            }
+        }
     };
     Ok(BodyTensor {
         tensor,
@@ -257,7 +266,7 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
     let out = &options.out;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
     let campaign = match &options.cache {
-        Some(d) => Some(ComplianceCache::in_dir(d, format)?),
+        Some(d) => Some(ComplianceCache::shared(d, format)?),
         None => None,
     };
     // where each body's tensors are probed: a spur/helical body along the
@@ -297,7 +306,7 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
                 clamp_cuts,
                 compliance: copts.clone(),
                 format,
-                campaign: campaign.as_ref(),
+                campaign: campaign.as_deref(),
             },
             out,
         )?;

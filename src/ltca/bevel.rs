@@ -193,10 +193,10 @@ impl BevelLtca {
         let torque = scene.load.torque_nmm;
         let t = Instant::now();
         let campaign = match &options.cache {
-            Some(d) => Some(ComplianceCache::in_dir(d, FileFormat::default_format())?),
+            Some(d) => Some(ComplianceCache::shared(d, FileFormat::default_format())?),
             None => None,
         };
-        let topts = BodyTensorOptions::for_ltca(options.threads, campaign.as_ref());
+        let topts = BodyTensorOptions::for_ltca(options.threads, campaign.as_deref());
         let mut tensors = Vec::new();
         for name in ["pinion", "gear"] {
             let body =

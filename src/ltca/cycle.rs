@@ -119,10 +119,10 @@ impl LtcaCycle {
         };
         let t = Instant::now();
         let campaign = match &options.cache {
-            Some(d) => Some(ComplianceCache::in_dir(d, FileFormat::default_format())?),
+            Some(d) => Some(ComplianceCache::shared(d, FileFormat::default_format())?),
             None => None,
         };
-        let topts = BodyTensorOptions::for_ltca(options.threads, campaign.as_ref());
+        let topts = BodyTensorOptions::for_ltca(options.threads, campaign.as_deref());
         let pinion = body_tensor(
             &scene_body(scene, "pinion", &mesh)?.into(),
             &topts,
