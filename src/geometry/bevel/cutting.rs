@@ -368,9 +368,9 @@ fn hobbing_gear_setup(design: &BlankDesign, hand: Hand, cut: &MachineCut) -> Res
     };
     // First-order settings: `hobbing_settings::refined_setup` meets the
     // blank at the mean point (1.1 µm of s_mn on seed 000's gear) but is not
-    // used here yet: with it the seed-000 tilted scene's TCA with edges
-    // finds no edge contact (contact ratio 0.867, a 0.042 mm tip-edge
-    // crossing; verification/bevel_face_hobbing case (i)), see that README.
+    // used here yet: it moves seed 000's figures, which are to be rerun
+    // with it (the TCA's edge choice that it once upset is fixed;
+    // verification/bevel_face_hobbing case (i) and its README).
     HobbingSetup::new(blank, cutter, cut.generated)
 }
 
