@@ -2,21 +2,31 @@
 //! 000's hypoid pair (`papers/seed000-hypoid/scene.toml`, both members
 //! face-hobbed): the middle pair traced at 30 positions a pitch over its
 //! whole engagement (91 positions, 3.0 pitches, every pair in mesh read
-//! off the trace), flank and edge systems with the bisected transitions,
+//! off the trace), flank and edge systems with the located transitions,
 //! curvature ellipses and velocities at every traced point; with and
 //! without the numerical ellipse search (18 planes over 180°, golden-
 //! section refinement). Target (issue 17): a cycle with ellipses and edge
 //! checks under 50 ms.
 //!
-//! Criterion medians (2 threads, 2-core machine, 10 samples, 2026-11-26,
-//! after the gear-edge lean fix: 91 positions, 358 Newton steps, 4
-//! transitions): **49.6 ms** (45.8–52.2 ms) with curvature ellipses,
-//! target 50 ms met at the median only; 5.15 s with the search (≈ 30 ms a
-//! searched ellipse). Before the crossing check was screened
-//! (`tca::crossing`) the same cycle took about 2.8 s, 98 % of it in the
-//! check's 22 950 exact closest points on face-hobbed flanks (each an
-//! envelope solve per evaluation); the figure of 61 ms measured before the
-//! check existed had not been updated.
+//! Criterion medians (2 threads, 2-core machine, 10 samples):
+//! * 2026-11-26 morning, after the gear-edge lean fix (91 positions, 358
+//!   Newton steps, 4 transitions): **49.6 ms** (45.8–52.2 ms) with
+//!   curvature ellipses; 5.15 s with the search (≈ 30 ms a searched
+//!   ellipse).
+//! * 2026-11-26 afternoon, transitions by regula falsi and the edge chosen
+//!   among the near edges by the largest lag (361 Newton steps): **51.3 ms**
+//!   (45.8–56.8) and **55.6 ms** (51.6–58.8) in two runs on a quiet
+//!   machine; 4.91 s with the search. Target 50 ms: **missed** (the
+//!   intervals overlap the morning's: not a measured slowdown; the whole
+//!   `flank tca` command, both variants, new/old 0.915 median over 20
+//!   paired runs, 0.63–1.17). The trace (tangency solves, the transitions)
+//!   is about two thirds of the cycle, the curvature ellipses and the
+//!   crossing check the rest.
+//!
+//! Before the crossing check was screened (`tca::crossing`) the same cycle
+//! took about 2.8 s, 98 % of it in the check's 22 950 exact closest points
+//! on face-hobbed flanks (each an envelope solve per evaluation); the
+//! figure of 61 ms measured before the check existed had not been updated.
 //!
 //! `cargo bench --bench tca`.
 
