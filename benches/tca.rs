@@ -18,8 +18,9 @@
 //!   (45.8–56.8) and **55.6 ms** (51.6–58.8) in two runs on a quiet
 //!   machine; 4.91 s with the search. Target 50 ms: **missed** (the
 //!   intervals overlap the morning's: not a measured slowdown; the whole
-//!   `flank tca` command, both variants, new/old 0.915 median over 20
-//!   paired runs, 0.63–1.17). The trace (tangency solves, the transitions)
+//!   `flank tca` command, both variants, new/old CPU time 0.92 median
+//!   over 20 paired runs, 0.62–1.17, on a machine shared with a CI run).
+//!   The trace (tangency solves, the transitions)
 //!   is about two thirds of the cycle, the curvature ellipses and the
 //!   crossing check the rest.
 //!
