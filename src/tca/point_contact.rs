@@ -284,13 +284,21 @@ fn solve_at(
     tangency::solve(system, &p.pinion, &p.gear, &p.turn, seed)
 }
 
+/// The drive flanks of the middle pair (pinion, gear), on which the trace
+/// runs.
+fn middle_drive_flanks(pair: &dyn PairPlacement) -> (&dyn ToothSurface, &dyn ToothSurface) {
+    let km = pair.middle();
+    (
+        pair.pinion().flank(Flank::Right, km).unwrap(),
+        pair.gear().flank(Flank::Right, pair.mate(km)).unwrap(),
+    )
+}
+
 /// Where a flank contact lies: on both active flanks (`None`), or the
 /// edge system of the first boundary it crossed (`Some(Some(_))`), or
 /// below a form line (`Some(None)`: no edge takes over).
 fn crossed(pair: &dyn PairPlacement, t: &Tangency) -> Option<Option<ContactSystem>> {
-    let km = pair.middle();
-    let ps = pair.pinion().flank(Flank::Right, km).unwrap();
-    let gs = pair.gear().flank(Flank::Right, pair.mate(km)).unwrap();
+    let (ps, gs) = middle_drive_flanks(pair);
     let edge = |s: &dyn ToothSurface, [u, v]: [f64; 2]| -> Option<Option<Edge>> {
         let (v0, v1) = s.v_range();
         if v < v0 {
@@ -315,9 +323,7 @@ fn crossed(pair: &dyn PairPlacement, t: &Tangency) -> Option<Option<ContactSyste
 
 /// Whether an edge solution holds (module docs).
 fn edge_holds(pair: &dyn PairPlacement, t: &Tangency) -> bool {
-    let km = pair.middle();
-    let ps = pair.pinion().flank(Flank::Right, km).unwrap();
-    let gs = pair.gear().flank(Flank::Right, pair.mate(km)).unwrap();
+    let (ps, gs) = middle_drive_flanks(pair);
     let on_edge = |s: &dyn ToothSurface, e: Edge, uv: [f64; 2]| {
         let (v0, v1) = s.v_range();
         match e {
@@ -448,9 +454,7 @@ const EDGE_SYSTEMS: [ContactSystem; 6] = [
 /// How far a flank contact lies inside each edge of the active flanks
 /// (mm in the flanks' (u, v); < 0 beyond it), in [`EDGE_SYSTEMS`]' order.
 fn edge_distances(pair: &dyn PairPlacement, t: &Tangency) -> [f64; 6] {
-    let km = pair.middle();
-    let ps = pair.pinion().flank(Flank::Right, km).unwrap();
-    let gs = pair.gear().flank(Flank::Right, pair.mate(km)).unwrap();
+    let (ps, gs) = middle_drive_flanks(pair);
     let three = |s: &dyn ToothSurface, [u, v]: [f64; 2]| {
         let (v0, v1) = s.v_range();
         [s.u_tip(v) - u, v - v0, v1 - v]
@@ -514,9 +518,7 @@ const CHANGE_SOLVES: usize = 120;
 /// only guides [`locate_change`]'s trial rolls: whether a contact holds is
 /// decided by [`crossed`] and [`edge_holds`].
 fn holding_margin(pair: &dyn PairPlacement, t: &Tangency) -> f64 {
-    let km = pair.middle();
-    let ps = pair.pinion().flank(Flank::Right, km).unwrap();
-    let gs = pair.gear().flank(Flank::Right, pair.mate(km)).unwrap();
+    let (ps, gs) = middle_drive_flanks(pair);
     let face = |s: &dyn ToothSurface, v: f64| {
         let (v0, v1) = s.v_range();
         (v - v0).min(v1 - v)
