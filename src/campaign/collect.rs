@@ -255,30 +255,129 @@ impl Table {
     }
 }
 
-/// Rows grouped by analysis and the inputs other than `except`, in first-seen order.
-fn groups<'a>(table: &'a Table, except: &[String]) -> Vec<(String, Vec<&'a Row>)> {
-    let mut order: Vec<String> = Vec::new();
+/// Rows grouped by analysis and the inputs other than `except`, in
+/// first-seen order: (label "analysis, k = v, …", the inputs part alone,
+/// rows).
+fn groups<'a>(table: &'a Table, except: &[String]) -> Vec<(String, String, Vec<&'a Row>)> {
+    let mut order: Vec<(String, String)> = Vec::new();
     let mut map: BTreeMap<String, Vec<&Row>> = BTreeMap::new();
     for r in table.rows.iter().filter(|r| r.status == "done") {
-        let mut key = vec![r.analysis.clone()];
+        let mut context = Vec::new();
         for (k, v) in &r.inputs {
             if !except.contains(k) {
-                key.push(format!("{k} = {}", value_text(v)));
+                context.push(format!("{k} = {}", value_text(v)));
             }
         }
-        let key = key.join(", ");
+        let context = context.join(", ");
+        let key = if context.is_empty() {
+            r.analysis.clone()
+        } else {
+            format!("{}, {context}", r.analysis)
+        };
         if !map.contains_key(&key) {
-            order.push(key.clone());
+            order.push((key.clone(), context));
         }
         map.entry(key).or_default().push(r);
     }
     order
         .into_iter()
-        .map(|k| {
+        .map(|(k, context)| {
             let rows = map.remove(&k).unwrap_or_default();
-            (k, rows)
+            (k, context, rows)
         })
         .collect()
+}
+
+/// A group of a mesh study (one analysis, the same other inputs) and its
+/// done levels (cell size, row), finest first.
+struct GroupLevels<'a> {
+    label: String,
+    context: String,
+    analysis: String,
+    levels: Vec<(f64, &'a Row)>,
+}
+
+/// One level of a mesh study: a figure's value and run time, and the
+/// reference of its error (the Richardson-extrapolated value of the
+/// reference analysis, or of its own group) with that estimate's GCI.
+struct ErrorPoint {
+    figure: String,
+    group: String,
+    h: f64,
+    seconds: f64,
+    value: f64,
+    reference: f64,
+    reference_gci: Option<f64>,
+}
+
+impl ErrorPoint {
+    fn relative_error(&self) -> f64 {
+        ((self.value - self.reference) / self.reference).abs()
+    }
+}
+
+/// `error_vs_time.csv` and, per figure, `error_vs_time_<figure>` (svg,
+/// png): |φ − φ_ref| / |φ_ref| against the job's run time, both
+/// logarithmic, one series per group (analysis and the other inputs), the
+/// reference's GCI_fine dashed (below it an error is not resolved): the
+/// error-against-run-time front of the methods of a mesh study.
+fn write_error_against_time(
+    out: &Path,
+    points: &[ErrorPoint],
+    reference: &str,
+) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    if points.is_empty() {
+        return Ok(files);
+    }
+    let opt = |x: Option<f64>| x.map(|x| x.to_string()).unwrap_or_default();
+    let mut csv =
+        String::from("figure,group,h,seconds,value,reference,reference_gci,relative_error\n");
+    for p in points {
+        csv.push_str(&format!(
+            "{},{},{},{},{},{},{},{}\n",
+            csv_field(&p.figure),
+            csv_field(&p.group),
+            p.h,
+            p.seconds,
+            p.value,
+            p.reference,
+            opt(p.reference_gci),
+            p.relative_error()
+        ));
+    }
+    let path = out.join("error_vs_time.csv");
+    store::write_atomic(&path, csv.as_bytes())?;
+    files.push(path);
+    let mut figures: Vec<&str> = Vec::new();
+    for p in points {
+        if !figures.contains(&p.figure.as_str()) {
+            figures.push(&p.figure);
+        }
+    }
+    for f in figures {
+        let mut series: Vec<super::plots::ErrorSeries> = Vec::new();
+        for p in points.iter().filter(|p| p.figure == f) {
+            let e = p.relative_error();
+            match series.iter_mut().find(|s| s.name == p.group) {
+                Some(s) => s.points.push((p.seconds, e)),
+                None => series.push(super::plots::ErrorSeries {
+                    name: p.group.clone(),
+                    points: vec![(p.seconds, e)],
+                    floor: p.reference_gci,
+                }),
+            }
+        }
+        for name in super::plots::error_against_time(
+            out,
+            &format!("error_vs_time_{}", sanitize(f)),
+            &format!("{f}: error against {reference}"),
+            &series,
+        )? {
+            files.push(out.join(name));
+        }
+    }
+    Ok(files)
 }
 
 /// What [`write_all`] wrote.
@@ -332,7 +431,12 @@ pub fn write_all(campaign: &Campaign, table: &Table) -> Result<Written> {
             "## Mesh convergence (`{}`; Celik et al. 2008 / Roache 1998, F_s = {})\n\n| group | figure | φ1 (h1) | φ2 | φ3 | p | φ_ext | GCI_fine |\n|---|---|---|---|---|---|---|---|\n",
             conv.key, conv.safety_factor
         ));
-        for (group, rows) in groups(table, std::slice::from_ref(&conv.key)) {
+        // every group's levels, and the extrapolation of each (analysis,
+        // inputs, figure): the references of the error against run time
+        let mut levels: Vec<GroupLevels> = Vec::new();
+        let mut extrapolated: BTreeMap<(String, String, String), (f64, Option<f64>)> =
+            BTreeMap::new();
+        for (group, context, rows) in groups(table, std::slice::from_ref(&conv.key)) {
             let mut hs: Vec<(f64, &Row)> = rows
                 .iter()
                 .filter_map(|r| {
@@ -341,6 +445,13 @@ pub fn write_all(campaign: &Campaign, table: &Table) -> Result<Written> {
                 })
                 .collect();
             hs.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let analysis = hs.first().map(|(_, r)| r.analysis.clone());
+            levels.push(GroupLevels {
+                label: group.clone(),
+                context: context.clone(),
+                analysis: analysis.clone().unwrap_or_default(),
+                levels: hs.clone(),
+            });
             if hs.len() < 3 {
                 continue;
             }
@@ -355,7 +466,14 @@ pub fn write_all(campaign: &Campaign, table: &Table) -> Result<Written> {
                     continue; // counts (nodes, DOFs, positions) are not discretised results
                 }
                 let opt = |x: Option<f64>| x.map(|x| x.to_string()).unwrap_or_default();
-                let (cols, note, mdrow) = match gci(h, phi, conv.safety_factor) {
+                let estimate = gci(h, phi, conv.safety_factor);
+                if let (Ok(g), Some(a)) = (&estimate, &analysis) {
+                    extrapolated.insert(
+                        (a.clone(), context.clone(), f.to_string()),
+                        (g.extrapolated, g.gci_fine),
+                    );
+                }
+                let (cols, note, mdrow) = match estimate {
                     Ok(g) => (
                         format!(
                             "{},{},{},{},{},{}",
@@ -404,6 +522,45 @@ pub fn write_all(campaign: &Campaign, table: &Table) -> Result<Written> {
         let p = out.join("convergence.csv");
         store::write_atomic(&p, csv.as_bytes())?;
         w.files.push(p);
+        let mut error_time: Vec<ErrorPoint> = Vec::new();
+        for g in &levels {
+            let (group, context, hs) = (&g.label, &g.context, &g.levels);
+            let reference = conv.reference.as_ref().unwrap_or(&g.analysis);
+            for f in &figures {
+                let key = (reference.clone(), context.clone(), f.to_string());
+                let Some(&(reference, reference_gci)) = extrapolated.get(&key) else {
+                    continue;
+                };
+                if reference == 0.0 {
+                    continue;
+                }
+                for (h, r) in hs {
+                    if let (Some(seconds), Some(value)) = (r.seconds, Table::figure(r, f)) {
+                        error_time.push(ErrorPoint {
+                            figure: f.to_string(),
+                            group: group.clone(),
+                            h: *h,
+                            seconds,
+                            value,
+                            reference,
+                            reference_gci,
+                        });
+                    }
+                }
+            }
+        }
+        let reference = match &conv.reference {
+            Some(a) => format!("the extrapolated `{a}`"),
+            None => "its own extrapolation".to_string(),
+        };
+        let written = write_error_against_time(out, &error_time, &reference)?;
+        if !written.is_empty() {
+            md.push_str(&format!(
+                "Error against run time (`error_vs_time.csv`, `error_vs_time_<figure>.svg/png`): each level's |φ − φ_ref| / |φ_ref| against its wall time, φ_ref {reference}, {} points.\n\n",
+                error_time.len()
+            ));
+        }
+        w.files.extend(written);
     }
 
     if let Some(mc) = &campaign.file.monte_carlo {
@@ -419,7 +576,7 @@ pub fn write_all(campaign: &Campaign, table: &Table) -> Result<Written> {
             mc.seed,
             sampled.join(", ")
         ));
-        for (gi, (group, rows)) in groups(table, &sampled).into_iter().enumerate() {
+        for (gi, (group, _, rows)) in groups(table, &sampled).into_iter().enumerate() {
             for f in &figures {
                 let pairs: Vec<(&Row, f64)> = rows
                     .iter()
@@ -564,6 +721,7 @@ fn split_csv(line: &str) -> Vec<String> {
 
 #[cfg(test)]
 mod tests {
+    use super::super::variants::Campaign;
     use super::*;
 
     #[test]
@@ -590,5 +748,107 @@ mod tests {
         assert!(is_time_column("setup.compliance_s") && is_time_column("peak_memory_mb"));
         assert!(!is_time_column("contact_ratio"));
         assert_eq!(split_csv("a,\"b,c\",\"d\"\"e\""), ["a", "b,c", "d\"e"]);
+    }
+
+    /// A mesh study of two methods: `run` converging to 10 (φ = 10 + 0.5 h²)
+    /// and `ltca` to 10.2 (φ = 10.2 + 0.1 h²), at h = 1, ½, ¼, with run
+    /// times. Against the extrapolated `run`, LTCA's error tends to 2 %; each
+    /// against its own extrapolation, to 0.
+    #[test]
+    fn error_against_run_time_uses_the_reference_analysis() {
+        let dir = std::env::temp_dir().join(format!("flank-collect-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("papers/seed002-spur/scene.toml");
+        let file = |reference: &str| {
+            let p = dir.join(format!("c{}.toml", reference.len()));
+            std::fs::write(
+                &p,
+                format!(
+                    "[campaign]\nscene = \"{}\"\nanalyses = [\"ltca\", \"run\"]\nfigures = [\"te\"]\n\n[grid]\n\"mesh.flank_size_mm\" = [1.0, 0.5, 0.25]\n\n[convergence]\nkey = \"mesh.flank_size_mm\"\n{reference}",
+                    scene.display()
+                ),
+            )
+            .unwrap();
+            p
+        };
+        let mut rows = Vec::new();
+        for (k, h) in [1.0, 0.5, 0.25].into_iter().enumerate() {
+            for (analysis, limit, c, t) in [("ltca", 10.2, 0.1, 0.01), ("run", 10.0, 0.5, 10.0)] {
+                rows.push(Row {
+                    index: rows.len(),
+                    id: format!("{analysis}{k}"),
+                    analysis: analysis.into(),
+                    status: "done".into(),
+                    inputs: vec![("mesh.flank_size_mm".into(), Value::from(h))],
+                    figures: vec![("te".into(), limit + c * h * h)],
+                    seconds: Some(t / (h * h)),
+                });
+            }
+        }
+        let table = Table {
+            input_keys: vec!["mesh.flank_size_mm".into()],
+            figure_keys: vec!["te".into()],
+            rows,
+        };
+        let read = |out: &Path| {
+            let (head, rows) = read_csv(&out.join("error_vs_time.csv")).unwrap();
+            assert_eq!(
+                head,
+                [
+                    "figure",
+                    "group",
+                    "h",
+                    "seconds",
+                    "value",
+                    "reference",
+                    "reference_gci",
+                    "relative_error"
+                ]
+            );
+            rows
+        };
+
+        let c = Campaign::open(&file("reference = \"run\"\n"), Some(&dir.join("a"))).unwrap();
+        let w = write_all(&c, &table).unwrap();
+        let rows = read(&c.out);
+        assert_eq!(rows.len(), 6);
+        for r in &rows {
+            let reference: f64 = r[5].parse().unwrap();
+            assert!((reference - 10.0).abs() < 1e-9, "{r:?}");
+            let (h, e): (f64, f64) = (r[2].parse().unwrap(), r[7].parse().unwrap());
+            let expected = match r[1].as_str() {
+                "ltca" => (0.2 + 0.1 * h * h) / 10.0,
+                "run" => 0.05 * h * h,
+                g => panic!("group {g}"),
+            };
+            assert!((e - expected).abs() < 1e-12, "{r:?}: {expected}");
+        }
+        // the extrapolation from exact h² data is exact: GCI_fine = F_s |e_ext| / …
+        assert!(rows.iter().all(|r| !r[6].is_empty()));
+        for ext in ["svg", "png"] {
+            let p = c.out.join(format!("error_vs_time_te.{ext}"));
+            assert!(
+                w.files.contains(&p) && p.metadata().unwrap().len() > 0,
+                "{p:?}"
+            );
+        }
+
+        let c = Campaign::open(&file(""), Some(&dir.join("b"))).unwrap();
+        write_all(&c, &table).unwrap();
+        for r in read(&c.out) {
+            let (h, e, reference): (f64, f64, f64) = (
+                r[2].parse().unwrap(),
+                r[7].parse().unwrap(),
+                r[5].parse().unwrap(),
+            );
+            let (limit, coefficient) = if r[1] == "ltca" {
+                (10.2, 0.1)
+            } else {
+                (10.0, 0.5)
+            };
+            assert!((reference - limit).abs() < 1e-9, "{r:?}");
+            assert!((e - coefficient * h * h / limit).abs() < 1e-12, "{r:?}");
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

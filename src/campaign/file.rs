@@ -37,6 +37,8 @@
 //!
 //! [convergence]
 //! key = "analyses.ltca.flank_size_mm"  # grid key holding the cell size
+//! reference = "run"                    # optional: whose extrapolation is the
+//!                                      # reference of error against run time
 //! ```
 
 use std::collections::BTreeMap;
@@ -143,6 +145,10 @@ pub struct Convergence {
     pub key: String,
     /// Roache's safety factor F_s (1.25 for three or more grids).
     pub safety_factor: f64,
+    /// The analysis whose Richardson-extrapolated figures are the reference
+    /// of every analysis's error against run time (e.g. `run`, FE contact,
+    /// for `ltca`); none: each analysis against its own extrapolation.
+    pub reference: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -214,6 +220,7 @@ struct RawSlurm {
 struct RawConvergence {
     key: Spanned<String>,
     safety_factor: Option<Spanned<f64>>,
+    reference: Option<Spanned<String>>,
 }
 
 /// Text and file for errors at file:line.
@@ -541,9 +548,24 @@ pub fn parse_campaign_file(text: &str, path: &Path) -> Result<CampaignFile> {
                     x
                 }
             };
+            let reference = match c.reference {
+                None => None,
+                Some(r) if analyses.contains(r.get_ref()) => Some(r.into_inner()),
+                Some(r) => {
+                    return Err(loc.err(
+                        r.span(),
+                        format!(
+                        "`convergence.reference` = \"{}\": not one of the campaign's analyses ({})",
+                        r.get_ref(),
+                        analyses.join(", ")
+                    ),
+                    ))
+                }
+            };
             Some(Convergence {
                 key: c.key.into_inner(),
                 safety_factor,
+                reference,
             })
         }
     };
@@ -638,6 +660,18 @@ mod tests {
         let (l, m) = err(&format!("{OK}[convergence]\nkey = \"load.torque_nm\"\n"));
         assert_eq!(l, 6);
         assert!(m.contains("at least three"), "{m}");
+        let three = OK.replace("[100.0, 200.0]", "[100.0, 200.0, 400.0]");
+        let (l, m) = err(&format!(
+            "{three}[convergence]\nkey = \"load.torque_nm\"\nreference = \"run\"\n"
+        ));
+        assert_eq!(l, 9);
+        assert!(m.contains("`convergence.reference` = \"run\""), "{m}");
+        let c = parse_campaign_file(
+            &format!("{three}[convergence]\nkey = \"load.torque_nm\"\nreference = \"ltca\"\n"),
+            &scene_path(),
+        )
+        .unwrap();
+        assert_eq!(c.convergence.unwrap().reference.as_deref(), Some("ltca"));
         let (l, m) = err(&format!("{OK}[args]\nltca = [\"--out\", \"x\"]\n"));
         assert_eq!(l, 8);
         assert!(m.contains("`--out` is set by the campaign"), "{m}");
