@@ -57,6 +57,8 @@
 //! * [`compare`]: LTCA against FE contact, error against run time (`flank compare`).
 //! * [`load_sharing`]: when a tooth pair counts as loaded (shared by FE and LTCA).
 //! * [`report`]: VTU, CSV and JSON output, the plots shared by the analyses.
+//! * [`grid_convergence`]: observed order, Richardson extrapolation and GCI
+//!   from three grids (Celik et al. 2008), for `compare` and campaigns.
 //! * [`resources`], [`atomic_file`], [`interrupt`]: the lowest layer, used
 //!   by all: the memory guard (memory available vs a step's estimate), files
 //!   written whole or not at all (temporary name + rename, locks), and the
@@ -100,6 +102,7 @@ pub mod contact;
 pub mod error;
 pub mod fem;
 pub mod geometry;
+pub mod grid_convergence;
 pub mod interrupt;
 pub mod iteration_limits;
 pub mod load_sharing;

@@ -18,10 +18,10 @@ use serde_json::Value;
 
 use crate::error::{FlankError, Result};
 
-use super::convergence::gci;
 use super::stats;
 use super::store;
 use super::variants::{Campaign, Job};
+use crate::grid_convergence::gci;
 
 /// One table row.
 #[derive(Clone, Debug, PartialEq)]

@@ -6,13 +6,12 @@
 //! Layers: [`file`] parses the campaign file, [`sample`] draws tolerances,
 //! [`variants`] resolves jobs and their identities, [`resources`] estimates
 //! memory, [`store`] keeps the job folders, [`task`] runs one job,
-//! [`local`] is the local executor, [`slurm`] the Slurm one, [`collect`] (with [`convergence`],
-//! [`stats`], [`plots`], [`parquet`]) gathers the table and its summaries. The analyses themselves run
+//! [`local`] is the local executor, [`slurm`] the Slurm one, [`collect`] (with
+//! [`crate::grid_convergence`], [`stats`], [`plots`], [`parquet`]) gathers the table and its summaries. The analyses themselves run
 //! through the `flank` executable (a child process per job): nothing here
 //! imports the analysis code, and no lower layer imports this one.
 
 pub mod collect;
-pub mod convergence;
 pub mod file;
 pub mod local;
 pub mod parquet;

@@ -146,7 +146,7 @@ pub fn compare_bevel(
             pmax_rel_err: f64::NAN,
         });
     }
-    let reference = fe.last().cloned().expect("one FE size");
+    let (reference, extrapolated) = super::reference_of(&fe);
     let every = vec![true; angles.len()];
     for r in fe.iter_mut().chain(runs.iter_mut()) {
         errors(r, &reference, &every);
@@ -156,7 +156,15 @@ pub fn compare_bevel(
         say(format!("plots not written: {e}"));
         Vec::new()
     });
-    let md = markdown(&scene.source, &angles, &fe, &runs, &reference, &every);
+    let md = markdown(
+        &scene.source,
+        &angles,
+        &fe,
+        &runs,
+        &reference,
+        &every,
+        extrapolated.as_ref(),
+    );
     let p = out.join("compare.md");
     crate::atomic_file::write(&p, &md)?;
     let json = serde_json::json!({
@@ -165,6 +173,7 @@ pub fn compare_bevel(
         "positions": angles.len(),
         "roll_angles_deg": angles,
         "reference": reference.label,
+        "reference_extrapolated": extrapolated,
         "best_ltca": best.label,
         "load_sharing_rel_err": best.load_sharing_err,
         "te_rel_err": best.te_rel_err,

@@ -1,0 +1,182 @@
+//! The FE reference extrapolated to h → 0: from the three finest FE-contact
+//! runs of a comparison, per position the Richardson-extrapolated load
+//! share of every tooth pair and TE, with their grid convergence index
+//! (Celik et al. 2008, [`crate::grid_convergence`]), so that the LTCA's
+//! error is stated against a converged reference and beside its
+//! uncertainty (issue 23 point 1).
+//!
+//! Where a figure gives no estimate (no change between grids: a pair out of
+//! mesh, a share of exactly 0 or 1; diverging or unsettled order) the
+//! finest run's value is kept and its uncertainty is the last change
+//! |φ1 − φ2| (counted as a fallback). p_max is not extrapolated: an FE
+//! nodal pressure that does not resolve the Hertz width has no asymptotic
+//! range; the finest run's value stands in, as before.
+
+use super::{shares, MethodRun};
+use crate::grid_convergence::{gci, GciIssue};
+
+/// Roache's safety factor for three grids.
+const SAFETY_FACTOR: f64 = 1.25;
+
+/// The extrapolated reference and its uncertainty.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct ExtrapolatedReference {
+    /// The reference as a run (forces: extrapolated shares × the finest
+    /// run's total; TE extrapolated; p_max the finest run's).
+    #[serde(skip)]
+    pub run: MethodRun,
+    /// Flank sizes used, finest first (mm).
+    pub flank_sizes_mm: [f64; 3],
+    /// Per position and pair: the extrapolated share's absolute
+    /// uncertainty (GCI_fine × |share|, or |φ1 − φ2| at a fallback).
+    pub share_uncertainty: Vec<Vec<f64>>,
+    /// Per position: the extrapolated TE's relative uncertainty (GCI_fine).
+    pub te_uncertainty: Vec<f64>,
+    /// Per position: the observed order of TE (NaN at a fallback).
+    pub te_order: Vec<f64>,
+    /// Largest share uncertainty over positions and pairs.
+    pub max_share_uncertainty: f64,
+    /// Largest relative TE uncertainty over positions.
+    pub max_te_uncertainty: f64,
+    /// Figures (shares and TEs) without an estimate, the finest value kept.
+    pub fallbacks: usize,
+    /// Of those, figures that did not change between the grids.
+    pub unchanged: usize,
+}
+
+/// One figure from three grids (values finest first): the extrapolated
+/// value, its absolute uncertainty, its order (NaN at a fallback), and
+/// whether it fell back / did not change.
+fn estimate(h: [f64; 3], phi: [f64; 3]) -> (f64, f64, f64, bool, bool) {
+    match gci(h, phi, SAFETY_FACTOR) {
+        Ok(g) => {
+            let u = g
+                .gci_fine
+                .map_or((phi[0] - phi[1]).abs(), |x| x * phi[0].abs());
+            (g.extrapolated, u, g.order, false, false)
+        }
+        Err(issue) => (
+            phi[0],
+            (phi[0] - phi[1]).abs(),
+            f64::NAN,
+            true,
+            issue == GciIssue::NoChange,
+        ),
+    }
+}
+
+/// The reference from `fe`, sorted coarse to fine, if it holds three runs
+/// or more (the three finest are used); `None` otherwise.
+pub fn extrapolate(fe: &[MethodRun]) -> Option<ExtrapolatedReference> {
+    let n = fe.len();
+    if n < 3 {
+        return None;
+    }
+    let (f1, f2, f3) = (&fe[n - 1], &fe[n - 2], &fe[n - 3]);
+    let h = [f1.flank_size_mm?, f2.flank_size_mm?, f3.flank_size_mm?];
+    let positions = f1.te_urad.len();
+    let mut run = f1.clone();
+    run.method = "fe_extrapolated".into();
+    run.label = format!("FE extrapolated from {} / {} / {} mm", h[2], h[1], h[0]);
+    run.nodes = None;
+    run.flank_size_mm = Some(0.0);
+    let (mut share_u, mut te_u, mut te_p) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut fallbacks, mut unchanged) = (0, 0);
+    for i in 0..positions {
+        let s = [
+            shares(&f1.pair_force_n[i]),
+            shares(&f2.pair_force_n[i]),
+            shares(&f3.pair_force_n[i]),
+        ];
+        let total: f64 = f1.pair_force_n[i].iter().sum();
+        let mut forces = Vec::new();
+        let mut u = Vec::new();
+        for p in 0..s[0].len() {
+            let (x, ux, _, fell, same) = estimate(h, [s[0][p], s[1][p], s[2][p]]);
+            fallbacks += usize::from(fell);
+            unchanged += usize::from(same);
+            forces.push(x * total);
+            u.push(ux);
+        }
+        run.pair_force_n[i] = forces;
+        share_u.push(u);
+        let (te, ute, p, fell, same) = estimate(h, [f1.te_urad[i], f2.te_urad[i], f3.te_urad[i]]);
+        fallbacks += usize::from(fell);
+        unchanged += usize::from(same);
+        run.te_urad[i] = te;
+        te_u.push(if te != 0.0 { ute / te.abs() } else { f64::NAN });
+        te_p.push(p);
+    }
+    let max_share_uncertainty = share_u.iter().flatten().copied().fold(0.0, f64::max);
+    let max_te_uncertainty = te_u.iter().copied().fold(0.0, f64::max);
+    Some(ExtrapolatedReference {
+        run,
+        flank_sizes_mm: h,
+        share_uncertainty: share_u,
+        te_uncertainty: te_u,
+        te_order: te_p,
+        max_share_uncertainty,
+        max_te_uncertainty,
+        fallbacks,
+        unchanged,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fe(h: f64, forces: Vec<Vec<f64>>, te: Vec<f64>) -> MethodRun {
+        MethodRun {
+            method: "fe_contact".into(),
+            label: format!("FE flank {h} mm"),
+            points_per_line: None,
+            flank_size_mm: Some(h),
+            nodes: Some(1),
+            pmax_mpa: vec![1.0; te.len()],
+            pair_force_n: forces,
+            te_urad: te,
+            cycle_s: 1.0,
+            setup_s: 1.0,
+            slave: Vec::new(),
+            load_sharing_err: f64::NAN,
+            te_rel_err: f64::NAN,
+            pmax_rel_err: f64::NAN,
+        }
+    }
+
+    /// Shares s = 0.6 + 0.1 h² and TE = 100 (1 + h²) at h = 1, ½, ¼, and a
+    /// single-contact position (shares 0 / 1 on every grid: no change):
+    /// the extrapolation recovers 0.6 and 100 with order 2; the unchanged
+    /// shares fall back to their value with zero uncertainty.
+    #[test]
+    fn recovers_quadratic_convergence_and_keeps_unchanged_shares() {
+        let runs: Vec<MethodRun> = [1.0, 0.5, 0.25]
+            .into_iter()
+            .map(|h: f64| {
+                let s = 0.6 + 0.1 * h * h;
+                fe(
+                    h,
+                    vec![vec![1000.0 * s, 1000.0 * (1.0 - s)], vec![0.0, 700.0]],
+                    vec![100.0 * (1.0 + h * h), 50.0 * (1.0 + h)],
+                )
+            })
+            .collect();
+        assert!(extrapolate(&runs[1..]).is_none());
+        let r = extrapolate(&runs).unwrap();
+        let s = shares(&r.run.pair_force_n[0]);
+        assert!(
+            (s[0] - 0.6).abs() < 1e-12 && (s[1] - 0.4).abs() < 1e-12,
+            "{s:?}"
+        );
+        assert!((r.run.te_urad[0] - 100.0).abs() < 1e-10);
+        assert!((r.te_order[0] - 2.0).abs() < 1e-9);
+        assert!((r.run.te_urad[1] - 50.0).abs() < 1e-10, "first order TE");
+        // GCI of the fine grid: F_s |φ1 − φ2| / (r^p − 1) / |φ1|
+        let expected = 1.25 * (100.0 * 0.1875) / 3.0 / 106.25;
+        assert!((r.te_uncertainty[0] - expected * 106.25 / 100.0).abs() < 1e-12);
+        assert_eq!(r.share_uncertainty[1], [0.0, 0.0]);
+        assert_eq!((r.fallbacks, r.unchanged), (2, 2));
+        assert_eq!(r.run.pair_force_n[1], [0.0, 700.0]);
+    }
+}
