@@ -43,7 +43,9 @@ use crate::geometry::bevel::cyclo_palloid::{cyclo_palloid_pinion, HobbedMeanPoin
 use crate::geometry::bevel::ease_off::{EaseOffSpec, EasedPinion};
 use crate::geometry::bevel::generated_surface::{FlankKind, FlankMeasure};
 use crate::geometry::bevel::hobbing_settings::{self, HobbingBlank, HobbingCutter, HobbingSetup};
-use crate::geometry::bevel::machine_settings::{self, CutterChoice, MemberSetup, SettingsRefinement};
+use crate::geometry::bevel::machine_settings::{
+    self, CutterChoice, MemberSetup, SettingsRefinement,
+};
 use crate::geometry::bevel::synthesis::{
     synthesize_pinion, PinionSynthesisVariables, SynthesisProblem, SynthesisTargets,
 };
@@ -282,7 +284,11 @@ fn milled(
                 SETTINGS_ROUNDS,
             )
             .map_err(|e| refinement_error(e, &format!("face-milled {what}")))?;
-            (s, "from the blank (mean point matched to 1e-9 rad)", Some(r))
+            (
+                s,
+                "from the blank (mean point matched to 1e-9 rad)",
+                Some(r),
+            )
         }
         Some(m) => {
             m.settings.validate()?;
@@ -415,14 +421,9 @@ fn hobbing_gear_setup_in(
         blade_groups,
         edge_radius: cut.cutter.edge_radius,
     };
-    let (setup, _, r) = hobbing_settings::refined_setup(
-        blank,
-        cutter,
-        cut.generated,
-        SETTINGS_TOL,
-        rounds,
-    )
-    .map_err(|e| refinement_error(e, "face-hobbed gear"))?;
+    let (setup, _, r) =
+        hobbing_settings::refined_setup(blank, cutter, cut.generated, SETTINGS_TOL, rounds)
+            .map_err(|e| refinement_error(e, "face-hobbed gear"))?;
     Ok((setup, r))
 }
 

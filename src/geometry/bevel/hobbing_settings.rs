@@ -68,8 +68,8 @@ use crate::geometry::bevel::generated_surface::ROOT_ARC_ANGLE;
 use crate::geometry::bevel::generation::{
     solve_axial, AxialSection, ConeLine, EnvelopeError, EnvelopeFlank, EnvelopePoint, SolveOptions,
 };
-use crate::geometry::bevel::BlankDesign;
 use crate::geometry::bevel::machine_settings::SettingsRefinement;
+use crate::geometry::bevel::BlankDesign;
 use crate::geometry::surface::ToothSurface;
 use crate::geometry::vec3::V3;
 
