@@ -93,7 +93,8 @@ fn hypoid_paper_scenes_print_their_blank_tables() {
 }
 
 /// The hypoid scenes also print how each member is cut: process, hand, the
-/// machine settings and the mean-point figures measured on the flanks.
+/// machine settings, the correction of the settings to the blank (rounds,
+/// residual) and the mean-point figures measured on the flanks.
 #[test]
 fn hypoid_paper_scenes_print_their_cutting() {
     for (path, process) in [
@@ -109,6 +110,19 @@ fn hypoid_paper_scenes_print_their_cutting() {
             assert_eq!(m["process"], process, "{path} {member}");
             assert_eq!(m["hand"], hand, "{path} {member}");
             assert!(m["machine"]["radial_distance_mm"].as_f64().unwrap() > 0.0);
+            // settings from the blank, corrected to it at the mean point:
+            // the rounds and the residual are reported (a face-hobbed
+            // pinion is cut on the gear's corrected crown gear)
+            let r = &m["settings_refinement"];
+            let of = if process == "face_hobbing" {
+                "gear"
+            } else {
+                member
+            };
+            assert_eq!(r["member"], of, "{path} {member}: {r}");
+            assert!(r["rounds"].as_u64().is_some(), "{path} {member}: {r}");
+            let residual = r["residual_rad"].as_f64().unwrap();
+            assert!(residual <= 1e-9, "{path} {member}: {r}");
             for side in ["drive", "coast"] {
                 assert_eq!(
                     m["mean_point"][side]["hand"], hand,

@@ -737,18 +737,22 @@ mod tests {
                     assert!((turn.abs() - body.angular_pitch()).abs() < 1e-12);
                 }
                 assert!(sides[0] * sides[1] < 0.0, "{name}: flanks on one side");
-                // mean normal thickness: face-milled settings are corrected
-                // to it (tolerance 1e-9 R_m); face-hobbed ones are first
-                // order (blade offset ±W/2 in the blade plane), within 5 µm
+                // mean normal thickness: face-milled settings and the
+                // face-hobbed gear's are corrected to it (tolerance 1e-9
+                // R_m), and so is the tilted pinion; the upright pinion on
+                // the gear's crown gear is not fitted to its blank: 5.2 µm
+                // thin since the gear is cut on its refined setup (whose
+                // space is 1.1 µm wider; 4.1 µm on the first-order gear,
+                // when this bound was 5 µm), within 6 µm
                 let s_mn = body.mean_normal_thickness();
                 println!(
                     "{name} body {b}: s_mn measured {s_mn:.6} mm, blank {:.6} mm",
                     m.smn
                 );
-                let tol = if name.contains("milled") || (name.contains("tilted") && b == 0) {
+                let tol = if name.contains("milled") || name.contains("tilted") || b == 1 {
                     1e-6
                 } else {
-                    5e-3
+                    6e-3
                 };
                 assert!(
                     (s_mn - m.smn).abs() < tol,

@@ -33,6 +33,10 @@
 //!   the drive flanks, ISO 23509 clause 7.2, as in face milling); the phase puts the blade
 //!   plane through P at θ = 0, so the tooth space is centred on the work's
 //!   +y axis at θ = ψ = 0;
+//! * **correction to the blank** ([`refined_setup`]): these first-order
+//!   blades meet the blank's pressure angles and s_mn at the mean point
+//!   only to first order (seed 000's generated gear 1.1 µm thin); the
+//!   scenes' gears are cut on the blades corrected to 1e-9 rad / 1e-9 R_m;
 //! * **root and face cone lean** (ISO 23509 clause 7.4, uniform
 //!   clearance: the hypoid pinion's δ_a, δ_f differ from δ slightly):
 //!   machine root angle γ_m = δ_f, the pitch cone through P tilted by
@@ -64,6 +68,7 @@ use crate::geometry::bevel::generated_surface::ROOT_ARC_ANGLE;
 use crate::geometry::bevel::generation::{
     solve_axial, AxialSection, ConeLine, EnvelopeError, EnvelopeFlank, EnvelopePoint, SolveOptions,
 };
+use crate::geometry::bevel::machine_settings::SettingsRefinement;
 use crate::geometry::bevel::BlankDesign;
 use crate::geometry::surface::ToothSurface;
 use crate::geometry::vec3::V3;
@@ -265,21 +270,22 @@ pub(crate) fn pitch_x(b: &HobbingBlade, h: f64) -> f64 {
 /// are ≤ `tol` (rad) and the width error ≤ `tol` R_m (mm). The mean
 /// spiral angle is not a target (the two face-hobbed flanks' spiral angles
 /// differ by construction; the mean blade's is β_m, `HobbingSetup::new`).
-/// Returns the setup and its mean-point figures. (Not yet used by
-/// `cutting`: with it the seed-000 tilted scene's TCA loses its edge
-/// contacts, `verification/bevel_face_hobbing/README.md`.)
+/// Returns the setup, its mean-point figures and how the correction ended
+/// (rounds, residual). The scenes' face-hobbed gears are cut on it
+/// (`cutting::hobbing_gear_setup`, since 2026-11-26), and so are their
+/// pinions, which are cut on the gear's crown gear.
 pub fn refined_setup(
     blank: HobbingBlank,
     cutter: HobbingCutter,
     generated: bool,
     tol: f64,
     max_iterations: usize,
-) -> Result<(HobbingSetup, HobbedMeanPoint)> {
+) -> Result<(HobbingSetup, HobbedMeanPoint, SettingsRefinement)> {
     let first = HobbingSetup::new(blank, cutter, generated)?;
     let space = std::f64::consts::PI * blank.normal_module - blank.normal_thickness;
     let (mut width, mut angles) = (0.0, (0.0, 0.0));
     let mut last = f64::INFINITY;
-    for _ in 0..=max_iterations {
+    for rounds in 0..=max_iterations {
         let setup = first.with_blade_changes(width, angles)?;
         let m = measure_mean_point(&setup)?;
         let e_w = space - m.thickness;
@@ -293,7 +299,12 @@ pub fn refined_setup(
             .max(e_a.1.abs())
             .max(e_w.abs() / blank.mean_cone_distance);
         if last <= tol {
-            return Ok((setup, m));
+            let r = SettingsRefinement {
+                rounds,
+                residual: last,
+                tolerance: tol,
+            };
+            return Ok((setup, m, r));
         }
         width += e_w;
         angles.0 += e_a.0;
@@ -998,7 +1009,7 @@ mod tests {
                     )
                 };
                 let first = on_flanks(&HobbingSetup::new(blank, cutter, generated).unwrap());
-                let (s, _) = refined_setup(blank, cutter, generated, 1e-9, 30).unwrap();
+                let (s, _, _) = refined_setup(blank, cutter, generated, 1e-9, 30).unwrap();
                 let e = on_flanks(&s);
                 println!(
                     "{name} gear, hand {hand}, generated {generated}: first order Δα {:.3e} / {:.3e} rad, Δs_mn {:.3e} mm; corrected {:.1e} / {:.1e} rad, {:.1e} mm (blades {:.6}° / {:.6}°)",

@@ -452,6 +452,34 @@ pub fn refined_setup_with(
     tol: f64,
     max_iterations: usize,
 ) -> Result<(MemberSetup, MeanPointCheck)> {
+    refined_setup_counted(blank, hand, cutter, generated, roll, tol, max_iterations)
+        .map(|(s, c, _)| (s, c))
+}
+
+/// How a mean-point correction of settings from the blank ended
+/// ([`refined_setup_counted`], [`crate::geometry::bevel::hobbing_settings::refined_setup`]):
+/// `rounds` corrections applied before the check passed (0: the
+/// first-order settings already met it) and the largest deviation left,
+/// `residual` (rad; the thickness or space-width error divided by R_m),
+/// ≤ `tolerance`. `flank check` reports it for each member cut on settings
+/// from the blank.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct SettingsRefinement {
+    pub rounds: usize,
+    pub residual: f64,
+    pub tolerance: f64,
+}
+
+/// [`refined_setup_with`], also returning how the correction ended.
+pub fn refined_setup_counted(
+    blank: &MemberBlank,
+    hand: Hand,
+    cutter: &CutterChoice,
+    generated: bool,
+    roll: &RollChoice,
+    tol: f64,
+    max_iterations: usize,
+) -> Result<(MemberSetup, MeanPointCheck, SettingsRefinement)> {
     let mut angles = (
         blank.spiral_angle,
         blank.pressure_angle_concave,
@@ -459,7 +487,7 @@ pub fn refined_setup_with(
     );
     let mut width = 0.0;
     let mut last = f64::INFINITY;
-    for _ in 0..=max_iterations {
+    for rounds in 0..=max_iterations {
         let setup = setup_with(blank, hand, cutter, generated, angles, width, roll)?;
         let c = check_mean_point(&setup)?;
         let thickness_error = c.thickness - c.design_thickness;
@@ -467,7 +495,12 @@ pub fn refined_setup_with(
             .max_angle_error()
             .max(thickness_error.abs() / blank.mean_cone_distance);
         if last <= tol {
-            return Ok((setup, c));
+            let r = SettingsRefinement {
+                rounds,
+                residual: last,
+                tolerance: tol,
+            };
+            return Ok((setup, c, r));
         }
         width += thickness_error;
         angles.0 += c.design_spiral_angle - 0.5 * (c.spiral_angle.0 + c.spiral_angle.1);
