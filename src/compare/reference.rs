@@ -6,9 +6,13 @@
 //! uncertainty (issue 23 point 1).
 //!
 //! Where a figure gives no estimate (no change between grids: a pair out of
-//! mesh, a share of exactly 0 or 1; diverging or unsettled order) the
-//! finest run's value is kept and its uncertainty is the last change
-//! |φ1 − φ2| (counted as a fallback). p_max is not extrapolated: an FE
+//! mesh, a share of exactly 0 or 1; diverging or unsettled order), or an
+//! observed order outside [`ORDER_RANGE`] (the extrapolation of a figure
+//! that is not in its asymptotic range: with p = 0.02 it lands anywhere),
+//! the finest run's value is kept and its uncertainty is the data range
+//! 3 Δ_M, Δ_M the largest difference between the three grids (Eça &
+//! Hoekstra, J. Comput. Phys. 262 (2014) 104–130, for anomalous
+//! convergence); counted as a fallback. p_max is not extrapolated: an FE
 //! nodal pressure that does not resolve the Hertz width has no asymptotic
 //! range; the finest run's value stands in, as before.
 
@@ -17,6 +21,13 @@ use crate::grid_convergence::{gci, GciIssue};
 
 /// Roache's safety factor for three grids.
 const SAFETY_FACTOR: f64 = 1.25;
+/// Observed orders trusted for extrapolation: from 0.5 to twice the
+/// formal order of quadratic elements (2), the bounds of Eça & Hoekstra
+/// (2014) for an order that is neither too low to extrapolate with nor
+/// unrealistically high.
+pub const ORDER_RANGE: (f64, f64) = (0.5, 4.0);
+/// Safety factor on the data range where the order is not trusted.
+const DATA_RANGE_FACTOR: f64 = 3.0;
 
 /// The extrapolated reference and its uncertainty.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -32,36 +43,36 @@ pub struct ExtrapolatedReference {
     pub share_uncertainty: Vec<Vec<f64>>,
     /// Per position: the extrapolated TE's relative uncertainty (GCI_fine).
     pub te_uncertainty: Vec<f64>,
-    /// Per position: the observed order of TE (NaN at a fallback).
+    /// Per position: the observed order of TE (NaN where none came out;
+    /// outside [`ORDER_RANGE`] the finest value was kept).
     pub te_order: Vec<f64>,
     /// Largest share uncertainty over positions and pairs.
     pub max_share_uncertainty: f64,
     /// Largest relative TE uncertainty over positions.
     pub max_te_uncertainty: f64,
-    /// Figures (shares and TEs) without an estimate, the finest value kept.
+    /// Figures (shares and TEs) without a trusted estimate, the finest
+    /// value kept.
     pub fallbacks: usize,
     /// Of those, figures that did not change between the grids.
     pub unchanged: usize,
 }
 
 /// One figure from three grids (values finest first): the extrapolated
-/// value, its absolute uncertainty, its order (NaN at a fallback), and
-/// whether it fell back / did not change.
+/// value, its absolute uncertainty, its observed order (NaN where none came
+/// out), and whether it fell back / did not change.
 fn estimate(h: [f64; 3], phi: [f64; 3]) -> (f64, f64, f64, bool, bool) {
+    let range = DATA_RANGE_FACTOR
+        * (phi[0] - phi[1])
+            .abs()
+            .max((phi[1] - phi[2]).abs())
+            .max((phi[0] - phi[2]).abs());
     match gci(h, phi, SAFETY_FACTOR) {
-        Ok(g) => {
-            let u = g
-                .gci_fine
-                .map_or((phi[0] - phi[1]).abs(), |x| x * phi[0].abs());
+        Ok(g) if g.order >= ORDER_RANGE.0 && g.order <= ORDER_RANGE.1 => {
+            let u = g.gci_fine.map_or(range, |x| x * phi[0].abs());
             (g.extrapolated, u, g.order, false, false)
         }
-        Err(issue) => (
-            phi[0],
-            (phi[0] - phi[1]).abs(),
-            f64::NAN,
-            true,
-            issue == GciIssue::NoChange,
-        ),
+        Ok(g) => (phi[0], range, g.order, true, false),
+        Err(issue) => (phi[0], range, f64::NAN, true, issue == GciIssue::NoChange),
     }
 }
 
@@ -178,5 +189,23 @@ mod tests {
         assert_eq!(r.share_uncertainty[1], [0.0, 0.0]);
         assert_eq!((r.fallbacks, r.unchanged), (2, 2));
         assert_eq!(r.run.pair_force_n[1], [0.0, 700.0]);
+    }
+
+    /// TE = 100 + 10 h^0.1 (observed order 0.1, below the trusted range):
+    /// the finest value is kept, with 3 × the largest difference as its
+    /// uncertainty; Richardson would have put it near 100.
+    #[test]
+    fn an_untrusted_order_keeps_the_finest_value() {
+        let te = |h: f64| 100.0 + 10.0 * h.powf(0.1);
+        let runs: Vec<MethodRun> = [1.0, 0.5, 0.25]
+            .into_iter()
+            .map(|h: f64| fe(h, vec![vec![500.0, 500.0]], vec![te(h)]))
+            .collect();
+        let r = extrapolate(&runs).unwrap();
+        assert!((r.te_order[0] - 0.1).abs() < 1e-9, "{}", r.te_order[0]);
+        assert_eq!(r.run.te_urad[0], te(0.25));
+        let expected = 3.0 * (te(1.0) - te(0.25)) / te(0.25);
+        assert!((r.te_uncertainty[0] - expected).abs() < 1e-12);
+        assert_eq!(r.fallbacks, 3, "the TE and both (unchanged) shares");
     }
 }
