@@ -254,22 +254,18 @@ impl LtcaBodies {
         flank.profile_length(hi - lo, uv[0], uv[1])
     }
 
-    /// Solves the LTCA at one TCA position with torque `torque` (N·mm); the
-    /// bodies sit in `frames` (own → global) at that roll.
-    pub fn solve(
+    /// The candidate points of a TCA position with their cells on both
+    /// flanks (in parallel over the points), and per point the separation,
+    /// moment arm, equivalent radius, width, tangential arm and sliding
+    /// velocity; `None` for a point off a meshed flank. Also the number of
+    /// TCA points.
+    #[allow(clippy::type_complexity)]
+    fn candidates(
         &self,
         tca: &TcaPosition,
         frames: &[Frame; 2],
-        torque: f64,
         settings: &LtcaSettings,
-    ) -> Result<PositionResult, FlankError> {
-        let t0 = Instant::now();
-        if !(settings.fe_cell_factor > 0.0) || settings.local_iterations == 0 {
-            return Err(FlankError::Model(format!(
-                "LTCA: fe_cell_factor must be > 0 (got {}) and local_iterations ≥ 1 (got {})",
-                settings.fe_cell_factor, settings.local_iterations
-            )));
-        }
+    ) -> Result<(Vec<Option<(Candidate, [f64; 6])>>, usize), FlankError> {
         let its = [
             FlankInterpolator::with_grids(&self.tensors[0], Arc::clone(&self.grids[0])),
             FlankInterpolator::with_grids(&self.tensors[1], Arc::clone(&self.grids[1])),
@@ -381,6 +377,26 @@ impl LtcaBodies {
                 })
                 .collect::<Result<_, FlankError>>()?
         };
+        Ok((built, jobs.len()))
+    }
+
+    /// Solves the LTCA at one TCA position with torque `torque` (N·mm); the
+    /// bodies sit in `frames` (own → global) at that roll.
+    pub fn solve(
+        &self,
+        tca: &TcaPosition,
+        frames: &[Frame; 2],
+        torque: f64,
+        settings: &LtcaSettings,
+    ) -> Result<PositionResult, FlankError> {
+        let t0 = Instant::now();
+        if !(settings.fe_cell_factor > 0.0) || settings.local_iterations == 0 {
+            return Err(FlankError::Model(format!(
+                "LTCA: fe_cell_factor must be > 0 (got {}) and local_iterations ≥ 1 (got {})",
+                settings.fe_cell_factor, settings.local_iterations
+            )));
+        }
+        let (built, jobs_len) = self.candidates(tca, frames, settings)?;
         let mut cands: Vec<Candidate> = Vec::with_capacity(built.len());
         let (mut w, mut r, mut radius, mut width) =
             (Vec::new(), Vec::new(), Vec::new(), Vec::new());
@@ -394,7 +410,7 @@ impl LtcaBodies {
             r_t.push(rti);
             v_s.push(vsi);
         }
-        let skipped = jobs.len() - cands.len();
+        let skipped = jobs_len - cands.len();
         let n = cands.len();
         if n == 0 {
             return Err(FlankError::Model(format!(
@@ -953,11 +969,130 @@ fn half_space_influence(
 }
 
 /// n₍b₎ᵢᵀ C(i, j) n₍b₎ⱼ of one body for all candidate pairs (n × n,
-/// row-major): for each j the displacement u_j = C (Σ_c w_c n_j e_c) is
+/// row-major), the same sums as [`normal_compliance_streamed`] in another
+/// order: the displacements u_j = C (Σ_c w_jc n_j e_c) on the sorted union
+/// U of the cells' nodes are formed node by node, each 3 × 3 block C(c, a)
+/// with a ≤ c in U gathered from the tensor once (C is symmetric: the
+/// block serves u_j(a) += C(c, a)ᵀ q_jc for the cells j loading c and
+/// u_j(c) += C(c, a) q_ja for those loading a), so a position reads
+/// 9 |U|²/2 tensor entries once instead of 9 |U| per loaded node and cell;
+/// then F_ij = Σ_{a ∈ i} w_ia n_iᵀ u_j(a), symmetrised.
+fn normal_compliance(t: &ComplianceTensor, cands: &[Candidate], b: usize) -> Vec<f64> {
+    use rayon::prelude::*;
+    let n = cands.len();
+    let dim = t.dim();
+    let nodes = cell_nodes(cands, b);
+    let nu = nodes.len();
+    let index = |a: u32| nodes.binary_search(&a).expect("node of a cell");
+    // the loads per node: (node position in U, candidate j, q = w_jc n_j)
+    let mut entries: Vec<(usize, usize, [f64; 3])> = Vec::new();
+    for (j, c) in cands.iter().enumerate() {
+        let nj = c.normals[b];
+        for &(a, w) in &c.loads[b].weights {
+            entries.push((index(a), j, [w * nj[0], w * nj[1], w * nj[2]]));
+        }
+    }
+    entries.sort_by_key(|e| e.0);
+    let mut start = vec![0usize; nu + 1];
+    for e in &entries {
+        start[e.0 + 1] += 1;
+    }
+    for k in 0..nu {
+        start[k + 1] += start[k];
+    }
+    let at = |k: usize| &entries[start[k]..start[k + 1]];
+    let threads = rayon::current_num_threads().max(1).min(nu);
+    let stride = 3 * nu;
+    // per thread: the nodes c ≡ tid (mod threads), u[j·3|U| + 3k + s]
+    let parts: Vec<Vec<f64>> = (0..threads)
+        .into_par_iter()
+        .map(|tid| {
+            let mut u = vec![0.0; n * stride];
+            let mut g = vec![0.0; 9 * nu];
+            let mut acc = vec![[0.0f64; 3]; n];
+            let mut kc = tid;
+            while kc < nu {
+                let c = nodes[kc] as usize;
+                // g[9 ka + 3 s + t] = C(3c + s, 3a + t), a = U[ka] ≤ c
+                for s in 0..3 {
+                    let row = &t.matrix[(3 * c + s) * dim..][..dim];
+                    for (ka, &a) in nodes[..=kc].iter().enumerate() {
+                        let x = &row[3 * a as usize..3 * a as usize + 3];
+                        g[9 * ka + 3 * s] = x[0];
+                        g[9 * ka + 3 * s + 1] = x[1];
+                        g[9 * ka + 3 * s + 2] = x[2];
+                    }
+                }
+                // u_j(a) += C(a, c) q_jc = C(c, a)ᵀ q_jc, a ≤ c
+                for &(_, j, q) in at(kc) {
+                    let uj = &mut u[j * stride..][..3 * (kc + 1)];
+                    for (x, y) in uj.chunks_exact_mut(3).zip(g.chunks_exact(9)) {
+                        x[0] += y[0] * q[0] + y[3] * q[1] + y[6] * q[2];
+                        x[1] += y[1] * q[0] + y[4] * q[1] + y[7] * q[2];
+                        x[2] += y[2] * q[0] + y[5] * q[1] + y[8] * q[2];
+                    }
+                }
+                // u_j(c) += C(c, a) q_ja, a < c
+                for ka in 0..kc {
+                    let y = &g[9 * ka..9 * ka + 9];
+                    for &(_, j, q) in at(ka) {
+                        let x = &mut acc[j];
+                        x[0] += y[0] * q[0] + y[1] * q[1] + y[2] * q[2];
+                        x[1] += y[3] * q[0] + y[4] * q[1] + y[5] * q[2];
+                        x[2] += y[6] * q[0] + y[7] * q[1] + y[8] * q[2];
+                    }
+                }
+                for (j, x) in acc.iter_mut().enumerate() {
+                    let uj = &mut u[j * stride + 3 * kc..][..3];
+                    uj[0] += x[0];
+                    uj[1] += x[1];
+                    uj[2] += x[2];
+                    *x = [0.0; 3];
+                }
+                kc += threads;
+            }
+            u
+        })
+        .collect();
+    let mut parts = parts.into_iter();
+    let mut u = parts.next().unwrap_or_else(|| vec![0.0; n * stride]);
+    for p in parts {
+        for (x, y) in u.iter_mut().zip(p) {
+            *x += y;
+        }
+    }
+    // F_ij = Σ_{a ∈ i} q_ia · u_j(a); column j in f[j·n + i]
+    let mut f = vec![0.0; n * n];
+    for (j, uj) in u.chunks_exact(stride).enumerate() {
+        for (i, ci) in cands.iter().enumerate() {
+            let ni = ci.normals[b];
+            f[j * n + i] = ci.loads[b]
+                .weights
+                .iter()
+                .map(|&(a, w)| {
+                    let k = 3 * index(a);
+                    w * (ni[0] * uj[k] + ni[1] * uj[k + 1] + ni[2] * uj[k + 2])
+                })
+                .sum::<f64>();
+        }
+    }
+    // symmetrise the round-off
+    let mut out = vec![0.0; n * n];
+    for i in 0..n {
+        for j in 0..n {
+            out[i * n + j] = 0.5 * (f[j * n + i] + f[i * n + j]);
+        }
+    }
+    out
+}
+
+/// n₍b₎ᵢᵀ C(i, j) n₍b₎ⱼ as computed before [`normal_compliance`] (kept to
+/// check it): for each j the displacement u_j = C (Σ_c w_c n_j e_c) is
 /// formed on the union U of the cells' nodes, reading C by rows of the
 /// loaded nodes c (C is symmetric) so that each row is streamed over the
 /// sorted U; then F_ij = Σ_{a ∈ i} w_a n_iᵀ u_j(a).
-fn normal_compliance(t: &ComplianceTensor, cands: &[Candidate], b: usize) -> Vec<f64> {
+#[cfg(test)]
+fn normal_compliance_streamed(t: &ComplianceTensor, cands: &[Candidate], b: usize) -> Vec<f64> {
     use rayon::prelude::*;
     let n = cands.len();
     let dim = t.dim();
@@ -1094,4 +1229,93 @@ fn cell_nodes(cands: &[Candidate], b: usize) -> Vec<u32> {
     nodes.sort_unstable();
     nodes.dedup();
     nodes
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::compliance::body::BodyMeshOptions;
+    use crate::ltca::cycle::{LtcaCycle, LtcaOptions};
+    use std::path::{Path, PathBuf};
+
+    /// Largest |F_fast − F_streamed| over the largest |F_streamed| of both
+    /// bodies at the seed 002 positions in double and single contact.
+    fn fast_against_streamed(flank: f64, base: f64, work: PathBuf, cache: Option<PathBuf>) {
+        let scene = crate::scene::read_scene(Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/papers/seed002-spur/scene.toml"
+        )))
+        .unwrap();
+        let o = LtcaOptions {
+            out: work.join("bodies"),
+            mesh: BodyMeshOptions {
+                flank_size: Some(flank),
+                base_size: Some(base),
+                ..Default::default()
+            },
+            points_per_line: Some(20),
+            cache,
+            quiet: true,
+            ..Default::default()
+        };
+        let cycle = LtcaCycle::new(&scene, &o).unwrap();
+        let (a, e) = cycle.pair.engagement(cycle.pair.middle());
+        let (l, h) = cycle.pair.single_contact();
+        let mut rolls = vec![0.5 * (a + l), 0.5 * (l + h)];
+        // and a few more across the pitch
+        let pitch = cycle.pair.pinion().angular_pitch();
+        rolls.extend((0..5).map(|i| 0.5 * (a + e) - 0.5 * pitch + pitch * i as f64 / 5.0));
+        let mut sizes = Vec::new();
+        for roll in rolls {
+            let position = cycle.tca.position(roll).unwrap();
+            let frames = cycle.tca.frames(roll);
+            let (built, _) = cycle
+                .bodies
+                .candidates(&position, &frames, &cycle.settings)
+                .unwrap();
+            let cands: Vec<Candidate> = built.into_iter().flatten().map(|(c, _)| c).collect();
+            for b in 0..2 {
+                let t = &cycle.bodies.tensors[b];
+                let fast = normal_compliance(t, &cands, b);
+                let slow = normal_compliance_streamed(t, &cands, b);
+                let scale = slow.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                let diff = fast
+                    .iter()
+                    .zip(&slow)
+                    .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+                assert!(scale > 0.0);
+                assert!(
+                    diff <= 1e-12 * scale,
+                    "roll {:.4}°, body {b}: |ΔF| {diff:e} of {scale:e}",
+                    roll.to_degrees()
+                );
+                // exactly symmetric
+                let n = cands.len();
+                for i in 0..n {
+                    for j in 0..n {
+                        assert_eq!(fast[i * n + j], fast[j * n + i]);
+                    }
+                }
+            }
+            sizes.push((cands.len(), cell_nodes(&cands, 0).len()));
+        }
+        eprintln!("candidates, pinion cell nodes per position: {sizes:?}");
+    }
+
+    #[test]
+    fn node_by_node_compliance_matches_the_streamed_one() {
+        let work = std::env::temp_dir().join(format!("flank_ltca_fast_f_{}", std::process::id()));
+        fast_against_streamed(1.5, 3.0, work.clone(), None);
+        let _ = std::fs::remove_dir_all(work);
+    }
+
+    /// The same at the benchmark's tensors (flank 0.475 mm, base 1 mm;
+    /// `cargo bench --bench ltca` computes and caches them in
+    /// target/ltca-bench/cache, about 3 min): `--ignored`.
+    #[test]
+    #[ignore]
+    fn node_by_node_compliance_matches_the_streamed_one_at_the_bench_mesh() {
+        let work = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/ltca-bench");
+        fast_against_streamed(0.475, 1.0, work.clone(), Some(work.join("cache")));
+    }
 }
