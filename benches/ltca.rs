@@ -73,6 +73,11 @@ fn bench(c: &mut Criterion) {
         })
     });
     g.finish();
+    println!(
+        "paged tensor blocks built: pinion {:.1} MB, gear {:.1} MB",
+        cycle.bodies.grids[0].page_bytes() as f64 * 1e-6,
+        cycle.bodies.grids[1].page_bytes() as f64 * 1e-6
+    );
 }
 
 criterion_group!(benches, bench);

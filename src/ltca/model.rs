@@ -32,6 +32,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use crate::compliance::interpolation::{CellShape, FlankGrids, FlankInterpolator, SurfaceLoad};
+use crate::compliance::pages::{TensorPages, PAGE};
 use crate::compliance::ComplianceTensor;
 use crate::contact::placement::Frame;
 use crate::error::FlankError;
@@ -442,7 +443,7 @@ impl LtcaBodies {
             f_fe.copy_from_slice(&blocks[0]);
         } else {
             for b in 0..2 {
-                let part = normal_compliance(&self.tensors[b], &cands, b);
+                let part = normal_compliance(&self.tensors[b], &self.grids[b], &cands, b);
                 for (x, y) in f_fe.iter_mut().zip(part) {
                     *x += y;
                 }
@@ -969,27 +970,80 @@ fn half_space_influence(
 }
 
 /// n₍b₎ᵢᵀ C(i, j) n₍b₎ⱼ of one body for all candidate pairs (n × n,
-/// row-major), the same sums as [`normal_compliance_streamed`] in another
-/// order: the displacements u_j = C (Σ_c w_jc n_j e_c) on the sorted union
-/// U of the cells' nodes are formed node by node, each 3 × 3 block C(c, a)
-/// with a ≤ c in U gathered from the tensor once (C is symmetric: the
-/// block serves u_j(a) += C(c, a)ᵀ q_jc for the cells j loading c and
-/// u_j(c) += C(c, a) q_ja for those loading a), so a position reads
-/// 9 |U|²/2 tensor entries once instead of 9 |U| per loaded node and cell;
-/// then F_ij = Σ_{a ∈ i} w_ia n_iᵀ u_j(a), symmetrised.
-fn normal_compliance(t: &ComplianceTensor, cands: &[Candidate], b: usize) -> Vec<f64> {
+/// row-major): from the tensor's paged node blocks
+/// ([`crate::compliance::pages`], built on first use and kept for the
+/// next positions), else as [`normal_compliance_streamed`].
+fn normal_compliance(
+    t: &ComplianceTensor,
+    grids: &FlankGrids,
+    cands: &[Candidate],
+    b: usize,
+) -> Vec<f64> {
+    match grids.pages(t) {
+        Some(p) => normal_compliance_paged(t, p, cands, b),
+        None => normal_compliance_streamed(t, cands, b),
+    }
+}
+
+/// [`normal_compliance`] from the paged blocks: the same sums as
+/// [`normal_compliance_streamed`] in another order. The union U of the
+/// cells' nodes is sorted in the paged order; node by node c of U, every
+/// cell j loading c adds C(U, c) q_jc, q_jc = w_jc n_j, to its
+/// displacement u_j, reading the blocks C(a, c) page by page (contiguous
+/// for consecutive a of one page); then F_ij = Σ_{a ∈ i} w_ia n_iᵀ u_j(a),
+/// symmetrised.
+fn normal_compliance_paged(
+    t: &ComplianceTensor,
+    pages: &TensorPages,
+    cands: &[Candidate],
+    b: usize,
+) -> Vec<f64> {
     use rayon::prelude::*;
     let n = cands.len();
-    let dim = t.dim();
-    let nodes = cell_nodes(cands, b);
+    // U in the paged order: (position, node)
+    let mut nodes: Vec<(usize, u32)> = cell_nodes(cands, b)
+        .into_iter()
+        .map(|a| (pages.position(a), a))
+        .collect();
+    nodes.sort_unstable();
     let nu = nodes.len();
-    let index = |a: u32| nodes.binary_search(&a).expect("node of a cell");
-    // the loads per node: (node position in U, candidate j, q = w_jc n_j)
+    // node → its index in U
+    let mut by_node: Vec<(u32, usize)> = nodes
+        .iter()
+        .enumerate()
+        .map(|(k, &(_, a))| (a, k))
+        .collect();
+    by_node.sort_unstable();
+    let index = |a: u32| {
+        by_node[by_node
+            .binary_search_by_key(&a, |e| e.0)
+            .expect("node of a cell")]
+        .1
+    };
+    // runs of U on one page: (page, first, end)
+    let mut runs: Vec<(usize, usize, usize)> = Vec::new();
+    for (k, &(p, _)) in nodes.iter().enumerate() {
+        match runs.last_mut() {
+            Some(r) if r.0 == p / PAGE => r.2 = k + 1,
+            _ => runs.push((p / PAGE, k, k + 1)),
+        }
+    }
+    // the loads per node: (index in U, candidate j, q = w_jc n_j)
     let mut entries: Vec<(usize, usize, [f64; 3])> = Vec::new();
-    for (j, c) in cands.iter().enumerate() {
-        let nj = c.normals[b];
-        for &(a, w) in &c.loads[b].weights {
-            entries.push((index(a), j, [w * nj[0], w * nj[1], w * nj[2]]));
+    let cells: Vec<Vec<(usize, f64)>> = cands
+        .iter()
+        .map(|c| {
+            c.loads[b]
+                .weights
+                .iter()
+                .map(|&(a, w)| (index(a), w))
+                .collect()
+        })
+        .collect();
+    for (j, cell) in cells.iter().enumerate() {
+        let nj = cands[j].normals[b];
+        for &(k, w) in cell {
+            entries.push((k, j, [w * nj[0], w * nj[1], w * nj[2]]));
         }
     }
     entries.sort_by_key(|e| e.0);
@@ -1000,62 +1054,36 @@ fn normal_compliance(t: &ComplianceTensor, cands: &[Candidate], b: usize) -> Vec
     for k in 0..nu {
         start[k + 1] += start[k];
     }
-    let at = |k: usize| &entries[start[k]..start[k + 1]];
-    let threads = rayon::current_num_threads().max(1).min(nu);
-    let stride = 3 * nu;
-    // per thread: the nodes c ≡ tid (mod threads), u[j·3|U| + 3k + s]
+    let threads = rayon::current_num_threads().max(1).min(nu.max(1));
+    // u[(3 j + s) |U| + k]: component s at node U[k] under cell j's load;
+    // per thread the nodes c ≡ tid (mod threads)
     let parts: Vec<Vec<f64>> = (0..threads)
         .into_par_iter()
         .map(|tid| {
-            let mut u = vec![0.0; n * stride];
-            let mut g = vec![0.0; 9 * nu];
-            let mut acc = vec![[0.0f64; 3]; n];
-            let mut kc = tid;
-            while kc < nu {
-                let c = nodes[kc] as usize;
-                // g[9 ka + 3 s + t] = C(3c + s, 3a + t), a = U[ka] ≤ c
-                for s in 0..3 {
-                    let row = &t.matrix[(3 * c + s) * dim..][..dim];
-                    for (ka, &a) in nodes[..=kc].iter().enumerate() {
-                        let x = &row[3 * a as usize..3 * a as usize + 3];
-                        g[9 * ka + 3 * s] = x[0];
-                        g[9 * ka + 3 * s + 1] = x[1];
-                        g[9 * ka + 3 * s + 2] = x[2];
+            let mut u = vec![0.0; 3 * n * nu];
+            for kc in (tid..nu).step_by(threads) {
+                let (pc, ic) = (nodes[kc].0 / PAGE, nodes[kc].0 % PAGE);
+                let loads = &entries[start[kc]..start[kc + 1]];
+                for &(r, k0, k1) in &runs {
+                    let page = &pages.page(t, r, pc)[ic * PAGE * 9..][..PAGE * 9];
+                    for &(_, j, q) in loads {
+                        let (ux, rest) = u[3 * j * nu..][..3 * nu].split_at_mut(nu);
+                        let (uy, uz) = rest.split_at_mut(nu);
+                        for k in k0..k1 {
+                            let ia = nodes[k].0 % PAGE;
+                            let c = &page[9 * ia..9 * ia + 9];
+                            ux[k] += c[0] * q[0] + c[1] * q[1] + c[2] * q[2];
+                            uy[k] += c[3] * q[0] + c[4] * q[1] + c[5] * q[2];
+                            uz[k] += c[6] * q[0] + c[7] * q[1] + c[8] * q[2];
+                        }
                     }
                 }
-                // u_j(a) += C(a, c) q_jc = C(c, a)ᵀ q_jc, a ≤ c
-                for &(_, j, q) in at(kc) {
-                    let uj = &mut u[j * stride..][..3 * (kc + 1)];
-                    for (x, y) in uj.chunks_exact_mut(3).zip(g.chunks_exact(9)) {
-                        x[0] += y[0] * q[0] + y[3] * q[1] + y[6] * q[2];
-                        x[1] += y[1] * q[0] + y[4] * q[1] + y[7] * q[2];
-                        x[2] += y[2] * q[0] + y[5] * q[1] + y[8] * q[2];
-                    }
-                }
-                // u_j(c) += C(c, a) q_ja, a < c
-                for ka in 0..kc {
-                    let y = &g[9 * ka..9 * ka + 9];
-                    for &(_, j, q) in at(ka) {
-                        let x = &mut acc[j];
-                        x[0] += y[0] * q[0] + y[1] * q[1] + y[2] * q[2];
-                        x[1] += y[3] * q[0] + y[4] * q[1] + y[5] * q[2];
-                        x[2] += y[6] * q[0] + y[7] * q[1] + y[8] * q[2];
-                    }
-                }
-                for (j, x) in acc.iter_mut().enumerate() {
-                    let uj = &mut u[j * stride + 3 * kc..][..3];
-                    uj[0] += x[0];
-                    uj[1] += x[1];
-                    uj[2] += x[2];
-                    *x = [0.0; 3];
-                }
-                kc += threads;
             }
             u
         })
         .collect();
     let mut parts = parts.into_iter();
-    let mut u = parts.next().unwrap_or_else(|| vec![0.0; n * stride]);
+    let mut u = parts.next().unwrap_or_else(|| vec![0.0; 3 * n * nu]);
     for p in parts {
         for (x, y) in u.iter_mut().zip(p) {
             *x += y;
@@ -1063,16 +1091,14 @@ fn normal_compliance(t: &ComplianceTensor, cands: &[Candidate], b: usize) -> Vec
     }
     // F_ij = Σ_{a ∈ i} q_ia · u_j(a); column j in f[j·n + i]
     let mut f = vec![0.0; n * n];
-    for (j, uj) in u.chunks_exact(stride).enumerate() {
+    for (j, uj) in u.chunks_exact(3 * nu).enumerate() {
+        let (ux, rest) = uj.split_at(nu);
+        let (uy, uz) = rest.split_at(nu);
         for (i, ci) in cands.iter().enumerate() {
             let ni = ci.normals[b];
-            f[j * n + i] = ci.loads[b]
-                .weights
+            f[j * n + i] = cells[i]
                 .iter()
-                .map(|&(a, w)| {
-                    let k = 3 * index(a);
-                    w * (ni[0] * uj[k] + ni[1] * uj[k + 1] + ni[2] * uj[k + 2])
-                })
+                .map(|&(k, w)| w * (ni[0] * ux[k] + ni[1] * uy[k] + ni[2] * uz[k]))
                 .sum::<f64>();
         }
     }
@@ -1091,7 +1117,6 @@ fn normal_compliance(t: &ComplianceTensor, cands: &[Candidate], b: usize) -> Vec
 /// formed on the union U of the cells' nodes, reading C by rows of the
 /// loaded nodes c (C is symmetric) so that each row is streamed over the
 /// sorted U; then F_ij = Σ_{a ∈ i} w_a n_iᵀ u_j(a).
-#[cfg(test)]
 fn normal_compliance_streamed(t: &ComplianceTensor, cands: &[Candidate], b: usize) -> Vec<f64> {
     use rayon::prelude::*;
     let n = cands.len();
@@ -1276,7 +1301,8 @@ mod tests {
             let cands: Vec<Candidate> = built.into_iter().flatten().map(|(c, _)| c).collect();
             for b in 0..2 {
                 let t = &cycle.bodies.tensors[b];
-                let fast = normal_compliance(t, &cands, b);
+                let fast = normal_compliance(t, &cycle.bodies.grids[b], &cands, b);
+                assert!(cycle.bodies.grids[b].pages(t).is_some());
                 let slow = normal_compliance_streamed(t, &cands, b);
                 let scale = slow.iter().fold(0.0f64, |m, x| m.max(x.abs()));
                 let diff = fast
@@ -1298,8 +1324,17 @@ mod tests {
                 }
             }
             sizes.push((cands.len(), cell_nodes(&cands, 0).len()));
+            // a tensor that is not the pages' one falls back to the streamed F
+            let other = &cycle.bodies.tensors[1];
+            assert!(cycle.bodies.grids[0].pages(other).is_none());
+            let fallback = normal_compliance(other, &cycle.bodies.grids[0], &cands, 1);
+            assert_eq!(fallback, normal_compliance_streamed(other, &cands, 1));
         }
-        eprintln!("candidates, pinion cell nodes per position: {sizes:?}");
+        eprintln!(
+            "candidates, pinion cell nodes per position: {sizes:?}; pages built {} + {} MB",
+            cycle.bodies.grids[0].page_bytes() / 1_000_000,
+            cycle.bodies.grids[1].page_bytes() / 1_000_000
+        );
     }
 
     #[test]
@@ -1317,5 +1352,72 @@ mod tests {
     fn node_by_node_compliance_matches_the_streamed_one_at_the_bench_mesh() {
         let work = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/ltca-bench");
         fast_against_streamed(0.475, 1.0, work.clone(), Some(work.join("cache")));
+    }
+
+    /// Wall time of the two orders of F's tensor part on the benchmark's
+    /// tensors, alternated in one process (medians of 15 rounds of 10
+    /// calls per body and position): `--ignored --nocapture`.
+    #[test]
+    #[ignore]
+    fn time_node_by_node_against_streamed() {
+        let work = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/ltca-bench");
+        let scene = crate::scene::read_scene(Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/papers/seed002-spur/scene.toml"
+        )))
+        .unwrap();
+        let o = LtcaOptions {
+            out: work.join("bodies"),
+            mesh: BodyMeshOptions {
+                flank_size: Some(0.475),
+                base_size: Some(1.0),
+                ..Default::default()
+            },
+            points_per_line: Some(20),
+            cache: Some(work.join("cache")),
+            quiet: true,
+            ..Default::default()
+        };
+        let cycle = LtcaCycle::new(&scene, &o).unwrap();
+        let (a, _) = cycle.pair.engagement(cycle.pair.middle());
+        let (l, h) = cycle.pair.single_contact();
+        for (name, roll) in [("double", 0.5 * (a + l)), ("single", 0.5 * (l + h))] {
+            let position = cycle.tca.position(roll).unwrap();
+            let frames = cycle.tca.frames(roll);
+            let (built, _) = cycle
+                .bodies
+                .candidates(&position, &frames, &cycle.settings)
+                .unwrap();
+            let cands: Vec<Candidate> = built.into_iter().flatten().map(|(c, _)| c).collect();
+            let mut times = [Vec::new(), Vec::new()];
+            for _ in 0..15 {
+                for (m, times) in times.iter_mut().enumerate() {
+                    let t0 = Instant::now();
+                    for _ in 0..10 {
+                        for b in 0..2 {
+                            let t = &cycle.bodies.tensors[b];
+                            std::hint::black_box(if m == 0 {
+                                normal_compliance(t, &cycle.bodies.grids[b], &cands, b)
+                            } else {
+                                normal_compliance_streamed(t, &cands, b)
+                            });
+                        }
+                    }
+                    times.push(t0.elapsed().as_secs_f64() / 10.0);
+                }
+            }
+            let median = |v: &mut Vec<f64>| {
+                v.sort_by(f64::total_cmp);
+                v[v.len() / 2]
+            };
+            let (new, old) = (median(&mut times[0]), median(&mut times[1]));
+            eprintln!(
+                "{name} contact, {} candidates: F (both bodies) node by node {:.3} ms, streamed {:.3} ms, new/old {:.3}",
+                cands.len(),
+                1e3 * new,
+                1e3 * old,
+                new / old
+            );
+        }
     }
 }
