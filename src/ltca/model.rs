@@ -1054,14 +1054,16 @@ fn normal_compliance_paged(
     for k in 0..nu {
         start[k + 1] += start[k];
     }
-    let threads = rayon::current_num_threads().max(1).min(nu.max(1));
     // u[(3 j + s) |U| + k]: component s at node U[k] under cell j's load;
-    // per thread the nodes c ≡ tid (mod threads)
-    let parts: Vec<Vec<f64>> = (0..threads)
+    // summed over PARTS interleaved sets of nodes c (c ≡ part mod PARTS),
+    // a fixed number whatever the thread count, and added in part order:
+    // the same round-off on any number of threads
+    const PARTS: usize = 4;
+    let parts: Vec<Vec<f64>> = (0..PARTS)
         .into_par_iter()
-        .map(|tid| {
+        .map(|part| {
             let mut u = vec![0.0; 3 * n * nu];
-            for kc in (tid..nu).step_by(threads) {
+            for kc in (part..nu).step_by(PARTS) {
                 let (pc, ic) = (nodes[kc].0 / PAGE, nodes[kc].0 % PAGE);
                 let loads = &entries[start[kc]..start[kc + 1]];
                 for &(r, k0, k1) in &runs {
