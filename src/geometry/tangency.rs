@@ -376,32 +376,6 @@ fn evaluate_moved(
     combine(system, pinion, gear, turn, x, members)
 }
 
-/// A Jacobian of `system` (its SVD) from an earlier solve, for chord
-/// steps of a solve nearby ([`solve_chord`]).
-#[derive(Clone, Debug)]
-pub struct TangencyJacobian {
-    system: ContactSystem,
-    svd: nalgebra::SVD<f64, nalgebra::Dyn, nalgebra::Dyn>,
-}
-
-impl TangencyJacobian {
-    /// The least-norm step −J⁺ r (module docs of [`solve`]'s step).
-    fn step(&self, residual: &[f64]) -> Option<nalgebra::DVector<f64>> {
-        let n = residual.len();
-        let rhs = nalgebra::DVector::from_iterator(n, residual.iter().map(|r| -r));
-        let smax = self.svd.singular_values.max();
-        match self.svd.solve(&rhs, 1e-10 * smax) {
-            Ok(dx) if smax > 0.0 && dx.iter().all(|d| d.is_finite()) => Some(dx),
-            _ => None,
-        }
-    }
-}
-
-/// A chord step is kept when it brings the merit (the weighted residual
-/// norm) down to this share of the iterate's, else the Jacobian is
-/// computed afresh at the iterate and a Newton step taken.
-pub const CHORD_CONTRACTION: f64 = 0.1;
-
 /// Newton's method on `system` from `seed` (module docs).
 pub fn solve(
     system: ContactSystem,
@@ -409,35 +383,6 @@ pub fn solve(
     gear: &PlacedFlank,
     turn: &GearTurn,
     seed: &TangencySeed,
-) -> Result<Tangency, TangencyFailure> {
-    solve_inner(system, pinion, gear, turn, seed, None)
-}
-
-/// [`solve`] with chord steps: each step first tries the Jacobian in
-/// `jacobian` (from an earlier solve of the same system nearby, or the one
-/// last computed in this solve) and keeps the step when it contracts the
-/// merit by [`CHORD_CONTRACTION`] (one evaluation instead of the Jacobian's
-/// 2n); otherwise it computes the Jacobian afresh (stored back in
-/// `jacobian`) and takes [`solve`]'s Newton step. The same convergence test
-/// as [`solve`]: the solution agrees with its to the tolerances.
-pub fn solve_chord(
-    system: ContactSystem,
-    pinion: &PlacedFlank,
-    gear: &PlacedFlank,
-    turn: &GearTurn,
-    seed: &TangencySeed,
-    jacobian: &mut Option<TangencyJacobian>,
-) -> Result<Tangency, TangencyFailure> {
-    solve_inner(system, pinion, gear, turn, seed, Some(jacobian))
-}
-
-fn solve_inner(
-    system: ContactSystem,
-    pinion: &PlacedFlank,
-    gear: &PlacedFlank,
-    turn: &GearTurn,
-    seed: &TangencySeed,
-    mut chord: Option<&mut Option<TangencyJacobian>>,
 ) -> Result<Tangency, TangencyFailure> {
     let n = system.unknowns();
     let mut x: Vec<f64> = match system {
@@ -515,23 +460,6 @@ fn solve_inner(
             return Err(fail(iterations, merit(&e), "no convergence"));
         }
         iterations += 1;
-        if let Some(j) = chord
-            .as_deref()
-            .and_then(|j| j.as_ref())
-            .filter(|j| j.system == system)
-        {
-            let m0 = merit(&e);
-            if let Some(dx) = j.step(&e.residual[..n]) {
-                let xt: Vec<f64> = x.iter().zip(dx.iter()).map(|(a, d)| a + d).collect();
-                if let Some(et) = evaluate(system, pinion, gear, turn, &xt) {
-                    if converged(&et) || merit(&et) <= CHORD_CONTRACTION * m0 {
-                        x = xt;
-                        e = et;
-                        continue;
-                    }
-                }
-            }
-        }
         // Jacobian by central differences
         let mut jac = nalgebra::DMatrix::<f64>::zeros(n, n);
         for k in 0..n {
@@ -562,9 +490,6 @@ fn solve_inner(
             Ok(dx) if smax > 0.0 && dx.iter().all(|d| d.is_finite()) => dx,
             _ => return Err(fail(iterations, merit(&e), "singular system")),
         };
-        if let Some(slot) = chord.as_deref_mut() {
-            *slot = Some(TangencyJacobian { system, svd });
-        }
         let m0 = merit(&e);
         let mut t = 1.0;
         let mut accepted = None;

@@ -49,7 +49,7 @@ use crate::geometry::frame::Frame;
 use crate::geometry::gear_pair::{Flank, GearBody, PairPlacement};
 use crate::geometry::surface::ToothSurface;
 use crate::geometry::tangency::{
-    self, ContactSystem, Edge, GearTurn, PlacedFlank, Tangency, TangencyJacobian, TangencySeed,
+    self, ContactSystem, Edge, GearTurn, PlacedFlank, Tangency, TangencySeed,
 };
 use crate::geometry::vec3::{add, cross, dot, norm, sub, unit, V3};
 use crate::iteration_limits::{IterationLimits, LoopEnd};
@@ -284,19 +284,6 @@ fn solve_at(
     tangency::solve(system, &p.pinion, &p.gear, &p.turn, seed)
 }
 
-/// [`solve_at`] by chord steps from the trace's last Jacobian
-/// ([`tangency::solve_chord`]).
-fn solve_chord_at(
-    pair: &dyn PairPlacement,
-    roll: f64,
-    system: ContactSystem,
-    seed: &TangencySeed,
-    jacobian: &mut Option<TangencyJacobian>,
-) -> std::result::Result<Tangency, tangency::TangencyFailure> {
-    let p = placement(pair, roll);
-    tangency::solve_chord(system, &p.pinion, &p.gear, &p.turn, seed, jacobian)
-}
-
 /// The drive flanks of the middle pair (pinion, gear), on which the trace
 /// runs.
 fn middle_drive_flanks(pair: &dyn PairPlacement) -> (&dyn ToothSurface, &dyn ToothSurface) {
@@ -435,21 +422,15 @@ fn trace(
     let mut prev_prev: Option<Tangency> = None;
     let mut system = ContactSystem::Flank;
     let flanks = &DriveFlanks::new(pair);
-    // the last Jacobian of the trace's solves (chord steps)
-    let jacobian = &mut None;
     for j in 1..=limit {
         let index = dir * j;
         let roll = index as f64 * h;
-        // seed: the previous contact, its parameters and turn extrapolated
-        // linearly from the two before
+        // seed: the previous contact, its turn extrapolated linearly
         let mut seed = prev.seed();
         if let Some(pp) = prev_prev.filter(|pp| pp.system == prev.system) {
-            let lin = |a: f64, b: f64| 2.0 * a - b;
-            seed.turn = lin(prev.turn, pp.turn);
-            seed.pinion_uv = [0, 1].map(|i| lin(prev.pinion_uv[i], pp.pinion_uv[i]));
-            seed.gear_uv = [0, 1].map(|i| lin(prev.gear_uv[i], pp.gear_uv[i]));
+            seed.turn = 2.0 * prev.turn - pp.turn;
         }
-        let solved = solve_chord_at(pair, roll, system, &seed, jacobian);
+        let solved = solve_at(pair, roll, system, &seed);
         match &solved {
             Ok(t) => {
                 newton.steps += t.iterations;
@@ -486,7 +467,7 @@ fn trace(
         // locate the change between the previous roll and this one
         let roll_prev = (index - dir) as f64 * h;
         let at_b = solved.ok().map(|t| holding_margin(flanks, &t));
-        let (a, b, last) = locate_change(pair, flanks, jacobian, system, (roll_prev, prev), (roll, at_b));
+        let (a, b, last) = locate_change(pair, flanks, system, (roll_prev, prev), (roll, at_b));
         // which edge takes over: every edge system solved just past the
         // crossing and then at this grid roll; of those that hold, the one
         // that stops the gear first (module docs)
@@ -636,7 +617,6 @@ fn holding_margin(f: &DriveFlanks, t: &Tangency) -> f64 {
 fn locate_change(
     pair: &dyn PairPlacement,
     flanks: &DriveFlanks,
-    jacobian: &mut Option<TangencyJacobian>,
     system: ContactSystem,
     (a0, at_a): (f64, Tangency),
     (b0, margin_b): (f64, Option<f64>),
@@ -666,7 +646,7 @@ fn locate_change(
         let share = secant.unwrap_or(0.5);
         let m = a + share * (b - a);
         widths = [widths[1], (b - a).abs()];
-        match solve_chord_at(pair, m, system, &last.seed(), jacobian) {
+        match solve_at(pair, m, system, &last.seed()) {
             Ok(t) if holds(&t) => {
                 last = t;
                 a = m;
