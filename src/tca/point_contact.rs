@@ -301,8 +301,12 @@ fn middle_drive_flanks(pair: &dyn PairPlacement) -> (&dyn ToothSurface, &dyn Too
 /// [`ToothSurface::u_form`].
 struct FormMemo<'a> {
     surface: &'a dyn ToothSurface,
-    seen: std::cell::RefCell<([Option<(u64, f64)>; 4], usize)>,
+    seen: std::cell::RefCell<FormSeen>,
 }
+
+/// The last four (v bits, u_form) of a [`FormMemo`] and the slot to fill
+/// next.
+type FormSeen = ([Option<(u64, f64)>; 4], usize);
 
 impl<'a> FormMemo<'a> {
     fn new(surface: &'a dyn ToothSurface) -> Self {
