@@ -33,22 +33,25 @@
 //!   (`rayon::join`), and the curvature ellipse takes its three normal
 //!   curvatures of a flank from one evaluation and one set of second
 //!   derivatives (5 evaluations a flank instead of 15). Old and new bench
-//!   binaries alternated, 4 pairs, on a machine shared with three other
-//!   sessions (load average 6–8 on 2 cores): medians old 68.2 / 65.0 /
-//!   64.7 / 45.8 ms, new 31.8 / 31.8 / 38.3 / 21.6 ms, new/old 0.47–0.59,
-//!   **0.48** median pair. Three alternated runs before those (point
-//!   estimates of the mean, medians not kept): old 47.6 / 56.3 / 65.7 ms,
-//!   new 26.9 / 50.4 / 54.9 ms. The loaded machine inflates both; the
-//!   morning's quiet 51.3 ms times 0.48 is about 25 ms. Target 50 ms:
-//!   **met** by every new median (under 40 ms even at load 7), though
-//!   single runs' means reached 55 ms under this load. CPU profile of
+//!   binaries alternated, 7 pairs, on a machine shared with three other
+//!   sessions (load average 6–8 for the first 4 pairs, 1.7–3.2 for the
+//!   last 3): medians old 68.2 / 65.0 / 64.7 / 45.8 / 60.7 / 55.6 /
+//!   42.5 ms, new 31.8 / 31.8 / 38.3 / 21.6 / 25.9 / 36.0 / 56.3 ms;
+//!   median of the seven **60.7 ms old, 31.8 ms new**, new/old 0.43–0.65
+//!   in six pairs and 1.32 in the last (the load rose during the new run
+//!   of that pair), **0.49** median pair. On 1 rayon thread (no join, the
+//!   work itself): old 66.0 / 48.5 ms, new 37.1 / 39.5 ms. Target 50 ms:
+//!   **met** by the median and by 6 of 7 new runs, not by every run on
+//!   this shared machine (single runs reached 56 ms under load; the
+//!   afternoon's quiet-machine 51.3 ms times 0.49 is about 25 ms). CPU profile of
 //!   the new cycle (samples over both threads): trace 60 % (tangency
 //!   Newton solves 44 %, the form-line Newtons 16 %, the located
 //!   transitions 18 % of it), the screened crossing check 32 %, the
 //!   curvature ellipses 6 % (13 % before the change), the rest 2 %.
 //!   Tried and reverted (commit b52d5a7, reverted in debc1b5): chord
 //!   steps with the trace's last Jacobian and seeds extrapolated in (u, v)
-//!   cut the steps to 275 and the CPU a further 25 %, but seed 003 eased's
+//!   cut the steps to 275 and the CPU by about a quarter (33.5 → 25.0 ms
+//!   a cycle, one noisy harness run each), but seed 003 eased's
 //!   flank trace then ran on past −34.909° (where the Newton at that grid
 //!   roll fails from the old seed and the trace ends) to −38.694° and a
 //!   gear heel edge to −46.091°: a change of contact type.
