@@ -23,6 +23,38 @@
 //!   The trace (tangency solves, the transitions)
 //!   is about two thirds of the cycle, the curvature ellipses and the
 //!   crossing check the rest.
+//! * 2026-11-26 late afternoon, tca-speed branch (the same 91 positions,
+//!   361 Newton steps, 4 transitions; tables byte-identical): a tangency
+//!   Jacobian column evaluates only the member its unknown moves (8
+//!   surface evaluations a flank-system column set instead of 20, the
+//!   turn none), the form lines u_form(v) are remembered per trace (the
+//!   boundary checks and the regula falsi's margin asked them twice at the
+//!   same v), the backward and forward traces run side by side
+//!   (`rayon::join`), and the curvature ellipse takes its three normal
+//!   curvatures of a flank from one evaluation and one set of second
+//!   derivatives (5 evaluations a flank instead of 15). Old and new bench
+//!   binaries alternated, 7 pairs, on a machine shared with three other
+//!   sessions (load average 6–8 for the first 4 pairs, 1.7–3.2 for the
+//!   last 3): medians old 68.2 / 65.0 / 64.7 / 45.8 / 60.7 / 55.6 /
+//!   42.5 ms, new 31.8 / 31.8 / 38.3 / 21.6 / 25.9 / 36.0 / 56.3 ms;
+//!   median of the seven **60.7 ms old, 31.8 ms new**, new/old 0.43–0.65
+//!   in six pairs and 1.32 in the last (the load rose during the new run
+//!   of that pair), **0.49** median pair. On 1 rayon thread (no join, the
+//!   work itself): old 66.0 / 48.5 ms, new 37.1 / 39.5 ms. Target 50 ms:
+//!   **met** by the median and by 6 of 7 new runs, not by every run on
+//!   this shared machine (single runs reached 56 ms under load; the
+//!   afternoon's quiet-machine 51.3 ms times 0.49 is about 25 ms). CPU profile of
+//!   the new cycle (samples over both threads): trace 60 % (tangency
+//!   Newton solves 44 %, the form-line Newtons 16 %, the located
+//!   transitions 18 % of it), the screened crossing check 32 %, the
+//!   curvature ellipses 6 % (13 % before the change), the rest 2 %.
+//!   Tried and reverted (commit b52d5a7, reverted in debc1b5): chord
+//!   steps with the trace's last Jacobian and seeds extrapolated in (u, v)
+//!   cut the steps to 275 and the CPU by about a quarter (33.5 → 25.0 ms
+//!   a cycle, one noisy harness run each), but seed 003 eased's
+//!   flank trace then ran on past −34.909° (where the Newton at that grid
+//!   roll fails from the old seed and the trace ends) to −38.694° and a
+//!   gear heel edge to −46.091°: a change of contact type.
 //!
 //! Before the crossing check was screened (`tca::crossing`) the same cycle
 //! took about 2.8 s, 98 % of it in the check's 22 950 exact closest points

@@ -11,7 +11,7 @@
 //! pinion settings ([`crate::geometry::bevel::synthesis`]).
 
 use crate::geometry::frame::Frame;
-use crate::geometry::surface::{normal_curvature, ToothSurface};
+use crate::geometry::surface::{normal_curvatures, ToothSurface};
 use crate::geometry::vec3::{add, cross, dot, unit, V3};
 
 /// One placed flank at a contact: the surface, its frame and the contact's
@@ -49,10 +49,10 @@ pub fn basis(pinion: &FlankAtContact, normal: V3) -> (V3, V3) {
 /// Normal-curvature tensor (convex positive) of one flank in the basis.
 fn curvature_tensor(f: &FlankAtContact, e1: V3, e2: V3) -> [f64; 3] {
     let own = |d: V3| f.frame.rotate_back(d);
-    let k = |d: V3| normal_curvature(f.surface, f.uv[0], f.uv[1], own(d));
-    let (k11, k22) = (k(e1), k(e2));
     let diag = unit(add(e1, 1.0, e2));
-    [k11, k(diag) - 0.5 * (k11 + k22), k22]
+    // one evaluation and one set of second derivatives for the three
+    let [k11, k22, kd] = normal_curvatures(f.surface, f.uv[0], f.uv[1], [e1, e2, diag].map(own));
+    [k11, kd - 0.5 * (k11 + k22), k22]
 }
 
 /// Relative curvature tensor B = K₁ + K₂ in the basis (e₁, e₂) (module

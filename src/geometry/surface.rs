@@ -263,8 +263,27 @@ pub struct Curvatures {
 /// direction `t` (own frame; its normal component is ignored), from the
 /// fundamental forms (module docs).
 pub fn normal_curvature<S: ToothSurface + ?Sized>(s: &S, u: f64, v: f64, t: V3) -> f64 {
+    normal_curvatures(s, u, v, [t])[0]
+}
+
+/// [`normal_curvature`] in several directions from one evaluation of the
+/// surface and its second derivatives (the same numbers; on a generated
+/// bevel flank each evaluation is an envelope solve, and the second
+/// derivatives four more).
+pub fn normal_curvatures<S: ToothSurface + ?Sized, const K: usize>(
+    s: &S,
+    u: f64,
+    v: f64,
+    ts: [V3; K],
+) -> [f64; K] {
     let (_, n, pu, pv) = s.evaluate(u, v);
     let [ruu, ruv, rvv] = s.second_derivatives(u, v);
+    ts.map(|t| normal_curvature_from(n, pu, pv, [ruu, ruv, rvv], t))
+}
+
+/// The normal curvature in direction `t` from the normal, the first and
+/// the second derivatives.
+fn normal_curvature_from(n: V3, pu: V3, pv: V3, [ruu, ruv, rvv]: [V3; 3], t: V3) -> f64 {
     let (e, f, g) = (dot(pu, pu), dot(pu, pv), dot(pv, pv));
     let (l, m, nn) = (dot(ruu, n), dot(ruv, n), dot(rvv, n));
     // t = du r_u + dv r_v in the least-squares sense

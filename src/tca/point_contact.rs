@@ -47,7 +47,7 @@ use crate::error::FlankError;
 use crate::geometry::bevel::body::BevelGear;
 use crate::geometry::frame::Frame;
 use crate::geometry::gear_pair::{Flank, GearBody, PairPlacement};
-use crate::geometry::surface::{on_active_flank, ToothSurface};
+use crate::geometry::surface::ToothSurface;
 use crate::geometry::tangency::{
     self, ContactSystem, Edge, GearTurn, PlacedFlank, Tangency, TangencySeed,
 };
@@ -294,12 +294,72 @@ fn middle_drive_flanks(pair: &dyn PairPlacement) -> (&dyn ToothSurface, &dyn Too
     )
 }
 
+/// A drive flank whose form line u_form(v) is remembered for the last few
+/// v asked (on a face-hobbed flank it is a Newton of envelope solves, and
+/// the boundary checks of one contact ask it at the same v: [`crossed`] or
+/// [`edge_holds`], then [`holding_margin`]). The same numbers as
+/// [`ToothSurface::u_form`].
+struct FormMemo<'a> {
+    surface: &'a dyn ToothSurface,
+    seen: std::cell::RefCell<FormSeen>,
+}
+
+/// The last four (v bits, u_form) of a [`FormMemo`] and the slot to fill
+/// next.
+type FormSeen = ([Option<(u64, f64)>; 4], usize);
+
+impl<'a> FormMemo<'a> {
+    fn new(surface: &'a dyn ToothSurface) -> Self {
+        FormMemo {
+            surface,
+            seen: std::cell::RefCell::new(([None; 4], 0)),
+        }
+    }
+
+    fn u_form(&self, v: f64) -> f64 {
+        let key = v.to_bits();
+        let mut seen = self.seen.borrow_mut();
+        if let Some((_, u)) = seen.0.iter().flatten().find(|(k, _)| *k == key) {
+            return *u;
+        }
+        let u = self.surface.u_form(v);
+        let slot = seen.1;
+        seen.0[slot] = Some((key, u));
+        seen.1 = (slot + 1) % 4;
+        u
+    }
+
+    /// [`crate::geometry::surface::on_active_flank`] with the remembered
+    /// form line.
+    fn on_active_flank(&self, [u, v]: [f64; 2]) -> bool {
+        let (v0, v1) = self.surface.v_range();
+        v >= v0 && v <= v1 && u <= self.surface.u_tip(v) && u >= self.u_form(v)
+    }
+}
+
+/// The middle pair's drive flanks (pinion, gear) for the boundary checks
+/// of one trace.
+struct DriveFlanks<'a> {
+    pinion: FormMemo<'a>,
+    gear: FormMemo<'a>,
+}
+
+impl<'a> DriveFlanks<'a> {
+    fn new(pair: &'a dyn PairPlacement) -> Self {
+        let (ps, gs) = middle_drive_flanks(pair);
+        DriveFlanks {
+            pinion: FormMemo::new(ps),
+            gear: FormMemo::new(gs),
+        }
+    }
+}
+
 /// Where a flank contact lies: on both active flanks (`None`), or the
 /// edge system of the first boundary it crossed (`Some(Some(_))`), or
 /// below a form line (`Some(None)`: no edge takes over).
-fn crossed(pair: &dyn PairPlacement, t: &Tangency) -> Option<Option<ContactSystem>> {
-    let (ps, gs) = middle_drive_flanks(pair);
-    let edge = |s: &dyn ToothSurface, [u, v]: [f64; 2]| -> Option<Option<Edge>> {
+fn crossed(f: &DriveFlanks, t: &Tangency) -> Option<Option<ContactSystem>> {
+    let edge = |m: &FormMemo, [u, v]: [f64; 2]| -> Option<Option<Edge>> {
+        let s = m.surface;
         let (v0, v1) = s.v_range();
         if v < v0 {
             Some(Some(Edge::Toe))
@@ -307,13 +367,13 @@ fn crossed(pair: &dyn PairPlacement, t: &Tangency) -> Option<Option<ContactSyste
             Some(Some(Edge::Heel))
         } else if u > s.u_tip(v) {
             Some(Some(Edge::Tip))
-        } else if u < s.u_form(v) {
+        } else if u < m.u_form(v) {
             Some(None)
         } else {
             None
         }
     };
-    match (edge(ps, t.pinion_uv), edge(gs, t.gear_uv)) {
+    match (edge(&f.pinion, t.pinion_uv), edge(&f.gear, t.gear_uv)) {
         (None, None) => None,
         (Some(Some(e)), _) => Some(Some(ContactSystem::PinionEdge(e))),
         (_, Some(Some(e))) => Some(Some(ContactSystem::GearEdge(e))),
@@ -322,23 +382,23 @@ fn crossed(pair: &dyn PairPlacement, t: &Tangency) -> Option<Option<ContactSyste
 }
 
 /// Whether an edge solution holds (module docs).
-fn edge_holds(pair: &dyn PairPlacement, t: &Tangency) -> bool {
-    let (ps, gs) = middle_drive_flanks(pair);
-    let on_edge = |s: &dyn ToothSurface, e: Edge, uv: [f64; 2]| {
+fn edge_holds(f: &DriveFlanks, t: &Tangency) -> bool {
+    let on_edge = |m: &FormMemo, e: Edge, uv: [f64; 2]| {
+        let s = m.surface;
         let (v0, v1) = s.v_range();
         match e {
             Edge::Tip => uv[1] >= v0 && uv[1] <= v1,
-            Edge::Toe | Edge::Heel => uv[0] >= s.u_form(uv[1]) && uv[0] <= s.u_tip(uv[1]),
+            Edge::Toe | Edge::Heel => uv[0] >= m.u_form(uv[1]) && uv[0] <= s.u_tip(uv[1]),
         }
     };
     t.edge_lean > 0.0
         && match t.system {
             ContactSystem::Flank => false,
             ContactSystem::PinionEdge(e) => {
-                on_edge(ps, e, t.pinion_uv) && on_active_flank(gs, t.gear_uv)
+                on_edge(&f.pinion, e, t.pinion_uv) && f.gear.on_active_flank(t.gear_uv)
             }
             ContactSystem::GearEdge(e) => {
-                on_edge(gs, e, t.gear_uv) && on_active_flank(ps, t.pinion_uv)
+                on_edge(&f.gear, e, t.gear_uv) && f.pinion.on_active_flank(t.pinion_uv)
             }
         }
 }
@@ -365,6 +425,7 @@ fn trace(
     let mut prev = *start;
     let mut prev_prev: Option<Tangency> = None;
     let mut system = ContactSystem::Flank;
+    let flanks = &DriveFlanks::new(pair);
     for j in 1..=limit {
         let index = dir * j;
         let roll = index as f64 * h;
@@ -396,8 +457,8 @@ fn trace(
             Err(_) => {}
         }
         let holds = match (&solved, system) {
-            (Ok(t), ContactSystem::Flank) => crossed(pair, t).is_none(),
-            (Ok(t), _) => edge_holds(pair, t),
+            (Ok(t), ContactSystem::Flank) => crossed(flanks, t).is_none(),
+            (Ok(t), _) => edge_holds(flanks, t),
             (Err(_), _) => false,
         };
         if holds {
@@ -409,8 +470,8 @@ fn trace(
         }
         // locate the change between the previous roll and this one
         let roll_prev = (index - dir) as f64 * h;
-        let at_b = solved.ok().map(|t| holding_margin(pair, &t));
-        let (a, b, last) = locate_change(pair, system, (roll_prev, prev), (roll, at_b));
+        let at_b = solved.ok().map(|t| holding_margin(flanks, &t));
+        let (a, b, last) = locate_change(pair, flanks, system, (roll_prev, prev), (roll, at_b));
         // which edge takes over: every edge system solved just past the
         // crossing and then at this grid roll; of those that hold, the one
         // that stops the gear first (module docs)
@@ -421,7 +482,7 @@ fn trace(
                 .zip(uv(&last))
                 .map(|(p, l)| (p[0] - l[0]).hypot(p[1] - l[1]))
                 .fold(0.0, f64::max);
-            take_over(pair, b, roll, &last, moved, newton)
+            take_over(pair, flanks, b, roll, &last, moved, newton)
         } else {
             None
         };
@@ -453,8 +514,8 @@ const EDGE_SYSTEMS: [ContactSystem; 6] = [
 
 /// How far a flank contact lies inside each edge of the active flanks
 /// (mm in the flanks' (u, v); < 0 beyond it), in [`EDGE_SYSTEMS`]' order.
-fn edge_distances(pair: &dyn PairPlacement, t: &Tangency) -> [f64; 6] {
-    let (ps, gs) = middle_drive_flanks(pair);
+fn edge_distances(f: &DriveFlanks, t: &Tangency) -> [f64; 6] {
+    let (ps, gs) = (f.pinion.surface, f.gear.surface);
     let three = |s: &dyn ToothSurface, [u, v]: [f64; 2]| {
         let (v0, v1) = s.v_range();
         [s.u_tip(v) - u, v - v0, v1 - v]
@@ -479,6 +540,7 @@ fn edge_distances(pair: &dyn PairPlacement, t: &Tangency) -> [f64; 6] {
 /// boundaries can be a round-off apart there).
 fn take_over(
     pair: &dyn PairPlacement,
+    flanks: &DriveFlanks,
     past: f64,
     roll: f64,
     last: &Tangency,
@@ -487,7 +549,7 @@ fn take_over(
 ) -> Option<Tangency> {
     let sense2 = pair.rotation_axes()[1][2].signum();
     let beyond = solve_at(pair, past, ContactSystem::Flank, &last.seed()).unwrap_or(*last);
-    let near = edge_distances(pair, &beyond).map(|d| d <= 2.0 * moved + 1e-3);
+    let near = edge_distances(flanks, &beyond).map(|d| d <= 2.0 * moved + 1e-3);
     let mut best: Option<Tangency> = None;
     for (system, _) in EDGE_SYSTEMS.into_iter().zip(near).filter(|(_, n)| *n) {
         let seed = solve_at(pair, past, system, &last.seed())
@@ -497,7 +559,7 @@ fn take_over(
             continue;
         };
         newton.steps += t.iterations;
-        if edge_holds(pair, &t) && best.is_none_or(|b| sense2 * t.turn > sense2 * b.turn) {
+        if edge_holds(flanks, &t) && best.is_none_or(|b| sense2 * t.turn > sense2 * b.turn) {
             best = Some(t);
         }
     }
@@ -517,34 +579,34 @@ const CHANGE_SOLVES: usize = 120;
 /// system, to the edge's ends and the edge lean (10 mm per unit share). It
 /// only guides [`locate_change`]'s trial rolls: whether a contact holds is
 /// decided by [`crossed`] and [`edge_holds`].
-fn holding_margin(pair: &dyn PairPlacement, t: &Tangency) -> f64 {
-    let (ps, gs) = middle_drive_flanks(pair);
+fn holding_margin(f: &DriveFlanks, t: &Tangency) -> f64 {
     let face = |s: &dyn ToothSurface, v: f64| {
         let (v0, v1) = s.v_range();
         (v - v0).min(v1 - v)
     };
-    let profile = |s: &dyn ToothSurface, [u, v]: [f64; 2]| (s.u_tip(v) - u).min(u - s.u_form(v));
-    let flank = |s: &dyn ToothSurface, uv: [f64; 2]| {
-        let f = face(s, uv[1]);
+    let profile = |m: &FormMemo, [u, v]: [f64; 2]| (m.surface.u_tip(v) - u).min(u - m.u_form(v));
+    let flank = |m: &FormMemo, uv: [f64; 2]| {
+        let f = face(m.surface, uv[1]);
         // the form line is a Newton of envelope solves: not asked off the face
         if f < 0.0 {
             f
         } else {
-            f.min(profile(s, uv))
+            f.min(profile(m, uv))
         }
     };
-    let edge = |s: &dyn ToothSurface, e: Edge, uv: [f64; 2]| match e {
-        Edge::Tip => face(s, uv[1]),
-        Edge::Toe | Edge::Heel => profile(s, uv),
+    let edge = |m: &FormMemo, e: Edge, uv: [f64; 2]| match e {
+        Edge::Tip => face(m.surface, uv[1]),
+        Edge::Toe | Edge::Heel => profile(m, uv),
     };
+    let (p, g) = (&f.pinion, &f.gear);
     match t.system {
-        ContactSystem::Flank => flank(ps, t.pinion_uv).min(flank(gs, t.gear_uv)),
+        ContactSystem::Flank => flank(p, t.pinion_uv).min(flank(g, t.gear_uv)),
         ContactSystem::PinionEdge(e) => (10.0 * t.edge_lean)
-            .min(edge(ps, e, t.pinion_uv))
-            .min(flank(gs, t.gear_uv)),
+            .min(edge(p, e, t.pinion_uv))
+            .min(flank(g, t.gear_uv)),
         ContactSystem::GearEdge(e) => (10.0 * t.edge_lean)
-            .min(edge(gs, e, t.gear_uv))
-            .min(flank(ps, t.pinion_uv)),
+            .min(edge(g, e, t.gear_uv))
+            .min(flank(p, t.pinion_uv)),
     }
 }
 
@@ -558,17 +620,18 @@ fn holding_margin(pair: &dyn PairPlacement, t: &Tangency) -> f64 {
 /// holds. Bounded by [`CHANGE_SOLVES`] solves (the bracket is then wider).
 fn locate_change(
     pair: &dyn PairPlacement,
+    flanks: &DriveFlanks,
     system: ContactSystem,
     (a0, at_a): (f64, Tangency),
     (b0, margin_b): (f64, Option<f64>),
 ) -> (f64, f64, Tangency) {
     let holds = |t: &Tangency| match system {
-        ContactSystem::Flank => crossed(pair, t).is_none(),
-        _ => edge_holds(pair, t),
+        ContactSystem::Flank => crossed(flanks, t).is_none(),
+        _ => edge_holds(flanks, t),
     };
     let width = (b0 - a0).abs() * CHANGE_WIDTH;
     let (mut a, mut b, mut last) = (a0, b0, at_a);
-    let mut ga = holding_margin(pair, &at_a).max(0.0);
+    let mut ga = holding_margin(flanks, &at_a).max(0.0);
     let mut gb = margin_b.filter(|g| g.is_finite() && *g <= 0.0);
     // which end was kept by the last trial (Illinois), and the bracket's
     // width two trials ago
@@ -591,7 +654,7 @@ fn locate_change(
             Ok(t) if holds(&t) => {
                 last = t;
                 a = m;
-                ga = holding_margin(pair, &t).max(0.0);
+                ga = holding_margin(flanks, &t).max(0.0);
                 if kept == Some(false) {
                     gb = gb.map(|g| 0.5 * g);
                 }
@@ -601,7 +664,7 @@ fn locate_change(
                 b = m;
                 gb = solved
                     .ok()
-                    .map(|t| holding_margin(pair, &t))
+                    .map(|t| holding_margin(flanks, &t))
                     .filter(|g| g.is_finite() && *g <= 0.0);
                 if kept == Some(true) {
                     ga *= 0.5;
@@ -678,7 +741,7 @@ pub fn point_tca(pair: &dyn PairPlacement, settings: &PointTcaSettings) -> Resul
             "TCA at roll 0: the middle pair's flanks do not touch ({e}): the pair does not mesh"
         ))
     })?;
-    if let Some(c) = crossed(pair, &start) {
+    if let Some(c) = crossed(&DriveFlanks::new(pair), &start) {
         return Err(FlankError::Model(format!(
             "TCA at roll 0: the middle pair touches off its active flanks (pinion (u, v) = ({:.4}, {:.4}), gear ({:.4}, {:.4}){}): the bearing is not on the teeth",
             start.pinion_uv[0],
@@ -698,8 +761,25 @@ pub fn point_tca(pair: &dyn PairPlacement, settings: &PointTcaSettings) -> Resul
         tangency::MAX_ITERATIONS,
         start.point_residual,
     ));
-    let (back, bound_b) = trace(pair, settings, h, &start, -1, &mut transitions, &mut newton)?;
-    let (fwd, bound_f) = trace(pair, settings, h, &start, 1, &mut transitions, &mut newton)?;
+    // the two directions are independent: traced side by side, each with
+    // its own transitions and Newton tally (merged, then sorted by roll)
+    let run = |dir: i64| {
+        let mut found = Vec::new();
+        let mut tally = NewtonTally {
+            steps: 0,
+            loops: IterationLimits::new(),
+        };
+        let traced = trace(pair, settings, h, &start, dir, &mut found, &mut tally);
+        (traced, found, tally)
+    };
+    let ((back, found_b, tally_b), (fwd, found_f, tally_f)) = rayon::join(|| run(-1), || run(1));
+    let (back, bound_b) = back?;
+    let (fwd, bound_f) = fwd?;
+    for (found, tally) in [(found_b, tally_b), (found_f, tally_f)] {
+        transitions.extend(found);
+        newton.steps += tally.steps;
+        newton.loops.merge(&tally.loops);
+    }
     let mut traced: Vec<Traced> = back.into_iter().rev().collect();
     traced.push(Traced {
         index: 0,
