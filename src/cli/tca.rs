@@ -383,6 +383,7 @@ fn variant_summary(t: &PointTca) -> serde_json::Value {
         "max_point_residual_mm": t.max_residual[0],
         "max_tangency_residual": t.max_residual[1],
         "newton_steps": t.newton_steps,
+        "branch_jumps": t.branch_jumps,
         "iteration_limits": t.iteration_limits.to_json(),
         "crossing": t.crossing.map(|c| serde_json::json!({
             "roll_deg": c.roll_rad.to_degrees(),

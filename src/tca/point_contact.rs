@@ -225,6 +225,10 @@ pub struct PointTca {
     pub max_residual: [f64; 2],
     /// Newton steps, total over the trace.
     pub newton_steps: usize,
+    /// Grid solves whose Newton jumped off the traced branch (to a root
+    /// past an edge while every roll before it held) and were solved again
+    /// from the located contact next to the grid roll.
+    pub branch_jumps: usize,
     /// The tangency Newton solves at the grid rolls: most steps, and those
     /// that ran out of iterations (the trace ends there).
     pub iteration_limits: IterationLimits,
@@ -472,6 +476,28 @@ fn trace(
         let roll_prev = (index - dir) as f64 * h;
         let at_b = solved.ok().map(|t| holding_margin(flanks, &t));
         let (a, b, last) = locate_change(pair, flanks, system, (roll_prev, prev), (roll, at_b));
+        // every trial up to the grid roll held (the bracket's end never
+        // moved): the grid solve left the branch, Newton from the
+        // extrapolated seed jumping to another root (seed 003 eased at
+        // −34.909°: 4 mm away, beyond the tip, while the contact next to it
+        // lies 1.5 mm inside). Solved again from the located contact on the
+        // same branch; the trace goes on if that holds (counted).
+        if b == roll {
+            if let Ok(t) = solve_at(pair, roll, system, &last.seed()) {
+                let again = match system {
+                    ContactSystem::Flank => crossed(flanks, &t).is_none(),
+                    _ => edge_holds(flanks, &t),
+                };
+                if again {
+                    newton.steps += t.iterations;
+                    newton.branch_jumps += 1;
+                    prev_prev = Some(prev);
+                    prev = t;
+                    out.push(Traced { index, contact: t });
+                    continue;
+                }
+            }
+        }
         // which edge takes over: every edge system solved just past the
         // crossing and then at this grid roll; of those that hold, the one
         // that stops the gear first (module docs)
@@ -755,6 +781,7 @@ pub fn point_tca(pair: &dyn PairPlacement, settings: &PointTcaSettings) -> Resul
     let mut newton = NewtonTally {
         steps: start.iterations,
         loops: IterationLimits::new(),
+        branch_jumps: 0,
     };
     newton.record(LoopEnd::converged(
         start.iterations,
@@ -768,6 +795,7 @@ pub fn point_tca(pair: &dyn PairPlacement, settings: &PointTcaSettings) -> Resul
         let mut tally = NewtonTally {
             steps: 0,
             loops: IterationLimits::new(),
+            branch_jumps: 0,
         };
         let traced = trace(pair, settings, h, &start, dir, &mut found, &mut tally);
         (traced, found, tally)
@@ -778,6 +806,7 @@ pub fn point_tca(pair: &dyn PairPlacement, settings: &PointTcaSettings) -> Resul
     for (found, tally) in [(found_b, tally_b), (found_f, tally_f)] {
         transitions.extend(found);
         newton.steps += tally.steps;
+        newton.branch_jumps += tally.branch_jumps;
         newton.loops.merge(&tally.loops);
     }
     let mut traced: Vec<Traced> = back.into_iter().rev().collect();
@@ -997,6 +1026,7 @@ pub fn point_tca(pair: &dyn PairPlacement, settings: &PointTcaSettings) -> Resul
         hit_trace_bound: bound_b || bound_f,
         max_residual,
         newton_steps: newton.steps,
+        branch_jumps: newton.branch_jumps,
         iteration_limits: newton.loops,
         crossing,
         crossing_scan,
@@ -1008,6 +1038,9 @@ pub fn point_tca(pair: &dyn PairPlacement, settings: &PointTcaSettings) -> Resul
 struct NewtonTally {
     steps: usize,
     loops: IterationLimits,
+    /// Grid solves that left the traced branch and were solved again
+    /// from the located contact.
+    branch_jumps: usize,
 }
 
 impl NewtonTally {
