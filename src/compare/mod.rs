@@ -488,7 +488,7 @@ pub(crate) fn markdown(
             let _ = writeln!(s, "\nErrors are against {}: per position and pair the Richardson-extrapolated load share, and the extrapolated TE (Celik et al. 2008); every FE row, the finest included, is measured against it. p_max is not extrapolated: its reference is the finest run's. Load sharing: max |share difference| (fraction of the total normal force); TE: max relative difference; p_max: max relative difference over the flank-contact positions.", reference.label);
             let _ = writeln!(
                 s,
-                "\nUncertainty of the reference (GCI_fine, F_s = 1.25): load share ≤ {:.4}, TE ≤ {:.3} %; {} of the figures gave no estimate and keep the finest value with its last change as uncertainty ({} of them did not change between the grids: a pair out of mesh). An LTCA error below the uncertainty is not resolved by this reference.",
+                "\nUncertainty of the reference (GCI_fine, F_s = 1.25): load share ≤ {:.4}, TE ≤ {:.3} %; {} of the figures gave no trusted estimate (no order, or one outside 0.5–4) and keep the finest value with 3 × the spread of the three grids as uncertainty ({} of them did not change between the grids: a pair out of mesh). An LTCA error below the uncertainty is not resolved by this reference.",
                 x.max_share_uncertainty,
                 100.0 * x.max_te_uncertainty,
                 x.fallbacks,
