@@ -5,7 +5,9 @@
 //! `cargo bench --bench ltca`. The tensors are computed once before timing
 //! (flank 0.475 mm, base 1 mm, hex20 as the scene's LTCA default would be
 //! with these sizes; cached in target/ltca-bench). The breakdown of a
-//! position (cells, tensor part of F, half-space correction, QP) is printed.
+//! position (cells, tensor part of F, half-space correction, QP) is printed,
+//! and at the end the memory of the paged tensor blocks F is read from
+//! (`flank::compliance::pages`). Figures: benches/README.md.
 
 use std::path::Path;
 
@@ -73,6 +75,11 @@ fn bench(c: &mut Criterion) {
         })
     });
     g.finish();
+    println!(
+        "paged tensor blocks built: pinion {:.1} MB, gear {:.1} MB",
+        cycle.bodies.grids[0].page_bytes() as f64 * 1e-6,
+        cycle.bodies.grids[1].page_bytes() as f64 * 1e-6
+    );
 }
 
 criterion_group!(benches, bench);

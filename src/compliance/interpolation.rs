@@ -35,9 +35,10 @@
 //! displacement along the first direction at k from a unit force along the
 //! second at l.
 
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use crate::compliance::flank::{cross, face_shape, norm};
+use crate::compliance::pages::TensorPages;
 use crate::compliance::ComplianceTensor;
 use crate::error::FlankError;
 
@@ -140,8 +141,24 @@ pub struct FlankInterpolator<'a> {
 
 /// The face search structure of a tensor's flank sets, built once by
 /// [`FlankInterpolator::new`] and shareable between interpolators of the
-/// same tensor ([`FlankInterpolator::with_grids`]).
-pub struct FlankGrids(Vec<Grid>);
+/// same tensor ([`FlankInterpolator::with_grids`]). It also carries the
+/// tensor's paged node blocks ([`FlankGrids::pages`]), built on first use.
+pub struct FlankGrids(Vec<Grid>, OnceLock<TensorPages>);
+
+impl FlankGrids {
+    /// The paged node blocks of `tensor` (the tensor these grids were
+    /// built for; laid out on the first call), or `None` when `tensor` is
+    /// not the one the pages were laid out for.
+    pub fn pages(&self, tensor: &ComplianceTensor) -> Option<&TensorPages> {
+        let p = self.1.get_or_init(|| TensorPages::new(tensor));
+        p.matches(tensor).then_some(p)
+    }
+
+    /// Bytes of the page pairs built so far (0 before any use).
+    pub fn page_bytes(&self) -> usize {
+        self.1.get().map_or(0, TensorPages::bytes)
+    }
+}
 
 /// Faces of one flank set bucketed by their (u, v) bounding boxes.
 struct Grid {
@@ -239,7 +256,7 @@ impl<'a> FlankInterpolator<'a> {
         }
         Ok(FlankInterpolator {
             tensor,
-            grids: Arc::new(FlankGrids(grids)),
+            grids: Arc::new(FlankGrids(grids, OnceLock::new())),
         })
     }
 

@@ -82,6 +82,7 @@ pub mod cache;
 pub mod contact_probe;
 pub mod flank;
 pub mod interpolation;
+pub mod pages;
 pub mod plot;
 pub mod run;
 pub mod tensor;

@@ -32,6 +32,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use crate::compliance::interpolation::{CellShape, FlankGrids, FlankInterpolator, SurfaceLoad};
+use crate::compliance::pages::{TensorPages, PAGE};
 use crate::compliance::ComplianceTensor;
 use crate::contact::placement::Frame;
 use crate::error::FlankError;
@@ -254,22 +255,18 @@ impl LtcaBodies {
         flank.profile_length(hi - lo, uv[0], uv[1])
     }
 
-    /// Solves the LTCA at one TCA position with torque `torque` (N·mm); the
-    /// bodies sit in `frames` (own → global) at that roll.
-    pub fn solve(
+    /// The candidate points of a TCA position with their cells on both
+    /// flanks (in parallel over the points), and per point the separation,
+    /// moment arm, equivalent radius, width, tangential arm and sliding
+    /// velocity; `None` for a point off a meshed flank. Also the number of
+    /// TCA points.
+    #[allow(clippy::type_complexity)]
+    fn candidates(
         &self,
         tca: &TcaPosition,
         frames: &[Frame; 2],
-        torque: f64,
         settings: &LtcaSettings,
-    ) -> Result<PositionResult, FlankError> {
-        let t0 = Instant::now();
-        if !(settings.fe_cell_factor > 0.0) || settings.local_iterations == 0 {
-            return Err(FlankError::Model(format!(
-                "LTCA: fe_cell_factor must be > 0 (got {}) and local_iterations ≥ 1 (got {})",
-                settings.fe_cell_factor, settings.local_iterations
-            )));
-        }
+    ) -> Result<(Vec<Option<(Candidate, [f64; 6])>>, usize), FlankError> {
         let its = [
             FlankInterpolator::with_grids(&self.tensors[0], Arc::clone(&self.grids[0])),
             FlankInterpolator::with_grids(&self.tensors[1], Arc::clone(&self.grids[1])),
@@ -381,6 +378,26 @@ impl LtcaBodies {
                 })
                 .collect::<Result<_, FlankError>>()?
         };
+        Ok((built, jobs.len()))
+    }
+
+    /// Solves the LTCA at one TCA position with torque `torque` (N·mm); the
+    /// bodies sit in `frames` (own → global) at that roll.
+    pub fn solve(
+        &self,
+        tca: &TcaPosition,
+        frames: &[Frame; 2],
+        torque: f64,
+        settings: &LtcaSettings,
+    ) -> Result<PositionResult, FlankError> {
+        let t0 = Instant::now();
+        if !(settings.fe_cell_factor > 0.0) || settings.local_iterations == 0 {
+            return Err(FlankError::Model(format!(
+                "LTCA: fe_cell_factor must be > 0 (got {}) and local_iterations ≥ 1 (got {})",
+                settings.fe_cell_factor, settings.local_iterations
+            )));
+        }
+        let (built, jobs_len) = self.candidates(tca, frames, settings)?;
         let mut cands: Vec<Candidate> = Vec::with_capacity(built.len());
         let (mut w, mut r, mut radius, mut width) =
             (Vec::new(), Vec::new(), Vec::new(), Vec::new());
@@ -394,7 +411,7 @@ impl LtcaBodies {
             r_t.push(rti);
             v_s.push(vsi);
         }
-        let skipped = jobs.len() - cands.len();
+        let skipped = jobs_len - cands.len();
         let n = cands.len();
         if n == 0 {
             return Err(FlankError::Model(format!(
@@ -426,7 +443,7 @@ impl LtcaBodies {
             f_fe.copy_from_slice(&blocks[0]);
         } else {
             for b in 0..2 {
-                let part = normal_compliance(&self.tensors[b], &cands, b);
+                let part = normal_compliance(&self.tensors[b], &self.grids[b], &cands, b);
                 for (x, y) in f_fe.iter_mut().zip(part) {
                     *x += y;
                 }
@@ -953,11 +970,156 @@ fn half_space_influence(
 }
 
 /// n₍b₎ᵢᵀ C(i, j) n₍b₎ⱼ of one body for all candidate pairs (n × n,
-/// row-major): for each j the displacement u_j = C (Σ_c w_c n_j e_c) is
+/// row-major): from the tensor's paged node blocks
+/// ([`crate::compliance::pages`], built on first use and kept for the
+/// next positions), else as [`normal_compliance_streamed`].
+fn normal_compliance(
+    t: &ComplianceTensor,
+    grids: &FlankGrids,
+    cands: &[Candidate],
+    b: usize,
+) -> Vec<f64> {
+    match grids.pages(t) {
+        Some(p) => normal_compliance_paged(t, p, cands, b),
+        None => normal_compliance_streamed(t, cands, b),
+    }
+}
+
+/// [`normal_compliance`] from the paged blocks: the same sums as
+/// [`normal_compliance_streamed`] in another order. The union U of the
+/// cells' nodes is sorted in the paged order; node by node c of U, every
+/// cell j loading c adds C(U, c) q_jc, q_jc = w_jc n_j, to its
+/// displacement u_j, reading the blocks C(a, c) page by page (contiguous
+/// for consecutive a of one page); then F_ij = Σ_{a ∈ i} w_ia n_iᵀ u_j(a),
+/// symmetrised.
+fn normal_compliance_paged(
+    t: &ComplianceTensor,
+    pages: &TensorPages,
+    cands: &[Candidate],
+    b: usize,
+) -> Vec<f64> {
+    use rayon::prelude::*;
+    let n = cands.len();
+    // U in the paged order: (position, node)
+    let mut nodes: Vec<(usize, u32)> = cell_nodes(cands, b)
+        .into_iter()
+        .map(|a| (pages.position(a), a))
+        .collect();
+    nodes.sort_unstable();
+    let nu = nodes.len();
+    // node → its index in U
+    let mut by_node: Vec<(u32, usize)> = nodes
+        .iter()
+        .enumerate()
+        .map(|(k, &(_, a))| (a, k))
+        .collect();
+    by_node.sort_unstable();
+    let index = |a: u32| {
+        by_node[by_node
+            .binary_search_by_key(&a, |e| e.0)
+            .expect("node of a cell")]
+        .1
+    };
+    // runs of U on one page: (page, first, end)
+    let mut runs: Vec<(usize, usize, usize)> = Vec::new();
+    for (k, &(p, _)) in nodes.iter().enumerate() {
+        match runs.last_mut() {
+            Some(r) if r.0 == p / PAGE => r.2 = k + 1,
+            _ => runs.push((p / PAGE, k, k + 1)),
+        }
+    }
+    // the loads per node: (index in U, candidate j, q = w_jc n_j)
+    let mut entries: Vec<(usize, usize, [f64; 3])> = Vec::new();
+    let cells: Vec<Vec<(usize, f64)>> = cands
+        .iter()
+        .map(|c| {
+            c.loads[b]
+                .weights
+                .iter()
+                .map(|&(a, w)| (index(a), w))
+                .collect()
+        })
+        .collect();
+    for (j, cell) in cells.iter().enumerate() {
+        let nj = cands[j].normals[b];
+        for &(k, w) in cell {
+            entries.push((k, j, [w * nj[0], w * nj[1], w * nj[2]]));
+        }
+    }
+    entries.sort_by_key(|e| e.0);
+    let mut start = vec![0usize; nu + 1];
+    for e in &entries {
+        start[e.0 + 1] += 1;
+    }
+    for k in 0..nu {
+        start[k + 1] += start[k];
+    }
+    // u[(3 j + s) |U| + k]: component s at node U[k] under cell j's load;
+    // summed over PARTS interleaved sets of nodes c (c ≡ part mod PARTS),
+    // a fixed number whatever the thread count, and added in part order:
+    // the same round-off on any number of threads
+    const PARTS: usize = 4;
+    let parts: Vec<Vec<f64>> = (0..PARTS)
+        .into_par_iter()
+        .map(|part| {
+            let mut u = vec![0.0; 3 * n * nu];
+            for kc in (part..nu).step_by(PARTS) {
+                let (pc, ic) = (nodes[kc].0 / PAGE, nodes[kc].0 % PAGE);
+                let loads = &entries[start[kc]..start[kc + 1]];
+                for &(r, k0, k1) in &runs {
+                    let page = &pages.page(t, r, pc)[ic * PAGE * 9..][..PAGE * 9];
+                    for &(_, j, q) in loads {
+                        let (ux, rest) = u[3 * j * nu..][..3 * nu].split_at_mut(nu);
+                        let (uy, uz) = rest.split_at_mut(nu);
+                        for k in k0..k1 {
+                            let ia = nodes[k].0 % PAGE;
+                            let c = &page[9 * ia..9 * ia + 9];
+                            ux[k] += c[0] * q[0] + c[1] * q[1] + c[2] * q[2];
+                            uy[k] += c[3] * q[0] + c[4] * q[1] + c[5] * q[2];
+                            uz[k] += c[6] * q[0] + c[7] * q[1] + c[8] * q[2];
+                        }
+                    }
+                }
+            }
+            u
+        })
+        .collect();
+    let mut parts = parts.into_iter();
+    let mut u = parts.next().unwrap_or_else(|| vec![0.0; 3 * n * nu]);
+    for p in parts {
+        for (x, y) in u.iter_mut().zip(p) {
+            *x += y;
+        }
+    }
+    // F_ij = Σ_{a ∈ i} q_ia · u_j(a); column j in f[j·n + i]
+    let mut f = vec![0.0; n * n];
+    for (j, uj) in u.chunks_exact(3 * nu).enumerate() {
+        let (ux, rest) = uj.split_at(nu);
+        let (uy, uz) = rest.split_at(nu);
+        for (i, ci) in cands.iter().enumerate() {
+            let ni = ci.normals[b];
+            f[j * n + i] = cells[i]
+                .iter()
+                .map(|&(k, w)| w * (ni[0] * ux[k] + ni[1] * uy[k] + ni[2] * uz[k]))
+                .sum::<f64>();
+        }
+    }
+    // symmetrise the round-off
+    let mut out = vec![0.0; n * n];
+    for i in 0..n {
+        for j in 0..n {
+            out[i * n + j] = 0.5 * (f[j * n + i] + f[i * n + j]);
+        }
+    }
+    out
+}
+
+/// n₍b₎ᵢᵀ C(i, j) n₍b₎ⱼ as computed before [`normal_compliance`] (kept to
+/// check it): for each j the displacement u_j = C (Σ_c w_c n_j e_c) is
 /// formed on the union U of the cells' nodes, reading C by rows of the
 /// loaded nodes c (C is symmetric) so that each row is streamed over the
 /// sorted U; then F_ij = Σ_{a ∈ i} w_a n_iᵀ u_j(a).
-fn normal_compliance(t: &ComplianceTensor, cands: &[Candidate], b: usize) -> Vec<f64> {
+fn normal_compliance_streamed(t: &ComplianceTensor, cands: &[Candidate], b: usize) -> Vec<f64> {
     use rayon::prelude::*;
     let n = cands.len();
     let dim = t.dim();
@@ -1094,4 +1256,170 @@ fn cell_nodes(cands: &[Candidate], b: usize) -> Vec<u32> {
     nodes.sort_unstable();
     nodes.dedup();
     nodes
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::compliance::body::BodyMeshOptions;
+    use crate::ltca::cycle::{LtcaCycle, LtcaOptions};
+    use std::path::{Path, PathBuf};
+
+    /// Largest |F_fast − F_streamed| over the largest |F_streamed| of both
+    /// bodies at the seed 002 positions in double and single contact.
+    fn fast_against_streamed(flank: f64, base: f64, work: PathBuf, cache: Option<PathBuf>) {
+        let scene = crate::scene::read_scene(Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/papers/seed002-spur/scene.toml"
+        )))
+        .unwrap();
+        let o = LtcaOptions {
+            out: work.join("bodies"),
+            mesh: BodyMeshOptions {
+                flank_size: Some(flank),
+                base_size: Some(base),
+                ..Default::default()
+            },
+            points_per_line: Some(20),
+            cache,
+            quiet: true,
+            ..Default::default()
+        };
+        let cycle = LtcaCycle::new(&scene, &o).unwrap();
+        let (a, e) = cycle.pair.engagement(cycle.pair.middle());
+        let (l, h) = cycle.pair.single_contact();
+        let mut rolls = vec![0.5 * (a + l), 0.5 * (l + h)];
+        // and a few more across the pitch
+        let pitch = cycle.pair.pinion().angular_pitch();
+        rolls.extend((0..5).map(|i| 0.5 * (a + e) - 0.5 * pitch + pitch * i as f64 / 5.0));
+        let mut sizes = Vec::new();
+        for roll in rolls {
+            let position = cycle.tca.position(roll).unwrap();
+            let frames = cycle.tca.frames(roll);
+            let (built, _) = cycle
+                .bodies
+                .candidates(&position, &frames, &cycle.settings)
+                .unwrap();
+            let cands: Vec<Candidate> = built.into_iter().flatten().map(|(c, _)| c).collect();
+            for b in 0..2 {
+                let t = &cycle.bodies.tensors[b];
+                let fast = normal_compliance(t, &cycle.bodies.grids[b], &cands, b);
+                assert!(cycle.bodies.grids[b].pages(t).is_some());
+                let slow = normal_compliance_streamed(t, &cands, b);
+                let scale = slow.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                let diff = fast
+                    .iter()
+                    .zip(&slow)
+                    .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+                assert!(scale > 0.0);
+                assert!(
+                    diff <= 1e-12 * scale,
+                    "roll {:.4}°, body {b}: |ΔF| {diff:e} of {scale:e}",
+                    roll.to_degrees()
+                );
+                // exactly symmetric
+                let n = cands.len();
+                for i in 0..n {
+                    for j in 0..n {
+                        assert_eq!(fast[i * n + j], fast[j * n + i]);
+                    }
+                }
+            }
+            sizes.push((cands.len(), cell_nodes(&cands, 0).len()));
+            // a tensor that is not the pages' one falls back to the streamed F
+            let other = &cycle.bodies.tensors[1];
+            assert!(cycle.bodies.grids[0].pages(other).is_none());
+            let fallback = normal_compliance(other, &cycle.bodies.grids[0], &cands, 1);
+            assert_eq!(fallback, normal_compliance_streamed(other, &cands, 1));
+        }
+        eprintln!(
+            "candidates, pinion cell nodes per position: {sizes:?}; pages built {} + {} MB",
+            cycle.bodies.grids[0].page_bytes() / 1_000_000,
+            cycle.bodies.grids[1].page_bytes() / 1_000_000
+        );
+    }
+
+    #[test]
+    fn node_by_node_compliance_matches_the_streamed_one() {
+        let work = std::env::temp_dir().join(format!("flank_ltca_fast_f_{}", std::process::id()));
+        fast_against_streamed(1.5, 3.0, work.clone(), None);
+        let _ = std::fs::remove_dir_all(work);
+    }
+
+    /// The same at the benchmark's tensors (flank 0.475 mm, base 1 mm;
+    /// `cargo bench --bench ltca` computes and caches them in
+    /// target/ltca-bench/cache, about 3 min): `--ignored`.
+    #[test]
+    #[ignore]
+    fn node_by_node_compliance_matches_the_streamed_one_at_the_bench_mesh() {
+        let work = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/ltca-bench");
+        fast_against_streamed(0.475, 1.0, work.clone(), Some(work.join("cache")));
+    }
+
+    /// Wall time of the two orders of F's tensor part on the benchmark's
+    /// tensors, alternated in one process (medians of 15 rounds of 10
+    /// calls per body and position): `--ignored --nocapture`.
+    #[test]
+    #[ignore]
+    fn time_node_by_node_against_streamed() {
+        let work = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/ltca-bench");
+        let scene = crate::scene::read_scene(Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/papers/seed002-spur/scene.toml"
+        )))
+        .unwrap();
+        let o = LtcaOptions {
+            out: work.join("bodies"),
+            mesh: BodyMeshOptions {
+                flank_size: Some(0.475),
+                base_size: Some(1.0),
+                ..Default::default()
+            },
+            points_per_line: Some(20),
+            cache: Some(work.join("cache")),
+            quiet: true,
+            ..Default::default()
+        };
+        let cycle = LtcaCycle::new(&scene, &o).unwrap();
+        let (a, _) = cycle.pair.engagement(cycle.pair.middle());
+        let (l, h) = cycle.pair.single_contact();
+        for (name, roll) in [("double", 0.5 * (a + l)), ("single", 0.5 * (l + h))] {
+            let position = cycle.tca.position(roll).unwrap();
+            let frames = cycle.tca.frames(roll);
+            let (built, _) = cycle
+                .bodies
+                .candidates(&position, &frames, &cycle.settings)
+                .unwrap();
+            let cands: Vec<Candidate> = built.into_iter().flatten().map(|(c, _)| c).collect();
+            let mut times = [Vec::new(), Vec::new()];
+            for _ in 0..15 {
+                for (m, times) in times.iter_mut().enumerate() {
+                    let t0 = Instant::now();
+                    for _ in 0..10 {
+                        for b in 0..2 {
+                            let t = &cycle.bodies.tensors[b];
+                            std::hint::black_box(if m == 0 {
+                                normal_compliance(t, &cycle.bodies.grids[b], &cands, b)
+                            } else {
+                                normal_compliance_streamed(t, &cands, b)
+                            });
+                        }
+                    }
+                    times.push(t0.elapsed().as_secs_f64() / 10.0);
+                }
+            }
+            let median = |v: &mut Vec<f64>| {
+                v.sort_by(f64::total_cmp);
+                v[v.len() / 2]
+            };
+            let (new, old) = (median(&mut times[0]), median(&mut times[1]));
+            eprintln!(
+                "{name} contact, {} candidates: F (both bodies) node by node {:.3} ms, streamed {:.3} ms, new/old {:.3}",
+                cands.len(),
+                1e3 * new,
+                1e3 * old,
+                new / old
+            );
+        }
+    }
 }

@@ -1,0 +1,122 @@
+//! The compliance tensor's 3 × 3 node blocks in pages, for building many
+//! small compliance matrices from it (the LTCA's F at every roll position).
+//!
+//! The tensor is stored row by row in the flank node order of
+//! [`crate::compliance::FlankNodes`] (set, v, u): the nodes of a contact
+//! cell, close in (u, v), lie far apart in a row, so reading C between the
+//! cells of one position costs a cache miss per three values. Here the
+//! flank nodes are renumbered by (set, u, v) (a spur contact line, along v
+//! at nearly constant u, becomes a run of consecutive nodes) and cut into
+//! pages of [`PAGE`] nodes; the blocks between two pages are copied, once,
+//! on first use, into one contiguous array, node block by node block.
+//! Nothing is approximated: a page holds the tensor's own values.
+//!
+//! Memory: a page pair is [`PAGE`]² × 9 × 8 B = 295 kB; only the pairs a
+//! computation asked for are built (an LTCA cycle: the pages of the active
+//! flanks and of neighbouring teeth). [`TensorPages::bytes`] says how much.
+//! The pages belong to one tensor: [`TensorPages::matches`] checks its
+//! dimension, cache key and storage address before use.
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::OnceLock;
+
+use crate::compliance::ComplianceTensor;
+
+/// Nodes per page.
+pub const PAGE: usize = 64;
+
+/// Paged node blocks of one compliance tensor (built lazily).
+pub struct TensorPages {
+    dim: usize,
+    cache_key: String,
+    address: usize,
+    /// Flank node at each position, and the position of each flank node.
+    order: Vec<u32>,
+    position: Vec<u32>,
+    pages: usize,
+    blocks: Vec<OnceLock<Box<[f64]>>>,
+    built: AtomicUsize,
+}
+
+impl TensorPages {
+    /// The page layout of `t` (no block is copied yet).
+    pub fn new(t: &ComplianceTensor) -> Self {
+        let f = &t.flank;
+        let n = t.node_count();
+        let mut order: Vec<u32> = (0..n as u32).collect();
+        order.sort_by(|&a, &b| {
+            let (a, b) = (a as usize, b as usize);
+            f.set_of[a]
+                .cmp(&f.set_of[b])
+                .then(f.uv[a][0].total_cmp(&f.uv[b][0]))
+                .then(f.uv[a][1].total_cmp(&f.uv[b][1]))
+                .then(a.cmp(&b))
+        });
+        let mut position = vec![0u32; n];
+        for (p, &a) in order.iter().enumerate() {
+            position[a as usize] = p as u32;
+        }
+        let pages = n.div_ceil(PAGE);
+        TensorPages {
+            dim: t.dim(),
+            cache_key: t.meta.cache_key.clone(),
+            address: t.matrix.as_ptr() as usize,
+            order,
+            position,
+            pages,
+            blocks: (0..pages * pages).map(|_| OnceLock::new()).collect(),
+            built: AtomicUsize::new(0),
+        }
+    }
+
+    /// Whether these are the pages of `t` (same dimension, cache key and
+    /// matrix storage).
+    pub fn matches(&self, t: &ComplianceTensor) -> bool {
+        self.dim == t.dim()
+            && t.matrix.len() == self.dim * self.dim
+            && self.cache_key == t.meta.cache_key
+            && self.address == t.matrix.as_ptr() as usize
+    }
+
+    /// Position of flank node `a` in the paged order.
+    pub fn position(&self, a: u32) -> usize {
+        self.position[a as usize] as usize
+    }
+
+    /// Bytes of the page pairs built so far.
+    pub fn bytes(&self) -> usize {
+        self.built.load(Ordering::Relaxed) * PAGE * PAGE * 9 * std::mem::size_of::<f64>()
+    }
+
+    /// The blocks between row page `r` and column page `q` of `t` (which
+    /// must [`Self::matches`]): for the column node c at position
+    /// q·PAGE + ic and the row node a at r·PAGE + ia, entry
+    /// (ic·PAGE + ia)·9 + 3s + τ is C(3a + s, 3c + τ) (zero past the last
+    /// node).
+    pub fn page(&self, t: &ComplianceTensor, r: usize, q: usize) -> &[f64] {
+        debug_assert!(self.matches(t));
+        self.blocks[r * self.pages + q].get_or_init(|| {
+            let mut out = vec![0.0; PAGE * PAGE * 9].into_boxed_slice();
+            let dim = self.dim;
+            let rows = &self.order[(r * PAGE).min(self.order.len())..]
+                [..PAGE.min(self.order.len().saturating_sub(r * PAGE))];
+            let cols = &self.order[(q * PAGE).min(self.order.len())..]
+                [..PAGE.min(self.order.len().saturating_sub(q * PAGE))];
+            for (ic, &c) in cols.iter().enumerate() {
+                for tau in 0..3 {
+                    // row 3c + τ holds column 3c + τ (C is symmetric)
+                    let row = &t.matrix[(3 * c as usize + tau) * dim..][..dim];
+                    for (ia, &a) in rows.iter().enumerate() {
+                        let x = &row[3 * a as usize..3 * a as usize + 3];
+                        let o = &mut out[(ic * PAGE + ia) * 9..][..9];
+                        o[tau] = x[0];
+                        o[3 + tau] = x[1];
+                        o[6 + tau] = x[2];
+                    }
+                }
+            }
+            self.built.fetch_add(1, Ordering::Relaxed);
+            out
+        })
+    }
+}
