@@ -219,6 +219,10 @@ struct Candidate {
     tangents: [[f64; 3]; 2],
 }
 
+/// Start of the warning that F is singular over every candidate point
+/// while regular on the loaded ones ([`LtcaBodies::solve`]).
+pub const UNRESOLVED_CANDIDATES: &str = "the compliance F is singular over the candidate points";
+
 impl LtcaBodies {
     /// The right (drive) flank of sector tooth `k` of body `b`.
     fn flank(&self, b: usize, k: usize) -> Result<&dyn ToothSurface, FlankError> {
@@ -626,6 +630,15 @@ impl LtcaBodies {
             warnings.push(format!(
                 "the compliance F is singular on the {} loaded points ({corners} of them on tip corners): the loads per point (and p_max) are not unique, θ and the gaps are; fewer points per line (K) than nodes along a tip edge avoid it",
                 loaded.len()
+            ));
+        } else if singular_on(&f, n, &(0..n).collect::<Vec<_>>()) {
+            // regular where loaded, singular over every candidate: the
+            // unloaded points do not enter this answer, but the QPs of
+            // the half-width iteration before it may have had several
+            // minimisers, so which self-consistent state it reached can
+            // depend on round-off (verification/extreme, torque 100×)
+            warnings.push(format!(
+                "{UNRESOLVED_CANDIDATES} ({n} candidates): more points along a line than the FE mesh resolves along the face, with no near-field term where the Hertz width reaches the FE cell; the loads are unique on the loaded points, but the half-width iteration may settle on another of several self-consistent states under round-off (p_max, TE); fewer points per line (K) or a finer mesh along the face avoid it"
             ));
         }
         let condition_loaded = settings.condition.then(|| {

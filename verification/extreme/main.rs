@@ -386,6 +386,26 @@ impl Row {
         self
     }
 
+    /// Within every primary limit but κ₂(F) over the candidates, which may
+    /// miss only if flank says so ([`UNRESOLVED`]; third round, README).
+    fn within_or_unresolved(&self) -> &Self {
+        let f = self.answer();
+        let m = misses(f, self.path);
+        let (condition, other): (Vec<_>, Vec<_>) =
+            m.iter().partition(|t| t.starts_with("condition"));
+        assert!(
+            other.is_empty(),
+            "{} {}: {}",
+            self.name,
+            self.path,
+            m.join(", ")
+        );
+        if !condition.is_empty() {
+            self.flagged(UNRESOLVED);
+        }
+        self
+    }
+
     fn not_flagged(&self, fragment: &str) -> &Self {
         let f = self.answer();
         assert!(
@@ -453,6 +473,7 @@ fn run_case(name: &str, p: &Pair, law: Option<Fe>, ltca_too: bool) -> Vec<Row> {
 
 const LARGE: &str = "small-displacement (linear) model";
 const SINGULAR: &str = "the compliance F is singular on the";
+const UNRESOLVED: &str = flank::ltca::model::UNRESOLVED_CANDIDATES;
 
 // ---------------------------------------------------------------- cases
 
@@ -573,7 +594,12 @@ fn torque_100() {
     p.torque_nm *= 100.0;
     let r = run_case("torque_100", &p, Some(Fe::Hard), true);
     r[0].within().flagged(LARGE);
-    r[1].within().flagged(LARGE).not_flagged(SINGULAR);
+    // κ₂(F) over every candidate is finite or ∞ depending on the state
+    // the half-width iteration settles on (README, third round): ∞ must be
+    // said; the loaded points stay regular either way
+    r[1].within_or_unresolved()
+        .flagged(LARGE)
+        .not_flagged(SINGULAR);
 }
 
 /// The penalty is an FE contact setting: the LTCA row is the nominal one.
