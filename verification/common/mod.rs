@@ -141,17 +141,19 @@ pub fn scratch_dir(case: &str) -> std::path::PathBuf {
     d
 }
 
-/// What ccx printed: node displacements (U; rotations for a ROT NODE) and
-/// the contact pressure per slave node (CSTR).
+/// What ccx printed: node displacements (U; rotations for a ROT NODE),
+/// the contact pressure per slave node (CSTR) and the last total reaction
+/// force of a set (`*NODE PRINT, TOTALS=ONLY` of RF).
 #[derive(Default)]
 pub struct CcxDat {
     pub u: HashMap<u64, [f64; 3]>,
     pub cstr: HashMap<u64, f64>,
+    pub total_force: Option<[f64; 3]>,
 }
 
 pub fn parse_ccx_dat(text: &str) -> CcxDat {
     let mut out = CcxDat::default();
-    // 1: displacements, 2: contact stress
+    // 1: displacements, 2: contact stress, 3: a set's total force
     let mut mode = 0;
     for line in text.lines() {
         let t = line.trim();
@@ -167,6 +169,10 @@ pub fn parse_ccx_dat(text: &str) -> CcxDat {
             out.cstr.clear();
             continue;
         }
+        if t.starts_with("total force") {
+            mode = 3;
+            continue;
+        }
         let v: Option<Vec<f64>> = t.split_whitespace().map(|x| x.parse().ok()).collect();
         match (mode, v) {
             (1, Some(v)) if v.len() == 4 => {
@@ -174,6 +180,9 @@ pub fn parse_ccx_dat(text: &str) -> CcxDat {
             }
             (2, Some(v)) if v.len() == 4 => {
                 out.cstr.insert(v[0] as u64, v[1]);
+            }
+            (3, Some(v)) if v.len() == 3 => {
+                out.total_force = Some([v[0], v[1], v[2]]);
             }
             _ => mode = 0,
         }
