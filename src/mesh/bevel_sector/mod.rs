@@ -97,6 +97,7 @@
 //! | `tests.rs` | unit tests (seed scenes: validity, exact flank nodes, sets, a clamped solve, bad input) |
 
 mod assemble;
+mod cells;
 mod deviation;
 mod section;
 mod station;
@@ -123,7 +124,8 @@ pub struct BevelSectorOptions {
     /// Elements along the face; 0 = ⌈length of the pitch line on the
     /// flank / base_size⌉.
     pub face_layers: usize,
-    /// C3D20 (default) or C3D20R.
+    /// C3D20 (default), C3D20R or C3D15 (wedges: triangles in the station
+    /// section, coarsened 2:1 along the profile inside the tooth).
     pub element: ElementKind,
     /// Ring gears (δ ≥ 45°): distance of the mounting plane behind the
     /// deepest point of the gap land (mm); `None` = one mean whole depth.
@@ -232,12 +234,6 @@ pub fn bevel_sector(
     name: &str,
     opts: &BevelSectorOptions,
 ) -> Result<BevelSectorMesh, FlankError> {
-    if !matches!(opts.element, ElementKind::C3D20 | ElementKind::C3D20R) {
-        return Err(err(format!(
-            "{name}: element {} is not available for bevel sectors (C3D20 or C3D20R; wedge coarsening is not implemented for bevel gears)",
-            opts.element.name()
-        )));
-    }
     if !(opts.flank_size > 0.0
         && opts.flank_size.is_finite()
         && opts.base_size >= opts.flank_size
@@ -268,5 +264,12 @@ pub fn bevel_sector(
         }
     }
     let face = station::FaceLayout::new(gear, name, opts)?;
-    assemble::assemble(gear, name, opts, &face)
+    if opts.element == ElementKind::C3D15 {
+        match assemble::assemble(gear, name, opts, &face, true) {
+            Ok(m) if m.quality.min_scaled_jacobian >= 0.2 => return Ok(m),
+            Ok(_) | Err(FlankError::Element { .. }) => {}
+            Err(e) => return Err(e),
+        }
+    }
+    assemble::assemble(gear, name, opts, &face, false)
 }

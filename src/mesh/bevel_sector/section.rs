@@ -24,6 +24,9 @@ pub(super) struct SectionLattice {
     pub(super) upper: Vec<SectionPoint>,
     /// Rim block, index ii·(2·rim + 1) + kk; ii across, kk up (mount → Π).
     pub(super) rim: Vec<SectionPoint>,
+    /// Width (mm, arc) of column d across the tooth at lattice row jj,
+    /// index [jj][d] (for the wedges' coarsening).
+    pub(super) cell_widths: Vec<Vec<f64>>,
 }
 
 /// The lattice of station `s` (module doc of [`super`]).
@@ -102,12 +105,19 @@ pub(super) fn section(face: &FaceLayout, s: usize) -> SectionLattice {
     };
 
     // across-row fractions: rows below the form line take the form row's
+    let row_width = |jj: usize| {
+        let j = jj.max(jform);
+        let (a, b) = (lo[j], hi[j]);
+        radius(0.5 * (a.u + b.u)) * (b.theta - a.theta)
+    };
     let row_sig: Vec<Vec<f64>> = (0..=2 * nt)
+        .map(|jj| row_fractions(row_width(jj), face.half_across, face.flank_size))
+        .collect();
+    let cell_widths = (0..=2 * nt)
         .map(|jj| {
-            let j = jj.max(jform);
-            let (a, b) = (lo[j], hi[j]);
-            let width = radius(0.5 * (a.u + b.u)) * (b.theta - a.theta);
-            row_fractions(width, face.half_across, face.flank_size)
+            (0..na)
+                .map(|d| row_width(jj) * (row_sig[jj][2 * d + 2] - row_sig[jj][2 * d]))
+                .collect()
         })
         .collect();
 
@@ -198,5 +208,9 @@ pub(super) fn section(face: &FaceLayout, s: usize) -> SectionLattice {
             });
         }
     }
-    SectionLattice { upper, rim }
+    SectionLattice {
+        upper,
+        rim,
+        cell_widths,
+    }
 }
