@@ -62,7 +62,7 @@ pub fn any_scene_body(
 
 /// The bevel sector options `flank mesh` uses for `scene` with these
 /// overrides: absent sizes default to m_mn/8 (flank) and m_mn/2 (base);
-/// hex20 only (the bevel mesher has no wedge15 coarsening).
+/// the element family is the option's, else the scene's `[mesh] element`.
 pub fn bevel_sector_options(
     scene: &BevelScene,
     o: &BodyMeshOptions,
@@ -117,15 +117,14 @@ pub fn bevel_sector_options(
             )));
         }
     }
-    if o.element.unwrap_or(scene.mesh.element) != ElementKind::Hex20 {
-        return Err(FlankError::Model(format!(
-            "{}: bevel and hypoid bodies are meshed in hex20 only (wedge15 coarsening is not implemented for them): use --element hex20 or [mesh] element = \"hex20\"",
-            scene.source.display()
-        )));
-    }
+    let element = match o.element.unwrap_or(scene.mesh.element) {
+        ElementKind::Hex20 => crate::mesh::ElementKind::C3D20,
+        ElementKind::Wedge15 => crate::mesh::ElementKind::C3D15,
+    };
     Ok(BevelSectorOptions {
         flank_size,
         base_size,
+        element,
         shank: scene.pinion_shank,
         ..Default::default()
     })

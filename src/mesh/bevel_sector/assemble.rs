@@ -115,10 +115,12 @@ pub(super) fn assemble(
     let upper_pts: Vec<&[SectionPoint]> = sections.iter().map(|s| &s.upper[..]).collect();
     let rim_pts: Vec<&[SectionPoint]> = sections.iter().map(|s| &s.rim[..]).collect();
     let upper_layout_cells = if wedges {
+        // the layout bounds coarse cells by (rows × flank size) / width;
+        // each station's own row height takes the place of the flank size
         let cell_width = |d: usize, jj: usize| {
             sections
                 .iter()
-                .map(|s| s.cell_widths[jj][d])
+                .map(|s| s.cell_widths[jj][d] * face.flank_size / s.row_heights[jj])
                 .fold(f64::INFINITY, f64::min)
         };
         upper_layout(

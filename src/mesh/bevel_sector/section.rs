@@ -25,8 +25,10 @@ pub(super) struct SectionLattice {
     /// Rim block, index ii·(2·rim + 1) + kk; ii across, kk up (mount → Π).
     pub(super) rim: Vec<SectionPoint>,
     /// Width (mm, arc) of column d across the tooth at lattice row jj,
-    /// index [jj][d] (for the wedges' coarsening).
+    /// index [jj][d], and the height (mm) of the row holding lattice row
+    /// jj along the low-θ boundary (for the wedges' coarsening).
     pub(super) cell_widths: Vec<Vec<f64>>,
+    pub(super) row_heights: Vec<f64>,
 }
 
 /// The lattice of station `s` (module doc of [`super`]).
@@ -208,9 +210,17 @@ pub(super) fn section(face: &FaceLayout, s: usize) -> SectionLattice {
             });
         }
     }
+    let row_heights = (0..=2 * nt)
+        .map(|jj| {
+            let j = 2 * (jj / 2).min(nt - 1);
+            let (a, b) = (lo[j], lo[j + 2]);
+            (radius(0.5 * (a.u + b.u)) * (b.theta - a.theta)).hypot(b.u - a.u)
+        })
+        .collect();
     SectionLattice {
         upper,
         rim,
         cell_widths,
+        row_heights,
     }
 }
