@@ -11,7 +11,8 @@
 //! every node must agree to 1e-6 (relative to the largest), the figure of
 //! the ccx cross-check of the other decks. The coarse seed 003 pinion with
 //! a shank (30 mm diameter, 40 mm long), held at its bearing seat, is
-//! checked the same way.
+//! checked the same way. Seed 003's members in wedge15 against hex20
+//! (nodes, quality, the ring gear's tip deflection under the same load).
 
 #[path = "../common/mod.rs"]
 mod common;

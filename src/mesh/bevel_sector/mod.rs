@@ -1,6 +1,7 @@
 //! Native bevel/hypoid sector mesher: structured meshes of the modelled
-//! teeth of a [`BevelGear`] in 20-node hexahedra (C3D20, or C3D20R), flank
-//! nodes (corner and midside) exactly on the generated tooth surfaces.
+//! teeth of a [`BevelGear`] in 20-node hexahedra (C3D20, or C3D20R) or
+//! 15-node wedges (C3D15), flank nodes (corner and midside) exactly on the
+//! generated tooth surfaces.
 //!
 //! **Coordinates.** Every bevel tooth surface is parameterised by its
 //! axial-section coordinates (u, v) ([`crate::geometry::bevel::body`]): v
@@ -79,8 +80,25 @@
 //! real one with the whole pinion meshed (`[mesh] teeth_in_sector` = z₁);
 //! [`SHANK_SECTOR_WARNING`] says so.
 //!
-//! Not here (yet): wedge15 coarsening along the profile, a ring gear's bore
-//! (its mount is the mounting plane).
+//! **Wedges** (C3D15): the station section is split into triangles as the
+//! cylindrical mesher's transverse section is ([`crate::mesh::section_cells`]):
+//! inside the tooth the cells coarsen 2:1 along the profile (levels of the
+//! column lines rising towards the tooth centre, transition columns of
+//! three triangles), every remaining quadrilateral is split along its
+//! shorter diagonal (summed over the stations, so every station splits it
+//! alike), and the triangles join consecutive stations into wedges. A
+//! coarse cell is at most 3 × as tall as wide on every station (each
+//! station's own row height). Midside points off the lattice (quadrilateral
+//! centres, straight midpoints of edges spanning several rows) are
+//! combinations of lattice points in (θ, u), placed on each station; none
+//! lies on a boundary, so the flank faces and every boundary set except
+//! `TOE`/`HEEL` are the hex20 mesh's. As in the cylindrical mesher, a
+//! coarsened mesh with an inverted element or a scaled Jacobian below 0.2
+//! is meshed again without coarsening. The rim is not coarsened: at 1 mm on
+//! seed 003 (teeth ten elements across) the wedge mesh has slightly more
+//! nodes than hex20's, at 0.5 mm 13–14 % fewer.
+//!
+//! Not here (yet): a ring gear's bore (its mount is the mounting plane).
 //!
 //! [`Flank::Left`]: crate::geometry::gear_pair::Flank::Left
 //! [`Flank::Right`]: crate::geometry::gear_pair::Flank::Right
@@ -92,9 +110,10 @@
 //! | `mod.rs` (this file) | [`BevelSectorOptions`], [`BevelSectorMesh`], [`Mount`], the entry [`bevel_sector`] |
 //! | `station.rs` | one station's profiles (fillet and flank tables, lands, cut, mount) and the lattice counts over the face |
 //! | `section.rs` | the (θ, u) lattice points of the upper and rim blocks on one station |
+//! | `cells.rs` | the section's cells, the same on every station: quadrilaterals, or triangles (coarsened, split) with their extra midside points |
 //! | `deviation.rs` | [`flank_edge_deviation`]: how far the quadratic flank edges leave the surfaces |
-//! | `assemble.rs` | 3D nodes (merged by position), hex20 elements (Jacobian-checked), sets, quality |
-//! | `tests.rs` | unit tests (seed scenes: validity, exact flank nodes, sets, a clamped solve, bad input) |
+//! | `assemble.rs` | 3D nodes (merged by position), hex20 or wedge15 elements (Jacobian-checked), sets, quality |
+//! | `tests.rs` | unit tests (seed scenes: validity, exact flank nodes, sets, a clamped solve, bad input; wedges against hex20) |
 
 mod assemble;
 mod cells;
