@@ -90,6 +90,13 @@ fn seed003_gear_deck_matches_ccx() {
     deck_matches_ccx(1, None, 1.0, true);
 }
 
+/// The same ring gear in wedge15 (C3D15 node order and faces as written
+/// in the deck): flank and ccx agree.
+#[test]
+fn seed003_gear_wedge15_deck_matches_ccx() {
+    deck_matches_ccx_in(1, None, 1.0, true, flank::mesh::ElementKind::C3D15);
+}
+
 /// The seed 003 pinion with a shank (30 mm × 40 mm), clamped at its
 /// bearing seat, as a deck at 2 mm (ccx needs 130 s at 1 mm, whose figure
 /// the README gives): flank and ccx agree; beside it the load point's
@@ -118,11 +125,23 @@ fn seed003_pinion_with_shank_deck_matches_ccx() {
 /// (with `ccx`, when installed) by ccx agree to 1e-6; returns the load
 /// point's displacement along the load.
 fn deck_matches_ccx(m: usize, shank: Option<Shank>, fs: f64, ccx: bool) -> f64 {
+    deck_matches_ccx_in(m, shank, fs, ccx, flank::mesh::ElementKind::C3D20)
+}
+
+/// [`deck_matches_ccx`] in elements of `element`.
+fn deck_matches_ccx_in(
+    m: usize,
+    shank: Option<Shank>,
+    fs: f64,
+    ccx: bool,
+    element: flank::mesh::ElementKind,
+) -> f64 {
     let sc = scene("seed003-hypoid");
     let opts = BevelSectorOptions {
         flank_size: fs,
         base_size: 4.0 * fs,
         shank,
+        element,
         ..Default::default()
     };
     let torque = sc.load.torque_nmm * [1.0, sc.blank.z2 / sc.blank.z1][m];
@@ -137,7 +156,11 @@ fn deck_matches_ccx(m: usize, shank: Option<Shank>, fs: f64, ccx: bool) -> f64 {
             body.sector.quality.max_aspect_ratio
         );
     }
-    let tag = if shank.is_some() { "_shank" } else { "" };
+    let tag = match (shank.is_some(), element) {
+        (true, _) => "_shank",
+        (false, flank::mesh::ElementKind::C3D15) => "_wedge15",
+        _ => "",
+    };
     // one folder per deck: the tests run in parallel, and a shared scratch
     // folder was emptied under a running ccx ("cannot open frd file")
     let work = common::scratch_dir(&format!("bevel_sector_mesh/{name}{tag}"));
