@@ -190,7 +190,7 @@ fn mesh_scene(
 }
 
 /// `flank mesh` on a bevel/hypoid scene: both bodies by the bevel sector
-/// mesher (hex20), the mounts clamped, the nominal load (the pinion torque
+/// mesher (hex20, or wedge15 by `--element` or `[mesh] element`), the mounts clamped, the nominal load (the pinion torque
 /// on the pinion, the same torque × z2/z1 on the gear) at each middle
 /// tooth's drive flank.
 fn mesh_bevel_scene(

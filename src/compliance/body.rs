@@ -62,7 +62,7 @@ pub fn any_scene_body(
 
 /// The bevel sector options `flank mesh` uses for `scene` with these
 /// overrides: absent sizes default to m_mn/8 (flank) and m_mn/2 (base);
-/// hex20 only (the bevel mesher has no wedge15 coarsening).
+/// the element family is the option's, else the scene's `[mesh] element`.
 pub fn bevel_sector_options(
     scene: &BevelScene,
     o: &BodyMeshOptions,
@@ -117,15 +117,14 @@ pub fn bevel_sector_options(
             )));
         }
     }
-    if o.element.unwrap_or(scene.mesh.element) != ElementKind::Hex20 {
-        return Err(FlankError::Model(format!(
-            "{}: bevel and hypoid bodies are meshed in hex20 only (wedge15 coarsening is not implemented for them): use --element hex20 or [mesh] element = \"hex20\"",
-            scene.source.display()
-        )));
-    }
+    let element = match o.element.unwrap_or(scene.mesh.element) {
+        ElementKind::Hex20 => crate::mesh::ElementKind::C3D20,
+        ElementKind::Wedge15 => crate::mesh::ElementKind::C3D15,
+    };
     Ok(BevelSectorOptions {
         flank_size,
         base_size,
+        element,
         shank: scene.pinion_shank,
         ..Default::default()
     })
@@ -396,6 +395,80 @@ mod tests {
         for (a, b) in f.normals.iter().zip(&mesh_normals) {
             assert!(a[0] * b[0] + a[1] * b[1] + a[2] * b[2] > 0.99);
         }
+    }
+
+    /// A hypoid body in wedge15 (`element` = wedge15): its flank faces are
+    /// the quad8 sides of the wedges, as many as the hex20 body's, with the
+    /// same nodes, and the exact normals agree with theirs.
+    #[test]
+    fn hypoid_wedge15_flank_faces() {
+        let path = format!(
+            "{}/papers/seed003-hypoid/scene.toml",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        let crate::scene::AnyScene::Bevel(s) =
+            crate::scene::read_any_scene(std::path::Path::new(&path)).unwrap()
+        else {
+            panic!("not a bevel scene")
+        };
+        let faces = |element| {
+            let o = BodyMeshOptions {
+                flank_size: Some(2.0),
+                base_size: Some(8.0),
+                with_load: false,
+                element: Some(element),
+            };
+            let body = bevel_scene_body(&s, "gear", &o).unwrap();
+            let kinds: std::collections::HashSet<_> =
+                body.model.mesh.elements.iter().map(|e| e.kind).collect();
+            let f = flank_nodes_on(
+                &body.model.mesh,
+                &body.flank_uv,
+                body.surfaces.as_ref(),
+                FlankSelection::Loaded,
+            )
+            .unwrap();
+            let mesh_normals = f.face_normals().unwrap();
+            let worst = f
+                .normals
+                .iter()
+                .zip(&mesh_normals)
+                .map(|(a, b)| a[0] * b[0] + a[1] * b[1] + a[2] * b[2])
+                .fold(1.0, f64::min);
+            let mut corners: Vec<Vec<[u64; 3]>> = f
+                .faces
+                .iter()
+                .map(|x| {
+                    let mut c: Vec<[u64; 3]> = x
+                        .nodes
+                        .iter()
+                        .map(|&n| f.positions[n as usize].map(f64::to_bits))
+                        .collect();
+                    c.sort_unstable();
+                    c
+                })
+                .collect();
+            corners.sort_unstable();
+            (
+                kinds,
+                f.faces.iter().all(|x| x.nodes.len() == 8),
+                corners,
+                worst,
+            )
+        };
+        let (kh, qh, ch, wh) = faces(ElementKind::Hex20);
+        let (kw, qw, cw, ww) = faces(ElementKind::Wedge15);
+        assert_eq!(
+            kh.into_iter().collect::<Vec<_>>(),
+            [crate::mesh::ElementKind::C3D20]
+        );
+        assert_eq!(
+            kw.into_iter().collect::<Vec<_>>(),
+            [crate::mesh::ElementKind::C3D15]
+        );
+        assert!(qh && qw && !cw.is_empty());
+        assert!(cw == ch, "wedge15 and hex20 flank faces differ");
+        assert!(ww > 0.99 && (ww - wh).abs() < 1e-12, "{wh} {ww}");
     }
 
     /// The compliance default of a hypoid body: 0.4 m_mn and 4 × that

@@ -15,6 +15,7 @@ pub mod hertz;
 pub mod hertz_point;
 pub mod inp;
 pub mod msh;
+pub mod section_cells;
 pub mod structured;
 
 use std::collections::{BTreeMap, HashMap};

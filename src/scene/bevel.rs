@@ -32,7 +32,7 @@
 //! [materials.steel]                 # as for cylindrical pairs
 //! [load]                            # torque_nm on the pinion, speed_rpm of the pinion
 //! [analyses]                        # optional
-//! [mesh]                            # optional
+//! [mesh]                            # optional; element = "hex20" or "wedge15" as for cylindrical pairs
 //! ```
 //!
 //! The cutting keys (process, cutter, explicit machine settings, ease-off)

@@ -11,7 +11,8 @@
 //! every node must agree to 1e-6 (relative to the largest), the figure of
 //! the ccx cross-check of the other decks. The coarse seed 003 pinion with
 //! a shank (30 mm diameter, 40 mm long), held at its bearing seat, is
-//! checked the same way.
+//! checked the same way. Seed 003's members in wedge15 against hex20
+//! (nodes, quality, the ring gear's tip deflection under the same load).
 
 #[path = "../common/mod.rs"]
 mod common;
@@ -89,6 +90,13 @@ fn seed003_gear_deck_matches_ccx() {
     deck_matches_ccx(1, None, 1.0, true);
 }
 
+/// The same ring gear in wedge15 (C3D15 node order and faces as written
+/// in the deck): flank and ccx agree.
+#[test]
+fn seed003_gear_wedge15_deck_matches_ccx() {
+    deck_matches_ccx_in(1, None, 1.0, true, flank::mesh::ElementKind::C3D15);
+}
+
 /// The seed 003 pinion with a shank (30 mm × 40 mm), clamped at its
 /// bearing seat, as a deck at 2 mm (ccx needs 130 s at 1 mm, whose figure
 /// the README gives): flank and ccx agree; beside it the load point's
@@ -117,11 +125,23 @@ fn seed003_pinion_with_shank_deck_matches_ccx() {
 /// (with `ccx`, when installed) by ccx agree to 1e-6; returns the load
 /// point's displacement along the load.
 fn deck_matches_ccx(m: usize, shank: Option<Shank>, fs: f64, ccx: bool) -> f64 {
+    deck_matches_ccx_in(m, shank, fs, ccx, flank::mesh::ElementKind::C3D20)
+}
+
+/// [`deck_matches_ccx`] in elements of `element`.
+fn deck_matches_ccx_in(
+    m: usize,
+    shank: Option<Shank>,
+    fs: f64,
+    ccx: bool,
+    element: flank::mesh::ElementKind,
+) -> f64 {
     let sc = scene("seed003-hypoid");
     let opts = BevelSectorOptions {
         flank_size: fs,
         base_size: 4.0 * fs,
         shank,
+        element,
         ..Default::default()
     };
     let torque = sc.load.torque_nmm * [1.0, sc.blank.z2 / sc.blank.z1][m];
@@ -136,7 +156,11 @@ fn deck_matches_ccx(m: usize, shank: Option<Shank>, fs: f64, ccx: bool) -> f64 {
             body.sector.quality.max_aspect_ratio
         );
     }
-    let tag = if shank.is_some() { "_shank" } else { "" };
+    let tag = match (shank.is_some(), element) {
+        (true, _) => "_shank",
+        (false, flank::mesh::ElementKind::C3D15) => "_wedge15",
+        _ => "",
+    };
     // one folder per deck: the tests run in parallel, and a shared scratch
     // folder was emptied under a running ccx ("cannot open frd file")
     let work = common::scratch_dir(&format!("bevel_sector_mesh/{name}{tag}"));
@@ -175,4 +199,92 @@ fn deck_matches_ccx(m: usize, shank: Option<Shank>, fs: f64, ccx: bool) -> f64 {
     );
     assert!(diff <= 1e-6, "{diff}");
     along
+}
+
+/// Hex20 against wedge15 (README section "Wedge15"): seed 003's pinion
+/// and ring gear at 1 and 0.5 mm (base 4 × flank size): nodes, DOFs,
+/// quality, meshing time; the ring gear clamped at its mounting plane
+/// under the nominal load, solved in both: the tip-land node nearest the
+/// load moves along the force within 3 % alike (the unit test's bound,
+/// set before the runs).
+#[test]
+fn seed003_wedge15_against_hex20() {
+    use flank::mesh::ElementKind;
+    let sc = scene("seed003-hypoid");
+    println!("| member | flank size (mm) | element | nodes | DOFs | elements | min scaled Jacobian | max aspect | meshing (s) | tip along the force (mm) | solve (s) |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    for fs in [1.0, 0.5] {
+        for m in 0..2 {
+            let mut tips = Vec::new();
+            for element in [ElementKind::C3D20, ElementKind::C3D15] {
+                let opts = BevelSectorOptions {
+                    flank_size: fs,
+                    base_size: 4.0 * fs,
+                    element,
+                    ..Default::default()
+                };
+                let name = ["pinion", "gear"][m];
+                let t = Instant::now();
+                let r = bevel_sector(&sc.bodies[m], name, &opts).unwrap();
+                let t_mesh = t.elapsed().as_secs_f64();
+                assert!(r.quality.min_scaled_jacobian > 0.2, "{:?}", r.quality);
+                let (mut tip, mut t_solve) = (String::from("—"), String::from("—"));
+                if m == 1 {
+                    let body = bevel_body_model(
+                        &sc.bodies[1],
+                        name,
+                        &sc.gear_material,
+                        &opts,
+                        Some(sc.load.torque_nmm * sc.blank.z2 / sc.blank.z1),
+                    )
+                    .unwrap();
+                    let (node, f) = body.load.unwrap();
+                    let mesh = &body.model.mesh;
+                    let x = mesh.coords[node];
+                    let dist = |n: usize| {
+                        let y = mesh.coords[n];
+                        (0..3).map(|c| (y[c] - x[c]).powi(2)).sum::<f64>()
+                    };
+                    let tn = mesh.node_sets["TIP_LAND"]
+                        .iter()
+                        .copied()
+                        .min_by(|&a, &b| dist(a).total_cmp(&dist(b)))
+                        .unwrap();
+                    let t = Instant::now();
+                    let sol = solve_static(
+                        &body.model,
+                        &SolveOptions {
+                            recover_stress: false,
+                            ..Default::default()
+                        },
+                    )
+                    .unwrap();
+                    t_solve = format!("{:.1}", t.elapsed().as_secs_f64());
+                    let fnorm = f.iter().map(|c| c * c).sum::<f64>().sqrt();
+                    let d = &sol.displacement[3 * tn..3 * tn + 3];
+                    let along = (d[0] * f[0] + d[1] * f[1] + d[2] * f[2]) / fnorm;
+                    tips.push(along);
+                    tip = format!("{along:.4e}");
+                }
+                println!(
+                    "| {} | {fs} | {} | {} | {} | {} | {:.3} | {:.1} | {t_mesh:.2} | {tip} | {t_solve} |",
+                    ["pinion", "gear"][m],
+                    element.name(),
+                    r.mesh.node_count(),
+                    3 * r.mesh.node_count(),
+                    r.mesh.elements.len(),
+                    r.quality.min_scaled_jacobian,
+                    r.quality.max_aspect_ratio
+                );
+            }
+            if let [h, w] = tips[..] {
+                let rel = (w - h).abs() / h.abs();
+                println!(
+                    "VERIFY bevel_sector_mesh seed003 gear {fs} mm: tip displacement wedge15 vs hex20 {:.2} % (tol 3 %)",
+                    100.0 * rel
+                );
+                assert!(rel < 0.03, "{h} {w}");
+            }
+        }
+    }
 }

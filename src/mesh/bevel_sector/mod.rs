@@ -1,6 +1,7 @@
 //! Native bevel/hypoid sector mesher: structured meshes of the modelled
-//! teeth of a [`BevelGear`] in 20-node hexahedra (C3D20, or C3D20R), flank
-//! nodes (corner and midside) exactly on the generated tooth surfaces.
+//! teeth of a [`BevelGear`] in 20-node hexahedra (C3D20, or C3D20R) or
+//! 15-node wedges (C3D15), flank nodes (corner and midside) exactly on the
+//! generated tooth surfaces.
 //!
 //! **Coordinates.** Every bevel tooth surface is parameterised by its
 //! axial-section coordinates (u, v) ([`crate::geometry::bevel::body`]): v
@@ -79,8 +80,25 @@
 //! real one with the whole pinion meshed (`[mesh] teeth_in_sector` = z₁);
 //! [`SHANK_SECTOR_WARNING`] says so.
 //!
-//! Not here (yet): wedge15 coarsening along the profile, a ring gear's bore
-//! (its mount is the mounting plane).
+//! **Wedges** (C3D15): the station section is split into triangles as the
+//! cylindrical mesher's transverse section is ([`crate::mesh::section_cells`]):
+//! inside the tooth the cells coarsen 2:1 along the profile (levels of the
+//! column lines rising towards the tooth centre, transition columns of
+//! three triangles), every remaining quadrilateral is split along its
+//! shorter diagonal (summed over the stations, so every station splits it
+//! alike), and the triangles join consecutive stations into wedges. A
+//! coarse cell is at most 3 × as tall as wide on every station (each
+//! station's own row height). Midside points off the lattice (quadrilateral
+//! centres, straight midpoints of edges spanning several rows) are
+//! combinations of lattice points in (θ, u), placed on each station; none
+//! lies on a boundary, so the flank faces and every boundary set except
+//! `TOE`/`HEEL` are the hex20 mesh's. As in the cylindrical mesher, a
+//! coarsened mesh with an inverted element or a scaled Jacobian below 0.2
+//! is meshed again without coarsening. The rim is not coarsened: at 1 mm on
+//! seed 003 (teeth ten elements across) the wedge mesh has slightly more
+//! nodes than hex20's, at 0.5 mm 13–14 % fewer.
+//!
+//! Not here (yet): a ring gear's bore (its mount is the mounting plane).
 //!
 //! [`Flank::Left`]: crate::geometry::gear_pair::Flank::Left
 //! [`Flank::Right`]: crate::geometry::gear_pair::Flank::Right
@@ -92,11 +110,13 @@
 //! | `mod.rs` (this file) | [`BevelSectorOptions`], [`BevelSectorMesh`], [`Mount`], the entry [`bevel_sector`] |
 //! | `station.rs` | one station's profiles (fillet and flank tables, lands, cut, mount) and the lattice counts over the face |
 //! | `section.rs` | the (θ, u) lattice points of the upper and rim blocks on one station |
+//! | `cells.rs` | the section's cells, the same on every station: quadrilaterals, or triangles (coarsened, split) with their extra midside points |
 //! | `deviation.rs` | [`flank_edge_deviation`]: how far the quadratic flank edges leave the surfaces |
-//! | `assemble.rs` | 3D nodes (merged by position), hex20 elements (Jacobian-checked), sets, quality |
-//! | `tests.rs` | unit tests (seed scenes: validity, exact flank nodes, sets, a clamped solve, bad input) |
+//! | `assemble.rs` | 3D nodes (merged by position), hex20 or wedge15 elements (Jacobian-checked), sets, quality |
+//! | `tests.rs` | unit tests (seed scenes: validity, exact flank nodes, sets, a clamped solve, bad input; wedges against hex20) |
 
 mod assemble;
+mod cells;
 mod deviation;
 mod section;
 mod station;
@@ -123,7 +143,8 @@ pub struct BevelSectorOptions {
     /// Elements along the face; 0 = ⌈length of the pitch line on the
     /// flank / base_size⌉.
     pub face_layers: usize,
-    /// C3D20 (default) or C3D20R.
+    /// C3D20 (default), C3D20R or C3D15 (wedges: triangles in the station
+    /// section, coarsened 2:1 along the profile inside the tooth).
     pub element: ElementKind,
     /// Ring gears (δ ≥ 45°): distance of the mounting plane behind the
     /// deepest point of the gap land (mm); `None` = one mean whole depth.
@@ -232,12 +253,6 @@ pub fn bevel_sector(
     name: &str,
     opts: &BevelSectorOptions,
 ) -> Result<BevelSectorMesh, FlankError> {
-    if !matches!(opts.element, ElementKind::C3D20 | ElementKind::C3D20R) {
-        return Err(err(format!(
-            "{name}: element {} is not available for bevel sectors (C3D20 or C3D20R; wedge coarsening is not implemented for bevel gears)",
-            opts.element.name()
-        )));
-    }
     if !(opts.flank_size > 0.0
         && opts.flank_size.is_finite()
         && opts.base_size >= opts.flank_size
@@ -268,5 +283,12 @@ pub fn bevel_sector(
         }
     }
     let face = station::FaceLayout::new(gear, name, opts)?;
-    assemble::assemble(gear, name, opts, &face)
+    if opts.element == ElementKind::C3D15 {
+        match assemble::assemble(gear, name, opts, &face, true) {
+            Ok(m) if m.quality.min_scaled_jacobian >= 0.2 => return Ok(m),
+            Ok(_) | Err(FlankError::Element { .. }) => {}
+            Err(e) => return Err(e),
+        }
+    }
+    assemble::assemble(gear, name, opts, &face, false)
 }

@@ -24,6 +24,11 @@ pub(super) struct SectionLattice {
     pub(super) upper: Vec<SectionPoint>,
     /// Rim block, index ii·(2·rim + 1) + kk; ii across, kk up (mount → Π).
     pub(super) rim: Vec<SectionPoint>,
+    /// Width (mm, arc) of column d across the tooth at lattice row jj,
+    /// index [jj][d], and the height (mm) of the row holding lattice row
+    /// jj along the low-θ boundary (for the wedges' coarsening).
+    pub(super) cell_widths: Vec<Vec<f64>>,
+    pub(super) row_heights: Vec<f64>,
 }
 
 /// The lattice of station `s` (module doc of [`super`]).
@@ -102,12 +107,19 @@ pub(super) fn section(face: &FaceLayout, s: usize) -> SectionLattice {
     };
 
     // across-row fractions: rows below the form line take the form row's
+    let row_width = |jj: usize| {
+        let j = jj.max(jform);
+        let (a, b) = (lo[j], hi[j]);
+        radius(0.5 * (a.u + b.u)) * (b.theta - a.theta)
+    };
     let row_sig: Vec<Vec<f64>> = (0..=2 * nt)
+        .map(|jj| row_fractions(row_width(jj), face.half_across, face.flank_size))
+        .collect();
+    let cell_widths = (0..=2 * nt)
         .map(|jj| {
-            let j = jj.max(jform);
-            let (a, b) = (lo[j], hi[j]);
-            let width = radius(0.5 * (a.u + b.u)) * (b.theta - a.theta);
-            row_fractions(width, face.half_across, face.flank_size)
+            (0..na)
+                .map(|d| row_width(jj) * (row_sig[jj][2 * d + 2] - row_sig[jj][2 * d]))
+                .collect()
         })
         .collect();
 
@@ -198,5 +210,17 @@ pub(super) fn section(face: &FaceLayout, s: usize) -> SectionLattice {
             });
         }
     }
-    SectionLattice { upper, rim }
+    let row_heights = (0..=2 * nt)
+        .map(|jj| {
+            let j = 2 * (jj / 2).min(nt - 1);
+            let (a, b) = (lo[j], lo[j + 2]);
+            (radius(0.5 * (a.u + b.u)) * (b.theta - a.theta)).hypot(b.u - a.u)
+        })
+        .collect();
+    SectionLattice {
+        upper,
+        rim,
+        cell_widths,
+        row_heights,
+    }
 }

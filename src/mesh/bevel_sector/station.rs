@@ -149,8 +149,10 @@ pub(super) struct FaceLayout<'a> {
     pub(super) pitch: f64,
     pub(super) stations: Vec<Station<'a>>,
     pub(super) counts: LatticeCounts,
-    /// Across-tooth fractions of the Π bottom (2·across + 1).
+    /// Across-tooth fractions of the Π bottom (2·across + 1), and the
+    /// element sizes across the widest station's form line they come from.
     pub(super) across: Vec<f64>,
+    pub(super) across_sizes: Vec<f64>,
     /// Half the elements across the tooth.
     pub(super) half_across: usize,
     /// Depth of the cut lines below the gap land (mm).
@@ -449,6 +451,7 @@ impl<'a> FaceLayout<'a> {
             },
             stations,
             across,
+            across_sizes: sizes,
             half_across: nh,
             cut_depth,
             rim,

@@ -2,13 +2,15 @@
 //! their half-lattice fractions (corner and midside positions), polar
 //! coordinates, the point registry that merges points by position, the
 //! quadratic blocks and the transverse cells (quadrilaterals, or two
-//! triangles for wedges) in point ids and in lattice coordinates.
+//! triangles for wedges) in point ids (in lattice coordinates:
+//! [`crate::mesh::section_cells`]).
 
 use std::collections::HashMap;
 
 use super::err;
 use crate::error::FlankError;
 use crate::geometry::rack::Flank;
+use crate::mesh::section_cells::{serendipity_centre, split_quad};
 
 /// Graded sizes ([`crate::mesh::grading::graded`]) with this mesher's
 /// error prefix.
@@ -101,37 +103,6 @@ pub(super) enum Cell {
     Tris(Vec<([usize; 3], [usize; 3])>),
 }
 
-/// A lattice point (half-index I, J) of an upper block.
-pub(super) type Lp = (usize, usize);
-
-/// The midside point of an edge of a lattice cell: a lattice point (edges
-/// along a row, and edges one row long: shared with fine neighbours and,
-/// on the boundary, on the exact curve), or the straight midpoint of the
-/// corners (edges spanning several rows and diagonals of coarse or
-/// transition cells, which never lie on the boundary: where rows are
-/// unevenly spaced a lattice point would sit far off the edge's middle).
-#[derive(Clone, Copy)]
-pub(super) enum Mid {
-    Lattice(Lp),
-    Straight(Lp, Lp),
-}
-
-/// Midside of the edge a–b (lattice corners).
-pub(super) fn edge_mid(a: Lp, b: Lp) -> Mid {
-    let m = ((a.0 + b.0) / 2, (a.1 + b.1) / 2);
-    if a.1 == b.1 || (a.0 == b.0 && a.1.abs_diff(b.1) == 2) {
-        Mid::Lattice(m)
-    } else {
-        Mid::Straight(a, b)
-    }
-}
-
-/// A transverse cell in lattice coordinates (corners, midsides).
-pub(super) enum LatticeCell {
-    Quad([Lp; 4], [Mid; 4]),
-    Tris(Vec<([Lp; 3], [Mid; 3])>),
-}
-
 /// A quadrilateral cell, or for wedges its two triangles (split along the
 /// shorter diagonal, whose midside point, the serendipity centre, is added).
 pub(super) fn quad_cell(
@@ -148,23 +119,8 @@ pub(super) fn quad_cell(
         let (p, q) = (x(a), x(b));
         (p[0] - q[0]).hypot(p[1] - q[1])
     };
-    let mut centre = [0.0; 2];
-    for k in 0..4 {
-        for d in 0..2 {
-            centre[d] += -0.25 * x(c[k])[d] + 0.5 * x(m[k])[d];
-        }
-    }
+    let centre = serendipity_centre(c.map(x), m.map(x));
     let first_diagonal = dist(c[0], c[2]) <= dist(c[1], c[3]);
     let dm = pts.add(centre, false)?;
-    Ok(Cell::Tris(if first_diagonal {
-        vec![
-            ([c[0], c[1], c[2]], [m[0], m[1], dm]),
-            ([c[0], c[2], c[3]], [dm, m[2], m[3]]),
-        ]
-    } else {
-        vec![
-            ([c[0], c[1], c[3]], [m[0], dm, m[3]]),
-            ([c[1], c[2], c[3]], [m[1], m[2], dm]),
-        ]
-    }))
+    Ok(Cell::Tris(split_quad(c, m, dm, first_diagonal).to_vec()))
 }

@@ -63,10 +63,9 @@
 //! | file | holds |
 //! | --- | --- |
 //! | `mod.rs` (this file) | [`SectorOptions`], [`GearSectorMesh`], [`flank_segment`] and the entry [`gear_sector`] (one try with wedge coarsening, one without) |
-//! | `lattice.rs` | 2D building blocks: graded sizes, half-lattice fractions, polar helpers, the point registry merging by position, blocks and transverse cells (quadrilateral, or two triangles for wedges) |
+//! | `lattice.rs` | 2D building blocks: graded sizes, half-lattice fractions, polar helpers, the point registry merging by position, blocks and transverse cells (quadrilateral, or two triangles for wedges); the cells in lattice coordinates and their 2:1 coarsening are [`crate::mesh::section_cells`]'s, shared with the bevel mesher |
 //! | `section.rs` | the transverse section: element sizes across and along the tooth, boundary points on the exact profile, the Coons blend, the rim; the points of every pitch and their cells |
-//! | `layout.rs` | the cells of the upper block in lattice coordinates: 2:1 coarsening of wedge meshes along the profile, corner or midside role of each lattice point |
-//! | `extrude.rs` | extrusion along the axis (twisted for helical gears), hex20/wedge15 elements with their Jacobian check, node and element sets |
+//! //! | `extrude.rs` | extrusion along the axis (twisted for helical gears), hex20/wedge15 elements with their Jacobian check, node and element sets |
 //! | `quality.rs` | [`Quality`]: scaled Jacobian and aspect ratio of the elements |
 //! | `modify.rs` | [`modify_flanks`]: flank nodes moved onto a modified surface, [`FlankModificationReport`] |
 //! | `tests.rs` | unit tests (validity, exact flank nodes, conformity and sets, a clamped-bore solve, modifications, full ring) |
@@ -76,7 +75,6 @@
 
 mod extrude;
 mod lattice;
-mod layout;
 mod modify;
 mod quality;
 mod section;

@@ -9,14 +9,12 @@
 use std::collections::HashMap;
 use std::f64::consts::PI;
 
-use super::lattice::{
-    cart, graded, half_lattice, pol, quad_cell, rot, Block, Cell, LatticeCell, Lp, Mid, Points,
-};
-use super::layout::upper_layout;
+use super::lattice::{cart, graded, half_lattice, pol, quad_cell, rot, Block, Cell, Points};
 use super::{err, SectorOptions};
 use crate::error::FlankError;
 use crate::geometry::rack::{Flank, Segment, ToothProfile};
 use crate::geometry::GearSpec;
+use crate::mesh::section_cells::{upper_layout, LatticeCell, Lp, Mid};
 use crate::mesh::ElementKind;
 
 /// A transverse section, ready for the extrusion.
@@ -238,7 +236,8 @@ pub(super) fn transverse_section(
         let w = 2.0 * (-lp[0]) * lp[1];
         w * (row_sig[jj][2 * d + 2] - row_sig[jj][2 * d])
     };
-    let (layout, role) = upper_layout(name, coarsen, ns, nt, &sizes_s, fs, cell_width)?;
+    let (layout, role) =
+        upper_layout(name, coarsen, ns, nt, &sizes_s, fs, cell_width).map_err(err)?;
     let w2 = 2 * nt + 1;
 
     let mut blocks: Vec<Block> = Vec::new();

@@ -1,16 +1,77 @@
-//! The cells of the upper block in lattice (half-index) coordinates, the
-//! same for every pitch: every row for hex meshes; for wedge meshes the
-//! 2:1 coarsening along the profile inside the tooth (levels of the column
-//! lines, row breakpoints of each level, transition columns of three
-//! triangles per coarse cell). Also the role of each lattice point
-//! (unused, corner or midside).
+//! Cells of a structured tooth section in lattice (half-index)
+//! coordinates, shared by the sector meshers ([`crate::mesh::gear_sector`]
+//! in (angle, radius), [`crate::mesh::bevel_sector`] in (θ, u) on each
+//! station): the upper block's cells, every row for hex meshes, for wedge
+//! meshes the 2:1 coarsening along the profile inside the tooth (levels of
+//! the column lines, row breakpoints of each level, transition columns of
+//! three triangles per coarse cell); the role of each lattice point
+//! (unused, corner or midside); the split of a quadrilateral into two
+//! triangles.
 
-use super::err;
-use super::lattice::{edge_mid, LatticeCell, Lp, Mid};
-use crate::error::FlankError;
+/// A lattice point (half-index I, J) of an upper block.
+pub type Lp = (usize, usize);
+
+/// The midside point of an edge of a lattice cell: a lattice point (edges
+/// along a row, and edges one row long: shared with fine neighbours and,
+/// on the boundary, on the exact curve), or the straight midpoint of the
+/// corners (edges spanning several rows and diagonals of coarse or
+/// transition cells, which never lie on the boundary: where rows are
+/// unevenly spaced a lattice point would sit far off the edge's middle).
+#[derive(Clone, Copy, Debug)]
+pub enum Mid {
+    Lattice(Lp),
+    Straight(Lp, Lp),
+}
+
+/// Midside of the edge a–b (lattice corners).
+pub fn edge_mid(a: Lp, b: Lp) -> Mid {
+    let m = ((a.0 + b.0) / 2, (a.1 + b.1) / 2);
+    if a.1 == b.1 || (a.0 == b.0 && a.1.abs_diff(b.1) == 2) {
+        Mid::Lattice(m)
+    } else {
+        Mid::Straight(a, b)
+    }
+}
+
+/// A section cell in lattice coordinates (corners, midsides).
+#[derive(Clone, Debug)]
+pub enum LatticeCell {
+    Quad([Lp; 4], [Mid; 4]),
+    Tris(Vec<([Lp; 3], [Mid; 3])>),
+}
+
+/// The two triangles (corners, midsides) of the quadrilateral with corners
+/// `c` and midsides `m` (m[k] on the edge c[k]–c[k+1]), split along the
+/// diagonal c0–c2 (`first`) or c1–c3, whose midside point is `centre`;
+/// the triangles keep the quadrilateral's orientation.
+pub fn split_quad<P: Copy>(c: [P; 4], m: [P; 4], centre: P, first: bool) -> [([P; 3], [P; 3]); 2] {
+    if first {
+        [
+            ([c[0], c[1], c[2]], [m[0], m[1], centre]),
+            ([c[0], c[2], c[3]], [centre, m[2], m[3]]),
+        ]
+    } else {
+        [
+            ([c[0], c[1], c[3]], [m[0], centre, m[3]]),
+            ([c[1], c[2], c[3]], [m[1], m[2], centre]),
+        ]
+    }
+}
+
+/// The serendipity centre of a quadratic quadrilateral (corners `c`,
+/// midsides `m`): the midside point of a diagonal, inside the cell.
+pub fn serendipity_centre(c: [[f64; 2]; 4], m: [[f64; 2]; 4]) -> [f64; 2] {
+    let mut centre = [0.0; 2];
+    for k in 0..4 {
+        for d in 0..2 {
+            centre[d] += -0.25 * c[k][d] + 0.5 * m[k][d];
+        }
+    }
+    centre
+}
 
 /// The cells of an upper block: (column, first row, cell).
-type UpperCells = Vec<(usize, usize, LatticeCell)>;
+pub type UpperCells = Vec<(usize, usize, LatticeCell)>;
 
 /// The upper-block layout: (column, first row, cell) of every cell, and the
 /// role of each lattice point ((2ns + 1) × (2nt + 1), index I·(2nt + 1) + J):
@@ -18,7 +79,8 @@ type UpperCells = Vec<(usize, usize, LatticeCell)>;
 /// `sizes_s`), `nt` rows along it, `fs` the flank size; `cell_width(d, jj)`
 /// is the width of column d at lattice row jj. Without `coarsen` every row
 /// is kept.
-pub(super) fn upper_layout(
+/// Errors (internal inconsistencies) start with `name`.
+pub fn upper_layout(
     name: &str,
     coarsen: bool,
     ns: usize,
@@ -26,7 +88,7 @@ pub(super) fn upper_layout(
     sizes_s: &[f64],
     fs: f64,
     cell_width: impl Fn(usize, usize) -> f64,
-) -> Result<(UpperCells, Vec<u8>), FlankError> {
+) -> Result<(UpperCells, Vec<u8>), String> {
     // --- upper-block layout in lattice (half-index) coordinates, the same for
     // every pitch. Wedge meshes coarsen along the profile inside the tooth:
     // column line i gets a level λ (0 at the flanks and on the first line
@@ -114,10 +176,10 @@ pub(super) fn upper_layout(
                 }
                 [jm] => jm,
                 _ => {
-                    return Err(err(format!(
+                    return Err(format!(
                         "{name}: internal: rows {ja}..{jb} of column {c} hold {} finer rows",
                         inner.len()
-                    )))
+                    ))
                 }
             };
             let (la, lm, lb) = ((2 * c, 2 * ja), (2 * c, 2 * jm), (2 * c, 2 * jb));
@@ -137,13 +199,13 @@ pub(super) fn upper_layout(
     // role of each lattice point: 0 unused, 1 corner, 2 midside
     let w2 = 2 * nt + 1;
     let mut role = vec![0u8; (2 * ns + 1) * w2];
-    let mut mark = |p: Lp, r: u8| -> Result<(), FlankError> {
+    let mut mark = |p: Lp, r: u8| -> Result<(), String> {
         let slot = &mut role[p.0 * w2 + p.1];
         if *slot != 0 && *slot != r {
-            return Err(err(format!(
+            return Err(format!(
                 "{name}: lattice point ({}, {}) is both a corner and a midside node",
                 p.0, p.1
-            )));
+            ));
         }
         *slot = r;
         Ok(())
