@@ -385,6 +385,16 @@ fn crossed(f: &DriveFlanks, t: &Tangency) -> Option<Option<ContactSystem>> {
     }
 }
 
+/// Whether a solution of `system` holds: a flank contact on both active
+/// flanks ([`crossed`] is `None`), an edge contact on its edge
+/// ([`edge_holds`]).
+fn holds(f: &DriveFlanks, system: ContactSystem, t: &Tangency) -> bool {
+    match system {
+        ContactSystem::Flank => crossed(f, t).is_none(),
+        _ => edge_holds(f, t),
+    }
+}
+
 /// Whether an edge solution holds (module docs).
 fn edge_holds(f: &DriveFlanks, t: &Tangency) -> bool {
     let on_edge = |m: &FormMemo, e: Edge, uv: [f64; 2]| {
@@ -460,12 +470,7 @@ fn trace(
             }
             Err(_) => {}
         }
-        let holds = match (&solved, system) {
-            (Ok(t), ContactSystem::Flank) => crossed(flanks, t).is_none(),
-            (Ok(t), _) => edge_holds(flanks, t),
-            (Err(_), _) => false,
-        };
-        if holds {
+        if solved.as_ref().is_ok_and(|t| holds(flanks, system, t)) {
             let t = solved.unwrap();
             prev_prev = Some(prev);
             prev = t;
@@ -484,11 +489,7 @@ fn trace(
         // same branch; the trace goes on if that holds (counted).
         if b == roll {
             if let Ok(t) = solve_at(pair, roll, system, &last.seed()) {
-                let again = match system {
-                    ContactSystem::Flank => crossed(flanks, &t).is_none(),
-                    _ => edge_holds(flanks, &t),
-                };
-                if again {
+                if holds(flanks, system, &t) {
                     newton.steps += t.iterations;
                     newton.branch_jumps += 1;
                     prev_prev = Some(prev);
@@ -651,10 +652,6 @@ fn locate_change(
     (a0, at_a): (f64, Tangency),
     (b0, margin_b): (f64, Option<f64>),
 ) -> (f64, f64, Tangency) {
-    let holds = |t: &Tangency| match system {
-        ContactSystem::Flank => crossed(flanks, t).is_none(),
-        _ => edge_holds(flanks, t),
-    };
     let width = (b0 - a0).abs() * CHANGE_WIDTH;
     let (mut a, mut b, mut last) = (a0, b0, at_a);
     let mut ga = holding_margin(flanks, &at_a).max(0.0);
@@ -677,7 +674,7 @@ fn locate_change(
         let m = a + share * (b - a);
         widths = [widths[1], (b - a).abs()];
         match solve_at(pair, m, system, &last.seed()) {
-            Ok(t) if holds(&t) => {
+            Ok(t) if holds(flanks, system, &t) => {
                 last = t;
                 a = m;
                 ga = holding_margin(flanks, &t).max(0.0);
