@@ -46,6 +46,8 @@ pub struct LtcaOptions {
     pub cache: Option<PathBuf>,
     /// Report κ(F) at every position.
     pub condition: bool,
+    /// Threads of the tensors' solves and of the LTCA's parallel parts
+    /// (0: rayon's global pool, all cores).
     pub threads: usize,
     pub quiet: bool,
     /// Coulomb friction coefficient (0: frictionless; else the scene's
@@ -394,8 +396,22 @@ pub fn run_scene(path: &Path, options: &LtcaOptions) -> Result<serde_json::Value
 }
 
 /// The LTCA over the scene's roll angles; writes the outputs into
-/// `options.out` and returns the summary.
+/// `options.out` and returns the summary. On `options.threads` threads
+/// (0: rayon's global pool); the answer is the same on any number (fixed
+/// summation orders).
 pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, FlankError> {
+    let n = options.threads;
+    if n > 0 && n != rayon::current_num_threads() {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|e| FlankError::Solver(format!("cannot start {n} threads: {e}")))?;
+        return pool.install(|| run_cycle(scene, options));
+    }
+    run_cycle(scene, options)
+}
+
+fn run_cycle(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, FlankError> {
     let t_total = Instant::now();
     let out = &options.out;
     // the wet–dry loop (seed 002): the cycle below is its dry pass at μ₀
