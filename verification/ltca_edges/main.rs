@@ -308,3 +308,88 @@ fn bad_edge_input_gives_clear_errors() {
     ]);
     assert!(!ok && err.contains("--edges"), "{err}");
 }
+
+/// Load share of each tooth pair, LTCA with edges against FE contact on
+/// the same bodies (issue 19's acceptance).
+const TOL_FE_SHARE: f64 = 0.02;
+/// Loaded TE, LTCA with edges against FE contact, relative to the FE's.
+const TOL_FE_TE: f64 = 0.03;
+
+/// Issue 19 point 5 on seed 000: one position of the former single-pair
+/// zone (−9°, where the LTCA with edges loads the tip edges of pairs 4
+/// and 5 and the LTCA without edges the flank of pair 3 alone) by the
+/// LTCA with edges and by FE contact, both on the 5-tooth sector bodies
+/// at flank 2 mm / base 8 mm. Tolerances fixed before the FE figures were
+/// read (`papers/seed000-hypoid/results/edge_fe/PLAN.md`): every pair's
+/// share within 0.02, the loaded TE within 3 %, and FE contact closing
+/// nodes on the pinion's tip edge of both pairs the LTCA loads at an
+/// edge. 16.5 s here, but it fails: at flank 2 mm FE gives shares 0.719 /
+/// 0.281 against 0.636 / 0.364 and a TE of −40.8″ against −15.5″ (README,
+/// "Against FE contact").
+#[test]
+#[ignore = "misses: the edge-loaded LTCA is 0.08 off FE contact in load share and 62 % in TE at −9° (README, \"Against FE contact\"); run with --ignored"]
+fn seed000_edge_ltca_against_fe_contact() {
+    use flank::compliance::body::bevel_sector_options;
+    use flank::mesh_cycle::bevel::{BevelCycle, BevelRunOptions};
+    let sc = scene();
+    let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("ltca_edges_fe");
+    let _ = std::fs::remove_dir_all(&work);
+    let roll = -9.0;
+    let t = Instant::now();
+    let opts = options(&work, EdgeVariants::With);
+    let ltca = BevelLtca::new(&sc, &opts).unwrap();
+    let r = ltca.solve(roll).unwrap();
+    let t_ltca = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let fe = BevelCycle::new(
+        &sc,
+        &BevelRunOptions {
+            mesh: bevel_sector_options(&sc, &opts.mesh).unwrap(),
+            threads: 2,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let s = fe.solve(r.roll_deg).unwrap();
+    let t_fe = t.elapsed().as_secs_f64();
+    assert!(r.kkt_within_tolerance, "KKT {}", r.kkt_max);
+    let forces = ltca.pair_forces(&r);
+    let total: f64 = forces.iter().sum();
+    let mut worst: f64 = 0.0;
+    println!(
+        "roll {:.3}°: LTCA with edges {t_ltca:.1} s, FE contact {t_fe:.1} s",
+        r.roll_deg
+    );
+    println!("| pair | lines (LTCA) | share LTCA | share FE | FE tip edge | force LTCA (N) | force FE (N) |");
+    for (p, &x) in forces.iter().enumerate() {
+        let kinds: Vec<&str> = r
+            .lines
+            .iter()
+            .zip(&r.line_force_n)
+            .filter(|((k, _, _), f)| *k == p + 1 && **f > 0.0)
+            .map(|((_, _, kind), _)| kind.as_str())
+            .collect();
+        let share = x / total;
+        worst = worst.max((share - s.load_share[p]).abs());
+        println!(
+            "| {} | {} | {share:.4} | {:.4} | {} | {x:.0} | {:.0} |",
+            p + 1,
+            kinds.join("+"),
+            s.load_share[p],
+            s.pinion_tip_edge[p],
+            s.pair_force_n[p]
+        );
+    }
+    let te = ltca.te_arcsec(&r);
+    let d = (te - s.te_arcsec).abs() / s.te_arcsec.abs();
+    println!(
+        "VERIFY ltca_edges FE {:+.3}°: shares {worst:.4} (tol {TOL_FE_SHARE}), TE {te:.2}″ vs FE {:.2}″: {d:.4} (tol {TOL_FE_TE}), FE tip edge of pairs 4/5: {}/{}",
+        r.roll_deg, s.te_arcsec, s.pinion_tip_edge[3], s.pinion_tip_edge[4]
+    );
+    assert!(
+        s.pinion_tip_edge[3] && s.pinion_tip_edge[4],
+        "FE: no tip-edge contact of pair 4 or 5"
+    );
+    assert!(worst <= TOL_FE_SHARE, "shares {worst}");
+    assert!(d <= TOL_FE_TE, "TE {d}");
+}
