@@ -83,6 +83,37 @@ fn ltca_writes_the_cycle_files() {
     assert_eq!(qp["calls"].as_u64(), Some(local), "{loops}");
     assert!(qp["most_iterations"].as_u64().unwrap() <= qp["limit"].as_u64().unwrap());
     assert_eq!(qp["limit_hits"].as_u64(), Some(0), "{loops}");
+    // --threads 1 reaches the cycle (it reached only the tensors' solves)
+    // and gives the same answer as all cores: fixed summation orders
+    let d1 = dir("cycle_1_thread");
+    let (ok, _, err) = flank(&[
+        "ltca",
+        "papers/seed002-spur/scene.toml",
+        "--flank-size",
+        "1.5",
+        "--base-size",
+        "3",
+        "--points-per-line",
+        "10",
+        "--threads",
+        "1",
+        "--out",
+        d1.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert_eq!(
+        std::fs::read_to_string(d.join("ltca_points.csv")).unwrap(),
+        std::fs::read_to_string(d1.join("ltca_points.csv")).unwrap()
+    );
+    // the cycle rows but their wall time (the last column)
+    let rows = |dir: &PathBuf| -> Vec<String> {
+        let text = std::fs::read_to_string(dir.join("ltca_cycle.csv")).unwrap();
+        assert!(text.lines().next().unwrap().ends_with(",time_s"));
+        text.lines()
+            .map(|l| l.rsplit_once(',').unwrap().0.to_string())
+            .collect()
+    };
+    assert_eq!(rows(&d), rows(&d1));
 }
 
 /// A Hertz half-width fixed point cut to one iteration
