@@ -394,6 +394,23 @@ pub struct JacobianError {
 }
 
 impl JacobianError {
+    /// [`Self::into_error`] with where the element was made (a mesher's
+    /// block, cell and layer) appended to the message.
+    pub fn into_error_in(self, label: u64, kind: ElementKind, context: &str) -> FlankError {
+        match self.into_error(label, kind) {
+            FlankError::Element {
+                label,
+                kind,
+                message,
+            } => FlankError::Element {
+                label,
+                kind,
+                message: format!("{message} ({context})"),
+            },
+            other => other,
+        }
+    }
+
     /// Converts to a [`FlankError`] naming the element.
     pub fn into_error(self, label: u64, kind: ElementKind) -> FlankError {
         let what = if self.det.is_finite() && self.relative.abs() <= DEGENERATE_RELATIVE_DET {

@@ -374,21 +374,16 @@ pub(super) fn assemble(
                 nodes.extend(cs.iter().map(|&p| b.at(sm, p)));
                 let label = mesh.elements.len() as u64 + 1;
                 let xs: Vec<[f64; 3]> = nodes.iter().map(|&n| reg.coords[n]).collect();
-                check_jacobian(kind, &xs).map_err(|e| match e.into_error(label, kind) {
-                    FlankError::Element {
+                check_jacobian(kind, &xs).map_err(|e| {
+                    e.into_error_in(
                         label,
                         kind,
-                        message,
-                    } => FlankError::Element {
-                        label,
-                        kind,
-                        message: format!(
-                            "{message} (bevel sector {name}: tooth {} {block} block, cell ({i}, {j}), layer {})",
+                        &format!(
+                            "bevel sector {name}: tooth {} {block} block, cell ({i}, {j}), layer {}",
                             k + 1,
                             l + 1
                         ),
-                    },
-                    other => other,
+                    )
                 })?;
                 quality.add(kind, &xs);
                 mesh.add_element(label, kind, nodes)

@@ -105,24 +105,19 @@ pub(super) fn extrude(
                 nodes.extend(c.iter().map(|&p| node3[p * nk + km]));
                 let label = mesh.elements.len() as u64 + 1;
                 let x: Vec<[f64; 3]> = nodes.iter().map(|&n| mesh.coords[n]).collect();
-                check_jacobian(kind, &x).map_err(|e| match e.into_error(label, kind) {
-                    FlankError::Element {
+                check_jacobian(kind, &x).map_err(|e| {
+                    e.into_error_in(
                         label,
                         kind,
-                        message,
-                    } => FlankError::Element {
-                        label,
-                        kind,
-                        message: format!(
-                            "{message} (gear sector {name}: tooth {} {} block, cell ({i}, {j}) of {}×{}, layer {})",
+                        &format!(
+                            "gear sector {name}: tooth {} {} block, cell ({i}, {j}) of {}×{}, layer {}",
                             bi / 2 + 1,
                             if bi % 2 == 0 { "upper" } else { "rim" },
                             blocks[bi].ni,
                             blocks[bi].nj,
                             l + 1
                         ),
-                    },
-                    other => other,
+                    )
                 })?;
                 quality.add(kind, &x);
                 mesh.add_element(label, kind, nodes)

@@ -90,21 +90,14 @@ pub fn modify_flanks(
     for (e, el) in sector.mesh.elements.iter().enumerate() {
         if el.nodes.iter().any(|&n| moved[n]) {
             check_jacobian(el.kind, &sector.mesh.element_coords(e)).map_err(|j| {
-                match j.into_error(el.label, el.kind) {
-                    FlankError::Element {
-                        label,
-                        kind,
-                        message,
-                    } => FlankError::Element {
-                        label,
-                        kind,
-                        message: format!(
-                            "{message} (after applying the flank modification: offsets {:.4} … {:.4} mm; refine less or reduce the modification)",
-                            report.min_offset_mm, report.max_offset_mm
-                        ),
-                    },
-                    other => other,
-                }
+                j.into_error_in(
+                    el.label,
+                    el.kind,
+                    &format!(
+                        "after applying the flank modification: offsets {:.4} … {:.4} mm; refine less or reduce the modification",
+                        report.min_offset_mm, report.max_offset_mm
+                    ),
+                )
             })?;
         }
     }
