@@ -1278,9 +1278,9 @@ mod tests {
     use crate::ltca::cycle::{LtcaCycle, LtcaOptions};
     use std::path::{Path, PathBuf};
 
-    /// Largest |F_fast − F_streamed| over the largest |F_streamed| of both
-    /// bodies at the seed 002 positions in double and single contact.
-    fn fast_against_streamed(flank: f64, base: f64, work: PathBuf, cache: Option<PathBuf>) {
+    /// Seed 002's LTCA cycle on bodies of flank size `flank`, base size
+    /// `base` (mm), meshed under `work`, K = 20.
+    fn seed002_cycle(flank: f64, base: f64, work: &Path, cache: Option<PathBuf>) -> LtcaCycle {
         let scene = crate::scene::read_scene(Path::new(concat!(
             env!("CARGO_MANIFEST_DIR"),
             "/papers/seed002-spur/scene.toml"
@@ -1298,7 +1298,13 @@ mod tests {
             quiet: true,
             ..Default::default()
         };
-        let cycle = LtcaCycle::new(&scene, &o).unwrap();
+        LtcaCycle::new(&scene, &o).unwrap()
+    }
+
+    /// Largest |F_fast − F_streamed| over the largest |F_streamed| of both
+    /// bodies at the seed 002 positions in double and single contact.
+    fn fast_against_streamed(flank: f64, base: f64, work: PathBuf, cache: Option<PathBuf>) {
+        let cycle = seed002_cycle(flank, base, &work, cache);
         let (a, e) = cycle.pair.engagement(cycle.pair.middle());
         let (l, h) = cycle.pair.single_contact();
         let mut rolls = vec![0.5 * (a + l), 0.5 * (l + h)];
@@ -1376,24 +1382,7 @@ mod tests {
     #[ignore]
     fn time_node_by_node_against_streamed() {
         let work = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/ltca-bench");
-        let scene = crate::scene::read_scene(Path::new(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/papers/seed002-spur/scene.toml"
-        )))
-        .unwrap();
-        let o = LtcaOptions {
-            out: work.join("bodies"),
-            mesh: BodyMeshOptions {
-                flank_size: Some(0.475),
-                base_size: Some(1.0),
-                ..Default::default()
-            },
-            points_per_line: Some(20),
-            cache: Some(work.join("cache")),
-            quiet: true,
-            ..Default::default()
-        };
-        let cycle = LtcaCycle::new(&scene, &o).unwrap();
+        let cycle = seed002_cycle(0.475, 1.0, &work, Some(work.join("cache")));
         let (a, _) = cycle.pair.engagement(cycle.pair.middle());
         let (l, h) = cycle.pair.single_contact();
         for (name, roll) in [("double", 0.5 * (a + l)), ("single", 0.5 * (l + h))] {
