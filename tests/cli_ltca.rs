@@ -494,6 +494,74 @@ fn hypoid_ltca_reads_the_scene_keys() {
     assert_eq!(s["increments"], 2);
 }
 
+/// Seed 001's analysis as its scene asks for it (μ = 0.08, the 1000 N·m
+/// on the gear in 20 increments, 30 positions, `[analyses.ltca]`), on
+/// coarse bodies: the cross-check of the two friction solvers, Coulomb's
+/// bound on the friction force, the TE's quadratic fit over the cycle and
+/// the pattern and friction-power plots.
+#[test]
+fn seed001_frictional_ltca_cycle() {
+    let d = dir("seed001");
+    let (ok, out, err) = flank(&[
+        "ltca",
+        "papers/seed001-hypoid/scene_eased.toml",
+        "--flank-size",
+        "3",
+        "--base-size",
+        "8",
+        "--cross-check",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!(ok, "{out}\n{err}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["positions"], 30);
+    assert_eq!(s["friction_mu"], 0.08);
+    assert_eq!(s["increments"], 20);
+    let f = &s["friction"];
+    for k in [
+        "cross_check_max_load_difference",
+        "cross_check_max_rotation_difference",
+    ] {
+        assert!(f[k].as_f64().unwrap() <= 1e-8, "{k}: {}", f[k]);
+    }
+    let ratio = f["tangential_to_normal"].as_f64().unwrap();
+    assert!(ratio > 0.0 && ratio <= 0.08 * (1.0 + 1e-12), "{ratio}");
+    let eta = f["mesh_efficiency"].as_f64().unwrap();
+    assert!(eta > 0.8 && eta < 1.0, "{eta}");
+    let fit = &s["te_quadratic_fit"];
+    assert_eq!(fit["points"], 30);
+    let pp = s["te_peak_to_peak_arcsec"].as_f64().unwrap();
+    let rms = fit["rms_residual_arcsec"].as_f64().unwrap();
+    assert!(pp > 0.0 && rms < pp, "rms {rms}, peak-to-peak {pp}");
+    // a₀ is the fitted TE at φ = 0: within the cycle's TE band
+    let te: Vec<f64> = s["steps"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|st| st["te_arcsec"].as_f64().unwrap())
+        .collect();
+    let (lo, hi) = te
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        });
+    let a0 = fit["a0_arcsec"].as_f64().unwrap();
+    assert!(a0 > lo - pp && a0 < hi + pp, "a0 {a0} outside {lo} … {hi}");
+    for p in [
+        "contact_pattern_pinion.png",
+        "contact_pattern_gear.png",
+        "friction_power.png",
+    ] {
+        assert!(
+            s["plots"].as_array().unwrap().iter().any(|x| x == p) && d.join(p).exists(),
+            "{p}"
+        );
+    }
+    assert!(s["functional_contact_ratio"].as_f64().unwrap() > 1.0);
+}
+
 /// `flank compare` on a hypoid scene (issue 19 point 5; seed 003 eased,
 /// coarse): the keys of the spur comparison, the finest FE as reference
 /// (its own errors zero), the LTCA rows at the same roll angles.

@@ -157,7 +157,7 @@ pub fn run(args: Args) -> Result<()> {
             cache,
             threads,
             edges: edges.or(a.edges).unwrap_or(d.edges),
-            ..d
+            positions: a.positions.unwrap_or(d.positions),
         };
         let all = run_bevel(&b, &options)
             .with_context(|| format!("LTCA mesh cycle of {}", scene.display()))?;

@@ -773,6 +773,11 @@ fn run_variant(
         "flank_nodes": ltca.flank_nodes,
         "tooth_pairs": (1..=np).map(|k| (k, ltca.pair.mate(k))).collect::<Vec<_>>(),
         "te_peak_to_peak_arcsec": te_pp,
+        // seed 003's Δθ(φ) = a₀ + a₁φ + a₂φ² (φ pinion roll in °, Δθ at the gear in ″)
+        "te_quadratic_fit": crate::ltca::te_fit::quadratic_te_fit(
+            &results.iter().map(|r| r.roll_deg).collect::<Vec<_>>(),
+            &te,
+        ),
         "max_pressure_mpa": worst(|r| r.max_pressure_mpa),
         "max_kkt": worst(|r| r.kkt_max),
         "iteration_limits": loops.to_json(),
@@ -838,9 +843,14 @@ fn step_json(ltca: &BevelLtca, r: &PositionResult, t: f64) -> serde_json::Value 
     j
 }
 
-/// `load_sharing.{svg,png}` (share of each pinion tooth against roll) and
-/// `transmission_error.{svg,png}` (loaded and unloaded TE, gear arcsec) in
-/// `out`; returns the file names.
+/// `load_sharing.{svg,png}` (share of each pinion tooth against roll),
+/// `transmission_error.{svg,png}` (loaded and unloaded TE, gear arcsec),
+/// the loaded contact pattern on both drive flanks
+/// (`contact_pattern_{pinion,gear}.{svg,png}`: every loaded candidate
+/// point of the cycle at its place in the axial projection, coloured by
+/// its Hertz pressure, as the FE cycle draws its nodes) and, with friction,
+/// `friction_power.{svg,png}` (Σ |P_t v_s| per position) in `out`; returns
+/// the file names.
 fn plot_variant(
     ltca: &BevelLtca,
     out: &std::path::Path,
@@ -906,7 +916,65 @@ fn plot_variant(
             ),
         ],
     )?);
+    files.extend(crate::report::fe_pattern::plot_pattern(
+        out,
+        ltca.pair.as_ref(),
+        &pattern_points(ltca, results),
+        "LTCA",
+    )?);
+    if ltca.options.settings.friction.is_some() {
+        files.extend(plot_series(
+            out,
+            "friction_power",
+            &format!("Friction power loss Σ |P_t v_s|, {variant}"),
+            "pinion roll angle (deg)",
+            "power loss (W)",
+            &[(
+                "all tooth pairs".into(),
+                results
+                    .iter()
+                    .map(|r| (r.roll_deg, r.friction_power_w))
+                    .collect(),
+            )],
+        )?);
+    }
     Ok(files)
+}
+
+/// The loaded candidate points of the cycle in each member's axial
+/// projection (the FE pattern's coordinates,
+/// [`crate::tca::point_contact::projection`]): the global point taken back
+/// into each member's own frame at its position.
+fn pattern_points(
+    ltca: &BevelLtca,
+    results: &[PositionResult],
+) -> Vec<crate::report::fe_pattern::PatternNode> {
+    use crate::tca::point_contact::projection;
+    let own = |f: &crate::geometry::frame::Frame, x: [f64; 3]| {
+        f.rotate_back([
+            x[0] - f.translation[0],
+            x[1] - f.translation[1],
+            x[2] - f.translation[2],
+        ])
+    };
+    results
+        .iter()
+        .flat_map(|r| {
+            let frames = ltca.pair.frames(r.roll_deg.to_radians());
+            r.points
+                .iter()
+                .filter(|q| q.force_n > 0.0)
+                .map(|q| crate::report::fe_pattern::PatternNode {
+                    pair: r.lines[q.line].0,
+                    projection_mm: [
+                        projection(ltca.pair.pinion(), own(&frames[0], q.position)),
+                        projection(ltca.pair.gear(), own(&frames[1], q.position)),
+                    ],
+                    pressure_mpa: q.pressure_mpa,
+                })
+                .collect::<Vec<_>>()
+        })
+        .collect()
 }
 
 /// The point TCA of the LTCA (no ellipse search: the flank axes take the

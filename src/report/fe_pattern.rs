@@ -1,5 +1,6 @@
-//! The loaded contact pattern of an FE-contact mesh cycle of a bevel or
-//! hypoid pair (SVG and PNG): every loaded contact node of every position,
+//! The loaded contact pattern of a mesh cycle of a bevel or hypoid pair
+//! (SVG and PNG), from FE contact or from the LTCA: every loaded contact
+//! node (or LTCA candidate point) of every position,
 //! at its place on each member's drive flank in the axial projection
 //! (along the face from the mean point, height above the pitch cone: the
 //! projection bevel-gear engineers read a marking-compound pattern in),
@@ -29,11 +30,23 @@ pub struct PatternNode {
 }
 
 /// Writes `contact_pattern_pinion` and `contact_pattern_gear` (.svg, .png)
-/// into `out`; returns the file names (none without a loaded node).
+/// of an FE-contact cycle into `out`; returns the file names (none without
+/// a loaded node).
 pub fn plot_fe_pattern(
     out: &Path,
     pair: &dyn PairPlacement,
     nodes: &[PatternNode],
+) -> Result<Vec<String>, FlankError> {
+    plot_pattern(out, pair, nodes, "FE contact")
+}
+
+/// [`plot_fe_pattern`] for the loaded points of any `method` (named in the
+/// title, e.g. "LTCA").
+pub fn plot_pattern(
+    out: &Path,
+    pair: &dyn PairPlacement,
+    nodes: &[PatternNode],
+    method: &str,
 ) -> Result<Vec<String>, FlankError> {
     if nodes.is_empty() {
         return Ok(Vec::new());
@@ -43,7 +56,8 @@ pub fn plot_fe_pattern(
     sorted.sort_by(|a, b| a.pressure_mpa.total_cmp(&b.pressure_mpa));
     let mut files = Vec::new();
     for (b, name) in ["pinion", "gear"].iter().enumerate() {
-        let figure = FePattern {
+        let figure = PatternFigure {
+            method,
             member: name,
             outline: outline(pair, b),
             points: sorted
@@ -60,14 +74,15 @@ pub fn plot_fe_pattern(
     Ok(files)
 }
 
-struct FePattern<'a> {
+struct PatternFigure<'a> {
+    method: &'a str,
     member: &'a str,
     outline: Vec<(f64, f64)>,
     /// (along the face, height, pressure).
     points: Vec<(f64, f64, f64)>,
 }
 
-impl Figure for FePattern<'_> {
+impl Figure for PatternFigure<'_> {
     fn size(&self) -> (u32, u32) {
         (900, 520)
     }
@@ -80,8 +95,8 @@ impl Figure for FePattern<'_> {
             .fold(0.0f64, f64::max)
             .max(1e-9);
         let title = format!(
-            "FE contact pattern over the cycle, {} drive flank (colour: pressure, max {pmax:.0} MPa)",
-            self.member
+            "{} pattern over the cycle, {} drive flank (colour: pressure, max {pmax:.0} MPa)",
+            self.method, self.member
         );
         let mut chart = projection_chart(
             root,

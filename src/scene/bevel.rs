@@ -466,7 +466,7 @@ pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<BevelScene> {
 }
 
 /// Why a spur/helical `[analyses.ltca]` key is refused on a hypoid scene.
-const SPUR_ONLY_LTCA: &str = "a key of the spur/helical LTCA; a hypoid LTCA takes `roll_angles_deg` (default one mesh cycle of 20 positions), `points_per_line` (K on each major axis), `solver`, `local`, `fe_cell_factor`, `local_iterations`, `friction_mu`, `increments`, `friction_model` and `edges` from the scene, its compliance mesh from `--flank-size`/`--base-size` and the candidate span from `--span-approach-mm`; it has no misalignment (the hypoid TCA takes it, `flank tca --offset-error-mm` …)";
+const SPUR_ONLY_LTCA: &str = "a key of the spur/helical LTCA; a hypoid LTCA takes `roll_angles_deg` or `positions` (default one mesh cycle of 20 positions), `points_per_line` (K on each major axis), `solver`, `local`, `fe_cell_factor`, `local_iterations`, `friction_mu`, `increments`, `friction_model` and `edges` from the scene, its compliance mesh from `--flank-size`/`--base-size` and the candidate span from `--span-approach-mm`; it has no misalignment (the hypoid TCA takes it, `flank tca --offset-error-mm` …)";
 
 /// The first key of `l` that only the spur/helical LTCA reads, if any.
 fn spur_only_ltca_key(l: &analyses::LtcaAnalysis) -> Option<&'static str> {

@@ -330,6 +330,17 @@ fn build(cx: &Cx, raw: RawScene) -> Res<Scene> {
             ),
         ));
     }
+    if let (Some(span), Some(n)) = (
+        analyses.ltca_span.clone(),
+        analyses.ltca.as_ref().and_then(|l| l.positions),
+    ) {
+        return Err(cx.err(
+            span,
+            format!(
+                "`analyses.ltca`: positions = {n} is for bevel and hypoid pairs (positions over one mesh cycle); a spur/helical LTCA takes roll_start_deg, roll_end_deg and roll_step_deg, or roll_angles_deg"
+            ),
+        ));
+    }
     let lubricant = match &raw.lubricant {
         Some(l) => Some(lubricant::lubricant(cx, l)?),
         None => None,
