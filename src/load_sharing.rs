@@ -2,6 +2,12 @@
 //! ([`crate::mesh_cycle`]) and the LTCA ([`crate::ltca`]) share, so that
 //! their contact ratios from load sharing (the roll-angle span in which the
 //! middle pair is loaded, per angular pitch) are measured the same way.
+//!
+//! [`cycle`]: load sharing over one mesh cycle and the functional contact
+//! ratio, from either method's forces per position and pair.
+
+pub mod cycle;
+pub use cycle::{cycle_sharing, CycleSharing};
 
 /// Fraction of the nominal single-pair force T / r (r the pair's
 /// [`crate::geometry::gear_pair::GearPair::nominal_moment_arm`], r_b1 cos β_b

@@ -318,6 +318,8 @@ fn seed003_hypoid_run_writes_balanced_positions() {
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert_eq!(s["positions"], 3);
     assert!(s["max_moment_balance"].as_f64().unwrap() < 1e-9);
+    // three chosen angles are no cycle: no functional contact ratio
+    assert!(s["functional_contact_ratio"].is_null() && s["load_sharing"].is_null());
     for st in s["steps"].as_array().unwrap() {
         let shares: f64 = st["load_share"]
             .as_array()

@@ -727,7 +727,7 @@ fn run_variant(
                     None => vec![0.0; np],
                 })
                 .collect();
-            crate::ltca::sharing::cycle_sharing(&forces, pitch)
+            crate::load_sharing::cycle_sharing(&forces, pitch)
         })
         .flatten();
     if !gaps.is_empty() {

@@ -12,8 +12,8 @@
 //!   [`bevel`]: bevel/hypoid pairs (candidate points on each pair's
 //!   contact-ellipse major axis), both through [`model::LtcaBodies`];
 //!   [`edges`]: a bevel pair's edge contacts as candidate lines (seed 000),
-//!   [`sharing`]: load sharing and the functional contact ratio,
-//!   [`te_fit`]: the loaded TE's quadratic fit over a cycle (seed 003).
+//!   load sharing and the functional contact ratio in
+//!   [`crate::load_sharing`], [`te_fit`]: the loaded TE's quadratic fit over a cycle (seed 003).
 //! * [`lubricated`]: the wet–dry loop of seed 002 through the frictional
 //!   spur/helical LTCA (μ per position and tooth pair from the EHL model of
 //!   [`crate::lubrication`]).
@@ -29,5 +29,4 @@ pub mod lubricated;
 pub mod model;
 pub mod pattern;
 pub mod qp;
-pub mod sharing;
 pub mod te_fit;

@@ -505,6 +505,9 @@ pub fn run_bevel(
     use std::io::Write;
     checks::check_torque(scene)?;
     let pitch = scene.pair.tooth_roll_step().abs().to_degrees();
+    // the functional contact ratio needs the default cycle (positions
+    // spread evenly over one pitch)
+    let default_cycle = roll_angles_deg.is_none();
     let rolls = roll_angles_deg.unwrap_or_else(|| {
         (0..DEFAULT_POSITIONS)
             .map(|i| -0.5 * pitch + pitch * i as f64 / DEFAULT_POSITIONS as f64)
@@ -664,9 +667,19 @@ pub fn run_bevel(
             );
         }
     }
+    // the LTCA's measure ([`crate::load_sharing::cycle`]): pairs above 1 %
+    // of the position's normal force, over one pitch
+    let sharing = default_cycle
+        .then(|| {
+            let forces: Vec<Vec<f64>> = steps.iter().map(|s| s.pair_force_n.clone()).collect();
+            crate::load_sharing::cycle_sharing(&forces, pitch)
+        })
+        .flatten();
     let summary = serde_json::json!({
         "scene": scene.source.display().to_string(),
         "positions": steps.len(),
+        "functional_contact_ratio": sharing.as_ref().map(|s| s.functional_contact_ratio),
+        "load_sharing": sharing,
         "nodes": cycle.model.model.mesh.node_count(),
         "nodes_per_body": cycle.model.nodes,
         "elements_per_body": cycle.model.elements,
