@@ -562,6 +562,34 @@ fn seed001_frictional_ltca_cycle() {
     assert!(s["functional_contact_ratio"].as_f64().unwrap() > 1.0);
 }
 
+/// Seed 001 at flank 1 mm, −6°: the Tresca fixed point of one increment
+/// stalled at a relative change of 1.34e-6, just above the polish trigger
+/// (1e-6), for all its 200 rounds, and the answer kept a Coulomb residual
+/// of 1.3e-6 (tolerance 1e-9). A stagnant fixed point is now polished:
+/// every increment within the tolerance, no limit hit.
+#[test]
+fn seed001_stalled_friction_fixed_point_is_polished() {
+    let d = dir("seed001_stall");
+    let (ok, out, err) = flank(&[
+        "ltca",
+        "papers/seed001-hypoid/scene_eased.toml",
+        "--flank-size",
+        "1",
+        "--base-size",
+        "6",
+        "--roll-angles=-6",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!(ok, "{out}\n{err}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["friction"]["within_tolerance"], true, "{}", s["friction"]);
+    let fp = &s["iteration_limits"]["ltca.friction_fixed_point"];
+    assert!(fp.is_null() || fp["limit_hits"] == 0, "{fp}");
+    assert!(s["friction"]["max_residual"].as_f64().unwrap() <= 1e-9);
+}
+
 /// `flank compare` on a hypoid scene (issue 19 point 5; seed 003 eased,
 /// coarse): the keys of the spur comparison, the finest FE as reference
 /// (its own errors zero), the LTCA rows at the same roll angles.
