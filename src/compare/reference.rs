@@ -153,6 +153,7 @@ mod tests {
             load_sharing_err: f64::NAN,
             te_rel_err: f64::NAN,
             pmax_rel_err: f64::NAN,
+            tangential_force_err: f64::NAN,
         }
     }
 
