@@ -18,6 +18,10 @@
 //!   (at a tip corner the pressure of a sharp edge is not a mesh-independent
 //!   quantity in either method: FE gives a mesh-dependent nodal value, the
 //!   LTCA's Hertz formula none);
+//! * with friction (`--friction-mu` μ > 0, both methods at that μ): the
+//!   tangential force, max |P_t,L − P_t,F| / Σ P_n,F over positions and
+//!   pairs, relative to the reference's total normal force like the shares
+//!   (the reference's P_t is the finest run's, not extrapolated);
 //!
 //! and the run time of a cycle: LTCA = Σ position solves with the tensors
 //! in memory (`ltca_cycle_s`); FE = Σ position solves (`fe_cycle_s`) plus
@@ -120,8 +124,9 @@ pub struct MethodRun {
     /// Per position: normal force per pair (N), TE (µrad), p_max (MPa).
     pub pair_force_n: Vec<Vec<f64>>,
     /// Per position: tangential (friction) force per pair (N; zeros
-    /// without friction): the LTCA's Σ |P_t| over the pair's points, FE
-    /// contact's magnitude of the resultant over the pair's slave nodes.
+    /// without friction): the LTCA's |Σ P_t| over the pair's points (each
+    /// P_t along its point's tangent), FE contact's magnitude of the
+    /// resultant over the pair's slave nodes.
     #[serde(default)]
     pub pair_tangential_n: Vec<Vec<f64>>,
     pub te_urad: Vec<f64>,
@@ -620,7 +625,7 @@ fn friction_table<'a>(
     }
     let _ = writeln!(
         s,
-        "\nTangential force: per pair the LTCA's Σ |P_t| over its points, FE contact's magnitude of the resultant friction force over its slave nodes (a little below Σ |P_t| where the nodes' slip directions differ); its error is max over positions and pairs of |P_t − P_t,ref| / Σ P_n,ref, the reference's total normal force at that position (the same scale as the load-sharing error). The reference's P_t is {} (not extrapolated).",
+        "\nTangential force: per pair the LTCA's |Σ P_t| over its points (each P_t along its point's tangent, the sliding direction), FE contact's magnitude of the vector resultant of the friction forces on its slave nodes (a little below μ Σ P_n where the nodes' slip directions differ, or less where nodes stick); its error is max over positions and pairs of |P_t − P_t,ref| / Σ P_n,ref, the reference's total normal force at that position (the same scale as the load-sharing error). The reference's P_t is {} (not extrapolated).",
         if reference.method == "fe_extrapolated" {
             "the finest FE run's"
         } else {
