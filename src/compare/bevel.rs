@@ -180,7 +180,7 @@ pub fn compare_bevel(
         say(format!("plots not written: {e}"));
         Vec::new()
     });
-    let md = markdown(
+    let mut md = markdown(
         &scene.source,
         &angles,
         &fe,
@@ -188,8 +188,10 @@ pub fn compare_bevel(
         &reference,
         &every,
         extrapolated.as_ref(),
-        mu,
     );
+    if mu > 0.0 {
+        super::friction_table(&mut md, mu, fe.iter().chain(&runs), &reference);
+    }
     let p = out.join("compare.md");
     crate::atomic_file::write(&p, &md)?;
     let json = serde_json::json!({

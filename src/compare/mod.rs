@@ -482,7 +482,7 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
         say(format!("plots not written: {e}"));
         Vec::new()
     });
-    let md = markdown(
+    let mut md = markdown(
         &scene.source,
         &angles,
         &fe,
@@ -490,8 +490,15 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
         &reference,
         &flank_positions,
         extrapolated.as_ref(),
-        ltca_mu.max(fe_mu),
     );
+    if ltca_mu.max(fe_mu) > 0.0 {
+        friction_table(
+            &mut md,
+            ltca_mu.max(fe_mu),
+            fe.iter().chain(&ltca),
+            &reference,
+        );
+    }
     let p = out.join("compare.md");
     crate::atomic_file::write(&p, &md)?;
     let json = serde_json::json!({
@@ -537,7 +544,6 @@ pub(crate) fn markdown(
     reference: &MethodRun,
     flank_positions: &[bool],
     extrapolated: Option<&ExtrapolatedReference>,
-    friction_mu: f64,
 ) -> String {
     use std::fmt::Write;
     let mut s = String::new();
@@ -582,16 +588,13 @@ pub(crate) fn markdown(
             );
         }
     }
-    if friction_mu > 0.0 {
-        friction_table(&mut s, friction_mu, fe.iter().chain(ltca), reference);
-    }
     s
 }
 
 /// The friction rows of `compare.md`: per run the total normal force, the
 /// friction/normal ratio and the tangential force error against the
 /// reference, with the caption that defines them.
-fn friction_table<'a>(
+pub(crate) fn friction_table<'a>(
     s: &mut String,
     mu: f64,
     runs: impl Iterator<Item = &'a MethodRun>,
