@@ -38,6 +38,19 @@ pub struct Args {
     /// Threads (0 = all cores).
     #[arg(long, default_value_t = 0)]
     threads: usize,
+    /// Coulomb friction coefficient of both methods' flanks (0 =
+    /// frictionless; default the scene's `[analyses.ltca] friction_mu`, on
+    /// spur/helical scenes each method's own scene setting); with μ > 0
+    /// the tangential force per pair is compared too.
+    #[arg(long)]
+    friction_mu: Option<f64>,
+    /// Load increments of the LTCA's frictional solve (default 10).
+    #[arg(long)]
+    increments: Option<usize>,
+    /// What the LTCA's friction resists (as `flank ltca`; default
+    /// incremental). FE contact's is always the loading step's slip.
+    #[arg(long, value_enum)]
+    friction_model: Option<flank::ltca::model::FrictionModel>,
     /// Print nothing but errors.
     #[arg(long, short)]
     quiet: bool,
@@ -56,6 +69,9 @@ pub fn run(args: Args) -> Result<()> {
         sizes,
         local,
         threads,
+        friction_mu,
+        increments,
+        friction_model,
         quiet,
     } = args;
     let options = CompareOptions {
@@ -70,17 +86,30 @@ pub fn run(args: Args) -> Result<()> {
             local,
             threads,
             quiet: true,
+            increments,
+            friction_model,
             ..Default::default()
         },
         threads,
         quiet,
+        friction_mu,
     };
     let s = match flank::scene::read_any_scene(&scene)? {
         flank::scene::AnyScene::Bevel(b) => {
+            // as `flank ltca`: the command line, then the scene's [analyses.ltca]
+            let a = b.analyses.ltca.clone().unwrap_or_default();
+            let d = flank::ltca::bevel::BevelLtcaOptions::default();
+            let mu = friction_mu.or(a.friction_mu).unwrap_or(0.0);
+            if mu == 0.0 && (increments.is_some() || friction_model.is_some()) {
+                anyhow::bail!("--increments and --friction-model need friction (--friction-mu > 0 or [analyses.ltca] friction_mu)");
+            }
             let mut ltca = flank::ltca::bevel::BevelLtcaOptions {
                 mesh: sizes.body_options(false),
                 threads,
-                ..Default::default()
+                friction_mu: mu,
+                increments: increments.or(a.increments).unwrap_or(d.increments),
+                friction_model: friction_model.or(a.friction_model).unwrap_or_default(),
+                ..d
             };
             if let Some(l) = local {
                 ltca.settings.local = l;
@@ -104,6 +133,13 @@ pub fn run(args: Args) -> Result<()> {
             f("fe_setup_s"),
             f("speedup")
         );
+        if f("friction_mu") > 0.0 {
+            println!(
+                "friction μ = {}: tangential force {:.4} (of the total normal force)",
+                f("friction_mu"),
+                f("tangential_force_rel_err")
+            );
+        }
         println!("wrote {}", out.display());
     }
     Ok(())

@@ -1,6 +1,6 @@
 //! `flank compare` on a bevel/hypoid scene (issue 19 point 5): the hypoid
-//! LTCA ([`crate::ltca::bevel`], frictionless, at several K on the
-//! tensors of one compliance mesh) against FE contact of the hypoid pair
+//! LTCA ([`crate::ltca::bevel`], at several K on the tensors of one
+//! compliance mesh) against FE contact of the hypoid pair
 //! ([`crate::mesh_cycle::bevel`], hard contact, at several flank sizes) at
 //! the same roll angles, the finest FE the reference; the errors, times and
 //! files of the spur/helical comparison ([`super`]), with the TE as the
@@ -12,6 +12,13 @@
 //! width (≈ 1 mm here: `papers/seed003-hypoid/README.md`), so its error
 //! says how far the reference is from resolving it as much as how far the
 //! LTCA is off.
+//!
+//! With friction (μ > 0, `--friction-mu`) both methods use the same μ: the
+//! LTCA's frictional solve in load increments (its friction model, default
+//! `incremental`: friction against the kinematic sliding), FE contact's
+//! static Coulomb law (friction against the slip of the loading step); the
+//! tangential force per pair is compared besides the normal forces
+//! ([`super::errors`]).
 
 use std::time::Instant;
 
@@ -32,7 +39,11 @@ pub fn compare_bevel(
     ltca: &BevelLtcaOptions,
 ) -> Result<serde_json::Value, FlankError> {
     options.validate()?;
-    ltca.validate(scene)?;
+    // the command line's μ, else the LTCA options' (the scene's)
+    let mu = options.friction_mu.unwrap_or(ltca.friction_mu);
+    let mut lo = ltca.clone();
+    lo.friction_mu = mu;
+    lo.validate(scene)?;
     let out = &options.out;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
     let say = |m: String| {
@@ -42,9 +53,7 @@ pub fn compare_bevel(
     };
     // LTCA first (its TCA grid fixes the roll angles): tensors once
     say("LTCA: compliance tensors and TCA …".into());
-    let mut lo = ltca.clone();
     lo.out = out.join("ltca_bodies");
-    lo.friction_mu = 0.0;
     let mut runs = Vec::new();
     let mut angles: Vec<f64> = Vec::new();
     let mut setup = 0.0;
@@ -77,6 +86,10 @@ pub fn compare_bevel(
             flank_size_mm: ltca.mesh.flank_size,
             nodes: None,
             pair_force_n: results.iter().map(|r| l.pair_forces(r)).collect(),
+            pair_tangential_n: results
+                .iter()
+                .map(|r| l.pair_friction(r).iter().map(|t| t.abs()).collect())
+                .collect(),
             te_urad: results.iter().map(|r| r.te_urad).collect(),
             pmax_mpa: results.iter().map(|r| r.max_pressure_mpa).collect(),
             cycle_s,
@@ -85,6 +98,7 @@ pub fn compare_bevel(
             load_sharing_err: f64::NAN,
             te_rel_err: f64::NAN,
             pmax_rel_err: f64::NAN,
+            tangential_force_err: f64::NAN,
         });
     }
     // FE contact, finest last
@@ -111,6 +125,7 @@ pub fn compare_bevel(
                     ..Default::default()
                 },
                 threads: options.threads.max(1),
+                friction_mu: mu,
                 ..Default::default()
             },
         )?;
@@ -129,6 +144,14 @@ pub fn compare_bevel(
             flank_size_mm: Some(h),
             nodes: Some(cycle.model.model.mesh.node_count()),
             pair_force_n: steps.iter().map(|s| s.pair_force_n.clone()).collect(),
+            pair_tangential_n: steps
+                .iter()
+                .map(|s| {
+                    let mut t = s.friction_force_n.clone();
+                    t.resize(s.pair_force_n.len(), 0.0);
+                    t
+                })
+                .collect(),
             // the pinion's loaded rotation (µrad) from the TE at the gear
             te_urad: steps
                 .iter()
@@ -144,6 +167,7 @@ pub fn compare_bevel(
             load_sharing_err: f64::NAN,
             te_rel_err: f64::NAN,
             pmax_rel_err: f64::NAN,
+            tangential_force_err: f64::NAN,
         });
     }
     let (reference, extrapolated) = super::reference_of(&fe);
@@ -156,7 +180,7 @@ pub fn compare_bevel(
         say(format!("plots not written: {e}"));
         Vec::new()
     });
-    let md = markdown(
+    let mut md = markdown(
         &scene.source,
         &angles,
         &fe,
@@ -165,6 +189,9 @@ pub fn compare_bevel(
         &every,
         extrapolated.as_ref(),
     );
+    if mu > 0.0 {
+        super::friction_table(&mut md, mu, fe.iter().chain(&runs), &reference);
+    }
     let p = out.join("compare.md");
     crate::atomic_file::write(&p, &md)?;
     let json = serde_json::json!({
@@ -178,6 +205,10 @@ pub fn compare_bevel(
         "load_sharing_rel_err": best.load_sharing_err,
         "te_rel_err": best.te_rel_err,
         "pmax_rel_err": best.pmax_rel_err,
+        "tangential_force_rel_err": best.tangential_force_err,
+        "friction_mu": mu,
+        "ltca_friction_model": (mu > 0.0).then_some(lo.friction_model),
+        "ltca_increments": (mu > 0.0).then_some(lo.increments),
         "ltca_cycle_s": best.cycle_s,
         "fe_cycle_s": reference.cycle_s,
         "fe_setup_s": reference.setup_s,

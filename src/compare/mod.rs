@@ -18,6 +18,10 @@
 //!   (at a tip corner the pressure of a sharp edge is not a mesh-independent
 //!   quantity in either method: FE gives a mesh-dependent nodal value, the
 //!   LTCA's Hertz formula none);
+//! * with friction (`--friction-mu` μ > 0, both methods at that μ): the
+//!   tangential force, max |P_t,L − P_t,F| / Σ P_n,F over positions and
+//!   pairs, relative to the reference's total normal force like the shares
+//!   (the reference's P_t is the finest run's, not extrapolated);
 //!
 //! and the run time of a cycle: LTCA = Σ position solves with the tensors
 //! in memory (`ltca_cycle_s`); FE = Σ position solves (`fe_cycle_s`) plus
@@ -58,6 +62,10 @@ pub struct CompareOptions {
     pub ltca: LtcaOptions,
     pub threads: usize,
     pub quiet: bool,
+    /// Coulomb friction coefficient of both methods' flanks (`--friction-mu`;
+    /// `None`: each method's scene setting, 0 without one). With μ > 0 the
+    /// tangential force per pair is compared too.
+    pub friction_mu: Option<f64>,
 }
 
 impl CompareOptions {
@@ -87,6 +95,13 @@ impl CompareOptions {
                 "--fe-flank-sizes: FE flank sizes must be > 0, got {h}"
             )));
         }
+        if let Some(mu) = self.friction_mu {
+            if !(mu.is_finite() && (0.0..=1.0).contains(&mu)) {
+                return Err(FlankError::Model(format!(
+                    "--friction-mu {mu}: a coefficient in [0, 1] is needed"
+                )));
+            }
+        }
         if !(self.roll_step_deg > 0.0 && self.roll_step_deg.is_finite()) {
             return Err(FlankError::Model(format!(
                 "--roll-step: the roll step must be > 0, got {}",
@@ -108,6 +123,12 @@ pub struct MethodRun {
     pub nodes: Option<usize>,
     /// Per position: normal force per pair (N), TE (µrad), p_max (MPa).
     pub pair_force_n: Vec<Vec<f64>>,
+    /// Per position: tangential (friction) force per pair (N; zeros
+    /// without friction): the LTCA's |Σ P_t| over the pair's points (each
+    /// P_t along its point's tangent), FE contact's magnitude of the
+    /// resultant over the pair's slave nodes.
+    #[serde(default)]
+    pub pair_tangential_n: Vec<Vec<f64>>,
     pub te_urad: Vec<f64>,
     pub pmax_mpa: Vec<f64>,
     pub cycle_s: f64,
@@ -122,6 +143,14 @@ pub struct MethodRun {
     pub te_rel_err: f64,
     #[serde(deserialize_with = "null_as_nan")]
     pub pmax_rel_err: f64,
+    /// max |P_t − P_t,ref| / Σ P_n,ref over positions and pairs (NaN
+    /// without friction).
+    #[serde(default = "nan", deserialize_with = "null_as_nan")]
+    pub tangential_force_err: f64,
+}
+
+fn nan() -> f64 {
+    f64::NAN
 }
 
 /// JSON has no NaN (serde_json writes null): read null back as NaN.
@@ -166,6 +195,13 @@ pub(crate) fn errors(run: &mut MethodRun, reference: &MethodRun, flank_positions
     let mut ls: f64 = 0.0;
     let mut te: f64 = 0.0;
     let mut pm: f64 = 0.0;
+    let mut pt: f64 = 0.0;
+    let frictional = !reference.pair_tangential_n.is_empty()
+        && reference
+            .pair_tangential_n
+            .iter()
+            .flatten()
+            .any(|&t| t > 0.0);
     for i in 0..reference.te_urad.len() {
         let (a, b) = (
             shares(&run.pair_force_n[i]),
@@ -178,10 +214,22 @@ pub(crate) fn errors(run: &mut MethodRun, reference: &MethodRun, flank_positions
         if flank_positions[i] && reference.pmax_mpa[i] > 0.0 {
             pm = pm.max((run.pmax_mpa[i] - reference.pmax_mpa[i]).abs() / reference.pmax_mpa[i]);
         }
+        if frictional {
+            let total: f64 = reference.pair_force_n[i].iter().sum();
+            let zero = Vec::new();
+            let a = run.pair_tangential_n.get(i).unwrap_or(&zero);
+            for (p, y) in reference.pair_tangential_n[i].iter().enumerate() {
+                let x = a.get(p).copied().unwrap_or(0.0);
+                if total > 0.0 {
+                    pt = pt.max((x - y).abs() / total);
+                }
+            }
+        }
     }
     run.load_sharing_err = ls;
     run.te_rel_err = te;
     run.pmax_rel_err = pm;
+    run.tangential_force_err = if frictional { pt } else { f64::NAN };
 }
 
 fn ltca_run(cycle: &LtcaCycle, angles: &[f64]) -> Result<MethodRun, FlankError> {
@@ -198,6 +246,10 @@ fn ltca_run(cycle: &LtcaCycle, angles: &[f64]) -> Result<MethodRun, FlankError> 
         flank_size_mm: Some(cycle.setup.flank_size_mm),
         nodes: None,
         pair_force_n: results.iter().map(|r| cycle.pair_forces(r)).collect(),
+        pair_tangential_n: results
+            .iter()
+            .map(|r| cycle.pair_friction(r).iter().map(|t| t.abs()).collect())
+            .collect(),
         te_urad: results.iter().map(|r| r.te_urad).collect(),
         pmax_mpa: results.iter().map(|r| r.max_pressure_mpa).collect(),
         cycle_s,
@@ -206,6 +258,7 @@ fn ltca_run(cycle: &LtcaCycle, angles: &[f64]) -> Result<MethodRun, FlankError> 
         load_sharing_err: f64::NAN,
         te_rel_err: f64::NAN,
         pmax_rel_err: f64::NAN,
+        tangential_force_err: f64::NAN,
     })
 }
 
@@ -222,9 +275,11 @@ fn fe_run(
     (size, base): (f64, Option<f64>),
     angles: &[f64],
     threads: usize,
+    friction_mu: Option<f64>,
 ) -> Result<MethodRun, FlankError> {
     let o = RunOptions {
         roll_angles_deg: Some(angles.to_vec()),
+        friction_mu,
         vtu: Some(false),
         refine_contact_limits: Some(false),
         slave: Some(SlaveBody::Auto),
@@ -268,6 +323,14 @@ fn fe_run(
         flank_size_mm: Some(size),
         nodes: Some(nodes),
         pair_force_n: steps.iter().map(|s| s.pair_force_n.clone()).collect(),
+        pair_tangential_n: steps
+            .iter()
+            .map(|s| {
+                let mut t = s.friction_force_n.clone();
+                t.resize(s.pair_force_n.len(), 0.0);
+                t
+            })
+            .collect(),
         te_urad: steps.iter().map(|s| s.te_urad).collect(),
         pmax_mpa: steps
             .iter()
@@ -279,6 +342,7 @@ fn fe_run(
         load_sharing_err: f64::NAN,
         te_rel_err: f64::NAN,
         pmax_rel_err: f64::NAN,
+        tangential_force_err: f64::NAN,
     })
 }
 
@@ -292,12 +356,15 @@ fn fe_run_cached(
     (size, base): (f64, Option<f64>),
     angles: &[f64],
     threads: usize,
+    friction_mu: Option<f64>,
     dir: &Path,
 ) -> Result<(MethodRun, bool), FlankError> {
     let text = std::fs::read_to_string(&scene.source).unwrap_or_default();
     let base_key = base.map(|b| format!("\nbase {b}")).unwrap_or_default();
+    // μ from the command line is part of the key (none: the scene's, in `text`)
+    let mu_key = friction_mu.map(|m| format!("\nmu {m}")).unwrap_or_default();
     let key = format!(
-        "{text}\n{size}\n{angles:?}\n{}{base_key}\nslave auto",
+        "{text}\n{size}\n{angles:?}\n{}{base_key}{mu_key}\nslave auto",
         env!("CARGO_PKG_VERSION")
     );
     let mut h = crate::compliance::Fnv128::new();
@@ -308,7 +375,7 @@ fn fe_run_cached(
             return Ok((r, true));
         }
     }
-    let r = fe_run(scene, pair, (size, base), angles, threads)?;
+    let r = fe_run(scene, pair, (size, base), angles, threads, friction_mu)?;
     std::fs::create_dir_all(dir).map_err(|e| FlankError::io(dir, e))?;
     let t = serde_json::to_string(&r).map_err(|e| FlankError::Model(e.to_string()))?;
     crate::atomic_file::write(&file, t)?;
@@ -356,6 +423,7 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
             (h, options.fe_base_size),
             &angles,
             options.threads,
+            options.friction_mu,
             &out.join("fe_runs"),
         )?;
         if cached {
@@ -368,6 +436,7 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
     let mut lo = options.ltca.clone();
     lo.out = out.join("ltca_bodies");
     lo.points_per_line = Some(options.points_per_line[0]);
+    lo.friction_mu = options.friction_mu.or(lo.friction_mu);
     let base = LtcaCycle::new(scene, &lo)?;
     let mut ltca = Vec::new();
     for &k in &options.points_per_line {
@@ -397,11 +466,23 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
         errors(r, &reference, &flank_positions);
     }
     let best = best_ltca(&ltca);
+    // each method's μ: the command line's, else its own scene section's
+    let ltca_mu = base.settings.friction.as_ref().map_or(0.0, |f| f.mu);
+    let fe_mu = settings(
+        scene,
+        pair,
+        &RunOptions {
+            roll_angles_deg: Some(angles.clone()),
+            friction_mu: options.friction_mu,
+            ..Default::default()
+        },
+    )?
+    .friction_mu;
     let plots = plot::plot_error_vs_time(out, &fe, &ltca).unwrap_or_else(|e| {
         say(format!("plots not written: {e}"));
         Vec::new()
     });
-    let md = markdown(
+    let mut md = markdown(
         &scene.source,
         &angles,
         &fe,
@@ -410,6 +491,14 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
         &flank_positions,
         extrapolated.as_ref(),
     );
+    if ltca_mu.max(fe_mu) > 0.0 {
+        friction_table(
+            &mut md,
+            ltca_mu.max(fe_mu),
+            fe.iter().chain(&ltca),
+            &reference,
+        );
+    }
     let p = out.join("compare.md");
     crate::atomic_file::write(&p, &md)?;
     let json = serde_json::json!({
@@ -423,6 +512,9 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
         "load_sharing_rel_err": best.load_sharing_err,
         "te_rel_err": best.te_rel_err,
         "pmax_rel_err": best.pmax_rel_err,
+        "tangential_force_rel_err": best.tangential_force_err,
+        "friction_mu": ltca_mu,
+        "fe_friction_mu": fe_mu,
         "ltca_cycle_s": best.cycle_s,
         "fe_cycle_s": reference.cycle_s,
         "fe_setup_s": reference.setup_s,
@@ -497,4 +589,50 @@ pub(crate) fn markdown(
         }
     }
     s
+}
+
+/// The friction rows of `compare.md`: per run the total normal force, the
+/// friction/normal ratio and the tangential force error against the
+/// reference, with the caption that defines them.
+pub(crate) fn friction_table<'a>(
+    s: &mut String,
+    mu: f64,
+    runs: impl Iterator<Item = &'a MethodRun>,
+    reference: &MethodRun,
+) {
+    use std::fmt::Write;
+    let _ = writeln!(s, "\n## Friction (μ = {mu})\n");
+    let _ = writeln!(
+        s,
+        "| run | Σ P_n mean (N) | Σ P_t / Σ P_n min … max | tangential force err |"
+    );
+    let _ = writeln!(s, "|---|---:|---:|---:|");
+    for r in runs {
+        let n: Vec<f64> = r.pair_force_n.iter().map(|f| f.iter().sum()).collect();
+        let ratio: Vec<f64> = r
+            .pair_tangential_n
+            .iter()
+            .zip(&n)
+            .filter(|(_, &n)| n > 0.0)
+            .map(|(t, &n)| t.iter().sum::<f64>() / n)
+            .collect();
+        let _ = writeln!(
+            s,
+            "| {} | {:.1} | {:.4} … {:.4} | {:.4} |",
+            r.label,
+            n.iter().sum::<f64>() / n.len().max(1) as f64,
+            ratio.iter().copied().fold(f64::INFINITY, f64::min),
+            ratio.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            r.tangential_force_err
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nTangential force: per pair the LTCA's |Σ P_t| over its points (each P_t along its point's tangent, the sliding direction), FE contact's magnitude of the vector resultant of the friction forces on its slave nodes (a little below μ Σ P_n where the nodes' slip directions differ, or less where nodes stick); its error is max over positions and pairs of |P_t − P_t,ref| / Σ P_n,ref, the reference's total normal force at that position (the same scale as the load-sharing error). The reference's P_t is {} (not extrapolated).",
+        if reference.method == "fe_extrapolated" {
+            "the finest FE run's"
+        } else {
+            "its own"
+        }
+    );
 }

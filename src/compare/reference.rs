@@ -146,6 +146,7 @@ mod tests {
             nodes: Some(1),
             pmax_mpa: vec![1.0; te.len()],
             pair_force_n: forces,
+            pair_tangential_n: Vec::new(),
             te_urad: te,
             cycle_s: 1.0,
             setup_s: 1.0,
@@ -153,6 +154,7 @@ mod tests {
             load_sharing_err: f64::NAN,
             te_rel_err: f64::NAN,
             pmax_rel_err: f64::NAN,
+            tangential_force_err: f64::NAN,
         }
     }
 
