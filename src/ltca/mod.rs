@@ -10,7 +10,8 @@
 //!   (Tresca QPs, fixed point, polish) and cross-checked by Lemke's method.
 //! * [`cycle`]: spur/helical pairs over a mesh cycle (line contact);
 //!   [`bevel`]: bevel/hypoid pairs (candidate points on each pair's
-//!   contact-ellipse major axis), both through [`model::LtcaBodies`];
+//!   contact-ellipse major axis), both through [`model::LtcaBodies`]
+//!   (its compliance F from the tensors: [`influence`]);
 //!   [`edges`]: a bevel pair's edge contacts as candidate lines (seed 000),
 //!   [`sharing`]: load sharing and the functional contact ratio.
 //! * [`lubricated`]: the wet–dry loop of seed 002 through the frictional
@@ -23,6 +24,7 @@ pub mod edges;
 pub mod friction;
 pub mod friction_settings;
 pub mod hertz_elliptic;
+pub mod influence;
 pub mod local;
 pub mod lubricated;
 pub mod model;
