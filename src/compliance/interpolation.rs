@@ -99,11 +99,17 @@ pub fn directional(
 /// Gauss–Legendre points and weights on [−1, 1] (Newton on P_n); the
 /// rules up to 8 points are computed once and then copied.
 pub fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
-    static RULES: std::sync::OnceLock<Vec<Vec<(f64, f64)>>> = std::sync::OnceLock::new();
-    if n <= 8 {
-        return RULES.get_or_init(|| (0..=8).map(gauss_legendre_rule).collect())[n].clone();
+    match gauss_legendre_cached(n) {
+        Some(r) => r.to_vec(),
+        None => gauss_legendre_rule(n),
     }
-    gauss_legendre_rule(n)
+}
+
+/// The rule of [`gauss_legendre`] without a copy, for n ≤ 8 (the same
+/// values; `None` above).
+pub fn gauss_legendre_cached(n: usize) -> Option<&'static [(f64, f64)]> {
+    static RULES: std::sync::OnceLock<Vec<Vec<(f64, f64)>>> = std::sync::OnceLock::new();
+    (n <= 8).then(|| RULES.get_or_init(|| (0..=8).map(gauss_legendre_rule).collect())[n].as_slice())
 }
 
 fn gauss_legendre_rule(n: usize) -> Vec<(f64, f64)> {
