@@ -35,8 +35,8 @@ pub(crate) fn normal_compliance(
 /// the union U of the cells' nodes (sorted in the paged order) and L, D the
 /// blocks of C_UU below and on its diagonal, F = Qᵀ C Q = X + Xᵀ with
 /// X = Qᵀ (L + D/2) Q. Only the blocks C(a, c) with c ≤ a in U are read
-/// (half of them), node row a by node row: u_j(a) = Σ_{c < a} C(a, c) q_jc
-/// + ½ C(a, a) q_ja, then X_ij = Σ_{a ∈ i} q_ia · u_j(a). The rows are cut
+/// (half of them), node row a by node row: u_j(a) is Σ_{c < a} C(a, c) q_jc
+/// plus ½ C(a, a) q_ja, then X_ij = Σ_{a ∈ i} q_ia · u_j(a). The rows are cut
 /// into parts of equal work; every u_j(a) is summed over c in U's order
 /// within one part, so the round-off does not depend on the thread count.
 fn normal_compliance_paged(
