@@ -392,6 +392,16 @@ mod tests {
                 let t = &cycle.bodies.tensors[b];
                 let fast = normal_compliance(t, &cycle.bodies.grids[b], &cands, b);
                 assert!(cycle.bodies.grids[b].pages(t).is_some());
+                // the same bits on 1 and 3 threads (fixed summation order)
+                for threads in [1, 3] {
+                    let pool = rayon::ThreadPoolBuilder::new()
+                        .num_threads(threads)
+                        .build()
+                        .unwrap();
+                    let again =
+                        pool.install(|| normal_compliance(t, &cycle.bodies.grids[b], &cands, b));
+                    assert_eq!(again, fast, "{threads} threads");
+                }
                 let slow = normal_compliance_streamed(t, &cands, b);
                 let scale = slow.iter().fold(0.0f64, |m, x| m.max(x.abs()));
                 let diff = fast
