@@ -37,7 +37,7 @@
 
 use std::sync::{Arc, OnceLock};
 
-use crate::compliance::flank::{cross, face_shape, norm};
+use crate::compliance::flank::{cross, face_shape, norm, FlankFace, FlankNodes};
 use crate::compliance::pages::TensorPages;
 use crate::compliance::ComplianceTensor;
 use crate::error::FlankError;
@@ -99,11 +99,17 @@ pub fn directional(
 /// Gauss–Legendre points and weights on [−1, 1] (Newton on P_n); the
 /// rules up to 8 points are computed once and then copied.
 pub fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
-    static RULES: std::sync::OnceLock<Vec<Vec<(f64, f64)>>> = std::sync::OnceLock::new();
-    if n <= 8 {
-        return RULES.get_or_init(|| (0..=8).map(gauss_legendre_rule).collect())[n].clone();
+    match gauss_legendre_cached(n) {
+        Some(r) => r.to_vec(),
+        None => gauss_legendre_rule(n),
     }
-    gauss_legendre_rule(n)
+}
+
+/// The rule of [`gauss_legendre`] without a copy, for n ≤ 8 (the same
+/// values; `None` above).
+pub fn gauss_legendre_cached(n: usize) -> Option<&'static [(f64, f64)]> {
+    static RULES: std::sync::OnceLock<Vec<Vec<(f64, f64)>>> = std::sync::OnceLock::new();
+    (n <= 8).then(|| RULES.get_or_init(|| (0..=8).map(gauss_legendre_rule).collect())[n].as_slice())
 }
 
 fn gauss_legendre_rule(n: usize) -> Vec<(f64, f64)> {
@@ -133,6 +139,58 @@ fn gauss_legendre_rule(n: usize) -> Vec<(f64, f64)> {
     out
 }
 
+/// A box in (u, v) holding face `f` ([`FlankInterpolator::locate_near`]
+/// skips the faces whose box misses the point): the box of its nodes,
+/// widened per coordinate by the largest bulge of a quadratic edge
+/// (|m − (a + b)/2| for corners a, b and midside m: the edge
+/// a(1 − t)(1 − 2t) + 4m t(1 − t) + b t(2t − 1) leaves its chord by
+/// 4t(1 − t)(m − (a + b)/2), at most that), and by 1e-6 of its size more,
+/// far beyond the 1e-9 in ξ by which [`FlankInterpolator::on_face`]
+/// accepts a point past an edge. The face lies within its edges, so every
+/// point a face accepts is in its box.
+fn face_box(flank: &FlankNodes, f: &FlankFace) -> [f64; 4] {
+    let uv = |a: u32| flank.uv[a as usize];
+    let nodes = &f.nodes;
+    let mut b = [
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+    ];
+    for &a in nodes {
+        let [u, v] = uv(a);
+        b = [b[0].min(u), b[1].min(v), b[2].max(u), b[3].max(v)];
+    }
+    // edges (corner, corner, midside)
+    let corners = if nodes.len() == 8 { 4 } else { 3 };
+    let mut bulge = [0.0f64; 2];
+    if nodes.len() == 2 * corners {
+        for e in 0..corners {
+            let (p, q, m) = (
+                uv(nodes[e]),
+                uv(nodes[(e + 1) % corners]),
+                uv(nodes[corners + e]),
+            );
+            for i in 0..2 {
+                bulge[i] = bulge[i].max((m[i] - 0.5 * (p[i] + q[i])).abs());
+            }
+        }
+    } else {
+        // not a quadratic face of the known kinds: never skipped
+        return [
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::INFINITY,
+        ];
+    }
+    let pad = [
+        bulge[0] + 1e-6 * (b[2] - b[0]),
+        bulge[1] + 1e-6 * (b[3] - b[1]),
+    ];
+    [b[0] - pad[0], b[1] - pad[1], b[2] + pad[0], b[3] + pad[1]]
+}
+
 /// Point location and load spreading on the flank of a compliance tensor.
 pub struct FlankInterpolator<'a> {
     tensor: &'a ComplianceTensor,
@@ -142,8 +200,10 @@ pub struct FlankInterpolator<'a> {
 /// The face search structure of a tensor's flank sets, built once by
 /// [`FlankInterpolator::new`] and shareable between interpolators of the
 /// same tensor ([`FlankInterpolator::with_grids`]). It also carries the
-/// tensor's paged node blocks ([`FlankGrids::pages`]), built on first use.
-pub struct FlankGrids(Vec<Grid>, OnceLock<TensorPages>);
+/// tensor's paged node blocks ([`FlankGrids::pages`]), built on first use,
+/// and per face a box in (u, v) that holds it ([`face_box`]): a point
+/// outside a face's box is not tried on it (no Newton solve).
+pub struct FlankGrids(Vec<Grid>, OnceLock<TensorPages>, Vec<[f64; 4]>);
 
 impl FlankGrids {
     /// The paged node blocks of `tensor` (the tensor these grids were
@@ -254,9 +314,10 @@ impl<'a> FlankInterpolator<'a> {
                 buckets,
             });
         }
+        let boxes = flank.faces.iter().map(|f| face_box(flank, f)).collect();
         Ok(FlankInterpolator {
             tensor,
-            grids: Arc::new(FlankGrids(grids, OnceLock::new())),
+            grids: Arc::new(FlankGrids(grids, OnceLock::new(), boxes)),
         })
     }
 
@@ -296,8 +357,14 @@ impl<'a> FlankInterpolator<'a> {
         v: f64,
         hint: Option<usize>,
     ) -> Option<(usize, [f64; 2])> {
+        // a face whose box does not hold (u, v) would reject it: skipped
+        let boxes = &self.grids.2;
+        let within = |fi: usize| {
+            let b = boxes[fi];
+            u >= b[0] && u <= b[2] && v >= b[1] && v <= b[3]
+        };
         if let Some(fi) = hint {
-            if self.tensor.flank.faces.get(fi).map(|f| f.set as usize) == Some(set) {
+            if self.tensor.flank.faces.get(fi).map(|f| f.set as usize) == Some(set) && within(fi) {
                 if let Some(xi) = self.on_face(fi, u, v) {
                     return Some((fi, xi));
                 }
@@ -305,9 +372,12 @@ impl<'a> FlankInterpolator<'a> {
         }
         let grid = self.grids.0.get(set)?;
         let b = grid.bucket(u, v)?;
-        grid.buckets[b]
-            .iter()
-            .find_map(|&fi| self.on_face(fi as usize, u, v).map(|xi| (fi as usize, xi)))
+        grid.buckets[b].iter().find_map(|&fi| {
+            let fi = fi as usize;
+            within(fi)
+                .then(|| self.on_face(fi, u, v).map(|xi| (fi, xi)))
+                .flatten()
+        })
     }
 
     /// Reference coordinates of (u, v) on face `fi` if it lies on it
@@ -648,6 +718,89 @@ mod tests {
                     3
                 )
                 .is_err());
+        }
+    }
+
+    /// The face boxes skip only faces that reject the point: located with
+    /// and without them, every point (on faces, on edges, past the flank,
+    /// with and without a hint) gets the same face and ξ, on straight and
+    /// on bulged (midside nodes moved) faces.
+    #[test]
+    fn face_boxes_skip_only_rejecting_faces() {
+        for kind in [BoxElement::Hex20, BoxElement::Wedge15] {
+            let (model, flank) = box_flank(kind);
+            let (mut t, _) =
+                compliance_tensor("box", &model, &flank, &ComplianceOptions::default()).unwrap();
+            for bulged in [false, true] {
+                if bulged {
+                    // midside nodes moved across their edge by a tenth of it
+                    let faces = t.flank.faces.clone();
+                    for f in &faces {
+                        let k = if f.nodes.len() == 8 { 4 } else { 3 };
+                        for e in 0..k {
+                            let (p, q) = (
+                                t.flank.uv[f.nodes[e] as usize],
+                                t.flank.uv[f.nodes[(e + 1) % k] as usize],
+                            );
+                            let m = &mut t.flank.uv[f.nodes[k + e] as usize];
+                            let d = [q[0] - p[0], q[1] - p[1]];
+                            *m = [
+                                0.5 * (p[0] + q[0]) - 0.1 * d[1],
+                                0.5 * (p[1] + q[1]) + 0.1 * d[0],
+                            ];
+                        }
+                    }
+                }
+                let it = FlankInterpolator::new(&t).unwrap();
+                let set = t.flank.set_index("TOP").unwrap();
+                let unfiltered = |u: f64, v: f64, hint: Option<usize>| {
+                    if let Some(fi) = hint {
+                        if let Some(xi) = it.on_face(fi, u, v) {
+                            return Some((fi, xi));
+                        }
+                    }
+                    let grid = &it.grids.0[set];
+                    let b = grid.bucket(u, v)?;
+                    grid.buckets[b]
+                        .iter()
+                        .find_map(|&fi| it.on_face(fi as usize, u, v).map(|xi| (fi as usize, xi)))
+                };
+                let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+                for p in &t.flank.uv {
+                    for i in 0..2 {
+                        lo[i] = lo[i].min(p[i]);
+                        hi[i] = hi[i].max(p[i]);
+                    }
+                }
+                // a grid through the nodes' coordinates and between them
+                let mut us: Vec<f64> = t.flank.uv.iter().map(|p| p[0]).collect();
+                let mut vs: Vec<f64> = t.flank.uv.iter().map(|p| p[1]).collect();
+                for x in [&mut us, &mut vs] {
+                    x.sort_by(f64::total_cmp);
+                    x.dedup();
+                }
+                let steps = |lo: f64, hi: f64, nodes: &[f64]| {
+                    let mut out: Vec<f64> = (0..=53)
+                        .map(|i| lo - 0.05 * (hi - lo) + 1.1 * (hi - lo) * i as f64 / 53.0)
+                        .collect();
+                    out.extend_from_slice(nodes);
+                    out
+                };
+                let (mut found, mut hinted) = (0, 0);
+                for &u in &steps(lo[0], hi[0], &us) {
+                    for &v in &steps(lo[1], hi[1], &vs) {
+                        let a = it.locate(set, u, v);
+                        assert_eq!(a, unfiltered(u, v, None), "({u}, {v}), bulged {bulged}");
+                        found += a.is_some() as usize;
+                        for hint in [0, t.flank.faces.len() / 2, t.flank.faces.len() - 1] {
+                            let a = it.locate_near(set, u, v, Some(hint));
+                            assert_eq!(a, unfiltered(u, v, Some(hint)), "({u}, {v}) hint {hint}");
+                            hinted += a.is_some() as usize;
+                        }
+                    }
+                }
+                assert!(found > 1000 && hinted > 3000, "{found} {hinted}");
+            }
         }
     }
 

@@ -42,7 +42,7 @@
 
 use std::f64::consts::PI;
 
-use crate::compliance::interpolation::gauss_legendre;
+use crate::compliance::interpolation::{gauss_legendre, gauss_legendre_cached};
 
 /// How the LTCA treats the local contact deformation.
 #[derive(
@@ -111,11 +111,18 @@ pub struct Cell {
 /// (N) spread uniformly over cell `j`, on the half-space pair with contact
 /// modulus `e_star` (MPa). The average uses `samples`² Gauss points.
 pub fn cell_influence(i: &Cell, j: &Cell, e_star: f64, samples: usize) -> f64 {
-    let g = gauss_legendre(samples);
+    let owned;
+    let g = match gauss_legendre_cached(samples) {
+        Some(g) => g,
+        None => {
+            owned = gauss_legendre(samples);
+            &owned[..]
+        }
+    };
     let p = 1.0 / (4.0 * j.c * j.l);
     let mut sum = 0.0;
-    for &(s, ws) in &g {
-        for &(t, wt) in &g {
+    for &(s, ws) in g {
+        for &(t, wt) in g {
             let x = i.across + s * i.c - j.across;
             let y = i.along + t * i.l - j.along;
             sum += 0.25 * ws * wt * rectangle_influence(x, y, j.c, j.l);

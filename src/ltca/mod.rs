@@ -10,7 +10,8 @@
 //!   (Tresca QPs, fixed point, polish) and cross-checked by Lemke's method.
 //! * [`cycle`]: spur/helical pairs over a mesh cycle (line contact);
 //!   [`bevel`]: bevel/hypoid pairs (candidate points on each pair's
-//!   contact-ellipse major axis), both through [`model::LtcaBodies`];
+//!   contact-ellipse major axis), both through [`model::LtcaBodies`]
+//!   (its compliance F from the tensors: [`influence`]);
 //!   [`edges`]: a bevel pair's edge contacts as candidate lines (seed 000),
 //!   load sharing and the functional contact ratio in
 //!   [`crate::load_sharing`], [`te_fit`]: the loaded TE's quadratic fit over a cycle (seed 003).
@@ -24,6 +25,7 @@ pub mod edges;
 pub mod friction;
 pub mod friction_settings;
 pub mod hertz_elliptic;
+pub mod influence;
 pub mod local;
 pub mod lubricated;
 pub mod model;

@@ -1,0 +1,505 @@
+//! The tensor part of the LTCA's compliance F (see [`crate::ltca::model`]):
+//! per body, F_ij = n_iᵀ C(i, j) n_j between the candidates' contact cells,
+//! C(i, j) = Σ_{a ∈ i} Σ_{c ∈ j} w_ia w_jc C(a, c) from the node blocks of
+//! the body's compliance tensor, and with friction the four directional
+//! blocks (normal and tangent). The paged path
+//! ([`crate::compliance::pages`]) reads only the blocks C(a, c) with c ≤ a
+//! on the cells' node union (C is exactly symmetric); the streamed path,
+//! the fallback and the reference of the tests, reads the tensor's rows.
+
+use crate::compliance::interpolation::FlankGrids;
+use crate::compliance::pages::{TensorPages, PAGE};
+use crate::compliance::ComplianceTensor;
+use crate::geometry::vec3::dot;
+use crate::ltca::model::Candidate;
+
+/// n₍b₎ᵢᵀ C(i, j) n₍b₎ⱼ of one body for all candidate pairs (n × n,
+/// row-major): from the tensor's paged node blocks
+/// ([`crate::compliance::pages`], built on first use and kept for the
+/// next positions), else as [`normal_compliance_streamed`].
+pub(crate) fn normal_compliance(
+    t: &ComplianceTensor,
+    grids: &FlankGrids,
+    cands: &[Candidate],
+    b: usize,
+) -> Vec<f64> {
+    match grids.pages(t) {
+        Some(p) => normal_compliance_paged(t, p, cands, b),
+        None => normal_compliance_streamed(t, cands, b),
+    }
+}
+
+/// [`normal_compliance`] from the paged blocks, through C's symmetry
+/// (C(a, c) = C(c, a)ᵀ, exact: the tensor is mirrored from its lower
+/// triangle): with Q the 3|U| × n matrix of the loads q_jc = w_jc n_j on
+/// the union U of the cells' nodes (sorted in the paged order) and L, D the
+/// blocks of C_UU below and on its diagonal, F = Qᵀ C Q = X + Xᵀ with
+/// X = Qᵀ (L + D/2) Q. Only the blocks C(a, c) with c ≤ a in U are read
+/// (half of them), node row a by node row: u_j(a) is Σ_{c < a} C(a, c) q_jc
+/// plus ½ C(a, a) q_ja, then X_ij = Σ_{a ∈ i} q_ia · u_j(a). The rows are cut
+/// into parts of equal work; every u_j(a) is summed over c in U's order
+/// within one part, so the round-off does not depend on the thread count.
+fn normal_compliance_paged(
+    t: &ComplianceTensor,
+    pages: &TensorPages,
+    cands: &[Candidate],
+    b: usize,
+) -> Vec<f64> {
+    use rayon::prelude::*;
+    let n = cands.len();
+    // U in the paged order: (position, node)
+    let mut nodes: Vec<(usize, u32)> = cell_nodes(cands, b)
+        .into_iter()
+        .map(|a| (pages.position(a), a))
+        .collect();
+    nodes.sort_unstable();
+    let nu = nodes.len();
+    // node → its index in U
+    let mut by_node: Vec<(u32, usize)> = nodes
+        .iter()
+        .enumerate()
+        .map(|(k, &(_, a))| (a, k))
+        .collect();
+    by_node.sort_unstable();
+    let index = |a: u32| {
+        by_node[by_node
+            .binary_search_by_key(&a, |e| e.0)
+            .expect("node of a cell")]
+        .1
+    };
+    // the cells in U's indices: (k, w)
+    let cells: Vec<Vec<(usize, f64)>> = cands
+        .iter()
+        .map(|c| {
+            c.loads[b]
+                .weights
+                .iter()
+                .map(|&(a, w)| (index(a), w))
+                .collect()
+        })
+        .collect();
+    // the loads per node, by U index: (candidate j, q = w_jc n_j)
+    let mut entries: Vec<(usize, usize, [f64; 3])> = Vec::new();
+    for (j, cell) in cells.iter().enumerate() {
+        let nj = cands[j].normals[b];
+        for &(k, w) in cell {
+            entries.push((k, j, [w * nj[0], w * nj[1], w * nj[2]]));
+        }
+    }
+    entries.sort_by_key(|e| (e.0, e.1));
+    let mut start = vec![0usize; nu + 1];
+    for e in &entries {
+        start[e.0 + 1] += 1;
+    }
+    for k in 0..nu {
+        start[k + 1] += start[k];
+    }
+    // page and slot of each node of U
+    let page_of: Vec<usize> = nodes.iter().map(|&(p, _)| p / PAGE).collect();
+    let slot: Vec<usize> = nodes.iter().map(|&(p, _)| p % PAGE).collect();
+    // rows cut into parts of about equal work (row a reads a + 1 blocks)
+    let parts: Vec<(usize, usize)> = {
+        const PARTS: usize = 8;
+        let total = nu * (nu + 1) / 2;
+        let mut out = Vec::with_capacity(PARTS);
+        let (mut lo, mut acc) = (0, 0);
+        for k in 0..nu {
+            acc += k + 1;
+            if acc * PARTS >= total * (out.len() + 1) || k + 1 == nu {
+                out.push((lo, k + 1));
+                lo = k + 1;
+            }
+        }
+        out
+    };
+    // row a of u += C(a, c) q_jc for the loads (j, q_jc) at c
+    fn add(row: &mut [f64], c: &[f64], loads: impl Iterator<Item = (usize, [f64; 3])>) {
+        for (j, q) in loads {
+            let x = &mut row[3 * j..3 * j + 3];
+            x[0] += c[0] * q[0] + c[1] * q[1] + c[2] * q[2];
+            x[1] += c[3] * q[0] + c[4] * q[1] + c[5] * q[2];
+            x[2] += c[6] * q[0] + c[7] * q[1] + c[8] * q[2];
+        }
+    }
+    // u[(a n + j) 3 + s]: component s of u_j at U[a]
+    let blocks: Vec<Vec<f64>> = parts
+        .par_iter()
+        .map(|&(lo, hi)| {
+            let mut u = vec![0.0; (hi - lo) * n * 3];
+            for kc in 0..hi {
+                let loads = &entries[start[kc]..start[kc + 1]];
+                let (pc, ic) = (page_of[kc], slot[kc]);
+                let mut k = lo.max(kc);
+                if k == kc && kc < hi {
+                    // the diagonal block, halved
+                    let page = &pages.page(t, pc, pc)[ic * PAGE * 9..][..PAGE * 9];
+                    let half: Vec<(usize, [f64; 3])> = loads
+                        .iter()
+                        .map(|&(_, j, q)| (j, [0.5 * q[0], 0.5 * q[1], 0.5 * q[2]]))
+                        .collect();
+                    let row = &mut u[(kc - lo) * n * 3..][..n * 3];
+                    add(row, &page[9 * ic..][..9], half.iter().copied());
+                    k += 1;
+                }
+                while k < hi {
+                    // a run of U on one page
+                    let r = page_of[k];
+                    let mut end = k + 1;
+                    while end < hi && page_of[end] == r {
+                        end += 1;
+                    }
+                    let page = &pages.page(t, r, pc)[ic * PAGE * 9..][..PAGE * 9];
+                    for ka in k..end {
+                        let row = &mut u[(ka - lo) * n * 3..][..n * 3];
+                        let c = &page[9 * slot[ka]..][..9];
+                        add(row, c, loads.iter().map(|&(_, j, q)| (j, q)));
+                    }
+                    k = end;
+                }
+            }
+            u
+        })
+        .collect();
+    let row = |k: usize| -> &[f64] {
+        let p = parts.partition_point(|&(_, hi)| hi <= k);
+        let (lo, _) = parts[p];
+        &blocks[p][(k - lo) * n * 3..][..n * 3]
+    };
+    // X_ij = Σ_{a ∈ i} w_ia n_i · u_j(a), row i of X in x[i n ..]
+    let x: Vec<Vec<f64>> = (0..n)
+        .into_par_iter()
+        .map(|i| {
+            let ni = cands[i].normals[b];
+            let mut xi = vec![0.0; n];
+            for &(k, w) in &cells[i] {
+                let m = [w * ni[0], w * ni[1], w * ni[2]];
+                for (xij, uj) in xi.iter_mut().zip(row(k).chunks_exact(3)) {
+                    *xij += m[0] * uj[0] + m[1] * uj[1] + m[2] * uj[2];
+                }
+            }
+            xi
+        })
+        .collect();
+    // F = X + Xᵀ: exactly symmetric
+    let mut f = vec![0.0; n * n];
+    for i in 0..n {
+        for j in 0..n {
+            f[i * n + j] = x[i][j] + x[j][i];
+        }
+    }
+    f
+}
+
+/// n₍b₎ᵢᵀ C(i, j) n₍b₎ⱼ as computed before [`normal_compliance`] (kept to
+/// check it): for each j the displacement u_j = C (Σ_c w_c n_j e_c) is
+/// formed on the union U of the cells' nodes, reading C by rows of the
+/// loaded nodes c (C is symmetric) so that each row is streamed over the
+/// sorted U; then F_ij = Σ_{a ∈ i} w_a n_iᵀ u_j(a).
+fn normal_compliance_streamed(t: &ComplianceTensor, cands: &[Candidate], b: usize) -> Vec<f64> {
+    use rayon::prelude::*;
+    let n = cands.len();
+    let dim = t.dim();
+    let nodes = cell_nodes(cands, b);
+    let index = |a: u32| nodes.binary_search(&a).expect("node of a cell");
+    let columns: Vec<Vec<f64>> = (0..n)
+        .into_par_iter()
+        .map(|j| {
+            let nj = cands[j].normals[b];
+            let mut u = vec![0.0; 3 * nodes.len()];
+            for &(c, w) in &cands[j].loads[b].weights {
+                for (s, &ns) in nj.iter().enumerate() {
+                    let f = w * ns;
+                    if f == 0.0 {
+                        continue;
+                    }
+                    let row = &t.matrix[(3 * c as usize + s) * dim..][..dim];
+                    for (k, &a) in nodes.iter().enumerate() {
+                        let x = &row[3 * a as usize..3 * a as usize + 3];
+                        u[3 * k] += f * x[0];
+                        u[3 * k + 1] += f * x[1];
+                        u[3 * k + 2] += f * x[2];
+                    }
+                }
+            }
+            // F_ij for all i
+            (0..n)
+                .map(|i| {
+                    let ni = cands[i].normals[b];
+                    cands[i].loads[b]
+                        .weights
+                        .iter()
+                        .map(|&(a, w)| {
+                            let k = index(a);
+                            w * (ni[0] * u[3 * k] + ni[1] * u[3 * k + 1] + ni[2] * u[3 * k + 2])
+                        })
+                        .sum::<f64>()
+                })
+                .collect()
+        })
+        .collect();
+    // column j holds F_ij; symmetrise the round-off
+    let mut f = vec![0.0; n * n];
+    for i in 0..n {
+        for j in 0..n {
+            f[i * n + j] = 0.5 * (columns[j][i] + columns[i][j]);
+        }
+    }
+    f
+}
+
+/// The four directional blocks [C_nn, C_nt, C_tn, C_tt] of one body for
+/// all candidate pairs (n × n, row-major; seed 001's c^{kl}_{ab} =
+/// a_kᵀ C^{kl} b_l with the candidates' normals and tangents in the body's
+/// own frame): per column j the displacements under the cell load along
+/// n_j and along t_j, read back with every cell's weights along n_i and
+/// t_i (as [`normal_compliance`], two load directions). C_nn and C_tt are
+/// symmetrised and C_tn set to C_ntᵀ (reciprocity; the round-off of the
+/// column-wise products is all that differs).
+pub(crate) fn directional_compliance(
+    t: &ComplianceTensor,
+    cands: &[Candidate],
+    b: usize,
+) -> [Vec<f64>; 4] {
+    use rayon::prelude::*;
+    let n = cands.len();
+    let dim = t.dim();
+    let nodes = cell_nodes(cands, b);
+    let index = |a: u32| nodes.binary_search(&a).expect("node of a cell");
+    // columns[j] = [(n_i·u(n_j), t_i·u(n_j), n_i·u(t_j), t_i·u(t_j)) for all i]
+    let columns: Vec<Vec<[f64; 4]>> = (0..n)
+        .into_par_iter()
+        .map(|j| {
+            let dirs = [cands[j].normals[b], cands[j].tangents[b]];
+            let mut u = [vec![0.0; 3 * nodes.len()], vec![0.0; 3 * nodes.len()]];
+            for &(c, w) in &cands[j].loads[b].weights {
+                for s in 0..3 {
+                    let f = [w * dirs[0][s], w * dirs[1][s]];
+                    if f == [0.0, 0.0] {
+                        continue;
+                    }
+                    let row = &t.matrix[(3 * c as usize + s) * dim..][..dim];
+                    for (k, &a) in nodes.iter().enumerate() {
+                        let x = &row[3 * a as usize..3 * a as usize + 3];
+                        for d in 0..2 {
+                            u[d][3 * k] += f[d] * x[0];
+                            u[d][3 * k + 1] += f[d] * x[1];
+                            u[d][3 * k + 2] += f[d] * x[2];
+                        }
+                    }
+                }
+            }
+            (0..n)
+                .map(|i| {
+                    let (ni, ti) = (cands[i].normals[b], cands[i].tangents[b]);
+                    let mut out = [0.0; 4];
+                    for &(a, w) in &cands[i].loads[b].weights {
+                        let k = index(a);
+                        let un = [u[0][3 * k], u[0][3 * k + 1], u[0][3 * k + 2]];
+                        let ut = [u[1][3 * k], u[1][3 * k + 1], u[1][3 * k + 2]];
+                        out[0] += w * dot(ni, un);
+                        out[1] += w * dot(ni, ut);
+                        out[2] += w * dot(ti, un);
+                        out[3] += w * dot(ti, ut);
+                    }
+                    out
+                })
+                .collect()
+        })
+        .collect();
+    let mut blocks = [
+        vec![0.0; n * n],
+        vec![0.0; n * n],
+        vec![0.0; n * n],
+        vec![0.0; n * n],
+    ];
+    for i in 0..n {
+        for j in 0..n {
+            // columns[j][i] = [nn_ij, nt_ij, tn_ij, tt_ij]
+            let (a, bt) = (columns[j][i], columns[i][j]);
+            blocks[0][i * n + j] = 0.5 * (a[0] + bt[0]);
+            blocks[3][i * n + j] = 0.5 * (a[3] + bt[3]);
+            // nt_ij and tn_ji are the same entry by reciprocity
+            let nt = 0.5 * (a[1] + bt[2]);
+            blocks[1][i * n + j] = nt;
+            blocks[2][j * n + i] = nt;
+        }
+    }
+    blocks
+}
+
+/// The sorted union of the flank nodes that body `b`'s cells load.
+pub(crate) fn cell_nodes(cands: &[Candidate], b: usize) -> Vec<u32> {
+    let mut nodes: Vec<u32> = cands
+        .iter()
+        .flat_map(|c| c.loads[b].weights.iter().map(|&(a, _)| a))
+        .collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    nodes
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::compliance::body::BodyMeshOptions;
+    use crate::ltca::cycle::{LtcaCycle, LtcaOptions};
+    use std::path::{Path, PathBuf};
+    use std::time::Instant;
+
+    /// Seed 002's LTCA cycle on bodies of flank size `flank`, base size
+    /// `base` (mm), meshed under `work`, K = 20.
+    fn seed002_cycle(flank: f64, base: f64, work: &Path, cache: Option<PathBuf>) -> LtcaCycle {
+        let scene = crate::scene::read_scene(Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/papers/seed002-spur/scene.toml"
+        )))
+        .unwrap();
+        let o = LtcaOptions {
+            out: work.join("bodies"),
+            mesh: BodyMeshOptions {
+                flank_size: Some(flank),
+                base_size: Some(base),
+                ..Default::default()
+            },
+            points_per_line: Some(20),
+            cache,
+            quiet: true,
+            ..Default::default()
+        };
+        LtcaCycle::new(&scene, &o).unwrap()
+    }
+
+    /// Largest |F_fast − F_streamed| over the largest |F_streamed| of both
+    /// bodies at the seed 002 positions in double and single contact.
+    fn fast_against_streamed(flank: f64, base: f64, work: PathBuf, cache: Option<PathBuf>) {
+        let cycle = seed002_cycle(flank, base, &work, cache);
+        let (a, e) = cycle.pair.engagement(cycle.pair.middle());
+        let (l, h) = cycle.pair.single_contact();
+        let mut rolls = vec![0.5 * (a + l), 0.5 * (l + h)];
+        // and a few more across the pitch
+        let pitch = cycle.pair.pinion().angular_pitch();
+        rolls.extend((0..5).map(|i| 0.5 * (a + e) - 0.5 * pitch + pitch * i as f64 / 5.0));
+        let mut sizes = Vec::new();
+        for roll in rolls {
+            let position = cycle.tca.position(roll).unwrap();
+            let frames = cycle.tca.frames(roll);
+            let (built, _) = cycle
+                .bodies
+                .candidates(&position, &frames, &cycle.settings)
+                .unwrap();
+            let cands: Vec<Candidate> = built.into_iter().flatten().map(|(c, _)| c).collect();
+            for b in 0..2 {
+                let t = &cycle.bodies.tensors[b];
+                let fast = normal_compliance(t, &cycle.bodies.grids[b], &cands, b);
+                assert!(cycle.bodies.grids[b].pages(t).is_some());
+                // the same bits on 1 and 3 threads (fixed summation order)
+                for threads in [1, 3] {
+                    let pool = rayon::ThreadPoolBuilder::new()
+                        .num_threads(threads)
+                        .build()
+                        .unwrap();
+                    let again =
+                        pool.install(|| normal_compliance(t, &cycle.bodies.grids[b], &cands, b));
+                    assert_eq!(again, fast, "{threads} threads");
+                }
+                let slow = normal_compliance_streamed(t, &cands, b);
+                let scale = slow.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                let diff = fast
+                    .iter()
+                    .zip(&slow)
+                    .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+                assert!(scale > 0.0);
+                assert!(
+                    diff <= 1e-12 * scale,
+                    "roll {:.4}°, body {b}: |ΔF| {diff:e} of {scale:e}",
+                    roll.to_degrees()
+                );
+                // exactly symmetric
+                let n = cands.len();
+                for i in 0..n {
+                    for j in 0..n {
+                        assert_eq!(fast[i * n + j], fast[j * n + i]);
+                    }
+                }
+            }
+            sizes.push((cands.len(), cell_nodes(&cands, 0).len()));
+            // a tensor that is not the pages' one falls back to the streamed F
+            let other = &cycle.bodies.tensors[1];
+            assert!(cycle.bodies.grids[0].pages(other).is_none());
+            let fallback = normal_compliance(other, &cycle.bodies.grids[0], &cands, 1);
+            assert_eq!(fallback, normal_compliance_streamed(other, &cands, 1));
+        }
+        eprintln!(
+            "candidates, pinion cell nodes per position: {sizes:?}; pages built {} + {} MB",
+            cycle.bodies.grids[0].page_bytes() / 1_000_000,
+            cycle.bodies.grids[1].page_bytes() / 1_000_000
+        );
+    }
+
+    #[test]
+    fn node_by_node_compliance_matches_the_streamed_one() {
+        let work = std::env::temp_dir().join(format!("flank_ltca_fast_f_{}", std::process::id()));
+        fast_against_streamed(1.5, 3.0, work.clone(), None);
+        let _ = std::fs::remove_dir_all(work);
+    }
+
+    /// The same at the benchmark's tensors (flank 0.475 mm, base 1 mm;
+    /// `cargo bench --bench ltca` computes and caches them in
+    /// target/ltca-bench/cache, about 3 min): `--ignored`.
+    #[test]
+    #[ignore]
+    fn node_by_node_compliance_matches_the_streamed_one_at_the_bench_mesh() {
+        let work = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/ltca-bench");
+        fast_against_streamed(0.475, 1.0, work.clone(), Some(work.join("cache")));
+    }
+
+    /// Wall time of the two orders of F's tensor part on the benchmark's
+    /// tensors, alternated in one process (medians of 15 rounds of 10
+    /// calls per body and position): `--ignored --nocapture`.
+    #[test]
+    #[ignore]
+    fn time_node_by_node_against_streamed() {
+        let work = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/ltca-bench");
+        let cycle = seed002_cycle(0.475, 1.0, &work, Some(work.join("cache")));
+        let (a, _) = cycle.pair.engagement(cycle.pair.middle());
+        let (l, h) = cycle.pair.single_contact();
+        for (name, roll) in [("double", 0.5 * (a + l)), ("single", 0.5 * (l + h))] {
+            let position = cycle.tca.position(roll).unwrap();
+            let frames = cycle.tca.frames(roll);
+            let (built, _) = cycle
+                .bodies
+                .candidates(&position, &frames, &cycle.settings)
+                .unwrap();
+            let cands: Vec<Candidate> = built.into_iter().flatten().map(|(c, _)| c).collect();
+            let mut times = [Vec::new(), Vec::new()];
+            for _ in 0..15 {
+                for (m, times) in times.iter_mut().enumerate() {
+                    let t0 = Instant::now();
+                    for _ in 0..10 {
+                        for b in 0..2 {
+                            let t = &cycle.bodies.tensors[b];
+                            std::hint::black_box(if m == 0 {
+                                normal_compliance(t, &cycle.bodies.grids[b], &cands, b)
+                            } else {
+                                normal_compliance_streamed(t, &cands, b)
+                            });
+                        }
+                    }
+                    times.push(t0.elapsed().as_secs_f64() / 10.0);
+                }
+            }
+            let median = |v: &mut Vec<f64>| {
+                v.sort_by(f64::total_cmp);
+                v[v.len() / 2]
+            };
+            let (new, old) = (median(&mut times[0]), median(&mut times[1]));
+            eprintln!(
+                "{name} contact, {} candidates: F (both bodies) node by node {:.3} ms, streamed {:.3} ms, new/old {:.3}",
+                cands.len(),
+                1e3 * new,
+                1e3 * old,
+                new / old
+            );
+        }
+    }
+}
