@@ -29,7 +29,7 @@ use crate::mesh_cycle::bevel::{BevelCycle, BevelRunOptions};
 use crate::scene::BevelScene;
 use crate::tca::point_contact::ARCSEC_PER_RAD;
 
-use super::{best_ltca, errors, markdown, plot, CompareOptions, MethodRun};
+use super::{best_ltca, errors, markdown, per_pair, plot, CompareOptions, MethodRun};
 
 /// The hypoid comparison; writes `compare.json`, `compare.md` and
 /// `error_vs_time.{svg,png}` into `options.out`.
@@ -146,11 +146,7 @@ pub fn compare_bevel(
             pair_force_n: steps.iter().map(|s| s.pair_force_n.clone()).collect(),
             pair_tangential_n: steps
                 .iter()
-                .map(|s| {
-                    let mut t = s.friction_force_n.clone();
-                    t.resize(s.pair_force_n.len(), 0.0);
-                    t
-                })
+                .map(|s| per_pair(&s.friction_force_n, s.pair_force_n.len()))
                 .collect(),
             // the pinion's loaded rotation (µrad) from the TE at the gear
             te_urad: steps

@@ -112,6 +112,14 @@ impl CompareOptions {
     }
 }
 
+/// An FE step's friction force per pair, padded with zeros to its
+/// `pairs` (a frictionless step has none).
+fn per_pair(friction_n: &[f64], pairs: usize) -> Vec<f64> {
+    let mut t = friction_n.to_vec();
+    t.resize(pairs, 0.0);
+    t
+}
+
 /// One run of either method over the positions.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct MethodRun {
@@ -325,11 +333,7 @@ fn fe_run(
         pair_force_n: steps.iter().map(|s| s.pair_force_n.clone()).collect(),
         pair_tangential_n: steps
             .iter()
-            .map(|s| {
-                let mut t = s.friction_force_n.clone();
-                t.resize(s.pair_force_n.len(), 0.0);
-                t
-            })
+            .map(|s| per_pair(&s.friction_force_n, s.pair_force_n.len()))
             .collect(),
         te_urad: steps.iter().map(|s| s.te_urad).collect(),
         pmax_mpa: steps
