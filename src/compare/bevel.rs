@@ -172,7 +172,7 @@ pub fn compare_bevel(
         errors(r, &reference, &every);
     }
     let best = best_ltca(&runs);
-    let plots = plot::plot_error_vs_time(out, &fe, &runs).unwrap_or_else(|e| {
+    let plots = plot::plot_error_vs_time(out, &fe, &runs, &reference.label).unwrap_or_else(|e| {
         say(format!("plots not written: {e}"));
         Vec::new()
     });

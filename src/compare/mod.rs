@@ -482,7 +482,7 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
         },
     )?
     .friction_mu;
-    let plots = plot::plot_error_vs_time(out, &fe, &ltca).unwrap_or_else(|e| {
+    let plots = plot::plot_error_vs_time(out, &fe, &ltca, &reference.label).unwrap_or_else(|e| {
         say(format!("plots not written: {e}"));
         Vec::new()
     });

@@ -12,18 +12,30 @@ use crate::compare::MethodRun;
 use crate::error::FlankError;
 use crate::report::figure::{font_available, write_svg_png, Figure};
 
-/// Writes `error_vs_time.{svg,png}` into `out`; returns the file names.
+/// Writes `error_vs_time.{svg,png}` into `out`, its title naming the
+/// reference (`reference_label`: the finest FE run or the extrapolated
+/// one); returns the file names.
 pub fn plot_error_vs_time(
     out: &Path,
     fe: &[MethodRun],
     ltca: &[MethodRun],
+    reference_label: &str,
 ) -> Result<Vec<String>, FlankError> {
-    write_svg_png(out, "error_vs_time", &ErrorVsTime { fe, ltca })
+    write_svg_png(
+        out,
+        "error_vs_time",
+        &ErrorVsTime {
+            fe,
+            ltca,
+            reference_label,
+        },
+    )
 }
 
 struct ErrorVsTime<'a> {
     fe: &'a [MethodRun],
     ltca: &'a [MethodRun],
+    reference_label: &'a str,
 }
 
 impl Figure for ErrorVsTime<'_> {
@@ -31,7 +43,7 @@ impl Figure for ErrorVsTime<'_> {
         (900, 600)
     }
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
-        draw(root, self.fe, self.ltca)
+        draw(root, self.fe, self.ltca, self.reference_label)
     }
 }
 
@@ -39,6 +51,7 @@ fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     fe: &[MethodRun],
     ltca: &[MethodRun],
+    reference_label: &str,
 ) -> Result<(), String> {
     let e = |x: DrawingAreaErrorKind<DB::ErrorType>| x.to_string();
     let text = font_available();
@@ -64,7 +77,7 @@ fn draw<DB: DrawingBackend>(
     b.margin(15);
     if text {
         b.caption(
-            "Error against run time (reference: finest FE contact)",
+            format!("Error against run time (reference: {reference_label})"),
             ("sans-serif", 20),
         )
         .x_label_area_size(45)
