@@ -47,6 +47,18 @@ impl Figure for ErrorVsTime<'_> {
     }
 }
 
+/// A tick of the log time axis: three decimals at most, trailing zeros
+/// dropped (a bare `{v}` printed 0.30000000000000004).
+fn seconds(v: f64) -> String {
+    let s = format!("{v:.3}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s.is_empty() || s == "-" {
+        "0".into()
+    } else {
+        s.into()
+    }
+}
+
 fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     fe: &[MethodRun],
@@ -92,7 +104,7 @@ fn draw<DB: DrawingBackend>(
             .x_desc("run time of the cycle (s)")
             .y_desc("error against the reference")
             .y_label_formatter(&|v| format!("{v:.3}"))
-            .x_label_formatter(&|v| format!("{v}"))
+            .x_label_formatter(&|v| seconds(*v))
             .label_style(("sans-serif", 15))
             .draw()
             .map_err(e)?;
@@ -148,4 +160,16 @@ fn draw<DB: DrawingBackend>(
             .map_err(e)?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn time_ticks_are_short() {
+        assert_eq!(super::seconds(0.30000000000000004), "0.3");
+        assert_eq!(super::seconds(100.0), "100");
+        assert_eq!(super::seconds(0.0005), "0.001");
+        assert_eq!(super::seconds(0.0001), "0");
+        assert_eq!(super::seconds(2.5), "2.5");
+    }
 }
