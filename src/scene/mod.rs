@@ -318,28 +318,11 @@ fn build(cx: &Cx, raw: RawScene) -> Res<Scene> {
     ];
 
     let analyses = analyses::analyses(cx, raw.analyses.as_ref())?;
-    if let (Some(span), Some(e)) = (
+    if let (Some(span), Some(why)) = (
         analyses.ltca_span.clone(),
-        analyses.ltca.as_ref().and_then(|l| l.edges),
+        analyses.ltca.as_ref().and_then(bevel_only_ltca_key),
     ) {
-        return Err(cx.err(
-            span,
-            format!(
-                "`analyses.ltca`: edges = \"{}\" is for bevel and hypoid pairs (their TCA's edge contacts); a spur/helical LTCA always takes its tip corners as candidates",
-                serde_json::to_value(e).ok().and_then(|v| v.as_str().map(String::from)).unwrap_or_default()
-            ),
-        ));
-    }
-    if let (Some(span), Some(n)) = (
-        analyses.ltca_span.clone(),
-        analyses.ltca.as_ref().and_then(|l| l.positions),
-    ) {
-        return Err(cx.err(
-            span,
-            format!(
-                "`analyses.ltca`: positions = {n} is for bevel and hypoid pairs (positions over one mesh cycle); a spur/helical LTCA takes roll_start_deg, roll_end_deg and roll_step_deg, or roll_angles_deg"
-            ),
-        ));
+        return Err(cx.err(span, format!("`analyses.ltca`: {why}")));
     }
     let lubricant = match &raw.lubricant {
         Some(l) => Some(lubricant::lubricant(cx, l)?),
@@ -393,6 +376,21 @@ fn build(cx: &Cx, raw: RawScene) -> Res<Scene> {
         }
     }
     Ok(scene)
+}
+
+/// Why the first `[analyses.ltca]` key that only a bevel/hypoid LTCA reads
+/// is refused on a spur/helical scene, if one is given (the mirror of the
+/// bevel reader's spur-only keys).
+fn bevel_only_ltca_key(l: &analyses::LtcaAnalysis) -> Option<String> {
+    if let Some(e) = l.edges {
+        return Some(format!(
+            "edges = \"{}\" is for bevel and hypoid pairs (their TCA's edge contacts); a spur/helical LTCA always takes its tip corners as candidates",
+            serde_json::to_value(e).ok().and_then(|v| v.as_str().map(String::from)).unwrap_or_default()
+        ));
+    }
+    l.positions.map(|n| format!(
+        "positions = {n} is for bevel and hypoid pairs (positions over one mesh cycle); a spur/helical LTCA takes roll_start_deg, roll_end_deg and roll_step_deg, or roll_angles_deg"
+    ))
 }
 
 #[cfg(test)]
