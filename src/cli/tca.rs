@@ -25,7 +25,9 @@ use anyhow::{bail, Context, Result};
 use flank::geometry::gear_pair::{Misalignment, PairPlacement};
 use flank::scene::AnyScene;
 use flank::tca::line_cycle::{line_tca_cycle, LineTcaCycle};
-use flank::tca::point_contact::{point_tca, PointTca, PointTcaSettings, ARCSEC_PER_RAD};
+use flank::tca::point_contact::{
+    point_tca, point_tca_shared, EllipseMemo, PointTca, PointTcaSettings, ARCSEC_PER_RAD,
+};
 use flank::tca::{Tca, TcaSettings};
 
 #[derive(clap::Args)]
@@ -116,13 +118,30 @@ pub fn run(args: Args) -> Result<()> {
                 crossing_exhaustive: false,
             };
             let t0 = std::time::Instant::now();
-            let with = point_tca(pair.as_ref(), &settings)?;
-            let without = point_tca(
+            // the flank contacts of both runs are the same points: their
+            // ellipse searches are done once
+            let memo = EllipseMemo::default();
+            if settings.search_directions > 0 {
+                eprintln!(
+                    "TCA with edge contact, numerical ellipse search in {} planes at every contact (--search-directions 0 skips it; minutes on a conjugate pinion without ease-off, whose contact is a line) …",
+                    settings.search_directions
+                );
+            }
+            let with = point_tca_shared(pair.as_ref(), &settings, &memo)?;
+            if settings.search_directions > 0 {
+                eprintln!(
+                    "  {} contacts searched in {:.1} s; TCA without edge contact …",
+                    memo.len(),
+                    t0.elapsed().as_secs_f64()
+                );
+            }
+            let without = point_tca_shared(
                 pair.as_ref(),
                 &PointTcaSettings {
                     edges: false,
                     ..settings.clone()
                 },
+                &memo,
             )?;
             let seconds = t0.elapsed().as_secs_f64();
             std::fs::create_dir_all(&args.out)

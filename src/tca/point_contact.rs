@@ -713,8 +713,57 @@ pub fn projection(body: &dyn GearBody, p: V3) -> [f64; 2] {
     }
 }
 
+/// Numerical ellipse searches already done, shared between TCA runs of one
+/// pair (e.g. with and without edge contact, whose flank contacts are the
+/// same points): the search is the costly part of a point TCA (minutes on a
+/// conjugate pinion, whose every surface point is a Newton solve), and its
+/// result depends only on the contact it starts from. Keyed by the bits of
+/// that contact (grid index, gear turn, point, normal, flank parameters)
+/// and of the search settings, so only identical inputs share a result.
+#[derive(Default)]
+pub struct EllipseMemo {
+    searched: std::sync::Mutex<std::collections::HashMap<Vec<u64>, ContactEllipse>>,
+}
+
+impl EllipseMemo {
+    /// Searches stored so far.
+    pub fn len(&self) -> usize {
+        self.searched.lock().map(|m| m.len()).unwrap_or(0)
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    fn get_or_search(
+        &self,
+        key: Vec<u64>,
+        search: impl FnOnce() -> ContactEllipse,
+    ) -> ContactEllipse {
+        if let Some(e) = self.searched.lock().ok().and_then(|m| m.get(&key).copied()) {
+            return e;
+        }
+        let e = search();
+        if let Ok(mut m) = self.searched.lock() {
+            m.insert(key, e);
+        }
+        e
+    }
+}
+
 /// The point-contact TCA of `pair` (module docs).
 pub fn point_tca(pair: &dyn PairPlacement, settings: &PointTcaSettings) -> Result<PointTca> {
+    point_tca_shared(pair, settings, &EllipseMemo::default())
+}
+
+/// [`point_tca`] reusing the ellipse searches of earlier runs on the same
+/// pair held in `memo` (and adding its own): the results are those of
+/// [`point_tca`] bit for bit.
+pub fn point_tca_shared(
+    pair: &dyn PairPlacement,
+    settings: &PointTcaSettings,
+    memo: &EllipseMemo,
+) -> Result<PointTca> {
     settings.validate()?;
     let pitch = pair.pinion().angular_pitch();
     let step = pair.tooth_roll_step();
@@ -875,15 +924,27 @@ pub fn point_tca(pair: &dyn PairPlacement, settings: &PointTcaSettings) -> Resul
             let searched = (settings.search_directions > 0 && separation <= settings.approach_mm)
                 .then(|| {
                     let span = ps.v_range().1 - ps.v_range().0;
-                    searched_ellipse(
-                        &at1,
-                        &at2,
-                        x,
-                        n,
-                        settings.approach_mm,
-                        settings.search_directions,
-                        span,
-                    )
+                    let mut key = vec![tr.index as u64, settings.search_directions as u64];
+                    key.extend(
+                        [settings.approach_mm, span, t.turn]
+                            .iter()
+                            .chain(&x)
+                            .chain(&n)
+                            .chain(&t.pinion_uv)
+                            .chain(&t.gear_uv)
+                            .map(|v| v.to_bits()),
+                    );
+                    memo.get_or_search(key, || {
+                        searched_ellipse(
+                            &at1,
+                            &at2,
+                            x,
+                            n,
+                            settings.approach_mm,
+                            settings.search_directions,
+                            span,
+                        )
+                    })
                 });
             let axis_ends = searched.or(ellipse).and_then(|e| {
                 let a = e.semi_major_mm?;

@@ -20,7 +20,9 @@ use flank::geometry::bevel::pair::BevelPair;
 use flank::geometry::gear_pair::{Misalignment, PairPlacement};
 use flank::geometry::tangency::{ContactSystem, Edge};
 use flank::scene::{read_any_scene, AnyScene, BevelScene};
-use flank::tca::point_contact::{point_tca, PointTca, PointTcaSettings};
+use flank::tca::point_contact::{
+    point_tca, point_tca_shared, EllipseMemo, PointTca, PointTcaSettings,
+};
 
 fn papers() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("papers")
@@ -251,6 +253,42 @@ fn curvature_and_searched_ellipses_agree_on_the_flanks() {
             assert!(da <= l && db <= l, "δ = {delta}: {da:.3e} / {db:.3e}");
         }
     }
+}
+
+#[test]
+fn shared_ellipse_searches_give_the_fresh_results() {
+    // `flank tca` runs with and without edge contact on one memo: the
+    // second run must equal a fresh one bit for bit and search only the
+    // contacts the first did not
+    let s = seed000();
+    let pair = s.pair.as_ref();
+    let memo = EllipseMemo::default();
+    let with = point_tca_shared(pair, &settings(true, 8, 0.00635), &memo).unwrap();
+    let after_with = memo.len();
+    let shared = point_tca_shared(pair, &settings(false, 8, 0.00635), &memo).unwrap();
+    let fresh = point_tca(pair, &settings(false, 8, 0.00635)).unwrap();
+    let searched = |t: &PointTca| {
+        t.positions
+            .iter()
+            .flat_map(|p| p.pairs.iter().filter_map(|c| c.searched_ellipse))
+            .collect::<Vec<_>>()
+    };
+    let (a, b) = (searched(&shared), searched(&fresh));
+    assert!(a.len() >= 10, "{} searched contacts", a.len());
+    assert_eq!(a, b, "a shared search differs from the fresh one");
+    assert_eq!(shared.te_peak_to_peak_rad, fresh.te_peak_to_peak_rad);
+    let added = memo.len() - after_with;
+    println!(
+        "with edges {} searches ({} positions), without edges {} added ({} searched contacts)",
+        after_with,
+        with.positions.len(),
+        added,
+        b.len()
+    );
+    assert!(
+        added < after_with,
+        "{added} new searches: nothing was shared"
+    );
 }
 
 #[test]
