@@ -131,6 +131,128 @@ pub fn cell_influence(i: &Cell, j: &Cell, e_star: f64, samples: usize) -> f64 {
     p * sum / (PI * e_star)
 }
 
+/// Normal approach (mm) along the centre line of cell `i` (averaged along
+/// its length with `samples` Gauss points) from a unit force (N) on cell `j`
+/// with Hertz's semi-elliptic pressure p₀ √(1 − ξ²/c²) across it (half-width
+/// c = `j.c`) and uniform along it: what the contact condition on the
+/// candidate line needs, since the separation is measured on that line.
+///
+/// The ellipse is a stack of uniform strips: √(1 − ξ²/c²) = ∫ over t from |ξ|
+/// to c of t/(c √(c² − t²)) dt, so with t = c sin θ the pressure is
+/// ∫₀^{π/2} sin θ · 1{|ξ| ≤ c sin θ} dθ, and the influence is the θ-integral
+/// (Gauss–Legendre, `samples` points) of uniform strips of half-width
+/// c sin θ, each [`rectangle_influence`] in closed form. The force of the
+/// ellipse at unit p₀ is (π/2) c · 2l. Checked against Hertz's elliptical
+/// contact in `verification/ltca_near_field`.
+pub fn elliptic_centreline_influence(i: &Cell, j: &Cell, e_star: f64, samples: usize) -> f64 {
+    let owned;
+    let g = match gauss_legendre_cached(samples) {
+        Some(g) => g,
+        None => {
+            owned = gauss_legendre(samples);
+            &owned[..]
+        }
+    };
+    let quarter = 0.25 * PI;
+    let mut sum = 0.0;
+    for &(s, ws) in g {
+        let theta = quarter * (s + 1.0);
+        let (sin, _) = theta.sin_cos();
+        let t = j.c * sin;
+        let mut strip = 0.0;
+        for &(a, wa) in g {
+            let y = i.along + a * i.l - j.along;
+            strip += 0.5 * wa * rectangle_influence(i.across - j.across, y, t, j.l);
+        }
+        sum += ws * quarter * sin * strip;
+    }
+    sum / (PI * j.c * j.l) / (PI * e_star)
+}
+
+/// The half-space correction H of the module docs for the points of one
+/// position, lumped on the diagonal: built once per position from the FE
+/// cells, then [`NearField::diagonal`] for each set of Hertz half-widths.
+///
+/// H_ij = B^Hertz_ij(a) − B^FE_ij(c_FE): B^Hertz the approach on the centre
+/// line of cell i under Hertz's semi-elliptic pressure of half-width a_j
+/// across cell j ([`elliptic_centreline_influence`]); B^FE that of the FE
+/// cells, averaged over cell i under a uniform load on cell j
+/// ([`cell_influence`]), which is what the FE part of F is. Their far
+/// fields agree (a resultant at the same place), so H acts only between
+/// nearby points of one line (within ten cell sizes).
+pub struct NearField {
+    pairs: Vec<(usize, usize)>,
+    fe: Vec<f64>,
+    cells: Vec<Cell>,
+    e_star: f64,
+}
+
+impl NearField {
+    /// `cells`: the FE cells (half-widths c_FE) of the points, on the plane
+    /// of their line; `line`: the line of each point.
+    pub fn new(cells: &[Cell], line: &[usize], e_star: f64) -> Self {
+        use rayon::prelude::*;
+        let n = cells.len();
+        let mut pairs = Vec::new();
+        for i in 0..n {
+            for j in i..n {
+                let (ci, cj) = (&cells[i], &cells[j]);
+                let reach = 10.0 * ci.c.max(cj.c).max(ci.l.max(cj.l));
+                if line[i] == line[j] && (ci.along - cj.along).abs() <= reach {
+                    pairs.push((i, j));
+                }
+            }
+        }
+        let fe = pairs
+            .par_iter()
+            .map(|&(i, j)| cell_influence(&cells[i], &cells[j], e_star, 2))
+            .collect();
+        NearField {
+            pairs,
+            fe,
+            cells: cells.to_vec(),
+            e_star,
+        }
+    }
+
+    /// Σ_j H_ij for every point i, with Hertz half-widths `half` (≤ the FE
+    /// cell's: see the model). Lumped because the full H, a difference of
+    /// two kernels, is not positive semi-definite. Points marked `sharp`
+    /// (a tip corner: an edge, no Hertz pressure) take no part in H.
+    pub fn diagonal(&self, half: &[f64], sharp: &[bool]) -> Vec<f64> {
+        use rayon::prelude::*;
+        let narrow = |i: usize| Cell {
+            c: half[i].max(1e-6),
+            ..self.cells[i]
+        };
+        let h: Vec<(f64, f64)> = self
+            .pairs
+            .par_iter()
+            .zip(&self.fe)
+            .map(|(&(i, j), &fe)| {
+                if sharp[i] || sharp[j] {
+                    return (0.0, 0.0);
+                }
+                let ij = elliptic_centreline_influence(&narrow(i), &narrow(j), self.e_star, 4);
+                let ji = if i == j {
+                    ij
+                } else {
+                    elliptic_centreline_influence(&narrow(j), &narrow(i), self.e_star, 4)
+                };
+                (ij - fe, ji - fe)
+            })
+            .collect();
+        let mut d = vec![0.0; self.cells.len()];
+        for (&(i, j), &(ij, ji)) in self.pairs.iter().zip(&h) {
+            d[i] += ij;
+            if i != j {
+                d[j] += ji;
+            }
+        }
+        d
+    }
+}
+
 /// Hertz line contact: half-width a (mm) and peak pressure (MPa) for load
 /// per length `p_line` (N/mm), equivalent radius `radius` (mm), contact
 /// modulus `e_star` (MPa).

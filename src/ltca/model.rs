@@ -44,7 +44,7 @@ use crate::ltca::friction::{
     PointState, MAX_ACTIVE_SET_ITERATIONS, MAX_SLIDING_ITERATIONS, SLIDING_TOLERANCE,
 };
 use crate::ltca::influence::{directional_compliance, normal_compliance};
-use crate::ltca::local::{cell_influence, hertz_line, Cell, LocalModel};
+use crate::ltca::local::{hertz_line, Cell, LocalModel, NearField};
 use crate::ltca::qp::{
     condition_number, singular_on, solve_contact_qp, ContactQp, QpOptions, QpSolution,
 };
@@ -483,13 +483,19 @@ impl LtcaBodies {
         }
         let mut f = f_fe.clone();
         // the FE-cell half-space solution is fixed per position
-        let pairs = half_space_pairs(&cands);
-        let b_fe = if settings.local == LocalModel::HalfSpace {
-            let c: Vec<f64> = cands.iter().map(|c| c.c).collect();
-            half_space_influence(&cands, &pairs, &c, e_star)
-        } else {
-            Vec::new()
-        };
+        let near_field = (settings.local == LocalModel::HalfSpace).then(|| {
+            let cells: Vec<Cell> = cands
+                .iter()
+                .map(|c| Cell {
+                    across: 0.0,
+                    along: c.along,
+                    c: c.c.max(1e-6),
+                    l: c.half_length.max(1e-6),
+                })
+                .collect();
+            let line: Vec<usize> = cands.iter().map(|c| c.line).collect();
+            NearField::new(&cells, &line, e_star)
+        });
         let mut solution: Option<Answer> = None;
         let mut local_iterations = 0;
         let mut local_change = 0.0;
@@ -499,19 +505,14 @@ impl LtcaBodies {
             local_iterations += 1;
             let t_l = Instant::now();
             f.copy_from_slice(&f_fe);
-            if settings.local == LocalModel::HalfSpace {
+            if let Some(near) = &near_field {
                 // H lumped on the diagonal (row sums): exact for a load
                 // uniform over H's reach (a few cell widths, over which the
                 // load along a line hardly varies), and it keeps F positive
                 // definite; the full H, a difference of two kernels, is not
                 // (seed 004's long cells at 1.875 mm gave an indefinite F)
-                let near = half_space_influence(&cands, &pairs, &half, e_star);
-                for (k, &(i, j)) in pairs.iter().enumerate() {
-                    let h = near[k] - b_fe[k];
+                for (i, h) in near.diagonal(&half, &corner).into_iter().enumerate() {
                     f[i * n + i] += h;
-                    if i != j {
-                        f[j * n + j] += h;
-                    }
                 }
             }
             local_s += t_l.elapsed().as_secs_f64();
@@ -942,42 +943,4 @@ fn state_name(s: PointState) -> &'static str {
         PointState::SlipPositive => "slip+",
         PointState::SlipNegative => "slip-",
     }
-}
-
-/// The point pairs (i ≤ j) H acts on: same line, within ten cell sizes of
-/// each other (beyond that the two half-space solutions agree to < 1e-4 of
-/// the point-force value, see `local::tests`).
-fn half_space_pairs(cands: &[Candidate]) -> Vec<(usize, usize)> {
-    let n = cands.len();
-    let mut out = Vec::new();
-    for i in 0..n {
-        for j in i..n {
-            let (ci, cj) = (&cands[i], &cands[j]);
-            let reach = 10.0 * ci.c.max(cj.c).max(ci.half_length.max(cj.half_length));
-            if ci.line == cj.line && (ci.along - cj.along).abs() <= reach {
-                out.push((i, j));
-            }
-        }
-    }
-    out
-}
-
-/// B_ij over `pairs` with cells of half-width `half` across the line.
-fn half_space_influence(
-    cands: &[Candidate],
-    pairs: &[(usize, usize)],
-    half: &[f64],
-    e_star: f64,
-) -> Vec<f64> {
-    use rayon::prelude::*;
-    let cell = |i: usize| Cell {
-        across: 0.0,
-        along: cands[i].along,
-        c: half[i].max(1e-6),
-        l: cands[i].half_length.max(1e-6),
-    };
-    pairs
-        .par_iter()
-        .map(|&(i, j)| cell_influence(&cell(i), &cell(j), e_star, 2))
-        .collect()
 }
