@@ -12,15 +12,20 @@
 //! F = F_FE(c_FE) + H,   H_ij = B_ij(a) − B_ij(c_FE)
 //! ```
 //!
-//! where B_ij(c) is the normal approach at cell i (averaged over the cell)
-//! from a unit load spread uniformly over cell j, both cells of half-width c
-//! across the line and their own length along it, on a half-space with the
-//! pair's contact modulus 1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂, and a the
-//! Hertz half-width of the local load. The far field of the two half-space
-//! solutions is the same (a resultant at the same place), so H only acts
-//! where the cells are close: the near field is counted once, by the
-//! half-space, and the bulk once, by the FE. With a ≥ κ h (a contact wider
-//! than the elements) H vanishes and the FE alone carries it.
+//! on a half-space with the pair's contact modulus
+//! 1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂, a the Hertz half-width of the local
+//! load. B_ij(c_FE) is what the FE part is: the normal approach averaged
+//! over cell i from a unit load spread uniformly over cell j, both of
+//! half-width c_FE across the line and their own length along it.
+//! B_ij(a) is what the contact condition needs: the approach on the
+//! candidate line through cell i (where the separation is measured) under
+//! Hertz's semi-elliptic pressure of half-width a across cell j
+//! ([`elliptic_centreline_influence`]). The far fields of the two are the
+//! same (a resultant at the same place), so H only acts where the cells are
+//! close: the near field is counted once, by the half-space, and the bulk
+//! once, by the FE. Until 2026-11-27 B_ij(a) was also a uniform cell
+//! average, which `verification/ltca_near_field` shows 5–10 % too stiff in
+//! the local approach against Hertz's elliptical contact (now within 2 %).
 //!
 //! H enters F lumped on the diagonal, H_ii ← Σ_j H_ij (over the points of
 //! the same contact line): the row sum is the correction for a load that is

@@ -476,8 +476,9 @@ impl LtcaBodies {
                 fe_half(i)
             } else {
                 // a contact wider than the FE cell (near a tip, where the
-                // cell is narrowed) gets no correction: the FE cell already
-                // concentrates the load more than Hertz would
+                // cell is narrowed) is taken at the cell's width: the FE
+                // cell already concentrates the load more than Hertz would,
+                // and H keeps only the centre-line/ellipse part
                 hertz_line(p0, radius[i], e_star).0.min(fe_half(i))
             };
         }
