@@ -441,9 +441,34 @@ impl<'a> FlankInterpolator<'a> {
         })
     }
 
+    /// Refuses a point or cell (around (u, v)) of flank set `s` (index into
+    /// the tensor's flank sets) reaching down to u = `lowest` when the tensor stops above that
+    /// ([`crate::compliance::ComplianceMeta::region_u_min`]): the restricted
+    /// tensor does not hold those nodes, and dropping the samples there
+    /// would silently take the load off them.
+    pub fn check_region(&self, s: usize, lowest: f64, u: f64, v: f64) -> Result<(), FlankError> {
+        let Some(floor) = self
+            .tensor
+            .meta
+            .region_u_min
+            .as_ref()
+            .and_then(|f| f.get(s).copied())
+        else {
+            return Ok(());
+        };
+        if lowest < floor - 1e-12 * (1.0 + floor.abs()) {
+            return Err(FlankError::Model(format!(
+                "{}: the contact at (u, v) = ({u}, {v}) on {} reaches u = {lowest}, below u = {floor} where its compliance tensor stops (flank region `active`: the active flank plus a margin); widen the margin or use the full flank (`--flank-region full`, `[analyses.ltca] flank_region = \"full\"`)",
+                self.tensor.meta.body, self.tensor.flank.sets[s]
+            )));
+        }
+        Ok(())
+    }
+
     /// Shape-function weights of the point (u, v) of flank set `set`.
     pub fn point(&self, set: &str, u: f64, v: f64) -> Result<SurfaceLoad, FlankError> {
         let s = self.set(set)?;
+        self.check_region(s, u, u, v)?;
         let (fi, xi) = self.locate(s, u, v).ok_or_else(|| {
             FlankError::Model(format!(
                 "flank point (u, v) = ({u}, {v}) lies outside the meshed flank {set}"
@@ -503,6 +528,10 @@ impl<'a> FlankInterpolator<'a> {
                 }
             }
         }
+        // a tensor restricted to the active flank must cover the whole cell
+        // below: samples there would be dropped as "off the flank"
+        let lowest = pts.iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
+        self.check_region(s, lowest, u, v)?;
         let flank = &self.tensor.flank;
         let total: f64 = pts.iter().map(|p| p.2).sum();
         let mut inside = 0.0;

@@ -134,6 +134,46 @@ impl FlankSelection {
     }
 }
 
+/// Which part of each selected flank carries compliance tensors.
+///
+/// The Schur-complement path costs m³ in the m = 3N flank DOFs
+/// (`benches/README.md`, "Compliance tensors"), so DOFs the contact cannot
+/// load are dear. The block of K⁻¹ on a subset of the flank DOFs is exactly
+/// the sub-block of the full one (C = Eᵀ K⁻¹ E with fewer columns of E):
+/// restricting the nodes drops rows and columns, it approximates nothing.
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum FlankRegion {
+    /// The whole flank node sets: involute and root fillet.
+    #[default]
+    Full,
+    /// The active flank (start of active profile, from the pair, up to the
+    /// tip) plus a margin down the profile ([`body::active_flank_cut`]); the
+    /// default of the runs that know the mating gear (`flank ltca`,
+    /// `flank compare`) on spur/helical pairs.
+    Active,
+}
+
+impl FlankRegion {
+    /// The lower-case name used in scenes, on the command line and in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            FlankRegion::Full => "full",
+            FlankRegion::Active => "active",
+        }
+    }
+}
+
 /// The compliance of one body on its flank nodes, with what it was computed
 /// from. `matrix` is 3N × 3N, full, symmetric, node-major (x, y, z), mm/N.
 #[derive(Clone, Debug)]
@@ -164,6 +204,14 @@ pub struct ComplianceMeta {
     pub units: String,
     /// How the matrix was computed (`schur` or `blocked`).
     pub method: String,
+    /// Where the flank nodes stop down the profile when the tensor covers
+    /// only part of each flank ([`FlankRegion::Active`]): per flank set (in
+    /// the order of `flank_sets`), the lowest flank parameter u of its
+    /// nodes. A contact cell reaching below it is an error
+    /// ([`FlankInterpolator::cell`]), never a silent zero. Absent for the
+    /// full flank (and in files written before it existed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub region_u_min: Option<Vec<f64>>,
 }
 
 /// Units string stored with every tensor.
@@ -328,6 +376,26 @@ pub fn cache_key(model: &Model, mesh_hash: &str, flank: &FlankNodes) -> String {
     h.hex()
 }
 
+/// The cache key of a tensor restricted to part of its flanks: `key` (the
+/// [`cache_key`] of the restricted nodes, which already differ from the
+/// full flank's) mixed with where each flank set stops
+/// ([`ComplianceMeta::region_u_min`]), so that a restricted tensor never
+/// answers for a full one, nor for another region, even where the nodes
+/// coincide. `None` (full flank) leaves the key as it was.
+pub fn region_cache_key(key: &str, region_u_min: Option<&[f64]>) -> String {
+    let Some(u) = region_u_min else {
+        return key.to_string();
+    };
+    let mut h = Fnv128::new();
+    h.str("flank-compliance-region-v1");
+    h.str(key);
+    h.u64(u.len() as u64);
+    for &x in u {
+        h.f64(x);
+    }
+    h.hex()
+}
+
 /// Names of the node sets all of whose nodes have all three DOFs fixed at
 /// zero by the model's Dirichlet conditions (e.g. `BORE`), sorted.
 pub fn clamped_sets(model: &Model) -> Vec<String> {
@@ -397,6 +465,7 @@ pub fn compliance_tensor(
         flank_sets: flank.sets.clone(),
         units: UNITS.to_string(),
         method: options.method.name().to_string(),
+        region_u_min: None,
     };
     Ok((
         ComplianceTensor {
