@@ -728,7 +728,11 @@ mod tests {
             // bad restrictions are errors
             assert!(flank.restrict_u(&[cut, cut]).is_err());
             assert!(flank.restrict_u(&[f64::NAN]).is_err());
-            assert!(flank.restrict_u(&[1e9]).unwrap_err().to_string().contains("TOP"));
+            assert!(flank
+                .restrict_u(&[1e9])
+                .unwrap_err()
+                .to_string()
+                .contains("TOP"));
         }
     }
 

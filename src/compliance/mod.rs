@@ -66,6 +66,26 @@
 //! `Right` and `Both` select by side. Flank sets hold the involute and root
 //! fillet nodes (not the root arc), so the tensors cover fillet loading too.
 //!
+//! [`FlankRegion`] then picks the part of each flank: `full` (the whole
+//! set) or `active`, the active flank plus a margin
+//! ([`body::active_flank_cut`]: from the start of active profile, the
+//! radius the mating tip reaches, down the profile by
+//! [`body::active_margin_mm`] = 2 flank elements + 1 mm, then every flank
+//! face that reaches that cut, [`FlankNodes::restrict_u`]). The Schur path
+//! costs m³, so the fillet's DOFs, which the mating tip cannot load, are
+//! dear. Nothing is approximated: C on fewer flank DOFs is the sub-block of
+//! C on all of them. `active` is the default where the pair is known
+//! (`flank ltca`, `flank compare`, spur/helical pairs; `--flank-region`,
+//! `[analyses.ltca] flank_region`); `flank compliance` keeps `full` unless
+//! asked (`[analyses.compliance] flank_region`). A restricted tensor records
+//! where it stops ([`ComplianceMeta::region_u_min`]); a contact point or
+//! cell that reaches below is an error naming the region
+//! ([`FlankInterpolator::check_region`]), never a load silently dropped,
+//! and its cache key differs from the full tensor's ([`region_cache_key`]).
+//! Bevel/hypoid bodies take the full flank: their u runs across the pitch
+//! generatrix and the start of active profile is a curve in (u, v), not
+//! yet derived.
+//!
 //! ## Storage, cache, interpolation
 //!
 //! [`cache`]: `<body>.compliance.h5` with the cargo feature `hdf5`, a
