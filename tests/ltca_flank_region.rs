@@ -2,8 +2,9 @@
 //! item 4): the seed 002 cycle gives the same load sharing, TE and p_max as
 //! on the full flank tensors, the default is the active flank, and the
 //! cache never takes a restricted tensor for a full one. Coarse compliance
-//! mesh (flank 1 mm, base 3 mm) to keep it short; the same comparison at
-//! the default 0.475 mm is in `benches/README.md`.
+//! mesh (flank 0.7 mm, base 3 mm: at 1 mm the margin of 2 elements + 1 mm
+//! already holds the pinion's whole fillet) to keep it short; the same
+//! comparison at the default 0.475 mm is in `benches/README.md`.
 
 use std::path::{Path, PathBuf};
 
@@ -21,7 +22,7 @@ fn options(out: &Path, region: Option<FlankRegion>) -> LtcaOptions {
     LtcaOptions {
         out: out.to_path_buf(),
         mesh: BodyMeshOptions {
-            flank_size: Some(1.0),
+            flank_size: Some(0.7),
             base_size: Some(3.0),
             with_load: false,
             element: None,
@@ -68,7 +69,19 @@ fn seed002_ltca_on_the_active_flank_equals_the_full_flank() {
             nodes(&full, b)
         );
     }
-    // the cycle: load sharing, TE and p_max per position to 1e-9
+    // the cycle: load sharing, TE and p_max per position to 1e-9, except
+    // where the Hertz half-width fixed point stopped at its limit without
+    // converging (here −2°, residual 0.9 in both runs): there the result
+    // carries round-off amplified by the oscillating iteration (the pages
+    // of the tensor blocks sum in another order), 3.6e-8 in the TE, 1.2e-4
+    // in p_max, and it is checked to 1e-6 (p_max 1e-3; at the default 0.475 mm no position hits the
+    // limit and all 50 agree to 2e-13, benches/README.md)
+    let limit = |s: &serde_json::Value| {
+        s["iteration_limits"]["ltca.hertz_half_width"]["limit"]
+            .as_u64()
+            .unwrap()
+    };
+    assert_eq!(limit(&active), limit(&full));
     let (sa, sf) = (
         active["steps"].as_array().unwrap(),
         full["steps"].as_array().unwrap(),
@@ -76,13 +89,31 @@ fn seed002_ltca_on_the_active_flank_equals_the_full_flank() {
     assert_eq!(sa.len(), sf.len());
     assert!(sa.len() >= 30);
     let mut worst: f64 = 0.0;
+    let mut unconverged = 0;
     for (a, f) in sa.iter().zip(sf) {
         assert_eq!(a["roll_deg"], f["roll_deg"]);
         assert_eq!(a["lines"], f["lines"]);
+        let at_limit = a["local_iterations"].as_u64() == Some(limit(&active))
+            || f["local_iterations"].as_u64() == Some(limit(&full));
+        let tol = if at_limit {
+            unconverged += 1;
+            1e-6
+        } else {
+            1e-9
+        };
         for key in ["te_urad", "max_pressure_mpa", "mesh_stiffness_n_per_um"] {
             let (x, y) = (a[key].as_f64().unwrap(), f[key].as_f64().unwrap());
-            worst = worst.max(rel(x, y));
-            assert!(rel(x, y) <= 1e-9, "{} {key}: {x} vs {y}", a["roll_deg"]);
+            if !at_limit {
+                worst = worst.max(rel(x, y));
+            }
+            // unconverged: the point loads along a line oscillate, so their
+            // peak (p_max) moves by 1e-4 while the line's sum stays at 1e-8
+            let tol = if at_limit && key == "max_pressure_mpa" {
+                1e-3
+            } else {
+                tol
+            };
+            assert!(rel(x, y) <= tol, "{} {key}: {x} vs {y}", a["roll_deg"]);
         }
         let total: f64 = f["line_force_n"]
             .as_array()
@@ -98,13 +129,19 @@ fn seed002_ltca_on_the_active_flank_equals_the_full_flank() {
         {
             let (x, y) = (x.as_f64().unwrap(), y.as_f64().unwrap());
             assert!(
-                (x - y).abs() <= 1e-9 * total,
+                (x - y).abs() <= tol * total,
                 "{}: {x} vs {y}",
                 a["roll_deg"]
             );
         }
     }
-    eprintln!("worst relative difference active vs full: {worst:e}");
+    assert!(
+        unconverged <= 2,
+        "{unconverged} positions at the half-width limit"
+    );
+    eprintln!(
+        "worst relative difference active vs full: {worst:e} ({unconverged} positions at the limit apart)"
+    );
     for key in ["contact_ratio", "max_pressure_mpa", "single_pair_force_n"] {
         let (x, y) = (active[key].as_f64().unwrap(), full[key].as_f64().unwrap());
         assert!(rel(x, y) <= 1e-9, "{key}: {x} vs {y}");
