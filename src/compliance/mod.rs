@@ -546,22 +546,49 @@ mod tests {
             )
         };
         let s = with(
-            r#"{ clamp_cuts = true, flanks = "both", method = "blocked", memory_budget_mb = 512 }"#,
+            r#"{ clamp_cuts = true, flanks = "both", method = "blocked", memory_budget_mb = 512, flank_region = "active" }"#,
         )
         .unwrap();
         let c = s.analyses.compliance.unwrap();
         assert!(c.clamp_cuts);
+        assert_eq!(c.flank_region, FlankRegion::Active);
         assert_eq!(c.flanks, FlankSelection::Both);
         assert_eq!(c.method, Method::Blocked);
         assert_eq!(c.memory_budget_mb, Some(512.0));
         let d = with("{}").unwrap().analyses.compliance.unwrap();
         assert_eq!(
-            (d.flanks, d.method, d.clamp_cuts),
-            (FlankSelection::Loaded, Method::Schur, false)
+            (d.flanks, d.method, d.clamp_cuts, d.flank_region),
+            (
+                FlankSelection::Loaded,
+                Method::Schur,
+                false,
+                FlankRegion::Full
+            )
+        );
+        // the LTCA's key: active or full, spur/helical only
+        let ltca = |v: &str| {
+            crate::scene::parse_scene(
+                &text.replace(
+                    "mesh = {}\n",
+                    &format!("mesh = {{}}\nltca = {{ flank_region = {v} }}\n"),
+                ),
+                path,
+            )
+        };
+        let l = ltca(r#""full""#).unwrap().analyses.ltca.unwrap();
+        assert_eq!(l.flank_region, Some(FlankRegion::Full));
+        assert!(ltca(r#""fillet""#).is_err());
+        // the region keys a tensor apart; none leaves the key as it was
+        assert_eq!(region_cache_key("abc", None), "abc");
+        assert_ne!(region_cache_key("abc", Some(&[0.1])), "abc");
+        assert_ne!(
+            region_cache_key("abc", Some(&[0.1])),
+            region_cache_key("abc", Some(&[0.2]))
         );
         for (bad, what) in [
             ("{ order = 2 }", "analyses.compliance"),
             (r#"{ method = "lu" }"#, "analyses.compliance"),
+            (r#"{ flank_region = "tip" }"#, "analyses.compliance"),
             ("{ memory_budget_mb = 0 }", "memory_budget_mb"),
         ] {
             let e = with(bad).unwrap_err().to_string();
