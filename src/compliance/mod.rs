@@ -161,6 +161,8 @@ impl FlankSelection {
 /// load are dear. The block of K⁻¹ on a subset of the flank DOFs is exactly
 /// the sub-block of the full one (C = Eᵀ K⁻¹ E with fewer columns of E):
 /// restricting the nodes drops rows and columns, it approximates nothing.
+/// The active region's cut: [`body::active_flank_cut`] with
+/// [`body::active_margin_mm`].
 #[derive(
     Clone,
     Copy,
@@ -178,7 +180,7 @@ pub enum FlankRegion {
     #[default]
     Full,
     /// The active flank (start of active profile, from the pair, up to the
-    /// tip) plus a margin down the profile ([`body::active_flank_cut`]); the
+    /// tip) plus a margin of 2 flank elements + 1 mm down the profile; the
     /// default of the runs that know the mating gear (`flank ltca`,
     /// `flank compare`) on spur/helical pairs.
     Active,
