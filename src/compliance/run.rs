@@ -315,7 +315,10 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
         condition: options.condition,
         ..Default::default()
     };
-    // the mesh options are checked before anything is written
+    // the region and the mesh options are checked before anything is written
+    if region == FlankRegion::Active {
+        region_cut(&scene, "pinion", region, &options.mesh)?;
+    }
     match &scene {
         AnyScene::Cylindrical(s) => {
             sector_options(s, &options.mesh)?;
