@@ -9,13 +9,21 @@
 //!   each peak memory is its own), base size m_n/2 = 1.9 mm; the blocked
 //!   method is timed on a sample of `FLANK_COMPLIANCE_SAMPLE` right-hand
 //!   sides (default 600) and its rate extrapolated to all of them.
+//! * `FLANK_COMPLIANCE_CASES` (default `plain,schur,blocked`) picks and
+//!   orders the cases of each size; `active` is the Schur complement on
+//!   the active flank only (start of active profile from the pair, plus
+//!   the LTCA's margin of 2 flank elements + 1 mm, the fillet below left
+//!   out), `FLANK_COMPLIANCE_ROUNDS` repeats the list (alternating runs),
+//!   and the load average is printed beside every case.
 
 use std::process::Command;
 use std::time::Instant;
 
 use criterion::{criterion_group, Criterion};
 
-use flank::compliance::body::{body_flank_nodes, scene_body, BodyMeshOptions};
+use flank::compliance::body::{
+    active_flank_cut, active_margin_mm, body_flank_nodes, scene_body, BodyMeshOptions,
+};
 use flank::compliance::{
     compute_compliance, ComplianceOptions, FlankNodes, FlankSelection, Method,
 };
@@ -26,7 +34,9 @@ use flank::fem::ordering::OrderingMethod;
 use flank::fem::solver::{parallelism, Precision, SparseCholesky};
 use flank::fem::static_analysis::peak_memory_mb;
 
-fn pinion(flank_size: f64, base_size: f64) -> (Model, FlankNodes) {
+/// The seed 002 pinion and its loaded flank nodes; with `active`, only the
+/// active flank plus the LTCA's margin ([`FlankNodes::restrict_u`]).
+fn pinion(flank_size: f64, base_size: f64, active: bool) -> (Model, FlankNodes) {
     let scene = flank::scene::read_scene(std::path::Path::new(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/papers/seed002-spur/scene.toml"
@@ -39,8 +49,20 @@ fn pinion(flank_size: f64, base_size: f64) -> (Model, FlankNodes) {
         element: Some(flank::scene::ElementKind::Hex20),
     };
     let body = scene_body(&scene, "pinion", &o).unwrap();
-    let flank = body_flank_nodes(&body, FlankSelection::Loaded).unwrap();
+    let mut flank = body_flank_nodes(&body, FlankSelection::Loaded).unwrap();
+    if active {
+        let cut = active_flank_cut(&scene, "pinion", active_margin_mm(flank_size)).unwrap();
+        flank = flank.restrict_u(&vec![cut; flank.sets.len()]).unwrap();
+    }
     (body.model, flank)
+}
+
+/// The 1-minute load average (for the figures' rows).
+fn load_average() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .ok()
+        .and_then(|s| s.split_whitespace().next().map(String::from))
+        .unwrap_or_else(|| "?".into())
 }
 
 /// One plain (unconstrained METIS) factorization; returns (seconds, GFLOP, nnz(L)).
@@ -78,7 +100,7 @@ fn subset(f: &FlankNodes, n: usize) -> FlankNodes {
 }
 
 fn coarse(c: &mut Criterion) {
-    let (model, flank) = pinion(1.0, 3.0);
+    let (model, flank) = pinion(1.0, 3.0, false);
     let mut g = c.benchmark_group("compliance_pinion_flank1mm");
     g.sample_size(10);
     g.bench_function("plain_factorization", |b| {
@@ -103,7 +125,7 @@ criterion_group!(benches, coarse);
 fn run_case(spec: &str) {
     let parts: Vec<&str> = spec.split(':').collect();
     let (what, flank_size): (&str, f64) = (parts[0], parts[1].parse().unwrap());
-    let (model, flank) = pinion(flank_size, 1.9);
+    let (model, flank) = pinion(flank_size, 1.9, what == "active");
     let nodes = model.mesh.node_count();
     let m = 3 * flank.len();
     let out = match what {
@@ -112,12 +134,12 @@ fn run_case(spec: &str) {
             serde_json::json!({"case": what, "flank_size": flank_size, "nodes": nodes, "rhs": m,
                 "factorization_s": s, "gflop": gflop, "nnz_factor": nnz})
         }
-        "schur" | "blocked" => {
+        "schur" | "active" | "blocked" => {
             let sample: usize = std::env::var("FLANK_COMPLIANCE_SAMPLE")
                 .ok()
                 .and_then(|v| v.parse().ok())
                 .unwrap_or(600);
-            let (f, method) = if what == "schur" {
+            let (f, method) = if what != "blocked" {
                 (flank.clone(), Method::Schur)
             } else {
                 (subset(&flank, sample.div_ceil(3)), Method::Blocked)
@@ -146,45 +168,50 @@ fn run_case(spec: &str) {
 
 fn figures(sizes: &str) {
     let exe = std::env::current_exe().unwrap();
-    println!("| flank size | pinion nodes | RHS (3N) | plain factorization | Schur: factorization + inverse | Schur / plain | Schur RHS/s | Schur peak MB | blocked RHS/s (sample) | blocked all (extrapolated) / plain | plain peak MB |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    let cases =
+        std::env::var("FLANK_COMPLIANCE_CASES").unwrap_or_else(|_| "plain,schur,blocked".into());
+    let rounds: usize = std::env::var("FLANK_COMPLIANCE_ROUNDS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(1);
+    println!("| flank size | case | load (1 min) | nodes | m = 3N | time (s) | GFLOP | / plain (same round) | RHS/s | peak MB |");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
     for fs in sizes.split(',') {
-        let mut res = std::collections::BTreeMap::new();
-        for case in ["plain", "schur", "blocked"] {
-            let o = Command::new(&exe)
-                .env("FLANK_COMPLIANCE_CASE", format!("{case}:{fs}"))
-                .output()
-                .unwrap();
-            let text = String::from_utf8_lossy(&o.stdout);
-            let line = text
-                .lines()
-                .find_map(|l| l.strip_prefix("CASE "))
-                .unwrap_or_else(|| panic!("{case}: {}", String::from_utf8_lossy(&o.stderr)));
-            eprintln!("{line}");
-            let v: serde_json::Value = serde_json::from_str(line).unwrap();
-            res.insert(case, v);
+        for round in 0..rounds {
+            let mut plain = f64::NAN;
+            for case in cases.split(',') {
+                let load = load_average();
+                let o = Command::new(&exe)
+                    .env("FLANK_COMPLIANCE_CASE", format!("{case}:{fs}"))
+                    .output()
+                    .unwrap();
+                let text = String::from_utf8_lossy(&o.stdout);
+                let line = text
+                    .lines()
+                    .find_map(|l| l.strip_prefix("CASE "))
+                    .unwrap_or_else(|| panic!("{case}: {}", String::from_utf8_lossy(&o.stderr)));
+                eprintln!("round {round} load {load}: {line}");
+                let v: serde_json::Value = serde_json::from_str(line).unwrap();
+                let f = |k: &str| v[k].as_f64().unwrap_or(f64::NAN);
+                let time = match case {
+                    "plain" => f("factorization_s"),
+                    "blocked" => f("factorization_s") + f("solve_all_s"),
+                    _ => f("factorization_s") + f("solve_s") + f("symmetrize_s"),
+                };
+                if case == "plain" {
+                    plain = time;
+                }
+                let rate = match case {
+                    "plain" => f64::NAN,
+                    "blocked" => f("rhs_timed") / f("solve_s"),
+                    _ => f("rhs") / time,
+                };
+                println!(
+                    "| {fs} mm | {case} | {load} | {} | {} | {time:.2} | {:.0} | {:.2}× | {rate:.0} | {:.0} |",
+                    v["nodes"], v["rhs"], f("gflop"), time / plain, f("peak_memory_mb"),
+                );
+            }
         }
-        let f = |c: &str, k: &str| res[c][k].as_f64().unwrap_or(f64::NAN);
-        let plain = f("plain", "factorization_s");
-        let schur =
-            f("schur", "factorization_s") + f("schur", "solve_s") + f("schur", "symmetrize_s");
-        let blocked = f("blocked", "factorization_s") + f("blocked", "solve_all_s");
-        println!(
-            "| {fs} mm | {} | {} | {:.2} s ({:.0} GFLOP) | {:.2} + {:.2} s ({:.0} GFLOP) | {:.2}× | {:.0} | {:.0} | {:.0} | {:.1}× | {:.0} |",
-            res["plain"]["nodes"],
-            res["plain"]["rhs"],
-            plain,
-            f("plain", "gflop"),
-            f("schur", "factorization_s"),
-            f("schur", "solve_s") + f("schur", "symmetrize_s"),
-            f("schur", "gflop"),
-            schur / plain,
-            f("schur", "rhs") / schur,
-            f("schur", "peak_memory_mb"),
-            f("blocked", "rhs_timed") / f("blocked", "solve_s"),
-            blocked / plain,
-            f("plain", "peak_memory_mb"),
-        );
     }
 }
 

@@ -25,6 +25,13 @@ pub struct Args {
     /// Flanks carrying tensors; overrides [analyses.compliance].
     #[arg(long, value_enum)]
     flanks: Option<flank::compliance::FlankSelection>,
+    /// Part of each flank carrying tensors: full (involute and root
+    /// fillet) or active (spur/helical: from the start of active profile,
+    /// which the mating tip sets, to the tip, plus a margin of 2 flank
+    /// elements + 1 mm down the profile); overrides
+    /// [analyses.compliance] flank_region, default full.
+    #[arg(long, value_enum)]
+    flank_region: Option<flank::compliance::FlankRegion>,
     /// Clamp the sector cut faces CUT_A and CUT_B as well as the bore.
     #[arg(long)]
     clamp_cuts: bool,
@@ -63,6 +70,7 @@ pub fn run(args: Args) -> Result<()> {
         bodies,
         method,
         flanks,
+        flank_region,
         clamp_cuts,
         threads,
         memory_budget_mb,
@@ -86,6 +94,7 @@ pub fn run(args: Args) -> Result<()> {
         cache,
         format,
         condition: !no_condition,
+        region: flank_region,
     };
     let summary = run_scene(&scene, &options)
         .with_context(|| format!("compliance of {}", scene.display()))?;

@@ -68,6 +68,14 @@ pub struct Args {
     /// `[analyses.ltca] edges`, else without).
     #[arg(long, value_enum)]
     edges: Option<flank::ltca::edges::EdgeVariants>,
+    /// Spur/helical pairs: the flank nodes the compliance tensors cover:
+    /// active (default: from the start of active profile, which the
+    /// mating tip sets, to the tip, plus a margin of 2 flank elements +
+    /// 1 mm down the profile; the fillet below is left out) or full
+    /// (involute and root fillet); default the scene's
+    /// `[analyses.ltca] flank_region`, else active.
+    #[arg(long, value_enum)]
+    flank_region: Option<flank::compliance::FlankRegion>,
     /// Print nothing but errors.
     #[arg(long, short)]
     quiet: bool,
@@ -108,6 +116,7 @@ pub fn run(args: Args) -> Result<()> {
         cross_check,
         friction_model,
         edges,
+        flank_region,
         quiet,
     } = args;
     let solver = match solver {
@@ -119,6 +128,9 @@ pub fn run(args: Args) -> Result<()> {
     };
     if let flank::scene::AnyScene::Bevel(b) = flank::scene::read_any_scene(&scene)? {
         use flank::ltca::bevel::{run_bevel, BevelLtcaOptions};
+        if flank_region == Some(flank::compliance::FlankRegion::Active) {
+            anyhow::bail!("--flank-region active: implemented for spur/helical pairs only (a bevel/hypoid LTCA takes the full flank)");
+        }
         let d = BevelLtcaOptions::default();
         // the command line first, then the scene's [analyses.ltca] (its
         // spur-only keys are refused when the scene loads), then defaults
@@ -224,6 +236,7 @@ pub fn run(args: Args) -> Result<()> {
         increments,
         cross_check,
         friction_model,
+        flank_region,
     };
     let s = run_scene(&scene, &options)
         .with_context(|| format!("LTCA mesh cycle of {}", scene.display()))?;

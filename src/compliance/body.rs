@@ -266,6 +266,79 @@ pub fn scene_body(
     body_model(&gear, material, &sector, Mesher::Native, load)
 }
 
+/// Margin of the active flank region below the start of active profile,
+/// in flank element sizes ([`active_margin_mm`]).
+pub const ACTIVE_MARGIN_ELEMENTS: f64 = 2.0;
+
+/// Margin of the active flank region below the start of active profile
+/// beyond the element sizes (mm, arc length of the transverse profile):
+/// room for tip-corner contact before the kinematic start (the LTCA keeps
+/// corner points up to its extension, 0.2 mm separation by default, raised
+/// under load) and for the cells' half-width.
+pub const ACTIVE_MARGIN_MM: f64 = 1.0;
+
+/// The margin below the start of active profile of a body meshed with
+/// flank elements of `flank_size` mm: [`ACTIVE_MARGIN_ELEMENTS`] elements
+/// plus [`ACTIVE_MARGIN_MM`] (2 × 0.475 + 1 = 1.95 mm at the seed 002
+/// default size). A contact that still reaches below it is an error
+/// ([`crate::compliance::FlankInterpolator::check_region`]), never a load
+/// silently dropped.
+pub fn active_margin_mm(flank_size: f64) -> f64 {
+    ACTIVE_MARGIN_ELEMENTS * flank_size + ACTIVE_MARGIN_MM
+}
+
+/// The lowest profile parameter u of the active flank of body `name`
+/// ("pinion" or "gear") of a spur/helical scene, plus `margin_mm` down the
+/// profile: the start of active profile (the radius the mating tip reaches,
+/// [`crate::geometry::pair::check_pair`], at the form circle if it lies
+/// below it), then `margin_mm` of arc length of the transverse profile
+/// further down, along the involute and on into the root fillet
+/// (u = u_form − t there, as in [`crate::mesh::gear_sector`]); at most down
+/// to the root circle (u_form − 1, the whole fillet).
+pub fn active_flank_cut(scene: &Scene, name: &str, margin_mm: f64) -> Result<f64, FlankError> {
+    use crate::geometry::gear_pair::Flank as Side;
+    use crate::geometry::rack::ToothProfile;
+    use crate::mesh::gear_sector::flank_segment;
+    if !(margin_mm.is_finite() && margin_mm >= 0.0) {
+        return Err(FlankError::Model(format!(
+            "active flank margin {margin_mm} mm: a finite value ≥ 0 is needed"
+        )));
+    }
+    let report = crate::geometry::pair::check_pair(&scene.pair)?;
+    let (spec, sap) = match name {
+        "pinion" => (&scene.pair.pinion, report.pinion.active_start_radius),
+        "gear" => (&scene.pair.gear, report.gear.active_start_radius),
+        other => {
+            return Err(FlankError::Model(format!(
+                "unknown body '{other}' (pinion or gear)"
+            )))
+        }
+    };
+    let profile = ToothProfile::new(spec, name)?;
+    let rb = profile.geometry.base_radius;
+    let u_sap = crate::geometry::micro::roll_angle_at_radius(rb, sap.max(rb))?;
+    let bottom = profile.u_form - 1.0;
+    let at = |u: f64| profile.point(Side::Right, flank_segment(&profile, u)).p;
+    // walk down the profile in steps of 1e-3 in u (a roll angle on the
+    // involute, the fillet parameter on the fillet)
+    let mut u = u_sap.max(profile.u_form).min(profile.u_tip);
+    let mut p = at(u);
+    let mut left = margin_mm;
+    const STEP: f64 = 1e-3;
+    while left > 0.0 && u > bottom {
+        let next = (u - STEP).max(bottom);
+        let q = at(next);
+        let d = (q[0] - p[0]).hypot(q[1] - p[1]);
+        if d >= left {
+            return Ok(u - (u - next) * left / d);
+        }
+        left -= d;
+        u = next;
+        p = q;
+    }
+    Ok(u)
+}
+
 /// The flank nodes of `selection` of a gear body, with the exact outward
 /// normals of its nominal tooth surfaces (`BodyModel::surfaces`).
 pub fn body_flank_nodes(

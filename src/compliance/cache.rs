@@ -154,6 +154,15 @@ fn check_tensor(t: &ComplianceTensor) -> Result<(), String> {
     if t.meta.flank_sets != t.flank.sets {
         return Err("flank sets of the header and of the nodes differ".into());
     }
+    if let Some(u) = &t.meta.region_u_min {
+        if u.len() != t.flank.sets.len() || u.iter().any(|x| x.is_nan() || *x == f64::INFINITY) {
+            return Err(format!(
+                "region_u_min has {} entries for {} flank sets, or a NaN / +∞ entry",
+                u.len(),
+                t.flank.sets.len()
+            ));
+        }
+    }
     Ok(())
 }
 

@@ -279,6 +279,92 @@ impl FlankNodes {
             .collect()
     }
 
+    /// The part of these flank nodes at and above `u_min[set]` in the
+    /// profile parameter u: every flank face that reaches u ≥ `u_min` of
+    /// its set, with all its nodes (so no face is cut and every kept node
+    /// keeps a face to interpolate on), in the same order (set, v, u).
+    /// Every flank point with u ≥ `u_min` lies on a kept face (the face
+    /// that holds it reaches u), so `u_min` is where the restricted tensor
+    /// is complete ([`crate::compliance::ComplianceMeta::region_u_min`]).
+    /// An entry of −∞ keeps the whole set. Errors when `u_min` has not one
+    /// finite-or-−∞ value per set, or when a set keeps no face.
+    pub fn restrict_u(&self, u_min: &[f64]) -> Result<FlankNodes, FlankError> {
+        self.validate()?;
+        if u_min.len() != self.sets.len() {
+            return Err(FlankError::Model(format!(
+                "flank restriction: {} lower bounds of u for {} flank sets",
+                u_min.len(),
+                self.sets.len()
+            )));
+        }
+        if let Some(bad) = u_min.iter().find(|u| u.is_nan() || **u == f64::INFINITY) {
+            return Err(FlankError::Model(format!(
+                "flank restriction: lower bound of u {bad} (a finite value or −∞ is needed)"
+            )));
+        }
+        let n = self.len();
+        let mut keep = vec![false; n];
+        let mut kept_faces = Vec::new();
+        for f in &self.faces {
+            let top = f
+                .nodes
+                .iter()
+                .map(|&a| self.uv[a as usize][0])
+                .fold(f64::NEG_INFINITY, f64::max);
+            if top >= u_min[f.set as usize] {
+                for &a in &f.nodes {
+                    keep[a as usize] = true;
+                }
+                kept_faces.push(f);
+            }
+        }
+        let mut new_index = vec![u32::MAX; n];
+        let mut order = Vec::new();
+        for (k, _) in keep.iter().enumerate().filter(|(_, &x)| x) {
+            new_index[k] = order.len() as u32;
+            order.push(k);
+        }
+        let mut kept_per_set = vec![0usize; self.sets.len()];
+        for f in &kept_faces {
+            kept_per_set[f.set as usize] += 1;
+        }
+        if let Some(s) = kept_per_set.iter().position(|&c| c == 0) {
+            return Err(FlankError::Model(format!(
+                "flank restriction: no face of {} reaches u ≥ {} (its nodes end at u = {})",
+                self.sets[s],
+                u_min[s],
+                self.uv
+                    .iter()
+                    .zip(&self.set_of)
+                    .filter(|(_, &t)| t as usize == s)
+                    .map(|(p, _)| p[0])
+                    .fold(f64::NEG_INFINITY, f64::max)
+            )));
+        }
+        let pick = |v: &[[f64; 3]]| -> Vec<[f64; 3]> { order.iter().map(|&k| v[k]).collect() };
+        let out = FlankNodes {
+            sets: self.sets.clone(),
+            nodes: if self.nodes.is_empty() {
+                Vec::new()
+            } else {
+                order.iter().map(|&k| self.nodes[k]).collect()
+            },
+            labels: order.iter().map(|&k| self.labels[k]).collect(),
+            set_of: order.iter().map(|&k| self.set_of[k]).collect(),
+            uv: order.iter().map(|&k| self.uv[k]).collect(),
+            positions: pick(&self.positions),
+            normals: pick(&self.normals),
+            faces: kept_faces
+                .into_iter()
+                .map(|f| FlankFace {
+                    set: f.set,
+                    nodes: f.nodes.iter().map(|&a| new_index[a as usize]).collect(),
+                })
+                .collect(),
+        };
+        Ok(out)
+    }
+
     /// Number of flank nodes.
     pub fn len(&self) -> usize {
         self.labels.len()

@@ -441,9 +441,34 @@ impl<'a> FlankInterpolator<'a> {
         })
     }
 
+    /// Refuses a point or cell (around (u, v)) of flank set `s` (index into
+    /// the tensor's flank sets) reaching down to u = `lowest` when the tensor stops above that
+    /// ([`crate::compliance::ComplianceMeta::region_u_min`]): the restricted
+    /// tensor does not hold those nodes, and dropping the samples there
+    /// would silently take the load off them.
+    pub fn check_region(&self, s: usize, lowest: f64, u: f64, v: f64) -> Result<(), FlankError> {
+        let Some(floor) = self
+            .tensor
+            .meta
+            .region_u_min
+            .as_ref()
+            .and_then(|f| f.get(s).copied())
+        else {
+            return Ok(());
+        };
+        if lowest < floor - 1e-12 * (1.0 + floor.abs()) {
+            return Err(FlankError::Model(format!(
+                "{}: the contact at (u, v) = ({u}, {v}) on {} reaches u = {lowest}, below u = {floor} where its compliance tensor stops (flank region `active`: the active flank plus a margin); widen the margin or use the full flank (`--flank-region full`, `[analyses.ltca] flank_region = \"full\"`)",
+                self.tensor.meta.body, self.tensor.flank.sets[s]
+            )));
+        }
+        Ok(())
+    }
+
     /// Shape-function weights of the point (u, v) of flank set `set`.
     pub fn point(&self, set: &str, u: f64, v: f64) -> Result<SurfaceLoad, FlankError> {
         let s = self.set(set)?;
+        self.check_region(s, u, u, v)?;
         let (fi, xi) = self.locate(s, u, v).ok_or_else(|| {
             FlankError::Model(format!(
                 "flank point (u, v) = ({u}, {v}) lies outside the meshed flank {set}"
@@ -503,6 +528,10 @@ impl<'a> FlankInterpolator<'a> {
                 }
             }
         }
+        // a tensor restricted to the active flank must cover the whole cell
+        // below: samples there would be dropped as "off the flank"
+        let lowest = pts.iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
+        self.check_region(s, lowest, u, v)?;
         let flank = &self.tensor.flank;
         let total: f64 = pts.iter().map(|p| p.2).sum();
         let mut inside = 0.0;
@@ -639,6 +668,71 @@ mod tests {
                 };
                 assert!((q - exact).abs() < 1e-13, "n {n} p {p}: {q} vs {exact}");
             }
+        }
+    }
+
+    /// A tensor restricted to u ≥ cut is the sub-block of the full one (the
+    /// flank block of K⁻¹ on fewer DOFs) to round-off, and a point or cell
+    /// reaching below the cut is an error naming the region, while the full
+    /// tensor takes it.
+    #[test]
+    fn restricted_tensor_is_the_sub_block_and_guards_its_region() {
+        for kind in [BoxElement::Hex20, BoxElement::Wedge15] {
+            let (model, flank) = box_flank(kind);
+            let o = ComplianceOptions {
+                condition: false,
+                ..Default::default()
+            };
+            let (full, _) = compliance_tensor("box", &model, &flank, &o).unwrap();
+            // the box's top face spans x = u ∈ [0, 20] in 4 elements: a cut
+            // at 7.5 keeps the faces reaching u ≥ 7.5 (x ∈ [5, 20])
+            let cut = 7.5;
+            let sub = flank.restrict_u(&[cut]).unwrap();
+            assert!(sub.len() < flank.len() && !sub.is_empty());
+            assert!(sub.uv.iter().all(|p| p[0] >= 5.0 - 1e-9));
+            assert_eq!(sub.faces.len(), 6);
+            let (mut part, _) = compliance_tensor("box", &model, &sub, &o).unwrap();
+            let at: Vec<usize> = sub
+                .labels
+                .iter()
+                .map(|&l| full.node_of_label(l).unwrap())
+                .collect();
+            let scale = full.matrix.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let mut worst = 0.0f64;
+            for (i, &fi) in at.iter().enumerate() {
+                for (j, &fj) in at.iter().enumerate() {
+                    let (a, b) = (part.block(i, j), full.block(fi, fj));
+                    for r in 0..3 {
+                        for c in 0..3 {
+                            worst = worst.max((a[r][c] - b[r][c]).abs());
+                        }
+                    }
+                }
+            }
+            assert!(worst <= 1e-12 * scale, "{kind:?}: {worst:e} of {scale:e}");
+            // the region guard
+            part.meta.region_u_min = Some(vec![cut]);
+            let it = FlankInterpolator::new(&part).unwrap();
+            let shape = CellShape::Rectangle { hu: 1.0, hv: 1.0 };
+            assert!(it.cell("TOP", 12.0, 5.0, shape, 3).is_ok());
+            for e in [
+                it.cell("TOP", 8.0, 5.0, shape, 3).unwrap_err(),
+                it.point("TOP", 6.0, 5.0).unwrap_err(),
+            ] {
+                let e = e.to_string();
+                assert!(e.contains("below u = 7.5") && e.contains("full"), "{e}");
+            }
+            // the full tensor takes the same cell
+            let it = FlankInterpolator::new(&full).unwrap();
+            assert!(it.cell("TOP", 8.0, 5.0, shape, 3).unwrap().coverage == 1.0);
+            // bad restrictions are errors
+            assert!(flank.restrict_u(&[cut, cut]).is_err());
+            assert!(flank.restrict_u(&[f64::NAN]).is_err());
+            assert!(flank
+                .restrict_u(&[1e9])
+                .unwrap_err()
+                .to_string()
+                .contains("TOP"));
         }
     }
 

@@ -66,6 +66,26 @@
 //! `Right` and `Both` select by side. Flank sets hold the involute and root
 //! fillet nodes (not the root arc), so the tensors cover fillet loading too.
 //!
+//! [`FlankRegion`] then picks the part of each flank: `full` (the whole
+//! set) or `active`, the active flank plus a margin
+//! ([`body::active_flank_cut`]: from the start of active profile, the
+//! radius the mating tip reaches, down the profile by
+//! [`body::active_margin_mm`] = 2 flank elements + 1 mm, then every flank
+//! face that reaches that cut, [`FlankNodes::restrict_u`]). The Schur path
+//! costs m³, so the fillet's DOFs, which the mating tip cannot load, are
+//! dear. Nothing is approximated: C on fewer flank DOFs is the sub-block of
+//! C on all of them. `active` is the default where the pair is known
+//! (`flank ltca`, `flank compare`, spur/helical pairs; `--flank-region`,
+//! `[analyses.ltca] flank_region`); `flank compliance` keeps `full` unless
+//! asked (`[analyses.compliance] flank_region`). A restricted tensor records
+//! where it stops ([`ComplianceMeta::region_u_min`]); a contact point or
+//! cell that reaches below is an error naming the region
+//! ([`FlankInterpolator::check_region`]), never a load silently dropped,
+//! and its cache key differs from the full tensor's ([`region_cache_key`]).
+//! Bevel/hypoid bodies take the full flank: their u runs across the pitch
+//! generatrix and the start of active profile is a curve in (u, v), not
+//! yet derived.
+//!
 //! ## Storage, cache, interpolation
 //!
 //! [`cache`]: `<body>.compliance.h5` with the cargo feature `hdf5`, a
@@ -134,6 +154,48 @@ impl FlankSelection {
     }
 }
 
+/// Which part of each selected flank carries compliance tensors.
+///
+/// The Schur-complement path costs m³ in the m = 3N flank DOFs
+/// (`benches/README.md`, "Compliance tensors"), so DOFs the contact cannot
+/// load are dear. The block of K⁻¹ on a subset of the flank DOFs is exactly
+/// the sub-block of the full one (C = Eᵀ K⁻¹ E with fewer columns of E):
+/// restricting the nodes drops rows and columns, it approximates nothing.
+/// The active region's cut: [`body::active_flank_cut`] with
+/// [`body::active_margin_mm`].
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum FlankRegion {
+    /// The whole flank node sets: involute and root fillet.
+    #[default]
+    Full,
+    /// The active flank (start of active profile, from the pair, up to the
+    /// tip) plus a margin of 2 flank elements + 1 mm down the profile; the
+    /// default of the runs that know the mating gear (`flank ltca`,
+    /// `flank compare`) on spur/helical pairs.
+    Active,
+}
+
+impl FlankRegion {
+    /// The lower-case name used in scenes, on the command line and in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            FlankRegion::Full => "full",
+            FlankRegion::Active => "active",
+        }
+    }
+}
+
 /// The compliance of one body on its flank nodes, with what it was computed
 /// from. `matrix` is 3N × 3N, full, symmetric, node-major (x, y, z), mm/N.
 #[derive(Clone, Debug)]
@@ -164,6 +226,14 @@ pub struct ComplianceMeta {
     pub units: String,
     /// How the matrix was computed (`schur` or `blocked`).
     pub method: String,
+    /// Where the flank nodes stop down the profile when the tensor covers
+    /// only part of each flank ([`FlankRegion::Active`]): per flank set (in
+    /// the order of `flank_sets`), the lowest flank parameter u of its
+    /// nodes. A contact cell reaching below it is an error
+    /// ([`FlankInterpolator::cell`]), never a silent zero. Absent for the
+    /// full flank (and in files written before it existed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub region_u_min: Option<Vec<f64>>,
 }
 
 /// Units string stored with every tensor.
@@ -328,6 +398,26 @@ pub fn cache_key(model: &Model, mesh_hash: &str, flank: &FlankNodes) -> String {
     h.hex()
 }
 
+/// The cache key of a tensor restricted to part of its flanks: `key` (the
+/// [`cache_key`] of the restricted nodes, which already differ from the
+/// full flank's) mixed with where each flank set stops
+/// ([`ComplianceMeta::region_u_min`]), so that a restricted tensor never
+/// answers for a full one, nor for another region, even where the nodes
+/// coincide. `None` (full flank) leaves the key as it was.
+pub fn region_cache_key(key: &str, region_u_min: Option<&[f64]>) -> String {
+    let Some(u) = region_u_min else {
+        return key.to_string();
+    };
+    let mut h = Fnv128::new();
+    h.str("flank-compliance-region-v1");
+    h.str(key);
+    h.u64(u.len() as u64);
+    for &x in u {
+        h.f64(x);
+    }
+    h.hex()
+}
+
 /// Names of the node sets all of whose nodes have all three DOFs fixed at
 /// zero by the model's Dirichlet conditions (e.g. `BORE`), sorted.
 pub fn clamped_sets(model: &Model) -> Vec<String> {
@@ -397,6 +487,7 @@ pub fn compliance_tensor(
         flank_sets: flank.sets.clone(),
         units: UNITS.to_string(),
         method: options.method.name().to_string(),
+        region_u_min: None,
     };
     Ok((
         ComplianceTensor {
@@ -457,22 +548,49 @@ mod tests {
             )
         };
         let s = with(
-            r#"{ clamp_cuts = true, flanks = "both", method = "blocked", memory_budget_mb = 512 }"#,
+            r#"{ clamp_cuts = true, flanks = "both", method = "blocked", memory_budget_mb = 512, flank_region = "active" }"#,
         )
         .unwrap();
         let c = s.analyses.compliance.unwrap();
         assert!(c.clamp_cuts);
+        assert_eq!(c.flank_region, FlankRegion::Active);
         assert_eq!(c.flanks, FlankSelection::Both);
         assert_eq!(c.method, Method::Blocked);
         assert_eq!(c.memory_budget_mb, Some(512.0));
         let d = with("{}").unwrap().analyses.compliance.unwrap();
         assert_eq!(
-            (d.flanks, d.method, d.clamp_cuts),
-            (FlankSelection::Loaded, Method::Schur, false)
+            (d.flanks, d.method, d.clamp_cuts, d.flank_region),
+            (
+                FlankSelection::Loaded,
+                Method::Schur,
+                false,
+                FlankRegion::Full
+            )
+        );
+        // the LTCA's key: active or full, spur/helical only
+        let ltca = |v: &str| {
+            crate::scene::parse_scene(
+                &text.replace(
+                    "mesh = {}\n",
+                    &format!("mesh = {{}}\nltca = {{ flank_region = {v} }}\n"),
+                ),
+                path,
+            )
+        };
+        let l = ltca(r#""full""#).unwrap().analyses.ltca.unwrap();
+        assert_eq!(l.flank_region, Some(FlankRegion::Full));
+        assert!(ltca(r#""fillet""#).is_err());
+        // the region keys a tensor apart; none leaves the key as it was
+        assert_eq!(region_cache_key("abc", None), "abc");
+        assert_ne!(region_cache_key("abc", Some(&[0.1])), "abc");
+        assert_ne!(
+            region_cache_key("abc", Some(&[0.1])),
+            region_cache_key("abc", Some(&[0.2]))
         );
         for (bad, what) in [
             ("{ order = 2 }", "analyses.compliance"),
             (r#"{ method = "lu" }"#, "analyses.compliance"),
+            (r#"{ flank_region = "tip" }"#, "analyses.compliance"),
             ("{ memory_budget_mb = 0 }", "memory_budget_mb"),
         ] {
             let e = with(bad).unwrap_err().to_string();

@@ -7,19 +7,19 @@ use std::time::Instant;
 use nalgebra::{DMatrix, SymmetricEigen};
 
 use crate::compliance::body::{
-    any_scene_body, bevel_sector_options, flank_nodes_on, flank_uv_on, sector_options,
-    BodyMeshOptions, SectorBody,
+    active_flank_cut, active_margin_mm, any_scene_body, bevel_sector_options, flank_nodes_on,
+    flank_uv_on, sector_options, BodyMeshOptions, SectorBody,
 };
 use crate::compliance::cache::{self, CacheOutcome, ComplianceCache, FileFormat};
 use crate::compliance::contact_probe::{directional_matrices, retain_meshed, ProbePoint};
 use crate::compliance::plot::plot_cnn;
 use crate::compliance::{
-    cache_key, clamp_sets, compliance_tensor, mesh_hash, ComplianceOptions, ComplianceTensor,
-    FlankInterpolator, FlankSelection, Method,
+    cache_key, clamp_sets, compliance_tensor, mesh_hash, region_cache_key, ComplianceOptions,
+    ComplianceTensor, FlankInterpolator, FlankRegion, FlankSelection, Method,
 };
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
-use crate::scene::{read_any_scene, AnyScene, BevelScene, ComplianceAnalysis};
+use crate::scene::{read_any_scene, AnyScene, BevelScene, ComplianceAnalysis, Scene};
 use crate::tca::major_axis::{major_axis_points, AxisPoint};
 use crate::tca::point_contact::{point_tca, PointTcaSettings};
 
@@ -40,6 +40,46 @@ pub struct RunOptions {
     pub cache: Option<PathBuf>,
     pub format: Option<FileFormat>,
     pub condition: bool,
+    /// The flank region (default: the scene's, else the full flank).
+    pub region: Option<FlankRegion>,
+}
+
+/// [`BodyTensorOptions::region_u_min`] of body `name` of `scene` for
+/// `region`: `None` for the full flank; for the active flank the cut of
+/// [`crate::compliance::body::active_flank_cut`] with the margin of the
+/// body's flank element size ([`active_margin_mm`]). The active region
+/// needs the pair's start of active profile: spur/helical scenes only, for
+/// now (a bevel/hypoid body's flank parameter u runs across the pitch
+/// generatrix, and its active boundary is a curve in (u, v)).
+pub fn region_cut(
+    scene: &AnyScene,
+    name: &str,
+    region: FlankRegion,
+    mesh: &BodyMeshOptions,
+) -> Result<Option<f64>, FlankError> {
+    match (region, scene) {
+        (FlankRegion::Full, _) => Ok(None),
+        (_, AnyScene::Cylindrical(s)) => cylindrical_region_cut(s, name, region, mesh),
+        (FlankRegion::Active, AnyScene::Bevel(_)) => Err(FlankError::Model(
+            "flank region `active` is implemented for spur/helical pairs only; a bevel/hypoid body takes `full`".into(),
+        )),
+    }
+}
+
+/// [`region_cut`] of a spur/helical scene.
+pub fn cylindrical_region_cut(
+    scene: &Scene,
+    name: &str,
+    region: FlankRegion,
+    mesh: &BodyMeshOptions,
+) -> Result<Option<f64>, FlankError> {
+    match region {
+        FlankRegion::Full => Ok(None),
+        FlankRegion::Active => {
+            let h = sector_options(scene, mesh)?.flank_size;
+            active_flank_cut(scene, name, active_margin_mm(h)).map(Some)
+        }
+    }
 }
 
 /// A contact line across the face width: the nodes of the full profile row
@@ -132,6 +172,10 @@ pub struct BodyTensorOptions<'c> {
     pub format: FileFormat,
     /// A campaign cache searched before computing.
     pub campaign: Option<&'c ComplianceCache>,
+    /// The lowest profile parameter u kept on every flank set (the active
+    /// flank plus its margin, [`crate::compliance::body::active_flank_cut`]);
+    /// `None`: the full flank ([`FlankRegion::Full`]).
+    pub region_u_min: Option<f64>,
 }
 
 impl<'c> BodyTensorOptions<'c> {
@@ -147,6 +191,7 @@ impl<'c> BodyTensorOptions<'c> {
             },
             format: FileFormat::default_format(),
             campaign,
+            region_u_min: None,
         }
     }
 }
@@ -181,17 +226,36 @@ pub fn body_tensor(
     let parsed = crate::mesh::inp::read_deck(&deck)?;
     let mut model = parsed.model;
     let uv = flank_uv_on(body, &model.mesh)?;
-    let flank = flank_nodes_on(&model.mesh, &uv, body.surfaces.as_ref(), options.flanks)?;
+    let mut flank = flank_nodes_on(&model.mesh, &uv, body.surfaces.as_ref(), options.flanks)?;
+    // the active flank: the faces reaching the cut, and where the tensor
+    // stops (a restriction that keeps every node is the full flank)
+    let mut region = None;
+    if let Some(u) = options.region_u_min {
+        let cut = vec![u; flank.sets.len()];
+        let restricted = flank.restrict_u(&cut).map_err(|e| match e {
+            FlankError::Model(m) => FlankError::Model(format!("{name}: {m}")),
+            e => e,
+        })?;
+        if restricted.len() < flank.len() {
+            flank = restricted;
+            region = Some(cut);
+        }
+    }
     model.forces.clear();
     model.pressures.clear();
     if options.clamp_cuts {
         clamp_sets(&mut model, &["CUT_A", "CUT_B"])?;
     }
-    let key = cache_key(&model, &mesh_hash(&model.mesh), &flank);
+    let key = region_cache_key(
+        &cache_key(&model, &mesh_hash(&model.mesh), &flank),
+        region.as_deref(),
+    );
     let file = out.join(options.format.file_name(name));
     let mut stats = None;
     let mut compute = || -> Result<ComplianceTensor, FlankError> {
-        let (t, s) = compliance_tensor(name, &model, &flank, &options.compliance)?;
+        let (mut t, s) = compliance_tensor(name, &model, &flank, &options.compliance)?;
+        t.meta.cache_key = key.clone();
+        t.meta.region_u_min = region.clone();
         stats = Some(s);
         Ok(t)
     };
@@ -238,6 +302,7 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
     let analysis: ComplianceAnalysis = analyses.compliance.clone().unwrap_or_default();
     let method = options.method.unwrap_or(analysis.method);
     let flanks = options.flanks.unwrap_or(analysis.flanks);
+    let region = options.region.unwrap_or(analysis.flank_region);
     let clamp_cuts = options.clamp_cuts || analysis.clamp_cuts;
     let copts = ComplianceOptions {
         method,
@@ -250,7 +315,10 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
         condition: options.condition,
         ..Default::default()
     };
-    // the mesh options are checked before anything is written
+    // the region and the mesh options are checked before anything is written
+    if region == FlankRegion::Active {
+        region_cut(&scene, "pinion", region, &options.mesh)?;
+    }
     match &scene {
         AnyScene::Cylindrical(s) => {
             sector_options(s, &options.mesh)?;
@@ -307,6 +375,7 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
                 compliance: copts.clone(),
                 format,
                 campaign: campaign.as_deref(),
+                region_u_min: region_cut(&scene, name, region, &options.mesh)?,
             },
             out,
         )?;
@@ -340,6 +409,7 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
             "mesh_hash": tensor.meta.mesh_hash,
             "clamped_sets": tensor.meta.clamped_sets,
             "flank_sets": tensor.meta.flank_sets,
+            "region_u_min": tensor.meta.region_u_min,
             "flank_nodes": tensor.node_count(),
             "matrix_dim": tensor.dim(),
             "asymmetry": tensor.asymmetry(),
@@ -359,6 +429,7 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
         "scene": path.display().to_string(),
         "method": method,
         "flanks": flanks,
+        "flank_region": region,
         "clamp_cuts": clamp_cuts,
         "threads": options.threads,
         "bodies": summary,

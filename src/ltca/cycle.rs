@@ -15,7 +15,8 @@ use std::time::Instant;
 
 use crate::compliance::body::{scene_body, BodyMeshOptions};
 use crate::compliance::cache::{ComplianceCache, FileFormat};
-use crate::compliance::run::{body_tensor, BodyTensorOptions};
+use crate::compliance::run::{body_tensor, cylindrical_region_cut, BodyTensorOptions};
+use crate::compliance::FlankRegion;
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
 use crate::geometry::gear_pair::{engagement_roll_angles, GearPair};
@@ -57,6 +58,8 @@ pub struct LtcaOptions {
     pub increments: Option<usize>,
     pub cross_check: bool,
     pub friction_model: Option<FrictionModel>,
+    /// Flank nodes of the tensors (default: the scene's, else `active`).
+    pub flank_region: Option<FlankRegion>,
 }
 
 /// The corner-contact extension must exceed the loaded approach by this
@@ -124,12 +127,19 @@ impl LtcaCycle {
             Some(d) => Some(ComplianceCache::shared(d, FileFormat::default_format())?),
             None => None,
         };
-        let topts = BodyTensorOptions::for_ltca(options.threads, campaign.as_deref());
+        let mut topts = BodyTensorOptions::for_ltca(options.threads, campaign.as_deref());
+        // the pair is known: by default the tensors cover the active flanks
+        let region = options
+            .flank_region
+            .or(a.flank_region)
+            .unwrap_or(FlankRegion::Active);
+        topts.region_u_min = cylindrical_region_cut(scene, "pinion", region, &mesh)?;
         let pinion = body_tensor(
             &scene_body(scene, "pinion", &mesh)?.into(),
             &topts,
             &options.out,
         )?;
+        topts.region_u_min = cylindrical_region_cut(scene, "gear", region, &mesh)?;
         let gear = body_tensor(
             &scene_body(scene, "gear", &mesh)?.into(),
             &topts,

@@ -307,6 +307,10 @@ impl LtcaBodies {
             jobs.par_iter()
                 .map(|(li, line, p, sets, set_index, first, flanks)| {
                     let uv = [p.pinion_uv, p.gear_uv];
+                    // below a restricted tensor's region: an error, not "off the flank"
+                    for b in 0..2 {
+                        its[b].check_region(set_index[b], uv[b][0], uv[b][0], uv[b][1])?;
+                    }
                     let h = (0..2)
                         .map(|b| self.element_size(&its[b], flanks[b], b, set_index[b], uv[b]))
                         .fold(0.0, f64::max);

@@ -27,6 +27,10 @@ pub struct ComplianceAnalysis {
     /// gear bodies load), `left`, `right` or `both`.
     #[serde(default)]
     pub flanks: crate::compliance::FlankSelection,
+    /// `full` (default here: `flank compliance` probes the fillet too) or
+    /// `active`: the active flank plus a margin (spur/helical).
+    #[serde(default)]
+    pub flank_region: crate::compliance::FlankRegion,
     /// `schur` (default) or `blocked`.
     #[serde(default)]
     pub method: crate::compliance::Method,
@@ -115,6 +119,10 @@ pub struct LtcaAnalysis {
     /// (not the FE-contact `[mesh]` sizes, which are meant for FE contact).
     pub flank_size_mm: Option<f64>,
     pub base_size_mm: Option<f64>,
+    /// Flank nodes carrying the tensors: `active` (default: the active
+    /// flank plus a margin, [`crate::compliance::FlankRegion::Active`]) or
+    /// `full` (involute and root fillet). Spur/helical only.
+    pub flank_region: Option<crate::compliance::FlankRegion>,
     /// Coulomb friction coefficient of the flanks (0…1; absent or 0:
     /// frictionless): the frictional LTCA of seeds 001/003
     /// ([`crate::ltca::friction`]), the friction force against the

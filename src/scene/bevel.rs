@@ -482,6 +482,7 @@ fn spur_only_ltca_key(l: &analyses::LtcaAnalysis) -> Option<&'static str> {
         ("extension_mm", l.extension_mm.is_some()),
         ("flank_size_mm", l.flank_size_mm.is_some()),
         ("base_size_mm", l.base_size_mm.is_some()),
+        ("flank_region", l.flank_region.is_some()),
     ]
     .into_iter()
     .find(|(_, given)| *given)

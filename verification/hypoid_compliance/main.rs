@@ -74,6 +74,7 @@ fn tensor_of(
             compliance: ComplianceOptions::default(),
             format: FileFormat::Native,
             campaign: None,
+            region_u_min: None,
         },
         out,
     )
