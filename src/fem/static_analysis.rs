@@ -30,7 +30,9 @@ pub struct SolveOptions {
     pub recover_stress: bool,
     /// Show a progress spinner on stderr.
     pub progress: bool,
-    /// Arithmetic of the factorization (mixed = f32 factor + f64 refinement).
+    /// Arithmetic of the factorization (default mixed = f32 factor + f64
+    /// refinement with a backward-error check and fallback to double;
+    /// `Double` forces the f64 factor).
     pub precision: Precision,
 }
 
@@ -41,7 +43,7 @@ impl Default for SolveOptions {
             threads: 0,
             recover_stress: true,
             progress: false,
-            precision: Precision::Double,
+            precision: Precision::Mixed,
         }
     }
 }
@@ -769,6 +771,7 @@ mod tests {
                 &model,
                 &SolveOptions {
                     recover_stress: false,
+                    precision: Precision::Double,
                     ..Default::default()
                 },
             )
