@@ -42,23 +42,77 @@ impl SparsePattern {
     }
 
     /// y = A x for the symmetric matrix whose lower triangle is `values`.
+    ///
+    /// In rayon's pool the columns are split into blocks of about equal
+    /// non-zeros, one per thread, each adding into its own vector (rows at
+    /// or below its first column), summed at the end; the result differs
+    /// from the serial product only by the summation order.
     pub fn sym_mul(&self, values: &[f64], x: &[f64]) -> Vec<f64> {
+        let threads = rayon::current_num_threads();
+        let nnz = self.nnz();
+        if threads < 2 || nnz < SYM_MUL_PAR_MIN {
+            let mut y = vec![0.0; self.n];
+            self.sym_mul_columns(values, x, 0, self.n, &mut y);
+            return y;
+        }
+        // column blocks of ≈ nnz / threads entries
+        let mut bounds = vec![0usize];
+        for t in 1..threads {
+            let target = nnz * t / threads;
+            let c = self.col_ptr.partition_point(|&p| p < target).min(self.n);
+            if c > *bounds.last().unwrap_or(&0) {
+                bounds.push(c);
+            }
+        }
+        bounds.push(self.n);
+        let parts: Vec<(usize, Vec<f64>)> = bounds
+            .par_windows(2)
+            .map(|w| {
+                let mut y = vec![0.0; self.n - w[0]];
+                self.sym_mul_columns(values, x, w[0], w[1], &mut y);
+                (w[0], y)
+            })
+            .collect();
         let mut y = vec![0.0; self.n];
-        for c in 0..self.n {
+        y.par_chunks_mut(1 << 14).enumerate().for_each(|(i, out)| {
+            let lo = i << 14;
+            for (start, part) in &parts {
+                let hi = lo + out.len();
+                if hi <= *start {
+                    continue;
+                }
+                let from = lo.max(*start);
+                for (o, p) in out[from - lo..].iter_mut().zip(&part[from - start..]) {
+                    *o += p;
+                }
+            }
+        });
+        y
+    }
+
+    /// Adds the product's terms of columns `c0..c1` into `y`, whose entry 0
+    /// is row `c0` (rows above `c0` get nothing from these columns).
+    fn sym_mul_columns(&self, values: &[f64], x: &[f64], c0: usize, c1: usize, y: &mut [f64]) {
+        for c in c0..c1 {
+            let mut yc = 0.0;
+            let xc = x[c];
             for k in self.col_ptr[c]..self.col_ptr[c + 1] {
                 let r = self.row_idx[k];
                 let v = values[k];
-                y[r] += v * x[c];
+                y[r - c0] += v * xc;
                 if r != c {
-                    y[c] += v * x[r];
+                    yc += v * x[r];
                 }
             }
+            y[c - c0] += yc;
         }
-        y
     }
 }
 
 const NO_SLOT: u32 = u32::MAX;
+
+/// Non-zeros below which [`SparsePattern::sym_mul`] stays serial.
+const SYM_MUL_PAR_MIN: usize = 1 << 18;
 
 /// The symbolic part of assembly: pattern, slots, colouring.
 pub struct Assembly {
