@@ -527,6 +527,11 @@ impl Assembly {
         })
     }
 
+    /// The pattern alone; the slot map and colouring are freed.
+    pub fn into_pattern(self) -> SparsePattern {
+        self.pattern
+    }
+
     /// Bytes held by the symbolic structures (pattern and slot map).
     pub fn memory_bytes(&self) -> usize {
         self.pattern.row_idx.len() * 8

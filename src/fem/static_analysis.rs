@@ -457,11 +457,8 @@ fn solve_static_in_pool(
     stats.assembly_s = t.elapsed().as_secs_f64();
     // keep the pattern, free the slot map and colouring before factorizing
     // (a partial move out of `assembly` would keep the rest to the end of
-    // the function: the block drops it here)
-    let pattern = {
-        let assembly = assembly;
-        assembly.pattern
-    };
+    // the function)
+    let pattern = assembly.into_pattern();
 
     // reduced right-hand side: Tᵀ f + coupling loads − Tᵀ K u₀
     let f_full = load_vector(model)?;
