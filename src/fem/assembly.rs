@@ -540,3 +540,59 @@ impl Assembly {
             + self.slot_offset.len() * 8
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::Rng;
+
+    /// The product split over threads equals the serial one to round-off
+    /// (a random lower pattern large enough for the parallel path).
+    #[test]
+    fn sym_mul_in_parallel_matches_serial() {
+        let mut rng = Rng::new(23);
+        let n = 20_000;
+        let mut col_ptr = vec![0usize];
+        let mut row_idx = Vec::new();
+        for c in 0..n {
+            let mut rows: Vec<usize> = (0..16).map(|_| c + rng.below(n - c)).collect();
+            rows.push(c);
+            rows.sort_unstable();
+            rows.dedup();
+            row_idx.extend(rows);
+            col_ptr.push(row_idx.len());
+        }
+        assert!(row_idx.len() >= SYM_MUL_PAR_MIN);
+        let p = SparsePattern {
+            n,
+            col_ptr,
+            row_idx,
+        };
+        let values: Vec<f64> = (0..p.nnz()).map(|_| rng.unit()).collect();
+        let x: Vec<f64> = (0..n).map(|_| rng.unit()).collect();
+        // reference: the plain definition, y_r += a_rc x_c and y_c += a_rc x_r
+        let mut reference = vec![0.0; n];
+        for c in 0..n {
+            for k in p.col_ptr[c]..p.col_ptr[c + 1] {
+                let r = p.row_idx[k];
+                reference[r] += values[k] * x[c];
+                if r != c {
+                    reference[c] += values[k] * x[r];
+                }
+            }
+        }
+        let scale = reference.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        for threads in [1, 2, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let y = pool.install(|| p.sym_mul(&values, &x));
+            let diff = y
+                .iter()
+                .zip(&reference)
+                .fold(0.0f64, |a, (u, v)| a.max((u - v).abs()));
+            assert!(diff <= 1e-13 * scale, "{threads} threads: {diff:.2e}");
+        }
+    }
+}
