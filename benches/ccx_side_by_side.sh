@@ -2,12 +2,16 @@
 # Side-by-side run of flank and CalculiX (ccx) on the same C3D20 cantilever
 # deck (default 100×10×10 elements, 46 541 nodes, 138 600 free DOFs).
 # Needs: ccx (calculix-ccx) and /usr/bin/time (Debian package `time`).
-# Usage: benches/ccx_side_by_side.sh [runs] [nx,ny,nz] [threads]
+# flank with its default precision (mixed: f32 factor + CG refinement on the
+# f64 matrix, falls back to double) and with --precision double, against ccx
+# (OMP_NUM_THREADS and CCX_NPROC_EQUATION_SOLVER set to the same threads),
+# runs alternating, for each thread count of the list (default 1,2).
+# Usage: benches/ccx_side_by_side.sh [runs] [nx,ny,nz] [threads,...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 RUNS=${1:-3}
 CELLS=${2:-100,10,10}
-THREADS=${3:-2}
+THREADS=${3:-1,2}
 WORK=$(realpath -m "${WORK:-target/side_by_side}")
 mkdir -p "$WORK"
 cargo build --release --quiet
@@ -22,13 +26,17 @@ measure() { # label, then the command; prints "label wall_s peak_mb"
     echo "$label $wall $((kb / 1024))"
 }
 
+uptime | tee "$WORK/load.txt"
 {
 for i in $(seq "$RUNS"); do
-    (cd "$WORK" && OMP_NUM_THREADS=$THREADS CCX_NPROC_EQUATION_SOLVER=$THREADS measure ccx ccx -i job)
-    measure flank_double $FLANK solve "$WORK/cantilever.inp" --out "$WORK/out_double" --quiet --threads "$THREADS"
-    measure flank_mixed $FLANK solve "$WORK/cantilever.inp" --out "$WORK/out_mixed" --quiet --threads "$THREADS" --precision mixed
+    for t in ${THREADS//,/ }; do
+        (cd "$WORK" && OMP_NUM_THREADS=$t CCX_NPROC_EQUATION_SOLVER=$t measure "ccx_t$t" ccx -i job)
+        measure "flank_default_t$t" $FLANK solve "$WORK/cantilever.inp" --out "$WORK/out_default_t$t" --quiet --threads "$t"
+        measure "flank_double_t$t" $FLANK solve "$WORK/cantilever.inp" --out "$WORK/out_double_t$t" --quiet --threads "$t" --precision double
+    done
 done
 } | tee "$WORK/runs.txt"
+uptime | tee -a "$WORK/load.txt"
 
 python3 - "$WORK" <<'PY'
 import json, statistics, sys, collections
@@ -38,14 +46,18 @@ for line in open(f"{work}/runs.txt"):
     label, wall, mb = line.split()
     rows[label].append((float(wall), float(mb)))
 med = {k: (statistics.median(w for w, _ in v), statistics.median(m for _, m in v)) for k, v in rows.items()}
-print(f"\n{'program':<14} {'wall s (median)':>16} {'peak MB (median)':>17} {'wall ratio ccx/x':>17} {'memory ratio x/ccx':>19}")
+print(f"\n{'program':<20} {'wall s (median)':>16} {'peak MB (median)':>17} {'speed-up ccx/x':>15} {'memory x/ccx':>13}")
 for k, (w, m) in med.items():
-    print(f"{k:<14} {w:>16.2f} {m:>17.0f} {med['ccx'][0] / w:>17.2f} {m / med['ccx'][1]:>19.2f}")
-for p in ("double", "mixed"):
+    t = k.rsplit("_t", 1)[1]
+    c = med[f"ccx_t{t}"]
+    print(f"{k:<20} {w:>16.2f} {m:>17.0f} {c[0] / w:>15.2f} {m / c[1]:>13.2f}")
+outs = [k[len("flank_"):] for k in med if k.startswith("flank_")]
+for p in outs:
     s = json.load(open(f"{work}/out_{p}/summary.json"))
-    print(f"flank {p}: dofs {s['dofs']}, nnz(L) {s['nnz_factor']}, factorization {s['factorization_s']:.2f} s "
-          f"({s['factorization_gflop']:.0f} GFLOP, {s['factorization_gflops']:.1f} GFLOP/s), "
-          f"backward error {s['backward_error']:.1e}")
+    print(f"flank {p}: {s['precision']}, dofs {s['dofs']}, nnz(L) {s['nnz_factor']}, factorization {s['factorization_s']:.2f} s "
+          f"({s['factorization_gflop']:.0f} GFLOP, {s['factorization_gflops']:.1f} GFLOP/s), ordering {s['ordering_s']:.2f} s, "
+          f"symbolic assembly {s['symbolic_assembly_s']:.2f} s, assembly {s['assembly_s']:.2f} s, solve {s['solve_s']:.2f} s "
+          f"({s['refinement_steps']} CG steps), total {s['total_s']:.2f} s, backward error {s['backward_error']:.1e}")
 # agreement with ccx
 def dat(path):
     out, on = {}, False
@@ -58,7 +70,7 @@ def dat(path):
     return out
 c = dat(f"{work}/job.dat")
 import csv
-for p in ("double", "mixed"):
+for p in outs:
     f = {int(r["node"]): [float(r["ux"]), float(r["uy"]), float(r["uz"])] for r in csv.DictReader(open(f"{work}/out_{p}/displacements.csv"))}
     d = max(sum((a - b) ** 2 for a, b in zip(f[n], c[n])) ** 0.5 for n in c)
     m = max(sum(a * a for a in c[n]) ** 0.5 for n in c)

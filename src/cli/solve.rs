@@ -21,10 +21,12 @@ pub struct Args {
     /// Threads (0 = all cores).
     #[arg(long, default_value_t = 0)]
     threads: usize,
-    /// Arithmetic of the factorization: double, or mixed (f32 factor,
-    /// f64 iterative refinement, automatic fallback to double).
-    #[arg(long, value_enum, default_value_t = Precision::Double)]
-    precision: Precision,
+    /// Arithmetic of the factorization: mixed (default: f32 factor, f64
+    /// refinement to a backward error of f64 round-off, automatic fallback
+    /// to double), or double (forces the f64 factor).
+    /// Contact decks always factorize in double.
+    #[arg(long, value_enum)]
+    precision: Option<Precision>,
     /// Skip stress recovery and reactions.
     #[arg(long)]
     no_stress: bool,
@@ -57,7 +59,7 @@ pub fn run(args: Args) -> Result<()> {
         threads,
         recover_stress: !no_stress,
         progress: !quiet,
-        precision,
+        precision: precision.unwrap_or_default(),
     };
     let sol = solve_static(&parsed.model, &options)
         .with_context(|| format!("solving {}", deck.display()))?;
@@ -89,9 +91,11 @@ fn solve_contact_deck(
     threads: usize,
     recover_stress: bool,
     quiet: bool,
-    precision: Precision,
+    precision: Option<Precision>,
 ) -> Result<()> {
-    if precision != Precision::Double {
+    // the contact solve reuses one factor for many Delassus columns (no
+    // refinement per column): it always factorizes in double
+    if precision == Some(Precision::Mixed) {
         eprintln!("warning: contact solves factorize in double precision (--precision ignored)");
     }
     let options = flank::contact::ContactOptions {

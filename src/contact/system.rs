@@ -131,6 +131,9 @@ impl ElasticSystem {
         let assembly_s = t.elapsed().as_secs_f64() - chol.stats.symbolic_s;
         let pattern = asm.pattern;
         let names = crate::fem::static_analysis::reduced_dof_names(&pinned, &dofs);
+        // Double, not the static solve's mixed default: the Delassus
+        // columns are many solves with this one factor, each used as is
+        // (no per-column refinement against the f64 matrix).
         chol.factorize(&pattern, &sys.values, Precision::Double, &|r| {
             names.get(r).cloned().unwrap_or_else(|| r.to_string())
         })?;

@@ -40,12 +40,18 @@ use crate::fem::ordering::OrderingMethod;
 )]
 #[serde(rename_all = "lowercase")]
 pub enum Precision {
-    /// f64 factor (default): the answer needs no refinement.
-    #[default]
+    /// f64 factor: the answer needs no refinement. Forced with
+    /// `--precision double`; the FE contact system (many Delassus columns
+    /// solved with one factor) and the compliance tensors (the Schur
+    /// complement read off the factor's trailing block) factorize in double
+    /// explicitly, since they use the factor itself, not one refined solve.
     Double,
-    /// f32 factor, half the memory and about twice the speed; the caller
-    /// refines the solution against the f64 matrix (mixed-precision iterative
-    /// refinement) and falls back to `Double` if refinement does not converge.
+    /// f32 factor, half the memory and about twice the speed (default of a
+    /// static solve); the caller refines the solution against the f64 matrix
+    /// (f32-preconditioned CG, to a backward error of f64 round-off) and
+    /// falls back to `Double` if the f32 factor breaks down or the
+    /// refinement does not converge.
+    #[default]
     Mixed,
 }
 

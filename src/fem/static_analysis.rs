@@ -30,7 +30,9 @@ pub struct SolveOptions {
     pub recover_stress: bool,
     /// Show a progress spinner on stderr.
     pub progress: bool,
-    /// Arithmetic of the factorization (mixed = f32 factor + f64 refinement).
+    /// Arithmetic of the factorization (default mixed = f32 factor + f64
+    /// refinement with a backward-error check and fallback to double;
+    /// `Double` forces the f64 factor).
     pub precision: Precision,
 }
 
@@ -41,7 +43,7 @@ impl Default for SolveOptions {
             threads: 0,
             recover_stress: true,
             progress: false,
-            precision: Precision::Double,
+            precision: Precision::Mixed,
         }
     }
 }
@@ -65,6 +67,8 @@ pub struct SolveStats {
     pub supernodal: bool,
     pub threads: usize,
     pub symbolic_assembly_s: f64,
+    /// Wall time of the numeric assembly, which runs beside the symbolic
+    /// factorization (`symbolic_factorization_s`, its own time, overlaps it).
     pub assembly_s: f64,
     pub ordering_s: f64,
     pub symbolic_factorization_s: f64,
@@ -430,12 +434,31 @@ fn solve_static_in_pool(
     let dofs = dofs;
     stats.symbolic_assembly_s = t.elapsed().as_secs_f64();
 
-    pb.set_message(format!("assembly ({} elements)", model.mesh.elements.len()));
+    pb.set_message(format!(
+        "assembly ({} elements) and symbolic factorization",
+        model.mesh.elements.len()
+    ));
+    // The symbolic factorization (serial in faer) needs only the pattern:
+    // it runs beside the numeric assembly, which takes the other threads.
     let t = Instant::now();
-    let system = assembly.assemble(model, &dofs)?;
+    let (analyzed, system) = rayon::join(
+        || {
+            SparseCholesky::analyze(
+                &assembly.pattern,
+                options.ordering,
+                assembly.ordering_s,
+                par,
+            )
+        },
+        || assembly.assemble(model, &dofs),
+    );
+    let system = system?;
+    let mut chol = analyzed?;
     stats.assembly_s = t.elapsed().as_secs_f64();
     // keep the pattern, free the slot map and colouring before factorizing
-    let (pattern, ordering_s) = (assembly.pattern, assembly.ordering_s);
+    // (a partial move out of `assembly` would keep the rest to the end of
+    // the function)
+    let pattern = assembly.into_pattern();
 
     // reduced right-hand side: Tᵀ f + coupling loads − Tᵀ K u₀
     let f_full = load_vector(model)?;
@@ -451,14 +474,19 @@ fn solve_static_in_pool(
         *bi += pi;
     }
 
-    pb.set_message("symbolic factorization");
-    let mut chol = SparseCholesky::analyze(&pattern, options.ordering, ordering_s, par)?;
     pb.set_message(format!(
         "factorization (nnz(L) = {})",
         chol.stats.nnz_factor
     ));
-    let dof_names = reduced_dof_names(model, &dofs);
-    let name_of = |r: usize| dof_names[r].clone();
+    // the names are only needed for an error message: built on first use
+    let dof_names = std::sync::OnceLock::new();
+    let name_of = |r: usize| {
+        dof_names
+            .get_or_init(|| reduced_dof_names(model, &dofs))
+            .get(r)
+            .cloned()
+            .unwrap_or_else(|| format!("reduced DOF {r}"))
+    };
     if let Err(e) = chol.factorize(&pattern, &system.values, options.precision, &name_of) {
         // a refusal for memory is final: the f64 factor needs more
         if options.precision != Precision::Mixed || matches!(e, FlankError::Memory(_)) {
@@ -769,6 +797,7 @@ mod tests {
                 &model,
                 &SolveOptions {
                     recover_stress: false,
+                    precision: Precision::Double,
                     ..Default::default()
                 },
             )
