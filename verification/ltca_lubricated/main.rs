@@ -124,7 +124,11 @@ fn standstill_varied_table_meets_the_tolerance() {
 /// model's varied table only with `standstill_varied`.
 fn check_tables(standstill_varied: bool) {
     let sc = scene("scene.toml");
-    let out = work(if standstill_varied { "table_standstill" } else { "table" });
+    let out = work(if standstill_varied {
+        "table_standstill"
+    } else {
+        "table"
+    });
     println!(
         "1. model | roll | constant table vs single μ | varied table: sliding max ||P_t|/(μ_pair P_n) − 1|, others max |P_t|/(μ_pair P_n)"
     );
