@@ -224,9 +224,9 @@ pub fn format_mb(mb: f64) -> String {
 
 /// What to do instead, for messages of the guard's callers.
 pub const ALTERNATIVES: &str = "use a coarser mesh (a larger --flank-size or --base-size, \
-fewer teeth in the sector, fewer flank nodes), the mixed-precision factor (--precision \
-mixed, half the factor's memory) where the command offers it, or run where more memory \
-is free";
+fewer teeth in the sector, fewer flank nodes), the mixed-precision factor (half the \
+factor's memory: the default of flank solve; --precision mixed where another command \
+offers it), or run where more memory is free";
 
 /// Refuses `what` when its estimated additional memory `need_mb` exceeds
 /// the [`headroom`]: the error names the step, both figures, the bound, and
