@@ -112,6 +112,14 @@ pub fn gauss_legendre_cached(n: usize) -> Option<&'static [(f64, f64)]> {
     (n <= 8).then(|| RULES.get_or_init(|| (0..=8).map(gauss_legendre_rule).collect())[n].as_slice())
 }
 
+/// The rule of [`gauss_legendre`], borrowed for n ≤ 8 and computed above.
+pub fn gauss_legendre_rule_of(n: usize) -> std::borrow::Cow<'static, [(f64, f64)]> {
+    match gauss_legendre_cached(n) {
+        Some(r) => std::borrow::Cow::Borrowed(r),
+        None => std::borrow::Cow::Owned(gauss_legendre_rule(n)),
+    }
+}
+
 fn gauss_legendre_rule(n: usize) -> Vec<(f64, f64)> {
     let mut out = Vec::with_capacity(n);
     for i in 0..n {

@@ -47,7 +47,7 @@
 
 use std::f64::consts::PI;
 
-use crate::compliance::interpolation::{gauss_legendre, gauss_legendre_cached};
+use crate::compliance::interpolation::gauss_legendre_rule_of;
 
 /// How the LTCA treats the local contact deformation.
 #[derive(
@@ -116,14 +116,8 @@ pub struct Cell {
 /// (N) spread uniformly over cell `j`, on the half-space pair with contact
 /// modulus `e_star` (MPa). The average uses `samples`² Gauss points.
 pub fn cell_influence(i: &Cell, j: &Cell, e_star: f64, samples: usize) -> f64 {
-    let owned;
-    let g = match gauss_legendre_cached(samples) {
-        Some(g) => g,
-        None => {
-            owned = gauss_legendre(samples);
-            &owned[..]
-        }
-    };
+    let rule = gauss_legendre_rule_of(samples);
+    let g = &rule[..];
     let p = 1.0 / (4.0 * j.c * j.l);
     let mut sum = 0.0;
     for &(s, ws) in g {
@@ -150,14 +144,8 @@ pub fn cell_influence(i: &Cell, j: &Cell, e_star: f64, samples: usize) -> f64 {
 /// ellipse at unit p₀ is (π/2) c · 2l. Checked against Hertz's elliptical
 /// contact in `verification/ltca_near_field`.
 pub fn elliptic_centreline_influence(i: &Cell, j: &Cell, e_star: f64, samples: usize) -> f64 {
-    let owned;
-    let g = match gauss_legendre_cached(samples) {
-        Some(g) => g,
-        None => {
-            owned = gauss_legendre(samples);
-            &owned[..]
-        }
-    };
+    let rule = gauss_legendre_rule_of(samples);
+    let g = &rule[..];
     let quarter = 0.25 * PI;
     let mut sum = 0.0;
     for &(s, ws) in g {
