@@ -99,6 +99,7 @@
 
 pub mod body;
 pub mod cache;
+pub mod compressed;
 pub mod contact_probe;
 pub mod flank;
 pub mod interpolation;
