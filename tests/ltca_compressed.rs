@@ -47,8 +47,11 @@ fn seed002_ltca_on_compressed_tensors_agrees_with_dense() {
     let dense = run_scene(&scene_path(), &options(&d, None)).unwrap();
     let eps = 1e-6;
     let blr = run_scene(&scene_path(), &options(&d, Some(Compression::Blr(eps)))).unwrap();
-    // the same tensors, read back
+    // the same tensors, read back; their compressed form stored beside them
     assert_eq!(blr["setup"]["computed"], serde_json::json!([false, false]));
+    for body in ["pinion", "gear"] {
+        assert!(d.join(format!("{body}.compression.bin")).exists());
+    }
     assert!(dense["setup"]["compression"][0].is_null());
     for b in 0..2 {
         let s = &blr["setup"]["compression"][b];

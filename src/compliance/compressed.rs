@@ -480,6 +480,196 @@ impl BlrTensor {
 /// Shared handle used by the LTCA's pages.
 pub type SharedBlr = Arc<BlrTensor>;
 
+/// Magic bytes and version of the native file of a [`BlrTensor`].
+const MAGIC: &[u8; 8] = b"FLANKBLR";
+const VERSION: u32 = 1;
+
+/// The header of a [`BlrTensor`] file (JSON after the magic and version).
+#[derive(serde::Serialize, serde::Deserialize)]
+struct FileHeader {
+    cache_key: String,
+    dim: usize,
+    nodes: usize,
+    page: usize,
+    pages: usize,
+    stats: BlrStats,
+}
+
+impl BlrTensor {
+    /// The file bytes: magic, version, JSON header, the paged order (u32),
+    /// per block a kind byte (0 dense, 1 low rank), the rank (u32) and the
+    /// values (f64, little endian), then an FNV-1a 128 checksum of all
+    /// that.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let header = serde_json::to_vec(&FileHeader {
+            cache_key: self.cache_key.clone(),
+            dim: self.dim,
+            nodes: self.order.len(),
+            page: PAGE,
+            pages: self.pages,
+            stats: self.stats.clone(),
+        })
+        .expect("BLR header to JSON");
+        let mut out = Vec::with_capacity(self.stats.compressed_bytes + header.len() + 64);
+        out.extend_from_slice(MAGIC);
+        out.extend_from_slice(&VERSION.to_le_bytes());
+        out.extend_from_slice(&(header.len() as u64).to_le_bytes());
+        out.extend_from_slice(&header);
+        for &a in &self.order {
+            out.extend_from_slice(&a.to_le_bytes());
+        }
+        for b in &self.blocks {
+            let (kind, rank, parts): (u8, usize, [&[f64]; 2]) = match b {
+                Block::Dense(d) => (0, 0, [d, &[]]),
+                Block::LowRank { rank, u, v } => (1, *rank, [u, v]),
+            };
+            out.push(kind);
+            out.extend_from_slice(&(rank as u32).to_le_bytes());
+            for x in parts.iter().flat_map(|p| p.iter()) {
+                out.extend_from_slice(&x.to_le_bytes());
+            }
+        }
+        let mut h = crate::compliance::Fnv128::new();
+        h.bytes(&out);
+        out.extend_from_slice(&h.0.to_le_bytes());
+        out
+    }
+
+    /// Writes [`Self::to_bytes`] to `path` (atomically).
+    pub fn write(&self, path: &std::path::Path) -> Result<(), FlankError> {
+        crate::atomic_file::write(path, self.to_bytes())
+    }
+
+    /// Reads the compression of `t` at accuracy `epsilon` from `path`: an
+    /// error naming the reason when the file is corrupt, of another
+    /// version, of another tensor (cache key, dimension, node order) or of
+    /// another accuracy, never another tensor's values.
+    pub fn read(
+        path: &std::path::Path,
+        t: &ComplianceTensor,
+        epsilon: f64,
+    ) -> Result<Self, FlankError> {
+        let bytes = std::fs::read(path).map_err(|e| FlankError::io(path, e))?;
+        Self::from_bytes(&bytes, t, epsilon)
+            .map_err(|e| FlankError::Model(format!("{}: {e}", path.display())))
+    }
+
+    fn from_bytes(bytes: &[u8], t: &ComplianceTensor, epsilon: f64) -> Result<Self, String> {
+        if bytes.len() < 8 + 4 + 8 + 16 || &bytes[..8] != MAGIC {
+            return Err("not a compressed compliance file".into());
+        }
+        let (body, sum) = bytes.split_at(bytes.len() - 16);
+        let mut h = crate::compliance::Fnv128::new();
+        h.bytes(body);
+        if h.0.to_le_bytes() != sum {
+            return Err("checksum mismatch (corrupt or truncated file)".into());
+        }
+        let mut at = 8;
+        let mut take = |k: usize| -> Result<&[u8], String> {
+            let s = body.get(at..at + k).ok_or("truncated file")?;
+            at += k;
+            Ok(s)
+        };
+        let version = u32::from_le_bytes(take(4)?.try_into().unwrap());
+        if version != VERSION {
+            return Err(format!("format version {version}, expected {VERSION}"));
+        }
+        let hlen = u64::from_le_bytes(take(8)?.try_into().unwrap()) as usize;
+        let header: FileHeader =
+            serde_json::from_slice(take(hlen)?).map_err(|e| format!("header: {e}"))?;
+        if header.cache_key != t.meta.cache_key || header.dim != t.dim() {
+            return Err(format!(
+                "compression of tensor {} (dimension {}), not of {} (dimension {})",
+                header.cache_key,
+                header.dim,
+                t.meta.cache_key,
+                t.dim()
+            ));
+        }
+        if header.stats.epsilon != epsilon {
+            return Err(format!(
+                "compressed to ε = {:e}, asked for {epsilon:e}",
+                header.stats.epsilon
+            ));
+        }
+        let n = t.node_count();
+        let pages = n.div_ceil(PAGE);
+        if header.page != PAGE || header.pages != pages || header.nodes != n {
+            return Err(format!(
+                "page layout {} × {} nodes, expected {pages} × {PAGE}",
+                header.pages, header.page
+            ));
+        }
+        let order: Vec<u32> = take(4 * n)?
+            .chunks_exact(4)
+            .map(|c| u32::from_le_bytes(c.try_into().unwrap()))
+            .collect();
+        if order != paged_order(t) {
+            return Err("another flank node order than the tensor's pages".into());
+        }
+        let mut blocks = Vec::with_capacity(pages * (pages + 1) / 2);
+        for r in 0..pages {
+            for q in 0..=r {
+                let (rows, cols) = (3 * page_len(n, r), 3 * page_len(n, q));
+                let kind = take(1)?[0];
+                let rank = u32::from_le_bytes(take(4)?.try_into().unwrap()) as usize;
+                let mut f64s = |k: usize| -> Result<Vec<f64>, String> {
+                    Ok(take(8 * k)?
+                        .chunks_exact(8)
+                        .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
+                        .collect())
+                };
+                blocks.push(match kind {
+                    0 => Block::Dense(f64s(rows * cols)?),
+                    1 if rank <= rows.min(cols) => Block::LowRank {
+                        rank,
+                        u: f64s(rows * rank)?,
+                        v: f64s(cols * rank)?,
+                    },
+                    _ => return Err(format!("bad block ({r}, {q}): kind {kind}, rank {rank}")),
+                });
+            }
+        }
+        if at != body.len() {
+            return Err("trailing bytes after the blocks".into());
+        }
+        let mut position = vec![0u32; n];
+        for (p, &a) in order.iter().enumerate() {
+            position[a as usize] = p as u32;
+        }
+        Ok(BlrTensor {
+            dim: t.dim(),
+            cache_key: header.cache_key,
+            order,
+            position,
+            pages,
+            blocks,
+            stats: header.stats,
+        })
+    }
+
+    /// The compression of `t` at `options`, read from `path` when it holds
+    /// it, else built and written there; a file that does not hold it
+    /// (corrupt, stale, another ε) is reported on stderr and replaced.
+    /// Returns whether it was read.
+    pub fn cached(
+        path: &std::path::Path,
+        t: &ComplianceTensor,
+        options: &BlrOptions,
+    ) -> Result<(Self, bool), FlankError> {
+        options.validate()?;
+        if path.exists() {
+            match Self::read(path, t, options.epsilon) {
+                Ok(c) => return Ok((c, true)),
+                Err(e) => eprintln!("warning: {e}; compressing again"),
+            }
+        }
+        let c = Self::from_dense(t, options)?;
+        c.write(path)?;
+        Ok((c, false))
+    }
+}
+
 /// Hackbusch's η-admissibility of two node boxes:
 /// max(diam τ, diam σ) ≤ η dist(τ, σ).
 fn admissible(a: &[[f64; 3]; 2], b: &[[f64; 3]; 2], eta: f64) -> bool {
@@ -877,6 +1067,48 @@ pub(crate) mod tests {
         let s: S = toml::from_str("compression = \"none\"").unwrap();
         assert_eq!(s.compression, Compression::None);
         assert!(toml::from_str::<S>("compression = 2.0").is_err());
+    }
+
+    #[test]
+    fn file_round_trip_and_stale_files() {
+        let t = kernel_tensor(2, 12, 12);
+        let opts = BlrOptions::default();
+        let c = BlrTensor::from_dense(&t, &opts).unwrap();
+        let dir = std::env::temp_dir().join(format!("flank_blr_test_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("t.blr.bin");
+        let (c1, read) = BlrTensor::cached(&path, &t, &opts).unwrap();
+        assert!(!read);
+        assert_eq!(c1.blocks, c.blocks);
+        let (c2, read) = BlrTensor::cached(&path, &t, &opts).unwrap();
+        assert!(read);
+        assert_eq!(c2.blocks, c.blocks);
+        assert_eq!(c2.position, c.position);
+        assert_eq!(c2.stats, c1.stats);
+        // another ε, another tensor, a flipped byte, a truncated file
+        let e = BlrTensor::read(&path, &t, 1e-8).unwrap_err().to_string();
+        assert!(e.contains("ε"), "{e}");
+        let mut other = t.clone();
+        other.meta.cache_key = "other".into();
+        let e = BlrTensor::read(&path, &other, 1e-6)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("not of other"), "{e}");
+        let mut bytes = std::fs::read(&path).unwrap();
+        let k = bytes.len() / 2;
+        bytes[k] ^= 1;
+        assert!(BlrTensor::from_bytes(&bytes, &t, 1e-6)
+            .unwrap_err()
+            .contains("checksum"));
+        bytes[k] ^= 1;
+        assert!(BlrTensor::from_bytes(&bytes[..k], &t, 1e-6).is_err());
+        assert!(BlrTensor::from_bytes(b"FLANKBLR", &t, 1e-6).is_err());
+        // a stale file is replaced, not used
+        std::fs::write(&path, &bytes[..k]).unwrap();
+        let (c3, read) = BlrTensor::cached(&path, &t, &opts).unwrap();
+        assert!(!read);
+        assert_eq!(c3.blocks, c.blocks);
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

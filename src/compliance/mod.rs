@@ -291,7 +291,7 @@ impl ComplianceTensor {
 
 /// 128-bit FNV-1a over typed fields (stable across platforms and runs).
 #[derive(Clone, Copy)]
-pub(crate) struct Fnv128(u128);
+pub(crate) struct Fnv128(pub(crate) u128);
 
 impl Fnv128 {
     const OFFSET: u128 = 0x6c62272e07bb014262b821756295c58d;

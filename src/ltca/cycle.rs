@@ -226,7 +226,19 @@ impl LtcaCycle {
         if let Some(epsilon) = compression.epsilon() {
             use crate::compliance::compressed::{BlrOptions, BlrTensor};
             for (b, t) in [&pinion.tensor, &gear.tensor].into_iter().enumerate() {
-                let blr = BlrTensor::from_dense(
+                // beside the tensor: in the campaign cache by key, else in `out`
+                let path = match &options.cache {
+                    // the short key of the tensor's own file (the full key
+                    // is checked on reading)
+                    Some(d) => d.join(format!(
+                        "{}.{}.compression.bin",
+                        t.meta.body,
+                        &t.meta.cache_key[..t.meta.cache_key.len().min(16)]
+                    )),
+                    None => options.out.join(format!("{}.compression.bin", t.meta.body)),
+                };
+                let (blr, _) = BlrTensor::cached(
+                    &path,
                     t,
                     &BlrOptions {
                         epsilon,
