@@ -96,6 +96,11 @@
 //! never computed twice. [`interpolation`]: tensors at any flank point (u, v)
 //! and over contact cells with the flank faces' own shape functions, and the
 //! directional compliances c_nn, c_tt, c_nt, c_tn of seed 001.
+//!
+//! [`compressed`]: the tensor in block low-rank form over the pages' page
+//! pairs (ACA + recompression, each off-diagonal block within a stated
+//! relative accuracy ε of its Frobenius norm); the frictionless LTCA can
+//! read its page pairs from it (`[analyses.ltca] compression = 1e-6`).
 
 pub mod body;
 pub mod cache;
