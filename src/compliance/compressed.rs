@@ -938,7 +938,6 @@ pub(crate) mod tests {
     /// [`BlrTensor::entry`], and the largest entry error relative to max |C|.
     pub(crate) fn errors(t: &ComplianceTensor, c: &BlrTensor) -> (f64, f64) {
         let dim = t.dim();
-        let n = t.node_count();
         let pages = c.pages();
         let mut num = vec![0.0; pages * pages];
         let mut den = vec![0.0; pages * pages];
@@ -957,7 +956,6 @@ pub(crate) mod tests {
                 worst = worst.max((x - y).abs() / scale);
             }
         }
-        let _ = n;
         let blockwise = num
             .iter()
             .zip(&den)
