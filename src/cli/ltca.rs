@@ -76,6 +76,13 @@ pub struct Args {
     /// `[analyses.ltca] flank_region`, else active.
     #[arg(long, value_enum)]
     flank_region: Option<flank::compliance::FlankRegion>,
+    /// Spur/helical, frictionless: `none` (dense tensors) or a relative
+    /// accuracy ε in (0, 1), e.g. 1e-6, to read the tensors' page pairs
+    /// from their block low-rank form (each block within ε of its
+    /// Frobenius norm); default the scene's `[analyses.ltca]
+    /// compression`, else none.
+    #[arg(long)]
+    compression: Option<String>,
     /// Print nothing but errors.
     #[arg(long, short)]
     quiet: bool,
@@ -117,8 +124,16 @@ pub fn run(args: Args) -> Result<()> {
         friction_model,
         edges,
         flank_region,
+        compression,
         quiet,
     } = args;
+    let compression = match compression {
+        Some(c) => Some(
+            c.parse::<flank::compliance::compressed::Compression>()
+                .map_err(|e| anyhow::anyhow!("--compression: {e}"))?,
+        ),
+        None => None,
+    };
     let solver = match solver {
         Some(s) => Some(
             s.parse::<flank::ltca::qp::QpSolver>()
@@ -130,6 +145,9 @@ pub fn run(args: Args) -> Result<()> {
         use flank::ltca::bevel::{run_bevel, BevelLtcaOptions};
         if flank_region == Some(flank::compliance::FlankRegion::Active) {
             anyhow::bail!("--flank-region active: implemented for spur/helical pairs only (a bevel/hypoid LTCA takes the full flank)");
+        }
+        if compression.is_some_and(|c| c.epsilon().is_some()) {
+            anyhow::bail!("--compression: implemented for spur/helical pairs only");
         }
         let d = BevelLtcaOptions::default();
         // the command line first, then the scene's [analyses.ltca] (its
@@ -237,6 +255,7 @@ pub fn run(args: Args) -> Result<()> {
         cross_check,
         friction_model,
         flank_region,
+        compression,
     };
     let s = run_scene(&scene, &options)
         .with_context(|| format!("LTCA mesh cycle of {}", scene.display()))?;

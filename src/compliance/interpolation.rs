@@ -222,6 +222,22 @@ impl FlankGrids {
         p.matches(tensor).then_some(p)
     }
 
+    /// Reads this tensor's pages from `pages` (e.g.
+    /// [`TensorPages::compressed`]) instead of its dense matrix: an error
+    /// once the pages were laid out.
+    pub fn set_pages(&self, pages: TensorPages) -> Result<(), FlankError> {
+        self.1.set(pages).map_err(|_| {
+            FlankError::Model(
+                "the tensor's pages were laid out already: cannot replace them".into(),
+            )
+        })
+    }
+
+    /// Whether the pages are read from a compressed tensor.
+    pub fn compressed(&self) -> bool {
+        self.1.get().is_some_and(TensorPages::is_compressed)
+    }
+
     /// Bytes of the page pairs built so far (0 before any use).
     pub fn page_bytes(&self) -> usize {
         self.1.get().map_or(0, TensorPages::bytes)

@@ -96,9 +96,15 @@
 //! never computed twice. [`interpolation`]: tensors at any flank point (u, v)
 //! and over contact cells with the flank faces' own shape functions, and the
 //! directional compliances c_nn, c_tt, c_nt, c_tn of seed 001.
+//!
+//! [`compressed`]: the tensor in block low-rank form over the pages' page
+//! pairs (ACA + recompression, each off-diagonal block within a stated
+//! relative accuracy ε of its Frobenius norm); the frictionless LTCA can
+//! read its page pairs from it (`[analyses.ltca] compression = 1e-6`).
 
 pub mod body;
 pub mod cache;
+pub mod compressed;
 pub mod contact_probe;
 pub mod flank;
 pub mod interpolation;
@@ -290,7 +296,7 @@ impl ComplianceTensor {
 
 /// 128-bit FNV-1a over typed fields (stable across platforms and runs).
 #[derive(Clone, Copy)]
-pub(crate) struct Fnv128(u128);
+pub(crate) struct Fnv128(pub(crate) u128);
 
 impl Fnv128 {
     const OFFSET: u128 = 0x6c62272e07bb014262b821756295c58d;

@@ -20,12 +20,31 @@
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::OnceLock;
 
+use crate::compliance::compressed::SharedBlr;
 use crate::compliance::ComplianceTensor;
+use crate::error::FlankError;
 
 /// Nodes per page.
 pub const PAGE: usize = 64;
 
-/// Paged node blocks of one compliance tensor (built lazily).
+/// The flank nodes of `t` in the paged order: by (set, u, v), then node.
+pub fn paged_order(t: &ComplianceTensor) -> Vec<u32> {
+    let f = &t.flank;
+    let mut order: Vec<u32> = (0..t.node_count() as u32).collect();
+    order.sort_by(|&a, &b| {
+        let (a, b) = (a as usize, b as usize);
+        f.set_of[a]
+            .cmp(&f.set_of[b])
+            .then(f.uv[a][0].total_cmp(&f.uv[b][0]))
+            .then(f.uv[a][1].total_cmp(&f.uv[b][1]))
+            .then(a.cmp(&b))
+    });
+    order
+}
+
+/// Paged node blocks of one compliance tensor (built lazily), copied from
+/// its dense matrix or decompressed from its block low-rank form
+/// ([`crate::compliance::compressed`], [`TensorPages::compressed`]).
 pub struct TensorPages {
     dim: usize,
     cache_key: String,
@@ -36,22 +55,15 @@ pub struct TensorPages {
     pages: usize,
     blocks: Vec<OnceLock<Box<[f64]>>>,
     built: AtomicUsize,
+    /// The compressed tensor the pages are read from (else the dense matrix).
+    source: Option<SharedBlr>,
 }
 
 impl TensorPages {
     /// The page layout of `t` (no block is copied yet).
     pub fn new(t: &ComplianceTensor) -> Self {
-        let f = &t.flank;
         let n = t.node_count();
-        let mut order: Vec<u32> = (0..n as u32).collect();
-        order.sort_by(|&a, &b| {
-            let (a, b) = (a as usize, b as usize);
-            f.set_of[a]
-                .cmp(&f.set_of[b])
-                .then(f.uv[a][0].total_cmp(&f.uv[b][0]))
-                .then(f.uv[a][1].total_cmp(&f.uv[b][1]))
-                .then(a.cmp(&b))
-        });
+        let order = paged_order(t);
         let mut position = vec![0u32; n];
         for (p, &a) in order.iter().enumerate() {
             position[a as usize] = p as u32;
@@ -66,7 +78,32 @@ impl TensorPages {
             pages,
             blocks: (0..pages * pages).map(|_| OnceLock::new()).collect(),
             built: AtomicUsize::new(0),
+            source: None,
         }
+    }
+
+    /// The page layout of `t` with the page pairs decompressed from `blr`,
+    /// the block low-rank form of `t` (an error if it is not: another
+    /// cache key, dimension or node order).
+    pub fn compressed(t: &ComplianceTensor, blr: SharedBlr) -> Result<Self, FlankError> {
+        if !blr.matches(t) {
+            return Err(FlankError::Model(format!(
+                "compressed compliance (key {}, dimension {}) is not the one of tensor {} (key {}, dimension {})",
+                blr.cache_key(),
+                blr.dim(),
+                t.meta.body,
+                t.meta.cache_key,
+                t.dim()
+            )));
+        }
+        let mut p = TensorPages::new(t);
+        p.source = Some(blr);
+        Ok(p)
+    }
+
+    /// Whether the pages are read from a compressed tensor.
+    pub fn is_compressed(&self) -> bool {
+        self.source.is_some()
     }
 
     /// Whether these are the pages of `t` (same dimension, cache key and
@@ -97,6 +134,11 @@ impl TensorPages {
         debug_assert!(self.matches(t));
         self.blocks[r * self.pages + q].get_or_init(|| {
             let mut out = vec![0.0; PAGE * PAGE * 9].into_boxed_slice();
+            if let Some(blr) = &self.source {
+                blr.page_into(r, q, &mut out);
+                self.built.fetch_add(1, Ordering::Relaxed);
+                return out;
+            }
             let dim = self.dim;
             let rows = &self.order[(r * PAGE).min(self.order.len())..]
                 [..PAGE.min(self.order.len().saturating_sub(r * PAGE))];

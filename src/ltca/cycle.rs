@@ -60,6 +60,9 @@ pub struct LtcaOptions {
     pub friction_model: Option<FrictionModel>,
     /// Flank nodes of the tensors (default: the scene's, else `active`).
     pub flank_region: Option<FlankRegion>,
+    /// Dense or block low-rank tensors (default: the scene's
+    /// `[analyses.ltca] compression`, else dense).
+    pub compression: Option<crate::compliance::compressed::Compression>,
 }
 
 /// The corner-contact extension must exceed the loaded approach by this
@@ -87,6 +90,9 @@ pub struct Setup {
     pub compliance_s: f64,
     pub flank_size_mm: f64,
     pub base_size_mm: f64,
+    /// Per body, the block low-rank compression the pages are read from
+    /// (`None`: dense).
+    pub compression: [Option<crate::compliance::compressed::BlrStats>; 2],
 }
 
 /// A prepared LTCA: both bodies' tensors, the TCA and the settings.
@@ -192,7 +198,16 @@ impl LtcaCycle {
                 .unwrap_or(LtcaSettings::default().local_iterations),
             ..Default::default()
         };
-        let setup = Setup {
+        let compression = options.compression.or(a.compression).unwrap_or_default();
+        if compression.epsilon().is_some() && settings.friction.is_some() {
+            return Err(FlankError::Model(
+                "compression: implemented for the frictionless LTCA only (the frictional \
+                 directional blocks read the dense tensor); set compression = \"none\" or drop \
+                 the friction"
+                    .into(),
+            ));
+        }
+        let mut setup = Setup {
             flank_nodes: [pinion.tensor.node_count(), gear.tensor.node_count()],
             computed: [pinion.stats.is_some(), gear.stats.is_some()],
             backward_error: [
@@ -202,11 +217,41 @@ impl LtcaCycle {
             compliance_s,
             flank_size_mm: mesh.flank_size.unwrap_or(f64::NAN),
             base_size_mm: mesh.base_size.unwrap_or(f64::NAN),
+            compression: [None, None],
         };
         let grids = [
             crate::compliance::FlankInterpolator::new(&pinion.tensor)?.grids(),
             crate::compliance::FlankInterpolator::new(&gear.tensor)?.grids(),
         ];
+        if let Some(epsilon) = compression.epsilon() {
+            use crate::compliance::compressed::{BlrOptions, BlrTensor};
+            for (b, t) in [&pinion.tensor, &gear.tensor].into_iter().enumerate() {
+                // beside the tensor: in the campaign cache by key, else in `out`
+                let path = match &options.cache {
+                    // the short key of the tensor's own file (the full key
+                    // is checked on reading)
+                    Some(d) => d.join(format!(
+                        "{}.{}.compression.bin",
+                        t.meta.body,
+                        &t.meta.cache_key[..t.meta.cache_key.len().min(16)]
+                    )),
+                    None => options.out.join(format!("{}.compression.bin", t.meta.body)),
+                };
+                let (blr, _) = BlrTensor::cached(
+                    &path,
+                    t,
+                    &BlrOptions {
+                        epsilon,
+                        ..Default::default()
+                    },
+                )?;
+                setup.compression[b] = Some(blr.stats.clone());
+                grids[b].set_pages(crate::compliance::pages::TensorPages::compressed(
+                    t,
+                    Arc::new(blr),
+                )?)?;
+            }
+        }
         let bodies = LtcaBodies {
             tensors: [pinion.tensor, gear.tensor],
             grids,

@@ -123,6 +123,12 @@ pub struct LtcaAnalysis {
     /// flank plus a margin, [`crate::compliance::FlankRegion::Active`]) or
     /// `full` (involute and root fillet). Spur/helical only.
     pub flank_region: Option<crate::compliance::FlankRegion>,
+    /// `"none"` (default: dense tensors) or a relative accuracy ε in
+    /// (0, 1), e.g. `1e-6`: the frictionless LTCA reads its tensors'
+    /// page pairs from their block low-rank form, each block within
+    /// ε of its Frobenius norm ([`crate::compliance::compressed`]).
+    /// Spur/helical, frictionless only.
+    pub compression: Option<crate::compliance::compressed::Compression>,
     /// Coulomb friction coefficient of the flanks (0…1; absent or 0:
     /// frictionless): the frictional LTCA of seeds 001/003
     /// ([`crate::ltca::friction`]), the friction force against the

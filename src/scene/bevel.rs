@@ -483,6 +483,7 @@ fn spur_only_ltca_key(l: &analyses::LtcaAnalysis) -> Option<&'static str> {
         ("flank_size_mm", l.flank_size_mm.is_some()),
         ("base_size_mm", l.base_size_mm.is_some()),
         ("flank_region", l.flank_region.is_some()),
+        ("compression", l.compression.is_some()),
     ]
     .into_iter()
     .find(|(_, given)| *given)
