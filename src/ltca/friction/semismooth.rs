@@ -203,7 +203,11 @@ fn merit(f: &DVector<f64>) -> f64 {
     0.5 * f.norm_squared()
 }
 
+/// ‖F‖∞, infinite if any entry is not finite (f64::max would drop a NaN).
 fn inf_norm(f: &DVector<f64>) -> f64 {
+    if f.iter().any(|v| !v.is_finite()) {
+        return f64::INFINITY;
+    }
     f.iter().fold(0.0f64, |a, v| a.max(v.abs()))
 }
 
@@ -296,6 +300,7 @@ pub(crate) fn newton(
         }
     };
     if !start_norm.is_finite() {
+        // a non-finite start (or F not finite there): nothing to improve
         return answer(&x, &e, 0, 0, NewtonEnd::Stalled);
     }
     let mut fallbacks = 0;
@@ -332,4 +337,249 @@ pub(crate) fn newton(
         NewtonEnd::Limit
     };
     answer(&x, &e, max_iterations, fallbacks, end)
+}
+
+#[cfg(test)]
+mod tests {
+    //! The Newton polish on small problems with known answers (one point
+    //! slipping or sticking: the hand formulas of `tests.rs`, check (c)),
+    //! at the cone's edge (stick with |P_t| = μP_n exactly, a kink of F),
+    //! and degenerate: duplicated points (singular Jacobian, a continuum
+    //! of answers), a non-finite start, and its iteration limit.
+
+    use super::*;
+    use crate::ltca::friction::residual::residuals;
+    use crate::ltca::friction::FrictionProblem;
+
+    /// Owned data of a problem with a block-diagonal compliance (no
+    /// coupling between points): per point c_nn, c_nt = c_tn, c_tt.
+    struct Points {
+        c_nn: Vec<f64>,
+        c_nt: Vec<f64>,
+        c_tt: Vec<f64>,
+        g0: Vec<f64>,
+        r_n: Vec<f64>,
+        r_t: Vec<f64>,
+        s: Vec<f64>,
+        mu: f64,
+        t: f64,
+    }
+
+    impl Points {
+        fn prepared(&self, full: Option<(&[f64], &[f64], &[f64])>) -> Prepared {
+            let m = self.g0.len();
+            let diag = |v: &[f64]| {
+                let mut c = vec![0.0; m * m];
+                for i in 0..m {
+                    c[i * m + i] = v[i];
+                }
+                c
+            };
+            let (c_nn, c_nt, c_tt) = match full {
+                Some((a, b, c)) => (a.to_vec(), b.to_vec(), c.to_vec()),
+                None => (diag(&self.c_nn), diag(&self.c_nt), diag(&self.c_tt)),
+            };
+            let c_tn: Vec<f64> = (0..m * m).map(|k| c_nt[(k % m) * m + k / m]).collect();
+            Prepared::new(&FrictionProblem {
+                c_nn: &c_nn,
+                c_nt: &c_nt,
+                c_tn: &c_tn,
+                c_tt: &c_tt,
+                separation: &self.g0,
+                arm_normal: &self.r_n,
+                arm_tangential: &self.r_t,
+                sliding: &self.s,
+                mu: self.mu,
+                point_mu: None,
+                torque: self.t,
+            })
+            .unwrap()
+        }
+    }
+
+    /// The residuals of a Newton answer for the first increment (from the
+    /// rigid start, no load) to the whole torque.
+    fn graded(prob: &Prepared, prev: &Previous, n: &NewtonAnswer) -> f64 {
+        let gap = gaps(prob, &n.pn, &n.pt, n.theta);
+        let slip = slips(prob, prev, &n.pn, &n.pt, n.theta);
+        residuals(prob, prob.torque, &n.pn, &n.pt, &gap, &slip).max
+    }
+
+    fn one_point(s: f64) -> Points {
+        Points {
+            c_nn: vec![2e-5],
+            c_nt: vec![1e-6],
+            c_tt: vec![1.5e-5],
+            g0: vec![1e-3],
+            r_n: vec![40.0],
+            r_t: vec![12.0],
+            s: vec![s],
+            mu: 0.1,
+            t: 5e4,
+        }
+    }
+
+    // One point, slipping forward (s = 5): P_n = T/(r_n + μr_t),
+    // P_t = μP_n, θ = (g⁰ + (c_nn + μc_nt)P_n)/r_n; sticking (ρ = 0):
+    // P_t = −(c_tn/c_tt)P_n, P_n = T/(r_n − r_t c_tn/c_tt),
+    // θ = (g⁰ + (c_nn − c_nt c_tn/c_tt)P_n)/r_n. From a start 20 % off
+    // (and from the unloaded start), to 1e-12.
+    #[test]
+    fn one_point_known_answers() {
+        let (c, b, e, g0, rn, rt, mu, t) = (2e-5, 1e-6, 1.5e-5, 1e-3, 40.0, 12.0, 0.1, 5e4);
+        let slip_pn = t / (rn + mu * rt);
+        let stick_pn = t / (rn - rt * b / e);
+        let cases = [
+            (
+                5.0,
+                slip_pn,
+                mu * slip_pn,
+                (g0 + (c + mu * b) * slip_pn) / rn,
+            ),
+            (
+                -rt / rn,
+                stick_pn,
+                -b / e * stick_pn,
+                (g0 + (c - b * b / e) * stick_pn) / rn,
+            ),
+        ];
+        for (s, pn, pt, th) in cases {
+            let d = one_point(s);
+            let prob = d.prepared(None);
+            let zero = [0.0];
+            let prev = Previous {
+                pn: &zero,
+                pt: &zero,
+                theta: prob.start_rotation(),
+            };
+            for (p, q, r) in [(1.2 * pn, 0.8 * pt, 1.1 * th), (0.0, 0.0, prev.theta)] {
+                let n = newton(&prob, &prev, t, &[p], &[q], r, 50);
+                assert_eq!(n.end, NewtonEnd::Converged, "s = {s}: {:?}", n.norm);
+                assert!(n.iterations <= 10, "s = {s}: {} iterations", n.iterations);
+                assert!((n.pn[0] - pn).abs() <= 1e-12 * pn, "{} vs {pn}", n.pn[0]);
+                assert!((n.pt[0] - pt).abs() <= 1e-12 * pn, "{} vs {pt}", n.pt[0]);
+                assert!((n.theta - th).abs() <= 1e-12 * th, "{} vs {th}", n.theta);
+                assert!(graded(&prob, &prev, &n) <= 1e-12);
+            }
+        }
+    }
+
+    // Three points at the cone's edge and one open: ρ = 0 and
+    // c_tn/c_tt = −μ, so sticking (Δσ = 0) gives P_t = μP_n exactly, a
+    // point where the stick and slip branches of F meet (both are valid
+    // Jacobians). Known answer: P_n,i = (r_n,i θ − g⁰ᵢ)/(c_nn + μc_nt) on
+    // the closed points, θ from Σ(r_n + μr_t)P_n = T. Starts on either
+    // side of the edge converge to it.
+    #[test]
+    fn cone_edge() {
+        let (c, e, mu) = (2e-5, 1.5e-5, 0.1);
+        let b = -mu * e;
+        let r_n = vec![40.0, 42.0, 44.0, 46.0];
+        let r_t = vec![6.0, -4.0, 2.0, 8.0];
+        let d = Points {
+            c_nn: vec![c; 4],
+            c_nt: vec![b; 4],
+            c_tt: vec![e; 4],
+            g0: vec![0.0, 1e-4, 2e-4, 1.0],
+            s: (0..4).map(|i| -r_t[i] / r_n[i]).collect(),
+            r_n: r_n.clone(),
+            r_t: r_t.clone(),
+            mu,
+            t: 1e5,
+        };
+        let prob = d.prepared(None);
+        let k = c + mu * b;
+        // θ with points 0..3 closed
+        let (num, den) = (0..3).fold((d.t, 0.0), |(a, w), i| {
+            let f = (r_n[i] + mu * r_t[i]) / k;
+            (a + f * d.g0[i], w + f * r_n[i])
+        });
+        let th = num / den;
+        let pn: Vec<f64> = (0..4)
+            .map(|i| if i < 3 { (r_n[i] * th - d.g0[i]) / k } else { 0.0 })
+            .collect();
+        assert!(pn.iter().take(3).all(|&p| p > 0.0));
+        assert!(r_n[3] * th < d.g0[3]);
+        let zero = [0.0; 4];
+        let prev = Previous {
+            pn: &zero,
+            pt: &zero,
+            theta: prob.start_rotation(),
+        };
+        for (fn_, ft) in [(1.1, 0.9), (0.9, 1.1), (1.0, 1.0 + 1e-9), (1.0, 1.0 - 1e-9)] {
+            let p: Vec<f64> = pn.iter().map(|v| fn_ * v).collect();
+            let q: Vec<f64> = pn.iter().map(|v| ft * mu * v).collect();
+            let n = newton(&prob, &prev, d.t, &p, &q, th * fn_, 50);
+            assert_eq!(n.end, NewtonEnd::Converged, "{fn_} {ft}: {:?}", n.norm);
+            for i in 0..4 {
+                assert!((n.pn[i] - pn[i]).abs() <= 1e-12 * pn[0], "{i}: {:?}", n.pn);
+                assert!((n.pt[i] - mu * pn[i]).abs() <= 1e-12 * pn[0], "{i}: {:?}", n.pt);
+            }
+            assert!((n.theta - th).abs() <= 1e-12 * th.abs());
+            assert!(graded(&prob, &prev, &n) <= 1e-12);
+        }
+    }
+
+    // Two copies of one sticking point: the compliance is singular, the
+    // Jacobian has two equal rows wherever both are closed and stick, and
+    // any split of the loads with each force in its cone is an answer. The
+    // Newton polish must not panic or give NaN; it gets to an answer
+    // (residual ≤ 1e-12) through the Levenberg–Marquardt direction.
+    // Further: a NaN start stops at once (`Stalled`), and one iteration
+    // from far away reports its limit.
+    #[test]
+    fn singular_and_degenerate_starts() {
+        let one = one_point(-12.0 / 40.0);
+        let d = Points {
+            c_nn: vec![],
+            c_nt: vec![],
+            c_tt: vec![],
+            g0: vec![one.g0[0]; 2],
+            r_n: vec![one.r_n[0]; 2],
+            r_t: vec![one.r_t[0]; 2],
+            s: vec![one.s[0]; 2],
+            mu: one.mu,
+            t: one.t,
+        };
+        let prob = d.prepared(Some((
+            &[one.c_nn[0]; 4],
+            &[one.c_nt[0]; 4],
+            &[one.c_tt[0]; 4],
+        )));
+        let zero = [0.0; 2];
+        let prev = Previous {
+            pn: &zero,
+            pt: &zero,
+            theta: prob.start_rotation(),
+        };
+        let (b, e) = (one.c_nt[0], one.c_tt[0]);
+        let total = one.t / (one.r_n[0] - one.r_t[0] * b / e);
+        let n = newton(
+            &prob,
+            &prev,
+            d.t,
+            &[0.7 * total, 0.4 * total],
+            &[0.0, -0.01 * total],
+            1e-3,
+            50,
+        );
+        assert!(n.pn.iter().chain(&n.pt).all(|v| v.is_finite()) && n.theta.is_finite());
+        assert!(n.norm.is_finite() && n.norm <= n.start_norm);
+        let r = graded(&prob, &prev, &n);
+        println!(
+            "duplicated point: {:?} after {} iterations ({} Levenberg–Marquardt), residual {r:.1e}",
+            n.end, n.iterations, n.fallbacks
+        );
+        assert!(r <= 1e-12, "{r:.2e} after {} ({:?})", n.iterations, n.end);
+        assert!(n.fallbacks >= 1, "the singular Jacobian went unnoticed");
+        assert!(((n.pn[0] + n.pn[1]) - total).abs() <= 1e-12 * total);
+        assert!(((n.pt[0] + n.pt[1]) + b / e * total).abs() <= 1e-12 * total);
+
+        let n = newton(&prob, &prev, d.t, &[f64::NAN, 0.0], &[0.0; 2], 1e-3, 50);
+        assert_eq!((n.end, n.iterations), (NewtonEnd::Stalled, 0));
+
+        let n = newton(&prob, &prev, d.t, &[0.0; 2], &[0.0; 2], prev.theta, 1);
+        assert_eq!((n.end, n.iterations), (NewtonEnd::Limit, 1));
+        assert!(n.norm < n.start_norm);
+    }
 }
