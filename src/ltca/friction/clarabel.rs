@@ -4,8 +4,8 @@
 
 use super::incremental::StepAnswer;
 use super::polish::polish;
-use super::semismooth::{newton, NewtonEnd};
 use super::residual::{gaps, residuals, slips, states, Previous};
+use super::semismooth::{newton, NewtonEnd};
 use super::{FrictionOptions, Prepared};
 use crate::error::FlankError;
 
@@ -341,15 +341,7 @@ fn try_polish(
     if options.max_newton == 0 {
         return Ok(None);
     }
-    let n = newton(
-        prob,
-        prev,
-        torque,
-        &t.pn,
-        &t.pt,
-        theta,
-        options.max_newton,
-    );
+    let n = newton(prob, prev, torque, &t.pn, &t.pt, theta, options.max_newton);
     counters.newton_iterations += n.iterations;
     if n.end == NewtonEnd::Limit {
         counters.limit_hit = true;

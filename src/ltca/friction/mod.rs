@@ -130,8 +130,8 @@ mod clarabel;
 mod incremental;
 mod lemke;
 mod polish;
-mod semismooth;
 mod residual;
+mod semismooth;
 mod sliding;
 
 #[cfg(test)]

@@ -496,7 +496,13 @@ mod tests {
         });
         let th = num / den;
         let pn: Vec<f64> = (0..4)
-            .map(|i| if i < 3 { (r_n[i] * th - d.g0[i]) / k } else { 0.0 })
+            .map(|i| {
+                if i < 3 {
+                    (r_n[i] * th - d.g0[i]) / k
+                } else {
+                    0.0
+                }
+            })
             .collect();
         assert!(pn.iter().take(3).all(|&p| p > 0.0));
         assert!(r_n[3] * th < d.g0[3]);
@@ -513,7 +519,11 @@ mod tests {
             assert_eq!(n.end, NewtonEnd::Converged, "{fn_} {ft}: {:?}", n.norm);
             for i in 0..4 {
                 assert!((n.pn[i] - pn[i]).abs() <= 1e-12 * pn[0], "{i}: {:?}", n.pn);
-                assert!((n.pt[i] - mu * pn[i]).abs() <= 1e-12 * pn[0], "{i}: {:?}", n.pt);
+                assert!(
+                    (n.pt[i] - mu * pn[i]).abs() <= 1e-12 * pn[0],
+                    "{i}: {:?}",
+                    n.pt
+                );
             }
             assert!((n.theta - th).abs() <= 1e-12 * th.abs());
             assert!(graded(&prob, &prev, &n) <= 1e-12);
