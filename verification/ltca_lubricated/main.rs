@@ -109,13 +109,12 @@ fn constant_mu_table_reproduces_the_single_mu_ltca() {
 }
 
 /// The standstill model with a varied μ table at mid single contact
-/// reaches a Coulomb residual of 1.5e-7, not 1e-9, since the LTCA's near
-/// field changed (2026-11-27): the polish of the Tresca answer cycles
-/// between stick and slip states on nearly every point (all within the
-/// cone's edge) and the Tresca answer's own floor is clarabel's accuracy
-/// (README, "Known miss").
+/// (5.415°): nearly every point sits at the cone's edge; the active-set
+/// polish of the Tresca answer cycles there, and the semismooth Newton
+/// polish (`src/ltca/friction/semismooth.rs`) takes the Tresca answer's
+/// residual (1.6e-7) to round-off (README, check 1b). An ignored known
+/// miss until 2026-11-27.
 #[test]
-#[ignore = "known miss since the centre-line near field: standstill + varied μ table ends at a Coulomb residual 1.5e-7 (polish cycles); README"]
 fn standstill_varied_table_meets_the_tolerance() {
     check_tables(true);
 }

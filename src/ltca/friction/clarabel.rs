@@ -5,6 +5,7 @@
 use super::incremental::StepAnswer;
 use super::polish::polish;
 use super::residual::{gaps, residuals, slips, states, Previous};
+use super::semismooth::{newton, NewtonEnd};
 use super::{FrictionOptions, Prepared};
 use crate::error::FlankError;
 
@@ -175,8 +176,11 @@ fn tresca(
 /// [`STALL_TRIGGER`]) on, the polish is tried from its states; the first
 /// polished answer that settles within the residual tolerance ends the
 /// increment (the exact answer does not need a tighter fixed point, and
-/// the fixed point cannot settle below clarabel's own accuracy). Without
-/// such a polish the last Tresca answer is kept, polished if that helps.
+/// the fixed point cannot settle below clarabel's own accuracy). Where
+/// the active-set polish does not get there (it cycles, or settles above
+/// the tolerance), the semismooth Newton polish (`semismooth.rs`) is
+/// tried from the same Tresca answer. Without such a polish the last
+/// Tresca answer is kept.
 pub(crate) fn step(
     prob: &Prepared,
     prev: &Previous,
@@ -190,8 +194,7 @@ pub(crate) fn step(
     let mut dtheta_kin = 0.0;
     let mut inner = 0;
     let mut iterations = 0;
-    let mut polish_iterations = 0;
-    let mut polish_limit = false;
+    let mut counters = PolishCounters::default();
     let mut converged = false;
     let mut last = None;
     let (mut best, mut stalled) = (f64::INFINITY, 0);
@@ -219,13 +222,10 @@ pub(crate) fn step(
         }
         let stagnant = stalled >= STALL_ITERATIONS && change <= STALL_TRIGGER;
         if change <= POLISH_TRIGGER || stagnant {
-            if let Some(p) = try_polish(prob, prev, torque, &t, options, &mut polish_limit)? {
-                polish_iterations += p.polish_iterations;
+            if let Some(p) = try_polish(prob, prev, torque, &t, options, &mut counters)? {
                 return Ok(StepAnswer {
                     iterations,
                     inner_iterations: inner,
-                    polish_iterations,
-                    limit_hit: polish_limit,
                     ..p
                 });
             }
@@ -247,11 +247,10 @@ pub(crate) fn step(
     let theta = prev.theta + t.dtheta;
     if converged && options.fixed_point_tolerance > POLISH_TRIGGER {
         // (with a tolerance ≤ the trigger this iterate was tried already)
-        if let Some(p) = try_polish(prob, prev, torque, &t, options, &mut polish_limit)? {
+        if let Some(p) = try_polish(prob, prev, torque, &t, options, &mut counters)? {
             return Ok(StepAnswer {
                 iterations,
                 inner_iterations: inner,
-                limit_hit: polish_limit,
                 ..p
             });
         }
@@ -262,9 +261,11 @@ pub(crate) fn step(
         theta,
         iterations,
         inner_iterations: inner,
-        polish_iterations,
+        polish_iterations: counters.polish_iterations,
         polished: false,
-        limit_hit: !converged || polish_limit,
+        newton_iterations: counters.newton_iterations,
+        newton: false,
+        limit_hit: !converged || counters.limit_hit,
     })
 }
 
@@ -281,42 +282,83 @@ pub const STALL_ITERATIONS: usize = 5;
 /// Largest change at which a stagnant fixed point is polished.
 pub const STALL_TRIGGER: f64 = 1e-3;
 
-/// The polish from the states of a Tresca answer; `Some` when it settled
-/// with residuals within the tolerance and not above the Tresca answer's.
+/// The polish attempts of one increment, summed.
+#[derive(Default)]
+struct PolishCounters {
+    /// Successful active-set polish: its state systems.
+    polish_iterations: usize,
+    /// Semismooth Newton iterations over all attempts.
+    newton_iterations: usize,
+    /// A polish (active-set or Newton) reached its limit.
+    limit_hit: bool,
+}
+
+/// The polish from a Tresca answer; `Some` when it reaches the residual
+/// tolerance and not above the Tresca answer's residual. First the
+/// active-set polish from the answer's states (exact: the answer of a
+/// state system); where it cycles, fails or settles above the tolerance,
+/// the semismooth Newton polish from the Tresca answer itself (if
+/// `max_newton` > 0).
 fn try_polish(
     prob: &Prepared,
     prev: &Previous,
     torque: f64,
     t: &Tresca,
     options: &FrictionOptions,
-    limit: &mut bool,
+    counters: &mut PolishCounters,
 ) -> Result<Option<StepAnswer>, FlankError> {
     let theta = prev.theta + t.dtheta;
     let gap = gaps(prob, &t.pn, &t.pt, theta);
     let slip = slips(prob, prev, &t.pn, &t.pt, theta);
     let raw = residuals(prob, torque, &t.pn, &t.pt, &gap, &slip);
-    let start = states(prob, &t.pn, &t.pt, &gap, &slip);
-    let Ok(p) = polish(prob, prev, torque, start, options.max_polish) else {
-        return Ok(None);
+    let accept = |pn: &[f64], pt: &[f64], theta: f64| {
+        let gap = gaps(prob, pn, pt, theta);
+        let slip = slips(prob, prev, pn, pt, theta);
+        let res = residuals(prob, torque, pn, pt, &gap, &slip);
+        res.max <= options.tolerance && res.max <= raw.max.max(options.tolerance)
     };
-    if !p.settled {
-        *limit = true;
+    let start = states(prob, &t.pn, &t.pt, &gap, &slip);
+    match polish(prob, prev, torque, start, options.max_polish) {
+        Ok(p) if p.settled => {
+            if accept(&p.pn, &p.pt, p.theta) {
+                return Ok(Some(StepAnswer {
+                    pn: p.pn,
+                    pt: p.pt,
+                    theta: p.theta,
+                    iterations: 0,
+                    inner_iterations: 0,
+                    polish_iterations: counters.polish_iterations + p.iterations,
+                    polished: true,
+                    newton_iterations: counters.newton_iterations,
+                    newton: false,
+                    limit_hit: counters.limit_hit,
+                }));
+            }
+        }
+        Ok(_) => counters.limit_hit = true,
+        Err(_) => {}
+    }
+    if options.max_newton == 0 {
         return Ok(None);
     }
-    let gap = gaps(prob, &p.pn, &p.pt, p.theta);
-    let slip = slips(prob, prev, &p.pn, &p.pt, p.theta);
-    let res = residuals(prob, torque, &p.pn, &p.pt, &gap, &slip);
-    if !(res.max <= options.tolerance && res.max <= raw.max.max(options.tolerance)) {
+    let n = newton(prob, prev, torque, &t.pn, &t.pt, theta, options.max_newton);
+    counters.newton_iterations += n.iterations;
+    if n.end == NewtonEnd::Limit {
+        counters.limit_hit = true;
+    }
+    if !accept(&n.pn, &n.pt, n.theta) {
         return Ok(None);
     }
     Ok(Some(StepAnswer {
-        pn: p.pn,
-        pt: p.pt,
-        theta: p.theta,
+        pn: n.pn,
+        pt: n.pt,
+        theta: n.theta,
         iterations: 0,
         inner_iterations: 0,
-        polish_iterations: p.iterations,
+        polish_iterations: counters.polish_iterations,
         polished: true,
-        limit_hit: false,
+        newton_iterations: counters.newton_iterations,
+        newton: true,
+        limit_hit: counters.limit_hit,
     }))
 }

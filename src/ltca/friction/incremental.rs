@@ -17,6 +17,8 @@ pub(crate) struct StepAnswer {
     pub(crate) inner_iterations: usize,
     pub(crate) polish_iterations: usize,
     pub(crate) polished: bool,
+    pub(crate) newton_iterations: usize,
+    pub(crate) newton: bool,
     pub(crate) limit_hit: bool,
 }
 
@@ -132,6 +134,8 @@ pub(crate) fn run(
             inner_iterations: ans.inner_iterations,
             polish_iterations: ans.polish_iterations,
             polished: ans.polished,
+            newton_iterations: ans.newton_iterations,
+            newton: ans.newton,
             limit_hit: ans.limit_hit,
         });
     }

@@ -309,6 +309,8 @@ pub(crate) fn step(
             inner_iterations: retry,
             polish_iterations: 0,
             polished: false,
+            newton_iterations: 0,
+            newton: false,
             limit_hit: false,
         });
     }

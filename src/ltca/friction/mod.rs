@@ -96,8 +96,11 @@
 //!   states read off the answer start the polish (`polish.rs`): the linear
 //!   system of the increment with the states fixed, solved exactly, the
 //!   states updated by the primal–dual active-set rule until they repeat
-//!   (Hüeber, Stadler & Wohlmuth 2008). With μ = 0 it is the frictionless
-//!   QP of [`crate::ltca::qp`].
+//!   (Hüeber, Stadler & Wohlmuth 2008). Where that cycles (points at the
+//!   cone's edge) or settles above the tolerance, a globalised semismooth
+//!   Newton method on the natural-map / Alart–Curnier form of the
+//!   conditions polishes the Tresca answer instead (`semismooth.rs`).
+//!   With μ = 0 it is the frictionless QP of [`crate::ltca::qp`].
 //! * [`FrictionSolver::Lemke`] (`lemke.rs`): the increment as a linear
 //!   complementarity problem w = q + A z, w, z ≥ 0, wᵀz = 0 in the loads,
 //!   the friction split P_t = β⁺ − β⁻ and the slip magnitude λ (the
@@ -117,6 +120,7 @@
 //! | `incremental.rs` | the load schedule and the increment loop |
 //! | `clarabel.rs` | the Tresca QP per increment and the fixed point |
 //! | `polish.rs` | the state-fixed linear system and active-set updates |
+//! | `semismooth.rs` | the globalised semismooth Newton polish |
 //! | `lemke.rs` | the increment's LCP and Lemke's method |
 //! | `residual.rs` | gaps, slips, states and residuals of an answer |
 //! | `sliding.rs` | fully developed sliding (the running mesh, no stick) |
@@ -127,6 +131,7 @@ mod incremental;
 mod lemke;
 mod polish;
 mod residual;
+mod semismooth;
 mod sliding;
 
 #[cfg(test)]
@@ -272,6 +277,11 @@ pub struct FrictionOptions {
     pub max_qp_iterations: usize,
     /// Polish: limit on state updates (reaching it is reported).
     pub max_polish: usize,
+    /// Clarabel path: limit on the iterations of the semismooth Newton
+    /// polish (`semismooth.rs`), tried where the active-set polish does not
+    /// reach the tolerance; 0 switches it off. Reaching it is reported.
+    #[serde(default = "default_max_newton")]
+    pub max_newton: usize,
     /// Lemke: pivot limit per LCP (an error).
     pub max_pivots: usize,
     /// Largest accepted [`Residuals::max`]: sets `within_tolerance`.
@@ -287,10 +297,18 @@ impl Default for FrictionOptions {
             fixed_point_tolerance: 1e-8,
             max_qp_iterations: 200,
             max_polish: 50,
+            max_newton: DEFAULT_MAX_NEWTON,
             max_pivots: 20_000,
             tolerance: 1e-9,
         }
     }
+}
+
+/// Default of [`FrictionOptions::max_newton`].
+pub const DEFAULT_MAX_NEWTON: usize = 50;
+
+fn default_max_newton() -> usize {
+    DEFAULT_MAX_NEWTON
 }
 
 /// The state at the end of one increment.
@@ -319,6 +337,12 @@ pub struct Increment {
     pub polish_iterations: usize,
     /// Clarabel: the answer is the polished (exact) one.
     pub polished: bool,
+    /// Clarabel: iterations of the semismooth Newton polish, summed over
+    /// its attempts in the increment (0 if not tried).
+    pub newton_iterations: usize,
+    /// Clarabel: the answer is the semismooth Newton polish's (then
+    /// `polished` is true as well).
+    pub newton: bool,
     /// A bounded loop (the fixed point, or a polish attempt) reached its
     /// limit. For a polished answer this is information only: the answer is
     /// the exact one of its states, graded by its residuals.

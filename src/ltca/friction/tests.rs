@@ -152,6 +152,16 @@ fn zero_sliding_line(m: usize, mu: f64, crown: f64, alpha: f64) -> Data {
 /// tolerance), no loop at its bound.
 fn assert_residuals(sol: &FrictionSolution, what: &str) {
     let r = &sol.max_residual;
+    // which increments needed the semismooth Newton polish (README)
+    let newton: usize = sol.increments.iter().map(|k| k.newton_iterations).sum();
+    if newton > 0 {
+        eprintln!(
+            "{what} ({}): semismooth Newton polish {newton} iterations, answers in {} of {} increments",
+            sol.solver.name(),
+            sol.increments.iter().filter(|k| k.newton).count(),
+            sol.increments.len()
+        );
+    }
     assert!(
         sol.within_tolerance && r.max <= 1e-9,
         "{what} ({}): residuals {r:?}",
@@ -653,9 +663,11 @@ fn clarabel_and_lemke_agree_strong_friction() {
 
 // A duplicated candidate point (C singular, the split of the load between
 // the two copies not unique): no panic, both solvers within tolerance
-// (clarabel's state system is singular, so its Tresca answer stands,
-// ~1e-10; Lemke puts the load on one copy), and the pair's total load
-// agrees to 1e-8.
+// (clarabel's state system is singular, so the active-set polish fails
+// and the semismooth Newton polish gets there through its
+// Levenberg–Marquardt direction, 2.2e-16; before it the Tresca answer
+// stood at ~1e-10; Lemke puts the load on one copy), and the pair's total
+// load agrees to 1e-8 (5.3e-16).
 #[test]
 fn duplicated_point_is_handled() {
     let m = 10;
@@ -676,6 +688,15 @@ fn duplicated_point_is_handled() {
         .into_iter()
         .map(|solver| {
             let sol = solve_friction(&d.pb(), &opts(solver, 3)).unwrap();
+            let k = sol.increments.last().unwrap();
+            eprintln!(
+                "duplicated point, {}: residual {:.1e}, polished {}, semismooth Newton {} iterations (answer: {})",
+                solver.name(),
+                sol.max_residual.max,
+                k.polished,
+                sol.increments.iter().map(|k| k.newton_iterations).sum::<usize>(),
+                k.newton
+            );
             assert!(
                 sol.within_tolerance,
                 "{}: {:?}",
@@ -686,5 +707,9 @@ fn duplicated_point_is_handled() {
             k.normal[4] + k.normal[5]
         })
         .collect();
+    eprintln!(
+        "duplicated point: pair total clarabel vs Lemke {:.1e}",
+        (sums[0] - sums[1]).abs() / sums[1]
+    );
     assert!((sums[0] - sums[1]).abs() <= 1e-8 * sums[1], "{sums:?}");
 }
