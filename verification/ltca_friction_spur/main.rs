@@ -326,7 +326,6 @@ fn standstill_ltca_against_fe_contact_with_friction() {
 }
 
 #[test]
-#[ignore = "known miss: mid single contact the standstill slip nearly cancels the elastic tangential motion; LTCA sticks where FE slips (README)"]
 fn standstill_ltca_against_fe_mid_single_contact() {
     let scene = scene();
     let c = cycle(&scene, 0.0, FrictionModel::Standstill, false);
