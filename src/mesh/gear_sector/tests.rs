@@ -618,7 +618,8 @@ fn gear_sector_contact_band() {
             "  {} rows within the band, largest {worst:.4} mm",
             inside.len()
         );
-        assert!(inside.len() >= 24, "{}", inside.len());
+        // whole rows inside ±0.6 mm: at least 1.2/0.05 − 1
+        assert!(inside.len() >= 23, "{}", inside.len());
         assert!(worst <= band.size_mm * (1.0 + 1e-9), "{worst}");
         // first layer across the tooth at the band: the nearest interior
         // node to a band flank node lies about one band size deep
