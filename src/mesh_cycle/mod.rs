@@ -25,6 +25,7 @@
 pub mod bevel;
 pub mod bevel_checks;
 pub mod checkpoint;
+pub mod contact_band;
 pub mod lubricated;
 pub mod pair_model;
 pub mod run;
