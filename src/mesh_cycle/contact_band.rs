@@ -13,8 +13,7 @@
 //!   radius of curvature ρ = r_b u (transverse; cylindrical involute);
 //! * the Hertz half-width of the nominal single-pair load,
 //!   b = √(4 w R / (π E*)) with w = T/(r_b1 cos β_b)/face width,
-//!   1/R = 1/ρ₁ + 1/ρ₂ (divided by cos β_b for helical pairs is not
-//!   applied: spur scope), 1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂ (Johnson,
+//!   1/R = 1/ρ₁ + 1/ρ₂ (spur pairs only), 1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂ (Johnson,
 //!   *Contact Mechanics*, 1985, §4.2, eqs. 4.43–4.45; [`hertz_line`]);
 //! * a band of `size_mm` rows over ±`half_width_b`·b on each body.
 //!
@@ -33,7 +32,6 @@ use crate::compliance::body::{sector_options, BodyMeshOptions};
 use crate::contact::PressureOverclosure;
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
-use crate::geometry::cylindrical::CylindricalGear;
 use crate::geometry::gear_pair::LineKind;
 use crate::ltca::local::{contact_modulus, hertz_line};
 use crate::mesh::gear_body::body_of_sector;
@@ -233,7 +231,6 @@ fn position(scene: &Scene, roll: f64, options: &BandOptions) -> Result<BandPosit
     let gp = scene.gear_pair()?;
     let mut sector = sector_options(scene, &options.mesh)?;
     sector.face_layers = options.face_layers;
-    let mods = scene.flank_modifications()?;
     let mut models = Vec::new();
     let (mut min_j, mut max_a) = (f64::INFINITY, 0.0f64);
     for (b, (name, spec, material)) in [
@@ -247,7 +244,6 @@ fn position(scene: &Scene, roll: f64, options: &BandOptions) -> Result<BandPosit
             .map_err(|e| FlankError::Model(format!("roll angle {roll}°, --contact-band: {e}")))?;
         min_j = min_j.min(m.quality.min_scaled_jacobian);
         max_a = max_a.max(m.quality.max_aspect_ratio);
-        let _ = CylindricalGear::new(spec, name, sector.teeth, mods[b].clone())?;
         models.push(body_of_sector(spec, name, material, &sector, m, None)?);
     }
     let pair = combine(

@@ -82,7 +82,10 @@ fn band_reproduces_plain_mesh_ci() {
         .zip(&band.pairs)
         .map(|(a, b)| (a.load_share - b.load_share).abs())
         .fold(0.0, f64::max);
-    println!("TE change {:.3} %, largest share change {dshare:.4}", 100.0 * dte);
+    println!(
+        "TE change {:.3} %, largest share change {dshare:.4}",
+        100.0 * dte
+    );
     assert!(dte < 0.01, "{dte}");
     assert!(dshare < 0.02, "{dshare}");
     assert!(band.min_scaled_jacobian > 0.2);
