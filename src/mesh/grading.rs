@@ -210,7 +210,7 @@ mod tests {
             }
             if i > 0 {
                 let r = h / v[i - 1];
-                assert!(r <= 1.3 && r >= 1.0 / 1.3, "ratio {r} at {mid}");
+                assert!((1.0 / 1.3..=1.3).contains(&r), "ratio {r} at {mid}");
             }
             s += h;
         }

@@ -103,8 +103,10 @@ pub struct BandPair {
     pub p_max_mpa: f64,
     pub p_max_mid_face_mpa: f64,
     pub p_max_nodal_mpa: f64,
-    /// Closed slave nodes on the mid-face row (corner and midside), and
-    /// the elements they span ((n − 1)/2).
+    /// Slave nodes with a positive face-averaged pressure on the node row
+    /// nearest the middle of the face width (a mid-layer row, with an odd
+    /// number of face layers, holds corner nodes only: n nodes span n − 1
+    /// elements; a layer-boundary row holds corners and midsides).
     pub closed_nodes_mid_face: usize,
     /// 2b (Hertz, FE line load) / band row size.
     pub elements_across_2b: Option<f64>,
