@@ -37,6 +37,11 @@
 //!   narrowing tooth would make its cells more than 3 × as tall as wide.
 //!   Edges spanning several rows get straight midpoints (interior only).
 //!   The flank faces are unchanged (same nodes as the hex20 mesh).
+//! * Contact bands ([`ProfileBand`], [`gear_sector_banded`]): the involute
+//!   rows are spaced by a band size around given profile points and grow
+//!   back to `flank_size` outside ([`crate::mesh::grading::banded_sizes`]);
+//!   the first layer across the tooth becomes the band size. Same layout on
+//!   every tooth; no 2:1 wedge coarsening with bands.
 //! * Extrusion: z ∈ [0, b] in `face_layers` quadratic layers; each transverse
 //!   section is rotated by φ(z) = twist_rate · z, which puts flank nodes exactly
 //!   on the helicoid [`ToothProfile::surface`].
