@@ -164,6 +164,20 @@ pub fn gear_body_with(
     normal_force: Option<(f64, f64)>,
 ) -> Result<BodyModel, FlankError> {
     let sector = mesh_sector(spec, name, options, mesher)?;
+    body_of_sector(spec, name, material, options, sector, normal_force)
+}
+
+/// [`gear_body_with`] of an already meshed sector (e.g. one with contact
+/// bands, [`crate::mesh::gear_sector::gear_sector_banded`]): the bore
+/// clamped, the nominal load if `normal_force` is given.
+pub fn body_of_sector(
+    spec: &GearSpec,
+    name: &str,
+    material: &Material,
+    options: &SectorOptions,
+    sector: GearSectorMesh,
+    normal_force: Option<(f64, f64)>,
+) -> Result<BodyModel, FlankError> {
     let mesh = sector.mesh.clone();
     let ne = mesh.elements.len();
     let bore = mesh

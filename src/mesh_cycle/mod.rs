@@ -15,6 +15,9 @@
 //!             bevel sector meshes, the same pair model and solver)
 //! bevel_checks  the bad inputs a hypoid run refuses before factorizing:
 //!             no torque, a sector too small, interpenetrating bodies
+//! contact_band  FE contact per roll angle on meshes with contact bands
+//!             (finer involute rows around the contact points): p_max
+//!             against Hertz, elements across 2b (`flank run --contact-band`)
 //! lubricated  the wet–dry loop of seed 002 (`[analyses.lubrication]`):
 //!             EHL μ per tooth pair and position, wet passes
 //! ```
@@ -25,6 +28,7 @@
 pub mod bevel;
 pub mod bevel_checks;
 pub mod checkpoint;
+pub mod contact_band;
 pub mod lubricated;
 pub mod pair_model;
 pub mod run;

@@ -302,7 +302,20 @@ impl MeshCycle {
                 c0: None,
             },
         };
-        let mut pair = pair_model(scene, gear_pair.as_ref(), mesh, law, settings.slave)?;
+        let pair = pair_model(scene, gear_pair.as_ref(), mesh, law, settings.slave)?;
+        Self::of_pair(scene, pair, settings, threads)
+    }
+
+    /// [`Self::new`] with a pair model built by the caller (with the
+    /// normal law of `settings.law`), e.g. of banded sector meshes
+    /// ([`crate::mesh_cycle::contact_band`]).
+    pub fn of_pair(
+        scene: &Scene,
+        mut pair: PairModel,
+        settings: RunSettings,
+        threads: usize,
+    ) -> Result<Self, FlankError> {
+        let gear_pair = scene.gear_pair()?;
         if settings.law == ContactLaw::Penalty {
             // the automatic slope of the (first pair's) master faces, scaled
             crate::mesh_cycle::pair_model::set_automatic_penalty(

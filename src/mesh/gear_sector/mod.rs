@@ -37,6 +37,11 @@
 //!   narrowing tooth would make its cells more than 3 × as tall as wide.
 //!   Edges spanning several rows get straight midpoints (interior only).
 //!   The flank faces are unchanged (same nodes as the hex20 mesh).
+//! * Contact bands ([`ProfileBand`], [`gear_sector_banded`]): the involute
+//!   rows are spaced by a band size around given profile points and grow
+//!   back to `flank_size` outside ([`crate::mesh::grading::banded_sizes`]);
+//!   the first layer across the tooth becomes the band size. Same layout on
+//!   every tooth; no 2:1 wedge coarsening with bands.
 //! * Extrusion: z ∈ [0, b] in `face_layers` quadratic layers; each transverse
 //!   section is rotated by φ(z) = twist_rate · z, which puts flank nodes exactly
 //!   on the helicoid [`ToothProfile::surface`].
@@ -124,6 +129,27 @@ impl Default for SectorOptions {
     }
 }
 
+/// A contact band of the involute rows ([`gear_sector_banded`]): around
+/// the profile point at `radius_mm` (the contact point of one position,
+/// the same on every tooth of the sector and on both flanks, since the rows
+/// run across the tooth), rows of arc length `size_mm` over
+/// ±`half_width_mm` of arc length, growing by about 1.25 per row
+/// ([`crate::mesh::grading::banded_sizes`]) back to the flank size outside.
+/// Across the tooth the first layer at the flanks becomes the finest band
+/// size (growth 1.25 inwards), on every row: the Hertz stress field
+/// reaches a depth of a few half-widths b below the surface (Johnson,
+/// *Contact Mechanics*, 1985, §4.2), so the elements there must be about
+/// as small as along the profile.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ProfileBand {
+    /// Radius of the band centre on the involute (mm, own frame).
+    pub radius_mm: f64,
+    /// Half-width of the band along the profile (mm of arc length).
+    pub half_width_mm: f64,
+    /// Row size inside the band (mm of arc length); ≤ the flank size.
+    pub size_mm: f64,
+}
+
 /// A meshed gear sector.
 #[derive(Clone, Debug)]
 pub struct GearSectorMesh {
@@ -158,14 +184,32 @@ pub fn gear_sector(
     name: &str,
     opts: &SectorOptions,
 ) -> Result<GearSectorMesh, FlankError> {
-    if opts.element == ElementKind::C3D15 {
-        match sector_mesh(spec, name, opts, true) {
+    gear_sector_banded(spec, name, opts, &[])
+}
+
+/// [`gear_sector`] with contact bands ([`ProfileBand`]): finer involute
+/// rows around given profile points and a finer first layer across the
+/// tooth. No band: exactly [`gear_sector`]'s mesh. Bands apply to every
+/// tooth of the sector: the section's layout (rows, columns, cells) is
+/// one for all pitches, so the teeth stay conforming at the cuts, and a
+/// position in double contact needs a band at each pair's contact point
+/// anyway (both bands then lie on every tooth). Wedge meshes with bands
+/// keep every row inside the tooth (no 2:1 coarsening: its levels assume
+/// rows of the flank size).
+pub fn gear_sector_banded(
+    spec: &GearSpec,
+    name: &str,
+    opts: &SectorOptions,
+    bands: &[ProfileBand],
+) -> Result<GearSectorMesh, FlankError> {
+    if opts.element == ElementKind::C3D15 && bands.is_empty() {
+        match sector_mesh(spec, name, opts, bands, true) {
             Ok(m) if m.quality.min_scaled_jacobian >= 0.2 => return Ok(m),
             Ok(_) | Err(FlankError::Element { .. }) => {}
             Err(e) => return Err(e),
         }
     }
-    sector_mesh(spec, name, opts, false)
+    sector_mesh(spec, name, opts, bands, false)
 }
 
 /// One meshing try: the transverse section (with or without 2:1 coarsening
@@ -174,8 +218,9 @@ fn sector_mesh(
     spec: &GearSpec,
     name: &str,
     opts: &SectorOptions,
+    bands: &[ProfileBand],
     coarsen: bool,
 ) -> Result<GearSectorMesh, FlankError> {
-    let section = transverse_section(spec, name, opts, coarsen)?;
+    let section = transverse_section(spec, name, opts, bands, coarsen)?;
     extrude(spec, name, opts, section)
 }

@@ -10,7 +10,7 @@ use std::collections::HashMap;
 use std::f64::consts::PI;
 
 use super::lattice::{cart, graded, half_lattice, pol, quad_cell, rot, Block, Cell, Points};
-use super::{err, SectorOptions};
+use super::{err, ProfileBand, SectorOptions};
 use crate::error::FlankError;
 use crate::geometry::rack::{Flank, Segment, ToothProfile};
 use crate::geometry::GearSpec;
@@ -38,6 +38,7 @@ pub(super) fn transverse_section(
     spec: &GearSpec,
     name: &str,
     opts: &SectorOptions,
+    bands: &[ProfileBand],
     coarsen: bool,
 ) -> Result<Section, FlankError> {
     let prof = ToothProfile::new(spec, name)?;
@@ -66,10 +67,23 @@ pub(super) fn transverse_section(
     let ar = prof.root_angle;
     let fs = opts.flank_size;
     let q = 1.25;
+    // Contact bands (module doc of [`super`]): checked here, where the
+    // involute's extent is known. The first layer across the tooth is the
+    // finest band size, so that the elements under a band are about square
+    // at the surface and several layers lie within the Hertz depth.
+    let (uf, ut) = (prof.u_form, prof.u_tip);
+    let band_intervals = band_intervals(name, bands, fs, rb, uf, ut)?;
+    let first_layer = bands.iter().fold(fs, |m, b| m.min(b.size_mm));
 
     // --- across the tooth: graded sizes from both flanks to the centre.
     let w = g.reference_thickness_transverse;
-    let half = graded(0.5 * w, fs, q, opts.base_size, "half tooth thickness")?;
+    let half = graded(
+        0.5 * w,
+        first_layer,
+        q,
+        opts.base_size,
+        "half tooth thickness",
+    )?;
     let mut half = half;
     if half.len() < 2 {
         let x = half[0] / 2.0;
@@ -126,9 +140,26 @@ pub(super) fn transverse_section(
         ((k - 1) as f64 + w) / FT as f64
     };
     let nf = ((fil_len / fs).ceil() as usize).max(1);
-    let (uf, ut) = (prof.u_form, prof.u_tip);
     let inv_len = 0.5 * rb * (ut * ut - uf * uf);
-    let ni = ((inv_len / fs).ceil() as usize).max(1);
+    // involute rows: uniform in arc length, or banded (fractions of the
+    // arc length from the form point at the half-lattice rows)
+    let inv_frac: Option<Vec<f64>> = if band_intervals.is_empty() {
+        None
+    } else {
+        let sizes = crate::mesh::grading::banded_sizes(
+            inv_len,
+            fs,
+            &band_intervals,
+            crate::mesh::grading::BAND_GROWTH,
+            &format!("{name}: involute rows of the contact band"),
+        )
+        .map_err(err)?;
+        Some(half_lattice(&sizes))
+    };
+    let ni = match &inv_frac {
+        Some(f) => (f.len() - 1) / 2,
+        None => ((inv_len / fs).ceil() as usize).max(1),
+    };
     let nt = ng + nf + ni;
     // Left boundary point at half-lattice index jj (0..=2nt), tooth-0 local,
     // with Some(u) for flank points.
@@ -144,7 +175,10 @@ pub(super) fn transverse_section(
             };
             (prof.point(Flank::Left, Segment::Fillet(t)).p, Some(uf - t))
         } else {
-            let f = (jj - 2 * (ng + nf)) as f64 / (2 * ni) as f64;
+            let f = match &inv_frac {
+                Some(fr) => fr[jj - 2 * (ng + nf)],
+                None => (jj - 2 * (ng + nf)) as f64 / (2 * ni) as f64,
+            };
             let u = (uf * uf + (ut * ut - uf * uf) * f).sqrt();
             let u = if jj == 2 * nt { ut } else { u };
             (prof.point(Flank::Left, Segment::Involute(u)).p, Some(u))
@@ -191,7 +225,7 @@ pub(super) fn transverse_section(
     let row_sig: Vec<Vec<f64>> = (0..=2 * nt)
         .map(|jj| {
             let lp = pol(lpts[jj.max(jform)].0);
-            crate::mesh::grading::row_fractions(2.0 * (-lp[0]) * lp[1], nh, fs)
+            crate::mesh::grading::row_fractions(2.0 * (-lp[0]) * lp[1], nh, first_layer)
         })
         .collect();
 
@@ -415,4 +449,52 @@ pub(super) fn transverse_section(
         cut_a,
         cut_b,
     })
+}
+
+/// The bands as arc-length intervals of the involute from the form point
+/// (start, end, size; mm), checked: a size that is not positive or above
+/// the flank size, a half-width that is not positive, a centre off the
+/// involute (below the form or above the tip radius) are errors naming the
+/// band's field.
+fn band_intervals(
+    name: &str,
+    bands: &[ProfileBand],
+    fs: f64,
+    rb: f64,
+    uf: f64,
+    ut: f64,
+) -> Result<Vec<(f64, f64, f64)>, FlankError> {
+    let (r_form, r_tip) = (rb * uf.hypot(1.0), rb * ut.hypot(1.0));
+    let mut out = Vec::with_capacity(bands.len());
+    for (i, b) in bands.iter().enumerate() {
+        let at = format!("{name}: contact band {}", i + 1);
+        if !(b.size_mm > 0.0 && b.size_mm.is_finite()) {
+            return Err(err(format!(
+                "{at}: size_mm = {} must be positive and finite",
+                b.size_mm
+            )));
+        }
+        if b.size_mm > fs {
+            return Err(err(format!(
+                "{at}: size_mm = {} is above the flank size {fs} mm (a band refines the flank rows)",
+                b.size_mm
+            )));
+        }
+        if !(b.half_width_mm > 0.0 && b.half_width_mm.is_finite()) {
+            return Err(err(format!(
+                "{at}: half_width_mm = {} must be positive and finite",
+                b.half_width_mm
+            )));
+        }
+        if !(b.radius_mm >= r_form && b.radius_mm <= r_tip) {
+            return Err(err(format!(
+                "{at}: radius_mm = {} lies beyond the involute flank (form radius {r_form:.4} mm to tip radius {r_tip:.4} mm)",
+                b.radius_mm
+            )));
+        }
+        let u = ((b.radius_mm / rb).powi(2) - 1.0).max(0.0).sqrt();
+        let s = 0.5 * rb * (u * u - uf * uf);
+        out.push((s - b.half_width_mm, s + b.half_width_mm, b.size_mm));
+    }
+    Ok(out)
 }

@@ -493,3 +493,235 @@ fn gear_sector_full_ring_closes() {
         m.mesh.elements.len()
     );
 }
+
+/// A fingerprint of a mesh: FNV-1a over the bits of every coordinate, the
+/// element kinds and node lists, and the sorted node sets.
+fn fingerprint(m: &GearSectorMesh) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut eat = |v: u64| {
+        for b in v.to_le_bytes() {
+            h ^= b as u64;
+            h = h.wrapping_mul(0x100_0000_01b3);
+        }
+    };
+    for x in &m.mesh.coords {
+        for c in x {
+            eat(c.to_bits());
+        }
+    }
+    for e in &m.mesh.elements {
+        eat(e.kind.node_count() as u64);
+        for &n in &e.nodes {
+            eat(n as u64);
+        }
+    }
+    let mut sets: Vec<_> = m.mesh.node_sets.iter().collect();
+    sets.sort_by(|a, b| a.0.cmp(b.0));
+    for (k, v) in sets {
+        eat(k.len() as u64);
+        for &n in v {
+            eat(n as u64);
+        }
+    }
+    h
+}
+
+/// No band: the mesh is bit-identical to the mesher's before contact bands
+/// existed (fingerprints taken with the code of commit 79511ea, hex20 and
+/// wedge15 pinions at flank 0.5 mm, the helical gear at 5 mm).
+#[test]
+fn gear_sector_without_band_unchanged() {
+    let cases = [
+        (pinion(), 0.5, 2.0, 0, ElementKind::C3D20),
+        (pinion(), 0.5, 2.0, 0, ElementKind::C3D15),
+        (helical(), 5.0, 20.0, 6, ElementKind::C3D15),
+    ];
+    let mut got = Vec::new();
+    for (spec, fs, base, layers, kind) in cases {
+        let opts = SectorOptions {
+            flank_size: fs,
+            base_size: base,
+            face_layers: layers,
+            element: kind,
+            ..Default::default()
+        };
+        let a = gear_sector(&spec, "g", &opts).unwrap();
+        let b = gear_sector_banded(&spec, "g", &opts, &[]).unwrap();
+        assert_eq!(fingerprint(&a), fingerprint(&b));
+        got.push(fingerprint(&a));
+    }
+    println!("fingerprints {got:x?}");
+    assert_eq!(got, REFERENCE_FINGERPRINTS);
+}
+
+const REFERENCE_FINGERPRINTS: [u64; 3] =
+    [0x616413fcb804e3e0, 0xa220872df8cbf349, 0x72984ff9c8b8e3f6];
+
+/// A contact band on the seed 002 pinion (centre at the pitch radius
+/// 24.7 mm, ±0.6 mm, 0.05 mm rows; flank 0.5 mm): hex20 and wedge15 are
+/// valid, flank nodes lie on the exact flank, the flank rows inside the
+/// band are at most 0.05 mm apart (corner to corner, arc length) and the
+/// first layer across the tooth is 0.05 mm; quality figures printed.
+#[test]
+fn gear_sector_contact_band() {
+    let spec = pinion();
+    let p = ToothProfile::new(&spec, "g").unwrap();
+    let rb = p.geometry.base_radius;
+    let band = ProfileBand {
+        radius_mm: 24.7,
+        half_width_mm: 0.6,
+        size_mm: 0.05,
+    };
+    let u_c = ((band.radius_mm / rb).powi(2) - 1.0).sqrt();
+    let s_c = 0.5 * rb * u_c * u_c;
+    for kind in [ElementKind::C3D20, ElementKind::C3D15] {
+        let t = Instant::now();
+        let opts = SectorOptions {
+            flank_size: 0.5,
+            base_size: 2.0,
+            element: kind,
+            ..Default::default()
+        };
+        let plain = gear_sector(&spec, "pinion", &opts).unwrap();
+        let m = gear_sector_banded(&spec, "pinion", &opts, &[band]).unwrap();
+        report(
+            &format!("pinion {kind:?} fs 0.5, band 0.05 mm"),
+            &m,
+            t.elapsed().as_secs_f64(),
+        );
+        println!(
+            "  without band: {} nodes, min scaled J {:.4}, max aspect {:.2}",
+            plain.mesh.node_count(),
+            plain.quality.min_scaled_jacobian,
+            plain.quality.max_aspect_ratio
+        );
+        assert!(m.quality.min_scaled_jacobian > 0.2, "{:?}", m.quality);
+        assert!(check_flank_nodes(&spec, &m, 3) < 1e-9);
+        // corner rows of FLANK_R2 at z = 0 on the involute, in arc length
+        let mut s: Vec<f64> = m.mesh.node_sets["FLANK_R2"]
+            .iter()
+            .filter_map(|n| {
+                let (u, z) = m.flank_uv[n];
+                (z == 0.0 && u >= p.u_form).then_some(0.5 * rb * u * u)
+            })
+            .collect();
+        s.sort_by(f64::total_cmp);
+        // corner to corner = two lattice steps
+        let inside: Vec<f64> = s
+            .windows(3)
+            .step_by(2)
+            .filter(|w| w[0] >= s_c - band.half_width_mm && w[2] <= s_c + band.half_width_mm)
+            .map(|w| w[2] - w[0])
+            .collect();
+        let worst = inside.iter().fold(0.0f64, |a, &b| a.max(b));
+        println!(
+            "  {} rows within the band, largest {worst:.4} mm",
+            inside.len()
+        );
+        // whole rows inside ±0.6 mm: at least 1.2/0.05 − 1
+        assert!(inside.len() >= 23, "{}", inside.len());
+        assert!(worst <= band.size_mm * (1.0 + 1e-9), "{worst}");
+        // first layer across the tooth at the band: the nearest interior
+        // node to a band flank node lies about one band size deep
+        let fl: std::collections::HashSet<usize> =
+            m.mesh.node_sets["FLANK_R2"].iter().copied().collect();
+        let x0 = m.mesh.node_sets["FLANK_R2"]
+            .iter()
+            .copied()
+            .min_by(|a, b| {
+                let d = |n: usize| {
+                    let (u, z) = m.flank_uv[&n];
+                    (0.5 * rb * u * u - s_c).abs() + z
+                };
+                d(*a).total_cmp(&d(*b))
+            })
+            .unwrap();
+        let x = m.mesh.coords[x0];
+        let depth = (0..m.mesh.node_count())
+            .filter(|n| !fl.contains(n) && m.mesh.coords[*n][2] == 0.0)
+            .map(|n| {
+                let y = m.mesh.coords[n];
+                (y[0] - x[0]).hypot(y[1] - x[1])
+            })
+            .fold(f64::INFINITY, f64::min);
+        println!("  nearest interior node {depth:.4} mm from the flank node");
+        assert!(depth < 0.6 * band.size_mm, "{depth}");
+    }
+}
+
+/// Bad bands are errors naming the field.
+#[test]
+fn gear_sector_bad_band() {
+    let spec = pinion();
+    let opts = SectorOptions::default();
+    let ok = ProfileBand {
+        radius_mm: 24.7,
+        half_width_mm: 0.6,
+        size_mm: 0.05,
+    };
+    for (band, field) in [
+        (ProfileBand { size_mm: 0.0, ..ok }, "size_mm"),
+        (
+            ProfileBand {
+                size_mm: -0.1,
+                ..ok
+            },
+            "size_mm",
+        ),
+        (ProfileBand { size_mm: 0.8, ..ok }, "size_mm"),
+        (
+            ProfileBand {
+                half_width_mm: 0.0,
+                ..ok
+            },
+            "half_width_mm",
+        ),
+        (
+            ProfileBand {
+                radius_mm: 30.0,
+                ..ok
+            },
+            "radius_mm",
+        ),
+        (
+            ProfileBand {
+                radius_mm: 20.0,
+                ..ok
+            },
+            "radius_mm",
+        ),
+    ] {
+        let e = gear_sector_banded(&spec, "pinion", &opts, &[band])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(field) && e.contains("contact band"), "{e}");
+    }
+}
+
+/// Node counts of banded pinions (printed; a sizing aid, not a check).
+#[test]
+#[ignore = "sizing aid: prints node counts of banded meshes"]
+fn gear_sector_band_cost() {
+    let spec = pinion();
+    for (size, base, kind) in [
+        (0.1, 1.0, ElementKind::C3D20),
+        (0.05, 1.0, ElementKind::C3D20),
+        (0.025, 1.0, ElementKind::C3D20),
+        (0.025, 1.0, ElementKind::C3D15),
+        (0.025, 2.0, ElementKind::C3D20),
+    ] {
+        let opts = SectorOptions {
+            flank_size: 0.5,
+            base_size: base,
+            element: kind,
+            ..Default::default()
+        };
+        let band = ProfileBand {
+            radius_mm: 24.7,
+            half_width_mm: 0.75,
+            size_mm: size,
+        };
+        let m = gear_sector_banded(&spec, "pinion", &opts, &[band]).unwrap();
+        report(&format!("band {size} base {base} {kind:?}"), &m, 0.0);
+    }
+}
