@@ -33,6 +33,7 @@ pub mod active_set;
 pub use crate::fem::contact_definition as definition;
 pub mod floating;
 pub mod friction;
+pub mod hertz_line;
 pub mod pairing;
 pub mod placement;
 pub mod projection;

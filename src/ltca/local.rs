@@ -48,6 +48,8 @@
 use std::f64::consts::PI;
 
 use crate::compliance::interpolation::gauss_legendre_rule_of;
+// Hertz's line contact lives with the contact layer (FE contact uses it too)
+pub use crate::contact::hertz_line::{contact_modulus, hertz_line};
 
 /// How the LTCA treats the local contact deformation.
 #[derive(
@@ -175,12 +177,12 @@ pub fn elliptic_centreline_influence(i: &Cell, j: &Cell, e_star: f64, samples: u
     let rule = gauss_legendre_rule_of(samples);
     let g = &rule[..];
     let quarter = 0.25 * PI;
+    let x = i.across - j.across;
     let mut sum = 0.0;
     for &(s, ws) in g {
         let theta = quarter * (s + 1.0);
         let (sin, _) = theta.sin_cos();
         let t = j.c * sin;
-        let x = i.across - j.across;
         let mut strip = 0.0;
         for &(a, wa) in g {
             let y = i.along + a * i.l - j.along;
@@ -279,24 +281,6 @@ impl NearField {
         }
         d
     }
-}
-
-/// Hertz line contact: half-width a (mm) and peak pressure (MPa) for load
-/// per length `p_line` (N/mm), equivalent radius `radius` (mm), contact
-/// modulus `e_star` (MPa).
-pub fn hertz_line(p_line: f64, radius: f64, e_star: f64) -> (f64, f64) {
-    if !(p_line > 0.0 && radius > 0.0) {
-        return (0.0, 0.0);
-    }
-    (
-        (4.0 * p_line * radius / (PI * e_star)).sqrt(),
-        (p_line * e_star / (PI * radius)).sqrt(),
-    )
-}
-
-/// Contact modulus E* of two bodies (MPa).
-pub fn contact_modulus(e: [f64; 2], nu: [f64; 2]) -> f64 {
-    1.0 / ((1.0 - nu[0] * nu[0]) / e[0] + (1.0 - nu[1] * nu[1]) / e[1])
 }
 
 #[cfg(test)]
@@ -414,17 +398,5 @@ mod tests {
         ] {
             assert!(antiderivative(x, y).is_finite(), "({x}, {y})");
         }
-    }
-
-    #[test]
-    fn hertz_line_values() {
-        // P′ = 1000 N/mm, R = 10 mm, E* = 113 187 MPa (steel/steel, ν 0.3)
-        let e = contact_modulus([206e3, 206e3], [0.3, 0.3]);
-        let (a, p) = hertz_line(1000.0, 10.0, e);
-        assert!((a - (4.0 * 1e4 / (PI * e)).sqrt()).abs() < 1e-15);
-        assert!(
-            (p * a * PI / 2.0 - 1000.0).abs() < 1e-9,
-            "P′ = π a p_max / 2"
-        );
     }
 }

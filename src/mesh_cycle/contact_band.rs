@@ -29,11 +29,11 @@
 use std::time::Instant;
 
 use crate::compliance::body::{sector_options, BodyMeshOptions};
+use crate::contact::hertz_line::{contact_modulus, hertz_line};
 use crate::contact::PressureOverclosure;
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
 use crate::geometry::gear_pair::LineKind;
-use crate::ltca::local::{contact_modulus, hertz_line};
 use crate::mesh::gear_body::body_of_sector;
 use crate::mesh::gear_sector::{gear_sector_banded, ProfileBand};
 use crate::mesh_cycle::pair_model::{combine, PairBody, SlaveBody};
