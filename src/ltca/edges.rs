@@ -29,14 +29,14 @@
 //!   edge member's tensor flank grid (the tip row of flank nodes). The
 //!   line is given the tip-corner kind ([`LineKind::PinionTipCorner`],
 //!   [`LineKind::GearTipCorner`]), which [`crate::ltca::model`] treats as
-//!   a sharp edge, as the spur/helical tip corners: its FE cell (half-width
-//!   κ h across the line) is centred on the edge and not narrowed, the
-//!   samples of the cell beyond the edge fall off the meshed flank and are
-//!   dropped, so the load is spread over the flank strip inside the edge
-//!   (the last element row) and renormalised; no half-space near field and
-//!   no Hertz pressure (an edge has no radius; its pressure is singular in
-//!   the elastic model and is left out of p_max). The mating member's cell
-//!   is an ordinary flank cell.
+//!   a sharp edge, as the spur/helical tip corners: the edge member is
+//!   loaded on the edge line itself (u = u_tip, the tip row of nodes, as
+//!   FE contact's slave edge nodes carry it; until 2026-11-27 a cell of
+//!   half-width κ h centred on the edge, whose outer half fell off the
+//!   flank, which put the load ≈ κ h/3 below the edge); no half-space
+//!   near field and no Hertz pressure (an edge has no radius; its
+//!   pressure is singular in the elastic model and is left out of p_max).
+//!   The mating member's cell is an ordinary flank cell.
 //! * **Toe and heel edges** run across the face, but the LTCA's cells are
 //!   laid out with the line along the face parameter v; toe/heel edge
 //!   contacts are therefore not candidates ([`EdgeLine::Unsupported`]),

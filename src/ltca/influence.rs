@@ -369,6 +369,81 @@ mod tests {
         LtcaCycle::new(&scene, &o).unwrap()
     }
 
+    /// A tip-corner candidate loads its edge body on the tip edge itself
+    /// (the top row of flank nodes, as FE contact's slave edge nodes), not
+    /// on a cell centred on the edge whose inner half moves the load down
+    /// the tooth; the mating body keeps an ordinary flank cell.
+    #[test]
+    fn tip_corner_cells_load_the_tip_edge() {
+        let work =
+            std::env::temp_dir().join(format!("flank_ltca_edge_cell_{}", std::process::id()));
+        let cycle = seed002_cycle(1.5, 3.0, &work, None);
+        let (a, e) = cycle.pair.engagement(cycle.pair.middle());
+        let pitch = cycle.pair.pinion().angular_pitch();
+        let mut corners = [0usize; 2];
+        // approach and recess beyond the kinematic ends: both tip corners
+        for roll in (0..=8).flat_map(|i| {
+            let d = 0.06 * pitch * i as f64 / 8.0;
+            [a - d, e + d]
+        }) {
+            let position = cycle.tca.position(roll).unwrap();
+            let frames = cycle.tca.frames(roll);
+            let (built, _) = cycle
+                .bodies
+                .candidates(&position, &frames, &cycle.settings)
+                .unwrap();
+            for (c, _) in built.into_iter().flatten() {
+                let edge = match position.lines[c.line].kind {
+                    crate::tca::LineKind::PinionTipCorner => 0,
+                    crate::tca::LineKind::GearTipCorner => 1,
+                    _ => continue,
+                };
+                corners[edge] += 1;
+                let flank = &cycle.bodies.tensors[edge].flank;
+                let set = flank.set_of[c.loads[edge].weights[0].0 as usize];
+                // spur: the tip is one u for the whole set
+                let u_tip = (0..flank.len())
+                    .filter(|&a| flank.set_of[a] == set)
+                    .map(|a| flank.uv[a][0])
+                    .fold(f64::NEG_INFINITY, f64::max);
+                // the next node row below the tip (a midside row)
+                let row = (0..flank.len())
+                    .filter(|&a| flank.set_of[a] == set)
+                    .map(|a| u_tip - flank.uv[a][0])
+                    .filter(|&d| d > 1e-12)
+                    .fold(f64::INFINITY, f64::min);
+                // the load's centroid in u: on the edge to 1 % of a row (a
+                // cell centred on the edge puts it ≈ c/3 below, over half
+                // a row)
+                let below: f64 = c.loads[edge]
+                    .weights
+                    .iter()
+                    .map(|&(node, w)| w * (u_tip - flank.uv[node as usize][0]))
+                    .sum();
+                assert!(
+                    below.abs() <= 0.01 * row,
+                    "roll {:.4}°: edge body {edge}: load centroid {below} below the tip (node rows {row} apart)",
+                    roll.to_degrees()
+                );
+                // the mating cell spreads over more than one node row
+                let mate = &cycle.bodies.tensors[1 - edge].flank;
+                let rows: Vec<f64> = c.loads[1 - edge]
+                    .weights
+                    .iter()
+                    .map(|&(node, _)| mate.uv[node as usize][0])
+                    .collect();
+                let spread = rows.iter().fold(f64::NEG_INFINITY, |m, &x| m.max(x))
+                    - rows.iter().fold(f64::INFINITY, |m, &x| m.min(x));
+                assert!(spread > 0.0, "mating cell on one node row");
+            }
+        }
+        assert!(
+            corners[0] > 0 && corners[1] > 0,
+            "no tip-corner candidates of both bodies found: {corners:?}"
+        );
+        let _ = std::fs::remove_dir_all(work);
+    }
+
     /// Largest |F_fast − F_streamed| over the largest |F_streamed| of both
     /// bodies at the seed 002 positions in double and single contact.
     fn fast_against_streamed(flank: f64, base: f64, work: PathBuf, cache: Option<PathBuf>) {

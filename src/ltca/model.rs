@@ -26,7 +26,10 @@
 //! c/(r_b u) (ds/du = r_b u on an involute). Along the line: the length the
 //! point represents, projected on the axis (× cos β_b). Cells are axis-
 //! aligned rectangles in (u, v); on a helical flank the contact line is
-//! inclined in (u, v), so the cell is an approximation there.
+//! inclined in (u, v), so the cell is an approximation there. At a
+//! tip-corner point the edge body is loaded on the tip edge line itself
+//! (as FE contact loads its slave edge nodes there), the mating body over
+//! an ordinary cell of half-width c_FE around its point.
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -56,6 +59,12 @@ pub use crate::ltca::friction_settings::{FrictionModel, LtcaFriction};
 /// stops: 1 % moves the near-field term by (2/(π E*)) P′ ln(1.01), < 1e-3 of
 /// the TE at gear loads.
 pub const HALF_WIDTH_TOLERANCE: f64 = 1e-2;
+
+/// The tip-corner edge cell's profile half-width as a fraction of the FE
+/// cell's: small enough that the cell is the edge line (its samples lie
+/// within 1e-3 c of u_tip), large enough that they are located on the
+/// edge's faces.
+const EDGE_CELL_FRACTION: f64 = 1e-3;
 
 /// Settings of the LTCA solve at one position.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -321,7 +330,8 @@ impl LtcaBodies {
                     // the cell stays on the flank: near a tip it is narrowed
                     // to the distance from the tip (arc length
                     // (u_tip − u) r_b u), not below a fifth of the element
-                    // (tip corners keep κ h: their cell straddles the edge)
+                    // (tip corners keep κ h on the mating flank; the edge
+                    // body's cell is the edge line, below)
                     let mut c = settings.fe_cell_factor * h;
                     if line.kind == LineKind::Flank {
                         for b in 0..2 {
@@ -331,12 +341,28 @@ impl LtcaBodies {
                         }
                     }
                     let l = 0.5 * p.width_mm;
+                    let edge_body = match line.kind {
+                        LineKind::PinionTipCorner => Some(0),
+                        LineKind::GearTipCorner => Some(1),
+                        _ => None,
+                    };
                     let cell = |b: usize| {
-                        let hu = flanks[b].profile_step(c, uv[b][0], uv[b][1]);
+                        let mut hu = flanks[b].profile_step(c, uv[b][0], uv[b][1]);
                         let hv = (l * line.param_per_mm).max(1e-6);
+                        let mut u = uv[b][0];
+                        if edge_body == Some(b) {
+                            // the edge body of a tip corner carries its load
+                            // on the tip edge (u = u_tip), as FE contact's
+                            // slave edge nodes do: a cell of width 2c centred
+                            // on the edge loses its outer half and moves the
+                            // load ≈ c/3 down the tooth (shorter lever arm,
+                            // a stiffer corner)
+                            hu *= EDGE_CELL_FRACTION;
+                            u -= hu;
+                        }
                         its[b].cell(
                             &sets[b],
-                            uv[b][0],
+                            u,
                             uv[b][1],
                             CellShape::Rectangle { hu, hv },
                             settings.cell_samples,
