@@ -188,6 +188,8 @@ pub fn compare_bevel(
     if mu > 0.0 {
         super::friction_table(&mut md, mu, fe.iter().chain(&runs), &reference);
     }
+    let per_position = super::position_errors(&angles, &best, &reference, extrapolated.as_ref());
+    super::position_table(&mut md, &best.label, &per_position, [0.02, 0.03]);
     let p = out.join("compare.md");
     crate::atomic_file::write(&p, &md)?;
     let json = serde_json::json!({
@@ -216,6 +218,7 @@ pub fn compare_bevel(
         "ltca_settings": lo.settings,
         "ltca_span_approach_mm": lo.span_approach_mm,
         "runs": fe.iter().chain(runs.iter()).collect::<Vec<_>>(),
+        "best_ltca_per_position": per_position,
         "files": {"markdown": "compare.md", "plots": plots},
     });
     let p = out.join("compare.json");

@@ -503,6 +503,8 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
             &reference,
         );
     }
+    let per_position = position_errors(&angles, &best, &reference, extrapolated.as_ref());
+    position_table(&mut md, &best.label, &per_position, [0.02, 0.02]);
     let p = out.join("compare.md");
     crate::atomic_file::write(&p, &md)?;
     let json = serde_json::json!({
@@ -530,6 +532,7 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
         "ltca_settings": base.settings,
         "ltca_compliance": base.setup,
         "runs": fe.iter().chain(ltca.iter()).collect::<Vec<_>>(),
+        "best_ltca_per_position": per_position,
         "files": {"markdown": "compare.md", "plots": plots},
     });
     let p = out.join("compare.json");
@@ -593,6 +596,112 @@ pub(crate) fn markdown(
         }
     }
     s
+}
+
+/// One position of the best LTCA against the reference: the errors the
+/// table's maxima are taken over, beside the reference's uncertainty.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct PositionError {
+    pub roll_deg: f64,
+    /// The reference's load shares per pair.
+    pub reference_shares: Vec<f64>,
+    /// The reference's TE (µrad).
+    pub reference_te_urad: f64,
+    /// Largest |share difference| over the pairs.
+    pub share_err: f64,
+    /// Relative TE difference (signed: < 0 the LTCA's TE is lower).
+    pub te_rel_err: f64,
+    /// The reference's largest share uncertainty over the pairs and its
+    /// relative TE uncertainty (NaN without an extrapolated reference).
+    pub share_uncertainty: f64,
+    pub te_uncertainty: f64,
+}
+
+/// Per position, `run` against `reference` ([`PositionError`]).
+pub(crate) fn position_errors(
+    angles: &[f64],
+    run: &MethodRun,
+    reference: &MethodRun,
+    extrapolated: Option<&ExtrapolatedReference>,
+) -> Vec<PositionError> {
+    (0..reference.te_urad.len())
+        .map(|i| {
+            let (a, b) = (
+                shares(&run.pair_force_n[i]),
+                shares(&reference.pair_force_n[i]),
+            );
+            let share_err = a
+                .iter()
+                .zip(&b)
+                .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+            let (su, tu) = extrapolated.map_or((f64::NAN, f64::NAN), |x| {
+                (
+                    x.share_uncertainty[i].iter().copied().fold(0.0, f64::max),
+                    x.te_uncertainty[i],
+                )
+            });
+            PositionError {
+                roll_deg: angles.get(i).copied().unwrap_or(f64::NAN),
+                reference_shares: b,
+                reference_te_urad: reference.te_urad[i],
+                share_err,
+                te_rel_err: (run.te_urad[i] - reference.te_urad[i]) / reference.te_urad[i].abs(),
+                share_uncertainty: su,
+                te_uncertainty: tu,
+            }
+        })
+        .collect()
+}
+
+/// The per-position section of `compare.md` for `label` (the best LTCA),
+/// with the count of positions within the targets `[share, te]` (absolute
+/// load share, relative TE).
+pub(crate) fn position_table(
+    s: &mut String,
+    label: &str,
+    rows: &[PositionError],
+    [share_target, te_target]: [f64; 2],
+) {
+    use std::fmt::Write;
+    let within = rows
+        .iter()
+        .filter(|r| r.share_err <= share_target && r.te_rel_err.abs() <= te_target)
+        .count();
+    let _ = writeln!(
+        s,
+        "
+## Per position: {label} against the reference
+"
+    );
+    let _ = writeln!(
+        s,
+        "{within} of {} positions within both targets (load sharing {share_target}, TE {} %).\n",
+        rows.len(),
+        100.0 * te_target
+    );
+    let _ = writeln!(
+        s,
+        "| roll (°) | reference shares | share err | ref. share unc. | TE ref. (µrad) | TE err | ref. TE unc. |"
+    );
+    let _ = writeln!(s, "|---:|---|---:|---:|---:|---:|---:|");
+    for r in rows {
+        let shares: Vec<String> = r
+            .reference_shares
+            .iter()
+            .map(|x| format!("{x:.3}"))
+            .collect();
+        let _ = writeln!(
+            s,
+            "| {:.2} | {} | {:.4} | {:.4} | {:.1} | {:+.2} % | {:.2} % |",
+            r.roll_deg,
+            shares.join(" / "),
+            r.share_err,
+            r.share_uncertainty,
+            r.reference_te_urad,
+            100.0 * r.te_rel_err,
+            100.0 * r.te_uncertainty
+        );
+    }
 }
 
 /// The friction rows of `compare.md`: per run the total normal force, the

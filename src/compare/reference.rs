@@ -193,6 +193,44 @@ mod tests {
         assert_eq!(r.run.pair_force_n[1], [0.0, 700.0]);
     }
 
+    /// The per-position errors and their count within the targets: an
+    /// LTCA 0.03 off in one share at the first position and 1 % high in TE
+    /// at the second, against the quadratic reference above.
+    #[test]
+    fn per_position_errors_and_their_table() {
+        let runs: Vec<MethodRun> = [1.0, 0.5, 0.25]
+            .into_iter()
+            .map(|h: f64| {
+                let s = 0.6 + 0.1 * h * h;
+                fe(
+                    h,
+                    vec![vec![1000.0 * s, 1000.0 * (1.0 - s)], vec![0.0, 700.0]],
+                    vec![100.0 * (1.0 + h * h), 50.0 * (1.0 + h)],
+                )
+            })
+            .collect();
+        let r = extrapolate(&runs).unwrap();
+        let ltca = fe(
+            0.5,
+            vec![vec![630.0, 370.0], vec![0.0, 700.0]],
+            vec![100.0, 1.01 * 50.0],
+        );
+        let rows = crate::compare::position_errors(&[-1.0, 2.0], &ltca, &r.run, Some(&r));
+        assert!((rows[0].share_err - 0.03).abs() < 1e-12, "{:?}", rows[0]);
+        assert!(rows[0].te_rel_err.abs() < 1e-12);
+        assert_eq!(rows[1].share_err, 0.0);
+        assert!((rows[1].te_rel_err - 0.01).abs() < 1e-12);
+        assert_eq!(
+            rows[0].share_uncertainty,
+            r.share_uncertainty[0][0].max(r.share_uncertainty[0][1])
+        );
+        assert_eq!((rows[0].roll_deg, rows[1].roll_deg), (-1.0, 2.0));
+        let mut md = String::new();
+        crate::compare::position_table(&mut md, "LTCA K = 5", &rows, [0.02, 0.02]);
+        assert!(md.contains("1 of 2 positions within both targets"), "{md}");
+        assert!(md.contains("| -1.00 | 0.600 / 0.400 | 0.0300 |"), "{md}");
+    }
+
     /// TE = 100 + 10 h^0.1 (observed order 0.1, below the trusted range):
     /// the finest value is kept, with 3 × the largest difference as its
     /// uncertainty; Richardson would have put it near 100.
