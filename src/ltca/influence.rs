@@ -7,11 +7,35 @@
 //! on the cells' node union (C is exactly symmetric); the streamed path,
 //! the fallback and the reference of the tests, reads the tensor's rows.
 
+use std::sync::Arc;
+
 use crate::compliance::interpolation::FlankGrids;
 use crate::compliance::pages::{TensorPages, PAGE};
 use crate::compliance::ComplianceTensor;
 use crate::geometry::vec3::dot;
 use crate::ltca::model::Candidate;
+
+/// F's tensor part of both bodies, Σ_b n₍b₎ᵢᵀ C_b(i, j) n₍b₎ⱼ (n × n,
+/// row-major): the two bodies' [`normal_compliance`] side by side on the
+/// thread pool (one parallel section where there were two, one after the
+/// other), added in body order from zero as before (the same bits).
+pub(crate) fn normal_compliance_pair(
+    tensors: &[Arc<ComplianceTensor>; 2],
+    grids: &[Arc<FlankGrids>; 2],
+    cands: &[Candidate],
+) -> Vec<f64> {
+    let (f0, f1) = rayon::join(
+        || normal_compliance(&tensors[0], &grids[0], cands, 0),
+        || normal_compliance(&tensors[1], &grids[1], cands, 1),
+    );
+    let mut f = vec![0.0; f0.len()];
+    for part in [f0, f1] {
+        for (x, y) in f.iter_mut().zip(part) {
+            *x += y;
+        }
+    }
+    f
+}
 
 /// n₍b₎ᵢᵀ C(i, j) n₍b₎ⱼ of one body for all candidate pairs (n × n,
 /// row-major): from the tensor's paged node blocks
@@ -24,12 +48,13 @@ pub(crate) fn normal_compliance(
     b: usize,
 ) -> Vec<f64> {
     match grids.pages(t) {
-        Some(p) => normal_compliance_paged(t, p, cands, b, avx2()),
+        Some(p) => normal_compliance_paged(t, p, cands, b),
         None => normal_compliance_streamed(t, cands, b),
     }
 }
 
-/// Candidates per load window of the F kernel (one AVX2 register of f64).
+/// Candidates per load window of the F kernel (a multiple of the f64
+/// lanes of a vector register: 2 with SSE2, 4 with AVX2).
 const LANES: usize = 4;
 
 /// The loads q_jc = w_jc n_j that node c of U carries, for LANES
@@ -56,7 +81,9 @@ impl Window {
 /// the displacement components s at one node from the window's loads
 /// through the block c = C(a, c) (row-major). Each sum is formed as
 /// c₀q₀ + c₁q₁ + c₂q₂, then added (no fused multiply–add: the same bits
-/// as the scalar order), and vectorised over the LANES candidates.
+/// as the scalar order), and vectorised over the LANES candidates. (An
+/// AVX2 copy chosen at run time was no faster than SSE2: the kernel waits
+/// on the page data, not on the arithmetic.)
 #[inline(always)]
 fn add_window(row: &mut [f64], stride: usize, c: &[f64], w: &Window) {
     let c: &[f64; 9] = c.try_into().expect("a 3 × 3 block");
@@ -74,8 +101,6 @@ fn add_window(row: &mut [f64], stride: usize, c: &[f64], w: &Window) {
 /// The rows lo..hi of U of [`normal_compliance_paged`]'s u: for each
 /// column node kc in U's order and each row node ka ≥ kc of the part,
 /// u(ka) += C(ka, kc) q(kc) (the diagonal block with q halved).
-/// Inlined into a portable and an AVX2 copy ([`sweep`]).
-#[inline(always)]
 fn sweep_part(sw: &Sweep, lo: usize, hi: usize) -> Vec<f64> {
     let stride = sw.stride;
     let mut u = vec![0.0; (hi - lo) * 3 * stride];
@@ -126,37 +151,6 @@ struct Sweep<'a> {
     stride: usize,
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn sweep_part_avx2(sw: &Sweep, lo: usize, hi: usize) -> Vec<f64> {
-    sweep_part(sw, lo, hi)
-}
-
-/// Whether this CPU runs AVX2 (the F kernel's 4-wide copy).
-fn avx2() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::arch::is_x86_feature_detected!("avx2")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
-}
-
-/// [`sweep_part`], in 4-wide registers if `avx2` (which the CPU must
-/// have, [`avx2`]): the same operations in the same order, so the same
-/// bits as the portable copy (Rust never fuses a multiply and an add).
-fn sweep(sw: &Sweep, lo: usize, hi: usize, avx2: bool) -> Vec<f64> {
-    #[cfg(target_arch = "x86_64")]
-    if avx2 {
-        // SAFETY: the caller checked that the CPU supports AVX2
-        return unsafe { sweep_part_avx2(sw, lo, hi) };
-    }
-    let _ = avx2;
-    sweep_part(sw, lo, hi)
-}
-
 /// [`normal_compliance`] from the paged blocks, through C's symmetry
 /// (C(a, c) = C(c, a)ᵀ, exact: the tensor is mirrored from its lower
 /// triangle): with Q the 3|U| × n matrix of the loads q_jc = w_jc n_j on
@@ -180,7 +174,6 @@ fn normal_compliance_paged(
     pages: &TensorPages,
     cands: &[Candidate],
     b: usize,
-    avx2: bool,
 ) -> Vec<f64> {
     use rayon::prelude::*;
     let n = cands.len();
@@ -278,7 +271,7 @@ fn normal_compliance_paged(
     // u[((a − lo)·3 + s)·stride + j]: component s of u_j at U[a]
     let blocks: Vec<Vec<f64>> = parts
         .par_iter()
-        .map(|&(lo, hi)| sweep(&sweep_input, lo, hi, avx2))
+        .map(|&(lo, hi)| sweep_part(&sweep_input, lo, hi))
         .collect();
     let row = |k: usize| -> &[f64] {
         let p = parts.partition_point(|&(_, hi)| hi <= k);
@@ -686,13 +679,10 @@ mod tests {
                         pool.install(|| normal_compliance(t, &cycle.bodies.grids[b], &cands, b));
                     assert_eq!(again, fast, "{threads} threads");
                 }
-                // the window kernel gives the bits of the row-wise one, in
-                // portable code and in AVX2 registers
+                // the window kernel gives the bits of the row-wise one
                 let pages = cycle.bodies.grids[b].pages(t).unwrap();
                 let rowwise = normal_compliance_paged_rowwise(t, pages, &cands, b);
                 assert_eq!(fast, rowwise, "window against row-wise kernel");
-                let portable = normal_compliance_paged(t, pages, &cands, b, false);
-                assert_eq!(fast, portable, "AVX2 against portable kernel");
                 let slow = normal_compliance_streamed(t, &cands, b);
                 let scale = slow.iter().fold(0.0f64, |m, x| m.max(x.abs()));
                 let diff = fast
@@ -762,10 +752,9 @@ mod tests {
                 .candidates(&position, &frames, &cycle.settings)
                 .unwrap();
             let cands: Vec<Candidate> = built.into_iter().flatten().map(|(c, _)| c).collect();
-            // window kernel (AVX2 if the CPU has it, portable), row-wise
-            // paged kernel, streamed
-            let names = ["window", "window portable", "row-wise", "streamed"];
-            let mut times = [const { Vec::new() }; 4];
+            // window kernel, row-wise paged kernel, streamed
+            let names = ["window", "row-wise", "streamed"];
+            let mut times = [const { Vec::new() }; 3];
             for _ in 0..15 {
                 for (m, times) in times.iter_mut().enumerate() {
                     let t0 = Instant::now();
@@ -775,8 +764,7 @@ mod tests {
                             let pages = cycle.bodies.grids[b].pages(t).unwrap();
                             std::hint::black_box(match m {
                                 0 => normal_compliance(t, &cycle.bodies.grids[b], &cands, b),
-                                1 => normal_compliance_paged(t, pages, &cands, b, false),
-                                2 => normal_compliance_paged_rowwise(t, pages, &cands, b),
+                                1 => normal_compliance_paged_rowwise(t, pages, &cands, b),
                                 _ => normal_compliance_streamed(t, &cands, b),
                             });
                         }
@@ -795,7 +783,7 @@ mod tests {
                 names
                     .iter()
                     .zip(&m)
-                    .map(|(k, t)| format!("{k} {:.3} ms ({:.2} of row-wise)", 1e3 * t, t / m[2]))
+                    .map(|(k, t)| format!("{k} {:.3} ms ({:.2} of row-wise)", 1e3 * t, t / m[1]))
                     .collect::<Vec<_>>()
                     .join(", ")
             );
