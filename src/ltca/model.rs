@@ -46,7 +46,7 @@ use crate::ltca::friction::{
     cross_check, friction_coupling, solve_friction, solve_sliding, FrictionProblem, FrictionSolver,
     PointState, MAX_ACTIVE_SET_ITERATIONS, MAX_SLIDING_ITERATIONS, SLIDING_TOLERANCE,
 };
-use crate::ltca::influence::{directional_compliance, normal_compliance};
+use crate::ltca::influence::{directional_compliance, normal_compliance_pair};
 use crate::ltca::local::{hertz_line, Cell, LocalModel, NearField};
 use crate::ltca::qp::{
     condition_number, singular_on, solve_contact_qp, ContactQp, QpOptions, QpSolution,
@@ -476,12 +476,7 @@ impl LtcaBodies {
             }
             f_fe.copy_from_slice(&blocks[0]);
         } else {
-            for b in 0..2 {
-                let part = normal_compliance(&self.tensors[b], &self.grids[b], &cands, b);
-                for (x, y) in f_fe.iter_mut().zip(part) {
-                    *x += y;
-                }
-            }
+            f_fe = normal_compliance_pair(&self.tensors, &self.grids, &cands);
         }
         let compliance_s = t_f.elapsed().as_secs_f64();
         let (mut local_s, mut qp_s) = (0.0, 0.0);
