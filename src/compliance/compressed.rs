@@ -455,6 +455,13 @@ impl BlrTensor {
         &self.cache_key
     }
 
+    /// The same compression under the cache key `key` (a region's key,
+    /// given to the tensor after it was built).
+    pub(crate) fn with_cache_key(mut self, key: &str) -> Self {
+        self.cache_key = key.to_string();
+        self
+    }
+
     /// Page count.
     pub fn pages(&self) -> usize {
         self.pages

@@ -441,6 +441,13 @@ impl LtcaBodies {
                 vec![0.0; n * n],
             ];
             for b in 0..2 {
+                if !self.tensors[b].has_matrix() {
+                    return Err(FlankError::Model(format!(
+                        "the frictional LTCA reads the dense tensor, and that of {} was built \
+                         compressed (no dense matrix): set compression = \"none\"",
+                        self.tensors[b].meta.body
+                    )));
+                }
                 let part = directional_compliance(&self.tensors[b], &cands, b);
                 for (acc, p) in blocks.iter_mut().zip(part) {
                     for (x, y) in acc.iter_mut().zip(p) {
@@ -451,7 +458,7 @@ impl LtcaBodies {
             f_fe.copy_from_slice(&blocks[0]);
         } else {
             for b in 0..2 {
-                let part = normal_compliance(&self.tensors[b], &self.grids[b], &cands, b);
+                let part = normal_compliance(&self.tensors[b], &self.grids[b], &cands, b)?;
                 for (x, y) in f_fe.iter_mut().zip(part) {
                     *x += y;
                 }
