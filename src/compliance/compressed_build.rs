@@ -127,6 +127,15 @@ pub fn compressed_compliance(
                 alternatives: PANEL_ALTERNATIVES,
             },
         )?;
+        if progress {
+            eprintln!(
+                "  {name}: factor of {} DOFs, nnz(L) = {:.3e}, factorization {:.1} s; {} panels of {rhs} right-hand sides",
+                factor.n,
+                factor.stats.nnz_factor as f64,
+                factor.stats.factorization_s,
+                flank.len().div_ceil(PAGE)
+            );
+        }
         let (c, panel) = BlrTensor::from_factor(&tensor, &factor, blr, progress)?;
         let mut stats = factor.stats;
         stats.method = "panel".into();
