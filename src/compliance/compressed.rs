@@ -50,10 +50,20 @@
 //! recorded ([`BlrStats::max_relative_error`]). A block whose rank would
 //! reach the break-even m n / (m + n) stays dense.
 //!
-//! What is not done: the build reads the dense tensor (it exists in memory
-//! and in the cache today). ACA only needs rows and columns of each block,
-//! so a build from column blocks of the Schur inverse is possible, but the
-//! Schur path forms the dense m × m inverse first; that is left for later.
+//! Two builds: [`BlrTensor::from_dense`] from a dense tensor (in memory,
+//! e.g. read from the cache), and `BlrTensor::from_factor`
+//! ([`crate::compliance::compressed_build`]) panel by panel from the
+//! body's sparse factor, without the dense tensor: the LTCA's path when
+//! compression is asked for. Both check every block against the dense
+//! block at hand and agree to the solves' round-off.
+//!
+//! What is not done: the dense tensor is still needed by the frictional
+//! LTCA (its directional blocks read rows of `matrix`), the bevel/hypoid
+//! LTCA and `flank compliance` (plots, contact-line checks, the tensor
+//! files); those refuse compression or do not offer it. ACA does not use
+//! the panel's full columns (it is run on each block as before); a
+//! randomized or column-pivoted compression of the whole panel is not
+//! tried.
 
 use std::sync::Arc;
 use std::time::Instant;

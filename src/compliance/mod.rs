@@ -101,6 +101,8 @@
 //! pairs (ACA + recompression, each off-diagonal block within a stated
 //! relative accuracy ε of its Frobenius norm); the frictionless LTCA can
 //! read its page pairs from it (`[analyses.ltca] compression = 1e-6`).
+//! [`compressed_build`]: that form built panel by panel from the body's
+//! sparse factor, without the dense tensor (the LTCA's path then).
 
 pub mod body;
 pub mod cache;
