@@ -77,10 +77,11 @@ pub struct Args {
     #[arg(long, value_enum)]
     flank_region: Option<flank::compliance::FlankRegion>,
     /// Spur/helical, frictionless: `none` (dense tensors) or a relative
-    /// accuracy ε in (0, 1), e.g. 1e-6, to read the tensors' page pairs
-    /// from their block low-rank form (each block within ε of its
-    /// Frobenius norm); default the scene's `[analyses.ltca]
-    /// compression`, else none.
+    /// accuracy ε in (0, 1), e.g. 1e-6, to build the tensors in block
+    /// low-rank form (each block within ε of its Frobenius norm) panel by
+    /// panel from the body's factor, without the dense tensor, and read
+    /// the LTCA's page pairs from it; default the scene's
+    /// `[analyses.ltca] compression`, else none.
     #[arg(long)]
     compression: Option<String>,
     /// Print nothing but errors.

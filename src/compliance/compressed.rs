@@ -50,10 +50,20 @@
 //! recorded ([`BlrStats::max_relative_error`]). A block whose rank would
 //! reach the break-even m n / (m + n) stays dense.
 //!
-//! What is not done: the build reads the dense tensor (it exists in memory
-//! and in the cache today). ACA only needs rows and columns of each block,
-//! so a build from column blocks of the Schur inverse is possible, but the
-//! Schur path forms the dense m × m inverse first; that is left for later.
+//! Two builds: [`BlrTensor::from_dense`] from a dense tensor (in memory,
+//! e.g. read from the cache), and `BlrTensor::from_factor`
+//! ([`crate::compliance::compressed_build`]) panel by panel from the
+//! body's sparse factor, without the dense tensor: the LTCA's path when
+//! compression is asked for. Both check every block against the dense
+//! block at hand and agree to the solves' round-off.
+//!
+//! What is not done: the dense tensor is still needed by the frictional
+//! LTCA (its directional blocks read rows of `matrix`), the bevel/hypoid
+//! LTCA and `flank compliance` (plots, contact-line checks, the tensor
+//! files); those refuse compression or do not offer it. ACA does not use
+//! the panel's full columns (it is run on each block as before); a
+//! randomized or column-pivoted compression of the whole panel is not
+//! tried.
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -239,8 +249,49 @@ pub struct BlrTensor {
     pub stats: BlrStats,
 }
 
+/// The page layout of a tensor's flank: the paged node order
+/// ([`paged_order`]) and its inverse, the page count and each page's node
+/// bounding box in xyz (for the η-admissibility).
+pub(crate) struct Layout {
+    pub order: Vec<u32>,
+    pub position: Vec<u32>,
+    pub pages: usize,
+    pub boxes: Vec<[[f64; 3]; 2]>,
+}
+
+impl Layout {
+    pub(crate) fn of(t: &ComplianceTensor) -> Self {
+        let n = t.node_count();
+        let order = paged_order(t);
+        let mut position = vec![0u32; n];
+        for (p, &a) in order.iter().enumerate() {
+            position[a as usize] = p as u32;
+        }
+        let pages = n.div_ceil(PAGE);
+        let boxes = (0..pages)
+            .map(|p| {
+                let mut b = [[f64::INFINITY; 3], [f64::NEG_INFINITY; 3]];
+                for &a in &order[p * PAGE..][..page_len(n, p)] {
+                    let x = t.flank.positions[a as usize];
+                    for d in 0..3 {
+                        b[0][d] = b[0][d].min(x[d]);
+                        b[1][d] = b[1][d].max(x[d]);
+                    }
+                }
+                b
+            })
+            .collect();
+        Layout {
+            order,
+            position,
+            pages,
+            boxes,
+        }
+    }
+}
+
 /// Nodes on page `p` of `n` paged nodes.
-fn page_len(n: usize, p: usize) -> usize {
+pub(crate) fn page_len(n: usize, p: usize) -> usize {
     PAGE.min(n.saturating_sub(p * PAGE))
 }
 
@@ -271,25 +322,12 @@ impl BlrTensor {
                 "compliance matrix entry {i} is not finite: cannot compress"
             )));
         }
-        let order = paged_order(t);
-        let mut position = vec![0u32; n];
-        for (p, &a) in order.iter().enumerate() {
-            position[a as usize] = p as u32;
-        }
-        let pages = n.div_ceil(PAGE);
-        let boxes: Vec<[[f64; 3]; 2]> = (0..pages)
-            .map(|p| {
-                let mut b = [[f64::INFINITY; 3], [f64::NEG_INFINITY; 3]];
-                for &a in &order[p * PAGE..][..page_len(n, p)] {
-                    let x = t.flank.positions[a as usize];
-                    for d in 0..3 {
-                        b[0][d] = b[0][d].min(x[d]);
-                        b[1][d] = b[1][d].max(x[d]);
-                    }
-                }
-                b
-            })
-            .collect();
+        let Layout {
+            order,
+            position,
+            pages,
+            boxes,
+        } = Layout::of(t);
         let pairs: Vec<(usize, usize)> = (0..pages)
             .flat_map(|r| (0..=r).map(move |q| (r, q)))
             .collect();
@@ -322,12 +360,43 @@ impl BlrTensor {
                 (block, err, far)
             })
             .collect();
+        Ok(Self::from_blocks(
+            t,
+            Layout {
+                order,
+                position,
+                pages,
+                boxes,
+            },
+            built,
+            options,
+            start,
+        ))
+    }
+
+    /// The tensor of `t` from its blocks (r, q), q ≤ r, in packed order,
+    /// each with its relative error and whether it is η-admissible; the
+    /// figures of [`BlrStats`] summed over them (`build_s` from `start`).
+    pub(crate) fn from_blocks(
+        t: &ComplianceTensor,
+        layout: Layout,
+        built: Vec<(Block, f64, bool)>,
+        options: &BlrOptions,
+        start: Instant,
+    ) -> Self {
+        let (dim, n) = (t.dim(), t.node_count());
+        let Layout {
+            order,
+            position,
+            pages,
+            ..
+        } = layout;
         let mut stats = BlrStats {
-            epsilon: eps,
+            epsilon: options.epsilon,
             eta: options.eta,
             nodes: n,
             pages,
-            blocks: pairs.len(),
+            blocks: built.len(),
             dense_bytes: dim * dim * 8,
             packed_bytes: dim * (dim + 1) / 2 * 8,
             ..Default::default()
@@ -361,7 +430,7 @@ impl BlrTensor {
         stats.admissible_mean_rank = far_ranks as f64 / stats.admissible_blocks.max(1) as f64;
         stats.ratio = stats.dense_bytes as f64 / stats.compressed_bytes as f64;
         stats.build_s = start.elapsed().as_secs_f64();
-        Ok(BlrTensor {
+        BlrTensor {
             dim,
             cache_key: t.meta.cache_key.clone(),
             order,
@@ -369,7 +438,7 @@ impl BlrTensor {
             pages,
             blocks,
             stats,
-        })
+        }
     }
 
     /// Matrix dimension 3N.
@@ -377,9 +446,30 @@ impl BlrTensor {
         self.dim
     }
 
+    /// The first block (r, q) holding a value that is not finite.
+    pub(crate) fn first_non_finite(&self) -> Option<String> {
+        (0..self.pages)
+            .flat_map(|r| (0..=r).map(move |q| (r, q)))
+            .find(|&(r, q)| {
+                let finite = |x: &[f64]| x.iter().all(|v| v.is_finite());
+                match self.block(r, q) {
+                    Block::Dense(d) => !finite(d),
+                    Block::LowRank { u, v, .. } => !(finite(u) && finite(v)),
+                }
+            })
+            .map(|(r, q)| format!("({r}, {q})"))
+    }
+
     /// The cache key of the tensor compressed.
     pub fn cache_key(&self) -> &str {
         &self.cache_key
+    }
+
+    /// The same compression under the cache key `key` (a region's key,
+    /// given to the tensor after it was built).
+    pub(crate) fn with_cache_key(mut self, key: &str) -> Self {
+        self.cache_key = key.to_string();
+        self
     }
 
     /// Page count.
@@ -672,7 +762,7 @@ impl BlrTensor {
 
 /// Hackbusch's η-admissibility of two node boxes:
 /// max(diam τ, diam σ) ≤ η dist(τ, σ).
-fn admissible(a: &[[f64; 3]; 2], b: &[[f64; 3]; 2], eta: f64) -> bool {
+pub(crate) fn admissible(a: &[[f64; 3]; 2], b: &[[f64; 3]; 2], eta: f64) -> bool {
     let diam = |x: &[[f64; 3]; 2]| {
         (0..3)
             .map(|d| (x[1][d] - x[0][d]).powi(2))
@@ -704,7 +794,7 @@ fn residual_norm(b: &[f64], rows: usize, cols: usize, u: &[f64], v: &[f64], k: u
 /// partial pivoting, verified, then QR/SVD recompression (module docs).
 /// Returns the block (dense when the rank reaches the break-even) and its
 /// relative error.
-fn compress_block(b: &[f64], rows: usize, cols: usize, eps: f64) -> (Block, f64) {
+pub(crate) fn compress_block(b: &[f64], rows: usize, cols: usize, eps: f64) -> (Block, f64) {
     let norm = b.iter().map(|x| x * x).sum::<f64>().sqrt();
     if norm == 0.0 {
         return (

@@ -265,9 +265,16 @@ impl Grid {
 }
 
 impl<'a> FlankInterpolator<'a> {
+    /// An interpolator of `tensor`, which must hold its dense matrix (a
+    /// compressed tensor's geometry: [`FlankGrids::of`]).
     pub fn new(tensor: &'a ComplianceTensor) -> Result<Self, FlankError> {
-        let flank = &tensor.flank;
-        flank.validate()?;
+        if tensor.matrix.is_empty() && tensor.dim() > 0 {
+            return Err(FlankError::Model(format!(
+                "the compliance tensor of {} holds no dense matrix (built compressed): \
+                 its entries are read from the block low-rank form only",
+                tensor.meta.body
+            )));
+        }
         if tensor.matrix.len() != tensor.dim() * tensor.dim() {
             return Err(FlankError::Model(format!(
                 "compliance matrix has {} entries, expected {}²",
@@ -275,6 +282,26 @@ impl<'a> FlankInterpolator<'a> {
                 tensor.dim()
             )));
         }
+        Ok(FlankInterpolator {
+            tensor,
+            grids: FlankGrids::of(tensor)?,
+        })
+    }
+
+    /// The search structure, to build further interpolators of the same
+    /// tensor without rebuilding it.
+    pub fn grids(&self) -> Arc<FlankGrids> {
+        Arc::clone(&self.grids)
+    }
+}
+
+impl FlankGrids {
+    /// The face search structure of `tensor`'s flank (geometry only: the
+    /// matrix is not read, a tensor built compressed has none); its pages
+    /// laid out on first use or set by [`FlankGrids::set_pages`].
+    pub fn of(tensor: &ComplianceTensor) -> Result<Arc<Self>, FlankError> {
+        let flank = &tensor.flank;
+        flank.validate()?;
         let mut grids = Vec::with_capacity(flank.sets.len());
         for s in 0..flank.sets.len() {
             let faces: Vec<(usize, [f64; 4])> = flank
@@ -339,18 +366,11 @@ impl<'a> FlankInterpolator<'a> {
             });
         }
         let boxes = flank.faces.iter().map(|f| face_box(flank, f)).collect();
-        Ok(FlankInterpolator {
-            tensor,
-            grids: Arc::new(FlankGrids(grids, OnceLock::new(), boxes)),
-        })
+        Ok(Arc::new(FlankGrids(grids, OnceLock::new(), boxes)))
     }
+}
 
-    /// The search structure, to build further interpolators of the same
-    /// tensor without rebuilding it.
-    pub fn grids(&self) -> Arc<FlankGrids> {
-        Arc::clone(&self.grids)
-    }
-
+impl<'a> FlankInterpolator<'a> {
     /// An interpolator of `tensor` with the search structure of an earlier
     /// [`FlankInterpolator::new`] of the same tensor (not checked: pass the
     /// grids of this tensor).

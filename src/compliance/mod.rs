@@ -101,10 +101,13 @@
 //! pairs (ACA + recompression, each off-diagonal block within a stated
 //! relative accuracy ε of its Frobenius norm); the frictionless LTCA can
 //! read its page pairs from it (`[analyses.ltca] compression = 1e-6`).
+//! [`compressed_build`]: that form built panel by panel from the body's
+//! sparse factor, without the dense tensor (the LTCA's path then).
 
 pub mod body;
 pub mod cache;
 pub mod compressed;
+pub mod compressed_build;
 pub mod contact_probe;
 pub mod flank;
 pub mod interpolation;
@@ -255,6 +258,13 @@ impl ComplianceTensor {
     /// Matrix dimension 3N.
     pub fn dim(&self) -> usize {
         3 * self.node_count()
+    }
+
+    /// Whether the dense matrix is held (3N × 3N entries). A tensor built
+    /// compressed ([`compressed_build`]) carries its flank and key only,
+    /// `matrix` empty: its entries are read from the block low-rank form.
+    pub fn has_matrix(&self) -> bool {
+        self.matrix.len() == self.dim() * self.dim()
     }
 
     /// C^{ij}: displacement at flank node i from a unit force at flank node j.
@@ -477,10 +487,24 @@ pub fn compliance_tensor(
     flank: &FlankNodes,
     options: &ComplianceOptions,
 ) -> Result<(ComplianceTensor, ComplianceStats), FlankError> {
+    let (matrix, stats) = compute_compliance(model, flank, options)?;
+    Ok((
+        ComplianceTensor {
+            meta: tensor_meta(name, model, flank, options.method.name()),
+            flank: flank.clone(),
+            matrix,
+        },
+        stats,
+    ))
+}
+
+/// The metadata of the tensor of `model` on `flank` (key from the mesh
+/// hash, constraints, material and flank nodes; full flank), computed by
+/// `method`.
+pub fn tensor_meta(name: &str, model: &Model, flank: &FlankNodes, method: &str) -> ComplianceMeta {
     let hash = mesh_hash(&model.mesh);
     let key = cache_key(model, &hash, flank);
-    let (matrix, stats) = compute_compliance(model, flank, options)?;
-    let meta = ComplianceMeta {
+    ComplianceMeta {
         body: name.to_string(),
         mesh_hash: hash,
         cache_key: key,
@@ -492,17 +516,9 @@ pub fn compliance_tensor(
             .collect(),
         flank_sets: flank.sets.clone(),
         units: UNITS.to_string(),
-        method: options.method.name().to_string(),
+        method: method.to_string(),
         region_u_min: None,
-    };
-    Ok((
-        ComplianceTensor {
-            meta,
-            flank: flank.clone(),
-            matrix,
-        },
-        stats,
-    ))
+    }
 }
 
 #[cfg(test)]

@@ -106,13 +106,16 @@ impl TensorPages {
         self.source.is_some()
     }
 
-    /// Whether these are the pages of `t` (same dimension, cache key and
-    /// matrix storage).
+    /// Whether these are the pages of `t`: same dimension and cache key,
+    /// and for pages copied from the dense matrix the same matrix storage
+    /// (compressed pages never read `t`'s matrix, which a tensor built
+    /// compressed does not hold).
     pub fn matches(&self, t: &ComplianceTensor) -> bool {
-        self.dim == t.dim()
-            && t.matrix.len() == self.dim * self.dim
-            && self.cache_key == t.meta.cache_key
-            && self.address == t.matrix.as_ptr() as usize
+        if self.dim != t.dim() || self.cache_key != t.meta.cache_key {
+            return false;
+        }
+        self.source.is_some()
+            || (t.matrix.len() == self.dim * self.dim && self.address == t.matrix.as_ptr() as usize)
     }
 
     /// Position of flank node `a` in the paged order.

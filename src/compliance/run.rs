@@ -207,16 +207,26 @@ pub struct BodyTensor {
     pub file: PathBuf,
 }
 
-/// The compliance tensor of a scene's body (meshed as `flank mesh` does,
-/// [`crate::compliance::body`]): written to `out/<name>.inp`, read back (the
-/// tensor belongs to the deck as printed), and computed unless
-/// `out/<name>.compliance.*` or the campaign cache holds it under the same
-/// key (mesh hash, constraints, material, flank nodes).
-pub fn body_tensor(
+/// A body as its tensor is computed from: the model read back from its
+/// deck (Dirichlet conditions only), the flank nodes, the region cut, the
+/// cache key and the deck's path.
+struct PreparedBody {
+    model: crate::fem::model::Model,
+    flank: crate::compliance::FlankNodes,
+    region: Option<Vec<f64>>,
+    key: String,
+    deck: PathBuf,
+}
+
+/// Writes the body's deck to `out/<name>.inp` and reads it back (the
+/// tensor belongs to the deck as printed), selects the flank nodes (and
+/// the region), clears the loads, clamps the cuts if asked and forms the
+/// cache key.
+fn prepare_body(
     body: &SectorBody,
     options: &BodyTensorOptions,
     out: &Path,
-) -> Result<BodyTensor, FlankError> {
+) -> Result<PreparedBody, FlankError> {
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
     let name = body.name.as_str();
     let deck = out.join(format!("{name}.inp"));
@@ -250,6 +260,126 @@ pub fn body_tensor(
         &cache_key(&model, &mesh_hash(&model.mesh), &flank),
         region.as_deref(),
     );
+    Ok(PreparedBody {
+        model,
+        flank,
+        region,
+        key,
+        deck,
+    })
+}
+
+/// One body's compressed tensor ([`body_compressed`]).
+pub struct BodyCompressed {
+    /// The body's flank and key; no dense matrix
+    /// ([`ComplianceTensor::has_matrix`] is false).
+    pub tensor: std::sync::Arc<ComplianceTensor>,
+    pub blr: std::sync::Arc<crate::compliance::compressed::BlrTensor>,
+    /// Present when it was built here (else read from `file`).
+    pub stats: Option<(
+        crate::compliance::ComplianceStats,
+        crate::compliance::compressed_build::PanelStats,
+    )>,
+    pub deck: PathBuf,
+    pub file: PathBuf,
+}
+
+/// The block low-rank tensor of a scene's body at `blr`, built panel by
+/// panel from the body's factor ([`crate::compliance::compressed_build`]):
+/// the dense tensor is never formed, read or written. Read from
+/// `<cache>/<name>.<key16>.compression.bin` (a campaign cache, `cache`)
+/// or `out/<name>.compression.bin` when that file holds this body's
+/// tensor (key, node order) at this ε, else built and written there (a
+/// stale or corrupt file is named in a warning and replaced).
+pub fn body_compressed(
+    body: &SectorBody,
+    options: &BodyTensorOptions,
+    blr: &crate::compliance::compressed::BlrOptions,
+    cache: Option<&Path>,
+    out: &Path,
+    progress: bool,
+) -> Result<BodyCompressed, FlankError> {
+    use crate::compliance::compressed::BlrTensor;
+    blr.validate()?;
+    let PreparedBody {
+        model,
+        flank,
+        region,
+        key,
+        deck,
+    } = prepare_body(body, options, out)?;
+    let name = body.name.as_str();
+    let file = match cache {
+        Some(d) => {
+            std::fs::create_dir_all(d).map_err(|e| FlankError::io(d, e))?;
+            // the short key (the full key is checked on reading)
+            d.join(format!(
+                "{name}.{}.compression.bin",
+                &key[..key.len().min(16)]
+            ))
+        }
+        None => out.join(format!("{name}.compression.bin")),
+    };
+    let mut tensor = ComplianceTensor {
+        meta: crate::compliance::tensor_meta(name, &model, &flank, "panel"),
+        flank,
+        matrix: Vec::new(),
+    };
+    tensor.meta.cache_key = key;
+    tensor.meta.region_u_min = region;
+    if file.exists() {
+        match BlrTensor::read(&file, &tensor, blr.epsilon) {
+            Ok(c) => {
+                return Ok(BodyCompressed {
+                    tensor: std::sync::Arc::new(tensor),
+                    blr: std::sync::Arc::new(c),
+                    stats: None,
+                    deck,
+                    file,
+                })
+            }
+            Err(e) => eprintln!("warning: {e}; building it again"),
+        }
+    }
+    let (built, c, stats, panel) = crate::compliance::compressed_build::compressed_compliance(
+        name,
+        &model,
+        &tensor.flank,
+        &options.compliance,
+        blr,
+        progress,
+    )?;
+    debug_assert_eq!(built.flank.len(), tensor.flank.len());
+    // the key of the region (the built tensor's is the full flank's)
+    let c = c.with_cache_key(&tensor.meta.cache_key);
+    c.write(&file)?;
+    Ok(BodyCompressed {
+        tensor: std::sync::Arc::new(tensor),
+        blr: std::sync::Arc::new(c),
+        stats: Some((stats, panel)),
+        deck,
+        file,
+    })
+}
+
+/// The compliance tensor of a scene's body (meshed as `flank mesh` does,
+/// [`crate::compliance::body`]): written to `out/<name>.inp`, read back (the
+/// tensor belongs to the deck as printed), and computed unless
+/// `out/<name>.compliance.*` or the campaign cache holds it under the same
+/// key (mesh hash, constraints, material, flank nodes).
+pub fn body_tensor(
+    body: &SectorBody,
+    options: &BodyTensorOptions,
+    out: &Path,
+) -> Result<BodyTensor, FlankError> {
+    let PreparedBody {
+        model,
+        flank,
+        region,
+        key,
+        deck,
+    } = prepare_body(body, options, out)?;
+    let name = body.name.as_str();
     let file = out.join(options.format.file_name(name));
     let mut stats = None;
     let mut compute = || -> Result<ComplianceTensor, FlankError> {

@@ -173,6 +173,122 @@ fn compute_in_pool(
     options: &ComplianceOptions,
 ) -> Result<(Vec<f64>, ComplianceStats), FlankError> {
     let t_total = Instant::now();
+    if !(options.memory_budget_mb > 0.0) {
+        return Err(FlankError::Model(format!(
+            "memory budget must be positive, got {} MB",
+            options.memory_budget_mb
+        )));
+    }
+    let m = 3 * flank.len();
+    let matrix_mb = (m * m * 8) as f64 / 1e6;
+    // dense storage: C, plus L₂₂ and the inverse's workspace (Schur) or the
+    // right-hand-side blocks (blocked); checked with the factor's memory
+    // once the symbolic analysis knows nnz(L)
+    let dense_mb = match options.method {
+        Method::Schur => 3.0 * matrix_mb,
+        Method::Blocked => matrix_mb + options.memory_budget_mb,
+    } * 1e6
+        / 1048576.0;
+    let FlankFactor {
+        chol,
+        n,
+        red,
+        mut stats,
+        estimated_peak_mb,
+    } = factor_flank(
+        model,
+        flank,
+        options,
+        &Beside {
+            what: dense_what(flank.len(), m, options.method),
+            mb: dense_mb,
+            mb_per_dof: 0.0,
+            alternatives: DENSE_ALTERNATIVES,
+        },
+    )?;
+    let par = parallelism(options.threads);
+    let free: Vec<usize> = (0..m).filter(|&a| red[a].is_some()).collect();
+    stats.matrix_mb = matrix_mb;
+    let t = Instant::now();
+    let (mut matrix, condition) = match options.method {
+        Method::Schur => schur(&chol, &red, &free, m, par, options.condition)?,
+        Method::Blocked => {
+            let (c, bs, nb) = blocked(&chol, &red, m, n, options)?;
+            stats.block_size = bs;
+            stats.blocks = nb;
+            (c, None)
+        }
+    };
+    stats.solve_s = t.elapsed().as_secs_f64() - condition.as_ref().map_or(0.0, |c| c.seconds);
+    let t = Instant::now();
+    mirror_lower(&mut matrix, m);
+    stats.symmetrize_s = t.elapsed().as_secs_f64();
+    if let Some(i) = matrix.iter().position(|v| !v.is_finite()) {
+        return Err(FlankError::Solver(format!(
+            "compliance entry ({}, {}) is not finite",
+            i / m,
+            i % m
+        )));
+    }
+    let work = stats.factorization_s + stats.solve_s + stats.symmetrize_s;
+    stats.time_vs_factorization = work / stats.factorization_s.max(1e-12);
+    stats.rhs_per_s = stats.rhs as f64 / work.max(1e-12);
+    stats.condition = match (options.condition, condition) {
+        (false, _) => None,
+        (true, Some(c)) => Some(c),
+        (true, None) => Some(condition_from_matrix(&matrix, m, &free, par)?),
+    };
+    stats.total_s = t_total.elapsed().as_secs_f64();
+    stats.peak_memory_mb = peak_memory_mb();
+    stats.estimated_peak_mb = estimated_peak_mb;
+    Ok((matrix, stats))
+}
+
+/// What a compliance computation's memory check refuses, in words.
+fn dense_what(nodes: usize, m: usize, method: Method) -> String {
+    format!(
+        "the compliance tensor of {nodes} flank nodes (a dense {m} × {m} matrix, {} method)",
+        method.name()
+    )
+}
+
+/// What a computation holds beside the body's factor once it is
+/// factored: in words, its size (MiB) and what to do when it does not fit
+/// (the memory guard's message, [`crate::resources::check_memory`]).
+pub(crate) struct Beside {
+    pub what: String,
+    pub mb: f64,
+    /// MiB per unknown of the factored system (panels of solutions).
+    pub mb_per_dof: f64,
+    pub alternatives: &'static str,
+}
+
+/// The body's sparse Cholesky factor for solves with unit loads on the
+/// flank DOFs, checked by the backward error of a probe solve.
+pub(crate) struct FlankFactor {
+    pub chol: SparseCholesky,
+    /// Unknowns of the factored system (reduced DOFs).
+    pub n: usize,
+    /// Reduced index of every flank DOF (node-major x, y, z; `None`: fixed,
+    /// a zero row and column of C).
+    pub red: Vec<Option<usize>>,
+    /// Figures up to the factorization and the probe (rhs, nnz(L), times).
+    pub stats: ComplianceStats,
+    /// The memory guard's estimate of the peak (MB).
+    pub estimated_peak_mb: f64,
+}
+
+/// Validates `model` and `flank`, assembles K and factors it (flank DOFs
+/// ordered last for the Schur method, else one fill-reducing ordering of
+/// all DOFs), refusing beforehand when the factor and `beside` would not
+/// fit in memory; then the backward error of a probe solve (unit loads on
+/// every free flank DOF) must be ≤ [`MAX_BACKWARD_ERROR`].
+pub(crate) fn factor_flank(
+    model: &Model,
+    flank: &FlankNodes,
+    options: &ComplianceOptions,
+    beside: &Beside,
+) -> Result<FlankFactor, FlankError> {
     flank.validate()?;
     if flank.is_empty() {
         return Err(FlankError::Model("no flank nodes".into()));
@@ -181,12 +297,6 @@ fn compute_in_pool(
         return Err(FlankError::Model(
             "flank nodes without mesh indices (read from a file?)".into(),
         ));
-    }
-    if !(options.memory_budget_mb > 0.0) {
-        return Err(FlankError::Model(format!(
-            "memory budget must be positive, got {} MB",
-            options.memory_budget_mb
-        )));
     }
     validate(model)?;
     let nn = model.mesh.node_count();
@@ -219,21 +329,9 @@ fn compute_in_pool(
         }
     }
     let m = 3 * flank.len();
-    let matrix_mb = (m * m * 8) as f64 / 1e6;
-    // dense storage: C, plus L₂₂ and the inverse's workspace (Schur) or the
-    // right-hand-side blocks (blocked); checked with the factor's memory
-    // once the symbolic analysis knows nnz(L), below
-    let dense_mb = match options.method {
-        Method::Schur => 3.0 * matrix_mb,
-        Method::Blocked => matrix_mb + options.memory_budget_mb,
-    } * 1e6
-        / 1048576.0;
-    // a first check on the dense part alone, before the assembly
-    crate::resources::check_memory(
-        &dense_what(flank.len(), m, options.method),
-        dense_mb,
-        DENSE_ALTERNATIVES,
-    )?;
+    // a first check on what lives beside the factor, before the assembly
+    let beside_mb = beside.mb + beside.mb_per_dof * dofs.reduced_count as f64;
+    crate::resources::check_memory(&beside.what, beside_mb, beside.alternatives)?;
     let par = parallelism(options.threads);
     let mut stats = ComplianceStats {
         method: options.method.name().to_string(),
@@ -258,19 +356,18 @@ fn compute_in_pool(
     stats.assembly_s = t.elapsed().as_secs_f64();
     let (pattern, ordering_s) = (assembly.pattern, assembly.ordering_s);
     let mut chol = SparseCholesky::analyze(&pattern, options.ordering, ordering_s, par)?;
-    // the factor and the dense blocks live together: refuse before the
+    // the factor and what lives beside it: refuse before the
     // factorization rather than after it
     crate::resources::check_memory(
         &format!(
             "{} with its factorization (nnz(L) = {:.3e})",
-            dense_what(flank.len(), m, options.method),
-            chol.stats.nnz_factor
+            beside.what, chol.stats.nnz_factor
         ),
-        dense_mb + chol.factor_memory_mb(Precision::Double),
-        DENSE_ALTERNATIVES,
+        beside_mb + chol.factor_memory_mb(Precision::Double),
+        beside.alternatives,
     )?;
     let estimated_peak_mb =
-        crate::resources::resident_mb() + dense_mb + chol.factor_memory_mb(Precision::Double);
+        crate::resources::resident_mb() + beside_mb + chol.factor_memory_mb(Precision::Double);
     let name_of = |r: usize| -> String {
         let d = dofs
             .targets
@@ -312,7 +409,6 @@ fn compute_in_pool(
     stats.ordering_s = fs.ordering_s;
     stats.symbolic_factorization_s = fs.symbolic_s;
     stats.factorization_s = fs.factorization_s;
-
     // reduced index of every output DOF (None: fixed, zero row/column)
     let red: Vec<Option<usize>> = (0..m)
         .map(|a| match dofs.targets[3 * flank.nodes[a / 3] + a % 3] {
@@ -320,55 +416,19 @@ fn compute_in_pool(
             _ => None,
         })
         .collect();
-    let free: Vec<usize> = (0..m).filter(|&a| red[a].is_some()).collect();
-    stats.rhs = free.len();
-    stats.matrix_mb = matrix_mb;
-    if free.is_empty() {
+    stats.rhs = red.iter().filter(|r| r.is_some()).count();
+    if stats.rhs == 0 {
         return Err(FlankError::Model(
             "every flank DOF is fixed: the compliance is zero".into(),
         ));
     }
-    let t = Instant::now();
-    let (mut matrix, condition) = match options.method {
-        Method::Schur => schur(&chol, &red, &free, m, par, options.condition)?,
-        Method::Blocked => {
-            let (c, bs, nb) = blocked(&chol, &red, m, pattern.n, options)?;
-            stats.block_size = bs;
-            stats.blocks = nb;
-            (c, None)
-        }
-    };
-    stats.solve_s = t.elapsed().as_secs_f64() - condition.as_ref().map_or(0.0, |c| c.seconds);
-    let t = Instant::now();
-    mirror_lower(&mut matrix, m);
-    stats.symmetrize_s = t.elapsed().as_secs_f64();
-    if let Some(i) = matrix.iter().position(|v| !v.is_finite()) {
-        return Err(FlankError::Solver(format!(
-            "compliance entry ({}, {}) is not finite",
-            i / m,
-            i % m
-        )));
-    }
-    let work = stats.factorization_s + stats.solve_s + stats.symmetrize_s;
-    stats.time_vs_factorization = work / stats.factorization_s.max(1e-12);
-    stats.rhs_per_s = stats.rhs as f64 / work.max(1e-12);
-    stats.condition = match (options.condition, condition) {
-        (false, _) => None,
-        (true, Some(c)) => Some(c),
-        (true, None) => Some(condition_from_matrix(&matrix, m, &free, par)?),
-    };
-    stats.total_s = t_total.elapsed().as_secs_f64();
-    stats.peak_memory_mb = peak_memory_mb();
-    stats.estimated_peak_mb = estimated_peak_mb;
-    Ok((matrix, stats))
-}
-
-/// What a compliance computation's memory check refuses, in words.
-fn dense_what(nodes: usize, m: usize, method: Method) -> String {
-    format!(
-        "the compliance tensor of {nodes} flank nodes (a dense {m} × {m} matrix, {} method)",
-        method.name()
-    )
+    Ok(FlankFactor {
+        chol,
+        n: pattern.n,
+        red,
+        stats,
+        estimated_peak_mb,
+    })
 }
 
 /// The memory guard's alternatives for a compliance tensor.

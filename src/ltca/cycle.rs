@@ -15,8 +15,12 @@ use std::time::Instant;
 
 use crate::compliance::body::{scene_body, BodyMeshOptions};
 use crate::compliance::cache::{ComplianceCache, FileFormat};
-use crate::compliance::run::{body_tensor, cylindrical_region_cut, BodyTensorOptions};
+use crate::compliance::compressed::{BlrOptions, BlrTensor};
+use crate::compliance::run::{
+    body_compressed, body_tensor, cylindrical_region_cut, BodyTensorOptions,
+};
 use crate::compliance::FlankRegion;
+use crate::compliance::{ComplianceStats, ComplianceTensor};
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
 use crate::geometry::gear_pair::{engagement_roll_angles, GearPair};
@@ -93,6 +97,30 @@ pub struct Setup {
     /// Per body, the block low-rank compression the pages are read from
     /// (`None`: dense).
     pub compression: [Option<crate::compliance::compressed::BlrStats>; 2],
+    /// Per body built compressed here: the panel build's figures and the
+    /// factorization's time (s) and peak resident memory so far (MB).
+    pub panel_build: [Option<PanelBuild>; 2],
+}
+
+/// A compressed body's build ([`Setup::panel_build`]).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct PanelBuild {
+    #[serde(flatten)]
+    pub panels: crate::compliance::compressed_build::PanelStats,
+    pub factorization_s: f64,
+    pub nnz_factor: usize,
+    pub dofs: usize,
+    pub peak_memory_mb: f64,
+}
+
+/// One body's tensor for the LTCA: dense, or flank and key only with its
+/// block low-rank form.
+struct Prepared {
+    tensor: Arc<ComplianceTensor>,
+    /// Present when computed here.
+    stats: Option<ComplianceStats>,
+    blr: Option<Arc<BlrTensor>>,
+    panel: Option<PanelBuild>,
 }
 
 /// A prepared LTCA: both bodies' tensors, the TCA and the settings.
@@ -139,18 +167,62 @@ impl LtcaCycle {
             .flank_region
             .or(a.flank_region)
             .unwrap_or(FlankRegion::Active);
-        topts.region_u_min = cylindrical_region_cut(scene, "pinion", region, &mesh)?;
-        let pinion = body_tensor(
-            &scene_body(scene, "pinion", &mesh)?.into(),
-            &topts,
-            &options.out,
-        )?;
-        topts.region_u_min = cylindrical_region_cut(scene, "gear", region, &mesh)?;
-        let gear = body_tensor(
-            &scene_body(scene, "gear", &mesh)?.into(),
-            &topts,
-            &options.out,
-        )?;
+        // the frictional directional blocks read the dense tensor: refused
+        // before any tensor is computed
+        let compression = options.compression.or(a.compression).unwrap_or_default();
+        if compression.epsilon().is_some() && ltca_friction(scene, options)?.is_some() {
+            return Err(FlankError::Model(
+                "compression: implemented for the frictionless LTCA only (the frictional \
+                 directional blocks read the dense tensor); set compression = \"none\" or drop \
+                 the friction"
+                    .into(),
+            ));
+        }
+        let mut bodies = Vec::with_capacity(2);
+        for name in ["pinion", "gear"] {
+            topts.region_u_min = cylindrical_region_cut(scene, name, region, &mesh)?;
+            let body = scene_body(scene, name, &mesh)?.into();
+            bodies.push(match compression.epsilon() {
+                // compressed: built panel by panel, the dense tensor never
+                // formed (compliance::compressed_build)
+                Some(epsilon) => {
+                    let c = body_compressed(
+                        &body,
+                        &topts,
+                        &BlrOptions {
+                            epsilon,
+                            ..Default::default()
+                        },
+                        options.cache.as_deref(),
+                        &options.out,
+                        !options.quiet,
+                    )?;
+                    Prepared {
+                        tensor: c.tensor,
+                        panel: c.stats.as_ref().map(|(s, p)| PanelBuild {
+                            panels: p.clone(),
+                            factorization_s: s.factorization_s,
+                            nnz_factor: s.nnz_factor,
+                            dofs: s.dofs,
+                            peak_memory_mb: s.peak_memory_mb,
+                        }),
+                        stats: c.stats.map(|s| s.0),
+                        blr: Some(c.blr),
+                    }
+                }
+                None => {
+                    let t = body_tensor(&body, &topts, &options.out)?;
+                    Prepared {
+                        tensor: t.tensor,
+                        stats: t.stats,
+                        blr: None,
+                        panel: None,
+                    }
+                }
+            });
+        }
+        let gear = bodies.pop().expect("two bodies");
+        let pinion = bodies.pop().expect("two bodies");
         let compliance_s = t.elapsed().as_secs_f64();
         let points_per_line = options
             .points_per_line
@@ -198,15 +270,6 @@ impl LtcaCycle {
                 .unwrap_or(LtcaSettings::default().local_iterations),
             ..Default::default()
         };
-        let compression = options.compression.or(a.compression).unwrap_or_default();
-        if compression.epsilon().is_some() && settings.friction.is_some() {
-            return Err(FlankError::Model(
-                "compression: implemented for the frictionless LTCA only (the frictional \
-                 directional blocks read the dense tensor); set compression = \"none\" or drop \
-                 the friction"
-                    .into(),
-            ));
-        }
         let mut setup = Setup {
             flank_nodes: [pinion.tensor.node_count(), gear.tensor.node_count()],
             computed: [pinion.stats.is_some(), gear.stats.is_some()],
@@ -218,37 +281,20 @@ impl LtcaCycle {
             flank_size_mm: mesh.flank_size.unwrap_or(f64::NAN),
             base_size_mm: mesh.base_size.unwrap_or(f64::NAN),
             compression: [None, None],
+            panel_build: [pinion.panel.clone(), gear.panel.clone()],
         };
+        // the flanks' face grids (geometry only: a compressed tensor has
+        // no dense matrix), the pages read from the compressed form if any
         let grids = [
-            crate::compliance::FlankInterpolator::new(&pinion.tensor)?.grids(),
-            crate::compliance::FlankInterpolator::new(&gear.tensor)?.grids(),
+            crate::compliance::interpolation::FlankGrids::of(&pinion.tensor)?,
+            crate::compliance::interpolation::FlankGrids::of(&gear.tensor)?,
         ];
-        if let Some(epsilon) = compression.epsilon() {
-            use crate::compliance::compressed::{BlrOptions, BlrTensor};
-            for (b, t) in [&pinion.tensor, &gear.tensor].into_iter().enumerate() {
-                // beside the tensor: in the campaign cache by key, else in `out`
-                let path = match &options.cache {
-                    // the short key of the tensor's own file (the full key
-                    // is checked on reading)
-                    Some(d) => d.join(format!(
-                        "{}.{}.compression.bin",
-                        t.meta.body,
-                        &t.meta.cache_key[..t.meta.cache_key.len().min(16)]
-                    )),
-                    None => options.out.join(format!("{}.compression.bin", t.meta.body)),
-                };
-                let (blr, _) = BlrTensor::cached(
-                    &path,
-                    t,
-                    &BlrOptions {
-                        epsilon,
-                        ..Default::default()
-                    },
-                )?;
+        for (b, body) in [&pinion, &gear].into_iter().enumerate() {
+            if let Some(blr) = &body.blr {
                 setup.compression[b] = Some(blr.stats.clone());
                 grids[b].set_pages(crate::compliance::pages::TensorPages::compressed(
-                    t,
-                    Arc::new(blr),
+                    &body.tensor,
+                    Arc::clone(blr),
                 )?)?;
             }
         }

@@ -12,6 +12,7 @@ use std::sync::Arc;
 use crate::compliance::interpolation::FlankGrids;
 use crate::compliance::pages::{TensorPages, PAGE};
 use crate::compliance::ComplianceTensor;
+use crate::error::FlankError;
 use crate::geometry::vec3::dot;
 use crate::ltca::model::Candidate;
 
@@ -23,33 +24,39 @@ pub(crate) fn normal_compliance_pair(
     tensors: &[Arc<ComplianceTensor>; 2],
     grids: &[Arc<FlankGrids>; 2],
     cands: &[Candidate],
-) -> Vec<f64> {
+) -> Result<Vec<f64>, FlankError> {
     let (f0, f1) = rayon::join(
         || normal_compliance(&tensors[0], &grids[0], cands, 0),
         || normal_compliance(&tensors[1], &grids[1], cands, 1),
     );
+    let (f0, f1) = (f0?, f1?);
     let mut f = vec![0.0; f0.len()];
     for part in [f0, f1] {
         for (x, y) in f.iter_mut().zip(part) {
             *x += y;
         }
     }
-    f
+    Ok(f)
 }
 
 /// n₍b₎ᵢᵀ C(i, j) n₍b₎ⱼ of one body for all candidate pairs (n × n,
 /// row-major): from the tensor's paged node blocks
 /// ([`crate::compliance::pages`], built on first use and kept for the
-/// next positions), else as [`normal_compliance_streamed`].
+/// next positions), else as [`normal_compliance_streamed`]; an error when
+/// neither applies (pages of another tensor and no dense matrix).
 pub(crate) fn normal_compliance(
     t: &ComplianceTensor,
     grids: &FlankGrids,
     cands: &[Candidate],
     b: usize,
-) -> Vec<f64> {
+) -> Result<Vec<f64>, FlankError> {
     match grids.pages(t) {
-        Some(p) => normal_compliance_paged(t, p, cands, b),
-        None => normal_compliance_streamed(t, cands, b),
+        Some(p) => Ok(normal_compliance_paged(t, p, cands, b)),
+        None if t.has_matrix() => Ok(normal_compliance_streamed(t, cands, b)),
+        None => Err(FlankError::Model(format!(
+            "the LTCA's compliance of {}: no dense matrix and no compressed pages of this tensor",
+            t.meta.body
+        ))),
     }
 }
 
@@ -742,7 +749,7 @@ mod tests {
             let cands: Vec<Candidate> = built.into_iter().flatten().map(|(c, _)| c).collect();
             for b in 0..2 {
                 let t = &cycle.bodies.tensors[b];
-                let fast = normal_compliance(t, &cycle.bodies.grids[b], &cands, b);
+                let fast = normal_compliance(t, &cycle.bodies.grids[b], &cands, b).unwrap();
                 assert!(cycle.bodies.grids[b].pages(t).is_some());
                 // the same bits on 1 and 3 threads (fixed summation order)
                 for threads in [1, 3] {
@@ -750,8 +757,9 @@ mod tests {
                         .num_threads(threads)
                         .build()
                         .unwrap();
-                    let again =
-                        pool.install(|| normal_compliance(t, &cycle.bodies.grids[b], &cands, b));
+                    let again = pool.install(|| {
+                        normal_compliance(t, &cycle.bodies.grids[b], &cands, b).unwrap()
+                    });
                     assert_eq!(again, fast, "{threads} threads");
                 }
                 // the window kernel gives the bits of the row-wise one
@@ -782,7 +790,7 @@ mod tests {
             // a tensor that is not the pages' one falls back to the streamed F
             let other = &cycle.bodies.tensors[1];
             assert!(cycle.bodies.grids[0].pages(other).is_none());
-            let fallback = normal_compliance(other, &cycle.bodies.grids[0], &cands, 1);
+            let fallback = normal_compliance(other, &cycle.bodies.grids[0], &cands, 1).unwrap();
             assert_eq!(fallback, normal_compliance_streamed(other, &cands, 1));
         }
         eprintln!(
@@ -838,7 +846,9 @@ mod tests {
                             let t = &cycle.bodies.tensors[b];
                             let pages = cycle.bodies.grids[b].pages(t).unwrap();
                             std::hint::black_box(match m {
-                                0 => normal_compliance(t, &cycle.bodies.grids[b], &cands, b),
+                                0 => {
+                                    normal_compliance(t, &cycle.bodies.grids[b], &cands, b).unwrap()
+                                }
                                 1 => normal_compliance_paged_rowwise(t, pages, &cands, b),
                                 _ => normal_compliance_streamed(t, &cands, b),
                             });

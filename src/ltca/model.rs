@@ -467,6 +467,13 @@ impl LtcaBodies {
                 vec![0.0; n * n],
             ];
             for b in 0..2 {
+                if !self.tensors[b].has_matrix() {
+                    return Err(FlankError::Model(format!(
+                        "the frictional LTCA reads the dense tensor, and that of {} was built \
+                         compressed (no dense matrix): set compression = \"none\"",
+                        self.tensors[b].meta.body
+                    )));
+                }
                 let part = directional_compliance(&self.tensors[b], &cands, b);
                 for (acc, p) in blocks.iter_mut().zip(part) {
                     for (x, y) in acc.iter_mut().zip(p) {
@@ -476,7 +483,7 @@ impl LtcaBodies {
             }
             f_fe.copy_from_slice(&blocks[0]);
         } else {
-            f_fe = normal_compliance_pair(&self.tensors, &self.grids, &cands);
+            f_fe = normal_compliance_pair(&self.tensors, &self.grids, &cands)?;
         }
         let compliance_s = t_f.elapsed().as_secs_f64();
         let (mut local_s, mut qp_s) = (0.0, 0.0);

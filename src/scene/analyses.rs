@@ -124,9 +124,11 @@ pub struct LtcaAnalysis {
     /// `full` (involute and root fillet). Spur/helical only.
     pub flank_region: Option<crate::compliance::FlankRegion>,
     /// `"none"` (default: dense tensors) or a relative accuracy ε in
-    /// (0, 1), e.g. `1e-6`: the frictionless LTCA reads its tensors'
-    /// page pairs from their block low-rank form, each block within
-    /// ε of its Frobenius norm ([`crate::compliance::compressed`]).
+    /// (0, 1), e.g. `1e-6`: the tensors are built in block low-rank
+    /// form from the bodies' factors without the dense tensor
+    /// ([`crate::compliance::compressed_build`]), each block within ε of
+    /// its Frobenius norm, and the frictionless LTCA reads its page pairs
+    /// from it ([`crate::compliance::compressed`]).
     /// Spur/helical, frictionless only.
     pub compression: Option<crate::compliance::compressed::Compression>,
     /// Coulomb friction coefficient of the flanks (0…1; absent or 0:
