@@ -284,6 +284,28 @@ fn bad_ltca_keys_and_options_are_clear_errors() {
         d.to_str().unwrap(),
     ]);
     assert!(!ok && err.contains("points per line"), "{err}");
+    // compare's compression: a bad value, and a hypoid scene
+    let (ok, _, err) = flank(&[
+        "compare",
+        "papers/seed002-spur/scene.toml",
+        "--compression",
+        "2",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!(!ok && err.contains("--compression"), "{err}");
+    let (ok, _, err) = flank(&[
+        "compare",
+        "papers/seed003-hypoid/scene.toml",
+        "--compression",
+        "1e-6",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!(
+        !ok && err.contains("--compression") && err.contains("spur/helical"),
+        "{err}"
+    );
     let (ok, _, err) = flank(&[
         "ltca",
         "papers/seed002-spur/scene.toml",

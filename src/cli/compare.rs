@@ -51,6 +51,11 @@ pub struct Args {
     /// incremental). FE contact's is always the loading step's slip.
     #[arg(long, value_enum)]
     friction_model: Option<flank::ltca::model::FrictionModel>,
+    /// Compressed LTCA tensors (spur/helical, frictionless), as `flank
+    /// ltca --compression`: `none` or ε in (0, 1), e.g. 1e-6; default
+    /// the scene's `[analyses.ltca] compression`, else none.
+    #[arg(long)]
+    compression: Option<String>,
     /// Print nothing but errors.
     #[arg(long, short)]
     quiet: bool,
@@ -72,8 +77,16 @@ pub fn run(args: Args) -> Result<()> {
         friction_mu,
         increments,
         friction_model,
+        compression,
         quiet,
     } = args;
+    let compression = match compression {
+        Some(c) => Some(
+            c.parse::<flank::compliance::compressed::Compression>()
+                .map_err(|e| anyhow::anyhow!("--compression: {e}"))?,
+        ),
+        None => None,
+    };
     let options = CompareOptions {
         out: out.clone(),
         points_per_line,
@@ -88,6 +101,7 @@ pub fn run(args: Args) -> Result<()> {
             quiet: true,
             increments,
             friction_model,
+            compression,
             ..Default::default()
         },
         threads,
@@ -96,6 +110,9 @@ pub fn run(args: Args) -> Result<()> {
     };
     let s = match flank::scene::read_any_scene(&scene)? {
         flank::scene::AnyScene::Bevel(b) => {
+            if compression.is_some_and(|c| c.epsilon().is_some()) {
+                anyhow::bail!("--compression: implemented for spur/helical pairs only");
+            }
             // as `flank ltca`: the command line, then the scene's [analyses.ltca]
             let a = b.analyses.ltca.clone().unwrap_or_default();
             let d = flank::ltca::bevel::BevelLtcaOptions::default();
