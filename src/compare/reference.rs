@@ -158,13 +158,11 @@ mod tests {
         }
     }
 
-    /// Shares s = 0.6 + 0.1 h² and TE = 100 (1 + h²) at h = 1, ½, ¼, and a
-    /// single-contact position (shares 0 / 1 on every grid: no change):
-    /// the extrapolation recovers 0.6 and 100 with order 2; the unchanged
-    /// shares fall back to their value with zero uncertainty.
-    #[test]
-    fn recovers_quadratic_convergence_and_keeps_unchanged_shares() {
-        let runs: Vec<MethodRun> = [1.0, 0.5, 0.25]
+    /// Three FE runs at h = 1, ½, ¼: a position with shares s = 0.6 + 0.1 h²
+    /// and TE = 100 (1 + h²), and a single-contact one (shares 0 / 1, TE
+    /// 50 (1 + h)).
+    fn quadratic_runs() -> Vec<MethodRun> {
+        [1.0, 0.5, 0.25]
             .into_iter()
             .map(|h: f64| {
                 let s = 0.6 + 0.1 * h * h;
@@ -174,7 +172,16 @@ mod tests {
                     vec![100.0 * (1.0 + h * h), 50.0 * (1.0 + h)],
                 )
             })
-            .collect();
+            .collect()
+    }
+
+    /// Shares s = 0.6 + 0.1 h² and TE = 100 (1 + h²) at h = 1, ½, ¼, and a
+    /// single-contact position (shares 0 / 1 on every grid: no change):
+    /// the extrapolation recovers 0.6 and 100 with order 2; the unchanged
+    /// shares fall back to their value with zero uncertainty.
+    #[test]
+    fn recovers_quadratic_convergence_and_keeps_unchanged_shares() {
+        let runs = quadratic_runs();
         assert!(extrapolate(&runs[1..]).is_none());
         let r = extrapolate(&runs).unwrap();
         let s = shares(&r.run.pair_force_n[0]);
@@ -198,17 +205,7 @@ mod tests {
     /// at the second, against the quadratic reference above.
     #[test]
     fn per_position_errors_and_their_table() {
-        let runs: Vec<MethodRun> = [1.0, 0.5, 0.25]
-            .into_iter()
-            .map(|h: f64| {
-                let s = 0.6 + 0.1 * h * h;
-                fe(
-                    h,
-                    vec![vec![1000.0 * s, 1000.0 * (1.0 - s)], vec![0.0, 700.0]],
-                    vec![100.0 * (1.0 + h * h), 50.0 * (1.0 + h)],
-                )
-            })
-            .collect();
+        let runs = quadratic_runs();
         let r = extrapolate(&runs).unwrap();
         let ltca = fe(
             0.5,
