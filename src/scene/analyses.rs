@@ -106,7 +106,7 @@ pub struct LtcaAnalysis {
     /// FE cell half-width across the line in flank element sizes (> 0; default 1).
     pub fe_cell_factor: Option<f64>,
     /// Limit on the fixed-point iterations on the Hertz half-widths of the
-    /// half-space model (1 … 100; default 4). Reaching it without the 1 %
+    /// half-space model (1 … 100; default 10). Reaching it without the 1 %
     /// tolerance is reported under `iteration_limits` in summary.json.
     pub local_iterations: Option<usize>,
     /// Misalignment of the gear axis (µrad): [in the plane of action, normal to it].
