@@ -14,31 +14,14 @@ use flank::compliance::FlankRegion;
 use flank::ltca::cycle::{run_scene, LtcaOptions};
 use flank::scene::read_scene;
 
-fn scene_path() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("papers/seed002-spur/scene.toml")
-}
+mod common;
+
+use common::{coarse_ltca_options, rel, seed002_scene as scene_path};
 
 fn options(out: &Path, region: Option<FlankRegion>) -> LtcaOptions {
     LtcaOptions {
-        out: out.to_path_buf(),
-        mesh: BodyMeshOptions {
-            flank_size: Some(0.7),
-            base_size: Some(3.0),
-            with_load: false,
-            element: None,
-        },
-        threads: 2,
-        quiet: true,
         flank_region: region,
-        ..Default::default()
-    }
-}
-
-fn rel(a: f64, b: f64) -> f64 {
-    if a == b {
-        0.0
-    } else {
-        (a - b).abs() / a.abs().max(b.abs())
+        ..coarse_ltca_options(out)
     }
 }
 
