@@ -302,7 +302,8 @@ fn normal_compliance_paged(
             entries.push((k, j, [w * nj[0], w * nj[1], w * nj[2]]));
         }
     }
-    entries.sort_by_key(|e| (e.0, e.1));
+    // (node, candidate) pairs are unique: an unstable sort gives the same order
+    entries.sort_unstable_by_key(|e| (e.0, e.1));
     // ... gathered into windows of LANES consecutive candidates per node
     let mut windows: Vec<Window> = Vec::with_capacity(entries.len());
     let mut start = vec![0usize; nu + 1];
@@ -899,7 +900,11 @@ mod tests {
              AVX2/FMA kernel {} (largest |ΔF| against SSE2 {worst_fused:.1e} of max|F|)",
             cycle.bodies.grids[0].page_bytes() / 1_000_000,
             cycle.bodies.grids[1].page_bytes() / 1_000_000,
-            if cfg!(target_arch = "x86_64") && fma_available() { "used" } else { "not available" }
+            if cfg!(target_arch = "x86_64") && fma_available() {
+                "used"
+            } else {
+                "not available"
+            }
         );
     }
 
