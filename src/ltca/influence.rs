@@ -170,9 +170,11 @@ fn sweep_part(sw: &Sweep, lo: usize, hi: usize, simd: bool) -> Vec<f64> {
 /// at run time by [`sweep_part`]). A window's 4 candidates fill one
 /// register per displacement component, and u += c₀q₀ + c₁q₁ + c₂q₂ becomes
 /// three fused multiply–adds into u: fewer instructions per 72-byte block
-/// than SSE2's 18 multiplies and 18 adds on 2 lanes. The sums are the same
-/// in order but rounded once per fused step, so F differs from the SSE2
-/// kernel's by round-off (unit test: ≤ 1e-13 of max|F|).
+/// than SSE2's 18 multiplies and 18 adds on 2 lanes. The order over the
+/// nodes is the SSE2 kernel's, but within a block c₀q₀, c₁q₁, c₂q₂ go into
+/// u one by one, each step rounded once (SSE2 sums them first), so F
+/// differs from the SSE2 kernel's by round-off (unit test: ≤ 1e-13 of
+/// max|F|).
 #[cfg(target_arch = "x86_64")]
 mod fma {
     use super::{sweep_part_with, Sweep, Window, LANES};
