@@ -83,7 +83,9 @@ impl LocalModel {
 
 /// ∬ dX dY / √(X² + Y²): the antiderivative with ∂²I/∂X∂Y = 1/r.
 fn antiderivative(x: f64, y: f64) -> f64 {
-    let r = x.hypot(y);
+    // √(x² + y²), not hypot: arguments in mm neither overflow nor
+    // underflow, and glibc's hypot took a fifth of H's time (perf)
+    let r = (x * x + y * y).sqrt();
     // ln(Y + r) loses everything for Y < 0, |X| ≪ |Y|: use X²/(r − Y)
     let ln_plus = |a: f64, b: f64| -> f64 {
         if a >= 0.0 {
@@ -110,7 +112,7 @@ pub fn rectangle_influence(x: f64, y: f64, c: f64, l: f64) -> f64 {
 /// ln((r + t)/|Y|) = ln_1p((t + t²/(r + |Y|))/|Y|), and for Y < 0
 /// ln(Y + r) = ln(t²/(r − Y)).
 fn centreline_antiderivative(t: f64, y: f64) -> f64 {
-    let r = t.hypot(y);
+    let r = (t * t + y * y).sqrt(); // not hypot: see antiderivative
     let ln_y_plus_r = if y >= 0.0 {
         (y + r).ln()
     } else {
@@ -138,7 +140,7 @@ pub fn centreline_rectangle_influence(y: f64, c: f64, l: f64) -> f64 {
 /// The logarithms in the cancellation-free forms of
 /// [`centreline_antiderivative`].
 fn centreline_second_antiderivative(t: f64, y: f64) -> f64 {
-    let r = t.hypot(y);
+    let r = (t * t + y * y).sqrt(); // not hypot: see antiderivative
     let ln_y_plus_r = if y >= 0.0 {
         (y + r).ln()
     } else {
