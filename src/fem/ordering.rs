@@ -3,7 +3,9 @@
 //! Both orderings run on the graph of DOF groups (nodes, coupling points),
 //! about three times smaller than the DOF graph: METIS nested dissection
 //! (`METIS_NodeND`, vendored C through `metis-sys`; the default, least fill on
-//! 3D meshes) or faer's approximate minimum degree. The reduced DOFs are then
+//! 3D meshes) or faer's approximate minimum degree. On large quadratic meshes
+//! METIS orders only the corner nodes and couplings and the midside nodes are
+//! placed after ([`order_groups_anchored`]). The reduced DOFs are then
 //! numbered in that order, so the assembled matrix is already permuted and the
 //! factorization needs no permuted copy of it.
 
