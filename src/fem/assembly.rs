@@ -15,9 +15,10 @@ use rayon::prelude::*;
 
 use crate::error::FlankError;
 use crate::fem::constraints::{DofMap, DofTarget};
+use crate::fem::element::edges;
 use crate::fem::element::{stiffness, ElementWorkspace};
 use crate::fem::model::Model;
-use crate::fem::ordering::{order_groups_last, OrderingMethod};
+use crate::fem::ordering::{order_groups_anchored, order_groups_last, OrderingMethod, NO_ANCHOR};
 // defined beside the orderings that consume it; re-exported at its old path
 pub use crate::fem::ordering::GroupGraph;
 
@@ -170,6 +171,20 @@ impl Assembly {
         ordering: OrderingMethod,
         last_nodes: &[usize],
     ) -> Result<Self, FlankError> {
+        Self::build(model, dofs, ordering, last_nodes, CORNER_GRAPH_MIN_GROUPS)
+    }
+
+    /// The symbolic pass. With at least `corner_min_groups` DOF groups (and
+    /// no `last_nodes`) METIS orders the graph of corner nodes and couplings
+    /// and the midside nodes are placed after ([`order_groups_anchored`]);
+    /// otherwise it orders the whole group graph (tests compare the two).
+    pub(crate) fn build(
+        model: &Model,
+        dofs: &mut DofMap,
+        ordering: OrderingMethod,
+        last_nodes: &[usize],
+        corner_min_groups: usize,
+    ) -> Result<Self, FlankError> {
         let mesh = &model.mesh;
         let ne = mesh.elements.len();
         let nn = mesh.node_count();
@@ -260,15 +275,21 @@ impl Assembly {
             }
         }
         let t = std::time::Instant::now();
-        let perm = order_groups_last(
-            &GroupGraph {
-                xadj,
-                adjncy,
-                weight,
-            },
-            ordering,
-            &last_groups,
-        )?;
+        let graph = GroupGraph {
+            xadj,
+            adjncy,
+            weight,
+        };
+        let perm = if ng >= corner_min_groups
+            && last_groups.is_empty()
+            && ordering == OrderingMethod::Metis
+        {
+            let anchor = midside_anchors(model, dofs, &node_groups);
+            order_groups_anchored(&graph, ordering, &anchor)?
+        } else {
+            order_groups_last(&graph, ordering, &last_groups)?
+        };
+        drop(graph);
         let ordering_s = t.elapsed().as_secs_f64();
         dofs.renumber_groups(&perm);
         let mut new_of_old = vec![0usize; ng];
@@ -541,10 +562,135 @@ impl Assembly {
     }
 }
 
+/// Group count from which METIS orders the corner-node graph: on the
+/// 100×10×10 C3D20 cantilever (46 541 groups) that takes 0.16 s instead of
+/// 0.8–1.3 s for +3.8 % nnz(L), +4.7 % flops (benches/README.md, issue 23
+/// item 5); on small meshes the fill grows more (+12 % on 24×4×4) and the
+/// whole graph takes milliseconds.
+pub(crate) const CORNER_GRAPH_MIN_GROUPS: usize = 20_000;
+
+/// For each DOF group, the groups of the two corner nodes of the edge whose
+/// midside node it is ([`order_groups_anchored`]), or [`NO_ANCHOR`] for
+/// corner nodes, couplings, groups in no element, and a midside node seen
+/// with different edges or as a corner elsewhere (not a conforming mesh:
+/// ordered itself, which is always correct).
+fn midside_anchors(
+    model: &Model,
+    dofs: &DofMap,
+    node_groups: &dyn Fn(usize) -> Option<usize>,
+) -> Vec<[usize; 2]> {
+    let ng = dofs.group_count();
+    let mut anchor = vec![NO_ANCHOR; ng];
+    let mut own = vec![false; ng]; // a corner, a coupling, or inconsistent
+    for el in &model.mesh.elements {
+        let e = edges(el.kind);
+        let midside = |p: usize| e.iter().any(|ed| ed[2] == p);
+        for (p, &n) in el.nodes.iter().enumerate() {
+            if dofs.node_group[n] == usize::MAX || !midside(p) {
+                if let Some(g) = node_groups(n) {
+                    own[g] = true;
+                }
+            }
+        }
+        for &[a, b, m] in e {
+            let g = dofs.node_group[el.nodes[m]];
+            if g == usize::MAX || own[g] {
+                continue;
+            }
+            let ga = node_groups(el.nodes[a]).unwrap_or(usize::MAX);
+            let gb = node_groups(el.nodes[b]).unwrap_or(usize::MAX);
+            let pair = [ga.min(gb), ga.max(gb)];
+            if anchor[g] == NO_ANCHOR {
+                anchor[g] = pair;
+            } else if anchor[g] != pair {
+                own[g] = true;
+            }
+        }
+    }
+    for g in 0..ng {
+        if own[g] {
+            anchor[g] = NO_ANCHOR;
+        }
+    }
+    anchor
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::testing::Rng;
+
+    /// METIS on the corner graph with the midside nodes placed after gives
+    /// about the fill of METIS on the whole node graph (hex20 and wedge15
+    /// cantilevers), and the same solution.
+    #[test]
+    fn corner_graph_ordering_keeps_the_fill() {
+        use crate::fem::solver::{parallelism, Precision, SparseCholesky};
+        use crate::mesh::structured::{cantilever_model, BoxElement};
+        for kind in [BoxElement::Hex20, BoxElement::Wedge15] {
+            let cells = if kind == BoxElement::Hex20 {
+                [40, 6, 6]
+            } else {
+                [24, 4, 4]
+            };
+            let model = cantilever_model(cells, kind, 1000.0).unwrap();
+            let run = |corner_min_groups: usize| {
+                let mut dofs = DofMap::new(&model).unwrap();
+                let asm = Assembly::build(
+                    &model,
+                    &mut dofs,
+                    OrderingMethod::Metis,
+                    &[],
+                    corner_min_groups,
+                )
+                .unwrap();
+                let sys = asm.assemble(&model, &dofs).unwrap();
+                let mut chol = SparseCholesky::analyze(
+                    &asm.pattern,
+                    OrderingMethod::Metis,
+                    0.0,
+                    parallelism(1),
+                )
+                .unwrap();
+                chol.factorize(&asm.pattern, &sys.values, Precision::Double, &|r| {
+                    r.to_string()
+                })
+                .unwrap();
+                let f = crate::fem::loads::load_vector(&model).unwrap();
+                let mut q = dofs.restrict(&f);
+                chol.solve_in_place(&mut q);
+                (chol.stats.nnz_factor, chol.stats.flops, dofs.expand(&q))
+            };
+            let (nnz_full, flops_full, u_full) = run(usize::MAX);
+            let (nnz, flops, u) = run(0);
+            println!(
+                "{kind:?}: nnz(L) {:.3}, flops {:.3} of the whole graph's",
+                nnz as f64 / nnz_full as f64,
+                flops / flops_full
+            );
+            // a guard against misplaced midside nodes (which would fill in
+            // whole separators), not the fill of large meshes (+4 %)
+            assert!(
+                (nnz as f64) <= 1.2 * nnz_full as f64 && flops <= 1.5 * flops_full,
+                "{kind:?}: nnz(L) {nnz} vs {nnz_full}, flops {flops:.3e} vs {flops_full:.3e}"
+            );
+            let m = u_full.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            for (a, b) in u.iter().zip(&u_full) {
+                assert!((a - b).abs() <= 1e-10 * m);
+            }
+        }
+        // the hex20 midside nodes are anchored, the corners not
+        let model = cantilever_model([3, 2, 2], BoxElement::Hex20, 1000.0).unwrap();
+        let dofs = DofMap::new(&model).unwrap();
+        let groups = |n: usize| (dofs.node_group[n] != usize::MAX).then_some(dofs.node_group[n]);
+        let anchor = midside_anchors(&model, &dofs, &groups);
+        let el = &model.mesh.elements[0];
+        for (p, &n) in el.nodes.iter().enumerate() {
+            if let Some(g) = groups(n) {
+                assert_eq!(anchor[g] == NO_ANCHOR, p < 8, "position {p}");
+            }
+        }
+    }
 
     /// The product split over threads equals the serial one to round-off
     /// (a random lower pattern large enough for the parallel path).
