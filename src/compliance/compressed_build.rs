@@ -147,17 +147,7 @@ pub fn compressed_compliance(
         stats.estimated_peak_mb = factor.estimated_peak_mb;
         Ok((tensor, c, stats, panel))
     };
-    if options.threads > 0 && options.threads != rayon::current_num_threads() {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(options.threads)
-            .build()
-            .map_err(|e| {
-                FlankError::Solver(format!("cannot start {} threads: {e}", options.threads))
-            })?;
-        let (t, c, s, p) = pool.install(run)?;
-        return Ok((t, c, s, p));
-    }
-    run()
+    crate::fem::solver::with_threads(options.threads, run)
 }
 
 impl BlrTensor {
@@ -319,23 +309,13 @@ mod tests {
     use super::*;
     use crate::compliance::compliance_tensor;
     use crate::compliance::compressed::tests::errors;
-    use crate::mesh::structured::{cantilever_model, BoxElement};
-    use std::collections::HashMap;
+    use crate::compliance::flank::tests::box_flank_cells;
+    use crate::mesh::structured::BoxElement;
 
     /// A clamped box (12 × 2 × 6 cells) with its top face as the flank:
     /// 4 pages, the nodes at x = 0 clamped (zero rows and columns).
     fn box_body(kind: BoxElement) -> (crate::fem::model::Model, FlankNodes) {
-        let mut model = cantilever_model([12, 2, 6], kind, 0.0).unwrap();
-        let top: Vec<usize> = (0..model.mesh.node_count())
-            .filter(|&n| (model.mesh.coords[n][1] - 10.0).abs() < 1e-9)
-            .collect();
-        model.mesh.extend_node_set("TOP", top.iter().copied());
-        let uv: HashMap<usize, (f64, f64)> = top
-            .iter()
-            .map(|&n| (n, (model.mesh.coords[n][0], model.mesh.coords[n][2])))
-            .collect();
-        let flank = FlankNodes::from_mesh(&model.mesh, &["TOP".into()], &uv, None).unwrap();
-        (model, flank)
+        box_flank_cells([12, 2, 6], kind)
     }
 
     #[test]

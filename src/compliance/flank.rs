@@ -424,7 +424,16 @@ pub(crate) mod tests {
 
     /// The top face (y = 10) of a small box as a "flank" with (u, v) = (x, z).
     pub(crate) fn box_flank(kind: BoxElement) -> (crate::fem::model::Model, FlankNodes) {
-        let mut model = cantilever_model([4, 2, 2], kind, 0.0).unwrap();
+        box_flank_cells([4, 2, 2], kind)
+    }
+
+    /// [`box_flank`] on a box of `cells` cells (the box's nodes at x = 0
+    /// clamped).
+    pub(crate) fn box_flank_cells(
+        cells: [usize; 3],
+        kind: BoxElement,
+    ) -> (crate::fem::model::Model, FlankNodes) {
+        let mut model = cantilever_model(cells, kind, 0.0).unwrap();
         let top: Vec<usize> = (0..model.mesh.node_count())
             .filter(|&n| (model.mesh.coords[n][1] - 10.0).abs() < 1e-9)
             .collect();

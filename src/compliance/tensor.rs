@@ -155,16 +155,7 @@ pub fn compute_compliance(
     flank: &FlankNodes,
     options: &ComplianceOptions,
 ) -> Result<(Vec<f64>, ComplianceStats), FlankError> {
-    if options.threads > 0 && options.threads != rayon::current_num_threads() {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(options.threads)
-            .build()
-            .map_err(|e| {
-                FlankError::Solver(format!("cannot start {} threads: {e}", options.threads))
-            })?;
-        return pool.install(|| compute_in_pool(model, flank, options));
-    }
-    compute_in_pool(model, flank, options)
+    crate::fem::solver::with_threads(options.threads, || compute_in_pool(model, flank, options))
 }
 
 fn compute_in_pool(

@@ -199,16 +199,7 @@ pub fn solve_contact(
     model: &Model,
     options: &ContactOptions,
 ) -> Result<ContactSolution, FlankError> {
-    if options.threads > 0 && options.threads != rayon::current_num_threads() {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(options.threads)
-            .build()
-            .map_err(|e| {
-                FlankError::Solver(format!("cannot start {} threads: {e}", options.threads))
-            })?;
-        return pool.install(|| solve_contact_in_pool(model, options));
-    }
-    solve_contact_in_pool(model, options)
+    crate::fem::solver::with_threads(options.threads, || solve_contact_in_pool(model, options))
 }
 
 /// The geometry of every contact pair of the model in its mesh positions.

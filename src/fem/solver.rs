@@ -101,6 +101,23 @@ pub struct SparseCholesky {
     pub stats: FactorStats,
 }
 
+/// Runs `f` in a rayon pool of `threads` threads, or in the current pool
+/// when `threads` is 0 or already its size: the `--threads` option of the
+/// solvers, which then use `Par::rayon` and rayon's iterators inside.
+pub fn with_threads<T: Send>(
+    threads: usize,
+    f: impl FnOnce() -> Result<T, FlankError> + Send,
+) -> Result<T, FlankError> {
+    if threads > 0 && threads != rayon::current_num_threads() {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|e| FlankError::Solver(format!("cannot start {threads} threads: {e}")))?;
+        return pool.install(f);
+    }
+    f()
+}
+
 /// Threads to use: `0` = all of rayon's pool.
 pub fn parallelism(threads: usize) -> Par {
     if threads == 1 {

@@ -385,16 +385,7 @@ pub fn check_rigid_body_modes(model: &Model, dofs: &DofMap) -> Result<(), FlankE
 /// With `options.threads > 0` all parallel work (assembly, factorization,
 /// recovery) runs in a rayon pool of that many threads; 0 uses the global pool.
 pub fn solve_static(model: &Model, options: &SolveOptions) -> Result<StaticSolution, FlankError> {
-    if options.threads > 0 && options.threads != rayon::current_num_threads() {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(options.threads)
-            .build()
-            .map_err(|e| {
-                FlankError::Solver(format!("cannot start {} threads: {e}", options.threads))
-            })?;
-        return pool.install(|| solve_static_in_pool(model, options));
-    }
-    solve_static_in_pool(model, options)
+    crate::fem::solver::with_threads(options.threads, || solve_static_in_pool(model, options))
 }
 
 fn solve_static_in_pool(

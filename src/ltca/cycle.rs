@@ -501,15 +501,7 @@ pub fn run_scene(path: &Path, options: &LtcaOptions) -> Result<serde_json::Value
 /// (0: rayon's global pool); the answer is the same on any number (fixed
 /// summation orders).
 pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, FlankError> {
-    let n = options.threads;
-    if n > 0 && n != rayon::current_num_threads() {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build()
-            .map_err(|e| FlankError::Solver(format!("cannot start {n} threads: {e}")))?;
-        return pool.install(|| run_cycle(scene, options));
-    }
-    run_cycle(scene, options)
+    crate::fem::solver::with_threads(options.threads, || run_cycle(scene, options))
 }
 
 fn run_cycle(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, FlankError> {
