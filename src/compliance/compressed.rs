@@ -196,7 +196,7 @@ pub enum Block {
 }
 
 impl Block {
-    fn values(&self) -> usize {
+    pub(crate) fn values(&self) -> usize {
         match self {
             Block::Dense(d) => d.len(),
             Block::LowRank { u, v, .. } => u.len() + v.len(),

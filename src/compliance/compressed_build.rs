@@ -27,7 +27,10 @@
 //! Two panels are solved at once on two threads (each solve sequential,
 //! the panels independent); a panel's blocks are compressed in parallel.
 //! Peak memory: the factor, a panel of reach rows × 192 doubles per
-//! thread, and the compressed form. Cost: one factorization plus
+//! thread, and the compressed form. The memory guard counts the first two
+//! before the factorization (the reach is known from the symbolic
+//! analysis) and the third as it grows ([`check_growth`]: its size is
+//! known only as the blocks are compressed). Cost: one factorization plus
 //! ⌈N/64⌉ panel solves of 192 right-hand sides each, against the dense
 //! path's factorization plus 3N solves (blocked) or the dense m × m
 //! inverse (Schur) and then the compression.
@@ -121,9 +124,12 @@ pub fn compressed_compliance(
                     "the panel build of the compressed compliance of {} flank nodes ({threads} panels of {rhs} right-hand sides at once)",
                     flank.len()
                 ),
-                // a panel per thread, and the substitutions' scratch
+                // a panel per thread on the flank DOFs' reach, and as much
+                // again for the blocks cut from it and their compression;
+                // the compressed form is checked as it grows (`from_factor`)
                 mb: 0.0,
-                mb_per_dof: (threads * 2 * rhs * 8) as f64 / 1048576.0,
+                mb_per_dof: 0.0,
+                mb_per_reach_row: (threads * 2 * rhs * 8) as f64 / 1048576.0,
                 alternatives: PANEL_ALTERNATIVES,
             },
         )?;
@@ -183,10 +189,16 @@ impl BlrTensor {
         let order = &layout.order;
         let eps = options.epsilon;
         let done = std::sync::atomic::AtomicUsize::new(0);
+        // bytes of the compressed blocks kept so far, for the memory guard
+        let kept = std::sync::atomic::AtomicUsize::new(0);
+        let refused = std::sync::atomic::AtomicBool::new(false);
         let step = pages.div_ceil(10).max(1);
         let panels: Vec<Vec<(Block, f64, bool)>> = (0..pages)
             .into_par_iter()
-            .map(|q| {
+            .map(|q| -> Result<Vec<(Block, f64, bool)>, FlankError> {
+                if refused.load(std::sync::atomic::Ordering::Relaxed) {
+                    return Ok(Vec::new());
+                }
                 let cols = 3 * page_len(n, q);
                 // flank DOF of each panel column, and its reduced DOF
                 let dofs: Vec<usize> = order[q * PAGE..][..cols / 3]
@@ -226,7 +238,7 @@ impl BlrTensor {
                 let row_of = |d: usize| {
                     red[d].and_then(|r| reach.as_ref().map_or(Some(r), |reach| reach.local(r)))
                 };
-                let blocks = (q..pages)
+                let blocks: Vec<(Block, f64, bool)> = (q..pages)
                     .into_par_iter()
                     .map(|r| {
                         let rows = 3 * page_len(n, r);
@@ -260,7 +272,13 @@ impl BlrTensor {
                         (block, err, far)
                     })
                     .collect();
+                let bytes: usize = blocks.iter().map(|(b, _, _)| 8 * b.values()).sum();
+                let kept = kept.fetch_add(bytes, std::sync::atomic::Ordering::Relaxed) + bytes;
                 let k = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+                if let Err(e) = check_growth(&t.meta.body, kept, k, pages) {
+                    refused.store(true, std::sync::atomic::Ordering::Relaxed);
+                    return Err(e);
+                }
                 if progress && (k.is_multiple_of(step) || k == pages) {
                     let s = start.elapsed().as_secs_f64();
                     eprintln!(
@@ -269,9 +287,9 @@ impl BlrTensor {
                         s / k as f64 * (pages - k) as f64
                     );
                 }
-                blocks
+                Ok(blocks)
             })
-            .collect();
+            .collect::<Result<_, FlankError>>()?;
         let panels_s = start.elapsed().as_secs_f64();
         // panel q holds blocks (q..pages, q); the packed order is by row page
         let mut columns: Vec<std::vec::IntoIter<(Block, f64, bool)>> =
@@ -302,6 +320,25 @@ impl BlrTensor {
         c.stats.build_s = panels_s;
         Ok((c, stats))
     }
+}
+
+/// The memory guard of the compressed form, which grows panel by panel
+/// and whose size is known only as it is built: after `built` of `pages`
+/// panels holding `kept` bytes, the panels left are refused when they
+/// would not fit at the mean of those built (an upper estimate: panel q
+/// holds the blocks (q..pages, q), fewer as q grows).
+fn check_growth(body: &str, kept: usize, built: usize, pages: usize) -> Result<(), FlankError> {
+    let mb = |b: f64| b / 1048576.0;
+    let left = mb(kept as f64 / built.max(1) as f64 * pages.saturating_sub(built) as f64);
+    crate::resources::check_memory(
+        &format!(
+            "the compressed compliance of {body} ({built} of {pages} panels built, {} kept so far; the {} left at the same mean)",
+            crate::resources::format_mb(mb(kept as f64)),
+            pages.saturating_sub(built)
+        ),
+        left,
+        PANEL_ALTERNATIVES,
+    )
 }
 
 #[cfg(test)]
@@ -410,5 +447,54 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("mesh indices"), "{e}");
+    }
+
+    /// The guard of the growing compressed form: under a limit 10 MB above
+    /// what the process holds, 100 MB kept after 1 of 11 panels (1 000 MB
+    /// projected for the 10 left) is refused with the figures; 1 KB is not,
+    /// nor anything once every panel is built.
+    #[test]
+    fn growing_compressed_form_is_refused_when_the_rest_would_not_fit() {
+        let limit = crate::resources::resident_mb() + 10.0;
+        crate::resources::with_memory_limit_mb(limit, || {
+            let e = check_growth("pinion", 100 << 20, 1, 11).unwrap_err();
+            let m = e.to_string();
+            assert!(matches!(e, FlankError::Memory(_)), "{m}");
+            assert!(m.contains("pinion (1 of 11 panels built"), "{m}");
+            assert!(m.contains("100 MB kept so far; the 10 left"), "{m}");
+            assert!(m.contains("needs about 1000 MB more"), "{m}");
+            assert!(m.contains("--flank-size"), "{m}");
+            check_growth("pinion", 1024, 1, 11).unwrap();
+            check_growth("pinion", 100 << 20, 11, 11).unwrap();
+        });
+    }
+
+    /// The panels' estimate counts the flank DOFs' reach, not every
+    /// unknown: the same MB per row gives a smaller estimated peak by
+    /// (unknowns − reach rows) × that figure, up to the resident set's
+    /// drift between the two factorizations.
+    #[test]
+    fn panel_estimate_counts_the_reach_rows() {
+        let (model, flank) = box_body(BoxElement::Hex20);
+        let opts = ComplianceOptions::default();
+        let per = 0.05;
+        let beside = |per_dof: f64, per_row: f64| Beside {
+            what: "a test panel".into(),
+            mb: 0.0,
+            mb_per_dof: per_dof,
+            mb_per_reach_row: per_row,
+            alternatives: PANEL_ALTERNATIVES,
+        };
+        let all = factor_flank(&model, &flank, &opts, &beside(per, 0.0)).unwrap();
+        let reach = factor_flank(&model, &flank, &opts, &beside(0.0, per)).unwrap();
+        let free: Vec<usize> = reach.red.iter().flatten().copied().collect();
+        let rows = reach.chol.reach(&free).expect("a supernodal factor").rows();
+        assert!(rows < reach.n, "reach {rows} of {} unknowns", reach.n);
+        let expected = per * (reach.n - rows) as f64;
+        let got = all.estimated_peak_mb - reach.estimated_peak_mb;
+        assert!(
+            (got - expected).abs() < 0.25 * expected,
+            "estimate fell by {got:.1} MB, expected {expected:.1} MB"
+        );
     }
 }

@@ -194,6 +194,7 @@ fn compute_in_pool(
             what: dense_what(flank.len(), m, options.method),
             mb: dense_mb,
             mb_per_dof: 0.0,
+            mb_per_reach_row: 0.0,
             alternatives: DENSE_ALTERNATIVES,
         },
     )?;
@@ -249,8 +250,15 @@ fn dense_what(nodes: usize, m: usize, method: Method) -> String {
 pub(crate) struct Beside {
     pub what: String,
     pub mb: f64,
-    /// MiB per unknown of the factored system (panels of solutions).
+    /// MiB per unknown of the factored system (full-length panels of
+    /// solutions).
     pub mb_per_dof: f64,
+    /// MiB per row of the flank DOFs' reach in the factor's elimination
+    /// tree ([`SparseCholesky::reach`]: panels of restricted solves, which
+    /// hold only those rows). Known after the symbolic analysis, so it
+    /// enters the second check only; a factor without a reach (simplicial)
+    /// counts every unknown.
+    pub mb_per_reach_row: f64,
     pub alternatives: &'static str,
 }
 
@@ -347,6 +355,22 @@ pub(crate) fn factor_flank(
     stats.assembly_s = t.elapsed().as_secs_f64();
     let (pattern, ordering_s) = (assembly.pattern, assembly.ordering_s);
     let mut chol = SparseCholesky::analyze(&pattern, options.ordering, ordering_s, par)?;
+    // panels of restricted solves: their rows are the flank DOFs' reach
+    let beside_mb = if beside.mb_per_reach_row > 0.0 {
+        let free: Vec<usize> = flank
+            .nodes
+            .iter()
+            .flat_map(|&n| (0..3).map(move |c| 3 * n + c))
+            .filter_map(|d| match dofs.targets[d] {
+                DofTarget::Free(r) => Some(r),
+                _ => None,
+            })
+            .collect();
+        let rows = chol.reach(&free).map_or(pattern.n, |r| r.rows());
+        beside_mb + beside.mb_per_reach_row * rows as f64
+    } else {
+        beside_mb
+    };
     // the factor and what lives beside it: refuse before the
     // factorization rather than after it
     crate::resources::check_memory(
