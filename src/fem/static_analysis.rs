@@ -19,6 +19,7 @@ use crate::fem::ordering::OrderingMethod;
 use crate::fem::residual::{residual_norms, sym_norm_inf};
 use crate::fem::solver::{parallelism, FactorStats, Precision, SparseCholesky};
 use crate::fem::stress::{recover, Recovery};
+use crate::fem::substructuring::{Substructure, SubstructureStats, TwoDomainCholesky};
 
 /// How to solve.
 #[derive(Clone, Debug)]
@@ -34,6 +35,9 @@ pub struct SolveOptions {
     /// refinement with a backward-error check and fallback to double;
     /// `Double` forces the f64 factor).
     pub precision: Precision,
+    /// The two-domain factorization ([`crate::fem::substructuring`]):
+    /// `Auto` (default) with ≥ 2 threads and a large mixed-precision solve.
+    pub substructure: Substructure,
 }
 
 impl Default for SolveOptions {
@@ -44,6 +48,7 @@ impl Default for SolveOptions {
             recover_stress: true,
             progress: false,
             precision: Precision::Mixed,
+            substructure: Substructure::Auto,
         }
     }
 }
@@ -88,6 +93,12 @@ pub struct SolveStats {
     /// The memory guard's estimate of the peak (MB): the resident set before
     /// the numeric factorization plus its estimated extra memory.
     pub estimated_peak_mb: f64,
+    /// Figures of the two-domain factorization, when used.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub substructure: Option<SubstructureStats>,
+    /// Why the two-domain factorization was not used or abandoned.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub substructure_note: Option<String>,
 }
 
 /// Result of a linear static analysis.
@@ -421,7 +432,21 @@ fn solve_static_in_pool(
         dofs.reduced_count
     ));
     let t = Instant::now();
-    let assembly = Assembly::new(model, &mut dofs, options.ordering)?;
+    let split = options
+        .substructure
+        .applies(dofs.reduced_count, par.degree(), options.precision);
+    let assembly = if split {
+        match Assembly::two_domain(model, &mut dofs, options.ordering) {
+            Ok(a) => a,
+            Err(e) => {
+                // refused before renumbering: the plain numbering instead
+                stats.substructure_note = Some(format!("not substructured: {e}"));
+                Assembly::new(model, &mut dofs, options.ordering)?
+            }
+        }
+    } else {
+        Assembly::new(model, &mut dofs, options.ordering)?
+    };
     let dofs = dofs;
     stats.symbolic_assembly_s = t.elapsed().as_secs_f64();
 
@@ -433,19 +458,29 @@ fn solve_static_in_pool(
     // it runs beside the numeric assembly, which takes the other threads.
     let t = Instant::now();
     let (analyzed, system) = rayon::join(
-        || {
-            SparseCholesky::analyze(
+        || match assembly.split {
+            Some(split) => TwoDomainCholesky::analyze(
+                &assembly.pattern,
+                split,
+                options.ordering,
+                assembly.ordering_s,
+                par,
+            )
+            .map(Factor::TwoDomain),
+            None => SparseCholesky::analyze(
                 &assembly.pattern,
                 options.ordering,
                 assembly.ordering_s,
                 par,
             )
+            .map(Factor::Plain),
         },
         || assembly.assemble(model, &dofs),
     );
     let system = system?;
-    let mut chol = analyzed?;
+    let analyzed = analyzed?;
     stats.assembly_s = t.elapsed().as_secs_f64();
+    let ordering_s = assembly.ordering_s;
     // keep the pattern, free the slot map and colouring before factorizing
     // (a partial move out of `assembly` would keep the rest to the end of
     // the function)
@@ -465,10 +500,6 @@ fn solve_static_in_pool(
         *bi += pi;
     }
 
-    pb.set_message(format!(
-        "factorization (nnz(L) = {})",
-        chol.stats.nnz_factor
-    ));
     // the names are only needed for an error message: built on first use
     let dof_names = std::sync::OnceLock::new();
     let name_of = |r: usize| {
@@ -478,26 +509,106 @@ fn solve_static_in_pool(
             .cloned()
             .unwrap_or_else(|| format!("reduced DOF {r}"))
     };
-    if let Err(e) = chol.factorize(&pattern, &system.values, options.precision, &name_of) {
-        // a refusal for memory is final: the f64 factor needs more
-        if options.precision != Precision::Mixed || matches!(e, FlankError::Memory(_)) {
-            return Err(e);
+    let k_norm = sym_norm_inf(&pattern, &system.values);
+    let mut chol = match analyzed {
+        Factor::Plain(chol) => chol,
+        Factor::TwoDomain(mut td) => {
+            pb.set_message(format!(
+                "two-domain factorization (nnz(L) = {})",
+                td.nnz_factor()
+            ));
+            let factored = td.factorize(&pattern, &system.values, Precision::Mixed, &name_of);
+            let solved = match factored {
+                Ok(()) => {
+                    let t = Instant::now();
+                    let r = solve_refined(
+                        &|x: &mut [f64]| td.solve_in_place(x),
+                        false,
+                        &pattern,
+                        &system.values,
+                        k_norm,
+                        &b,
+                        &mut stats,
+                    );
+                    stats.solve_s = t.elapsed().as_secs_f64();
+                    r.ok_or_else(|| "the refinement did not converge".to_string())
+                }
+                // a refusal for memory is final: the f64 factor needs more
+                Err(e @ FlankError::Memory(_)) => return Err(e),
+                Err(e) => Err(e.to_string()),
+            };
+            let st = td.stats.clone();
+            stats.nnz_matrix = td.nnz_matrix();
+            stats.nnz_factor = td.nnz_factor();
+            stats.factorization_s = st.factorization_s + st.schur_s;
+            stats.factorization_gflop = td.flops() * 1e-9;
+            stats.factorization_gflops = stats.factorization_gflop / stats.factorization_s.max(1e-12);
+            stats.symbolic_factorization_s = st.halves[0].symbolic_s.max(st.halves[1].symbolic_s);
+            stats.min_pivot_ratio = td.min_pivot_ratio();
+            stats.estimated_peak_mb = crate::resources::resident_mb() + st.factor_estimate_mb;
+            stats.substructure = Some(st);
+            match solved {
+                Ok((q, rel, eta)) => {
+                    drop(td);
+                    stats.ordering = options.ordering.name().to_string();
+                    stats.precision = "mixed".into();
+                    stats.supernodal = true;
+                    stats.ordering_s = ordering_s;
+                    stats.relative_residual = rel;
+                    stats.backward_error = eta;
+                    return finish(model, options, &dofs, q, f_full, stats, t_total, pb);
+                }
+                Err(why) => {
+                    // the plain double path, as a plain mixed solve falls back
+                    drop(td);
+                    stats.precision_fallback = true;
+                    stats.substructure_note =
+                        Some(format!("two-domain solve abandoned: {why}; solved in double"));
+                    pb.set_message("factorization (double, after the two-domain solve failed)");
+                    let mut chol =
+                        SparseCholesky::analyze(&pattern, options.ordering, ordering_s, par)?;
+                    chol.factorize(&pattern, &system.values, Precision::Double, &name_of)?;
+                    chol
+                }
+            }
         }
-        // the f32 factor broke down (κ beyond single precision): factorize in f64
-        stats.precision_fallback = true;
-        chol.factorize(&pattern, &system.values, Precision::Double, &name_of)?;
+    };
+    if chol.stats.precision.is_empty() {
+        pb.set_message(format!(
+            "factorization (nnz(L) = {})",
+            chol.stats.nnz_factor
+        ));
+        if let Err(e) = chol.factorize(&pattern, &system.values, options.precision, &name_of) {
+            // a refusal for memory is final: the f64 factor needs more
+            if options.precision != Precision::Mixed || matches!(e, FlankError::Memory(_)) {
+                return Err(e);
+            }
+            // the f32 factor broke down (κ beyond single precision): factorize in f64
+            stats.precision_fallback = true;
+            chol.factorize(&pattern, &system.values, Precision::Double, &name_of)?;
+        }
     }
     let t = Instant::now();
-    let k_norm = sym_norm_inf(&pattern, &system.values);
-    let solved = match solve_refined(&chol, &pattern, &system.values, k_norm, &b, &mut stats) {
+    let solve = |chol: &SparseCholesky, stats: &mut SolveStats| {
+        let exact = chol.precision() == Precision::Double;
+        solve_refined(
+            &|x: &mut [f64]| chol.solve_in_place(x),
+            exact,
+            &pattern,
+            &system.values,
+            k_norm,
+            &b,
+            stats,
+        )
+    };
+    let solved = match solve(&chol, &mut stats) {
         Some(s) => s,
         None => {
             // refinement did not reach double-precision accuracy: redo in f64
             stats.precision_fallback = true;
             pb.set_message("factorization (double, after mixed precision did not converge)");
             chol.factorize(&pattern, &system.values, Precision::Double, &name_of)?;
-            solve_refined(&chol, &pattern, &system.values, k_norm, &b, &mut stats)
-                .expect("a double-precision solve always returns")
+            solve(&chol, &mut stats).expect("a double-precision solve always returns")
         }
     };
     let (q, rel, eta) = solved;
@@ -521,6 +632,28 @@ fn solve_static_in_pool(
         0.0
     };
     stats.min_pivot_ratio = fs.min_pivot_ratio;
+    drop(chol);
+    finish(model, options, &dofs, q, f_full, stats, t_total, pb)
+}
+
+/// The factorization a static solve uses.
+enum Factor {
+    Plain(SparseCholesky),
+    TwoDomain(TwoDomainCholesky),
+}
+
+/// Checks the reduced solution `q`, expands it and recovers stresses.
+#[allow(clippy::too_many_arguments)]
+fn finish(
+    model: &Model,
+    options: &SolveOptions,
+    dofs: &DofMap,
+    q: Vec<f64>,
+    f_full: Vec<f64>,
+    mut stats: SolveStats,
+    t_total: Instant,
+    pb: ProgressBar,
+) -> Result<StaticSolution, FlankError> {
     if q.iter().any(|v| !v.is_finite()) {
         return Err(FlankError::Solver(
             "the solution contains non-finite values".into(),
@@ -546,7 +679,6 @@ fn solve_static_in_pool(
             m
         })
         .collect();
-    drop(chol);
 
     let (recovery, reaction) = if options.recover_stress {
         pb.set_message("stress recovery");
@@ -603,13 +735,15 @@ fn residual(
     (r, rel, eta)
 }
 
-/// Solves K q = b with the factor. With a single-precision factor the f32
+/// Solves K q = b with `solve` (one application of a factorization; `exact`
+/// for a double-precision one). With a single-precision factor the f32
 /// Cholesky serves as preconditioner of conjugate gradients on the f64
 /// matrix (mixed-precision refinement, cf. Buttari et al., ACM TOMS 34, 2008;
 /// CG converges in a few steps where plain iterative refinement would need
 /// κ·ε₃₂-limited ones). Returns q and its true relative residual.
 fn solve_refined(
-    chol: &SparseCholesky,
+    solve: &dyn Fn(&mut [f64]),
+    exact: bool,
     pattern: &crate::fem::assembly::SparsePattern,
     values: &[f64],
     k_norm: f64,
@@ -617,14 +751,14 @@ fn solve_refined(
     stats: &mut SolveStats,
 ) -> Option<(Vec<f64>, f64, f64)> {
     let mut q = b.to_vec();
-    chol.solve_in_place(&mut q);
+    solve(&mut q);
     let (mut r, rel0, eta0) = residual(pattern, values, k_norm, &q, b);
-    if chol.precision() == Precision::Double {
+    if exact {
         return Some((q, rel0, eta0));
     }
     let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
     let mut z = r.clone();
-    chol.solve_in_place(&mut z);
+    solve(&mut z);
     let mut p = z.clone();
     let mut rz = dot(&r, &z);
     stats.refinement_steps = 0;
@@ -656,7 +790,7 @@ fn solve_refined(
             break;
         }
         z.copy_from_slice(&r);
-        chol.solve_in_place(&mut z);
+        solve(&mut z);
         let rz_new = dot(&r, &z);
         let beta = rz_new / rz;
         rz = rz_new;
