@@ -357,7 +357,9 @@ impl SparseCholesky {
             MatrixValues::F64(values, Precision::Double) => {
                 let a64 = SparseColMatRef::new(sym, &values[..end]);
                 (
-                    FactorValues::Double(numeric_llt(&self.symbolic, a64, self.par).map_err(singular)?),
+                    FactorValues::Double(
+                        numeric_llt(&self.symbolic, a64, self.par).map_err(singular)?,
+                    ),
                     Precision::Double,
                 )
             }
@@ -371,14 +373,18 @@ impl SparseCholesky {
                 }
                 let a32 = SparseColMatRef::new(sym, &v32[..]);
                 (
-                    FactorValues::Single(numeric_llt(&self.symbolic, a32, self.par).map_err(singular)?),
+                    FactorValues::Single(
+                        numeric_llt(&self.symbolic, a32, self.par).map_err(singular)?,
+                    ),
                     Precision::Mixed,
                 )
             }
             MatrixValues::F32(v32) => {
                 let a32 = SparseColMatRef::new(sym, &v32[..end]);
                 (
-                    FactorValues::Single(numeric_llt(&self.symbolic, a32, self.par).map_err(singular)?),
+                    FactorValues::Single(
+                        numeric_llt(&self.symbolic, a32, self.par).map_err(singular)?,
+                    ),
                     Precision::Mixed,
                 )
             }

@@ -11,7 +11,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use nalgebra::{DMatrix, SymmetricEigen};
 
 use crate::error::FlankError;
-use crate::fem::assembly::Assembly;
+use crate::fem::assembly::{Assembly, SparsePattern};
 use crate::fem::constraints::{DofMap, DofTarget};
 use crate::fem::loads::load_vector;
 use crate::fem::model::Model;
@@ -484,7 +484,7 @@ fn solve_static_in_pool(
     // keep the pattern, free the slot map and colouring before factorizing
     // (a partial move out of `assembly` would keep the rest to the end of
     // the function)
-    let pattern = assembly.into_pattern();
+    let mut pattern = assembly.into_pattern();
 
     // reduced right-hand side: Tᵀ f + coupling loads − Tᵀ K u₀
     let f_full = load_vector(model)?;
@@ -517,15 +517,23 @@ fn solve_static_in_pool(
                 "two-domain factorization (nnz(L) = {})",
                 td.nnz_factor()
             ));
-            let factored = td.factorize(&pattern, &system.values, Precision::Mixed, &name_of);
+            // K's pattern without the rows M_B's pattern repeats
+            td.adopt(std::mem::replace(
+                &mut pattern,
+                SparsePattern {
+                    n: 0,
+                    col_ptr: Vec::new(),
+                    row_idx: Vec::new(),
+                },
+            ));
+            let factored = td.factorize(&system.values, Precision::Mixed, &name_of);
             let solved = match factored {
                 Ok(()) => {
                     let t = Instant::now();
                     let r = solve_refined(
                         &|x: &mut [f64]| td.solve_in_place(x),
                         false,
-                        &pattern,
-                        &system.values,
+                        &|x: &[f64]| td.sym_mul(&system.values, x),
                         k_norm,
                         &b,
                         &mut stats,
@@ -542,10 +550,11 @@ fn solve_static_in_pool(
             stats.nnz_factor = td.nnz_factor();
             stats.factorization_s = st.factorization_s + st.schur_s;
             stats.factorization_gflop = td.flops() * 1e-9;
-            stats.factorization_gflops = stats.factorization_gflop / stats.factorization_s.max(1e-12);
+            stats.factorization_gflops =
+                stats.factorization_gflop / stats.factorization_s.max(1e-12);
             stats.symbolic_factorization_s = st.halves[0].symbolic_s.max(st.halves[1].symbolic_s);
             stats.min_pivot_ratio = td.min_pivot_ratio();
-            stats.estimated_peak_mb = crate::resources::resident_mb() + st.factor_estimate_mb;
+            stats.estimated_peak_mb = st.resident_before_mb + st.factor_estimate_mb;
             stats.substructure = Some(st);
             match solved {
                 Ok((q, rel, eta)) => {
@@ -560,10 +569,11 @@ fn solve_static_in_pool(
                 }
                 Err(why) => {
                     // the plain double path, as a plain mixed solve falls back
-                    drop(td);
+                    pattern = td.into_pattern().expect("adopted above");
                     stats.precision_fallback = true;
-                    stats.substructure_note =
-                        Some(format!("two-domain solve abandoned: {why}; solved in double"));
+                    stats.substructure_note = Some(format!(
+                        "two-domain solve abandoned: {why}; solved in double"
+                    ));
                     pb.set_message("factorization (double, after the two-domain solve failed)");
                     let mut chol =
                         SparseCholesky::analyze(&pattern, options.ordering, ordering_s, par)?;
@@ -594,8 +604,7 @@ fn solve_static_in_pool(
         solve_refined(
             &|x: &mut [f64]| chol.solve_in_place(x),
             exact,
-            &pattern,
-            &system.values,
+            &|x: &[f64]| pattern.sym_mul(&system.values, x),
             k_norm,
             &b,
             stats,
@@ -723,13 +732,12 @@ const MAX_REFINEMENT: usize = 20;
 /// error ‖r‖∞ / (‖K‖∞‖q‖∞ + ‖b‖∞) (Higham, *Accuracy and Stability of
 /// Numerical Algorithms*, §7.1), with `k_norm` = ‖K‖∞.
 fn residual(
-    pattern: &crate::fem::assembly::SparsePattern,
-    values: &[f64],
+    matvec: &dyn Fn(&[f64]) -> Vec<f64>,
     k_norm: f64,
     q: &[f64],
     b: &[f64],
 ) -> (Vec<f64>, f64, f64) {
-    let kq = pattern.sym_mul(values, q);
+    let kq = matvec(q);
     let r: Vec<f64> = b.iter().zip(&kq).map(|(b, k)| b - k).collect();
     let (rel, eta) = residual_norms(&r, k_norm, q, b);
     (r, rel, eta)
@@ -744,15 +752,14 @@ fn residual(
 fn solve_refined(
     solve: &dyn Fn(&mut [f64]),
     exact: bool,
-    pattern: &crate::fem::assembly::SparsePattern,
-    values: &[f64],
+    matvec: &dyn Fn(&[f64]) -> Vec<f64>,
     k_norm: f64,
     b: &[f64],
     stats: &mut SolveStats,
 ) -> Option<(Vec<f64>, f64, f64)> {
     let mut q = b.to_vec();
     solve(&mut q);
-    let (mut r, rel0, eta0) = residual(pattern, values, k_norm, &q, b);
+    let (mut r, rel0, eta0) = residual(matvec, k_norm, &q, b);
     if exact {
         return Some((q, rel0, eta0));
     }
@@ -768,7 +775,7 @@ fn solve_refined(
     let mut best = eta;
     let mut stalled = 0;
     while stats.refinement_steps < MAX_REFINEMENT && eta > MIXED_TARGET && stalled < 3 {
-        let kp = pattern.sym_mul(values, &p);
+        let kp = matvec(&p);
         let pkp = dot(&p, &kp);
         if !(pkp > 0.0) || !rz.is_finite() {
             break;
@@ -801,7 +808,7 @@ fn solve_refined(
     if !(eta <= MIXED_TOLERANCE) {
         return None;
     }
-    let (_, rel, eta) = residual(pattern, values, k_norm, &q, b);
+    let (_, rel, eta) = residual(matvec, k_norm, &q, b);
     Some((q, rel, eta))
 }
 

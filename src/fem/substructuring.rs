@@ -95,7 +95,7 @@ pub struct DomainSplit {
 /// group joins the part of an anchor (its neighbourhood lies inside each
 /// anchor's, so it cannot touch the other part), or S if its anchors are in
 /// S. Each part is then ordered on its own by `method` (anchored the same
-/// way), the two concurrently. Refused if a part is empty or an edge of
+/// way). Refused if a part is empty or an edge of
 /// `graph` joins A and B.
 pub fn order_groups_two_domain(
     graph: &GroupGraph,
@@ -190,10 +190,11 @@ pub fn order_groups_two_domain(
         };
         Ok(perm.into_iter().map(|i| groups[i]).collect())
     };
-    let (pa, pb) = rayon::join(|| order_part(&a), || order_part(&b));
-    let mut perm = pa?;
+    // one after the other: METIS's random generator (GKlib) is a static,
+    // unsynchronized state, so concurrent calls would race on it
+    let mut perm = order_part(&a)?;
     perm.extend_from_slice(&s);
-    perm.extend(pb?);
+    perm.extend(order_part(&b)?);
     Ok((perm, [a.len(), s.len(), b.len()]))
 }
 
@@ -219,8 +220,10 @@ pub struct SubstructureStats {
     pub factorization_s: f64,
     /// Assembly and dense Cholesky of the separator's Schur complement.
     pub schur_s: f64,
-    /// The memory guard's estimate of both factorizations' extra memory (MB).
+    /// The memory guard's estimate of both factorizations' extra memory
+    /// and the resident set when it was made (MB).
     pub factor_estimate_mb: f64,
+    pub resident_before_mb: f64,
 }
 
 /// The two-domain factorization: M_A = K\[A∪S\] (a leading principal block
@@ -232,9 +235,12 @@ pub struct TwoDomainCholesky {
     /// Entries of each column of M_A in K's columns (the S columns end
     /// before their B rows).
     a_col_nnz: Vec<usize>,
+    /// M_B's pattern, order \[B, S\]; its B columns begin with K's B
+    /// columns' rows (shifted), the only copy of them once K's pattern is
+    /// [`adopt`](Self::adopt)ed.
     b_pattern: SparsePattern,
-    /// K's slot of each slot of `b_pattern`.
-    b_slots: Vec<u32>,
+    /// K's pattern, its B columns' rows dropped after [`adopt`](Self::adopt).
+    k: Option<SparsePattern>,
     a: SparseCholesky,
     b: SparseCholesky,
     /// Trailing blocks L_SS of the two factors (dense, lower).
@@ -255,7 +261,11 @@ impl TwoDomainCholesky {
         ordering_s: f64,
         par: Par,
     ) -> Result<Self, FlankError> {
-        let DomainSplit { a: na, s: ns, b: nb } = split;
+        let DomainSplit {
+            a: na,
+            s: ns,
+            b: nb,
+        } = split;
         let n = pattern.n;
         if na + ns + nb != n || na == 0 || nb == 0 {
             return Err(FlankError::Solver(format!(
@@ -294,31 +304,8 @@ impl TwoDomainCholesky {
         for i in 0..nb + ns {
             count[i + 1] += count[i];
         }
-        let mut fill = count.clone();
         let mut b_rows = vec![0usize; count[nb + ns]];
-        let mut b_slots = vec![0u32; count[nb + ns]];
-        for c in nas..n {
-            let i = c - nas;
-            for k in cp[c]..cp[c + 1] {
-                b_rows[fill[i]] = ri[k] - nas;
-                b_slots[fill[i]] = k as u32;
-                fill[i] += 1;
-            }
-        }
-        for c in na..nas {
-            let sc = nb + c - na;
-            for k in cp[c]..cp[c + 1] {
-                let r = ri[k];
-                let (col, row) = if r >= nas {
-                    (r - nas, sc)
-                } else {
-                    (sc, nb + r - na)
-                };
-                b_rows[fill[col]] = row;
-                b_slots[fill[col]] = k as u32;
-                fill[col] += 1;
-            }
-        }
+        walk_b(pattern, split, &count, |slot, row, _| b_rows[slot] = row);
         let b_pattern = SparsePattern {
             n: nb + ns,
             col_ptr: count,
@@ -362,7 +349,7 @@ impl TwoDomainCholesky {
             split,
             a_col_nnz,
             b_pattern,
-            b_slots,
+            k: None,
             a,
             b,
             l_ss: [Mat::zeros(0, 0), Mat::zeros(0, 0)],
@@ -375,6 +362,87 @@ impl TwoDomainCholesky {
     /// The numbering's split.
     pub fn split(&self) -> DomainSplit {
         self.split
+    }
+
+    /// Takes K's pattern (the one given to [`analyze`](Self::analyze)) and
+    /// drops its B columns' rows, which M_B's pattern holds too; K's
+    /// product is then [`sym_mul`](Self::sym_mul) and
+    /// [`into_pattern`](Self::into_pattern) gives K's pattern back.
+    pub fn adopt(&mut self, mut pattern: SparsePattern) {
+        let nas = self.split.a + self.split.s;
+        pattern.row_idx.truncate(pattern.col_ptr[nas]);
+        pattern.row_idx.shrink_to_fit();
+        self.k = Some(pattern);
+    }
+
+    /// Row `k`-th slot of K's column `c ≥ nas` (a B column).
+    #[inline]
+    fn b_rows_of(&self, k: &SparsePattern, c: usize) -> &[usize] {
+        let nas = self.split.a + self.split.s;
+        let i = c - nas;
+        let start = self.b_pattern.col_ptr[i];
+        &self.b_pattern.row_idx[start..start + k.col_ptr[c + 1] - k.col_ptr[c]]
+    }
+
+    /// K's whole pattern again (after [`adopt`](Self::adopt)), e.g. for a
+    /// plain factorization after the two-domain one failed.
+    pub fn into_pattern(mut self) -> Option<SparsePattern> {
+        let nas = self.split.a + self.split.s;
+        let mut k = self.k.take()?;
+        let mut rows = Vec::with_capacity(k.col_ptr[k.n]);
+        rows.extend_from_slice(&k.row_idx);
+        for c in nas..k.n {
+            rows.extend(self.b_rows_of(&k, c).iter().map(|&r| r + nas));
+        }
+        k.row_idx = rows;
+        Some(k)
+    }
+
+    /// y = K x for K's lower-triangle `values` on the adopted pattern: the
+    /// columns of A and S and those of B, concurrently.
+    pub fn sym_mul(&self, values: &[f64], x: &[f64]) -> Vec<f64> {
+        let k = self.k.as_ref().expect("sym_mul before adopt");
+        let n = k.n;
+        let nas = self.split.a + self.split.s;
+        let (mut y, yb) = rayon::join(
+            || {
+                let mut y = vec![0.0; n];
+                for c in 0..nas {
+                    let (lo, hi) = (k.col_ptr[c], k.col_ptr[c + 1]);
+                    let xc = x[c];
+                    let mut yc = 0.0;
+                    for (&r, &v) in k.row_idx[lo..hi].iter().zip(&values[lo..hi]) {
+                        y[r] += v * xc;
+                        if r != c {
+                            yc += v * x[r];
+                        }
+                    }
+                    y[c] += yc;
+                }
+                y
+            },
+            || {
+                let mut y = vec![0.0; n - nas];
+                for c in nas..n {
+                    let lo = k.col_ptr[c];
+                    let rows = self.b_rows_of(k, c);
+                    let xc = x[c];
+                    let mut yc = 0.0;
+                    for (&r, &v) in rows.iter().zip(&values[lo..lo + rows.len()]) {
+                        y[r] += v * xc;
+                        if r + nas != c {
+                            yc += v * x[r + nas];
+                        }
+                    }
+                    y[c - nas] += yc;
+                }
+                y
+            },
+        );
+        for (a, b) in y[nas..].iter_mut().zip(&yb) {
+            *a += b;
+        }
+        y
     }
 
     /// nnz of both factors.
@@ -411,7 +479,7 @@ impl TwoDomainCholesky {
         };
         self.a.factor_memory_mb(precision)
             + self.b.factor_memory_mb(precision)
-            + value * self.b_slots.len() as f64 / 1048576.0
+            + value * self.b_pattern.nnz() as f64 / 1048576.0
             + 4.0 * ns * ns * 8.0 / 1048576.0
     }
 
@@ -421,13 +489,21 @@ impl TwoDomainCholesky {
     /// Refused before any allocation when it would not fit in memory.
     pub fn factorize(
         &mut self,
-        pattern: &SparsePattern,
         values: &[f64],
         precision: Precision,
         dof_name: &(dyn Fn(usize) -> String + Sync),
     ) -> Result<(), FlankError> {
-        let DomainSplit { a: na, s: ns, b: nb } = self.split;
+        let DomainSplit {
+            a: na,
+            s: ns,
+            b: nb,
+        } = self.split;
         let nas = na + ns;
+        let Some(pattern) = self.k.as_ref() else {
+            return Err(FlankError::Solver(
+                "two-domain factorization before the stiffness pattern was adopted".into(),
+            ));
+        };
         if let Some(k) = values.iter().position(|v| !v.is_finite()) {
             return Err(FlankError::Solver(format!(
                 "stiffness entry {k} is not finite"
@@ -436,6 +512,7 @@ impl TwoDomainCholesky {
         let need = self.factor_memory_mb(precision);
         self.stats.factor_estimate_mb = need;
         let resident = crate::resources::resident_mb();
+        self.stats.resident_before_mb = resident;
         crate::resources::check_memory(
             &format!(
                 "the two-domain sparse Cholesky factorization ({} + {} + {} DOFs, nnz(L) = {:.3e}, {:?} precision)",
@@ -458,19 +535,20 @@ impl TwoDomainCholesky {
             col_nnz: Some(&self.a_col_nnz),
             row_idx: &pattern.row_idx,
         };
-        let (b64, b32): (Vec<f64>, Vec<f32>) = match precision {
-            Precision::Double => (
-                self.b_slots.iter().map(|&k| values[k as usize]).collect(),
-                Vec::new(),
-            ),
-            Precision::Mixed => (
-                Vec::new(),
-                self.b_slots
-                    .iter()
-                    .map(|&k| values[k as usize] as f32)
-                    .collect(),
-            ),
+        let nnz_b = self.b_pattern.nnz();
+        let (mut b64, mut b32) = match precision {
+            Precision::Double => (vec![0.0f64; nnz_b], Vec::new()),
+            Precision::Mixed => (Vec::new(), vec![0.0f32; nnz_b]),
         };
+        walk_b(
+            pattern,
+            self.split,
+            &self.b_pattern.col_ptr,
+            |slot, _, k| match precision {
+                Precision::Double => b64[slot] = values[k],
+                Precision::Mixed => b32[slot] = values[k] as f32,
+            },
+        );
         if b32.iter().any(|v| !v.is_finite()) {
             return Err(FlankError::Solver(
                 "stiffness entries overflow single precision; use --precision double".into(),
@@ -547,7 +625,11 @@ impl TwoDomainCholesky {
     /// z_A = K_AA⁻¹ (r_A − K_AS z_S), and the same for B. In f32 with f32
     /// factors (refine outside), the separator in f64.
     pub fn solve_in_place(&self, r: &mut [f64]) {
-        let DomainSplit { a: na, s: ns, b: nb } = self.split;
+        let DomainSplit {
+            a: na,
+            s: ns,
+            b: nb,
+        } = self.split;
         let nas = na + ns;
         let schur = self
             .schur
@@ -572,7 +654,10 @@ impl TwoDomainCholesky {
             }
         }
         schur.solve_in_place(g.as_mut());
-        for (l, w) in [(&self.l_ss[0], &mut wa[na..]), (&self.l_ss[1], &mut wb[nb..])] {
+        for (l, w) in [
+            (&self.l_ss[0], &mut wa[na..]),
+            (&self.l_ss[1], &mut wb[nb..]),
+        ] {
             for j in 0..ns {
                 w[j] = (j..ns).map(|i| l[(i, j)] * g[(i, 0)]).sum();
             }
@@ -586,6 +671,49 @@ impl TwoDomainCholesky {
             r[na + i] = g[(i, 0)];
         }
         r[nas..].copy_from_slice(&wb[..nb]);
+    }
+}
+
+/// Visits M_B's slots in K's \[A, S, B\] numbering (`split`): for each
+/// entry of K in B's columns and in S's columns, `f(slot of M_B, row in
+/// M_B, slot of K)`, M_B's column starts `col_ptr` (order \[B, S\]: B
+/// column i is K's column nas + i, its B rows first, then its rows of S,
+/// found in K's S columns); the row is `usize::MAX` for K's B columns once
+/// their rows are dropped ([`TwoDomainCholesky::adopt`]).
+fn walk_b(
+    k: &SparsePattern,
+    split: DomainSplit,
+    col_ptr: &[usize],
+    mut f: impl FnMut(usize, usize, usize),
+) {
+    let DomainSplit {
+        a: na,
+        s: ns,
+        b: nb,
+    } = split;
+    let nas = na + ns;
+    let mut fill = col_ptr[..nb + ns].to_vec();
+    for i in 0..nb {
+        let c = nas + i;
+        for slot in k.col_ptr[c]..k.col_ptr[c + 1] {
+            // K's row, unless its B rows were dropped (adopt)
+            let row = k.row_idx.get(slot).map_or(usize::MAX, |&r| r - nas);
+            f(fill[i], row, slot);
+            fill[i] += 1;
+        }
+    }
+    for c in na..nas {
+        let sc = nb + c - na;
+        for slot in k.col_ptr[c]..k.col_ptr[c + 1] {
+            let r = k.row_idx[slot];
+            let (col, row) = if r >= nas {
+                (r - nas, sc)
+            } else {
+                (sc, nb + r - na)
+            };
+            f(fill[col], row, slot);
+            fill[col] += 1;
+        }
     }
 }
 

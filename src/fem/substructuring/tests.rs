@@ -103,8 +103,7 @@ fn rel_diff(x: &[f64], y: &[f64]) -> f64 {
 /// halves, and the same with 1 and 2 threads.
 fn check_against_plain(pattern: &SparsePattern, values: &[f64], split: DomainSplit, rng: &mut Rng) {
     let n = pattern.n;
-    let mut plain =
-        SparseCholesky::analyze(pattern, OrderingMethod::Metis, 0.0, Par::Seq).unwrap();
+    let mut plain = SparseCholesky::analyze(pattern, OrderingMethod::Metis, 0.0, Par::Seq).unwrap();
     plain
         .factorize(pattern, values, Precision::Double, &|r| r.to_string())
         .unwrap();
@@ -127,11 +126,17 @@ fn check_against_plain(pattern: &SparsePattern, values: &[f64], split: DomainSpl
                     Par::rayon(threads),
                 )
                 .unwrap();
-                td.factorize(pattern, values, precision, &|r| r.to_string())
-                    .unwrap();
+                td.adopt(pattern.clone());
+                td.factorize(values, precision, &|r| r.to_string()).unwrap();
                 assert_eq!(td.stats.separator_dofs, split.s);
                 let mut z = rhs.clone();
                 td.solve_in_place(&mut z);
+                // K's product on the split storage, and K's pattern back
+                let y = td.sym_mul(values, &rhs);
+                assert!(rel_diff(&y, &pattern.sym_mul(values, &rhs)) <= 1e-14);
+                let back = td.into_pattern().unwrap();
+                assert_eq!(back.col_ptr, pattern.col_ptr);
+                assert_eq!(back.row_idx, pattern.row_idx);
                 z
             });
             let err = rel_diff(&z, &x);
