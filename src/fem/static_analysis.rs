@@ -1002,6 +1002,68 @@ mod tests {
         }
     }
 
+    /// The two-domain solve (forced on, 1 and 2 threads) gives the plain
+    /// solve's answer to the refinement's backward error, reports its
+    /// halves, and on a nearly incompressible slender body (a poor f32
+    /// preconditioner) still gives the double answer, refined or by the
+    /// fallback to the plain double factorization.
+    #[test]
+    fn two_domain_solve_matches_plain_solve() {
+        use crate::mesh::structured::{cantilever_model, BoxElement};
+        for nu in [0.3, 0.49999] {
+            let mut model = cantilever_model([24, 3, 3], BoxElement::Hex20, 1000.0).unwrap();
+            model.materials[0].poisson = nu;
+            let solve = |substructure, threads, precision| {
+                solve_static(
+                    &model,
+                    &SolveOptions {
+                        recover_stress: false,
+                        substructure,
+                        threads,
+                        precision,
+                        ..Default::default()
+                    },
+                )
+                .unwrap()
+            };
+            let plain = solve(Substructure::Off, 2, Precision::Double);
+            assert!(plain.stats.substructure.is_none());
+            let umax = plain
+                .displacement
+                .iter()
+                .fold(0.0f64, |a, b| a.max(b.abs()));
+            let tol = if nu < 0.4 { 1e-8 } else { 1e-5 };
+            for threads in [1, 2] {
+                let split = solve(Substructure::On, threads, Precision::Mixed);
+                let st = split.stats.substructure.as_ref().expect("two-domain stats");
+                assert!(st.separator_dofs > 0 && st.halves.iter().all(|h| h.dofs > 0));
+                assert_eq!(
+                    st.halves[0].dofs + st.halves[1].dofs + st.separator_dofs,
+                    split.stats.dofs
+                );
+                assert!(
+                    split.stats.backward_error < 1e-15,
+                    "{}",
+                    split.stats.backward_error
+                );
+                assert!(split.stats.precision == "mixed" || split.stats.precision_fallback);
+                let diff = plain
+                    .displacement
+                    .iter()
+                    .zip(&split.displacement)
+                    .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+                assert!(
+                    diff <= tol * umax,
+                    "ν = {nu}, {threads} threads: {:.2e}",
+                    diff / umax
+                );
+            }
+            // auto: this model is below the size threshold
+            let auto = solve(Substructure::Auto, 2, Precision::Mixed);
+            assert!(auto.stats.substructure.is_none());
+        }
+    }
+
     /// The symbolic analysis is reused for a new matrix with the same
     /// pattern: scaling K by 2 halves the solution.
     #[test]
