@@ -645,7 +645,8 @@ fn solve_static_in_pool(
     finish(model, options, &dofs, q, f_full, stats, t_total, pb)
 }
 
-/// The factorization a static solve uses.
+/// The factorization a static solve uses (one, short-lived).
+#[allow(clippy::large_enum_variant)]
 enum Factor {
     Plain(SparseCholesky),
     TwoDomain(TwoDomainCholesky),

@@ -268,8 +268,7 @@ fn degenerate_splits_are_refused() {
         adjncy: vec![],
         weight: vec![3],
     };
-    let err = order_groups_two_domain(&graph, OrderingMethod::Metis, &[NO_ANCHOR])
-        .err()
-        .expect("refused");
+    let err =
+        order_groups_two_domain(&graph, OrderingMethod::Metis, &[NO_ANCHOR]).expect_err("refused");
     assert!(err.to_string().contains("part empty"), "{err}");
 }
