@@ -182,13 +182,21 @@ impl Assembly {
     /// separator S splits the DOF groups into parts A and B with no
     /// stiffness between them, each part ordered by `ordering` on its own.
     /// Refused (before `dofs` is renumbered) when the separator leaves a part
-    /// empty or does not separate.
+    /// empty, does not separate, or has more than `max_separator_dofs` DOFs.
     pub fn two_domain(
         model: &Model,
         dofs: &mut DofMap,
         ordering: OrderingMethod,
+        max_separator_dofs: usize,
     ) -> Result<Self, FlankError> {
-        Self::build_with(model, dofs, ordering, &[], CORNER_GRAPH_MIN_GROUPS, true)
+        Self::build_with(
+            model,
+            dofs,
+            ordering,
+            &[],
+            CORNER_GRAPH_MIN_GROUPS,
+            Some(max_separator_dofs),
+        )
     }
 
     /// The symbolic pass. With at least `corner_min_groups` DOF groups (and
@@ -202,7 +210,7 @@ impl Assembly {
         last_nodes: &[usize],
         corner_min_groups: usize,
     ) -> Result<Self, FlankError> {
-        Self::build_with(model, dofs, ordering, last_nodes, corner_min_groups, false)
+        Self::build_with(model, dofs, ordering, last_nodes, corner_min_groups, None)
     }
 
     fn build_with(
@@ -211,7 +219,7 @@ impl Assembly {
         ordering: OrderingMethod,
         last_nodes: &[usize],
         corner_min_groups: usize,
-        two_domain: bool,
+        two_domain: Option<usize>,
     ) -> Result<Self, FlankError> {
         let mesh = &model.mesh;
         let ne = mesh.elements.len();
@@ -309,7 +317,7 @@ impl Assembly {
             weight,
         };
         let mut group_split = None;
-        let perm = if two_domain {
+        let perm = if two_domain.is_some() {
             // the separator on the corner graph on large quadratic meshes
             let anchor = if ng >= corner_min_groups {
                 midside_anchors(model, dofs, &node_groups)
@@ -339,6 +347,14 @@ impl Assembly {
             }
         });
         drop(graph);
+        if let (Some(sp), Some(max)) = (&split, two_domain) {
+            if sp.s > max {
+                return Err(FlankError::Solver(format!(
+                    "two-domain split: the separator has {} DOFs, more than {max}",
+                    sp.s
+                )));
+            }
+        }
         let ordering_s = t.elapsed().as_secs_f64();
         dofs.renumber_groups(&perm);
         let mut new_of_old = vec![0usize; ng];

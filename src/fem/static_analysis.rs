@@ -19,7 +19,9 @@ use crate::fem::ordering::OrderingMethod;
 use crate::fem::residual::{residual_norms, sym_norm_inf};
 use crate::fem::solver::{parallelism, FactorStats, Precision, SparseCholesky};
 use crate::fem::stress::{recover, Recovery};
-use crate::fem::substructuring::{Substructure, SubstructureStats, TwoDomainCholesky};
+use crate::fem::substructuring::{
+    Substructure, SubstructureStats, TwoDomainCholesky, SUBSTRUCTURE_MAX_SEPARATOR_DOFS,
+};
 
 /// How to solve.
 #[derive(Clone, Debug)]
@@ -436,7 +438,11 @@ fn solve_static_in_pool(
         .substructure
         .applies(dofs.reduced_count, par.degree(), options.precision);
     let assembly = if split {
-        match Assembly::two_domain(model, &mut dofs, options.ordering) {
+        let max_separator = match options.substructure {
+            Substructure::Auto => SUBSTRUCTURE_MAX_SEPARATOR_DOFS,
+            _ => usize::MAX,
+        };
+        match Assembly::two_domain(model, &mut dofs, options.ordering, max_separator) {
             Ok(a) => a,
             Err(e) => {
                 // refused before renumbering: the plain numbering instead

@@ -21,7 +21,7 @@
 
 use std::time::Instant;
 
-use faer::linalg::matmul::matmul;
+use faer::linalg::matmul::triangular::{self, BlockStructure};
 use faer::linalg::solvers::{Llt, Solve};
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::{Accum, Mat, Par, Side};
@@ -76,6 +76,15 @@ impl Substructure {
 /// (below it the whole solve takes a fraction of a second and the second
 /// core gains little; see `benches/README.md`).
 pub const SUBSTRUCTURE_MIN_DOFS: usize = 50_000;
+
+/// Separator DOFs above which `Substructure::Auto` keeps the plain
+/// factorization: the separator's dense work (its block in each half's
+/// factor, T = L_SS L_SSᵀ in each half, the Schur complement's Cholesky:
+/// ≈ ns³ flops on the critical path against ns³/3 in the plain factor) and
+/// memory (five ns × ns f64 matrices) grow as ns³ and ns². On a 20³ C3D20
+/// cube (ns = 3 720) the two-domain solve was slower than the plain one;
+/// on the 100×10×10 bar (ns = 1 023) faster (benches/README.md).
+pub const SUBSTRUCTURE_MAX_SEPARATOR_DOFS: usize = 2_000;
 
 /// DOF counts of the two-domain numbering \[A, S, B\].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
@@ -569,12 +578,16 @@ impl TwoDomainCholesky {
          -> Result<(Mat<f64>, Mat<f64>), FlankError> {
             chol.factorize_view(view, vals, name)?;
             let l = chol.trailing_factor(ns)?;
+            // T = L_SS L_SSᵀ, lower triangle only (ns³/3 flops)
             let mut t = Mat::<f64>::zeros(ns, ns);
-            matmul(
+            triangular::matmul(
                 t.as_mut(),
+                BlockStructure::TriangularLower,
                 Accum::Replace,
                 l.as_ref(),
+                BlockStructure::TriangularLower,
                 l.transpose(),
+                BlockStructure::TriangularUpper,
                 1.0,
                 par,
             );

@@ -183,7 +183,8 @@ fn two_domain_solve_matches_plain_factorization_on_a_cantilever() {
     ] {
         let model = cantilever_model(cells, kind, 100.0).unwrap();
         let mut dofs = DofMap::new(&model).unwrap();
-        let asm = Assembly::two_domain(&model, &mut dofs, OrderingMethod::Metis).unwrap();
+        let asm =
+            Assembly::two_domain(&model, &mut dofs, OrderingMethod::Metis, usize::MAX).unwrap();
         let split = asm.split.expect("a two-domain numbering");
         assert!(split.a > 0 && split.b > 0 && split.s > 0, "{split:?}");
         // a bar's separator is a cross-section: far smaller than either part
@@ -199,7 +200,7 @@ fn corner_graph_separator_separates() {
     // threshold: A and B never share an element
     let model = cantilever_model([60, 10, 10], BoxElement::Hex20, 100.0).unwrap();
     let mut dofs = DofMap::new(&model).unwrap();
-    let asm = Assembly::two_domain(&model, &mut dofs, OrderingMethod::Metis).unwrap();
+    let asm = Assembly::two_domain(&model, &mut dofs, OrderingMethod::Metis, usize::MAX).unwrap();
     let split = asm.split.unwrap();
     let side = |r: usize| {
         if r < split.a {
