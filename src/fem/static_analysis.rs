@@ -1071,6 +1071,44 @@ mod tests {
         }
     }
 
+    /// When the two-domain factorization fails (here: a Young's modulus of
+    /// 1e300 MPa overflows single precision) the solve falls back to the
+    /// plain double factorization on K's rebuilt pattern and says so.
+    #[test]
+    fn two_domain_failure_falls_back_to_plain_double() {
+        use crate::mesh::structured::{cantilever_model, BoxElement};
+        let mut model = cantilever_model([12, 3, 3], BoxElement::Hex20, 1000.0).unwrap();
+        model.materials[0].young = 1e300;
+        let solve = |substructure, precision| {
+            solve_static(
+                &model,
+                &SolveOptions {
+                    recover_stress: false,
+                    substructure,
+                    threads: 2,
+                    precision,
+                    ..Default::default()
+                },
+            )
+            .unwrap()
+        };
+        let split = solve(Substructure::On, Precision::Mixed);
+        assert!(split.stats.precision_fallback);
+        assert_eq!(split.stats.precision, "double");
+        let note = split.stats.substructure_note.clone().unwrap_or_default();
+        assert!(note.contains("two-domain solve abandoned"), "{note}");
+        assert!(split.stats.backward_error < 1e-15);
+        let plain = solve(Substructure::Off, Precision::Double);
+        let umax = plain
+            .displacement
+            .iter()
+            .fold(0.0f64, |a, b| a.max(b.abs()));
+        assert!(umax > 0.0);
+        for (a, b) in plain.displacement.iter().zip(&split.displacement) {
+            assert!((a - b).abs() <= 1e-10 * umax);
+        }
+    }
+
     /// The symbolic analysis is reused for a new matrix with the same
     /// pattern: scaling K by 2 halves the solution.
     #[test]
