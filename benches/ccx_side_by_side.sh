@@ -3,7 +3,9 @@
 # deck (default 100×10×10 elements, 46 541 nodes, 138 600 free DOFs).
 # Needs: ccx (calculix-ccx) and /usr/bin/time (Debian package `time`).
 # flank with its default precision (mixed: f32 factor + CG refinement on the
-# f64 matrix, falls back to double) and with --precision double, against ccx
+# f64 matrix, falls back to double; with 2+ threads the two-domain
+# factorization), with --substructure off (one factorization) and with
+# --precision double, against ccx
 # (OMP_NUM_THREADS and CCX_NPROC_EQUATION_SOLVER set to the same threads),
 # runs alternating, for each thread count of the list (default 1,2).
 # Usage: benches/ccx_side_by_side.sh [runs] [nx,ny,nz] [threads,...]
@@ -32,6 +34,7 @@ for i in $(seq "$RUNS"); do
     for t in ${THREADS//,/ }; do
         (cd "$WORK" && OMP_NUM_THREADS=$t CCX_NPROC_EQUATION_SOLVER=$t measure "ccx_t$t" ccx -i job)
         measure "flank_default_t$t" $FLANK solve "$WORK/cantilever.inp" --out "$WORK/out_default_t$t" --quiet --threads "$t"
+        measure "flank_plain_t$t" $FLANK solve "$WORK/cantilever.inp" --out "$WORK/out_plain_t$t" --quiet --threads "$t" --substructure off
         measure "flank_double_t$t" $FLANK solve "$WORK/cantilever.inp" --out "$WORK/out_double_t$t" --quiet --threads "$t" --precision double
     done
 done
@@ -58,6 +61,12 @@ for p in outs:
           f"({s['factorization_gflop']:.0f} GFLOP, {s['factorization_gflops']:.1f} GFLOP/s), ordering {s['ordering_s']:.2f} s, "
           f"symbolic assembly {s['symbolic_assembly_s']:.2f} s, assembly {s['assembly_s']:.2f} s, solve {s['solve_s']:.2f} s "
           f"({s['refinement_steps']} CG steps), total {s['total_s']:.2f} s, backward error {s['backward_error']:.1e}")
+    sub = s.get('substructure')
+    if sub:
+        h = sub['halves']
+        print(f"  two-domain: separator {sub['separator_dofs']} DOFs, halves {h[0]['dofs']} / {h[1]['dofs']} DOFs, "
+              f"nnz(L) {h[0]['nnz_factor']} / {h[1]['nnz_factor']}, {h[0]['gflop']:.0f} / {h[1]['gflop']:.0f} GFLOP, "
+              f"{h[0]['factorization_s']:.2f} / {h[1]['factorization_s']:.2f} s (wall {sub['factorization_s']:.2f} s), Schur {sub['schur_s']:.3f} s")
 # agreement with ccx
 def dat(path):
     out, on = {}, False

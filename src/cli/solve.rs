@@ -7,6 +7,7 @@ use anyhow::{Context, Result};
 use flank::fem::ordering::OrderingMethod;
 use flank::fem::solver::Precision;
 use flank::fem::static_analysis::{solve_static, SolveOptions};
+use flank::fem::substructuring::Substructure;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -27,6 +28,12 @@ pub struct Args {
     /// Contact decks always factorize in double.
     #[arg(long, value_enum)]
     precision: Option<Precision>,
+    /// Two-domain factorization of the static solve (a vertex separator
+    /// splits the model in two halves factorized concurrently): auto
+    /// (default: with 2 or more threads and at least 50 000 DOFs in mixed
+    /// precision), off, or on (whenever mixed, any size).
+    #[arg(long, value_enum, default_value_t = Substructure::Auto)]
+    substructure: Substructure,
     /// Skip stress recovery and reactions.
     #[arg(long)]
     no_stress: bool,
@@ -42,6 +49,7 @@ pub fn run(args: Args) -> Result<()> {
         ordering,
         threads,
         precision,
+        substructure,
         no_stress,
         quiet,
     } = args;
@@ -60,6 +68,7 @@ pub fn run(args: Args) -> Result<()> {
         recover_stress: !no_stress,
         progress: !quiet,
         precision: precision.unwrap_or_default(),
+        substructure,
     };
     let sol = solve_static(&parsed.model, &options)
         .with_context(|| format!("solving {}", deck.display()))?;

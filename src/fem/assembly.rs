@@ -19,6 +19,7 @@ use crate::fem::element::edges;
 use crate::fem::element::{stiffness, ElementWorkspace};
 use crate::fem::model::Model;
 use crate::fem::ordering::{order_groups_anchored, order_groups_last, OrderingMethod, NO_ANCHOR};
+use crate::fem::substructuring::{order_groups_two_domain, DomainSplit};
 // defined beside the orderings that consume it; re-exported at its old path
 pub use crate::fem::ordering::GroupGraph;
 
@@ -125,6 +126,8 @@ pub struct Assembly {
     pub serial: Vec<usize>,
     /// The ordering that numbered the reduced DOFs, and the time it took.
     pub ordering: OrderingMethod,
+    /// The two-domain split of the numbering ([`Assembly::two_domain`]).
+    pub split: Option<DomainSplit>,
     pub ordering_s: f64,
     slot_offset: Vec<usize>,
     slots: Vec<u32>,
@@ -174,6 +177,28 @@ impl Assembly {
         Self::build(model, dofs, ordering, last_nodes, CORNER_GRAPH_MIN_GROUPS)
     }
 
+    /// As [`Assembly::new`], numbering the reduced DOFs in the two-domain
+    /// order \[A, S, B\] of [`crate::fem::substructuring`]: a vertex
+    /// separator S splits the DOF groups into parts A and B with no
+    /// stiffness between them, each part ordered by `ordering` on its own.
+    /// Refused (before `dofs` is renumbered) when the separator leaves a part
+    /// empty, does not separate, or has more than `max_separator_dofs` DOFs.
+    pub fn two_domain(
+        model: &Model,
+        dofs: &mut DofMap,
+        ordering: OrderingMethod,
+        max_separator_dofs: usize,
+    ) -> Result<Self, FlankError> {
+        Self::build_with(
+            model,
+            dofs,
+            ordering,
+            &[],
+            CORNER_GRAPH_MIN_GROUPS,
+            Some(max_separator_dofs),
+        )
+    }
+
     /// The symbolic pass. With at least `corner_min_groups` DOF groups (and
     /// no `last_nodes`) METIS orders the graph of corner nodes and couplings
     /// and the midside nodes are placed after ([`order_groups_anchored`]);
@@ -184,6 +209,17 @@ impl Assembly {
         ordering: OrderingMethod,
         last_nodes: &[usize],
         corner_min_groups: usize,
+    ) -> Result<Self, FlankError> {
+        Self::build_with(model, dofs, ordering, last_nodes, corner_min_groups, None)
+    }
+
+    fn build_with(
+        model: &Model,
+        dofs: &mut DofMap,
+        ordering: OrderingMethod,
+        last_nodes: &[usize],
+        corner_min_groups: usize,
+        two_domain: Option<usize>,
     ) -> Result<Self, FlankError> {
         let mesh = &model.mesh;
         let ne = mesh.elements.len();
@@ -280,7 +316,18 @@ impl Assembly {
             adjncy,
             weight,
         };
-        let perm = if ng >= corner_min_groups
+        let mut group_split = None;
+        let perm = if two_domain.is_some() {
+            // the separator on the corner graph on large quadratic meshes
+            let anchor = if ng >= corner_min_groups {
+                midside_anchors(model, dofs, &node_groups)
+            } else {
+                vec![NO_ANCHOR; ng]
+            };
+            let (perm, counts) = order_groups_two_domain(&graph, ordering, &anchor)?;
+            group_split = Some(counts);
+            perm
+        } else if ng >= corner_min_groups
             && last_groups.is_empty()
             && ordering == OrderingMethod::Metis
         {
@@ -289,7 +336,25 @@ impl Assembly {
         } else {
             order_groups_last(&graph, ordering, &last_groups)?
         };
+        let split = group_split.map(|[ga, gs, _]| {
+            let dofs_of = |r: &[usize]| r.iter().map(|&g| graph.weight[g]).sum::<usize>();
+            let a = dofs_of(&perm[..ga]);
+            let s = dofs_of(&perm[ga..ga + gs]);
+            DomainSplit {
+                a,
+                s,
+                b: dofs.reduced_count - a - s,
+            }
+        });
         drop(graph);
+        if let (Some(sp), Some(max)) = (&split, two_domain) {
+            if sp.s > max {
+                return Err(FlankError::Solver(format!(
+                    "two-domain split: the separator has {} DOFs, more than {max}",
+                    sp.s
+                )));
+            }
+        }
         let ordering_s = t.elapsed().as_secs_f64();
         dofs.renumber_groups(&perm);
         let mut new_of_old = vec![0usize; ng];
@@ -451,6 +516,7 @@ impl Assembly {
             colors,
             serial,
             ordering,
+            split,
             ordering_s,
             slot_offset,
             slots,

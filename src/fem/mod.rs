@@ -20,3 +20,4 @@ pub mod residual;
 pub mod solver;
 pub mod static_analysis;
 pub mod stress;
+pub mod substructuring;

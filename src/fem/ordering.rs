@@ -100,6 +100,56 @@ pub fn metis_group_order(graph: &GroupGraph) -> Result<Vec<usize>, FlankError> {
     Ok(perm.into_iter().map(|p| p as usize).collect())
 }
 
+/// METIS's vertex separator of the group graph (`METIS_ComputeVertexSeparator`,
+/// the multilevel bisection behind `METIS_NodeND`'s top level): the part of
+/// each group, 0 or 1, or 2 for the separator, no edge joining parts 0 and 1.
+pub fn metis_vertex_separator(graph: &GroupGraph) -> Result<Vec<u8>, FlankError> {
+    let n = graph.weight.len();
+    if n == 0 {
+        return Ok(Vec::new());
+    }
+    let to_idx = |v: usize| -> Result<metis_sys::idx_t, FlankError> {
+        metis_sys::idx_t::try_from(v)
+            .map_err(|_| FlankError::Solver(format!("graph too large for 32-bit METIS ({v})")))
+    };
+    let conv = |v: &[usize]| -> Result<Vec<metis_sys::idx_t>, FlankError> {
+        v.iter().map(|&x| to_idx(x)).collect()
+    };
+    let xadj = conv(&graph.xadj)?;
+    let adjncy = conv(&graph.adjncy)?;
+    let vwgt = conv(&graph.weight)?;
+    let mut nvtxs = to_idx(n)?;
+    let mut sepsize: metis_sys::idx_t = 0;
+    let mut part = vec![0 as metis_sys::idx_t; n];
+    let mut options = [0 as metis_sys::idx_t; metis_sys::METIS_NOPTIONS as usize];
+    // SAFETY: buffers have the sizes METIS documents (n+1, nnz, n, NOPTIONS, n).
+    let status = unsafe {
+        metis_sys::METIS_SetDefaultOptions(options.as_mut_ptr());
+        metis_sys::METIS_ComputeVertexSeparator(
+            &mut nvtxs,
+            xadj.as_ptr() as *mut _,
+            adjncy.as_ptr() as *mut _,
+            vwgt.as_ptr() as *mut _,
+            options.as_mut_ptr(),
+            &mut sepsize,
+            part.as_mut_ptr(),
+        )
+    };
+    if status != metis_sys::rstatus_et_METIS_OK {
+        return Err(FlankError::Solver(format!(
+            "METIS_ComputeVertexSeparator failed with status {status}"
+        )));
+    }
+    part.into_iter()
+        .map(|p| match p {
+            0..=2 => Ok(p as u8),
+            _ => Err(FlankError::Solver(format!(
+                "METIS_ComputeVertexSeparator returned part {p}"
+            ))),
+        })
+        .collect()
+}
+
 /// Approximate-minimum-degree order of the groups (faer's AMD on the group graph): `perm[new] = old`.
 pub fn amd_group_order(graph: &GroupGraph) -> Result<Vec<usize>, FlankError> {
     use faer::dyn_stack::{MemBuffer, MemStack};
@@ -155,6 +205,54 @@ pub fn order_groups_anchored(
     anchor: &[[usize; 2]],
 ) -> Result<Vec<usize>, FlankError> {
     let n = graph.weight.len();
+    let (sub, old_of) = anchored_subgraph(graph, anchor)?;
+    let is_free = |g: usize| anchor[g] == NO_ANCHOR;
+    let sub_perm = order_groups(&sub, method)?;
+    // position of each free group, then the anchored ones bucketed by the
+    // position of their earlier anchor
+    let mut pos = vec![usize::MAX; n];
+    for (p, &s) in sub_perm.iter().enumerate() {
+        pos[old_of[s]] = p;
+    }
+    let m = sub_perm.len();
+    let key = |g: usize| {
+        anchor[g]
+            .iter()
+            .filter(|&&h| h != usize::MAX)
+            .map(|&h| pos[h])
+            .min()
+            .expect("anchors checked above")
+    };
+    let mut start = vec![0usize; m + 1];
+    for g in (0..n).filter(|&g| !is_free(g)) {
+        start[key(g) + 1] += 1;
+    }
+    for p in 0..m {
+        start[p + 1] += start[p];
+    }
+    let mut bucket = vec![0usize; start[m]];
+    let mut fill = start.clone();
+    for g in (0..n).filter(|&g| !is_free(g)) {
+        let k = key(g);
+        bucket[fill[k]] = g;
+        fill[k] += 1;
+    }
+    let mut perm = Vec::with_capacity(n);
+    for (p, &s) in sub_perm.iter().enumerate() {
+        perm.extend_from_slice(&bucket[start[p]..start[p + 1]]);
+        perm.push(old_of[s]);
+    }
+    Ok(perm)
+}
+
+/// The graph the unanchored groups induce (renumbered 0..m; each anchored
+/// group's weight carried by its first anchor) and the old index of each of
+/// its vertices: the graph [`order_groups_anchored`] orders, checked.
+pub(crate) fn anchored_subgraph(
+    graph: &GroupGraph,
+    anchor: &[[usize; 2]],
+) -> Result<(GroupGraph, Vec<usize>), FlankError> {
+    let n = graph.weight.len();
     if anchor.len() != n {
         return Err(FlankError::Solver(format!(
             "anchored ordering: {} anchors for {n} groups",
@@ -205,49 +303,14 @@ pub fn order_groups_anchored(
         }
         xadj.push(adjncy.len());
     }
-    let sub_perm = order_groups(
-        &GroupGraph {
+    Ok((
+        GroupGraph {
             xadj,
             adjncy,
             weight,
         },
-        method,
-    )?;
-    // position of each free group, then the anchored ones bucketed by the
-    // position of their earlier anchor
-    let mut pos = vec![usize::MAX; n];
-    for (p, &s) in sub_perm.iter().enumerate() {
-        pos[old_of[s]] = p;
-    }
-    let m = sub_perm.len();
-    let key = |g: usize| {
-        anchor[g]
-            .iter()
-            .filter(|&&h| h != usize::MAX)
-            .map(|&h| pos[h])
-            .min()
-            .expect("anchors checked above")
-    };
-    let mut start = vec![0usize; m + 1];
-    for g in (0..n).filter(|&g| !is_free(g)) {
-        start[key(g) + 1] += 1;
-    }
-    for p in 0..m {
-        start[p + 1] += start[p];
-    }
-    let mut bucket = vec![0usize; start[m]];
-    let mut fill = start.clone();
-    for g in (0..n).filter(|&g| !is_free(g)) {
-        let k = key(g);
-        bucket[fill[k]] = g;
-        fill[k] += 1;
-    }
-    let mut perm = Vec::with_capacity(n);
-    for (p, &s) in sub_perm.iter().enumerate() {
-        perm.extend_from_slice(&bucket[start[p]..start[p + 1]]);
-        perm.push(old_of[s]);
-    }
-    Ok(perm)
+        old_of,
+    ))
 }
 
 /// Fill-reducing order of the DOF groups by `method` with the groups `last`

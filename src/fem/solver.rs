@@ -13,7 +13,7 @@ use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
 };
 use faer::prelude::{Reborrow, ReborrowMut};
-use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
+use faer::sparse::linalg::cholesky::supernodal::{SupernodalLltRef, SymbolicSupernodalCholesky};
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
     SymbolicCholeskyRaw, SymmetricOrdering,
@@ -59,6 +59,68 @@ pub enum Precision {
 enum FactorValues {
     Double(Vec<f64>),
     Single(Vec<f32>),
+}
+
+/// A lower-triangular CSC matrix pattern, possibly a leading principal
+/// block of a larger one read in place: column j's rows are
+/// `row_idx[col_ptr[j]..col_ptr[j] + len]`, `len = col_nnz[j]` when given
+/// (faer's non-compact columns), else up to `col_ptr[j + 1]`.
+#[derive(Clone, Copy, Debug)]
+pub struct LowerCsc<'a> {
+    pub n: usize,
+    pub col_ptr: &'a [usize],
+    pub col_nnz: Option<&'a [usize]>,
+    pub row_idx: &'a [usize],
+}
+
+impl<'a> LowerCsc<'a> {
+    /// Slots of column `j`.
+    #[inline]
+    pub fn col_range(&self, j: usize) -> std::ops::Range<usize> {
+        let a = self.col_ptr[j];
+        match self.col_nnz {
+            Some(len) => a..a + len[j],
+            None => a..self.col_ptr[j + 1],
+        }
+    }
+
+    /// Stored entries (lower triangle).
+    pub fn nnz(&self) -> usize {
+        match self.col_nnz {
+            Some(len) => len.iter().sum(),
+            None => self.col_ptr[self.n] - self.col_ptr[0],
+        }
+    }
+
+    fn faer(&self) -> SymbolicSparseColMatRef<'a, usize> {
+        SymbolicSparseColMatRef::new_checked(
+            self.n,
+            self.n,
+            self.col_ptr,
+            self.col_nnz,
+            &self.row_idx[..self.col_ptr[self.n]],
+        )
+    }
+}
+
+impl SparsePattern {
+    /// The whole pattern as a [`LowerCsc`].
+    pub fn view(&self) -> LowerCsc<'_> {
+        LowerCsc {
+            n: self.n,
+            col_ptr: &self.col_ptr,
+            col_nnz: None,
+            row_idx: &self.row_idx,
+        }
+    }
+}
+
+/// Values of the matrix to factorize, aligned with its [`LowerCsc`] slots.
+pub(crate) enum MatrixValues<'a> {
+    /// f64 values, factorized in the given precision (mixed: an f32 copy).
+    F64(&'a [f64], Precision),
+    /// f32 values already rounded: a single-precision factor.
+    F32(&'a [f32]),
 }
 
 /// Figures of a factorization, for reports and benchmarks.
@@ -155,6 +217,18 @@ impl SparseCholesky {
         par: Par,
         supernodal: SupernodalThreshold,
     ) -> Result<Self, FlankError> {
+        Self::analyze_view(pattern.view(), ordering, ordering_s, par, supernodal)
+    }
+
+    /// [`analyze_with`](Self::analyze_with) of a [`LowerCsc`] (e.g. a
+    /// leading principal block of the stiffness read in place).
+    pub(crate) fn analyze_view(
+        pattern: LowerCsc<'_>,
+        ordering: OrderingMethod,
+        ordering_s: f64,
+        par: Par,
+        supernodal: SupernodalThreshold,
+    ) -> Result<Self, FlankError> {
         let n = pattern.n;
         if n == 0 {
             return Err(FlankError::Singular(
@@ -165,7 +239,7 @@ impl SparseCholesky {
         // faer's symbolic analysis without a permutation reads the upper
         // triangle; give it the transposed pattern (temporarily), so that the
         // numeric factorization can then use the lower triangle in place.
-        let (col_ptr_t, row_idx_t) = transpose_pattern(pattern);
+        let (col_ptr_t, row_idx_t) = transpose_pattern(&pattern);
         let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr_t, None, &row_idx_t);
         let params = CholeskySymbolicParams {
             supernodal_flop_ratio_threshold: supernodal,
@@ -250,13 +324,26 @@ impl SparseCholesky {
             need,
             crate::resources::ALTERNATIVES,
         )?;
+        self.factorize_view(
+            pattern.view(),
+            MatrixValues::F64(values, precision),
+            dof_name,
+        )
+    }
+
+    /// The numeric factorization of [`factorize`](Self::factorize) without
+    /// its checks of finiteness and memory (the caller's): `values` aligned
+    /// with the slots of `a`, the matrix analysed.
+    pub(crate) fn factorize_view(
+        &mut self,
+        a: LowerCsc<'_>,
+        values: MatrixValues<'_>,
+        dof_name: &dyn Fn(usize) -> String,
+    ) -> Result<(), FlankError> {
+        let n = a.n;
         let t0 = Instant::now();
-        let a = SparseColMatRef::new(
-            SymbolicSparseColMatRef::new_checked(n, n, &pattern.col_ptr, None, &pattern.row_idx),
-            values,
-        );
+        let sym = a.faer();
         self.factorized = false;
-        self.stats.precision = format!("{precision:?}").to_lowercase();
         let singular = |index: usize| {
             let old = self.perm_fwd.get(index).copied().unwrap_or(index);
             FlankError::Singular(format!(
@@ -265,30 +352,59 @@ impl SparseCholesky {
                 dof_name(old)
             ))
         };
-        self.l_values = match precision {
-            Precision::Double => {
-                FactorValues::Double(numeric_llt(&self.symbolic, a, self.par).map_err(singular)?)
+        let end = a.col_ptr[n];
+        let (l_values, precision) = match values {
+            MatrixValues::F64(values, Precision::Double) => {
+                let a64 = SparseColMatRef::new(sym, &values[..end]);
+                (
+                    FactorValues::Double(
+                        numeric_llt(&self.symbolic, a64, self.par).map_err(singular)?,
+                    ),
+                    Precision::Double,
+                )
             }
-            Precision::Mixed => {
-                let v32: Vec<f32> = values.iter().map(|&v| v as f32).collect();
+            MatrixValues::F64(values, Precision::Mixed) => {
+                let v32: Vec<f32> = values[..end].iter().map(|&v| v as f32).collect();
                 if v32.iter().any(|v| !v.is_finite()) {
                     return Err(FlankError::Solver(
                         "stiffness entries overflow single precision; use --precision double"
                             .into(),
                     ));
                 }
-                let a32 = SparseColMatRef::new(a.symbolic(), &v32[..]);
-                FactorValues::Single(numeric_llt(&self.symbolic, a32, self.par).map_err(singular)?)
+                let a32 = SparseColMatRef::new(sym, &v32[..]);
+                (
+                    FactorValues::Single(
+                        numeric_llt(&self.symbolic, a32, self.par).map_err(singular)?,
+                    ),
+                    Precision::Mixed,
+                )
+            }
+            MatrixValues::F32(v32) => {
+                let a32 = SparseColMatRef::new(sym, &v32[..end]);
+                (
+                    FactorValues::Single(
+                        numeric_llt(&self.symbolic, a32, self.par).map_err(singular)?,
+                    ),
+                    Precision::Mixed,
+                )
             }
         };
+        self.l_values = l_values;
+        self.stats.precision = format!("{precision:?}").to_lowercase();
         self.stats.factorization_s = t0.elapsed().as_secs_f64();
-        // pivot ratio min_j L_jj² / A_jj
-        let mut diag = vec![0.0; n];
-        for c in 0..n {
-            if let Some(s) = pattern.slot(c, c) {
-                diag[c] = values[s];
-            }
-        }
+        // pivot ratio min_j L_jj² / A_jj (the diagonal is each column's first entry)
+        let diag: Vec<f64> = (0..n)
+            .map(|c| {
+                let k = a.col_range(c).start;
+                if a.row_idx.get(k) != Some(&c) {
+                    return 0.0;
+                }
+                match values {
+                    MatrixValues::F64(v, _) => v[k],
+                    MatrixValues::F32(v) => v[k] as f64,
+                }
+            })
+            .collect();
         let ldiag = self.factor_diagonal();
         let mut worst = (f64::INFINITY, 0usize);
         for (new, &l) in ldiag.iter().enumerate() {
@@ -406,6 +522,58 @@ impl SparseCholesky {
         let n = rhs.len();
         let m = faer::MatMut::from_column_major_slice_mut(rhs, n, 1);
         self.solve_columns(m);
+    }
+
+    /// The forward substitution L y = b in place (factor order; in f32 with
+    /// a single-precision factor). Supernodal factors only (see
+    /// [`analyze_view`](Self::analyze_view)'s threshold).
+    pub(crate) fn forward_in_place(&self, x: &mut [f64], par: Par) {
+        self.substitute(x, par, true);
+    }
+
+    /// The backward substitution Lᵀ x = y in place, as
+    /// [`forward_in_place`](Self::forward_in_place).
+    pub(crate) fn backward_in_place(&self, x: &mut [f64], par: Par) {
+        self.substitute(x, par, false);
+    }
+
+    fn substitute(&self, x: &mut [f64], par: Par, forward: bool) {
+        assert!(self.factorized, "solve before a successful factorization");
+        let SymbolicCholeskyRaw::Supernodal(s) = self.symbolic.raw() else {
+            panic!("a partial substitution needs a supernodal factor");
+        };
+        fn run<T: faer::traits::ComplexField>(
+            s: &SymbolicSupernodalCholesky<usize>,
+            symbolic: &SymbolicCholesky<usize>,
+            l: &[T],
+            x: MatMut<'_, T>,
+            par: Par,
+            forward: bool,
+        ) {
+            let mut mem = MemBuffer::new(symbolic.solve_in_place_scratch::<T>(1, par));
+            let stack = MemStack::new(&mut mem);
+            let llt = SupernodalLltRef::new(s, l);
+            if forward {
+                llt.l_solve_with_conj(Conj::No, x, par, stack);
+            } else {
+                llt.l_transpose_solve_with_conj(Conj::No, x, par, stack);
+            }
+        }
+        let n = x.len();
+        match &self.l_values {
+            FactorValues::Double(l) => {
+                let m = MatMut::from_column_major_slice_mut(x, n, 1);
+                run(s, &self.symbolic, l, m, par, forward);
+            }
+            FactorValues::Single(l) => {
+                let mut x32: Vec<f32> = x.iter().map(|&v| v as f32).collect();
+                let m = MatMut::from_column_major_slice_mut(&mut x32, n, 1);
+                run(s, &self.symbolic, l, m, par, forward);
+                for (a, b) in x.iter_mut().zip(&x32) {
+                    *a = *b as f64;
+                }
+            }
+        }
     }
 
     /// The trailing `m × m` block L₂₂ of the factor (factor order, lower
@@ -814,20 +982,21 @@ fn numeric_llt<T: faer::traits::ComplexField + Copy>(
 }
 
 /// The transpose of a lower-triangular CSC pattern (= its upper-triangular CSC pattern).
-fn transpose_pattern(p: &SparsePattern) -> (Vec<usize>, Vec<usize>) {
+fn transpose_pattern(p: &LowerCsc<'_>) -> (Vec<usize>, Vec<usize>) {
     let n = p.n;
     let mut count = vec![0usize; n + 1];
-    for &r in &p.row_idx {
-        count[r + 1] += 1;
+    for c in 0..n {
+        for &r in &p.row_idx[p.col_range(c)] {
+            count[r + 1] += 1;
+        }
     }
     for i in 0..n {
         count[i + 1] += count[i];
     }
     let mut fill = count.clone();
-    let mut rows = vec![0usize; p.row_idx.len()];
+    let mut rows = vec![0usize; count[n]];
     for c in 0..n {
-        for k in p.col_ptr[c]..p.col_ptr[c + 1] {
-            let r = p.row_idx[k];
+        for &r in &p.row_idx[p.col_range(c)] {
             rows[fill[r]] = c;
             fill[r] += 1;
         }

@@ -11,7 +11,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use nalgebra::{DMatrix, SymmetricEigen};
 
 use crate::error::FlankError;
-use crate::fem::assembly::Assembly;
+use crate::fem::assembly::{Assembly, SparsePattern};
 use crate::fem::constraints::{DofMap, DofTarget};
 use crate::fem::loads::load_vector;
 use crate::fem::model::Model;
@@ -19,6 +19,9 @@ use crate::fem::ordering::OrderingMethod;
 use crate::fem::residual::{residual_norms, sym_norm_inf};
 use crate::fem::solver::{parallelism, FactorStats, Precision, SparseCholesky};
 use crate::fem::stress::{recover, Recovery};
+use crate::fem::substructuring::{
+    Substructure, SubstructureStats, TwoDomainCholesky, SUBSTRUCTURE_MAX_SEPARATOR_DOFS,
+};
 
 /// How to solve.
 #[derive(Clone, Debug)]
@@ -34,6 +37,9 @@ pub struct SolveOptions {
     /// refinement with a backward-error check and fallback to double;
     /// `Double` forces the f64 factor).
     pub precision: Precision,
+    /// The two-domain factorization ([`crate::fem::substructuring`]):
+    /// `Auto` (default) with ≥ 2 threads and a large mixed-precision solve.
+    pub substructure: Substructure,
 }
 
 impl Default for SolveOptions {
@@ -44,6 +50,7 @@ impl Default for SolveOptions {
             recover_stress: true,
             progress: false,
             precision: Precision::Mixed,
+            substructure: Substructure::Auto,
         }
     }
 }
@@ -88,6 +95,12 @@ pub struct SolveStats {
     /// The memory guard's estimate of the peak (MB): the resident set before
     /// the numeric factorization plus its estimated extra memory.
     pub estimated_peak_mb: f64,
+    /// Figures of the two-domain factorization, when used.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub substructure: Option<SubstructureStats>,
+    /// Why the two-domain factorization was not used or abandoned.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub substructure_note: Option<String>,
 }
 
 /// Result of a linear static analysis.
@@ -421,7 +434,25 @@ fn solve_static_in_pool(
         dofs.reduced_count
     ));
     let t = Instant::now();
-    let assembly = Assembly::new(model, &mut dofs, options.ordering)?;
+    let split = options
+        .substructure
+        .applies(dofs.reduced_count, par.degree(), options.precision);
+    let assembly = if split {
+        let max_separator = match options.substructure {
+            Substructure::Auto => SUBSTRUCTURE_MAX_SEPARATOR_DOFS,
+            _ => usize::MAX,
+        };
+        match Assembly::two_domain(model, &mut dofs, options.ordering, max_separator) {
+            Ok(a) => a,
+            Err(e) => {
+                // refused before renumbering: the plain numbering instead
+                stats.substructure_note = Some(format!("not substructured: {e}"));
+                Assembly::new(model, &mut dofs, options.ordering)?
+            }
+        }
+    } else {
+        Assembly::new(model, &mut dofs, options.ordering)?
+    };
     let dofs = dofs;
     stats.symbolic_assembly_s = t.elapsed().as_secs_f64();
 
@@ -433,23 +464,33 @@ fn solve_static_in_pool(
     // it runs beside the numeric assembly, which takes the other threads.
     let t = Instant::now();
     let (analyzed, system) = rayon::join(
-        || {
-            SparseCholesky::analyze(
+        || match assembly.split {
+            Some(split) => TwoDomainCholesky::analyze(
+                &assembly.pattern,
+                split,
+                options.ordering,
+                assembly.ordering_s,
+                par,
+            )
+            .map(Factor::TwoDomain),
+            None => SparseCholesky::analyze(
                 &assembly.pattern,
                 options.ordering,
                 assembly.ordering_s,
                 par,
             )
+            .map(Factor::Plain),
         },
         || assembly.assemble(model, &dofs),
     );
     let system = system?;
-    let mut chol = analyzed?;
+    let analyzed = analyzed?;
     stats.assembly_s = t.elapsed().as_secs_f64();
+    let ordering_s = assembly.ordering_s;
     // keep the pattern, free the slot map and colouring before factorizing
     // (a partial move out of `assembly` would keep the rest to the end of
     // the function)
-    let pattern = assembly.into_pattern();
+    let mut pattern = assembly.into_pattern();
 
     // reduced right-hand side: Tᵀ f + coupling loads − Tᵀ K u₀
     let f_full = load_vector(model)?;
@@ -465,10 +506,6 @@ fn solve_static_in_pool(
         *bi += pi;
     }
 
-    pb.set_message(format!(
-        "factorization (nnz(L) = {})",
-        chol.stats.nnz_factor
-    ));
     // the names are only needed for an error message: built on first use
     let dof_names = std::sync::OnceLock::new();
     let name_of = |r: usize| {
@@ -478,26 +515,115 @@ fn solve_static_in_pool(
             .cloned()
             .unwrap_or_else(|| format!("reduced DOF {r}"))
     };
-    if let Err(e) = chol.factorize(&pattern, &system.values, options.precision, &name_of) {
-        // a refusal for memory is final: the f64 factor needs more
-        if options.precision != Precision::Mixed || matches!(e, FlankError::Memory(_)) {
-            return Err(e);
+    let k_norm = sym_norm_inf(&pattern, &system.values);
+    let mut chol = match analyzed {
+        Factor::Plain(chol) => chol,
+        Factor::TwoDomain(mut td) => {
+            pb.set_message(format!(
+                "two-domain factorization (nnz(L) = {})",
+                td.nnz_factor()
+            ));
+            // K's pattern without the rows M_B's pattern repeats
+            td.adopt(std::mem::replace(
+                &mut pattern,
+                SparsePattern {
+                    n: 0,
+                    col_ptr: Vec::new(),
+                    row_idx: Vec::new(),
+                },
+            ));
+            let factored = td.factorize(&system.values, Precision::Mixed, &name_of);
+            let solved = match factored {
+                Ok(()) => {
+                    let t = Instant::now();
+                    let r = solve_refined(
+                        &|x: &mut [f64]| td.solve_in_place(x),
+                        false,
+                        &|x: &[f64]| td.sym_mul(&system.values, x),
+                        k_norm,
+                        &b,
+                        &mut stats,
+                    );
+                    stats.solve_s = t.elapsed().as_secs_f64();
+                    r.ok_or_else(|| "the refinement did not converge".to_string())
+                }
+                // a refusal for memory is final: the f64 factor needs more
+                Err(e @ FlankError::Memory(_)) => return Err(e),
+                Err(e) => Err(e.to_string()),
+            };
+            let st = td.stats.clone();
+            stats.nnz_matrix = td.nnz_matrix();
+            stats.nnz_factor = td.nnz_factor();
+            stats.factorization_s = st.factorization_s + st.schur_s;
+            stats.factorization_gflop = td.flops() * 1e-9;
+            stats.factorization_gflops =
+                stats.factorization_gflop / stats.factorization_s.max(1e-12);
+            stats.symbolic_factorization_s = st.halves[0].symbolic_s.max(st.halves[1].symbolic_s);
+            stats.min_pivot_ratio = td.min_pivot_ratio();
+            stats.estimated_peak_mb = st.resident_before_mb + st.factor_estimate_mb;
+            stats.substructure = Some(st);
+            match solved {
+                Ok((q, rel, eta)) => {
+                    drop(td);
+                    stats.ordering = options.ordering.name().to_string();
+                    stats.precision = "mixed".into();
+                    stats.supernodal = true;
+                    stats.ordering_s = ordering_s;
+                    stats.relative_residual = rel;
+                    stats.backward_error = eta;
+                    return finish(model, options, &dofs, q, f_full, stats, t_total, pb);
+                }
+                Err(why) => {
+                    // the plain double path, as a plain mixed solve falls back
+                    pattern = td.into_pattern().expect("adopted above");
+                    stats.precision_fallback = true;
+                    stats.substructure_note = Some(format!(
+                        "two-domain solve abandoned: {why}; solved in double"
+                    ));
+                    pb.set_message("factorization (double, after the two-domain solve failed)");
+                    let mut chol =
+                        SparseCholesky::analyze(&pattern, options.ordering, ordering_s, par)?;
+                    chol.factorize(&pattern, &system.values, Precision::Double, &name_of)?;
+                    chol
+                }
+            }
         }
-        // the f32 factor broke down (κ beyond single precision): factorize in f64
-        stats.precision_fallback = true;
-        chol.factorize(&pattern, &system.values, Precision::Double, &name_of)?;
+    };
+    if chol.stats.precision.is_empty() {
+        pb.set_message(format!(
+            "factorization (nnz(L) = {})",
+            chol.stats.nnz_factor
+        ));
+        if let Err(e) = chol.factorize(&pattern, &system.values, options.precision, &name_of) {
+            // a refusal for memory is final: the f64 factor needs more
+            if options.precision != Precision::Mixed || matches!(e, FlankError::Memory(_)) {
+                return Err(e);
+            }
+            // the f32 factor broke down (κ beyond single precision): factorize in f64
+            stats.precision_fallback = true;
+            chol.factorize(&pattern, &system.values, Precision::Double, &name_of)?;
+        }
     }
     let t = Instant::now();
-    let k_norm = sym_norm_inf(&pattern, &system.values);
-    let solved = match solve_refined(&chol, &pattern, &system.values, k_norm, &b, &mut stats) {
+    let solve = |chol: &SparseCholesky, stats: &mut SolveStats| {
+        let exact = chol.precision() == Precision::Double;
+        solve_refined(
+            &|x: &mut [f64]| chol.solve_in_place(x),
+            exact,
+            &|x: &[f64]| pattern.sym_mul(&system.values, x),
+            k_norm,
+            &b,
+            stats,
+        )
+    };
+    let solved = match solve(&chol, &mut stats) {
         Some(s) => s,
         None => {
             // refinement did not reach double-precision accuracy: redo in f64
             stats.precision_fallback = true;
             pb.set_message("factorization (double, after mixed precision did not converge)");
             chol.factorize(&pattern, &system.values, Precision::Double, &name_of)?;
-            solve_refined(&chol, &pattern, &system.values, k_norm, &b, &mut stats)
-                .expect("a double-precision solve always returns")
+            solve(&chol, &mut stats).expect("a double-precision solve always returns")
         }
     };
     let (q, rel, eta) = solved;
@@ -521,6 +647,29 @@ fn solve_static_in_pool(
         0.0
     };
     stats.min_pivot_ratio = fs.min_pivot_ratio;
+    drop(chol);
+    finish(model, options, &dofs, q, f_full, stats, t_total, pb)
+}
+
+/// The factorization a static solve uses (one, short-lived).
+#[allow(clippy::large_enum_variant)]
+enum Factor {
+    Plain(SparseCholesky),
+    TwoDomain(TwoDomainCholesky),
+}
+
+/// Checks the reduced solution `q`, expands it and recovers stresses.
+#[allow(clippy::too_many_arguments)]
+fn finish(
+    model: &Model,
+    options: &SolveOptions,
+    dofs: &DofMap,
+    q: Vec<f64>,
+    f_full: Vec<f64>,
+    mut stats: SolveStats,
+    t_total: Instant,
+    pb: ProgressBar,
+) -> Result<StaticSolution, FlankError> {
     if q.iter().any(|v| !v.is_finite()) {
         return Err(FlankError::Solver(
             "the solution contains non-finite values".into(),
@@ -546,7 +695,6 @@ fn solve_static_in_pool(
             m
         })
         .collect();
-    drop(chol);
 
     let (recovery, reaction) = if options.recover_stress {
         pb.set_message("stress recovery");
@@ -591,40 +739,40 @@ const MAX_REFINEMENT: usize = 20;
 /// error ‖r‖∞ / (‖K‖∞‖q‖∞ + ‖b‖∞) (Higham, *Accuracy and Stability of
 /// Numerical Algorithms*, §7.1), with `k_norm` = ‖K‖∞.
 fn residual(
-    pattern: &crate::fem::assembly::SparsePattern,
-    values: &[f64],
+    matvec: &dyn Fn(&[f64]) -> Vec<f64>,
     k_norm: f64,
     q: &[f64],
     b: &[f64],
 ) -> (Vec<f64>, f64, f64) {
-    let kq = pattern.sym_mul(values, q);
+    let kq = matvec(q);
     let r: Vec<f64> = b.iter().zip(&kq).map(|(b, k)| b - k).collect();
     let (rel, eta) = residual_norms(&r, k_norm, q, b);
     (r, rel, eta)
 }
 
-/// Solves K q = b with the factor. With a single-precision factor the f32
+/// Solves K q = b with `solve` (one application of a factorization; `exact`
+/// for a double-precision one). With a single-precision factor the f32
 /// Cholesky serves as preconditioner of conjugate gradients on the f64
 /// matrix (mixed-precision refinement, cf. Buttari et al., ACM TOMS 34, 2008;
 /// CG converges in a few steps where plain iterative refinement would need
 /// κ·ε₃₂-limited ones). Returns q and its true relative residual.
 fn solve_refined(
-    chol: &SparseCholesky,
-    pattern: &crate::fem::assembly::SparsePattern,
-    values: &[f64],
+    solve: &dyn Fn(&mut [f64]),
+    exact: bool,
+    matvec: &dyn Fn(&[f64]) -> Vec<f64>,
     k_norm: f64,
     b: &[f64],
     stats: &mut SolveStats,
 ) -> Option<(Vec<f64>, f64, f64)> {
     let mut q = b.to_vec();
-    chol.solve_in_place(&mut q);
-    let (mut r, rel0, eta0) = residual(pattern, values, k_norm, &q, b);
-    if chol.precision() == Precision::Double {
+    solve(&mut q);
+    let (mut r, rel0, eta0) = residual(matvec, k_norm, &q, b);
+    if exact {
         return Some((q, rel0, eta0));
     }
     let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
     let mut z = r.clone();
-    chol.solve_in_place(&mut z);
+    solve(&mut z);
     let mut p = z.clone();
     let mut rz = dot(&r, &z);
     stats.refinement_steps = 0;
@@ -634,7 +782,7 @@ fn solve_refined(
     let mut best = eta;
     let mut stalled = 0;
     while stats.refinement_steps < MAX_REFINEMENT && eta > MIXED_TARGET && stalled < 3 {
-        let kp = pattern.sym_mul(values, &p);
+        let kp = matvec(&p);
         let pkp = dot(&p, &kp);
         if !(pkp > 0.0) || !rz.is_finite() {
             break;
@@ -656,7 +804,7 @@ fn solve_refined(
             break;
         }
         z.copy_from_slice(&r);
-        chol.solve_in_place(&mut z);
+        solve(&mut z);
         let rz_new = dot(&r, &z);
         let beta = rz_new / rz;
         rz = rz_new;
@@ -667,7 +815,7 @@ fn solve_refined(
     if !(eta <= MIXED_TOLERANCE) {
         return None;
     }
-    let (_, rel, eta) = residual(pattern, values, k_norm, &q, b);
+    let (_, rel, eta) = residual(matvec, k_norm, &q, b);
     Some((q, rel, eta))
 }
 
@@ -858,6 +1006,106 @@ mod tests {
         let umax = one.displacement.iter().fold(0.0f64, |a, b| a.max(b.abs()));
         for (a, b) in one.displacement.iter().zip(&two.displacement) {
             assert!((a - b).abs() <= 1e-12 * umax);
+        }
+    }
+
+    /// The two-domain solve (forced on, 1 and 2 threads) gives the plain
+    /// solve's answer to the refinement's backward error, reports its
+    /// halves, and on a nearly incompressible slender body (a poor f32
+    /// preconditioner) still gives the double answer, refined or by the
+    /// fallback to the plain double factorization.
+    #[test]
+    fn two_domain_solve_matches_plain_solve() {
+        use crate::mesh::structured::{cantilever_model, BoxElement};
+        for nu in [0.3, 0.49999] {
+            let mut model = cantilever_model([24, 3, 3], BoxElement::Hex20, 1000.0).unwrap();
+            model.materials[0].poisson = nu;
+            let solve = |substructure, threads, precision| {
+                solve_static(
+                    &model,
+                    &SolveOptions {
+                        recover_stress: false,
+                        substructure,
+                        threads,
+                        precision,
+                        ..Default::default()
+                    },
+                )
+                .unwrap()
+            };
+            let plain = solve(Substructure::Off, 2, Precision::Double);
+            assert!(plain.stats.substructure.is_none());
+            let umax = plain
+                .displacement
+                .iter()
+                .fold(0.0f64, |a, b| a.max(b.abs()));
+            let tol = if nu < 0.4 { 1e-8 } else { 1e-5 };
+            for threads in [1, 2] {
+                let split = solve(Substructure::On, threads, Precision::Mixed);
+                let st = split.stats.substructure.as_ref().expect("two-domain stats");
+                assert!(st.separator_dofs > 0 && st.halves.iter().all(|h| h.dofs > 0));
+                assert_eq!(
+                    st.halves[0].dofs + st.halves[1].dofs + st.separator_dofs,
+                    split.stats.dofs
+                );
+                assert!(
+                    split.stats.backward_error < 1e-15,
+                    "{}",
+                    split.stats.backward_error
+                );
+                assert!(split.stats.precision == "mixed" || split.stats.precision_fallback);
+                let diff = plain
+                    .displacement
+                    .iter()
+                    .zip(&split.displacement)
+                    .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+                assert!(
+                    diff <= tol * umax,
+                    "ν = {nu}, {threads} threads: {:.2e}",
+                    diff / umax
+                );
+            }
+            // auto: this model is below the size threshold
+            let auto = solve(Substructure::Auto, 2, Precision::Mixed);
+            assert!(auto.stats.substructure.is_none());
+        }
+    }
+
+    /// When the two-domain factorization fails (here: a Young's modulus of
+    /// 1e300 MPa overflows single precision) the solve falls back to the
+    /// plain double factorization on K's rebuilt pattern and says so.
+    #[test]
+    fn two_domain_failure_falls_back_to_plain_double() {
+        use crate::mesh::structured::{cantilever_model, BoxElement};
+        let mut model = cantilever_model([12, 3, 3], BoxElement::Hex20, 1000.0).unwrap();
+        model.materials[0].young = 1e300;
+        let solve = |substructure, precision| {
+            solve_static(
+                &model,
+                &SolveOptions {
+                    recover_stress: false,
+                    substructure,
+                    threads: 2,
+                    precision,
+                    ..Default::default()
+                },
+            )
+            .unwrap()
+        };
+        let split = solve(Substructure::On, Precision::Mixed);
+        assert!(split.stats.precision_fallback);
+        assert_eq!(split.stats.precision, "double");
+        let note = split.stats.substructure_note.clone().unwrap_or_default();
+        assert!(note.contains("two-domain solve abandoned"), "{note}");
+        assert!(split.stats.backward_error < 1e-15);
+        let plain = solve(Substructure::Off, Precision::Double);
+        let umax = plain
+            .displacement
+            .iter()
+            .fold(0.0f64, |a, b| a.max(b.abs()));
+        assert!(umax > 0.0);
+        for (a, b) in plain.displacement.iter().zip(&split.displacement) {
+            assert!((a - b).abs() <= 1e-10 * umax);
         }
     }
 
