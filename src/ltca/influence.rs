@@ -107,8 +107,7 @@ fn add_window(row: &mut [f64], stride: usize, c: &[f64], w: &Window) {
 /// The rows lo..hi of U of [`normal_compliance_paged`]'s u: for each
 /// column node kc in U's order and each row node ka ≥ kc of the part,
 /// u(ka) += C(ka, kc) q(kc) (the diagonal block with q halved), each block
-/// through `add` ([`add_window`] or [`fma::add_window`]), with the next
-/// column node's blocks prefetched.
+/// through `add` ([`add_window`] or [`fma::add_window`]).
 #[inline(always)]
 fn sweep_part_with(
     sw: &Sweep,
@@ -139,24 +138,9 @@ fn sweep_part_with(
                 end += 1;
             }
             let page = &sw.pages.page(sw.t, r, pc)[ic * PAGE * 9..][..PAGE * 9];
-            // the next column node's blocks of these rows (read with its
-            // column, after this one): asked for now, as the hardware
-            // prefetchers do not follow a column's jump to the next
-            // (4.6 kB on, sparse rows); that page pair is read anyway,
-            // since every row here is past kc + 1
-            let next = (kc + 1 < hi).then(|| {
-                &sw.pages.page(sw.t, r, sw.page_of[kc + 1])[sw.slot[kc + 1] * PAGE * 9..]
-                    [..PAGE * 9]
-            });
             for ka in k..end {
                 let row = &mut u[(ka - lo) * 3 * stride..][..3 * stride];
                 let c = &page[9 * sw.slot[ka]..][..9];
-                if let Some(next) = next {
-                    // both cache lines a 72-byte block may span
-                    let b = &next[9 * sw.slot[ka]..][..9];
-                    prefetch(&b[0]);
-                    prefetch(&b[8]);
-                }
                 for w in wins {
                     add(row, stride, c, w);
                 }
@@ -165,22 +149,6 @@ fn sweep_part_with(
         }
     }
     u
-}
-
-/// Asks the processor to bring the cache line of `x` into its caches: a
-/// hint (no effect on any value), for block reads the hardware
-/// prefetchers do not foresee.
-#[inline(always)]
-fn prefetch(x: &f64) {
-    #[cfg(target_arch = "x86_64")]
-    // SAFETY: a prefetch reads nothing architecturally, and `x` is a valid
-    // reference; SSE (baseline on x86-64) has the instruction
-    unsafe {
-        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-        _mm_prefetch::<_MM_HINT_T0>((x as *const f64).cast());
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = x;
 }
 
 /// [`sweep_part_with`] through the AVX2/FMA kernel where the processor has

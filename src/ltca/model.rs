@@ -203,10 +203,7 @@ pub struct PositionResult {
     pub friction_power_w: f64,
     /// Wall time of the position (s; the caller adds the TCA) and of its
     /// parts: candidate cells, the tensor part of F, the half-space
-    /// correction and the QP solves (summed over local iterations). The
-    /// half-space cells and the first round of H run beside F's tensor
-    /// part (frictionless), so those two parts overlap in time: each is
-    /// its own wall time, and the parts can add up to more than time_s.
+    /// correction and the QP solves (summed over local iterations).
     pub time_s: f64,
     pub cells_s: f64,
     pub compliance_s: f64,
@@ -460,6 +457,39 @@ impl LtcaBodies {
             )));
         }
         let cells_s = t0.elapsed().as_secs_f64();
+        let t_f = Instant::now();
+        // bulk compliance from the tensors (with friction also the
+        // tangential blocks: [nn, nt, tn, tt])
+        let mut f_fe = vec![0.0; n * n];
+        let mut blocks = [vec![], vec![], vec![], vec![]];
+        if settings.friction.is_some() {
+            blocks = [
+                vec![0.0; n * n],
+                vec![0.0; n * n],
+                vec![0.0; n * n],
+                vec![0.0; n * n],
+            ];
+            for b in 0..2 {
+                if !self.tensors[b].has_matrix() {
+                    return Err(FlankError::Model(format!(
+                        "the frictional LTCA reads the dense tensor, and that of {} was built \
+                         compressed (no dense matrix): set compression = \"none\"",
+                        self.tensors[b].meta.body
+                    )));
+                }
+                let part = directional_compliance(&self.tensors[b], &cands, b);
+                for (acc, p) in blocks.iter_mut().zip(part) {
+                    for (x, y) in acc.iter_mut().zip(p) {
+                        *x += y;
+                    }
+                }
+            }
+            f_fe.copy_from_slice(&blocks[0]);
+        } else {
+            f_fe = normal_compliance_pair(&self.tensors, &self.grids, &cands)?;
+        }
+        let compliance_s = t_f.elapsed().as_secs_f64();
+        let (mut local_s, mut qp_s) = (0.0, 0.0);
         // nominal load per length for the first half-widths
         let flank_length: f64 = tca
             .lines
@@ -487,78 +517,21 @@ impl LtcaBodies {
                 hertz_line(p0, radius[i], e_star).0.min(fe_half(i))
             };
         }
-        // the FE-cell half-space solution is fixed per position, and the
-        // first round's H needs only the nominal half-widths: both are
-        // built beside F's tensor part (they do not depend on it), which
-        // fills the cores that F's two bodies of unequal size leave idle;
-        // each part's wall time is taken on its own (they overlap)
-        let near_first = || {
-            let t_l = Instant::now();
-            let near = (settings.local == LocalModel::HalfSpace).then(|| {
-                let cells: Vec<Cell> = cands
-                    .iter()
-                    .map(|c| Cell {
-                        across: 0.0,
-                        along: c.along,
-                        c: c.c.max(1e-6),
-                        l: c.half_length.max(1e-6),
-                    })
-                    .collect();
-                let line: Vec<usize> = cands.iter().map(|c| c.line).collect();
-                let near = NearField::new(&cells, &line, e_star);
-                // H lumped on the diagonal (row sums): see the rounds below
-                let first = near.diagonal(&half, &corner);
-                (near, first)
-            });
-            (near, t_l.elapsed().as_secs_f64())
-        };
-        // bulk compliance from the tensors (with friction also the
-        // tangential blocks: [nn, nt, tn, tt])
-        let mut f_fe = vec![0.0; n * n];
-        let mut blocks = [vec![], vec![], vec![], vec![]];
-        let (near_field, mut first_h, compliance_s, mut local_s) = if settings.friction.is_some() {
-            let t_f = Instant::now();
-            blocks = [
-                vec![0.0; n * n],
-                vec![0.0; n * n],
-                vec![0.0; n * n],
-                vec![0.0; n * n],
-            ];
-            for b in 0..2 {
-                if !self.tensors[b].has_matrix() {
-                    return Err(FlankError::Model(format!(
-                        "the frictional LTCA reads the dense tensor, and that of {} was built \
-                         compressed (no dense matrix): set compression = \"none\"",
-                        self.tensors[b].meta.body
-                    )));
-                }
-                let part = directional_compliance(&self.tensors[b], &cands, b);
-                for (acc, p) in blocks.iter_mut().zip(part) {
-                    for (x, y) in acc.iter_mut().zip(p) {
-                        *x += y;
-                    }
-                }
-            }
-            f_fe.copy_from_slice(&blocks[0]);
-            let compliance_s = t_f.elapsed().as_secs_f64();
-            let (near, local_s) = near_first();
-            let (near, first) = near.unzip();
-            (near, first, compliance_s, local_s)
-        } else {
-            let ((f, compliance_s), (near, local_s)) = rayon::join(
-                || {
-                    let t_f = Instant::now();
-                    let f = normal_compliance_pair(&self.tensors, &self.grids, &cands);
-                    (f, t_f.elapsed().as_secs_f64())
-                },
-                near_first,
-            );
-            f_fe = f?;
-            let (near, first) = near.unzip();
-            (near, first, compliance_s, local_s)
-        };
-        let mut qp_s = 0.0;
         let mut f = f_fe.clone();
+        // the FE-cell half-space solution is fixed per position
+        let near_field = (settings.local == LocalModel::HalfSpace).then(|| {
+            let cells: Vec<Cell> = cands
+                .iter()
+                .map(|c| Cell {
+                    across: 0.0,
+                    along: c.along,
+                    c: c.c.max(1e-6),
+                    l: c.half_length.max(1e-6),
+                })
+                .collect();
+            let line: Vec<usize> = cands.iter().map(|c| c.line).collect();
+            NearField::new(&cells, &line, e_star)
+        });
         let mut solution: Option<Answer> = None;
         let mut local_iterations = 0;
         let mut local_change = 0.0;
@@ -573,12 +546,8 @@ impl LtcaBodies {
                 // uniform over H's reach (a few cell widths, over which the
                 // load along a line hardly varies), and it keeps F positive
                 // definite; the full H, a difference of two kernels, is not
-                // (seed 004's long cells at 1.875 mm gave an indefinite F);
-                // the first round's was built beside F
-                let h = first_h
-                    .take()
-                    .unwrap_or_else(|| near.diagonal(&half, &corner));
-                for (i, h) in h.into_iter().enumerate() {
+                // (seed 004's long cells at 1.875 mm gave an indefinite F)
+                for (i, h) in near.diagonal(&half, &corner).into_iter().enumerate() {
                     f[i * n + i] += h;
                 }
             }
