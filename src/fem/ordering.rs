@@ -50,32 +50,48 @@ impl OrderingMethod {
     }
 }
 
+/// METIS keeps its random-number state in C statics (GKlib): two calls
+/// at once race on it and the ordering then differs from run to run, so
+/// every METIS call in flank holds this lock.
+static METIS_LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+/// The group graph in METIS's 32-bit arrays: vertex count, xadj, adjncy
+/// and vertex weights.
+#[allow(clippy::type_complexity)]
+fn metis_arrays(
+    graph: &GroupGraph,
+) -> Result<
+    (
+        metis_sys::idx_t,
+        Vec<metis_sys::idx_t>,
+        Vec<metis_sys::idx_t>,
+        Vec<metis_sys::idx_t>,
+    ),
+    FlankError,
+> {
+    let to_idx = |v: usize| -> Result<metis_sys::idx_t, FlankError> {
+        metis_sys::idx_t::try_from(v)
+            .map_err(|_| FlankError::Solver(format!("graph too large for 32-bit METIS ({v})")))
+    };
+    let conv = |v: &[usize]| -> Result<Vec<metis_sys::idx_t>, FlankError> {
+        v.iter().map(|&x| to_idx(x)).collect()
+    };
+    Ok((
+        to_idx(graph.weight.len())?,
+        conv(&graph.xadj)?,
+        conv(&graph.adjncy)?,
+        conv(&graph.weight)?,
+    ))
+}
+
 /// METIS nested-dissection order of the groups: `perm[new] = old`.
 pub fn metis_group_order(graph: &GroupGraph) -> Result<Vec<usize>, FlankError> {
     let n = graph.weight.len();
     if n == 0 {
         return Ok(Vec::new());
     }
-    let to_idx = |v: usize| -> Result<metis_sys::idx_t, FlankError> {
-        metis_sys::idx_t::try_from(v)
-            .map_err(|_| FlankError::Solver(format!("graph too large for 32-bit METIS ({v})")))
-    };
-    let xadj: Vec<metis_sys::idx_t> = graph
-        .xadj
-        .iter()
-        .map(|&v| to_idx(v))
-        .collect::<Result<_, _>>()?;
-    let adjncy: Vec<metis_sys::idx_t> = graph
-        .adjncy
-        .iter()
-        .map(|&v| to_idx(v))
-        .collect::<Result<_, _>>()?;
-    let vwgt: Vec<metis_sys::idx_t> = graph
-        .weight
-        .iter()
-        .map(|&v| to_idx(v))
-        .collect::<Result<_, _>>()?;
-    let mut nvtxs = to_idx(n)?;
+    let (mut nvtxs, xadj, adjncy, vwgt) = metis_arrays(graph)?;
+    let _metis = METIS_LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let mut perm = vec![0 as metis_sys::idx_t; n];
     let mut iperm = vec![0 as metis_sys::idx_t; n];
     let mut options = [0 as metis_sys::idx_t; metis_sys::METIS_NOPTIONS as usize];
@@ -108,17 +124,8 @@ pub fn metis_vertex_separator(graph: &GroupGraph) -> Result<Vec<u8>, FlankError>
     if n == 0 {
         return Ok(Vec::new());
     }
-    let to_idx = |v: usize| -> Result<metis_sys::idx_t, FlankError> {
-        metis_sys::idx_t::try_from(v)
-            .map_err(|_| FlankError::Solver(format!("graph too large for 32-bit METIS ({v})")))
-    };
-    let conv = |v: &[usize]| -> Result<Vec<metis_sys::idx_t>, FlankError> {
-        v.iter().map(|&x| to_idx(x)).collect()
-    };
-    let xadj = conv(&graph.xadj)?;
-    let adjncy = conv(&graph.adjncy)?;
-    let vwgt = conv(&graph.weight)?;
-    let mut nvtxs = to_idx(n)?;
+    let (mut nvtxs, xadj, adjncy, vwgt) = metis_arrays(graph)?;
+    let _metis = METIS_LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let mut sepsize: metis_sys::idx_t = 0;
     let mut part = vec![0 as metis_sys::idx_t; n];
     let mut options = [0 as metis_sys::idx_t; metis_sys::METIS_NOPTIONS as usize];

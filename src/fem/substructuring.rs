@@ -199,8 +199,8 @@ pub fn order_groups_two_domain(
         };
         Ok(perm.into_iter().map(|i| groups[i]).collect())
     };
-    // one after the other: METIS's random generator (GKlib) is a static,
-    // unsynchronized state, so concurrent calls would race on it
+    // one after the other: METIS's random generator (GKlib) is a C static,
+    // and `ordering` serializes every METIS call on it anyway
     let mut perm = order_part(&a)?;
     perm.extend_from_slice(&s);
     perm.extend(order_part(&b)?);
