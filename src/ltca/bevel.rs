@@ -433,7 +433,7 @@ impl BevelLtca {
             .bodies
             .solve(&position, &frames, self.torque, &self.options.settings)?;
         r.warnings.extend(notes);
-        Ok(r)
+        self.bodies.within_pitch(r)
     }
 
     /// [`Self::solve`], or `None` where no tooth pair of the sector is in

@@ -389,7 +389,7 @@ impl LtcaCycle {
             r.corner_extension_mm = ext;
             if ext == 0.0 || !(EXTENSION_MARGIN * r.loaded_approach_mm > ext) {
                 r.time_s = t.elapsed().as_secs_f64();
-                return Ok(r);
+                return self.bodies.within_pitch(r);
             }
             if raises == MAX_EXTENSION_RAISES {
                 return Err(FlankError::Model(format!(

@@ -764,7 +764,7 @@ mod tests {
             let frames = cycle.tca.frames(roll);
             let (built, _) = cycle
                 .bodies
-                .candidates(&position, &frames, &cycle.settings)
+                .candidates(&position, &frames, cycle.torque, &cycle.settings)
                 .unwrap();
             for (c, _) in built.into_iter().flatten() {
                 let edge = match position.lines[c.line].kind {
@@ -835,7 +835,7 @@ mod tests {
             let frames = cycle.tca.frames(roll);
             let (built, _) = cycle
                 .bodies
-                .candidates(&position, &frames, &cycle.settings)
+                .candidates(&position, &frames, cycle.torque, &cycle.settings)
                 .unwrap();
             let cands: Vec<Candidate> = built.into_iter().flatten().map(|(c, _)| c).collect();
             for b in 0..2 {
@@ -942,7 +942,7 @@ mod tests {
             let frames = cycle.tca.frames(roll);
             let (built, _) = cycle
                 .bodies
-                .candidates(&position, &frames, &cycle.settings)
+                .candidates(&position, &frames, cycle.torque, &cycle.settings)
                 .unwrap();
             let cands: Vec<Candidate> = built.into_iter().flatten().map(|(c, _)| c).collect();
             // window kernel (AVX2/FMA where available), SSE2 window

@@ -66,6 +66,37 @@ pub const HALF_WIDTH_TOLERANCE: f64 = 1e-2;
 /// edge's faces.
 const EDGE_CELL_FRACTION: f64 = 1e-3;
 
+/// Extents across the line of a flank point's FE cell (mm), per body
+/// `[toward its root, toward its tip]`, with κ the cell factor, h the
+/// element size, `a` the point's Hertz half-width under the nominal load
+/// per length (the load spread evenly over the flank lines, before the
+/// solve knows the shares) and `tips` each body's distance from its tooth
+/// tip along the profile:
+///
+/// * c_FE = max(κ h, a) each way (module docs, [`crate::ltca::local`]):
+///   the cell no narrower than the mesh resolves, nor than the contact,
+///   since H only narrows a load from c_FE to a. Until 2026-11-27 c_FE was
+///   κ h alone and a was cut to it, so a mesh finer than the contact
+///   (h < a) loaded a strip narrower than Hertz's: on seed 002 with 0.1 mm
+///   tensors the LTCA was 4–6 % too compliant in TE
+///   (papers/seed002-spur/README.md).
+/// * near a tip the contact zone ends at the tip edge: the cell is cut
+///   there (its tip side shortened to the distance from the tip, not below
+///   h/5), and on the mating flank, whose root side faces that edge, on
+///   the root side. Until 2026-11-27 the cell was narrowed on both sides,
+///   which concentrated the load as the mesh was refined (seed 002 at
+///   −15°: the entering pair's share 0.445 with 0.1 mm tensors, 0.472 with
+///   0.475 mm ones, against FE's 0.470).
+fn fe_cell_extents(kappa: f64, h: f64, a: f64, tips: [f64; 2]) -> [[f64; 2]; 2] {
+    let a = if a.is_finite() { a } else { 0.0 };
+    let c = (kappa * h).max(a);
+    let side = |tip: f64| c.min(tip.max(0.2 * h));
+    [
+        [side(tips[1]), side(tips[0])],
+        [side(tips[0]), side(tips[1])],
+    ]
+}
+
 /// Settings of the LTCA solve at one position.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct LtcaSettings {
@@ -281,8 +312,18 @@ impl LtcaBodies {
         &self,
         tca: &TcaPosition,
         frames: &[Frame; 2],
+        torque: f64,
         settings: &LtcaSettings,
     ) -> Result<(Vec<Option<(Candidate, [f64; 6])>>, usize), FlankError> {
+        // the nominal load per length (the first half-widths' in `solve`):
+        // the normal force spread evenly over the position's flank lines
+        let flank_length: f64 = tca
+            .lines
+            .iter()
+            .filter(|l| l.kind == LineKind::Flank)
+            .map(|l| l.length_mm)
+            .sum();
+        let nominal_line_load = torque / self.nominal_moment_arm_mm / flank_length.max(1e-9);
         let its = [
             FlankInterpolator::with_grids(&self.tensors[0], Arc::clone(&self.grids[0])),
             FlankInterpolator::with_grids(&self.tensors[1], Arc::clone(&self.grids[1])),
@@ -330,19 +371,27 @@ impl LtcaBodies {
                         // the point lies off a meshed flank: no candidate
                         return Ok(None);
                     }
-                    // the cell stays on the flank: near a tip it is narrowed
-                    // to the distance from the tip (arc length
-                    // (u_tip − u) r_b u), not below a fifth of the element
-                    // (tip corners keep κ h on the mating flank; the edge
-                    // body's cell is the edge line, below)
-                    let mut c = settings.fe_cell_factor * h;
-                    if line.kind == LineKind::Flank {
-                        for b in 0..2 {
+                    // per body the cell's extent [toward its root, toward
+                    // its tip]; tip corners keep κ h on the mating flank,
+                    // the edge body's cell is the edge line (below)
+                    let extent = if line.kind == LineKind::Flank {
+                        let a = hertz_line(
+                            nominal_line_load,
+                            p.equivalent_radius_mm,
+                            self.contact_modulus,
+                        )
+                        .0;
+                        let tip = |b: usize| {
                             let [u, v] = uv[b];
-                            let d = flanks[b].profile_length(flanks[b].u_tip(v) - u, u, v);
-                            c = c.min(d.max(0.2 * h));
-                        }
-                    }
+                            flanks[b].profile_length(flanks[b].u_tip(v) - u, u, v)
+                        };
+                        fe_cell_extents(settings.fe_cell_factor, h, a, [tip(0), tip(1)])
+                    } else {
+                        let c = settings.fe_cell_factor * h;
+                        [[c, c], [c, c]]
+                    };
+                    // the half-width (the same strip on both flanks)
+                    let c = 0.5 * (extent[0][0] + extent[0][1]);
                     let l = 0.5 * p.width_mm;
                     let edge_body = match line.kind {
                         LineKind::PinionTipCorner => Some(0),
@@ -352,7 +401,13 @@ impl LtcaBodies {
                     let cell = |b: usize| {
                         let mut hu = flanks[b].profile_step(c, uv[b][0], uv[b][1]);
                         let hv = (l * line.param_per_mm).max(1e-6);
-                        let mut u = uv[b][0];
+                        // centred between its root and tip extents
+                        let mut u = uv[b][0]
+                            + flanks[b].profile_step(
+                                0.5 * (extent[b][1] - extent[b][0]),
+                                uv[b][0],
+                                uv[b][1],
+                            );
                         if edge_body == Some(b) {
                             // the edge body of a tip corner carries its load
                             // on the tip edge (u = u_tip), as FE contact's
@@ -420,6 +475,23 @@ impl LtcaBodies {
 
     /// Solves the LTCA at one TCA position with torque `torque` (N·mm); the
     /// bodies sit in `frames` (own → global) at that roll.
+    /// The position's answer, or a clear error when its loaded TE reaches
+    /// the angular pitch (the linear model's tooth pairs are then not the
+    /// ones in contact). Applied to the final answer only: the mesh
+    /// cycle's corner-contact extension may first have to add the
+    /// neighbouring pairs that stop the rotation (at 100× torque the
+    /// middle pair alone turns the pinion past a pitch, the three pairs
+    /// together by 0.35 rad; `verification/extreme`).
+    pub fn within_pitch(&self, r: PositionResult) -> Result<PositionResult, FlankError> {
+        match crate::load_sharing::beyond_pitch_error(r.te_urad, self.pair.tooth_roll_step()) {
+            Some(e) => Err(FlankError::Model(format!(
+                "LTCA at roll {:.4}°: {e}",
+                r.roll_deg
+            ))),
+            None => Ok(r),
+        }
+    }
+
     pub fn solve(
         &self,
         tca: &TcaPosition,
@@ -434,7 +506,7 @@ impl LtcaBodies {
                 settings.fe_cell_factor, settings.local_iterations
             )));
         }
-        let (built, jobs_len) = self.candidates(tca, frames, settings)?;
+        let (built, jobs_len) = self.candidates(tca, frames, torque, settings)?;
         let mut cands: Vec<Candidate> = Vec::with_capacity(built.len());
         let (mut w, mut r, mut radius, mut width) =
             (Vec::new(), Vec::new(), Vec::new(), Vec::new());
@@ -649,14 +721,6 @@ impl LtcaBodies {
         // (always checked: a Cholesky of that block); tip-corner points
         // carry no half-space term, and more of them on a line than the
         // edge has nodes along it make F singular there
-        if let Some(e) =
-            crate::load_sharing::beyond_pitch_error(s.rotation * 1e6, self.pair.tooth_roll_step())
-        {
-            return Err(FlankError::Model(format!(
-                "LTCA at roll {:.4}°: {e}",
-                tca.roll.to_degrees()
-            )));
-        }
         let mut warnings: Vec<String> =
             crate::load_sharing::large_rotation_warning(s.rotation * 1e6)
                 .into_iter()
@@ -978,5 +1042,34 @@ fn state_name(s: PointState) -> &'static str {
         PointState::Stick => "stick",
         PointState::SlipPositive => "slip+",
         PointState::SlipNegative => "slip-",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fe_cell_extents;
+
+    /// c_FE = max(κ h, a) each way; near a tip cut at the tip edge (not
+    /// below h/5) on that body's tip side and the mating body's root side.
+    #[test]
+    fn fe_cell_is_no_narrower_than_the_mesh_or_the_contact() {
+        let far = [f64::INFINITY; 2];
+        let both = |c: f64| [[c, c], [c, c]];
+        // a coarse mesh: κ h
+        assert_eq!(fe_cell_extents(1.0, 0.475, 0.26, far), both(0.475));
+        // a mesh finer than the contact: the Hertz half-width, not κ h
+        assert_eq!(fe_cell_extents(1.0, 0.1, 0.26, far), both(0.26));
+        let e = fe_cell_extents(3.0, 0.1, 0.26, far);
+        assert!(e.iter().flatten().all(|&x| (x - 0.3).abs() < 1e-15));
+        // near the gear's tip: the gear's tip side and the pinion's root
+        // side end at the edge, the other sides keep their width
+        let e = fe_cell_extents(1.0, 0.1, 0.26, [f64::INFINITY, 0.05]);
+        assert_eq!(e, [[0.05, 0.26], [0.26, 0.05]]);
+        // near the pinion's tip, closer than h/5: h/5
+        let e = fe_cell_extents(1.0, 0.1, 0.26, [0.001, f64::INFINITY]);
+        assert_eq!(e, [[0.26, 0.2 * 0.1], [0.2 * 0.1, 0.26]]);
+        // no Hertz width (no radius, no load): κ h
+        assert_eq!(fe_cell_extents(1.0, 0.1, f64::NAN, far), both(0.1));
+        assert_eq!(fe_cell_extents(1.0, 0.1, 0.0, far), both(0.1));
     }
 }

@@ -223,9 +223,14 @@ fn points_per_line_convergence() {
     let (s2, t2) = diff(&runs[1], &runs[2]);
     println!("K 10→20: share {s1:.2e}, TE {t1:.2e}; K 20→40: share {s2:.2e}, TE {t2:.2e}");
     assert!(s2 < 0.01 && t2 < 0.01, "K 20→40 still changes: {s2}, {t2}");
+    // converged: both steps below 0.1 %. Until 2026-11-27 this asked for
+    // t2 ≤ t1 (3.5e-4 after 3.8e-4); with the cells cut at the tip edge
+    // both steps fell to 0.8–1.3e-4 and their order flipped (8.4e-5, then
+    // 1.25e-4: a TE of 4 330.38 / 4 330.74 / 4 330.20 µrad at −8.43°),
+    // the cells' discretization, not a trend in K (README.md)
     assert!(
-        t2 <= t1 + 1e-12,
-        "TE does not converge with K: {t1} then {t2}"
+        s1.max(s2) < 1e-3 && t1.max(t2) < 1e-3,
+        "K 10→20→40 changes by more than 0.1 %: share {s1}, {s2}; TE {t1}, {t2}"
     );
 }
 
