@@ -3,7 +3,9 @@
 //! `element` (shape functions, quadrature, element stiffness) →
 //! `assembly` (CSC pattern once, numeric passes) → `constraints`
 //! (Dirichlet elimination, rigid hub coupling) → `solver` (ordering,
-//! sparse Cholesky) → `stress` (recovery at nodes). `model` holds what a
+//! sparse Cholesky; `substructuring`: the two-domain factorization) →
+//! `refinement` (mixed-precision CG to f64 round-off) → `stress`
+//! (recovery at nodes). `model` holds what a
 //! deck defines, `contact_definition` its contact surfaces and pairs (the
 //! contact *solution* is [`crate::contact`]'s).
 
@@ -16,6 +18,7 @@ pub mod material;
 pub mod model;
 pub mod ordering;
 pub mod quadrature;
+pub(crate) mod refinement;
 pub mod residual;
 pub mod solver;
 pub mod static_analysis;
