@@ -41,7 +41,7 @@ fn residual(
 /// κ·ε₃₂-limited ones). Returns q, its true relative residual and backward
 /// error, or `None` if the backward error did not reach [`MIXED_TOLERANCE`]
 /// (the caller falls back to double); `steps` is set to the CG steps taken
-/// (left as it was for an `exact` solve).
+/// (0 for an `exact` solve: a fallback to double reports its own solve, not the failed one's steps).
 pub(crate) fn solve_refined(
     solve: &dyn Fn(&mut [f64]),
     exact: bool,
@@ -50,6 +50,7 @@ pub(crate) fn solve_refined(
     b: &[f64],
     steps: &mut usize,
 ) -> Option<(Vec<f64>, f64, f64)> {
+    *steps = 0;
     let mut q = b.to_vec();
     solve(&mut q);
     let (mut r, rel0, eta0) = residual(matvec, k_norm, &q, b);
@@ -61,7 +62,6 @@ pub(crate) fn solve_refined(
     solve(&mut z);
     let mut p = z.clone();
     let mut rz = dot(&r, &z);
-    *steps = 0;
     let mut eta = eta0;
     // iterate to f64 round-off (MIXED_TARGET) while the backward error still
     // falls; accept the result if it reached MIXED_TOLERANCE

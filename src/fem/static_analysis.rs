@@ -578,6 +578,9 @@ fn solve_static_in_pool(
                     // the plain double path, as a plain mixed solve falls back
                     pattern = td.into_pattern().expect("adopted above");
                     stats.precision_fallback = true;
+                    // the figures above are the abandoned attempt's: the
+                    // answer comes from the plain double factor below
+                    stats.substructure = None;
                     stats.substructure_note = Some(format!(
                         "two-domain solve abandoned: {why}; solved in double"
                     ));
@@ -950,12 +953,22 @@ mod tests {
             let tol = if nu < 0.4 { 1e-8 } else { 1e-5 };
             for threads in [1, 2] {
                 let split = solve(Substructure::On, threads, Precision::Mixed);
-                let st = split.stats.substructure.as_ref().expect("two-domain stats");
-                assert!(st.separator_dofs > 0 && st.halves.iter().all(|h| h.dofs > 0));
-                assert_eq!(
-                    st.halves[0].dofs + st.halves[1].dofs + st.separator_dofs,
-                    split.stats.dofs
-                );
+                // at ν = 0.3 the two-domain answer itself
+                assert!(nu > 0.4 || !split.stats.precision_fallback);
+                if split.stats.precision_fallback {
+                    // abandoned for the plain double factor: its figures
+                    // are not reported as the answer's
+                    assert!(split.stats.substructure.is_none());
+                    let note = split.stats.substructure_note.clone().unwrap_or_default();
+                    assert!(note.contains("two-domain solve abandoned"), "{note}");
+                } else {
+                    let st = split.stats.substructure.as_ref().expect("two-domain stats");
+                    assert!(st.separator_dofs > 0 && st.halves.iter().all(|h| h.dofs > 0));
+                    assert_eq!(
+                        st.halves[0].dofs + st.halves[1].dofs + st.separator_dofs,
+                        split.stats.dofs
+                    );
+                }
                 assert!(
                     split.stats.backward_error < 1e-15,
                     "{}",
@@ -1005,6 +1018,9 @@ mod tests {
         assert_eq!(split.stats.precision, "double");
         let note = split.stats.substructure_note.clone().unwrap_or_default();
         assert!(note.contains("two-domain solve abandoned"), "{note}");
+        // the figures are the double solve's, not the abandoned attempt's
+        assert!(split.stats.substructure.is_none());
+        assert_eq!(split.stats.refinement_steps, 0);
         assert!(split.stats.backward_error < 1e-15);
         let plain = solve(Substructure::Off, Precision::Double);
         let umax = plain

@@ -50,8 +50,8 @@ use crate::fem::solver::{LowerCsc, MatrixValues, Precision, SparseCholesky};
 pub enum Substructure {
     /// Never: one factorization of the whole stiffness.
     Off,
-    /// With two or more threads, the mixed precision and at least
-    /// [`SUBSTRUCTURE_MIN_DOFS`] reduced DOFs (default).
+    /// With two or more threads, the mixed precision, at least 50 000
+    /// reduced DOFs and a separator of at most 2 000 DOFs (default).
     #[default]
     Auto,
     /// Whenever the precision is mixed, at any size and thread count
@@ -489,7 +489,9 @@ impl TwoDomainCholesky {
         self.a.factor_memory_mb(precision)
             + self.b.factor_memory_mb(precision)
             + value * self.b_pattern.nnz() as f64 / 1048576.0
-            + 4.0 * ns * ns * 8.0 / 1048576.0
+            // five ns × ns f64 matrices at the Schur step's peak
+            // (SUBSTRUCTURE_MAX_SEPARATOR_DOFS)
+            + 5.0 * ns * ns * 8.0 / 1048576.0
     }
 
     /// Factorizes both halves of K (lower-triangle `values` on the pattern
