@@ -49,16 +49,7 @@ pub struct FlankNodes {
 
 /// Reference coordinates of the face nodes (quad8 on [−1, 1]², tri6 on the unit triangle).
 pub(crate) fn face_node_xi(count: usize) -> &'static [[f64; 2]] {
-    const Q: [[f64; 2]; 8] = [
-        [-1.0, -1.0],
-        [1.0, -1.0],
-        [1.0, 1.0],
-        [-1.0, 1.0],
-        [0.0, -1.0],
-        [1.0, 0.0],
-        [0.0, 1.0],
-        [-1.0, 0.0],
-    ];
+    const Q: [[f64; 2]; 8] = crate::fem::element::QUAD8_NODES;
     const T: [[f64; 2]; 6] = [
         [0.0, 0.0],
         [1.0, 0.0],

@@ -35,6 +35,7 @@
 //! displacement along the first direction at k from a unit force along the
 //! second at l.
 
+use crate::fem::element::QUAD8_NODES;
 use std::sync::{Arc, OnceLock};
 
 use crate::compliance::flank::{cross, face_shape, norm, FlankFace, FlankNodes};
@@ -249,19 +250,6 @@ struct SeparableFace {
     qu: [f64; 3],
     qv: [f64; 3],
 }
-
-/// Reference coordinates of the quad8 nodes (the order of
-/// [`crate::fem::element::quad8_shape`]).
-const QUAD8_NODES: [[f64; 2]; 8] = [
-    [-1.0, -1.0],
-    [1.0, -1.0],
-    [1.0, 1.0],
-    [-1.0, 1.0],
-    [0.0, -1.0],
-    [1.0, 0.0],
-    [0.0, 1.0],
-    [-1.0, 0.0],
-];
 
 impl SeparableFace {
     /// The face's separable form, if its nodes' u depend on one reference
@@ -1033,14 +1021,7 @@ mod tests {
         let (t, _) =
             compliance_tensor("box", &model, &flank, &ComplianceOptions::default()).unwrap();
         let it = FlankInterpolator::new(&t).unwrap();
-        let face = t
-            .flank
-            .uv
-            .iter()
-            .map(|p| p[0])
-            .filter(|&u| u > 1e-9)
-            .fold(f64::INFINITY, f64::min)
-            * 2.0;
+        let face = face_width_u(&t);
         let (u0, hu) = (60.0, 6.0 * face);
         let c = it
             .cell("TOP", u0, 5.0, CellShape::Rectangle { hu, hv: 1.0 }, 3)
@@ -1084,6 +1065,18 @@ mod tests {
         assert!((left + 0.5 * centre - 0.5).abs() < 1e-12, "{left} {centre}");
     }
 
+    /// The box flank's face width in u (its smallest non-zero node u is
+    /// half of it: midside nodes).
+    fn face_width_u(t: &ComplianceTensor) -> f64 {
+        t.flank
+            .uv
+            .iter()
+            .map(|p| p[0])
+            .filter(|&u| u > 1e-9)
+            .fold(f64::INFINITY, f64::min)
+            * 2.0
+    }
+
     /// A cell far from the parameters' origin, on faces small against |u|
     /// (the round-off of a Newton step, ε|u|/|∂u/∂ξ|, above 1e-14 in ξ):
     /// every sample is located and the weights are those of the same cell
@@ -1096,14 +1089,7 @@ mod tests {
             crate::compliance::flank::tests::box_flank_cells([24, 2, 2], BoxElement::Hex20);
         let (t, _) =
             compliance_tensor("box", &model, &flank, &ComplianceOptions::default()).unwrap();
-        let face = t
-            .flank
-            .uv
-            .iter()
-            .map(|p| p[0])
-            .filter(|&u| u > 1e-9)
-            .fold(f64::INFINITY, f64::min)
-            * 2.0;
+        let face = face_width_u(&t);
         let shift = 400.0 * face;
         // the round-off of a step in ξ against the old tolerance
         assert!(f64::EPSILON * shift / (0.5 * face) > 1e-14);

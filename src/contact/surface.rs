@@ -75,16 +75,7 @@ pub struct FaceShape {
 }
 
 /// Reference coordinates of the 8-node face nodes.
-const QUAD8_POINTS: [[f64; 2]; 8] = [
-    [-1.0, -1.0],
-    [1.0, -1.0],
-    [1.0, 1.0],
-    [-1.0, 1.0],
-    [0.0, -1.0],
-    [1.0, 0.0],
-    [0.0, 1.0],
-    [-1.0, 0.0],
-];
+const QUAD8_POINTS: [[f64; 2]; 8] = crate::fem::element::QUAD8_NODES;
 
 /// Face shape functions (8-node serendipity on [-1,1]², or 6-node triangle
 /// with corners (0,0), (1,0), (0,1)) with derivatives up to second order.

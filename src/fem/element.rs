@@ -224,18 +224,23 @@ pub fn shape(kind: ElementKind, xi: [f64; 3]) -> (Vec<f64>, Vec<[f64; 3]>) {
     }
 }
 
+/// Reference coordinates of the 8-node quadrilateral face's nodes on
+/// [-1,1]²: corners counter-clockwise, then the midsides of edges 0–1,
+/// 1–2, 2–3, 3–0.
+pub const QUAD8_NODES: [[f64; 2]; 8] = [
+    [-1.0, -1.0],
+    [1.0, -1.0],
+    [1.0, 1.0],
+    [-1.0, 1.0],
+    [0.0, -1.0],
+    [1.0, 0.0],
+    [0.0, 1.0],
+    [-1.0, 0.0],
+];
+
 /// Shape functions of the 8-node quadrilateral face on [-1,1]² and their derivatives.
 pub fn quad8_shape(xi: [f64; 2]) -> ([f64; 8], [[f64; 2]; 8]) {
-    const P: [[f64; 2]; 8] = [
-        [-1.0, -1.0],
-        [1.0, -1.0],
-        [1.0, 1.0],
-        [-1.0, 1.0],
-        [0.0, -1.0],
-        [1.0, 0.0],
-        [0.0, 1.0],
-        [-1.0, 0.0],
-    ];
+    const P: [[f64; 2]; 8] = QUAD8_NODES;
     let [x, y] = xi;
     let mut n = [0.0; 8];
     let mut d = [[0.0; 2]; 8];

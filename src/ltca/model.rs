@@ -315,15 +315,7 @@ impl LtcaBodies {
         torque: f64,
         settings: &LtcaSettings,
     ) -> Result<(Vec<Option<(Candidate, [f64; 6])>>, usize), FlankError> {
-        // the nominal load per length (the first half-widths' in `solve`):
-        // the normal force spread evenly over the position's flank lines
-        let flank_length: f64 = tca
-            .lines
-            .iter()
-            .filter(|l| l.kind == LineKind::Flank)
-            .map(|l| l.length_mm)
-            .sum();
-        let nominal_line_load = torque / self.nominal_moment_arm_mm / flank_length.max(1e-9);
+        let nominal_line_load = self.nominal_line_load(tca, torque);
         let its = [
             FlankInterpolator::with_grids(&self.tensors[0], Arc::clone(&self.grids[0])),
             FlankInterpolator::with_grids(&self.tensors[1], Arc::clone(&self.grids[1])),
@@ -475,6 +467,19 @@ impl LtcaBodies {
 
     /// Solves the LTCA at one TCA position with torque `torque` (N·mm); the
     /// bodies sit in `frames` (own → global) at that roll.
+    /// The nominal load per length (N/mm) of a position: the normal force
+    /// T / r spread evenly over its flank lines, before the solve knows
+    /// the shares (the cells' Hertz width and the first half-widths).
+    fn nominal_line_load(&self, tca: &TcaPosition, torque: f64) -> f64 {
+        let flank_length: f64 = tca
+            .lines
+            .iter()
+            .filter(|l| l.kind == LineKind::Flank)
+            .map(|l| l.length_mm)
+            .sum();
+        torque / self.nominal_moment_arm_mm / flank_length.max(1e-9)
+    }
+
     /// The position's answer, or a clear error when its loaded TE reaches
     /// the angular pitch (the linear model's tooth pairs are then not the
     /// ones in contact). Applied to the final answer only: the mesh
@@ -563,14 +568,7 @@ impl LtcaBodies {
         let compliance_s = t_f.elapsed().as_secs_f64();
         let (mut local_s, mut qp_s) = (0.0, 0.0);
         // nominal load per length for the first half-widths
-        let flank_length: f64 = tca
-            .lines
-            .iter()
-            .filter(|l| l.kind == LineKind::Flank)
-            .map(|l| l.length_mm)
-            .sum();
-        let nominal = torque / self.nominal_moment_arm_mm;
-        let p0 = nominal / flank_length.max(1e-9);
+        let p0 = self.nominal_line_load(tca, torque);
         let e_star = self.contact_modulus;
         // a tip corner is a sharp edge (radius 0, no Hertz width): its cell
         // stays the FE one, H = 0 there (the FE alone carries its local
