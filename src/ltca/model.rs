@@ -497,6 +497,10 @@ impl LtcaBodies {
         }
     }
 
+    /// The LTCA at one TCA position. Its answer may still turn the pinion
+    /// past a pitch: the caller passes its final answer through
+    /// [`Self::within_pitch`] (the mesh cycle after its corner-contact
+    /// extension, the bevel pair directly).
     pub fn solve(
         &self,
         tca: &TcaPosition,

@@ -68,10 +68,9 @@ mod common;
 use std::sync::Mutex;
 use std::time::Instant;
 
-use flank::fem::loads::traction_face_load;
 use flank::fem::model::{Model, NodalForce};
 use flank::fem::static_analysis::{solve_static, SolveOptions, StaticSolution};
-use flank::mesh::structured::{box_faces, box_mesh, BoxElement};
+use flank::mesh::structured::{box_mesh, BoxElement};
 
 /// Length, height (load direction y) and width (z), mm.
 const L: f64 = 100.0;
@@ -86,27 +85,36 @@ const P: f64 = 1000.0;
 /// cores, and the printed run times should be those of one solve at a time.
 static SERIAL: Mutex<()> = Mutex::new(());
 
+/// The beam of Poisson's ratio ν.
+fn beam(nu: f64) -> common::TipLoadedBeam {
+    common::TipLoadedBeam {
+        length: L,
+        height: H,
+        width: B,
+        young: E,
+        poisson: nu,
+        load: P,
+    }
+}
+
 /// Timoshenko tip deflection for a shear coefficient κ (ν = 0.3).
 fn timoshenko(kappa: f64) -> f64 {
-    timoshenko_nu(kappa, NU)
+    beam(NU).timoshenko(kappa)
 }
 
 /// Timoshenko tip deflection for a shear coefficient κ and Poisson's ratio ν.
 fn timoshenko_nu(kappa: f64, nu: f64) -> f64 {
-    let i = B * H.powi(3) / 12.0;
-    let a = B * H;
-    let g = E / (2.0 * (1.0 + nu));
-    P * L.powi(3) / (3.0 * E * i) + P * L / (kappa * g * a)
+    beam(nu).timoshenko(kappa)
 }
 
 /// Bending-only (Euler–Bernoulli) tip deflection P L³ / (3 E I), for comparison.
 fn euler_bernoulli() -> f64 {
-    P * L.powi(3) / (3.0 * E * B * H.powi(3) / 12.0)
+    beam(NU).euler_bernoulli()
 }
 
 /// Cowper's shear coefficient of a rectangular section.
 fn kappa_cowper() -> f64 {
-    10.0 * (1.0 + NU) / (12.0 + 11.0 * NU)
+    beam(NU).cowper_kappa()
 }
 
 /// One solved cantilever and the figures taken from it.
@@ -137,15 +145,7 @@ fn cantilever_nu(cells: [usize; 3], kind: BoxElement, nu: f64) -> Result {
     // Tip load: w_a = ∫ N_a dA over the tip face, assembled face by face; the
     // nodal force is −τ w_a in y. The same weights give the exact area mean of u_y.
     let tau = P / (B * H);
-    let mut weight = vec![0.0; model.mesh.node_count()];
-    for (e, f) in box_faces(&model.mesh, "X1") {
-        let el = &model.mesh.elements[e];
-        let x = model.mesh.element_coords(e);
-        let w = traction_face_load(el.kind, &x, f, [0.0, 1.0, 0.0]).expect("face exists");
-        for (a, v) in w {
-            weight[el.nodes[a]] += v[1];
-        }
-    }
+    let weight = common::face_weights(&model, "X1");
     let area: f64 = weight.iter().sum();
     assert!((area - B * H).abs() < 1e-10 * B * H, "tip face area {area}");
     for (n, &w) in weight.iter().enumerate() {

@@ -189,3 +189,57 @@ pub fn parse_ccx_dat(text: &str) -> CcxDat {
     }
     out
 }
+
+/// A cantilever of rectangular section under a tip load (mm, MPa, N):
+/// the beam-theory references of `cantilever` and `substructuring`.
+pub struct TipLoadedBeam {
+    pub length: f64,
+    /// Section height (in the load direction) and width.
+    pub height: f64,
+    pub width: f64,
+    pub young: f64,
+    pub poisson: f64,
+    pub load: f64,
+}
+
+impl TipLoadedBeam {
+    /// Timoshenko tip deflection P L³/(3 E I) + P L/(κ G A) for a shear
+    /// coefficient κ (Timoshenko, Phil. Mag. 41, 1921).
+    pub fn timoshenko(&self, kappa: f64) -> f64 {
+        let (b, h) = (self.width, self.height);
+        let i = b * h.powi(3) / 12.0;
+        let a = b * h;
+        let g = self.young / (2.0 * (1.0 + self.poisson));
+        self.load * self.length.powi(3) / (3.0 * self.young * i)
+            + self.load * self.length / (kappa * g * a)
+    }
+
+    /// Bending only (Euler–Bernoulli): P L³ / (3 E I).
+    pub fn euler_bernoulli(&self) -> f64 {
+        self.load * self.length.powi(3)
+            / (3.0 * self.young * self.width * self.height.powi(3) / 12.0)
+    }
+
+    /// Cowper's shear coefficient of a rectangular section,
+    /// 10 (1 + ν) / (12 + 11 ν).
+    pub fn cowper_kappa(&self) -> f64 {
+        10.0 * (1.0 + self.poisson) / (12.0 + 11.0 * self.poisson)
+    }
+}
+
+/// Per node the weight ∫ N_a dA over the faces of box face set `set`
+/// (`mesh::structured::box_faces`): the nodal loads of a unit uniform
+/// traction, and the weights of the exact area mean of a nodal field.
+pub fn face_weights(model: &Model, set: &str) -> Vec<f64> {
+    use flank::fem::loads::traction_face_load;
+    let mut weight = vec![0.0; model.mesh.node_count()];
+    for (e, f) in flank::mesh::structured::box_faces(&model.mesh, set) {
+        let el = &model.mesh.elements[e];
+        let x = model.mesh.element_coords(e);
+        let w = traction_face_load(el.kind, &x, f, [0.0, 1.0, 0.0]).expect("face exists");
+        for (a, v) in w {
+            weight[el.nodes[a]] += v[1];
+        }
+    }
+    weight
+}

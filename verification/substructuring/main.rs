@@ -88,12 +88,11 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use flank::ccx::{relative_difference, run_ccx};
-use flank::fem::loads::traction_face_load;
 use flank::fem::model::Model;
 use flank::fem::static_analysis::{solve_static, SolveOptions, SolveStats, StaticSolution};
 use flank::fem::substructuring::Substructure;
 use flank::mesh::inp::{read_deck, write_deck};
-use flank::mesh::structured::{box_faces, cantilever_model, BoxElement};
+use flank::mesh::structured::{cantilever_model, BoxElement};
 
 /// flank vs ccx, max|du|/max|u| over all nodes.
 const CCX_TOLERANCE: f64 = 1e-6;
@@ -293,30 +292,32 @@ fn le10_two_domain_forced_and_default_match_ccx() {
     println!("LE10 case: {:.1} s", t_case.elapsed().as_secs_f64());
 }
 
+/// The bar as a beam.
+const BEAM: common::TipLoadedBeam = common::TipLoadedBeam {
+    length: L,
+    height: H,
+    width: B,
+    young: E,
+    poisson: NU,
+    load: P,
+};
+
 /// Timoshenko tip deflection of the bar for a shear coefficient κ.
 fn timoshenko(kappa: f64) -> f64 {
-    let i = B * H.powi(3) / 12.0;
-    let a = B * H;
-    let g = E / (2.0 * (1.0 + NU));
-    P * L.powi(3) / (3.0 * E * i) + P * L / (kappa * g * a)
+    BEAM.timoshenko(kappa)
 }
 
 /// Area-weighted mean of −u_y over the tip face X1 (weights ∫N_a dA).
 fn tip_deflection(model: &Model, u: &[f64]) -> f64 {
-    let faces = box_faces(&model.mesh, "X1");
-    assert!(!faces.is_empty(), "the deck has no tip face X1");
-    let mut area = 0.0;
-    let mut sum = 0.0;
-    for (e, f) in faces {
-        let el = &model.mesh.elements[e];
-        let x = model.mesh.element_coords(e);
-        let w = traction_face_load(el.kind, &x, f, [0.0, 1.0, 0.0]).expect("face exists");
-        for (a, v) in w {
-            area += v[1];
-            sum -= v[1] * u[3 * el.nodes[a] + 1];
-        }
-    }
+    let weight = common::face_weights(model, "X1");
+    let area: f64 = weight.iter().sum();
+    assert!(area > 0.0, "the deck has no tip face X1");
     assert!((area - B * H).abs() < 1e-9 * B * H, "tip face area {area}");
+    let sum: f64 = weight
+        .iter()
+        .enumerate()
+        .map(|(n, &w)| -w * u[3 * n + 1])
+        .sum();
     sum / area
 }
 
@@ -362,8 +363,8 @@ fn bar_default_takes_two_domains_and_matches_ccx_and_timoshenko() {
         "bar: the two paths differ by {between:.3e}"
     );
 
-    let kappa_cowper = 10.0 * (1.0 + NU) / (12.0 + 11.0 * NU);
-    let euler_bernoulli = P * L.powi(3) / (3.0 * E * B * H.powi(3) / 12.0);
+    let kappa_cowper = BEAM.cowper_kappa();
+    let euler_bernoulli = BEAM.euler_bernoulli();
     for (path, sol) in [("default (auto)", &auto), ("one factor (off)", &off)] {
         let delta = tip_deflection(&model, &sol.displacement);
         println!(
