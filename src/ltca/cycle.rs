@@ -368,6 +368,35 @@ impl LtcaCycle {
         self.solve_with(roll_deg, &self.settings)
     }
 
+    /// [`LtcaCycle::solve`] at every roll angle of `rolls_deg` (deg), in
+    /// that order, the positions solved side by side on the thread pool:
+    /// they are independent (each reads the tensors, their pages, the TCA
+    /// and the surfaces and writes only its own result), and each
+    /// position's own parallel sums have a fixed order, so the results are
+    /// those of solving one after the other, to the bit, on any number of
+    /// threads (unit test). A position's `time_s` is then its wall time
+    /// beside the others; the cycle's time per position is the whole
+    /// call's wall time over the positions. The first failing position's
+    /// error, in the order given.
+    pub fn solve_cycle(&self, rolls_deg: &[f64]) -> Result<Vec<PositionResult>, FlankError> {
+        self.solve_cycle_with(rolls_deg, &self.settings)
+    }
+
+    /// [`LtcaCycle::solve_cycle`] with other settings (as
+    /// [`LtcaCycle::solve_with`]).
+    pub fn solve_cycle_with(
+        &self,
+        rolls_deg: &[f64],
+        settings: &LtcaSettings,
+    ) -> Result<Vec<PositionResult>, FlankError> {
+        use rayon::prelude::*;
+        let all: Vec<_> = rolls_deg
+            .par_iter()
+            .map(|&a| self.solve_with(a, settings))
+            .collect();
+        all.into_iter().collect()
+    }
+
     /// [`LtcaCycle::solve`] with other settings (the wet–dry loop's μ per
     /// tooth pair, [`crate::ltca::lubricated`]).
     pub fn solve_with(
@@ -522,11 +551,9 @@ fn run_cycle(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, 
     let (mut angles, default_range) = roll_angles(scene, cycle.pair.as_ref(), options);
     let mid = cycle.pair.middle() - 1;
     let t_cycle = Instant::now();
-    let mut results: Vec<PositionResult> = angles
-        .iter()
-        .map(|&a| cycle.solve(a))
-        .collect::<Result<_, _>>()?;
+    let mut results = cycle.solve_cycle(&angles)?;
     let cycle_s = t_cycle.elapsed().as_secs_f64();
+    let positions_solved = results.len();
     let mut extended = 0;
     if default_range {
         let step = scene
@@ -629,8 +656,10 @@ fn run_cycle(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, 
     });
     let loops = iteration_limits(&results);
     notes.extend(loops.warnings());
-    let time_per_position_s =
-        results.iter().map(|r| r.time_s).sum::<f64>() / results.len().max(1) as f64;
+    // the positions run side by side: the wall time of the cycle over them
+    // (the extension and the bisection after it, one position at a time,
+    // are not in it)
+    let time_per_position_s = cycle_s / positions_solved.max(1) as f64;
     let worst = |f: fn(&PositionResult) -> f64| results.iter().map(f).fold(0.0f64, f64::max);
     let summary = serde_json::json!({
         "scene": scene.source.display().to_string(),
@@ -810,4 +839,71 @@ pub(crate) fn write_points_csv(path: &Path, results: &[PositionResult]) -> Resul
         }
     }
     crate::atomic_file::write(path, s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A position's result without its wall times (the only fields that
+    /// differ between runs).
+    fn answer(r: &PositionResult) -> serde_json::Value {
+        let mut v = serde_json::to_value(r).unwrap();
+        for k in ["time_s", "cells_s", "compliance_s", "local_s", "qp_s"] {
+            v.as_object_mut().unwrap().remove(k);
+        }
+        v
+    }
+
+    /// Positions solved side by side give, to the bit, the results of
+    /// solving them one after the other, on 1, 2 and 3 threads, in the
+    /// order asked; a failing position gives its own error.
+    #[test]
+    fn positions_side_by_side_give_the_bits_of_one_after_the_other() {
+        let scene = read_scene(Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/papers/seed002-spur/scene.toml"
+        )))
+        .unwrap();
+        let work = std::env::temp_dir().join(format!("flank_ltca_side_{}", std::process::id()));
+        let o = LtcaOptions {
+            out: work.join("bodies"),
+            mesh: BodyMeshOptions {
+                flank_size: Some(1.5),
+                base_size: Some(3.0),
+                ..Default::default()
+            },
+            points_per_line: Some(10),
+            quiet: true,
+            ..Default::default()
+        };
+        let cycle = LtcaCycle::new(&scene, &o).unwrap();
+        let (a, e) = cycle.pair.engagement(cycle.pair.middle());
+        let pitch = cycle.pair.pinion().angular_pitch().to_degrees();
+        let start = 0.5 * (a + e).to_degrees() - 0.5 * pitch;
+        let rolls: Vec<f64> = (0..12).map(|i| start + pitch * i as f64 / 12.0).collect();
+        let one_by_one: Vec<serde_json::Value> = rolls
+            .iter()
+            .map(|&r| answer(&cycle.solve(r).unwrap()))
+            .collect();
+        for threads in [1, 2, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let side = pool.install(|| cycle.solve_cycle(&rolls)).unwrap();
+            assert_eq!(side.len(), rolls.len());
+            for (k, (r, expected)) in side.iter().zip(&one_by_one).enumerate() {
+                assert_eq!(r.roll_deg, rolls[k]);
+                assert_eq!(&answer(r), expected, "{threads} threads, roll {}", rolls[k]);
+            }
+        }
+        // a roll angle off the gear pair's path is the error of that position
+        let mut bad = rolls.clone();
+        bad.insert(3, f64::NAN);
+        let one = cycle.solve(f64::NAN).unwrap_err().to_string();
+        let side = cycle.solve_cycle(&bad).unwrap_err().to_string();
+        assert_eq!(side, one);
+        let _ = std::fs::remove_dir_all(work);
+    }
 }
