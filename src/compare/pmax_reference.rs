@@ -10,9 +10,11 @@
 //! Richardson from the three finest with GCI_fine (Celik et al. 2008,
 //! F_s = 1.25, [`crate::grid_convergence::gci`]); an observed order outside
 //! [`ORDER_RANGE`] or no order keeps the finest value with 3 × the data
-//! range as uncertainty (Eça & Hoekstra 2014). Here a **non-monotone**
-//! sequence (changes of alternating sign) falls back too: two changes of
-//! opposite sign give an order but no asymptotic range. With fewer than
+//! range as uncertainty (Eça & Hoekstra 2014). Here two more cases fall
+//! back: a **non-monotone** sequence (changes of alternating sign give an
+//! order but no asymptotic range) and changes that **grow** under
+//! refinement, which Celik's eq. (2) turns into a positive order through
+//! its absolute value ([`shrinking_changes`]). With fewer than
 //! three sizes the finest value stands, its uncertainty the data range
 //! (none with one size), flagged.
 //!
@@ -34,6 +36,7 @@ use std::path::{Path, PathBuf};
 
 use super::reference::{estimate, DATA_RANGE_FACTOR, ORDER_RANGE};
 use crate::error::FlankError;
+use crate::grid_convergence::shrinking_changes;
 use crate::ltca::model::PositionResult;
 use crate::mesh_cycle::contact_band::{band_contacts, BandContact};
 use crate::scene::Scene;
@@ -82,7 +85,8 @@ pub struct Extrapolated {
     #[serde(serialize_with = "nan_as_null")]
     pub order: f64,
     /// `richardson`, `finest: order outside 0.5–4`, `finest: no order`,
-    /// `finest: not monotone`, `finest: fewer than 3 bands`.
+    /// `finest: not monotone`, `finest: changes grow`, `finest: fewer than
+    /// 3 bands`.
     pub method: String,
 }
 
@@ -343,6 +347,12 @@ fn extrapolate(h: &[f64], phi: &[f64]) -> Extrapolated {
                 .max((p3[1] - p3[2]).abs())
                 .max((p3[0] - p3[2]).abs());
         (p3[0], r, "finest: not monotone".to_string())
+    } else if !fell && !shrinking_changes(h3, p3, order) {
+        (
+            p3[0],
+            DATA_RANGE_FACTOR * (p3[0] - p3[2]).abs(),
+            "finest: changes grow".to_string(),
+        )
     } else if fell && order.is_finite() {
         (
             x,
@@ -431,7 +441,7 @@ pub fn markdown(s: &mut String, reference: &PmaxReference, runs: &[PmaxRun]) {
     let _ = writeln!(s, "\n## p_max against the contact-band FE reference\n");
     let _ = writeln!(
         s,
-        "Reference: FE contact with contact bands (`flank run --contact-band`, verification/contact_band), the largest face-averaged pressure **over the flank** per pair, per roll angle Richardson-extrapolated from the three finest bands with GCI_fine (Celik et al. 2008, F_s = 1.25); an order outside {}–{}, no order or a non-monotone sequence keeps the finest band's value with 3 × the data range as uncertainty; fewer than three bands: the finest value, uncertainty the data range. The mid-face value (node row nearest mid face width) is extrapolated the same way and shown beside it. The LTCA's p_max is the largest Hertz peak over the pair's points, solved at these roll angles. Pairs: pinion tooth of the scene's sector. The summary's p_max error of the LTCA runs is the largest |error| of this table.\n",
+        "Reference: FE contact with contact bands (`flank run --contact-band`, verification/contact_band), the largest face-averaged pressure **over the flank** per pair, per roll angle Richardson-extrapolated from the three finest bands with GCI_fine (Celik et al. 2008, F_s = 1.25); an order outside {}–{}, no order, a non-monotone sequence or changes that grow under refinement keep the finest band's value with 3 × the data range as uncertainty; fewer than three bands: the finest value, uncertainty the data range. The mid-face value (node row nearest mid face width) is extrapolated the same way and shown beside it. The LTCA's p_max is the largest Hertz peak over the pair's points, solved at these roll angles. Pairs: pinion tooth of the scene's sector. The summary's p_max error of the LTCA runs is the largest |error| of this table.\n",
         ORDER_RANGE.0, ORDER_RANGE.1
     );
     let mut head = "| roll (°) | pair | FE share | bands (mm) | reference p_max (MPa) | GCI | order | how | mid face (MPa) | Hertz p₀ (MPa) | 2b/size |".to_string();
@@ -605,6 +615,11 @@ mod tests {
         assert_eq!(x.value_mpa, 2340.5);
         assert!((x.uncertainty - 3.0 * 92.0 / 2340.5).abs() < 1e-12);
         assert!(x.order.is_nan());
+        // monotone but growing changes (pair 3 mid face there)
+        let x = extrapolate(&[0.05, 0.0707, 0.1], &[1528.4, 1482.6, 1448.3]);
+        assert_eq!(x.method, "finest: changes grow");
+        assert_eq!(x.value_mpa, 1528.4);
+        assert!((x.uncertainty - 3.0 * 80.1 / 1528.4).abs() < 1e-9);
     }
 
     /// Missing files, other JSON, another scene's contacts, differing pair
