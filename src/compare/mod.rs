@@ -595,6 +595,7 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
     Ok(json)
 }
 
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn markdown(
     source: &Path,
     angles: &[f64],
@@ -645,12 +646,17 @@ pub(crate) fn markdown(
     if pmax_bands {
         let _ = writeln!(s, "\np_max: the LTCA rows' p_max error is against the contact-band FE reference at its own roll angles (section \"p_max against the contact-band FE reference\" below); the column \"vs uniform {finest}\" is against the finest uniform FE run's p_max at the flank-contact positions of the roll grid, a mesh that does not resolve the Hertz width (kept for the record, not an LTCA error).");
     }
+    let pmax_uniform = if pmax_bands {
+        "p_max against uniform FE (its column)"
+    } else {
+        "p_max"
+    };
     match extrapolated {
         None => {
-            let _ = writeln!(s, "\nErrors are against {}; its own row is zero by definition. Load sharing: max |share difference| (fraction of the total normal force); TE: max relative difference; p_max: max relative difference over the flank-contact positions.", reference.label);
+            let _ = writeln!(s, "\nErrors are against {}; its own row is zero by definition. Load sharing: max |share difference| (fraction of the total normal force); TE: max relative difference; {pmax_uniform}: max relative difference over the flank-contact positions.", reference.label);
         }
         Some(x) => {
-            let _ = writeln!(s, "\nErrors are against {}: per position and pair the Richardson-extrapolated load share, and the extrapolated TE (Celik et al. 2008); every FE row, the finest included, is measured against it. p_max is not extrapolated: its reference is the finest run's. Load sharing: max |share difference| (fraction of the total normal force); TE: max relative difference; p_max: max relative difference over the flank-contact positions.", reference.label);
+            let _ = writeln!(s, "\nErrors are against {}: per position and pair the Richardson-extrapolated load share, and the extrapolated TE (Celik et al. 2008); every FE row, the finest included, is measured against it. {pmax_uniform} is not extrapolated: its reference is the finest run's. Load sharing: max |share difference| (fraction of the total normal force); TE: max relative difference; {pmax_uniform}: max relative difference over the flank-contact positions.", reference.label);
             let _ = writeln!(
                 s,
                 "\nUncertainty of the reference (GCI_fine, F_s = 1.25): load share ≤ {:.4}, TE ≤ {:.3} %; {} of the figures gave no trusted estimate (no order, or one outside 0.5–4) and keep the finest value with 3 × the spread of the three grids as uncertainty ({} of them did not change between the grids: a pair out of mesh). An LTCA error below the uncertainty is not resolved by this reference.",

@@ -196,12 +196,14 @@ fn scene_tooth(
 /// One band run at one position, its pairs in the scene's numbering:
 /// (pair, p_max, p_max mid face, share, Hertz p₀, elements across 2b).
 type RunPairs = Vec<(usize, f64, f64, f64, f64, f64)>;
+/// Per roll angle (key: the angle in units of [`ROLL_TOLERANCE`]): the
+/// angle and its runs (band size, file, pairs).
+type Groups = BTreeMap<i64, (f64, Vec<(f64, PathBuf, RunPairs)>)>;
 
 /// Reads the band runs `paths` (directories holding `contact_band.json`,
 /// or the files) for `scene` and builds the reference (module docs).
 pub fn load(paths: &[PathBuf], scene: &Scene) -> Result<PmaxReference, FlankError> {
-    // roll angle → [(band size, file, pairs)]
-    let mut groups: BTreeMap<i64, (f64, Vec<(f64, PathBuf, RunPairs)>)> = BTreeMap::new();
+    let mut groups = Groups::new();
     for p in paths {
         let file = band_file(p);
         let text = std::fs::read_to_string(&file).map_err(|e| {
