@@ -413,6 +413,12 @@ pub fn compare_scene(
 /// `compare.md` and `error_vs_time.{svg,png}` into `options.out`.
 pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Value, FlankError> {
     options.validate()?;
+    // the contact-band p_max reference, read before anything runs
+    let pmax_ref = if options.pmax_reference.is_empty() {
+        None
+    } else {
+        Some(pmax_reference::load(&options.pmax_reference, scene)?)
+    };
     let out = &options.out;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
     let gear_pair = scene.gear_pair()?;
@@ -421,12 +427,6 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
         .roll_angles_deg
         .clone()
         .unwrap_or_else(|| default_roll_angles(pair, options.roll_step_deg));
-    // the contact-band p_max reference, read before anything runs
-    let pmax_ref = if options.pmax_reference.is_empty() {
-        None
-    } else {
-        Some(pmax_reference::load(&options.pmax_reference, scene)?)
-    };
     let say = |m: String| {
         if !options.quiet {
             eprintln!("{m}");
@@ -510,7 +510,10 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
     }
     let pmax_against = match &pmax_ref {
         Some(_) => "FE with contact bands (extrapolated, over the flank)".to_string(),
-        None => format!("{} (uniform FE, not extrapolated)", reference.label),
+        None => format!(
+            "{} (uniform FE mesh, the finest run's p_max)",
+            fe.last().map_or("FE", |r| r.label.as_str())
+        ),
     };
     let best = best_ltca(&ltca);
     // each method's μ: the command line's, else its own scene section's
