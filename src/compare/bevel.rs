@@ -211,6 +211,10 @@ pub fn compare_bevel(
         "load_sharing_rel_err": best.load_sharing_err,
         "te_rel_err": best.te_rel_err,
         "pmax_rel_err": best.pmax_rel_err,
+        "pmax_reference": format!(
+            "{} (the finest run's p_max)",
+            fe.last().map_or("FE", |r| r.label.as_str())
+        ),
         "tangential_force_rel_err": best.tangential_force_err,
         "friction_mu": mu,
         "ltca_friction_model": (mu > 0.0).then_some(lo.friction_model),
