@@ -126,8 +126,8 @@ pub fn gci(h: [f64; 3], phi: [f64; 3], fs: f64) -> Result<Gci, GciIssue> {
     })
 }
 
-/// Whether order `p` describes convergence of `phi` on sizes `h` (fine,
-/// medium, coarse): Celik et al.'s eq. (2) takes |ln|ε32/ε21| + q(p)|,
+/// Whether order `p` describes convergence of the monotone `phi` on sizes
+/// `h` (fine, medium, coarse): Celik et al.'s eq. (2) takes |ln|ε32/ε21| + q(p)|,
 /// which also returns a positive p for changes that **grow** under
 /// refinement; the signed value ln|ε32/ε21| + q(p) is > 0 only where they
 /// shrink (for r21 = r32, |ε32| > |ε21|).
