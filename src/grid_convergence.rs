@@ -126,6 +126,20 @@ pub fn gci(h: [f64; 3], phi: [f64; 3], fs: f64) -> Result<Gci, GciIssue> {
     })
 }
 
+/// Whether order `p` describes convergence of the monotone `phi` on sizes
+/// `h` (fine, medium, coarse): Celik et al.'s eq. (2) takes |ln|ε32/ε21| + q(p)|,
+/// which also returns a positive p for changes that **grow** under
+/// refinement; the signed value ln|ε32/ε21| + q(p) is > 0 only where they
+/// shrink (for r21 = r32, |ε32| > |ε21|).
+pub fn shrinking_changes(h: [f64; 3], phi: [f64; 3], p: f64) -> bool {
+    let (r21, r32) = (h[1] / h[0], h[2] / h[1]);
+    let (e21, e32) = (phi[1] - phi[0], phi[2] - phi[1]);
+    let ratio = e32 / e21;
+    let s = ratio.signum();
+    let q = ((r21.powf(p) - s) / (r32.powf(p) - s)).ln();
+    ratio.abs().ln() + q > 0.0
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -176,6 +190,22 @@ mod tests {
             "{g:?}"
         );
         assert!((g.gci_fine.unwrap() - 0.0217).abs() < 0.0005, "{g:?}");
+    }
+
+    /// Growing changes (contact bands at −8.43°, pair 3 mid face:
+    /// 1448.3 / 1482.6 / 1528.4 MPa on 0.1 / 0.0707 / 0.05 mm) get an order
+    /// from eq. (2)'s absolute value, but are flagged; a power law is not.
+    #[test]
+    fn growing_changes_are_told_apart() {
+        let h = [0.05, 0.1 / 2f64.sqrt(), 0.1];
+        let phi = [1528.3832812794735, 1482.6, 1448.3];
+        let g = gci(h, phi, 1.25).unwrap();
+        assert!(g.order > 0.5, "{g:?}");
+        assert!(!shrinking_changes(h, phi, g.order));
+        let h = [0.1, 0.25, 0.5];
+        let phi = h.map(|x: f64| 7.0 + 0.8 * x.powf(1.5));
+        let g = gci(h, phi, 1.25).unwrap();
+        assert!(shrinking_changes(h, phi, g.order));
     }
 
     #[test]

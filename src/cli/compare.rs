@@ -56,6 +56,15 @@ pub struct Args {
     /// the scene's `[analyses.ltca] compression`, else none.
     #[arg(long)]
     compression: Option<String>,
+    /// p_max reference: contact-band FE runs (`flank run --roll-angles=X
+    /// --contact-band SIZE`), their output directories or contact_band.json
+    /// files, comma-separated. Grouped by roll angle; per angle and pair the
+    /// FE p_max over the flank is Richardson-extrapolated from the three
+    /// finest bands (GCI), else the finest band is used. The LTCA is solved
+    /// at those angles too, and its p_max error is stated against this
+    /// reference (spur pairs; the runs must be of this scene and load).
+    #[arg(long, value_delimiter = ',')]
+    pmax_reference: Vec<PathBuf>,
     /// Print nothing but errors.
     #[arg(long, short)]
     quiet: bool,
@@ -78,6 +87,7 @@ pub fn run(args: Args) -> Result<()> {
         increments,
         friction_model,
         compression,
+        pmax_reference,
         quiet,
     } = args;
     let compression = match compression {
@@ -107,6 +117,7 @@ pub fn run(args: Args) -> Result<()> {
         threads,
         quiet,
         friction_mu,
+        pmax_reference,
     };
     let s = match flank::scene::read_any_scene(&scene)? {
         flank::scene::AnyScene::Bevel(b) => {
@@ -139,12 +150,13 @@ pub fn run(args: Args) -> Result<()> {
     if !quiet {
         let f = |k: &str| s[k].as_f64().unwrap_or(f64::NAN);
         println!(
-            "best {} against {}: load sharing {:.4}, TE {:.4}, p_max {:.4}; LTCA cycle {:.4} s, FE cycle {:.1} s (+{:.1} s setup): {:.0}×",
+            "best {} against {}: load sharing {:.4}, TE {:.4}, p_max {:.4} (against {}); LTCA cycle {:.4} s, FE cycle {:.1} s (+{:.1} s setup): {:.0}×",
             s["best_ltca"].as_str().unwrap_or(""),
             s["reference"].as_str().unwrap_or(""),
             f("load_sharing_rel_err"),
             f("te_rel_err"),
             f("pmax_rel_err"),
+            s["pmax_reference"].as_str().unwrap_or(""),
             f("ltca_cycle_s"),
             f("fe_cycle_s"),
             f("fe_setup_s"),

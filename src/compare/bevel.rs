@@ -39,6 +39,11 @@ pub fn compare_bevel(
     ltca: &BevelLtcaOptions,
 ) -> Result<serde_json::Value, FlankError> {
     options.validate()?;
+    if !options.pmax_reference.is_empty() {
+        return Err(FlankError::Model(
+            "--pmax-reference: contact-band runs exist for spur pairs only, not for bevel/hypoid scenes".into(),
+        ));
+    }
     // the command line's μ, else the LTCA options' (the scene's)
     let mu = options.friction_mu.unwrap_or(ltca.friction_mu);
     let mut lo = ltca.clone();
@@ -98,6 +103,7 @@ pub fn compare_bevel(
             load_sharing_err: f64::NAN,
             te_rel_err: f64::NAN,
             pmax_rel_err: f64::NAN,
+            pmax_uniform_fe_rel_err: f64::NAN,
             tangential_force_err: f64::NAN,
         });
     }
@@ -163,6 +169,7 @@ pub fn compare_bevel(
             load_sharing_err: f64::NAN,
             te_rel_err: f64::NAN,
             pmax_rel_err: f64::NAN,
+            pmax_uniform_fe_rel_err: f64::NAN,
             tangential_force_err: f64::NAN,
         });
     }
@@ -184,6 +191,7 @@ pub fn compare_bevel(
         &reference,
         &every,
         extrapolated.as_ref(),
+        false,
     );
     if mu > 0.0 {
         super::friction_table(&mut md, mu, fe.iter().chain(&runs), &reference);
@@ -203,6 +211,10 @@ pub fn compare_bevel(
         "load_sharing_rel_err": best.load_sharing_err,
         "te_rel_err": best.te_rel_err,
         "pmax_rel_err": best.pmax_rel_err,
+        "pmax_reference": format!(
+            "{} (the finest run's p_max)",
+            fe.last().map_or("FE", |r| r.label.as_str())
+        ),
         "tangential_force_rel_err": best.tangential_force_err,
         "friction_mu": mu,
         "ltca_friction_model": (mu > 0.0).then_some(lo.friction_model),

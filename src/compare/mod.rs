@@ -41,6 +41,7 @@ use crate::scene::{read_scene, Scene};
 
 pub mod bevel;
 pub mod plot;
+pub mod pmax_reference;
 pub mod reference;
 
 use reference::{extrapolate, ExtrapolatedReference};
@@ -66,6 +67,10 @@ pub struct CompareOptions {
     /// `None`: each method's scene setting, 0 without one). With μ > 0 the
     /// tangential force per pair is compared too.
     pub friction_mu: Option<f64>,
+    /// Contact-band FE runs (`contact_band.json` files or their
+    /// directories) as the p_max reference ([`pmax_reference`]); empty: p_max
+    /// against the finest uniform FE run only.
+    pub pmax_reference: Vec<PathBuf>,
 }
 
 impl CompareOptions {
@@ -149,8 +154,15 @@ pub struct MethodRun {
     pub load_sharing_err: f64,
     #[serde(deserialize_with = "null_as_nan")]
     pub te_rel_err: f64,
+    /// max relative p_max error: an LTCA run's against the contact-band
+    /// reference when one is given ([`pmax_reference`]), else (and every
+    /// FE run's) against the finest uniform FE run.
     #[serde(deserialize_with = "null_as_nan")]
     pub pmax_rel_err: f64,
+    /// max relative p_max error against the finest uniform FE run over the
+    /// flank-contact positions (its p_max does not resolve the Hertz width).
+    #[serde(default = "nan", deserialize_with = "null_as_nan")]
+    pub pmax_uniform_fe_rel_err: f64,
     /// max |P_t − P_t,ref| / Σ P_n,ref over positions and pairs (NaN
     /// without friction).
     #[serde(default = "nan", deserialize_with = "null_as_nan")]
@@ -237,6 +249,7 @@ pub(crate) fn errors(run: &mut MethodRun, reference: &MethodRun, flank_positions
     run.load_sharing_err = ls;
     run.te_rel_err = te;
     run.pmax_rel_err = pm;
+    run.pmax_uniform_fe_rel_err = pm;
     run.tangential_force_err = if frictional { pt } else { f64::NAN };
 }
 
@@ -266,6 +279,7 @@ fn ltca_run(cycle: &LtcaCycle, angles: &[f64]) -> Result<MethodRun, FlankError> 
         load_sharing_err: f64::NAN,
         te_rel_err: f64::NAN,
         pmax_rel_err: f64::NAN,
+        pmax_uniform_fe_rel_err: f64::NAN,
         tangential_force_err: f64::NAN,
     })
 }
@@ -346,6 +360,7 @@ fn fe_run(
         load_sharing_err: f64::NAN,
         te_rel_err: f64::NAN,
         pmax_rel_err: f64::NAN,
+        pmax_uniform_fe_rel_err: f64::NAN,
         tangential_force_err: f64::NAN,
     })
 }
@@ -398,6 +413,12 @@ pub fn compare_scene(
 /// `compare.md` and `error_vs_time.{svg,png}` into `options.out`.
 pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Value, FlankError> {
     options.validate()?;
+    // the contact-band p_max reference, read before anything runs
+    let pmax_ref = if options.pmax_reference.is_empty() {
+        None
+    } else {
+        Some(pmax_reference::load(&options.pmax_reference, scene)?)
+    };
     let out = &options.out;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
     let gear_pair = scene.gear_pair()?;
@@ -443,11 +464,26 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
     lo.friction_mu = options.friction_mu.or(lo.friction_mu);
     let base = LtcaCycle::new(scene, &lo)?;
     let mut ltca = Vec::new();
+    let mut pmax_runs = Vec::new();
     for &k in &options.points_per_line {
         let c = base.with_points_per_line(scene, k)?;
         // one warm-up pass (page faults, thread pool), then the timed cycle
         let _ = c.solve(angles[angles.len() / 2])?;
-        ltca.push(ltca_run(&c, &angles)?);
+        let run = ltca_run(&c, &angles)?;
+        // the extra positions of the p_max reference, untimed
+        if let Some(x) = &pmax_ref {
+            let results = x
+                .roll_angles()
+                .into_iter()
+                .map(|a| {
+                    let r = c.solve(a)?;
+                    let f = c.pair_forces(&r);
+                    Ok((a, r, f))
+                })
+                .collect::<Result<Vec<_>, FlankError>>()?;
+            pmax_runs.push(pmax_reference::ltca_against(x, &run.label, &results));
+        }
+        ltca.push(run);
     }
     // flank-contact positions: every loaded pair inside its path of contact
     let (reference, extrapolated) = reference_of(&fe);
@@ -469,6 +505,16 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
     for r in fe.iter_mut().chain(ltca.iter_mut()) {
         errors(r, &reference, &flank_positions);
     }
+    for (r, p) in ltca.iter_mut().zip(&pmax_runs) {
+        r.pmax_rel_err = p.max_rel_err;
+    }
+    let pmax_against = match &pmax_ref {
+        Some(_) => "FE with contact bands (extrapolated, over the flank)".to_string(),
+        None => format!(
+            "{} (uniform FE mesh, the finest run's p_max)",
+            fe.last().map_or("FE", |r| r.label.as_str())
+        ),
+    };
     let best = best_ltca(&ltca);
     // each method's μ: the command line's, else its own scene section's
     let ltca_mu = base.settings.friction.as_ref().map_or(0.0, |f| f.mu);
@@ -494,6 +540,7 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
         &reference,
         &flank_positions,
         extrapolated.as_ref(),
+        pmax_ref.is_some(),
     );
     if ltca_mu.max(fe_mu) > 0.0 {
         friction_table(
@@ -505,6 +552,9 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
     }
     let per_position = position_errors(&angles, &best, &reference, extrapolated.as_ref());
     position_table(&mut md, &best.label, &per_position, [0.02, 0.02]);
+    if let Some(x) = &pmax_ref {
+        pmax_reference::markdown(&mut md, x, &pmax_runs);
+    }
     let p = out.join("compare.md");
     crate::atomic_file::write(&p, &md)?;
     let json = serde_json::json!({
@@ -518,6 +568,11 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
         "load_sharing_rel_err": best.load_sharing_err,
         "te_rel_err": best.te_rel_err,
         "pmax_rel_err": best.pmax_rel_err,
+        "pmax_reference": pmax_against,
+        "pmax_uniform_fe_rel_err": best.pmax_uniform_fe_rel_err,
+        "pmax_contact_band": pmax_ref.as_ref().map(|x| serde_json::json!({
+            "reference": x.pairs, "ltca": pmax_runs,
+        })),
         "tangential_force_rel_err": best.tangential_force_err,
         "friction_mu": ltca_mu,
         "fe_friction_mu": fe_mu,
@@ -543,6 +598,7 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
     Ok(json)
 }
 
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn markdown(
     source: &Path,
     angles: &[f64],
@@ -551,6 +607,7 @@ pub(crate) fn markdown(
     reference: &MethodRun,
     flank_positions: &[bool],
     extrapolated: Option<&ExtrapolatedReference>,
+    pmax_bands: bool,
 ) -> String {
     use std::fmt::Write;
     let mut s = String::new();
@@ -564,27 +621,45 @@ pub(crate) fn markdown(
         reference.label,
         flank_positions.iter().filter(|&&b| b).count()
     );
-    let _ = writeln!(s, "| run | load sharing err | TE rel err | p_max rel err | cycle (s) | per position (s) | setup (s) |");
-    let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|---:|");
+    let finest = fe.last().map_or(String::new(), |r| r.label.clone());
+    if pmax_bands {
+        let _ = writeln!(s, "| run | load sharing err | TE rel err | p_max rel err (contact bands) | p_max rel err vs uniform {finest} | cycle (s) | per position (s) | setup (s) |");
+        let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|---:|---:|");
+    } else {
+        let _ = writeln!(s, "| run | load sharing err | TE rel err | p_max rel err | cycle (s) | per position (s) | setup (s) |");
+        let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|---:|");
+    }
     for r in fe.iter().chain(ltca) {
+        let pmax = match (pmax_bands, r.method.as_str()) {
+            (false, _) => format!("{:.4}", r.pmax_rel_err),
+            (true, "ltca") => format!("{:.4} | {:.4}", r.pmax_rel_err, r.pmax_uniform_fe_rel_err),
+            (true, _) => format!("— | {:.4}", r.pmax_uniform_fe_rel_err),
+        };
         let _ = writeln!(
             s,
-            "| {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.5} | {:.1} |",
+            "| {} | {:.4} | {:.4} | {pmax} | {:.4} | {:.5} | {:.1} |",
             r.label,
             r.load_sharing_err,
             r.te_rel_err,
-            r.pmax_rel_err,
             r.cycle_s,
             r.cycle_s / angles.len().max(1) as f64,
             r.setup_s
         );
     }
+    if pmax_bands {
+        let _ = writeln!(s, "\np_max: the LTCA rows' p_max error is against the contact-band FE reference at its own roll angles (section \"p_max against the contact-band FE reference\" below); the column \"vs uniform {finest}\" is against the finest uniform FE run's p_max at the flank-contact positions of the roll grid, a mesh that does not resolve the Hertz width (kept for the record, not an LTCA error).");
+    }
+    let pmax_uniform = if pmax_bands {
+        "p_max against uniform FE (its column)"
+    } else {
+        "p_max"
+    };
     match extrapolated {
         None => {
-            let _ = writeln!(s, "\nErrors are against {}; its own row is zero by definition. Load sharing: max |share difference| (fraction of the total normal force); TE: max relative difference; p_max: max relative difference over the flank-contact positions.", reference.label);
+            let _ = writeln!(s, "\nErrors are against {}; its own row is zero by definition. Load sharing: max |share difference| (fraction of the total normal force); TE: max relative difference; {pmax_uniform}: max relative difference over the flank-contact positions.", reference.label);
         }
         Some(x) => {
-            let _ = writeln!(s, "\nErrors are against {}: per position and pair the Richardson-extrapolated load share, and the extrapolated TE (Celik et al. 2008); every FE row, the finest included, is measured against it. p_max is not extrapolated: its reference is the finest run's. Load sharing: max |share difference| (fraction of the total normal force); TE: max relative difference; p_max: max relative difference over the flank-contact positions.", reference.label);
+            let _ = writeln!(s, "\nErrors are against {}: per position and pair the Richardson-extrapolated load share, and the extrapolated TE (Celik et al. 2008); every FE row, the finest included, is measured against it. {pmax_uniform} is not extrapolated: its reference is the finest run's. Load sharing: max |share difference| (fraction of the total normal force); TE: max relative difference; {pmax_uniform}: max relative difference over the flank-contact positions.", reference.label);
             let _ = writeln!(
                 s,
                 "\nUncertainty of the reference (GCI_fine, F_s = 1.25): load share ≤ {:.4}, TE ≤ {:.3} %; {} of the figures gave no trusted estimate (no order, or one outside 0.5–4) and keep the finest value with 3 × the spread of the three grids as uncertainty ({} of them did not change between the grids: a pair out of mesh). An LTCA error below the uncertainty is not resolved by this reference.",

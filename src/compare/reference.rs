@@ -27,7 +27,7 @@ const SAFETY_FACTOR: f64 = 1.25;
 /// unrealistically high.
 pub const ORDER_RANGE: (f64, f64) = (0.5, 4.0);
 /// Safety factor on the data range where the order is not trusted.
-const DATA_RANGE_FACTOR: f64 = 3.0;
+pub(crate) const DATA_RANGE_FACTOR: f64 = 3.0;
 
 /// The extrapolated reference and its uncertainty.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -60,7 +60,7 @@ pub struct ExtrapolatedReference {
 /// One figure from three grids (values finest first): the extrapolated
 /// value, its absolute uncertainty, its observed order (NaN where none came
 /// out), and whether it fell back / did not change.
-fn estimate(h: [f64; 3], phi: [f64; 3]) -> (f64, f64, f64, bool, bool) {
+pub(crate) fn estimate(h: [f64; 3], phi: [f64; 3]) -> (f64, f64, f64, bool, bool) {
     let range = DATA_RANGE_FACTOR
         * (phi[0] - phi[1])
             .abs()
@@ -154,6 +154,7 @@ mod tests {
             load_sharing_err: f64::NAN,
             te_rel_err: f64::NAN,
             pmax_rel_err: f64::NAN,
+            pmax_uniform_fe_rel_err: f64::NAN,
             tangential_force_err: f64::NAN,
         }
     }
