@@ -51,7 +51,8 @@ pub enum GciIssue {
     NoChange,
     /// The order iteration did not settle within the bound.
     NotConverged,
-    /// p came out ≤ 0 (the results diverge with refinement).
+    /// The changes grow under refinement (the signed order of eq. (2),
+    /// without its absolute value, is ≤ 0; given here).
     Diverging(f64),
 }
 
@@ -107,8 +108,13 @@ pub fn gci(h: [f64; 3], phi: [f64; 3], fs: f64) -> Result<Gci, GciIssue> {
     if !settled {
         return Err(GciIssue::NotConverged);
     }
-    if !(p > 0.0) {
-        return Err(GciIssue::Diverging(p));
+    // eq. (2)'s absolute value also gives a positive p to changes that
+    // grow under refinement (|ε21| > |ε32| at r21 = r32): the signed
+    // value (ln|ε32/ε21| + q(p)) / ln r21 is > 0 only where they shrink
+    let q = ((r21.powf(p) - s) / (r32.powf(p) - s)).ln();
+    let signed = (a + q) / r21.ln();
+    if !(p > 0.0) || !(signed > 0.0) {
+        return Err(GciIssue::Diverging(signed));
     }
     let rp = r21.powf(p);
     let extrapolated = (rp * phi[0] - phi[1]) / (rp - 1.0);
@@ -124,20 +130,6 @@ pub fn gci(h: [f64; 3], phi: [f64; 3], fs: f64) -> Result<Gci, GciIssue> {
         oscillatory: s < 0.0,
         iterations,
     })
-}
-
-/// Whether order `p` describes convergence of the monotone `phi` on sizes
-/// `h` (fine, medium, coarse): Celik et al.'s eq. (2) takes |ln|ε32/ε21| + q(p)|,
-/// which also returns a positive p for changes that **grow** under
-/// refinement; the signed value ln|ε32/ε21| + q(p) is > 0 only where they
-/// shrink (for r21 = r32, |ε32| > |ε21|).
-pub fn shrinking_changes(h: [f64; 3], phi: [f64; 3], p: f64) -> bool {
-    let (r21, r32) = (h[1] / h[0], h[2] / h[1]);
-    let (e21, e32) = (phi[1] - phi[0], phi[2] - phi[1]);
-    let ratio = e32 / e21;
-    let s = ratio.signum();
-    let q = ((r21.powf(p) - s) / (r32.powf(p) - s)).ln();
-    ratio.abs().ln() + q > 0.0
 }
 
 #[cfg(test)]
@@ -193,19 +185,29 @@ mod tests {
     }
 
     /// Growing changes (contact bands at −8.43°, pair 3 mid face:
-    /// 1448.3 / 1482.6 / 1528.4 MPa on 0.1 / 0.0707 / 0.05 mm) get an order
-    /// from eq. (2)'s absolute value, but are flagged; a power law is not.
+    /// 1448.3 / 1482.6 / 1528.4 MPa on 0.1 / 0.0707 / 0.05 mm) are
+    /// diverging, though eq. (2)'s absolute value gives them an order; a
+    /// power law is not, and neither are equal ratios with shrinking
+    /// changes.
     #[test]
-    fn growing_changes_are_told_apart() {
+    fn growing_changes_are_diverging() {
         let h = [0.05, 0.1 / 2f64.sqrt(), 0.1];
         let phi = [1528.3832812794735, 1482.6, 1448.3];
-        let g = gci(h, phi, 1.25).unwrap();
-        assert!(g.order > 0.5, "{g:?}");
-        assert!(!shrinking_changes(h, phi, g.order));
+        assert!(matches!(gci(h, phi, 1.25), Err(GciIssue::Diverging(p)) if p < 0.0));
+        // growing, equal ratios, both signs of the changes
+        let h = [0.1, 0.2, 0.4];
+        assert!(matches!(
+            gci(h, [1.0, 1.4, 1.6], 1.25),
+            Err(GciIssue::Diverging(_))
+        ));
+        assert!(matches!(
+            gci(h, [1.0, 0.6, 0.8], 1.25),
+            Err(GciIssue::Diverging(_))
+        ));
         let h = [0.1, 0.25, 0.5];
         let phi = h.map(|x: f64| 7.0 + 0.8 * x.powf(1.5));
         let g = gci(h, phi, 1.25).unwrap();
-        assert!(shrinking_changes(h, phi, g.order));
+        assert!((g.order - 1.5).abs() < 1e-9, "{g:?}");
     }
 
     #[test]

@@ -254,11 +254,9 @@ pub(crate) fn errors(run: &mut MethodRun, reference: &MethodRun, flank_positions
 }
 
 fn ltca_run(cycle: &LtcaCycle, angles: &[f64]) -> Result<MethodRun, FlankError> {
+    // as `flank ltca` runs a cycle: the positions side by side
     let t = Instant::now();
-    let results: Vec<PositionResult> = angles
-        .iter()
-        .map(|&a| cycle.solve(a))
-        .collect::<Result<_, _>>()?;
+    let results: Vec<PositionResult> = cycle.solve_cycle(angles)?;
     let cycle_s = t.elapsed().as_secs_f64();
     Ok(MethodRun {
         method: "ltca".into(),

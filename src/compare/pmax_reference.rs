@@ -14,7 +14,8 @@
 //! back: a **non-monotone** sequence (changes of alternating sign give an
 //! order but no asymptotic range) and changes that **grow** under
 //! refinement, which Celik's eq. (2) turns into a positive order through
-//! its absolute value ([`shrinking_changes`]). With fewer than
+//! its absolute value ([`crate::grid_convergence::gci`] says
+//! `Diverging` there). With fewer than
 //! three sizes the finest value stands, its uncertainty the data range
 //! (none with one size), flagged.
 //!
@@ -36,7 +37,6 @@ use std::path::{Path, PathBuf};
 
 use super::reference::{estimate, DATA_RANGE_FACTOR, ORDER_RANGE};
 use crate::error::FlankError;
-use crate::grid_convergence::shrinking_changes;
 use crate::ltca::model::PositionResult;
 use crate::mesh_cycle::contact_band::{band_contacts, BandContact};
 use crate::scene::Scene;
@@ -349,12 +349,11 @@ fn extrapolate(h: &[f64], phi: &[f64]) -> Extrapolated {
                 .max((p3[1] - p3[2]).abs())
                 .max((p3[0] - p3[2]).abs());
         (p3[0], r, "finest: not monotone".to_string())
-    } else if !fell && !shrinking_changes(h3, p3, order) {
-        (
-            p3[0],
-            DATA_RANGE_FACTOR * (p3[0] - p3[2]).abs(),
-            "finest: changes grow".to_string(),
-        )
+    } else if matches!(
+        crate::grid_convergence::gci(h3, p3, 1.25),
+        Err(crate::grid_convergence::GciIssue::Diverging(_))
+    ) {
+        (x, u, "finest: changes grow".to_string())
     } else if fell && order.is_finite() {
         (
             x,
