@@ -4,26 +4,13 @@
 //! compared, friction lowers the total normal force in both, bad μ is a
 //! clear error naming the flag.
 
-use std::path::PathBuf;
-use std::process::Command;
+mod common;
 
-fn flank(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_flank"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("flank runs");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::cli::flank;
+use std::path::PathBuf;
 
 fn dir(name: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("cli_compare_friction_{name}"));
-    let _ = std::fs::remove_dir_all(&d);
-    d
+    common::cli::scratch_dir("cli_compare_friction", name)
 }
 
 /// The coarse hypoid comparison at μ (`None`: without the flag).

@@ -5,29 +5,16 @@
 //! Coarse seed 002 (flank 2 mm FE and tensors, one position), synthetic
 //! band runs at the scene's kinematic contact of one-tooth sectors.
 
+mod common;
+
+use common::cli::flank;
 use std::path::PathBuf;
-use std::process::Command;
 
 use flank::mesh_cycle::contact_band::band_contacts;
 use flank::scene::read_scene;
 
-fn flank(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_flank"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("flank runs");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
 fn dir(name: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("cli_compare_pmax_{name}"));
-    let _ = std::fs::remove_dir_all(&d);
-    d
+    common::cli::scratch_dir("cli_compare_pmax", name)
 }
 
 const SCENE: &str = "papers/seed002-spur/scene.toml";

@@ -2,26 +2,13 @@
 //! line (seed 002 scene, coarse meshes): their files and summary keys; bad
 //! `[analyses.ltca]` keys and bad options are clear errors.
 
-use std::path::PathBuf;
-use std::process::Command;
+mod common;
 
-fn flank(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_flank"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
-}
+use common::cli::flank;
+use std::path::PathBuf;
 
 fn dir(name: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("cli_ltca_{name}"));
-    let _ = std::fs::remove_dir_all(&d);
-    d
+    common::cli::scratch_dir("cli_ltca", name)
 }
 
 #[test]

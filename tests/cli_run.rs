@@ -3,20 +3,9 @@
 //! summary keys; a scene without `[analyses] contact` and a bad option are
 //! clear errors.
 
-use std::process::Command;
+mod common;
 
-fn flank(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_flank"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
-}
+use common::cli::flank;
 
 #[test]
 fn run_writes_the_mesh_cycle_files() {

@@ -1,5 +1,9 @@
-//! Shared by the integration tests of the seed 002 LTCA on a coarse
-//! compliance mesh (`ltca_compressed.rs`, `ltca_flank_region.rs`).
+//! Shared by the integration tests: the seed 002 LTCA on a coarse
+//! compliance mesh (`ltca_compressed.rs`, `ltca_flank_region.rs`) and
+//! running the binary ([`cli`]). Each test crate uses a part of it.
+#![allow(dead_code)]
+
+pub mod cli;
 
 use std::path::{Path, PathBuf};
 
