@@ -470,15 +470,16 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Va
         let run = ltca_run(&c, &angles)?;
         // the extra positions of the p_max reference, untimed
         if let Some(x) = &pmax_ref {
-            let results = x
-                .roll_angles()
+            let rolls = x.roll_angles();
+            let results: Vec<_> = c
+                .solve_cycle(&rolls)?
                 .into_iter()
-                .map(|a| {
-                    let r = c.solve(a)?;
+                .zip(rolls)
+                .map(|(r, a)| {
                     let f = c.pair_forces(&r);
-                    Ok((a, r, f))
+                    (a, r, f)
                 })
-                .collect::<Result<Vec<_>, FlankError>>()?;
+                .collect();
             pmax_runs.push(pmax_reference::ltca_against(x, &run.label, &results));
         }
         ltca.push(run);

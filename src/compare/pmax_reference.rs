@@ -35,8 +35,9 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use super::reference::{estimate, DATA_RANGE_FACTOR, ORDER_RANGE};
+use super::reference::{data_range, estimate, ORDER_RANGE};
 use crate::error::FlankError;
+use crate::grid_convergence::GciIssue;
 use crate::ltca::model::PositionResult;
 use crate::mesh_cycle::contact_band::{band_contacts, BandContact};
 use crate::scene::Scene;
@@ -340,19 +341,11 @@ fn extrapolate(h: &[f64], phi: &[f64]) -> Extrapolated {
         };
     }
     let (h3, p3) = ([h[0], h[1], h[2]], [phi[0], phi[1], phi[2]]);
-    let (x, u, order, fell, _) = estimate(h3, p3);
+    let (x, u, order, fell, issue) = estimate(h3, p3);
     let oscillating = (p3[0] - p3[1]) * (p3[1] - p3[2]) < 0.0;
     let (value, u, method) = if oscillating {
-        let r = DATA_RANGE_FACTOR
-            * (p3[0] - p3[1])
-                .abs()
-                .max((p3[1] - p3[2]).abs())
-                .max((p3[0] - p3[2]).abs());
-        (p3[0], r, "finest: not monotone".to_string())
-    } else if matches!(
-        crate::grid_convergence::gci(h3, p3, 1.25),
-        Err(crate::grid_convergence::GciIssue::Diverging(_))
-    ) {
+        (p3[0], data_range(p3), "finest: not monotone".to_string())
+    } else if matches!(issue, Some(GciIssue::Diverging(_))) {
         (x, u, "finest: changes grow".to_string())
     } else if fell && order.is_finite() {
         (

@@ -27,7 +27,17 @@ const SAFETY_FACTOR: f64 = 1.25;
 /// unrealistically high.
 pub const ORDER_RANGE: (f64, f64) = (0.5, 4.0);
 /// Safety factor on the data range where the order is not trusted.
-pub(crate) const DATA_RANGE_FACTOR: f64 = 3.0;
+const DATA_RANGE_FACTOR: f64 = 3.0;
+
+/// The uncertainty of a figure without a trusted order: 3 × the largest
+/// difference between the three grids (Eça & Hoekstra 2014).
+pub(crate) fn data_range(phi: [f64; 3]) -> f64 {
+    DATA_RANGE_FACTOR
+        * (phi[0] - phi[1])
+            .abs()
+            .max((phi[1] - phi[2]).abs())
+            .max((phi[0] - phi[2]).abs())
+}
 
 /// The extrapolated reference and its uncertainty.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -59,20 +69,17 @@ pub struct ExtrapolatedReference {
 
 /// One figure from three grids (values finest first): the extrapolated
 /// value, its absolute uncertainty, its observed order (NaN where none came
-/// out), and whether it fell back / did not change.
-pub(crate) fn estimate(h: [f64; 3], phi: [f64; 3]) -> (f64, f64, f64, bool, bool) {
-    let range = DATA_RANGE_FACTOR
-        * (phi[0] - phi[1])
-            .abs()
-            .max((phi[1] - phi[2]).abs())
-            .max((phi[0] - phi[2]).abs());
+/// out), whether it fell back, and why no order came out (none where one
+/// did, trusted or not).
+pub(crate) fn estimate(h: [f64; 3], phi: [f64; 3]) -> (f64, f64, f64, bool, Option<GciIssue>) {
+    let range = data_range(phi);
     match gci(h, phi, SAFETY_FACTOR) {
         Ok(g) if g.order >= ORDER_RANGE.0 && g.order <= ORDER_RANGE.1 => {
             let u = g.gci_fine.map_or(range, |x| x * phi[0].abs());
-            (g.extrapolated, u, g.order, false, false)
+            (g.extrapolated, u, g.order, false, None)
         }
-        Ok(g) => (phi[0], range, g.order, true, false),
-        Err(issue) => (phi[0], range, f64::NAN, true, issue == GciIssue::NoChange),
+        Ok(g) => (phi[0], range, g.order, true, None),
+        Err(issue) => (phi[0], range, f64::NAN, true, Some(issue)),
     }
 }
 
@@ -103,17 +110,17 @@ pub fn extrapolate(fe: &[MethodRun]) -> Option<ExtrapolatedReference> {
         let mut forces = Vec::new();
         let mut u = Vec::new();
         for p in 0..s[0].len() {
-            let (x, ux, _, fell, same) = estimate(h, [s[0][p], s[1][p], s[2][p]]);
+            let (x, ux, _, fell, issue) = estimate(h, [s[0][p], s[1][p], s[2][p]]);
             fallbacks += usize::from(fell);
-            unchanged += usize::from(same);
+            unchanged += usize::from(issue == Some(GciIssue::NoChange));
             forces.push(x * total);
             u.push(ux);
         }
         run.pair_force_n[i] = forces;
         share_u.push(u);
-        let (te, ute, p, fell, same) = estimate(h, [f1.te_urad[i], f2.te_urad[i], f3.te_urad[i]]);
+        let (te, ute, p, fell, issue) = estimate(h, [f1.te_urad[i], f2.te_urad[i], f3.te_urad[i]]);
         fallbacks += usize::from(fell);
-        unchanged += usize::from(same);
+        unchanged += usize::from(issue == Some(GciIssue::NoChange));
         run.te_urad[i] = te;
         te_u.push(if te != 0.0 { ute / te.abs() } else { f64::NAN });
         te_p.push(p);
