@@ -1,6 +1,6 @@
 //! LTCA of the seed 002 pair with the compliance tensors in memory
 //! (`flank::ltca`): one roll position in double and in single contact, and
-//! a whole mesh cycle of 30 positions (issue target: < 0.1 s), at K = 20:
+//! a whole mesh cycle of 30 positions (issue target: < 0.1 s), at K = 20 (by default):
 //! one position after the other, and side by side on the thread pool as
 //! `flank ltca` runs it (`LtcaCycle::solve_cycle`).
 //!
@@ -12,7 +12,14 @@
 //! and at the end the memory of the paged tensor blocks F is read from
 //! (`flank::compliance::pages`). `FLANK_LTCA_BENCH_COMPRESSION=1e-6` builds
 //! the tensors compressed from the factor (as `flank ltca --compression`)
-//! and times the LTCA on them. Figures: benches/README.md.
+//! and times the LTCA on them. `FLANK_LTCA_BENCH_FLANK_SIZE` (mm, default
+//! 0.475) and `FLANK_LTCA_BENCH_K` (default 20) set the flank mesh and the
+//! points per line, `FLANK_LTCA_BENCH_BODIES` the folder the bodies and
+//! their tensors are written to and read back from (default
+//! target/ltca-bench/bodies): issue 23's accuracy needs the paper's 0.1 mm
+//! tensors, whose compressed build takes minutes, so a folder of
+//! `flank compare … --flank-size 0.1 --compression 1e-6` (its
+//! `ltca_bodies`) can be reused. Figures: benches/README.md.
 
 use std::path::Path;
 
@@ -32,15 +39,25 @@ fn bench(c: &mut Criterion) {
         s.parse()
             .expect("FLANK_LTCA_BENCH_COMPRESSION: none or ε, e.g. 1e-6")
     });
+    let flank_size: f64 = std::env::var("FLANK_LTCA_BENCH_FLANK_SIZE").map_or(0.475, |s| {
+        s.parse()
+            .expect("FLANK_LTCA_BENCH_FLANK_SIZE: the flank element size in mm, e.g. 0.1")
+    });
+    let k: usize = std::env::var("FLANK_LTCA_BENCH_K").map_or(20, |s| {
+        s.parse()
+            .expect("FLANK_LTCA_BENCH_K: points per contact line, e.g. 5")
+    });
+    let bodies = std::env::var("FLANK_LTCA_BENCH_BODIES")
+        .map_or_else(|_| work.join("bodies"), std::path::PathBuf::from);
     let o = LtcaOptions {
         compression,
-        out: work.join("bodies"),
+        out: bodies,
         mesh: BodyMeshOptions {
-            flank_size: Some(0.475),
+            flank_size: Some(flank_size),
             base_size: Some(1.0),
             ..Default::default()
         },
-        points_per_line: Some(20),
+        points_per_line: Some(k),
         cache: Some(work.join("cache")),
         quiet: true,
         ..Default::default()
@@ -97,7 +114,7 @@ fn bench(c: &mut Criterion) {
     let pitch = cycle.pair.pinion().angular_pitch().to_degrees();
     let start = 0.5 * (a + e).to_degrees() - 0.5 * pitch;
     let angles: Vec<f64> = (0..30).map(|i| start + pitch * i as f64 / 30.0).collect();
-    let mut g = c.benchmark_group("ltca_seed002_K20");
+    let mut g = c.benchmark_group(format!("ltca_seed002_flank{flank_size}_K{k}"));
     g.sample_size(10);
     g.bench_function("position_double_contact", |b| {
         b.iter(|| cycle.solve(double).unwrap())
