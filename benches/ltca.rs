@@ -47,8 +47,11 @@ fn bench(c: &mut Criterion) {
         s.parse()
             .expect("FLANK_LTCA_BENCH_K: points per contact line, e.g. 5")
     });
-    let bodies = std::env::var("FLANK_LTCA_BENCH_BODIES")
-        .map_or_else(|_| work.join("bodies"), std::path::PathBuf::from);
+    // a given bodies' folder is read as `flank ltca --out` reads it (no
+    // cache: a cache file would take precedence over the folder's tensors)
+    let given = std::env::var("FLANK_LTCA_BENCH_BODIES").ok();
+    let cache = given.is_none().then(|| work.join("cache"));
+    let bodies = given.map_or_else(|| work.join("bodies"), std::path::PathBuf::from);
     let o = LtcaOptions {
         compression,
         out: bodies,
@@ -58,7 +61,7 @@ fn bench(c: &mut Criterion) {
             ..Default::default()
         },
         points_per_line: Some(k),
-        cache: Some(work.join("cache")),
+        cache,
         quiet: true,
         ..Default::default()
     };

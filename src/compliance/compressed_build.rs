@@ -18,8 +18,10 @@
 //! The solves are restricted to the reach of the flank DOFs in the
 //! factor's elimination tree ([`crate::fem::solver::SolveReach`]): the
 //! forward substitution visits only the ancestors of the panel's 192 DOFs,
-//! the backward one the flank DOFs' ancestors, not the whole factor; the
-//! rows kept are exactly the full solve's (same arithmetic on them). The
+//! the backward one the ancestors of the flank DOFs of pages r ≥ q (the
+//! blocks the panel keeps; [`crate::fem::solver::SolveReach::wanted`]), not
+//! the whole factor; the rows kept are exactly the full solve's (same
+//! arithmetic on them). The
 //! factor uses one fill-reducing ordering of all DOFs (the blocked
 //! method's): the Schur method's ordering, flank DOFs last, would make
 //! the factor's trailing block the dense m × m matrix avoided here.
@@ -218,12 +220,23 @@ impl BlrTensor {
                         k - 1
                     }));
                 }
-                // X: the solutions on the reach's rows (else all rows)
+                // X: the solutions on the reach's rows (else all rows);
+                // only pages r ≥ q are kept, so the backward substitution
+                // skips the supernodes only the earlier pages need
                 let x = match &reach {
                     Some(reach) => {
                         let refs: Vec<&[(usize, f64)]> =
                             units.iter().map(|u| u.as_slice()).collect();
-                        factor.chol.solve_restricted(reach, &refs, Par::Seq)
+                        let kept: Vec<usize> = order[q * PAGE..]
+                            .iter()
+                            .flat_map(|&a| (0..3).filter_map(move |s| red[3 * a as usize + s]))
+                            .collect();
+                        let wanted = reach
+                            .wanted(&kept)
+                            .map_err(|e| FlankError::Model(format!("compliance panel {q}: {e}")))?;
+                        factor
+                            .chol
+                            .solve_restricted_to(reach, &refs, &wanted, Par::Seq)
                     }
                     None => {
                         let mut x = faer::Mat::<f64>::zeros(factor.n, units.len());

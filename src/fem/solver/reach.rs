@@ -84,6 +84,28 @@ impl SparseCholesky {
         })
     }
 
+    /// [`solve_restricted`](Self::solve_restricted) where only the rows of
+    /// the supernodes flagged in `wanted` ([`SolveReach::wanted`]: a set
+    /// closed under parent) are read: the backward substitution skips the
+    /// others, whose rows are returned as zeros. The wanted rows are exactly
+    /// those of `solve_restricted` (a row of x depends only on the rows of
+    /// its supernode's ancestors). The compliance panels use it: panel q
+    /// keeps only the blocks of pages r ≥ q.
+    pub fn solve_restricted_to(
+        &self,
+        reach: &SolveReach,
+        columns: &[&[(usize, f64)]],
+        wanted: &[bool],
+        par: Par,
+    ) -> faer::Mat<f64> {
+        assert_eq!(
+            wanted.len(),
+            reach.supernodes.len(),
+            "one flag per supernode of the reach"
+        );
+        self.solve_restricted_with(reach, columns, Some(wanted), par)
+    }
+
     /// Rows `reach` of the solutions X of A X = B for sparse right-hand
     /// sides: `columns[j]` lists the non-zeros `(dof, value)` of column j
     /// (repeated DOFs add up), every `dof` inside `reach`. Returns the
@@ -97,6 +119,16 @@ impl SparseCholesky {
         &self,
         reach: &SolveReach,
         columns: &[&[(usize, f64)]],
+        par: Par,
+    ) -> faer::Mat<f64> {
+        self.solve_restricted_with(reach, columns, None, par)
+    }
+
+    fn solve_restricted_with(
+        &self,
+        reach: &SolveReach,
+        columns: &[&[(usize, f64)]],
+        wanted: Option<&[bool]>,
         par: Par,
     ) -> faer::Mat<f64> {
         assert!(self.factorized, "solve before a successful factorization");
@@ -129,7 +161,7 @@ impl SparseCholesky {
                         w[(reach.local[d], j)] += x;
                     }
                 }
-                restricted_substitutions(s, v, reach, &active, w.as_mut(), par);
+                restricted_substitutions(s, v, reach, &active, wanted, w.as_mut(), par);
                 w
             }
             FactorValues::Single(v) => {
@@ -139,7 +171,7 @@ impl SparseCholesky {
                         w[(reach.local[d], j)] += x as f32;
                     }
                 }
-                restricted_substitutions(s, v, reach, &active, w.as_mut(), par);
+                restricted_substitutions(s, v, reach, &active, wanted, w.as_mut(), par);
                 faer::Mat::from_fn(reach.rows(), k, |i, j| w[(i, j)] as f64)
             }
         }
@@ -227,6 +259,25 @@ impl SolveReach {
     pub fn touched_fraction(&self) -> f64 {
         self.touched_nnz as f64 / self.factor_nnz.max(1) as f64
     }
+
+    /// The supernodes of the reach (flags by position) whose rows a
+    /// solution on the reduced DOFs `dofs` needs: those holding them and
+    /// their ancestors, for [`SparseCholesky::solve_restricted_to`]. An
+    /// error names a DOF outside the reach.
+    pub fn wanted(&self, dofs: &[usize]) -> Result<Vec<bool>, String> {
+        let mut flags = vec![false; self.supernodes.len()];
+        for &d in dofs {
+            let Some(l) = self.local(d) else {
+                return Err(format!("DOF {d} outside the reach"));
+            };
+            let mut p = self.offsets.partition_point(|&o| o <= l) - 1;
+            while p != NONE && !flags[p] {
+                flags[p] = true;
+                p = self.parent[p];
+            }
+        }
+        Ok(flags)
+    }
 }
 
 /// Supernodes smaller than this (stored values) are done sequentially: the
@@ -236,12 +287,14 @@ const PAR_MIN_VALUES: usize = 1 << 16;
 /// Forward and backward substitution with the supernodal factor `values`
 /// restricted to `reach` (workspace `w`: the reach's rows, the right-hand
 /// sides scattered in, the solution on return). The forward pass visits
-/// the `active` supernodes (positions in the reach), the backward pass all.
+/// the `active` supernodes (positions in the reach), the backward pass the
+/// `wanted` ones (all if `None`; the rows of the others are zeroed).
 fn restricted_substitutions<T>(
     s: &SymbolicSupernodalCholesky<usize>,
     values: &[T],
     reach: &SolveReach,
     active: &[bool],
+    wanted: Option<&[bool]>,
     mut w: MatMut<'_, T>,
     par: Par,
 ) where
@@ -300,6 +353,11 @@ fn restricted_substitutions<T>(
     }
     // Lᵀ x = y, parents before children
     for p in (0..reach.supernodes.len()).rev() {
+        if wanted.is_some_and(|f| !f[p]) {
+            let (off, nc) = (reach.offsets[p], reach.offsets[p + 1] - reach.offsets[p]);
+            w.rb_mut().subrows_mut(off, nc).fill(T::zero_impl());
+            continue;
+        }
         let (l, pattern, off, nc, kpar) = block(p);
         let (top, bot) = l.split_at_row(nc);
         if !pattern.is_empty() {
@@ -450,6 +508,49 @@ mod tests {
             }
         }
         worst
+    }
+
+    /// Solving for a subset of the reach's rows gives those rows' bits of
+    /// the restricted solve, zeros on the supernodes it skips, skips some,
+    /// and names a DOF outside the reach.
+    #[test]
+    fn wanted_rows_are_the_restricted_solve_s() {
+        let mut rng = Rng::new(0x5eed_0f_7a11);
+        let (pattern, values) = cantilever_system();
+        let chol = factor(
+            &pattern,
+            &values,
+            Precision::Double,
+            SupernodalThreshold::FORCE_SUPERNODAL,
+        );
+        let n = chol.stats.n;
+        let dofs: Vec<usize> = (0..80).map(|_| rng.below(n)).collect();
+        let reach = chol.reach(&dofs).unwrap();
+        let columns: Vec<Vec<(usize, f64)>> = dofs[..6].iter().map(|&d| vec![(d, 1.0)]).collect();
+        let refs: Vec<&[(usize, f64)]> = columns.iter().map(|c| &c[..]).collect();
+        let all = chol.solve_restricted(&reach, &refs, Par::Seq);
+        let kept = &dofs[40..];
+        let wanted = reach.wanted(kept).unwrap();
+        assert!(wanted.iter().any(|&w| !w), "nothing skipped");
+        let part = chol.solve_restricted_to(&reach, &refs, &wanted, Par::Seq);
+        for &d in kept {
+            let l = reach.local(d).unwrap();
+            for j in 0..refs.len() {
+                assert_eq!(part[(l, j)].to_bits(), all[(l, j)].to_bits(), "DOF {d}");
+            }
+        }
+        for (p, &w) in wanted.iter().enumerate() {
+            if !w {
+                for l in reach.offsets[p]..reach.offsets[p + 1] {
+                    assert!((0..refs.len()).all(|j| part[(l, j)] == 0.0));
+                }
+            }
+        }
+        let outside = (0..n).find(|&d| reach.local(d).is_none());
+        if let Some(d) = outside {
+            let e = reach.wanted(&[d]).unwrap_err();
+            assert!(e.contains(&d.to_string()), "{e}");
+        }
     }
 
     #[test]
