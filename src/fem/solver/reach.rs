@@ -444,6 +444,17 @@ mod tests {
         (asm.pattern, sys.values)
     }
 
+    /// [`cantilever_system`] factorized, double precision, supernodal.
+    fn cantilever_factor() -> SparseCholesky {
+        let (pattern, values) = cantilever_system();
+        factor(
+            &pattern,
+            &values,
+            Precision::Double,
+            SupernodalThreshold::FORCE_SUPERNODAL,
+        )
+    }
+
     fn factor(
         pattern: &SparsePattern,
         values: &[f64],
@@ -516,13 +527,7 @@ mod tests {
     #[test]
     fn wanted_rows_are_the_restricted_solve_s() {
         let mut rng = Rng::new(0x5eed_0f_7a11);
-        let (pattern, values) = cantilever_system();
-        let chol = factor(
-            &pattern,
-            &values,
-            Precision::Double,
-            SupernodalThreshold::FORCE_SUPERNODAL,
-        );
+        let chol = cantilever_factor();
         let n = chol.stats.n;
         let dofs: Vec<usize> = (0..80).map(|_| rng.below(n)).collect();
         let reach = chol.reach(&dofs).unwrap();
@@ -590,23 +595,17 @@ mod tests {
         // natural order on a grid makes the tree a path; nested dissection
         // (the cantilever, METIS) gives it branches; this body is small, so
         // the top separator alone is a good part of the factor (about half)
-        let (pattern, values) = cantilever_system();
-        let chol = factor(
-            &pattern,
-            &values,
-            Precision::Double,
-            SupernodalThreshold::FORCE_SUPERNODAL,
-        );
+        let chol = cantilever_factor();
         let reach = chol.reach(&[0]).unwrap();
         assert!(
             reach.touched_fraction() < 0.75,
             "{}",
             reach.touched_fraction()
         );
-        let all: Vec<usize> = (0..pattern.n).collect();
+        let all: Vec<usize> = (0..chol.stats.n).collect();
         let whole = chol.reach(&all).unwrap();
         assert_eq!(whole.touched_nnz, chol.stats.nnz_factor);
-        assert_eq!(whole.rows(), pattern.n);
+        assert_eq!(whole.rows(), chol.stats.n);
     }
 
     #[test]
