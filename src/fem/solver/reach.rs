@@ -138,21 +138,10 @@ impl SparseCholesky {
         let k = columns.len();
         // supernodes the forward substitution must visit: the ancestors of
         // the right-hand sides' non-zeros (the rest of y = L⁻¹b is zero)
-        let mut active = vec![false; reach.supernodes.len()];
-        for col in columns {
-            for &(d, _) in col.iter() {
-                let l = reach.local[d];
-                assert!(
-                    l != NONE,
-                    "right-hand side entry at DOF {d} outside the reach"
-                );
-                let mut p = reach.offsets.partition_point(|&o| o <= l) - 1;
-                while p != NONE && !active[p] {
-                    active[p] = true;
-                    p = reach.parent[p];
-                }
-            }
-        }
+        let entries: Vec<usize> = columns.iter().flat_map(|c| c.iter().map(|e| e.0)).collect();
+        let active = reach
+            .wanted(&entries)
+            .unwrap_or_else(|e| panic!("right-hand side entry at {e}"));
         match &self.l_values {
             FactorValues::Double(v) => {
                 let mut w = faer::Mat::<f64>::zeros(reach.rows(), k);
