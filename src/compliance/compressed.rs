@@ -23,7 +23,9 @@
 //! F entry is a sum of a few blocks' products and its relative error is of
 //! order ε times the blocks' conditioning of that sum: with ε = 1e-6 the
 //! load sharing, TE and p_max move by far less than 1e-5
-//! (`tests/ltca_compressed.rs`).
+//! (`tests/ltca_compressed.rs`). The LTCA multiplies a low-rank block as
+//! U (Vᵀ Q) where that is cheaper than its node blocks
+//! ([`crate::compliance::pages::FactoredPage`]).
 //!
 //! This is the block low-rank format of Amestoy, Ashcraft, Boiteau,
 //! Buttari, L'Excellent & Weisbecker (SIAM J. Sci. Comput. 37, 2015): a

@@ -10,6 +10,9 @@
 //! pages of [`PAGE`] nodes; the blocks between two pages are copied, once,
 //! on first use, into one contiguous array, node block by node block.
 //! Nothing is approximated: a page holds the tensor's own values.
+//! A compressed tensor's low-rank page pairs are also offered as their
+//! factors ([`FactoredPage`]), which the F kernel multiplies without
+//! forming the pair's node blocks.
 //!
 //! Memory: a page pair is [`PAGE`]² × 9 × 8 B = 295 kB; only the pairs a
 //! computation asked for are built (an LTCA cycle: the pages of the active
@@ -55,6 +58,10 @@ pub struct TensorPages {
     pages: usize,
     blocks: Vec<OnceLock<Box<[f64]>>>,
     built: AtomicUsize,
+    /// Low-rank page pairs in the F kernel's layout ([`FactoredPage`]),
+    /// built on first use; their bytes.
+    factored: Vec<OnceLock<Option<FactoredPage>>>,
+    factored_bytes: AtomicUsize,
     /// The compressed tensor the pages are read from (else the dense matrix).
     source: Option<SharedBlr>,
 }
@@ -78,6 +85,10 @@ impl TensorPages {
             pages,
             blocks: (0..pages * pages).map(|_| OnceLock::new()).collect(),
             built: AtomicUsize::new(0),
+            factored: (0..pages * (pages + 1) / 2)
+                .map(|_| OnceLock::new())
+                .collect(),
+            factored_bytes: AtomicUsize::new(0),
             source: None,
         }
     }
@@ -123,9 +134,36 @@ impl TensorPages {
         self.position[a as usize] as usize
     }
 
-    /// Bytes of the page pairs built so far.
+    /// Bytes of the page pairs built so far (dense and factored).
     pub fn bytes(&self) -> usize {
         self.built.load(Ordering::Relaxed) * PAGE * PAGE * 9 * std::mem::size_of::<f64>()
+            + self.factored_bytes.load(Ordering::Relaxed)
+    }
+
+    /// Bytes of the factored page pairs built so far (part of [`Self::bytes`]).
+    pub fn factored_bytes(&self) -> usize {
+        self.factored_bytes.load(Ordering::Relaxed)
+    }
+
+    /// The page pair (r, q), r > q, as its low-rank factors when the
+    /// pages are read from a compressed tensor that stores this pair in
+    /// low rank (None for a dense tensor, a dense block, or r ≤ q). Built
+    /// on first use, in the layout of [`FactoredPage`].
+    pub fn factored(&self, r: usize, q: usize) -> Option<&FactoredPage> {
+        if r <= q || r >= self.pages {
+            return None;
+        }
+        let blr = self.source.as_ref()?;
+        self.factored[r * (r + 1) / 2 + q]
+            .get_or_init(|| {
+                let f = FactoredPage::of(blr.block(r, q))?;
+                self.factored_bytes.fetch_add(
+                    (f.u.len() + f.v.len()) * std::mem::size_of::<f64>(),
+                    Ordering::Relaxed,
+                );
+                Some(f)
+            })
+            .as_ref()
     }
 
     /// The blocks between row page `r` and column page `q` of `t` (which
@@ -162,6 +200,47 @@ impl TensorPages {
             }
             self.built.fetch_add(1, Ordering::Relaxed);
             out
+        })
+    }
+}
+
+/// A page pair B(r, q) = U Vᵀ (rank k, r > q) of a compressed tensor
+/// ([`crate::compliance::compressed::Block::LowRank`]) laid out for the
+/// LTCA's F: with a the row node at slot ia and c the column node at slot
+/// ic, `u[(3 ia + s) k + l]` = U(3a + s, l) and `v[(3 ic + τ) k + l]` =
+/// V(3c + τ, l): the k values a node component multiplies are contiguous,
+/// so B q = U (Vᵀ q) over a few nodes reads 2 · 3 · k values per node
+/// instead of a node's 3 × 3 blocks with every node of the other page
+/// (zero past the last node of a page). The values are the compressed
+/// tensor's own, only moved.
+pub struct FactoredPage {
+    pub rank: usize,
+    pub u: Box<[f64]>,
+    pub v: Box<[f64]>,
+}
+
+impl FactoredPage {
+    /// The factors of a low-rank block (None for a dense one).
+    fn of(block: &crate::compliance::compressed::Block) -> Option<FactoredPage> {
+        let crate::compliance::compressed::Block::LowRank { rank, u, v } = block else {
+            return None;
+        };
+        let k = *rank;
+        let node_major = |f: &[f64]| -> Box<[f64]> {
+            // column-major (len × k) → row-major, zero-padded to 3 · PAGE rows
+            let len = f.len() / k.max(1);
+            let mut out = vec![0.0; 3 * PAGE * k].into_boxed_slice();
+            for l in 0..k {
+                for i in 0..len {
+                    out[i * k + l] = f[l * len + i];
+                }
+            }
+            out
+        };
+        Some(FactoredPage {
+            rank: k,
+            u: node_major(u),
+            v: node_major(v),
         })
     }
 }

@@ -10,7 +10,7 @@
 use std::sync::Arc;
 
 use crate::compliance::interpolation::FlankGrids;
-use crate::compliance::pages::{TensorPages, PAGE};
+use crate::compliance::pages::{FactoredPage, TensorPages, PAGE};
 use crate::compliance::ComplianceTensor;
 use crate::error::FlankError;
 use crate::geometry::vec3::dot;
@@ -51,7 +51,14 @@ pub(crate) fn normal_compliance(
     b: usize,
 ) -> Result<Vec<f64>, FlankError> {
     match grids.pages(t) {
-        Some(p) => Ok(normal_compliance_paged(t, p, cands, b, true)),
+        Some(p) => Ok(normal_compliance_paged(
+            t,
+            p,
+            cands,
+            b,
+            true,
+            LowRankUse::WhenCheaper,
+        )),
         None if t.has_matrix() => Ok(normal_compliance_streamed(t, cands, b)),
         None => Err(FlankError::Model(format!(
             "the LTCA's compliance of {}: no dense matrix and no compressed pages of this tensor",
@@ -107,7 +114,9 @@ fn add_window(row: &mut [f64], stride: usize, c: &[f64], w: &Window) {
 /// The rows lo..hi of U of [`normal_compliance_paged`]'s u: for each
 /// column node kc in U's order and each row node ka ≥ kc of the part,
 /// u(ka) += C(ka, kc) q(kc) (the diagonal block with q halved), each block
-/// through `add` ([`add_window`] or [`fma::add_window`]).
+/// through `add` ([`add_window`] or [`fma::add_window`]); the column nodes
+/// of a page pair read as low-rank factors ([`Sweep::factored`]) all at
+/// once through [`add_low_rank`].
 #[inline(always)]
 fn sweep_part_with(
     sw: &Sweep,
@@ -117,38 +126,128 @@ fn sweep_part_with(
 ) -> Vec<f64> {
     let stride = sw.stride;
     let mut u = vec![0.0; (hi - lo) * 3 * stride];
-    for kc in 0..hi {
-        let wins = &sw.windows[sw.start[kc]..sw.start[kc + 1]];
-        let (pc, ic) = (sw.page_of[kc], sw.slot[kc]);
-        let mut k = lo.max(kc);
-        if k == kc && kc < hi {
-            // the diagonal block, halved
-            let page = &sw.pages.page(sw.t, pc, pc)[ic * PAGE * 9..][..PAGE * 9];
-            let row = &mut u[(kc - lo) * 3 * stride..][..3 * stride];
-            for w in wins {
-                add(row, stride, &page[9 * ic..][..9], &w.scaled(0.5));
-            }
-            k += 1;
+    // the part's rows lie on one page (parts are cut by row page)
+    let r = sw.page_of[lo];
+    let mut y = Vec::new();
+    let mut run = 0;
+    while run < hi {
+        // a run of column nodes on one page pc
+        let pc = sw.page_of[run];
+        let mut run_end = run + 1;
+        while run_end < hi && sw.page_of[run_end] == pc {
+            run_end += 1;
         }
-        while k < hi {
-            // a run of U on one page
-            let r = sw.page_of[k];
-            let mut end = k + 1;
-            while end < hi && sw.page_of[end] == r {
-                end += 1;
-            }
-            let page = &sw.pages.page(sw.t, r, pc)[ic * PAGE * 9..][..PAGE * 9];
-            for ka in k..end {
-                let row = &mut u[(ka - lo) * 3 * stride..][..3 * stride];
-                let c = &page[9 * sw.slot[ka]..][..9];
-                for w in wins {
-                    add(row, stride, c, w);
-                }
-            }
-            k = end;
+        if let Some(f) = sw.factored(r, pc, hi - lo, run, run_end) {
+            add_low_rank(&mut u, sw, (lo, hi), (run, run_end), f, &mut y);
+            run = run_end;
+            continue;
         }
+        for kc in run..run_end {
+            sweep_column(&mut u, sw, lo, hi, kc, &add);
+        }
+        run = run_end;
     }
     u
+}
+
+/// u(ka) += C(ka, kc) q(kc) for the rows ka ≥ kc of the part lo..hi, one
+/// column node kc (the diagonal block with q halved).
+#[inline(always)]
+fn sweep_column(
+    u: &mut [f64],
+    sw: &Sweep,
+    lo: usize,
+    hi: usize,
+    kc: usize,
+    add: &impl Fn(&mut [f64], usize, &[f64], &Window),
+) {
+    let stride = sw.stride;
+    let wins = &sw.windows[sw.start[kc]..sw.start[kc + 1]];
+    let (pc, ic) = (sw.page_of[kc], sw.slot[kc]);
+    let mut k = lo.max(kc);
+    if k == kc && kc < hi {
+        // the diagonal block, halved
+        let page = &sw.pages.page(sw.t, pc, pc)[ic * PAGE * 9..][..PAGE * 9];
+        let row = &mut u[(kc - lo) * 3 * stride..][..3 * stride];
+        for w in wins {
+            add(row, stride, &page[9 * ic..][..9], &w.scaled(0.5));
+        }
+        k += 1;
+    }
+    while k < hi {
+        // a run of U on one page
+        let r = sw.page_of[k];
+        let mut end = k + 1;
+        while end < hi && sw.page_of[end] == r {
+            end += 1;
+        }
+        let page = &sw.pages.page(sw.t, r, pc)[ic * PAGE * 9..][..PAGE * 9];
+        for ka in k..end {
+            let row = &mut u[(ka - lo) * 3 * stride..][..3 * stride];
+            let c = &page[9 * sw.slot[ka]..][..9];
+            for w in wins {
+                add(row, stride, c, w);
+            }
+        }
+        k = end;
+    }
+}
+
+/// u(a) += B q for the rows a of the part `rows` (one page r) and the
+/// column nodes `cols` (one page pc < r), with B = C(r, pc) = U Vᵀ in low
+/// rank k ([`FactoredPage`]): first Y = Vᵀ q over the columns' loads
+/// (k × the candidates they load), then u(a) += U(a) Y, 3 k (windows +
+/// rows × candidate lanes) multiply–adds instead of 9 per block and
+/// window (the choice: [`Sweep::factored`]). `y` is scratch.
+#[inline(always)]
+fn add_low_rank(
+    u: &mut [f64],
+    sw: &Sweep,
+    (lo, hi): (usize, usize),
+    (c0, c1): (usize, usize),
+    f: &FactoredPage,
+    y: &mut Vec<f64>,
+) {
+    let (k, stride) = (f.rank, sw.stride);
+    let wins = &sw.windows[sw.start[c0]..sw.start[c1]];
+    let (jlo, jhi) = candidate_span(wins);
+    let width = jhi - jlo;
+    y.clear();
+    y.resize(k * width, 0.0);
+    for kc in c0..c1 {
+        let v = &f.v[3 * sw.slot[kc] * k..][..3 * k];
+        let (v0, v1, v2) = (&v[..k], &v[k..2 * k], &v[2 * k..]);
+        for w in &sw.windows[sw.start[kc]..sw.start[kc + 1]] {
+            let o = w.j0 - jlo;
+            for l in 0..k {
+                let yl: &mut [f64; LANES] = (&mut y[l * width + o..][..LANES])
+                    .try_into()
+                    .expect("LANES values");
+                let (a, b, c) = (v0[l], v1[l], v2[l]);
+                for lane in 0..LANES {
+                    yl[lane] += a * w.q[0][lane] + b * w.q[1][lane] + c * w.q[2][lane];
+                }
+            }
+        }
+    }
+    for ka in lo..hi {
+        let ua = &f.u[3 * sw.slot[ka] * k..][..3 * k];
+        for s in 0..3 {
+            let row = &mut u[(ka - lo) * 3 * stride + s * stride + jlo..][..width];
+            for (l, &c) in ua[s * k..][..k].iter().enumerate() {
+                for (x, &yl) in row.iter_mut().zip(&y[l * width..][..width]) {
+                    *x += c * yl;
+                }
+            }
+        }
+    }
+}
+
+/// The candidates jlo..jhi the windows `wins` cover (their lanes).
+fn candidate_span(wins: &[Window]) -> (usize, usize) {
+    let jlo = wins.iter().map(|w| w.j0).min().unwrap_or(0);
+    let jhi = wins.iter().map(|w| w.j0 + LANES).max().unwrap_or(jlo);
+    (jlo, jhi)
 }
 
 /// [`sweep_part_with`] through the AVX2/FMA kernel where the processor has
@@ -233,6 +332,50 @@ struct Sweep<'a> {
     start: Vec<usize>,
     /// Length of one component row of u (≥ n + LANES − 1).
     stride: usize,
+    /// When the low-rank page pairs are read as their factors.
+    low_rank: LowRankUse,
+}
+
+/// Whether F reads a compressed tensor's low-rank page pairs as their
+/// factors U, Vᵀ ([`add_low_rank`]) or decompressed into node blocks.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum LowRankUse {
+    /// Decompressed, always (the tests' reference).
+    Never,
+    /// As factors where that takes fewer multiply–adds (the default).
+    WhenCheaper,
+    /// As factors wherever the pair is stored in low rank (tests).
+    Always,
+}
+
+impl Sweep<'_> {
+    /// The factors of page pair (r, pc) when the column nodes `c0..c1`
+    /// (page pc) and `rows` nodes of page r are to be swept through them:
+    /// pc < r, the pair stored in low rank k, and (unless
+    /// [`LowRankUse::Always`]) 3 k (W + rows · S) < 9 rows · W
+    /// multiply–adds of LANES lanes, W the columns' load windows and S the
+    /// lane groups of the candidates they load.
+    fn factored(
+        &self,
+        r: usize,
+        pc: usize,
+        rows: usize,
+        c0: usize,
+        c1: usize,
+    ) -> Option<&FactoredPage> {
+        if self.low_rank == LowRankUse::Never || pc >= r {
+            return None;
+        }
+        let f = self.pages.factored(r, pc)?;
+        if self.low_rank == LowRankUse::Always {
+            return Some(f);
+        }
+        let wins = &self.windows[self.start[c0]..self.start[c1]];
+        let (jlo, jhi) = candidate_span(wins);
+        let lanes = (jhi - jlo).div_ceil(LANES);
+        let w = wins.len();
+        (3 * f.rank * (w + rows * lanes) < 9 * rows * w).then_some(f)
+    }
 }
 
 /// [`normal_compliance`] from the paged blocks, through C's symmetry
@@ -256,12 +399,21 @@ struct Sweep<'a> {
 /// kernel where the processor has it (round-off from the fused steps,
 /// ≤ 1e-13 of max|F| by unit test), else the SSE2 one (the same bits as
 /// the candidate-by-candidate loop, unit test).
+///
+/// Pages read from a compressed tensor keep its low-rank page pairs
+/// C(r, q) = U Vᵀ as factors ([`crate::compliance::pages::FactoredPage`]):
+/// the column nodes of U on page q then add U (Vᵀ q) to the rows on page
+/// r ([`add_low_rank`]) where that takes fewer multiply–adds than the
+/// node blocks (`low_rank`, [`LowRankUse`]). U (Vᵀ q) and (U Vᵀ) q differ
+/// by round-off (unit test: ≤ 1e-13 of max|F|); the summation order still
+/// depends on neither the cut nor the thread count.
 fn normal_compliance_paged(
     t: &ComplianceTensor,
     pages: &TensorPages,
     cands: &[Candidate],
     b: usize,
     simd: bool,
+    low_rank: LowRankUse,
 ) -> Vec<f64> {
     use rayon::prelude::*;
     let n = cands.len();
@@ -340,6 +492,7 @@ fn normal_compliance_paged(
         windows,
         start,
         stride,
+        low_rank,
     };
     // rows cut into parts, one per row page: a column node's blocks with
     // the rows of one page are one stretch of a page pair, read in order
@@ -830,6 +983,22 @@ mod tests {
         rolls.extend((0..5).map(|i| 0.5 * (a + e) - 0.5 * pitch + pitch * i as f64 / 5.0));
         let mut sizes = Vec::new();
         let mut worst_fused: f64 = 0.0;
+        // the same tensors compressed (ε = 1e-6), their pages read with
+        // the low-rank pairs decompressed, as factors where cheaper, and
+        // as factors always
+        let compressed: Vec<TensorPages> = (0..2)
+            .map(|b| {
+                let t = &cycle.bodies.tensors[b];
+                let blr = crate::compliance::compressed::BlrTensor::from_dense(
+                    t,
+                    &crate::compliance::compressed::BlrOptions::default(),
+                )
+                .unwrap();
+                assert!(blr.stats.low_rank_blocks > 0);
+                TensorPages::compressed(t, Arc::new(blr)).unwrap()
+            })
+            .collect();
+        let mut worst_factored: f64 = 0.0;
         for roll in rolls {
             let position = cycle.tca.position(roll).unwrap();
             let frames = cycle.tca.frames(roll);
@@ -858,7 +1027,7 @@ mod tests {
                 // differs by the fused steps' round-off only
                 let pages = cycle.bodies.grids[b].pages(t).unwrap();
                 let rowwise = normal_compliance_paged_rowwise(t, pages, &cands, b);
-                let sse2 = normal_compliance_paged(t, pages, &cands, b, false);
+                let sse2 = normal_compliance_paged(t, pages, &cands, b, false, LowRankUse::Never);
                 assert_eq!(sse2, rowwise, "SSE2 window against row-wise kernel");
                 let top = rowwise.iter().fold(0.0f64, |m, x| m.max(x.abs()));
                 let fused = fast
@@ -882,6 +1051,37 @@ mod tests {
                     "roll {:.4}°, body {b}: |ΔF| {diff:e} of {scale:e}",
                     roll.to_degrees()
                 );
+                // compressed pages: the factors give the decompressed
+                // blocks' F to round-off, which is within ε of the dense F
+                let cp = &compressed[b];
+                let decompressed =
+                    normal_compliance_paged(t, cp, &cands, b, true, LowRankUse::Never);
+                for mode in [LowRankUse::WhenCheaper, LowRankUse::Always] {
+                    let f = normal_compliance_paged(t, cp, &cands, b, true, mode);
+                    let d = f
+                        .iter()
+                        .zip(&decompressed)
+                        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+                    assert!(
+                        d <= 1e-13 * top,
+                        "{mode:?} against decompressed: {d:e} of {top:e}"
+                    );
+                    worst_factored = worst_factored.max(d / top);
+                    let n = cands.len();
+                    for i in 0..n {
+                        for j in 0..n {
+                            assert_eq!(f[i * n + j], f[j * n + i]);
+                        }
+                    }
+                }
+                let e = decompressed
+                    .iter()
+                    .zip(&rowwise)
+                    .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+                assert!(
+                    e <= 1e-5 * top,
+                    "compressed against dense: {e:e} of {top:e}"
+                );
                 // exactly symmetric
                 let n = cands.len();
                 for i in 0..n {
@@ -897,6 +1097,12 @@ mod tests {
             let fallback = normal_compliance(other, &cycle.bodies.grids[0], &cands, 1).unwrap();
             assert_eq!(fallback, normal_compliance_streamed(other, &cands, 1));
         }
+        // the factors were read (Always takes every low-rank pair)
+        assert!(compressed.iter().any(|p| p.factored_bytes() > 0));
+        eprintln!(
+            "compressed pages: factored F against decompressed, largest |ΔF| {worst_factored:.1e} \
+             of max|F|"
+        );
         eprintln!(
             "candidates, pinion cell nodes per position: {sizes:?}; pages built {} + {} MB; \
              AVX2/FMA kernel {} (largest |ΔF| against SSE2 {worst_fused:.1e} of max|F|)",
@@ -960,7 +1166,14 @@ mod tests {
                                 0 => {
                                     normal_compliance(t, &cycle.bodies.grids[b], &cands, b).unwrap()
                                 }
-                                1 => normal_compliance_paged(t, pages, &cands, b, false),
+                                1 => normal_compliance_paged(
+                                    t,
+                                    pages,
+                                    &cands,
+                                    b,
+                                    false,
+                                    LowRankUse::Never,
+                                ),
                                 2 => normal_compliance_paged_rowwise(t, pages, &cands, b),
                                 _ => normal_compliance_streamed(t, &cands, b),
                             });
