@@ -483,9 +483,12 @@ mod tests {
     }
 
     /// The panels' estimate counts the flank DOFs' reach, not every
-    /// unknown: the same MB per row gives a smaller estimated peak by
-    /// (unknowns − reach rows) × that figure, up to the resident set's
-    /// drift between the two factorizations.
+    /// unknown: the same MB per row gives a smaller estimate beside the
+    /// factor by (unknowns − reach rows) × that figure. The part beside the
+    /// factor is compared, not the whole peak estimate, which also holds
+    /// the process's resident set (changed by tests running beside this
+    /// one: the comparison of whole estimates failed in 2 of 3 filtered
+    /// runs).
     #[test]
     fn panel_estimate_counts_the_reach_rows() {
         let (model, flank) = box_body(BoxElement::Hex20);
@@ -504,10 +507,18 @@ mod tests {
         let rows = reach.chol.reach(&free).expect("a supernodal factor").rows();
         assert!(rows < reach.n, "reach {rows} of {} unknowns", reach.n);
         let expected = per * (reach.n - rows) as f64;
-        let got = all.estimated_peak_mb - reach.estimated_peak_mb;
+        let got = all.beside_mb - reach.beside_mb;
         assert!(
-            (got - expected).abs() < 0.25 * expected,
+            (got - expected).abs() <= 1e-9 * expected,
             "estimate fell by {got:.1} MB, expected {expected:.1} MB"
         );
+        // and the whole estimate holds that part
+        for f in [&all, &reach] {
+            assert!(
+                f.estimated_peak_mb >= f.beside_mb,
+                "{}",
+                f.estimated_peak_mb
+            );
+        }
     }
 }

@@ -186,6 +186,7 @@ fn compute_in_pool(
         red,
         mut stats,
         estimated_peak_mb,
+        ..
     } = factor_flank(
         model,
         flank,
@@ -275,6 +276,9 @@ pub(crate) struct FlankFactor {
     pub stats: ComplianceStats,
     /// The memory guard's estimate of the peak (MB).
     pub estimated_peak_mb: f64,
+    /// The part of it for what lives beside the factor (`beside`, MB): the
+    /// rest is the resident set when it was made and the factor itself.
+    pub beside_mb: f64,
 }
 
 /// Validates `model` and `flank`, assembles K and factors it (flank DOFs
@@ -443,6 +447,7 @@ pub(crate) fn factor_flank(
         red,
         stats,
         estimated_peak_mb,
+        beside_mb,
     })
 }
 
