@@ -137,11 +137,12 @@ pub fn compressed_compliance(
         )?;
         if progress {
             eprintln!(
-                "  {name}: factor of {} DOFs, nnz(L) = {:.3e}, factorization {:.1} s; {} panels of {rhs} right-hand sides",
+                "  {name}: factor of {} DOFs, nnz(L) = {:.3e}, factorization {:.1} s; {} panels of {rhs} right-hand sides ({:.0} MB estimated for them beside the factor)",
                 factor.n,
                 factor.stats.nnz_factor as f64,
                 factor.stats.factorization_s,
-                flank.len().div_ceil(PAGE)
+                flank.len().div_ceil(PAGE),
+                factor.beside_mb
             );
         }
         let (c, panel) = BlrTensor::from_factor(&tensor, &factor, blr, progress)?;
