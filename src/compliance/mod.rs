@@ -304,6 +304,56 @@ impl ComplianceTensor {
     }
 }
 
+/// FNV-1a 64 over little-endian 64-bit words of a byte stream (a tail
+/// shorter than a word is zero-padded): the tensor files' checksum, one
+/// multiply per 8 bytes where [`Fnv128`] takes one 128-bit multiply per
+/// byte.
+pub(crate) struct WordHash {
+    h: u64,
+    pending: [u8; 8],
+    len: usize,
+}
+
+impl WordHash {
+    pub(crate) fn new() -> Self {
+        WordHash {
+            h: 0xcbf2_9ce4_8422_2325,
+            pending: [0; 8],
+            len: 0,
+        }
+    }
+    fn word(&mut self, w: u64) {
+        self.h ^= w;
+        self.h = self.h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    pub(crate) fn update(&mut self, mut b: &[u8]) {
+        if self.len > 0 {
+            let k = (8 - self.len).min(b.len());
+            self.pending[self.len..self.len + k].copy_from_slice(&b[..k]);
+            self.len += k;
+            b = &b[k..];
+            if self.len == 8 {
+                self.word(u64::from_le_bytes(self.pending));
+                self.len = 0;
+            }
+        }
+        let mut chunks = b.chunks_exact(8);
+        for c in &mut chunks {
+            self.word(u64::from_le_bytes(c.try_into().expect("8 bytes")));
+        }
+        let rest = chunks.remainder();
+        self.pending[..rest.len()].copy_from_slice(rest);
+        self.len = rest.len();
+    }
+    pub(crate) fn finish(mut self) -> u64 {
+        if self.len > 0 {
+            self.pending[self.len..].fill(0);
+            self.word(u64::from_le_bytes(self.pending));
+        }
+        self.h
+    }
+}
+
 /// 128-bit FNV-1a over typed fields (stable across platforms and runs).
 #[derive(Clone, Copy)]
 pub(crate) struct Fnv128(pub(crate) u128);
