@@ -699,6 +699,22 @@ pub(crate) fn cell_nodes(cands: &[Candidate], b: usize) -> Vec<u32> {
 mod tests {
     use super::*;
 
+    /// Largest |a_i − b_i|.
+    fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
+        a.iter()
+            .zip(b)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+    }
+
+    /// F (n × n, row-major) equals its transpose to the bit.
+    fn assert_symmetric(f: &[f64], n: usize) {
+        for i in 0..n {
+            for j in 0..n {
+                assert_eq!(f[i * n + j], f[j * n + i], "F({i}, {j})");
+            }
+        }
+    }
+
     /// Whether F runs the AVX2/FMA kernel on this processor.
     fn fma_available() -> bool {
         #[cfg(target_arch = "x86_64")]
@@ -1030,10 +1046,7 @@ mod tests {
                 let sse2 = normal_compliance_paged(t, pages, &cands, b, false, LowRankUse::Never);
                 assert_eq!(sse2, rowwise, "SSE2 window against row-wise kernel");
                 let top = rowwise.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-                let fused = fast
-                    .iter()
-                    .zip(&rowwise)
-                    .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+                let fused = max_abs_diff(&fast, &rowwise);
                 assert!(
                     fused <= 1e-13 * top,
                     "AVX2/FMA against SSE2 window kernel: {fused:e} of {top:e}"
@@ -1041,10 +1054,7 @@ mod tests {
                 worst_fused = worst_fused.max(fused / top);
                 let slow = normal_compliance_streamed(t, &cands, b);
                 let scale = slow.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-                let diff = fast
-                    .iter()
-                    .zip(&slow)
-                    .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+                let diff = max_abs_diff(&fast, &slow);
                 assert!(scale > 0.0);
                 assert!(
                     diff <= 1e-12 * scale,
@@ -1058,37 +1068,21 @@ mod tests {
                     normal_compliance_paged(t, cp, &cands, b, true, LowRankUse::Never);
                 for mode in [LowRankUse::WhenCheaper, LowRankUse::Always] {
                     let f = normal_compliance_paged(t, cp, &cands, b, true, mode);
-                    let d = f
-                        .iter()
-                        .zip(&decompressed)
-                        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+                    let d = max_abs_diff(&f, &decompressed);
                     assert!(
                         d <= 1e-13 * top,
                         "{mode:?} against decompressed: {d:e} of {top:e}"
                     );
                     worst_factored = worst_factored.max(d / top);
-                    let n = cands.len();
-                    for i in 0..n {
-                        for j in 0..n {
-                            assert_eq!(f[i * n + j], f[j * n + i]);
-                        }
-                    }
+                    assert_symmetric(&f, cands.len());
                 }
-                let e = decompressed
-                    .iter()
-                    .zip(&rowwise)
-                    .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+                let e = max_abs_diff(&decompressed, &rowwise);
                 assert!(
                     e <= 1e-5 * top,
                     "compressed against dense: {e:e} of {top:e}"
                 );
                 // exactly symmetric
-                let n = cands.len();
-                for i in 0..n {
-                    for j in 0..n {
-                        assert_eq!(fast[i * n + j], fast[j * n + i]);
-                    }
-                }
+                assert_symmetric(&fast, cands.len());
             }
             sizes.push((cands.len(), cell_nodes(&cands, 0).len()));
             // a tensor that is not the pages' one falls back to the streamed F
