@@ -137,8 +137,10 @@ fn sweep_part_with(
         while run_end < hi && sw.page_of[run_end] == pc {
             run_end += 1;
         }
-        if let Some(f) = sw.factored(r, pc, hi - lo, run, run_end) {
-            add_low_rank(&mut u, sw, (lo, hi), (run, run_end), f, &mut y);
+        // the candidates the run's loads reach
+        let span = candidate_span(&sw.windows[sw.start[run]..sw.start[run_end]]);
+        if let Some(f) = sw.factored(r, pc, hi - lo, (run, run_end), span) {
+            add_low_rank(&mut u, sw, (lo, hi), (run, run_end), span, f, &mut y);
             run = run_end;
             continue;
         }
@@ -198,19 +200,19 @@ fn sweep_column(
 /// rank k ([`FactoredPage`]): first Y = Vᵀ q over the columns' loads
 /// (k × the candidates they load), then u(a) += U(a) Y, 3 k (windows +
 /// rows × candidate lanes) multiply–adds instead of 9 per block and
-/// window (the choice: [`Sweep::factored`]). `y` is scratch.
+/// window (the choice: [`Sweep::factored`]). `jlo..jhi`: the candidates
+/// the columns load ([`candidate_span`]); `y` is scratch.
 #[inline(always)]
 fn add_low_rank(
     u: &mut [f64],
     sw: &Sweep,
     (lo, hi): (usize, usize),
     (c0, c1): (usize, usize),
+    (jlo, jhi): (usize, usize),
     f: &FactoredPage,
     y: &mut Vec<f64>,
 ) {
     let (k, stride) = (f.rank, sw.stride);
-    let wins = &sw.windows[sw.start[c0]..sw.start[c1]];
-    let (jlo, jhi) = candidate_span(wins);
     let width = jhi - jlo;
     y.clear();
     y.resize(k * width, 0.0);
@@ -350,7 +352,8 @@ enum LowRankUse {
 
 impl Sweep<'_> {
     /// The factors of page pair (r, pc) when the column nodes `c0..c1`
-    /// (page pc) and `rows` nodes of page r are to be swept through them:
+    /// (page pc, loading the candidates `jlo..jhi`) and `rows` nodes of
+    /// page r are to be swept through them:
     /// pc < r, the pair stored in low rank k, and (unless
     /// [`LowRankUse::Always`]) 3 k (W + rows · S) < 9 rows · W
     /// multiply–adds of LANES lanes, W the columns' load windows and S the
@@ -360,8 +363,8 @@ impl Sweep<'_> {
         r: usize,
         pc: usize,
         rows: usize,
-        c0: usize,
-        c1: usize,
+        (c0, c1): (usize, usize),
+        (jlo, jhi): (usize, usize),
     ) -> Option<&FactoredPage> {
         if self.low_rank == LowRankUse::Never || pc >= r {
             return None;
@@ -370,10 +373,8 @@ impl Sweep<'_> {
         if self.low_rank == LowRankUse::Always {
             return Some(f);
         }
-        let wins = &self.windows[self.start[c0]..self.start[c1]];
-        let (jlo, jhi) = candidate_span(wins);
         let lanes = (jhi - jlo).div_ceil(LANES);
-        let w = wins.len();
+        let w = self.start[c1] - self.start[c0];
         (3 * f.rank * (w + rows * lanes) < 9 * rows * w).then_some(f)
     }
 }
