@@ -165,6 +165,7 @@ pub fn contact_line(
 }
 
 /// How [`body_tensor`] computes a body's tensor.
+#[derive(Clone)]
 pub struct BodyTensorOptions<'c> {
     pub flanks: FlankSelection,
     pub clamp_cuts: bool,
@@ -291,6 +292,7 @@ pub struct BodyCompressed {
 /// or `out/<name>.compression.bin` when that file holds this body's
 /// tensor (key, node order) at this ε, else built and written there (a
 /// stale or corrupt file is named in a warning and replaced).
+/// [`open_compressed`] then [`build_compressed`].
 pub fn body_compressed(
     body: &SectorBody,
     options: &BodyTensorOptions,
@@ -299,6 +301,42 @@ pub fn body_compressed(
     out: &Path,
     progress: bool,
 ) -> Result<BodyCompressed, FlankError> {
+    match open_compressed(body, options, blr, cache, out)? {
+        OpenedCompressed::Read(c) => Ok(c),
+        OpenedCompressed::Missing(m) => build_compressed(m, options, blr, progress),
+    }
+}
+
+/// A body's compressed tensor as [`open_compressed`] found it.
+pub enum OpenedCompressed {
+    /// Read from its file.
+    Read(BodyCompressed),
+    /// No file holds it (none, stale or corrupt: named in a warning): to
+    /// be built by [`build_compressed`].
+    Missing(MissingCompressed),
+}
+
+/// A body prepared for [`build_compressed`]: its model, flank and key,
+/// and the file to write.
+pub struct MissingCompressed {
+    model: crate::fem::model::Model,
+    tensor: ComplianceTensor,
+    deck: PathBuf,
+    file: PathBuf,
+}
+
+/// The first half of [`body_compressed`]: the body meshed and its deck
+/// written and read back, and its compressed tensor read from the file
+/// when one holds it, without factorizing. Two bodies can be opened at
+/// once (reading is bound by copying the file, one core each); building
+/// holds a factor and a thread per panel, so builds go one at a time.
+pub fn open_compressed(
+    body: &SectorBody,
+    options: &BodyTensorOptions,
+    blr: &crate::compliance::compressed::BlrOptions,
+    cache: Option<&Path>,
+    out: &Path,
+) -> Result<OpenedCompressed, FlankError> {
     use crate::compliance::compressed::BlrTensor;
     blr.validate()?;
     let PreparedBody {
@@ -330,19 +368,41 @@ pub fn body_compressed(
     if file.exists() {
         match BlrTensor::read(&file, &tensor, blr.epsilon) {
             Ok(c) => {
-                return Ok(BodyCompressed {
+                return Ok(OpenedCompressed::Read(BodyCompressed {
                     tensor: std::sync::Arc::new(tensor),
                     blr: std::sync::Arc::new(c),
                     stats: None,
                     deck,
                     file,
-                })
+                }))
             }
             Err(e) => eprintln!("warning: {e}; building it again"),
         }
     }
+    Ok(OpenedCompressed::Missing(MissingCompressed {
+        model,
+        tensor,
+        deck,
+        file,
+    }))
+}
+
+/// The second half of [`body_compressed`]: the tensor built panel by
+/// panel and written to its file.
+pub fn build_compressed(
+    m: MissingCompressed,
+    options: &BodyTensorOptions,
+    blr: &crate::compliance::compressed::BlrOptions,
+    progress: bool,
+) -> Result<BodyCompressed, FlankError> {
+    let MissingCompressed {
+        model,
+        tensor,
+        deck,
+        file,
+    } = m;
     let (built, c, stats, panel) = crate::compliance::compressed_build::compressed_compliance(
-        name,
+        &tensor.meta.body,
         &model,
         &tensor.flank,
         &options.compliance,

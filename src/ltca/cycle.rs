@@ -13,11 +13,14 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
+use rayon::prelude::*;
+
 use crate::compliance::body::{scene_body, BodyMeshOptions};
 use crate::compliance::cache::{ComplianceCache, FileFormat};
 use crate::compliance::compressed::{BlrOptions, BlrTensor};
 use crate::compliance::run::{
-    body_compressed, body_tensor, cylindrical_region_cut, BodyTensorOptions,
+    body_tensor, build_compressed, cylindrical_region_cut, open_compressed, BodyTensorOptions,
+    OpenedCompressed,
 };
 use crate::compliance::FlankRegion;
 use crate::compliance::{ComplianceStats, ComplianceTensor};
@@ -179,25 +182,38 @@ impl LtcaCycle {
             ));
         }
         let mut bodies = Vec::with_capacity(2);
-        for name in ["pinion", "gear"] {
-            topts.region_u_min = cylindrical_region_cut(scene, name, region, &mesh)?;
-            let body = scene_body(scene, name, &mesh)?.into();
-            bodies.push(match compression.epsilon() {
-                // compressed: built panel by panel, the dense tensor never
-                // formed (compliance::compressed_build)
-                Some(epsilon) => {
-                    let c = body_compressed(
-                        &body,
-                        &topts,
-                        &BlrOptions {
-                            epsilon,
-                            ..Default::default()
-                        },
-                        options.cache.as_deref(),
-                        &options.out,
-                        !options.quiet,
-                    )?;
-                    Prepared {
+        match compression.epsilon() {
+            // compressed: built panel by panel, the dense tensor never
+            // formed (compliance::compressed_build); the two bodies are
+            // meshed and their files read side by side, a missing tensor
+            // is then built one body at a time (a factor and the panels'
+            // threads each)
+            Some(epsilon) => {
+                let blr = BlrOptions {
+                    epsilon,
+                    ..Default::default()
+                };
+                let mut per_body = Vec::with_capacity(2);
+                for name in ["pinion", "gear"] {
+                    let mut o = topts.clone();
+                    o.region_u_min = cylindrical_region_cut(scene, name, region, &mesh)?;
+                    per_body.push((name, o));
+                }
+                let opened: Vec<OpenedCompressed> = per_body
+                    .par_iter()
+                    .map(|(name, o)| {
+                        let body = scene_body(scene, name, &mesh)?.into();
+                        open_compressed(&body, o, &blr, options.cache.as_deref(), &options.out)
+                    })
+                    .collect::<Result<_, FlankError>>()?;
+                for (opened, (_, o)) in opened.into_iter().zip(&per_body) {
+                    let c = match opened {
+                        OpenedCompressed::Read(c) => c,
+                        OpenedCompressed::Missing(m) => {
+                            build_compressed(m, o, &blr, !options.quiet)?
+                        }
+                    };
+                    bodies.push(Prepared {
                         tensor: c.tensor,
                         panel: c.stats.as_ref().map(|(s, p)| PanelBuild {
                             panels: p.clone(),
@@ -208,18 +224,22 @@ impl LtcaCycle {
                         }),
                         stats: c.stats.map(|s| s.0),
                         blr: Some(c.blr),
-                    }
+                    });
                 }
-                None => {
+            }
+            None => {
+                for name in ["pinion", "gear"] {
+                    topts.region_u_min = cylindrical_region_cut(scene, name, region, &mesh)?;
+                    let body = scene_body(scene, name, &mesh)?.into();
                     let t = body_tensor(&body, &topts, &options.out)?;
-                    Prepared {
+                    bodies.push(Prepared {
                         tensor: t.tensor,
                         stats: t.stats,
                         blr: None,
                         panel: None,
-                    }
+                    });
                 }
-            });
+            }
         }
         let gear = bodies.pop().expect("two bodies");
         let pinion = bodies.pop().expect("two bodies");
