@@ -313,7 +313,7 @@ pub enum OpenedCompressed {
     Read(BodyCompressed),
     /// No file holds it (none, stale or corrupt: named in a warning): to
     /// be built by [`build_compressed`].
-    Missing(MissingCompressed),
+    Missing(Box<MissingCompressed>),
 }
 
 /// A body prepared for [`build_compressed`]: its model, flank and key,
@@ -379,18 +379,18 @@ pub fn open_compressed(
             Err(e) => eprintln!("warning: {e}; building it again"),
         }
     }
-    Ok(OpenedCompressed::Missing(MissingCompressed {
+    Ok(OpenedCompressed::Missing(Box::new(MissingCompressed {
         model,
         tensor,
         deck,
         file,
-    }))
+    })))
 }
 
 /// The second half of [`body_compressed`]: the tensor built panel by
 /// panel and written to its file.
 pub fn build_compressed(
-    m: MissingCompressed,
+    m: Box<MissingCompressed>,
     options: &BodyTensorOptions,
     blr: &crate::compliance::compressed::BlrOptions,
     progress: bool,
@@ -400,7 +400,7 @@ pub fn build_compressed(
         tensor,
         deck,
         file,
-    } = m;
+    } = *m;
     let (built, c, stats, panel) = crate::compliance::compressed_build::compressed_compliance(
         &tensor.meta.body,
         &model,
