@@ -302,7 +302,7 @@ pub fn body_compressed(
     progress: bool,
 ) -> Result<BodyCompressed, FlankError> {
     match open_compressed(body, options, blr, cache, out)? {
-        OpenedCompressed::Read(c) => Ok(c),
+        OpenedCompressed::Read(c) => Ok(*c),
         OpenedCompressed::Missing(m) => build_compressed(m, options, blr, progress),
     }
 }
@@ -310,7 +310,7 @@ pub fn body_compressed(
 /// A body's compressed tensor as [`open_compressed`] found it.
 pub enum OpenedCompressed {
     /// Read from its file.
-    Read(BodyCompressed),
+    Read(Box<BodyCompressed>),
     /// No file holds it (none, stale or corrupt: named in a warning): to
     /// be built by [`build_compressed`].
     Missing(Box<MissingCompressed>),
@@ -368,13 +368,13 @@ pub fn open_compressed(
     if file.exists() {
         match BlrTensor::read(&file, &tensor, blr.epsilon) {
             Ok(c) => {
-                return Ok(OpenedCompressed::Read(BodyCompressed {
+                return Ok(OpenedCompressed::Read(Box::new(BodyCompressed {
                     tensor: std::sync::Arc::new(tensor),
                     blr: std::sync::Arc::new(c),
                     stats: None,
                     deck,
                     file,
-                }))
+                })))
             }
             Err(e) => eprintln!("warning: {e}; building it again"),
         }

@@ -208,7 +208,7 @@ impl LtcaCycle {
                     .collect::<Result<_, FlankError>>()?;
                 for (opened, (_, o)) in opened.into_iter().zip(&per_body) {
                     let c = match opened {
-                        OpenedCompressed::Read(c) => c,
+                        OpenedCompressed::Read(c) => *c,
                         OpenedCompressed::Missing(m) => {
                             build_compressed(m, o, &blr, !options.quiet)?
                         }
