@@ -57,7 +57,9 @@
 //! ([`crate::compliance::compressed_build`]) panel by panel from the
 //! body's sparse factor, without the dense tensor: the LTCA's path when
 //! compression is asked for. Both check every block against the dense
-//! block at hand and agree to the solves' round-off.
+//! block at hand and agree to the solves' round-off. The form is stored
+//! as `<body>.compression.bin` (`file`: [`BlrTensor::write`],
+//! [`BlrTensor::read`]).
 //!
 //! What is not done: the dense tensor is still needed by the frictional
 //! LTCA (its directional blocks read rows of `matrix`), the bevel/hypoid
