@@ -30,6 +30,15 @@ use crate::error::FlankError;
 /// Nodes per page.
 pub const PAGE: usize = 64;
 
+/// The paged position of each flank node: the inverse of [`paged_order`].
+pub(crate) fn paged_positions(order: &[u32]) -> Vec<u32> {
+    let mut position = vec![0u32; order.len()];
+    for (p, &a) in order.iter().enumerate() {
+        position[a as usize] = p as u32;
+    }
+    position
+}
+
 /// The flank nodes of `t` in the paged order: by (set, u, v), then node.
 pub fn paged_order(t: &ComplianceTensor) -> Vec<u32> {
     let f = &t.flank;
@@ -71,10 +80,7 @@ impl TensorPages {
     pub fn new(t: &ComplianceTensor) -> Self {
         let n = t.node_count();
         let order = paged_order(t);
-        let mut position = vec![0u32; n];
-        for (p, &a) in order.iter().enumerate() {
-            position[a as usize] = p as u32;
-        }
+        let position = paged_positions(&order);
         let pages = n.div_ceil(PAGE);
         TensorPages {
             dim: t.dim(),

@@ -270,7 +270,7 @@ fn prepare_body(
     })
 }
 
-/// One body's compressed tensor ([`body_compressed`]).
+/// One body's compressed tensor ([`open_compressed`], [`build_compressed`]).
 pub struct BodyCompressed {
     /// The body's flank and key; no dense matrix
     /// ([`ComplianceTensor::has_matrix`] is false).
@@ -283,28 +283,6 @@ pub struct BodyCompressed {
     )>,
     pub deck: PathBuf,
     pub file: PathBuf,
-}
-
-/// The block low-rank tensor of a scene's body at `blr`, built panel by
-/// panel from the body's factor ([`crate::compliance::compressed_build`]):
-/// the dense tensor is never formed, read or written. Read from
-/// `<cache>/<name>.<key16>.compression.bin` (a campaign cache, `cache`)
-/// or `out/<name>.compression.bin` when that file holds this body's
-/// tensor (key, node order) at this ε, else built and written there (a
-/// stale or corrupt file is named in a warning and replaced).
-/// [`open_compressed`] then [`build_compressed`].
-pub fn body_compressed(
-    body: &SectorBody,
-    options: &BodyTensorOptions,
-    blr: &crate::compliance::compressed::BlrOptions,
-    cache: Option<&Path>,
-    out: &Path,
-    progress: bool,
-) -> Result<BodyCompressed, FlankError> {
-    match open_compressed(body, options, blr, cache, out)? {
-        OpenedCompressed::Read(c) => Ok(*c),
-        OpenedCompressed::Missing(m) => build_compressed(m, options, blr, progress),
-    }
 }
 
 /// A body's compressed tensor as [`open_compressed`] found it.
@@ -325,11 +303,18 @@ pub struct MissingCompressed {
     file: PathBuf,
 }
 
-/// The first half of [`body_compressed`]: the body meshed and its deck
-/// written and read back, and its compressed tensor read from the file
-/// when one holds it, without factorizing. Two bodies can be opened at
-/// once (reading is bound by copying the file, one core each); building
-/// holds a factor and a thread per panel, so builds go one at a time.
+/// The block low-rank tensor of a scene's body at `blr`, first half: the
+/// body meshed and its deck written and read back, and its compressed
+/// tensor read from `<cache>/<name>.<key16>.compression.bin` (a campaign
+/// cache, `cache`) or `out/<name>.compression.bin` when that file holds
+/// this body's tensor (key, node order) at this ε; else (a stale or
+/// corrupt file named in a warning) [`build_compressed`] builds it panel
+/// by panel from the body's factor
+/// ([`crate::compliance::compressed_build`]: the dense tensor is never
+/// formed, read or written) and writes it there. Two bodies can be opened
+/// at once (reading is bound by copying the file, one core each);
+/// building holds a factor and a thread per panel, so builds go one at a
+/// time.
 pub fn open_compressed(
     body: &SectorBody,
     options: &BodyTensorOptions,
@@ -387,7 +372,7 @@ pub fn open_compressed(
     })))
 }
 
-/// The second half of [`body_compressed`]: the tensor built panel by
+/// The second half of [`open_compressed`]: the tensor built panel by
 /// panel and written to its file.
 pub fn build_compressed(
     m: Box<MissingCompressed>,

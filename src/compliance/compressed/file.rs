@@ -4,7 +4,7 @@
 //! with the reason.
 
 use crate::compliance::compressed::{page_len, Block, BlrOptions, BlrStats, BlrTensor};
-use crate::compliance::pages::{paged_order, PAGE};
+use crate::compliance::pages::{paged_order, paged_positions, PAGE};
 use crate::compliance::{ComplianceTensor, Fnv128, WordHash};
 use crate::error::FlankError;
 
@@ -164,10 +164,7 @@ impl BlrTensor {
             }
         }
         f.finish()?;
-        let mut position = vec![0u32; n];
-        for (p, &a) in order.iter().enumerate() {
-            position[a as usize] = p as u32;
-        }
+        let position = paged_positions(&order);
         Ok(BlrTensor {
             dim: t.dim(),
             cache_key: header.cache_key,

@@ -75,7 +75,7 @@ use std::time::Instant;
 use faer::Mat;
 use rayon::prelude::*;
 
-use crate::compliance::pages::{paged_order, PAGE};
+use crate::compliance::pages::{paged_order, paged_positions, PAGE};
 use crate::compliance::ComplianceTensor;
 use crate::error::FlankError;
 
@@ -269,10 +269,7 @@ impl Layout {
     pub(crate) fn of(t: &ComplianceTensor) -> Self {
         let n = t.node_count();
         let order = paged_order(t);
-        let mut position = vec![0u32; n];
-        for (p, &a) in order.iter().enumerate() {
-            position[a as usize] = p as u32;
-        }
+        let position = paged_positions(&order);
         let pages = n.div_ceil(PAGE);
         let boxes = (0..pages)
             .map(|p| {
