@@ -24,15 +24,14 @@ use criterion::{criterion_group, Criterion};
 use flank::compliance::body::{
     active_flank_cut, active_margin_mm, body_flank_nodes, scene_body, BodyMeshOptions,
 };
-use flank::compliance::{
-    compute_compliance, ComplianceOptions, FlankNodes, FlankSelection, Method,
-};
+use flank::compliance::{compute_compliance, ComplianceOptions, FlankNodes};
 use flank::fem::assembly::Assembly;
 use flank::fem::constraints::DofMap;
 use flank::fem::model::Model;
 use flank::fem::ordering::OrderingMethod;
 use flank::fem::solver::{parallelism, Precision, SparseCholesky};
 use flank::fem::static_analysis::peak_memory_mb;
+use flank::settings::{FlankSelection, Method};
 
 /// The seed 002 pinion and its loaded flank nodes; with `active`, only the
 /// active flank plus the LTCA's margin ([`FlankNodes::restrict_u`]).

@@ -14,7 +14,8 @@ use criterion::{criterion_group, criterion_main, Criterion};
 
 use flank::compliance::body::BodyMeshOptions;
 use flank::mesh_cycle::run::{MeshCycle, RunSettings};
-use flank::mesh_cycle::{ContactLaw, SlaveBody};
+
+use flank::settings::{ContactLaw, SlaveBody};
 
 fn cycle() -> MeshCycle {
     let scene = flank::scene::read_scene(std::path::Path::new(concat!(

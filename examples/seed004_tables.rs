@@ -27,8 +27,8 @@ fn main() -> anyhow::Result<()> {
     std::fs::create_dir_all(&out)?;
     let words: Vec<String> = std::env::args().skip(1).collect();
     let local = match words.get(2).map(String::as_str) {
-        None | Some("half-space") => flank::ltca::local::LocalModel::HalfSpace,
-        Some("none") => flank::ltca::local::LocalModel::None,
+        None | Some("half-space") => flank::settings::LocalModel::HalfSpace,
+        Some("none") => flank::settings::LocalModel::None,
         Some(o) => anyhow::bail!("local model {o}: half-space or none"),
     };
     let args: Vec<f64> = words
@@ -55,7 +55,7 @@ fn main() -> anyhow::Result<()> {
         // block low-rank tensors built panel by panel from the factor:
         // within 1e-6 of the dense ones per block, LTCA answers within
         // ≈ 1e-7, and no dense 15 k × 15 k matrix (README)
-        compression: Some(flank::compliance::compressed::Compression::Blr(1e-6)),
+        compression: Some(flank::settings::Compression::Blr(1e-6)),
         quiet: true,
         ..Default::default()
     };

@@ -113,6 +113,7 @@ pub mod mesh_cycle;
 pub mod report;
 pub mod resources;
 pub mod scene;
+pub mod settings;
 pub mod tca;
 #[cfg(test)]
 pub(crate) mod testing;

@@ -11,11 +11,12 @@ use flank::ccx::{ccx_executable, run_ccx};
 use flank::compliance::body::{body_flank_nodes, scene_body, BodyMeshOptions};
 use flank::compliance::cache::{self, FileFormat};
 use flank::compliance::run::contact_line;
-use flank::compliance::{compliance_tensor, ComplianceOptions, FlankInterpolator, FlankSelection};
+use flank::compliance::{compliance_tensor, ComplianceOptions, FlankInterpolator};
 use flank::fem::model::NodalForce;
 use flank::fem::static_analysis::{solve_static, SolveOptions};
 use flank::mesh::inp::{read_deck, write_deck};
 use flank::scene::{read_scene, ElementKind};
+use flank::settings::FlankSelection;
 
 fn scene_path() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("papers/seed002-spur/scene.toml")

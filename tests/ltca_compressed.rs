@@ -9,12 +9,13 @@
 
 use std::path::{Path, PathBuf};
 
-use flank::compliance::compressed::{BlrOptions, BlrTensor, Compression};
+use flank::compliance::compressed::{BlrOptions, BlrTensor};
 use flank::ltca::cycle::{run_scene, LtcaOptions};
 
 mod common;
 
 use common::{coarse_ltca_options, rel, seed002_scene as scene_path};
+use flank::settings::Compression;
 
 fn options(out: &Path, compression: Option<Compression>) -> LtcaOptions {
     LtcaOptions {

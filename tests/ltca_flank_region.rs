@@ -10,9 +10,9 @@ use std::path::{Path, PathBuf};
 
 use flank::compliance::body::{active_flank_cut, active_margin_mm};
 use flank::compliance::body::{scene_body, BodyMeshOptions};
-use flank::compliance::FlankRegion;
 use flank::ltca::cycle::{run_scene, LtcaOptions};
 use flank::scene::read_scene;
+use flank::settings::FlankRegion;
 
 mod common;
 

@@ -34,7 +34,7 @@ pub struct Args {
     sizes: SectorArgs,
     /// Local contact deformation model of the LTCA.
     #[arg(long, value_enum)]
-    local: Option<flank::ltca::local::LocalModel>,
+    local: Option<flank::settings::LocalModel>,
     /// Threads (0 = all cores).
     #[arg(long, default_value_t = 0)]
     threads: usize,
@@ -50,7 +50,7 @@ pub struct Args {
     /// What the LTCA's friction resists (as `flank ltca`; default
     /// incremental). FE contact's is always the loading step's slip.
     #[arg(long, value_enum)]
-    friction_model: Option<flank::ltca::model::FrictionModel>,
+    friction_model: Option<flank::settings::FrictionModel>,
     /// Compressed LTCA tensors (spur/helical, frictionless), as `flank
     /// ltca --compression`: `none` or ε in (0, 1), e.g. 1e-6; default
     /// the scene's `[analyses.ltca] compression`, else none.
@@ -92,7 +92,7 @@ pub fn run(args: Args) -> Result<()> {
     } = args;
     let compression = match compression {
         Some(c) => Some(
-            c.parse::<flank::compliance::compressed::Compression>()
+            c.parse::<flank::settings::Compression>()
                 .map_err(|e| anyhow::anyhow!("--compression: {e}"))?,
         ),
         None => None,

@@ -21,17 +21,17 @@ pub struct Args {
     /// Method (schur: flank DOFs ordered last, fastest; blocked:
     /// unit right-hand sides); overrides [analyses.compliance].
     #[arg(long, value_enum)]
-    method: Option<flank::compliance::Method>,
+    method: Option<flank::settings::Method>,
     /// Flanks carrying tensors; overrides [analyses.compliance].
     #[arg(long, value_enum)]
-    flanks: Option<flank::compliance::FlankSelection>,
+    flanks: Option<flank::settings::FlankSelection>,
     /// Part of each flank carrying tensors: full (involute and root
     /// fillet) or active (spur/helical: from the start of active profile,
     /// which the mating tip sets, to the tip, plus a margin of 2 flank
     /// elements + 1 mm down the profile); overrides
     /// [analyses.compliance] flank_region, default full.
     #[arg(long, value_enum)]
-    flank_region: Option<flank::compliance::FlankRegion>,
+    flank_region: Option<flank::settings::FlankRegion>,
     /// Clamp the sector cut faces CUT_A and CUT_B as well as the bore.
     #[arg(long)]
     clamp_cuts: bool,

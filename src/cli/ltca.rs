@@ -27,7 +27,7 @@ pub struct Args {
     solver: Option<String>,
     /// Local contact deformation model.
     #[arg(long, value_enum)]
-    local: Option<flank::ltca::local::LocalModel>,
+    local: Option<flank::settings::LocalModel>,
     /// FE cell half-width across the line in flank element sizes.
     #[arg(long)]
     fe_cell_factor: Option<f64>,
@@ -62,12 +62,12 @@ pub struct Args {
     /// sliding (the running mesh: μP_n against the kinematic sliding;
     /// the default of the lubricated loop).
     #[arg(long, value_enum)]
-    friction_model: Option<flank::ltca::model::FrictionModel>,
+    friction_model: Option<flank::settings::FrictionModel>,
     /// Bevel/hypoid pairs: LTCA with the TCA's edge contacts as candidates,
     /// without them, or both (seed 000; default the scene's
     /// `[analyses.ltca] edges`, else without).
     #[arg(long, value_enum)]
-    edges: Option<flank::ltca::edges::EdgeVariants>,
+    edges: Option<flank::settings::EdgeVariants>,
     /// Spur/helical pairs: the flank nodes the compliance tensors cover:
     /// active (default: from the start of active profile, which the
     /// mating tip sets, to the tip, plus a margin of 2 flank elements +
@@ -75,7 +75,7 @@ pub struct Args {
     /// (involute and root fillet); default the scene's
     /// `[analyses.ltca] flank_region`, else active.
     #[arg(long, value_enum)]
-    flank_region: Option<flank::compliance::FlankRegion>,
+    flank_region: Option<flank::settings::FlankRegion>,
     /// Spur/helical, frictionless: `none` (dense tensors) or a relative
     /// accuracy ε in (0, 1), e.g. 1e-6, to build the tensors in block
     /// low-rank form (each block within ε of its Frobenius norm) panel by
@@ -130,21 +130,21 @@ pub fn run(args: Args) -> Result<()> {
     } = args;
     let compression = match compression {
         Some(c) => Some(
-            c.parse::<flank::compliance::compressed::Compression>()
+            c.parse::<flank::settings::Compression>()
                 .map_err(|e| anyhow::anyhow!("--compression: {e}"))?,
         ),
         None => None,
     };
     let solver = match solver {
         Some(s) => Some(
-            s.parse::<flank::ltca::qp::QpSolver>()
+            s.parse::<flank::settings::QpSolver>()
                 .map_err(|e| anyhow::anyhow!("--solver: {e}"))?,
         ),
         None => None,
     };
     if let flank::scene::AnyScene::Bevel(b) = flank::scene::read_any_scene(&scene)? {
         use flank::ltca::bevel::{run_bevel, BevelLtcaOptions};
-        if flank_region == Some(flank::compliance::FlankRegion::Active) {
+        if flank_region == Some(flank::settings::FlankRegion::Active) {
             anyhow::bail!("--flank-region active: implemented for spur/helical pairs only (a bevel/hypoid LTCA takes the full flank)");
         }
         if compression.is_some_and(|c| c.epsilon().is_some()) {

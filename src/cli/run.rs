@@ -25,14 +25,14 @@ pub struct Args {
     reference_angles: Option<Vec<f64>>,
     /// Normal contact law; overrides the scene's.
     #[arg(long, value_enum)]
-    law: Option<flank::mesh_cycle::ContactLaw>,
+    law: Option<flank::settings::ContactLaw>,
     /// Penalty slope as a multiple of the automatic default.
     #[arg(long)]
     penalty_factor: Option<f64>,
     /// Body carrying the slave nodes (auto: the body whose tip edge can touch,
     /// per tooth pair and position); overrides the scene's.
     #[arg(long, value_enum)]
-    slave: Option<flank::mesh_cycle::SlaveBody>,
+    slave: Option<flank::settings::SlaveBody>,
     /// Coulomb friction coefficient of the flanks (0…1); overrides the
     /// scene's friction_mu.
     #[arg(long)]
@@ -151,7 +151,7 @@ pub fn run(args: Args) -> Result<()> {
             anyhow::bail!("--friction-mu {friction_mu}: must be in 0…1");
         }
         let contact = BevelContact {
-            law: law.unwrap_or(flank::mesh_cycle::ContactLaw::Hard),
+            law: law.unwrap_or(flank::settings::ContactLaw::Hard),
             penalty_factor: penalty_factor.unwrap_or(1.0),
             decks,
             resume,
@@ -222,7 +222,7 @@ pub fn run(args: Args) -> Result<()> {
 
 /// The contact options of a hypoid run.
 struct BevelContact {
-    law: flank::mesh_cycle::ContactLaw,
+    law: flank::settings::ContactLaw,
     penalty_factor: f64,
     decks: bool,
     resume: bool,

@@ -36,8 +36,8 @@ use crate::geometry::gear_pair::GearPair;
 use crate::ltca::cycle::{LtcaCycle, LtcaOptions};
 use crate::ltca::model::PositionResult;
 use crate::mesh_cycle::run::{default_roll_angles, settings, MeshCycle, RunOptions, StepResult};
-use crate::mesh_cycle::SlaveBody;
 use crate::scene::{read_scene, Scene};
+use crate::settings::SlaveBody;
 
 pub mod bevel;
 pub mod plot;

@@ -9,7 +9,7 @@
 //! [`crate::mesh::bevel_sector`]: u across the pitch generatrix, v the cone
 //! distance); nothing after that point knows which it is.
 
-use crate::compliance::{FlankNodes, FlankSelection};
+use crate::compliance::FlankNodes;
 use crate::error::FlankError;
 use crate::fem::model::Model;
 use crate::geometry::cylindrical::CylindricalGear;
@@ -21,6 +21,7 @@ use crate::mesh::gear_body::{body_model, BodyModel, Mesher};
 use crate::mesh::gear_sector::SectorOptions;
 use crate::mesh::Mesh;
 use crate::scene::{AnyScene, BevelScene, ElementKind, Scene};
+use crate::settings::FlankSelection;
 use std::collections::HashMap;
 use std::sync::Arc;
 

@@ -60,10 +60,11 @@ use crate::compliance::compressed::{
 use crate::compliance::pages::PAGE;
 use crate::compliance::tensor::{factor_flank, Beside, FlankFactor};
 use crate::compliance::{
-    tensor_meta, ComplianceOptions, ComplianceStats, ComplianceTensor, FlankNodes, Method,
+    tensor_meta, ComplianceOptions, ComplianceStats, ComplianceTensor, FlankNodes,
 };
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
+use crate::settings::Method;
 
 /// What the memory guard suggests when the panel build does not fit.
 const PANEL_ALTERNATIVES: &str = "use a coarser flank or base mesh (a larger --flank-size or \

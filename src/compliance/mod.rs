@@ -103,6 +103,11 @@
 //! read its page pairs from it (`[analyses.ltca] compression = 1e-6`).
 //! [`compressed_build`]: that form built panel by panel from the body's
 //! sparse factor, without the dense tensor (the LTCA's path then).
+//!
+//! [`Method::Schur`]: crate::settings::Method::Schur
+//! [`Method::Blocked`]: crate::settings::Method::Blocked
+//! [`FlankSelection::Loaded`]: crate::settings::FlankSelection::Loaded
+//! [`FlankRegion`]: crate::settings::FlankRegion
 
 pub mod body;
 pub mod cache;
@@ -120,90 +125,11 @@ pub mod tensor_cache;
 pub use cache::{ComplianceCache, FileFormat};
 pub use flank::{FlankFace, FlankNodes};
 pub use interpolation::{directional, CellShape, Directional, FlankInterpolator, SurfaceLoad};
-pub use tensor::{compute_compliance, ComplianceOptions, ComplianceStats, Method};
+pub use tensor::{compute_compliance, ComplianceOptions, ComplianceStats};
 
 use crate::error::FlankError;
 use crate::fem::model::Model;
 use crate::mesh::Mesh;
-
-/// Which flank node sets of a gear sector carry compliance tensors.
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    Default,
-    PartialEq,
-    Eq,
-    serde::Serialize,
-    serde::Deserialize,
-    clap::ValueEnum,
-)]
-#[serde(rename_all = "lowercase")]
-pub enum FlankSelection {
-    /// `FLANK_R<k>` of every tooth: the side [`crate::mesh::gear_body`] loads.
-    #[default]
-    Loaded,
-    /// `FLANK_L<k>` of every tooth.
-    Left,
-    /// `FLANK_R<k>` of every tooth.
-    Right,
-    /// Both flanks of every tooth.
-    Both,
-}
-
-impl FlankSelection {
-    /// The node-set names for a sector of `teeth` teeth.
-    pub fn set_names(self, teeth: usize) -> Vec<String> {
-        let side = |s: &'static str| (1..=teeth).map(move |k| format!("FLANK_{s}{k}"));
-        match self {
-            FlankSelection::Loaded | FlankSelection::Right => side("R").collect(),
-            FlankSelection::Left => side("L").collect(),
-            FlankSelection::Both => side("L").chain(side("R")).collect(),
-        }
-    }
-}
-
-/// Which part of each selected flank carries compliance tensors.
-///
-/// The Schur-complement path costs m³ in the m = 3N flank DOFs
-/// (`benches/README.md`, "Compliance tensors"), so DOFs the contact cannot
-/// load are dear. The block of K⁻¹ on a subset of the flank DOFs is exactly
-/// the sub-block of the full one (C = Eᵀ K⁻¹ E with fewer columns of E):
-/// restricting the nodes drops rows and columns, it approximates nothing.
-/// The active region's cut: [`body::active_flank_cut`] with
-/// [`body::active_margin_mm`].
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    Default,
-    PartialEq,
-    Eq,
-    serde::Serialize,
-    serde::Deserialize,
-    clap::ValueEnum,
-)]
-#[serde(rename_all = "lowercase")]
-pub enum FlankRegion {
-    /// The whole flank node sets: involute and root fillet.
-    #[default]
-    Full,
-    /// The active flank (start of active profile, from the pair, up to the
-    /// tip) plus a margin of 2 flank elements + 1 mm down the profile; the
-    /// default of the runs that know the mating gear (`flank ltca`,
-    /// `flank compare`) on spur/helical pairs.
-    Active,
-}
-
-impl FlankRegion {
-    /// The lower-case name used in scenes, on the command line and in reports.
-    pub fn name(self) -> &'static str {
-        match self {
-            FlankRegion::Full => "full",
-            FlankRegion::Active => "active",
-        }
-    }
-}
 
 /// The compliance of one body on its flank nodes, with what it was computed
 /// from. `matrix` is 3N × 3N, full, symmetric, node-major (x, y, z), mm/N.
@@ -241,6 +167,8 @@ pub struct ComplianceMeta {
     /// nodes. A contact cell reaching below it is an error
     /// ([`FlankInterpolator::cell`]), never a silent zero. Absent for the
     /// full flank (and in files written before it existed).
+    ///
+    /// [`FlankRegion::Active`]: crate::settings::FlankRegion::Active
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub region_u_min: Option<Vec<f64>>,
 }
@@ -580,6 +508,7 @@ mod tests {
     use super::*;
     use crate::compliance::flank::tests::box_flank;
     use crate::mesh::structured::BoxElement;
+    use crate::settings::{FlankRegion, FlankSelection, Method};
 
     /// The checksum of a byte stream does not depend on how it is cut
     /// into updates (the compressed tensor file is hashed field by field
@@ -611,11 +540,6 @@ mod tests {
 
     #[test]
     fn selection_hash_key_and_clamped_sets() {
-        assert_eq!(
-            FlankSelection::Both.set_names(2),
-            ["FLANK_L1", "FLANK_L2", "FLANK_R1", "FLANK_R2"]
-        );
-        assert_eq!(FlankSelection::Loaded.set_names(1), ["FLANK_R1"]);
         let (model, flank) = box_flank(BoxElement::Hex20);
         let h = mesh_hash(&model.mesh);
         assert_eq!(h, mesh_hash(&model.mesh.clone()));

@@ -15,11 +15,12 @@ use crate::compliance::contact_probe::{directional_matrices, retain_meshed, Prob
 use crate::compliance::plot::plot_cnn;
 use crate::compliance::{
     cache_key, clamp_sets, compliance_tensor, mesh_hash, region_cache_key, ComplianceOptions,
-    ComplianceTensor, FlankInterpolator, FlankRegion, FlankSelection, Method,
+    ComplianceTensor, FlankInterpolator,
 };
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
 use crate::scene::{read_any_scene, AnyScene, BevelScene, ComplianceAnalysis, Scene};
+use crate::settings::{FlankRegion, FlankSelection, Method};
 use crate::tca::major_axis::{major_axis_points, AxisPoint};
 use crate::tca::point_contact::{point_tca, PointTcaSettings};
 

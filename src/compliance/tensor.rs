@@ -18,36 +18,7 @@ use crate::fem::model::Model;
 use crate::fem::ordering::OrderingMethod;
 use crate::fem::solver::{parallelism, Precision, SparseCholesky};
 use crate::fem::static_analysis::{check_rigid_body_modes, peak_memory_mb, validate};
-
-/// How the flank block of K⁻¹ is computed.
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    Default,
-    PartialEq,
-    Eq,
-    serde::Serialize,
-    serde::Deserialize,
-    clap::ValueEnum,
-)]
-#[serde(rename_all = "lowercase")]
-pub enum Method {
-    /// Flank DOFs ordered last; C = (L₂₂L₂₂ᵀ)⁻¹ from the factor's trailing block (default: fastest).
-    #[default]
-    Schur,
-    /// Unit right-hand sides solved in blocks, blocks in parallel.
-    Blocked,
-}
-
-impl Method {
-    pub fn name(self) -> &'static str {
-        match self {
-            Method::Schur => "schur",
-            Method::Blocked => "blocked",
-        }
-    }
-}
+use crate::settings::Method;
 
 /// Options of [`compute_compliance`].
 #[derive(Clone, Debug)]

@@ -50,10 +50,11 @@ use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
 use crate::geometry::gear_pair::PairPlacement;
 use crate::geometry::tangency::ContactSystem;
-use crate::ltca::edges::{edge_line, EdgeLine, EdgeVariants};
+use crate::ltca::edges::{edge_line, EdgeLine};
 use crate::ltca::local::contact_modulus;
 use crate::ltca::model::{LtcaBodies, LtcaFriction, LtcaSettings, PositionResult};
 use crate::scene::BevelScene;
+use crate::settings::EdgeVariants;
 use crate::tca::major_axis::major_axis_line;
 use crate::tca::point_contact::{point_tca, PointTca, PointTcaSettings, ARCSEC_PER_RAD};
 use crate::tca::TcaPosition;
@@ -78,7 +79,7 @@ pub struct BevelLtcaOptions {
     pub friction_mu: f64,
     pub increments: usize,
     pub cross_check: bool,
-    pub friction_model: crate::ltca::model::FrictionModel,
+    pub friction_model: crate::settings::FrictionModel,
     pub cache: Option<PathBuf>,
     pub threads: usize,
     /// Edge contact (module docs): [`BevelLtca::new`] traces the TCA with

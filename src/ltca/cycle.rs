@@ -22,17 +22,18 @@ use crate::compliance::run::{
     body_tensor, build_compressed, cylindrical_region_cut, open_compressed, BodyTensorOptions,
     OpenedCompressed,
 };
-use crate::compliance::FlankRegion;
 use crate::compliance::{ComplianceStats, ComplianceTensor};
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
 use crate::geometry::gear_pair::{engagement_roll_angles, GearPair};
 use crate::iteration_limits::IterationLimits;
 use crate::load_sharing::LOADED_FRACTION;
-use crate::ltca::local::{contact_modulus, LocalModel};
-use crate::ltca::model::{FrictionModel, LtcaBodies, LtcaFriction, LtcaSettings, PositionResult};
-use crate::ltca::qp::QpSolver;
+use crate::ltca::local::contact_modulus;
+use crate::ltca::model::{LtcaBodies, LtcaFriction, LtcaSettings, PositionResult};
 use crate::scene::{read_scene, Scene};
+use crate::settings::FlankRegion;
+use crate::settings::QpSolver;
+use crate::settings::{FrictionModel, LocalModel};
 use crate::tca::{Tca, TcaSettings};
 
 /// Default K (candidate points per contact line).
@@ -69,7 +70,7 @@ pub struct LtcaOptions {
     pub flank_region: Option<FlankRegion>,
     /// Dense or block low-rank tensors (default: the scene's
     /// `[analyses.ltca] compression`, else dense).
-    pub compression: Option<crate::compliance::compressed::Compression>,
+    pub compression: Option<crate::settings::Compression>,
 }
 
 /// The corner-contact extension must exceed the loaded approach by this

@@ -57,39 +57,6 @@ use crate::tca::{ContactLine, ContactPoint};
 /// the TCA's default, seed 000's section scan).
 pub const EDGE_SEARCH_DIRECTIONS: usize = 18;
 
-/// Which LTCA variants to run: with the edge contacts as candidates, without
-/// them (the flank axes only, today's LTCA), or both (seed 000's
-/// comparison). Scene key `[analyses.ltca] edges`, option `--edges`.
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    Default,
-    PartialEq,
-    Eq,
-    serde::Serialize,
-    serde::Deserialize,
-    clap::ValueEnum,
-)]
-#[serde(rename_all = "kebab-case")]
-pub enum EdgeVariants {
-    #[default]
-    Without,
-    With,
-    Both,
-}
-
-impl EdgeVariants {
-    /// The variants to run, as (edges on, name) in the order written.
-    pub fn runs(self) -> Vec<(bool, &'static str)> {
-        match self {
-            EdgeVariants::Without => vec![(false, "without_edges")],
-            EdgeVariants::With => vec![(true, "with_edges")],
-            EdgeVariants::Both => vec![(true, "with_edges"), (false, "without_edges")],
-        }
-    }
-}
-
 /// The candidate line of an edge contact, or why there is none.
 #[derive(Clone, Debug)]
 pub enum EdgeLine {

@@ -7,6 +7,7 @@
 use crate::error::FlankError;
 use crate::ltca::friction::FrictionOptions;
 use crate::ltca::model::LtcaSettings;
+use crate::settings::FrictionModel;
 
 /// Coulomb friction in the LTCA: the problem of [`crate::ltca::friction`]
 /// on the candidates (C_nn with the near field as without friction; C_nt,
@@ -69,36 +70,6 @@ impl LtcaFriction {
             model,
         }))
     }
-}
-
-/// What sets the slip, hence the friction direction, of the frictional
-/// LTCA (the physics behind each: [`crate::ltca::friction`]).
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    Default,
-    PartialEq,
-    Eq,
-    serde::Serialize,
-    serde::Deserialize,
-    clap::ValueEnum,
-)]
-#[serde(rename_all = "kebab-case")]
-pub enum FrictionModel {
-    /// Seeds 001/003: the torque in load increments, stick/slip/separation,
-    /// the slip per unit rotation ρ = r_t + s r_n with the kinematic
-    /// sliding coefficient s = v_s/(ω₁ r_n).
-    #[default]
-    Incremental,
-    /// The same with s = 0: the torque taken up at a standing position
-    /// against the held mate, what one static FE contact step with Coulomb
-    /// friction models (`flank run --friction-mu`).
-    Standstill,
-    /// The running mesh: fully developed sliding, P_t = μ P_n against the
-    /// kinematic sliding velocity at every loaded point
-    /// ([`crate::ltca::friction::solve_sliding`]).
-    Sliding,
 }
 
 impl LtcaSettings {

@@ -51,36 +51,6 @@ use crate::compliance::interpolation::gauss_legendre_rule_of;
 // Hertz's line contact lives with the contact layer (FE contact uses it too)
 pub use crate::contact::hertz_line::{contact_modulus, hertz_line};
 
-/// How the LTCA treats the local contact deformation.
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    Default,
-    PartialEq,
-    Eq,
-    serde::Serialize,
-    serde::Deserialize,
-    clap::ValueEnum,
-)]
-#[serde(rename_all = "kebab-case")]
-pub enum LocalModel {
-    /// FE cells of half-width max(a, κ h) plus the half-space correction H.
-    #[default]
-    HalfSpace,
-    /// FE cells of half-width max(a, κ h) only (near field below κ h missing).
-    None,
-}
-
-impl LocalModel {
-    pub fn name(self) -> &'static str {
-        match self {
-            LocalModel::HalfSpace => "half-space",
-            LocalModel::None => "none",
-        }
-    }
-}
-
 /// ∬ dX dY / √(X² + Y²): the antiderivative with ∂²I/∂X∂Y = 1/r.
 fn antiderivative(x: f64, y: f64) -> f64 {
     // √(x² + y²), not hypot: arguments in mm neither overflow nor

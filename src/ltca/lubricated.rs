@@ -35,11 +35,12 @@ use crate::geometry::cylindrical::MeshKinematics;
 use crate::load_sharing::LOADED_FRACTION;
 use crate::ltca::cycle::{LtcaCycle, LtcaOptions};
 use crate::ltca::local::hertz_line;
-use crate::ltca::model::{FrictionModel, LtcaSettings, PositionResult};
+use crate::ltca::model::{LtcaSettings, PositionResult};
 use crate::lubrication::{
     involute_contact, reduced_modulus, wet_dry_loop, LoopResult, LoopSettings, OperatingPoint,
 };
 use crate::scene::Scene;
+use crate::settings::FrictionModel;
 
 /// The loop's settings and the friction model it runs the LTCA with.
 #[derive(Clone, Debug)]

@@ -47,13 +47,14 @@ use crate::ltca::friction::{
     PointState, MAX_ACTIVE_SET_ITERATIONS, MAX_SLIDING_ITERATIONS, SLIDING_TOLERANCE,
 };
 use crate::ltca::influence::{directional_compliance, normal_compliance_pair};
-use crate::ltca::local::{hertz_line, Cell, LocalModel, NearField};
+use crate::ltca::local::{hertz_line, Cell, NearField};
 use crate::ltca::qp::{
     condition_number, singular_on, solve_contact_qp, ContactQp, QpOptions, QpSolution,
 };
+use crate::settings::{FrictionModel, LocalModel};
 use crate::tca::{LineKind, TcaPosition};
 
-pub use crate::ltca::friction_settings::{FrictionModel, LtcaFriction};
+pub use crate::ltca::friction_settings::LtcaFriction;
 
 /// Relative change of the Hertz half-widths at which their fixed point
 /// stops: 1 % moves the near-field term by (2/(π E*)) P′ ln(1.01), < 1e-3 of

@@ -30,12 +30,11 @@ use crate::iteration_limits::IterationLimits;
 use crate::mesh::bevel_body::bevel_body_model;
 use crate::mesh::bevel_sector::BevelSectorOptions;
 use crate::mesh_cycle::checkpoint::{self, Checkpoint, Position};
-use crate::mesh_cycle::pair_model::{
-    combine, set_automatic_penalty, PairBody, PairModel, SlaveBody,
-};
-use crate::mesh_cycle::ContactLaw;
+use crate::mesh_cycle::pair_model::{combine, set_automatic_penalty, PairBody, PairModel};
 use crate::report::fe_pattern::{plot_fe_pattern, PatternNode};
 use crate::scene::BevelScene;
+use crate::settings::ContactLaw;
+use crate::settings::SlaveBody;
 use crate::tca::point_contact::{projection, ARCSEC_PER_RAD};
 
 /// Slave nodes beyond the search distance that penetrate: the search is

@@ -237,8 +237,9 @@ mod tests {
     use super::*;
     use crate::mesh::bevel_body::bevel_body_model;
     use crate::mesh::bevel_sector::BevelSectorOptions;
-    use crate::mesh_cycle::pair_model::{combine, PairBody, SlaveBody};
+    use crate::mesh_cycle::pair_model::{combine, PairBody};
     use crate::scene::{read_any_scene, AnyScene};
+    use crate::settings::SlaveBody;
 
     fn scene(rel: &str) -> BevelScene {
         let path = format!("{}/papers/{rel}", env!("CARGO_MANIFEST_DIR"));

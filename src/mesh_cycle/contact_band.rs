@@ -36,9 +36,10 @@ use crate::fem::static_analysis::peak_memory_mb;
 use crate::geometry::gear_pair::LineKind;
 use crate::mesh::gear_body::body_of_sector;
 use crate::mesh::gear_sector::{gear_sector_banded, ProfileBand};
-use crate::mesh_cycle::pair_model::{combine, PairBody, SlaveBody};
-use crate::mesh_cycle::run::{ContactLaw, MeshCycle, RunSettings};
+use crate::mesh_cycle::pair_model::{combine, PairBody};
+use crate::mesh_cycle::run::{MeshCycle, RunSettings};
 use crate::scene::Scene;
+use crate::settings::{ContactLaw, SlaveBody};
 
 /// Options of [`run_contact_band`].
 #[derive(Clone, Debug)]

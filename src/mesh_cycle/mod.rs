@@ -33,5 +33,4 @@ pub mod lubricated;
 pub mod pair_model;
 pub mod run;
 
-pub use pair_model::SlaveBody;
-pub use run::{ContactLaw, RunOptions};
+pub use run::RunOptions;

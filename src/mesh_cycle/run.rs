@@ -28,31 +28,10 @@ use std::sync::Arc;
 
 use crate::geometry::gear_pair::{engagement_roll_angles, GearPair};
 use crate::mesh_cycle::checkpoint::{self, Checkpoint};
-use crate::mesh_cycle::pair_model::{pair_model, PairModel, SlaveBody};
+use crate::mesh_cycle::pair_model::{pair_model, PairModel};
 use crate::report::vtu::{write_vtu, PointField};
 use crate::scene::{read_scene, ContactAnalysis, Scene};
-
-/// Normal contact law of a gear run.
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    Default,
-    PartialEq,
-    Eq,
-    serde::Serialize,
-    serde::Deserialize,
-    clap::ValueEnum,
-)]
-#[serde(rename_all = "lowercase")]
-pub enum ContactLaw {
-    /// No penetration (Lagrange multipliers), as seed 002's Abaqus "hard".
-    #[default]
-    Hard,
-    /// Linear penalty: slope × overclosure; slope = penalty_factor × the
-    /// automatic default (10 × the flank elements' normal stiffness per area).
-    Penalty,
-}
+use crate::settings::{ContactLaw, SlaveBody};
 
 /// Options of [`run_scene`]; `None` falls back to the scene's
 /// `[analyses.contact]`, then to the defaults.

@@ -26,14 +26,14 @@ pub struct ComplianceAnalysis {
     /// Flanks carrying tensors: `loaded` (default: `FLANK_R<k>`, the side the
     /// gear bodies load), `left`, `right` or `both`.
     #[serde(default)]
-    pub flanks: crate::compliance::FlankSelection,
+    pub flanks: crate::settings::FlankSelection,
     /// `full` (default here: `flank compliance` probes the fillet too) or
     /// `active`: the active flank plus a margin (spur/helical).
     #[serde(default)]
-    pub flank_region: crate::compliance::FlankRegion,
+    pub flank_region: crate::settings::FlankRegion,
     /// `schur` (default) or `blocked`.
     #[serde(default)]
-    pub method: crate::compliance::Method,
+    pub method: crate::settings::Method,
     /// Memory for the right-hand-side blocks of the blocked method (MB, > 0).
     pub memory_budget_mb: Option<f64>,
 }
@@ -59,13 +59,13 @@ pub struct ContactAnalysis {
     /// Positions given in the reference convention (needs the key above).
     pub reference_angles_deg: Option<Vec<f64>>,
     /// `hard` (default) or `penalty`.
-    pub law: Option<crate::mesh_cycle::ContactLaw>,
+    pub law: Option<crate::settings::ContactLaw>,
     /// Penalty slope as a multiple of the automatic default (> 0, default 1).
     pub penalty_factor: Option<f64>,
     /// `auto` (default: the gear while a pair is before its kinematic start
     /// of contact, the pinion from then on), `pinion` or `gear`: the body
     /// whose flank nodes are slaves.
-    pub slave: Option<crate::mesh_cycle::SlaveBody>,
+    pub slave: Option<crate::settings::SlaveBody>,
     /// Largest initial gap of a contact candidate (mm, > 0; default 0.2;
     /// doubled automatically, up to three times, at a position where nodes
     /// beyond it close under load).
@@ -100,9 +100,9 @@ pub struct LtcaAnalysis {
     /// K: candidate points along each contact line (2 … 2000; default 20).
     pub points_per_line: Option<usize>,
     /// `active-set` (default) or `clarabel`.
-    pub solver: Option<crate::ltca::qp::QpSolver>,
+    pub solver: Option<crate::settings::QpSolver>,
     /// Local contact deformation: `half-space` (default) or `none`.
-    pub local: Option<crate::ltca::local::LocalModel>,
+    pub local: Option<crate::settings::LocalModel>,
     /// FE cell half-width across the line in flank element sizes (> 0; default 1).
     pub fe_cell_factor: Option<f64>,
     /// Limit on the fixed-point iterations on the Hertz half-widths of the
@@ -120,9 +120,9 @@ pub struct LtcaAnalysis {
     pub flank_size_mm: Option<f64>,
     pub base_size_mm: Option<f64>,
     /// Flank nodes carrying the tensors: `active` (default: the active
-    /// flank plus a margin, [`crate::compliance::FlankRegion::Active`]) or
+    /// flank plus a margin, [`crate::settings::FlankRegion::Active`]) or
     /// `full` (involute and root fillet). Spur/helical only.
-    pub flank_region: Option<crate::compliance::FlankRegion>,
+    pub flank_region: Option<crate::settings::FlankRegion>,
     /// `"none"` (default: dense tensors) or a relative accuracy ε in
     /// (0, 1), e.g. `1e-6`: the tensors are built in block low-rank
     /// form from the bodies' factors without the dense tensor
@@ -130,7 +130,7 @@ pub struct LtcaAnalysis {
     /// its Frobenius norm, and the frictionless LTCA reads its page pairs
     /// from it ([`crate::compliance::compressed`]).
     /// Spur/helical, frictionless only.
-    pub compression: Option<crate::compliance::compressed::Compression>,
+    pub compression: Option<crate::settings::Compression>,
     /// Coulomb friction coefficient of the flanks (0…1; absent or 0:
     /// frictionless): the frictional LTCA of seeds 001/003
     /// ([`crate::ltca::friction`]), the friction force against the
@@ -140,13 +140,13 @@ pub struct LtcaAnalysis {
     pub increments: Option<usize>,
     /// What the friction resists: `incremental` (default, seeds 001/003),
     /// `standstill` (the mate held, as one static FE step) or `sliding`
-    /// (the running mesh), [`crate::ltca::model::FrictionModel`].
-    pub friction_model: Option<crate::ltca::model::FrictionModel>,
+    /// (the running mesh), [`crate::settings::FrictionModel`].
+    pub friction_model: Option<crate::settings::FrictionModel>,
     /// Bevel/hypoid pairs: the LTCA variants with respect to edge contact
     /// (seed 000): `without` (default: flank contacts only), `with` (the
     /// TCA's edge contacts are candidates too) or `both`
-    /// ([`crate::ltca::edges::EdgeVariants`]).
-    pub edges: Option<crate::ltca::edges::EdgeVariants>,
+    /// ([`crate::settings::EdgeVariants`]).
+    pub edges: Option<crate::settings::EdgeVariants>,
     /// Bevel/hypoid pairs: positions over one mesh cycle, on the point
     /// TCA's grid (4 … 400; default 20). Seed 003 asks for 20, seed 001
     /// for 30; the spur/helical LTCA takes its roll range instead.
@@ -345,7 +345,7 @@ fn check_contact_analysis(v: &ContactAnalysis) -> Result<(), String> {
         if !(f > 0.0 && f.is_finite()) {
             return Err(format!("penalty_factor must be > 0, got {f}"));
         }
-        if v.law != Some(crate::mesh_cycle::ContactLaw::Penalty) {
+        if v.law != Some(crate::settings::ContactLaw::Penalty) {
             return Err("penalty_factor needs law = \"penalty\"".into());
         }
     }
@@ -472,8 +472,8 @@ mod tests {
         );
         let s = parse(&ok).unwrap();
         let c = s.analyses.contact.unwrap();
-        assert_eq!(c.law, Some(crate::mesh_cycle::ContactLaw::Penalty));
-        assert_eq!(c.slave, Some(crate::mesh_cycle::SlaveBody::Gear));
+        assert_eq!(c.law, Some(crate::settings::ContactLaw::Penalty));
+        assert_eq!(c.slave, Some(crate::settings::SlaveBody::Gear));
         for (bad, words) in [
             (
                 "contact = { friction_mu = -0.1 }",

@@ -39,8 +39,9 @@ use std::time::Instant;
 
 use flank::compliance::body::BodyMeshOptions;
 use flank::ltca::cycle::{LtcaCycle, LtcaOptions};
-use flank::mesh_cycle::run::{settings, ContactLaw, MeshCycle, RunOptions};
+use flank::mesh_cycle::run::{settings, MeshCycle, RunOptions};
 use flank::scene::{parse_scene, Scene};
+use flank::settings::ContactLaw;
 
 // ---- limits (README.md, fixed before the first run) ----
 const FE_BACKWARD: f64 = 1e-10;

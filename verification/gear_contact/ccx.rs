@@ -51,8 +51,9 @@ use std::time::Instant;
 use flank::compliance::body::BodyMeshOptions;
 use flank::contact::{solve_contact, ContactOptions, PressureOverclosure};
 use flank::mesh_cycle::run::{MeshCycle, RunSettings};
-use flank::mesh_cycle::{ContactLaw, SlaveBody};
+
 use flank::scene::{read_scene, ElementKind};
+use flank::settings::{ContactLaw, SlaveBody};
 
 /// Tolerances, fixed before the first run (see the module docs).
 const TOL_SAME_CODE: f64 = 1e-8;

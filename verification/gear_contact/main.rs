@@ -41,8 +41,9 @@ use flank::compliance::body::BodyMeshOptions;
 use flank::contact::{solve_contact, ContactOptions};
 use flank::geometry::cylindrical::MeshKinematics;
 use flank::mesh_cycle::run::{MeshCycle, RunSettings};
-use flank::mesh_cycle::{ContactLaw, SlaveBody};
+
 use flank::scene::{read_scene, ElementKind, Scene};
+use flank::settings::{ContactLaw, SlaveBody};
 
 fn scene() -> Scene {
     read_scene(Path::new(concat!(

@@ -33,10 +33,11 @@ use flank::compliance::interpolation::{CellShape, FlankInterpolator};
 use flank::compliance::run::{
     body_tensor, mean_contact_axis, BodyTensorOptions, MEAN_CONTACT_POINTS,
 };
-use flank::compliance::{ComplianceOptions, ComplianceTensor, FlankSelection};
+use flank::compliance::{ComplianceOptions, ComplianceTensor};
 use flank::fem::static_analysis::{solve_static, SolveOptions};
 use flank::mesh::inp::read_deck;
 use flank::scene::{read_any_scene, AnyScene, BevelScene};
+use flank::settings::FlankSelection;
 use flank::tca::major_axis::AxisPoint;
 
 /// `papers/<seed>/<file>` (seed 003: `scene_eased.toml`, the pinion with a

@@ -40,8 +40,8 @@ use std::time::Instant;
 use flank::contact::{solve_contact, ContactOptions, PressureOverclosure};
 use flank::mesh::bevel_sector::BevelSectorOptions;
 use flank::mesh_cycle::bevel::{BevelCycle, BevelRunOptions, BevelStep};
-use flank::mesh_cycle::ContactLaw;
 use flank::scene::{read_any_scene, AnyScene};
+use flank::settings::ContactLaw;
 use flank::tca::point_contact::ARCSEC_PER_RAD;
 
 const TOL_SAME_CODE: f64 = 1e-8;

@@ -43,9 +43,9 @@ use std::path::{Path, PathBuf};
 use flank::compliance::body::BodyMeshOptions;
 use flank::ltca::cycle::{LtcaCycle, LtcaOptions};
 use flank::ltca::model::PositionResult;
-use flank::ltca::qp::QpSolver;
 use flank::mesh_cycle::run::{settings, MeshCycle, RunOptions};
 use flank::scene::{read_scene, Scene};
+use flank::settings::QpSolver;
 
 fn scene() -> Scene {
     read_scene(Path::new(concat!(

@@ -19,8 +19,8 @@ use std::time::Instant;
 
 use flank::compliance::body::BodyMeshOptions;
 use flank::ltca::bevel::{run_bevel, BevelLtca, BevelLtcaOptions};
-use flank::ltca::edges::EdgeVariants;
 use flank::scene::{read_any_scene, AnyScene, BevelScene};
+use flank::settings::EdgeVariants;
 use flank::tca::point_contact::ARCSEC_PER_RAD;
 
 /// KKT residual and torque balance of every position (the QP's own

@@ -4,7 +4,7 @@
 //!
 //! `flank ltca --friction-mu 0.05` on the seed 002 spur pair (z 13/35,
 //! m 3.8 mm, 312 N·m at 11 758 rpm) with its three friction models
-//! (`flank::ltca::model::FrictionModel`): `incremental` (seeds 001/003),
+//! (`flank::settings::FrictionModel`): `incremental` (seeds 001/003),
 //! `standstill` (the same with the kinematic sliding off: the mate held,
 //! the model of one static FE contact step) and `sliding` (the running
 //! mesh: μP_n against the kinematic sliding velocity). Tensors on coarse
@@ -42,9 +42,10 @@ use std::path::{Path, PathBuf};
 
 use flank::compliance::body::BodyMeshOptions;
 use flank::ltca::cycle::{LtcaCycle, LtcaOptions};
-use flank::ltca::model::{FrictionModel, PositionResult};
+use flank::ltca::model::PositionResult;
 use flank::mesh_cycle::run::{settings, MeshCycle, RunOptions};
 use flank::scene::{read_scene, Scene};
+use flank::settings::FrictionModel;
 
 const MU: f64 = 0.05;
 

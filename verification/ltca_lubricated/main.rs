@@ -35,9 +35,10 @@ use std::path::{Path, PathBuf};
 
 use flank::compliance::body::BodyMeshOptions;
 use flank::ltca::cycle::{LtcaCycle, LtcaOptions};
-use flank::ltca::model::{FrictionModel, LtcaSettings, PositionResult};
+use flank::ltca::model::{LtcaSettings, PositionResult};
 use flank::lubrication::{evaluate, MeanPressure, OperatingPoint};
 use flank::scene::{read_scene, Scene};
+use flank::settings::FrictionModel;
 
 const MU: f64 = 0.05;
 

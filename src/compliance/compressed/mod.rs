@@ -81,75 +81,6 @@ use crate::error::FlankError;
 
 mod file;
 
-/// Whether the LTCA reads its tensors dense or compressed: the scene key
-/// `[analyses.ltca] compression = "none" | 1e-6` and `flank ltca
-/// --compression none|1e-6`. `none` (default) reads the dense tensor;
-/// a number ε in (0, 1) reads page pairs from the block low-rank form at
-/// that relative accuracy per block ([`BlrTensor`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub enum Compression {
-    #[default]
-    None,
-    Blr(f64),
-}
-
-impl Compression {
-    /// The accuracy ε, if compressed.
-    pub fn epsilon(self) -> Option<f64> {
-        match self {
-            Compression::None => None,
-            Compression::Blr(e) => Some(e),
-        }
-    }
-}
-
-impl std::str::FromStr for Compression {
-    type Err = FlankError;
-    fn from_str(s: &str) -> Result<Self, FlankError> {
-        let bad = || {
-            FlankError::Model(format!(
-                "compression: expected \"none\" or a relative accuracy in (0, 1) such as 1e-6, got {s:?}"
-            ))
-        };
-        match s.trim() {
-            "none" => Ok(Compression::None),
-            x => {
-                let e: f64 = x.parse().map_err(|_| bad())?;
-                if e > 0.0 && e < 1.0 {
-                    Ok(Compression::Blr(e))
-                } else {
-                    Err(bad())
-                }
-            }
-        }
-    }
-}
-
-impl serde::Serialize for Compression {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        match self {
-            Compression::None => s.serialize_str("none"),
-            Compression::Blr(e) => s.serialize_f64(*e),
-        }
-    }
-}
-
-impl<'de> serde::Deserialize<'de> for Compression {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        #[derive(serde::Deserialize)]
-        #[serde(untagged)]
-        enum Raw {
-            Name(String),
-            Epsilon(f64),
-        }
-        let text = match Raw::deserialize(d)? {
-            Raw::Name(s) => s,
-            Raw::Epsilon(e) => format!("{e:e}"),
-        };
-        text.parse().map_err(serde::de::Error::custom)
-    }
-}
-
 /// How the tensor is compressed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BlrOptions {
@@ -946,28 +877,6 @@ pub(crate) mod tests {
                 assert!(worst <= 1e-8 * scale, "({r}, {q}): {worst}");
             }
         }
-    }
-
-    #[test]
-    fn compression_setting_parses_or_names_the_error() {
-        assert_eq!("none".parse::<Compression>().unwrap(), Compression::None);
-        assert_eq!(
-            "1e-6".parse::<Compression>().unwrap(),
-            Compression::Blr(1e-6)
-        );
-        for bad in ["0", "1", "-1e-6", "dense", "nan", ""] {
-            let e = bad.parse::<Compression>().unwrap_err().to_string();
-            assert!(e.contains("compression"), "{bad}: {e}");
-        }
-        #[derive(serde::Deserialize)]
-        struct S {
-            compression: Compression,
-        }
-        let s: S = toml::from_str("compression = 1e-6").unwrap();
-        assert_eq!(s.compression, Compression::Blr(1e-6));
-        let s: S = toml::from_str("compression = \"none\"").unwrap();
-        assert_eq!(s.compression, Compression::None);
-        assert!(toml::from_str::<S>("compression = 2.0").is_err());
     }
 
     #[test]

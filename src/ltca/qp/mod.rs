@@ -109,13 +109,11 @@ mod kkt;
 #[cfg(test)]
 mod tests;
 
-use std::fmt;
-use std::str::FromStr;
-
 use nalgebra::DMatrix;
 
 use crate::error::FlankError;
 
+use crate::settings::QpSolver;
 use active_set::active_set;
 use clarabel::solve_clarabel;
 use kkt::residuals;
@@ -158,61 +156,6 @@ impl ContactQp<'_> {
     /// Number of candidate points n.
     pub fn points(&self) -> usize {
         self.separation.len()
-    }
-}
-
-/// The solver of the contact QP.
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    Default,
-    PartialEq,
-    Eq,
-    serde::Serialize,
-    serde::Deserialize,
-    clap::ValueEnum,
-)]
-#[serde(rename_all = "kebab-case")]
-pub enum QpSolver {
-    /// Dedicated primal active-set method (exact at termination, fast).
-    #[default]
-    ActiveSet,
-    /// clarabel interior point, then polished on its loaded set.
-    Clarabel,
-}
-
-impl QpSolver {
-    /// All solvers, for sweeps and CLI help.
-    pub const ALL: [QpSolver; 2] = [QpSolver::ActiveSet, QpSolver::Clarabel];
-
-    /// The name used in scenes, the CLI and reports.
-    pub fn name(self) -> &'static str {
-        match self {
-            QpSolver::ActiveSet => "active-set",
-            QpSolver::Clarabel => "clarabel",
-        }
-    }
-}
-
-impl fmt::Display for QpSolver {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl FromStr for QpSolver {
-    type Err = FlankError;
-
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        QpSolver::ALL
-            .into_iter()
-            .find(|v| v.name() == s)
-            .ok_or_else(|| {
-                FlankError::Model(format!(
-                    "unknown contact QP solver '{s}' (expected active-set or clarabel)"
-                ))
-            })
     }
 }
 

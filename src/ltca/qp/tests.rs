@@ -4,6 +4,7 @@
 
 use super::clarabel::clarabel_raw;
 use super::*;
+use crate::settings::QpSolver;
 use std::time::Instant;
 
 /// Knuth's MMIX LCG, top 53 bits: a reproducible uniform [0, 1).
