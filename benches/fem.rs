@@ -10,11 +10,11 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use flank::fem::assembly::Assembly;
 use flank::fem::constraints::DofMap;
 use flank::fem::element::{stiffness, ElementWorkspace, HEX20_NODES, WEDGE15_NODES};
+use flank::fem::mesh::ElementKind;
 use flank::fem::model::Model;
 use flank::fem::ordering::OrderingMethod;
 use flank::fem::solver::{parallelism, Precision, SparseCholesky};
 use flank::mesh::structured::{cantilever_model, BoxElement};
-use flank::mesh::ElementKind;
 
 fn cantilever(cells: [usize; 3]) -> Model {
     cantilever_model(cells, BoxElement::Hex20, 1000.0).unwrap()

@@ -11,7 +11,7 @@ use std::process::Command;
 use std::time::Instant;
 
 use crate::error::FlankError;
-use crate::mesh::Mesh;
+use crate::fem::mesh::Mesh;
 
 /// The ccx executable: `$FLANK_CCX` or `ccx` on the PATH, if it runs.
 pub fn ccx_executable() -> Option<PathBuf> {

@@ -99,6 +99,7 @@ pub mod ccx;
 pub mod compare;
 pub mod compliance;
 pub mod contact;
+pub mod deck;
 pub mod error;
 pub mod fem;
 pub mod geometry;

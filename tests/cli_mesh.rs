@@ -6,8 +6,8 @@ use std::path::Path;
 use std::process::Command;
 
 use flank::ccx::{ccx_executable, relative_difference, run_ccx};
+use flank::deck::read_deck;
 use flank::fem::static_analysis::{solve_static, SolveOptions};
-use flank::mesh::inp::read_deck;
 
 #[test]
 fn seed002_hex20_bodies_match_ccx() {

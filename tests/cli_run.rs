@@ -64,7 +64,7 @@ fn run_writes_the_mesh_cycle_files() {
         assert!(dir.join(file).exists(), "{file} missing");
     }
     // the position deck reads back with its coupling and three contact pairs
-    let deck = flank::mesh::inp::read_deck(&dir.join("roll_+006.000deg.inp")).unwrap();
+    let deck = flank::deck::read_deck(&dir.join("roll_+006.000deg.inp")).unwrap();
     assert_eq!(deck.model.couplings.len(), 1);
     assert_eq!(deck.model.contact.pairs.len(), 3);
     let _ = std::fs::remove_dir_all(&dir);

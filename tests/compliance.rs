@@ -12,9 +12,9 @@ use flank::compliance::body::{body_flank_nodes, scene_body, BodyMeshOptions};
 use flank::compliance::cache::{self, FileFormat};
 use flank::compliance::run::contact_line;
 use flank::compliance::{compliance_tensor, ComplianceOptions, FlankInterpolator};
+use flank::deck::{read_deck, write_deck};
 use flank::fem::model::NodalForce;
 use flank::fem::static_analysis::{solve_static, SolveOptions};
-use flank::mesh::inp::{read_deck, write_deck};
 use flank::scene::{read_scene, ElementKind};
 use flank::settings::FlankSelection;
 

@@ -340,23 +340,23 @@ fn sets_kept(
 /// the writer drops them, they carry nothing), and writing is a fixed point.
 fn deck_round_trip(text: String) -> Result<(), String> {
     let path = scratch().join("fuzz.inp");
-    let Ok(deck) = flank::mesh::inp::parse_deck(&text, &path) else {
+    let Ok(deck) = flank::deck::parse_deck(&text, &path) else {
         return Ok(());
     };
     // the writer refuses models it cannot write faithfully (non-finite
     // values, labels over ccx's 32 bits, …): a clear error, not a property
-    let Ok(written) = flank::mesh::inp::format_deck(&deck.model) else {
+    let Ok(written) = flank::deck::format_deck(&deck.model) else {
         return Ok(());
     };
-    let again = flank::mesh::inp::parse_deck(&written, &path)
+    let again = flank::deck::parse_deck(&written, &path)
         .map_err(|e| format!("the written deck does not parse: {e}\n{written}"))?;
-    let rewritten = flank::mesh::inp::format_deck(&again.model)
+    let rewritten = flank::deck::format_deck(&again.model)
         .map_err(|e| format!("the re-read model does not write: {e}"))?;
     // The written deck is a fixed point of parse → write. The first write
     // may still differ from the second in form only (a renamed set sorts
     // elsewhere, an empty set's `**` note): compare the second and third.
-    let third = flank::mesh::inp::parse_deck(&rewritten, &path)
-        .and_then(|d| flank::mesh::inp::format_deck(&d.model))
+    let third = flank::deck::parse_deck(&rewritten, &path)
+        .and_then(|d| flank::deck::format_deck(&d.model))
         .map_err(|e| format!("the rewritten deck does not read and write: {e}"))?;
     if third != rewritten {
         return Err(format!(
@@ -444,7 +444,7 @@ fn scene_to_mesh(text: String, mesh: bool) -> Result<usize, String> {
             flank_size: h,
             base_size: 2.0 * h,
             face_layers: 0,
-            element: flank::mesh::ElementKind::C3D15,
+            element: flank::fem::mesh::ElementKind::C3D15,
         };
         match body_model(pair.body(i), material, &options, Mesher::Native, None) {
             Ok(body) => {

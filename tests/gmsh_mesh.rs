@@ -11,6 +11,7 @@ use std::time::Instant;
 
 use flank::ccx::{ccx_executable, relative_difference, run_ccx};
 use flank::fem::element::{check_jacobian, edges};
+use flank::fem::mesh::{ElementKind, Mesh};
 use flank::fem::static_analysis::{solve_static, SolveOptions};
 use flank::geometry::rack::{Flank, ToothProfile};
 use flank::geometry::GearSpec;
@@ -18,7 +19,6 @@ use flank::mesh::gear_body::{gear_body_with, Mesher};
 use flank::mesh::gear_sector::{flank_segment, GearSectorMesh, SectorOptions};
 use flank::mesh::gmsh::gmsh_sector_with_msh;
 use flank::mesh::msh::read_msh;
-use flank::mesh::{ElementKind, Mesh};
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -247,7 +247,7 @@ fn seed002_pinion_gmsh_hex20_and_wedge15() {
             continue;
         }
         let deck = tmp(&format!("pinion_{tag}.inp"));
-        flank::mesh::inp::write_deck(&body.model, &deck).unwrap();
+        flank::deck::write_deck(&body.model, &deck).unwrap();
         let ccx = run_ccx(&deck, &tmp(&format!("ccx_{tag}")), 2).unwrap();
         let rel =
             relative_difference(&body.model.mesh, &sol.displacement, &ccx.displacements).unwrap();
@@ -291,7 +291,7 @@ fn cli_mesh_with_gmsh() {
         let b = &report["bodies"][body];
         assert_eq!(b["mesher"], "gmsh", "{b}");
         assert!(b["min_scaled_jacobian"].as_f64().unwrap() > 0.1, "{b}");
-        let deck = flank::mesh::inp::read_deck(&out.join(format!("{body}.inp"))).unwrap();
+        let deck = flank::deck::read_deck(&out.join(format!("{body}.inp"))).unwrap();
         let mesh = &deck.model.mesh;
         assert!(mesh.elements.iter().all(|e| e.kind == ElementKind::C3D15));
         for set in ["BORE", "FLANK_L2", "FLANK_R2", "CUT_A", "CUT_B"] {

@@ -8,12 +8,12 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use flank::ccx::{ccx_executable, relative_difference, run_ccx};
+use flank::deck::{read_deck, write_deck};
 use flank::fem::material::Material;
+use flank::fem::mesh::ElementKind;
 use flank::fem::model::{Dirichlet, Model, NodalForce};
 use flank::fem::static_analysis::{solve_static, SolveOptions};
-use flank::mesh::inp::{read_deck, write_deck};
 use flank::mesh::msh::read_msh;
-use flank::mesh::ElementKind;
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -7,7 +7,8 @@
 //! [`variants`] resolves jobs and their identities, [`resources`] estimates
 //! memory, [`store`] keeps the job folders, [`task`] runs one job,
 //! [`local`] is the local executor, [`slurm`] the Slurm one, [`collect`] (with
-//! [`crate::grid_convergence`], [`stats`], [`plots`], [`parquet`]) gathers the table and its summaries. The analyses themselves run
+//! [`crate::grid_convergence`], [`stats`], [`plots`]) gathers the [`table`]
+//! and its summaries, [`parquet`] writes the table. The analyses themselves run
 //! through the `flank` executable (a child process per job): nothing here
 //! imports the analysis code, and no lower layer imports this one.
 
@@ -21,6 +22,7 @@ pub mod sample;
 pub mod slurm;
 pub mod stats;
 pub mod store;
+pub mod table;
 pub mod task;
 pub mod variants;
 

@@ -24,7 +24,7 @@ use serde_json::Value;
 
 use crate::error::{FlankError, Result};
 
-use super::collect::Table;
+use super::table::{Row, Table};
 
 /// One column's values, `None` for null.
 enum Column {
@@ -75,7 +75,7 @@ fn input_column(table: &Table, key: &str) -> Column {
 
 /// The table's columns, named as in `table.csv`.
 fn columns(table: &Table) -> Vec<(String, Column, bool)> {
-    let text = |f: fn(&super::collect::Row) -> &String| {
+    let text = |f: fn(&Row) -> &String| {
         Column::Text(table.rows.iter().map(|r| Some(f(r).clone())).collect())
     };
     let mut cols = vec![
@@ -233,7 +233,7 @@ pub fn cell_matches_csv(cell: &Cell, csv: &str) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::campaign::collect::{read_csv, Row};
+    use crate::campaign::collect::read_csv;
 
     fn table() -> Table {
         let row = |index: usize, status: &str, figures: Vec<(String, f64)>, seconds| Row {

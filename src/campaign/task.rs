@@ -193,7 +193,7 @@ pub struct BlockReport {
 /// 0-31`), each exactly as [`run_task`] runs it (its own temporary folder,
 /// rename, completion record): a kill loses only the job under way. The
 /// process keeps what the jobs share, e.g. the compliance tensors of a
-/// campaign cache ([`crate::compliance::cache::ComplianceCache::shared`]),
+/// campaign cache ([`crate::compliance::tensor_cache::ComplianceCache::shared`]),
 /// so the second job of a block reads no tensor file. A failed job does
 /// not stop the block; a stop request (SIGINT) does, before the next job.
 /// With `job_logs`, each job's output (this process's stdout and stderr

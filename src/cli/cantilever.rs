@@ -40,7 +40,7 @@ pub fn run(args: Args) -> Result<()> {
     }
     let model =
         flank::mesh::structured::cantilever_model([cells[0], cells[1], cells[2]], kind, 1000.0)?;
-    flank::mesh::inp::write_deck(&model, &out)?;
+    flank::deck::write_deck(&model, &out)?;
     println!(
         "wrote {} ({} nodes, {} elements)",
         out.display(),

@@ -39,7 +39,7 @@ pub fn run(args: Args) -> Result<()> {
         mesh: m,
         ..Default::default()
     };
-    flank::mesh::inp::write_deck(&model, &out)?;
+    flank::deck::write_deck(&model, &out)?;
     let mesh = &model.mesh;
     let hex = mesh.elements.iter().filter(|e| e.kind.node_count() == 20);
     let hex = hex.count();

@@ -54,7 +54,7 @@ pub fn run(args: Args) -> Result<()> {
 }
 
 /// Element counts by CalculiX type name, e.g. {"C3D15": 1234}.
-fn elements_by_type(mesh: &flank::mesh::Mesh) -> serde_json::Value {
+fn elements_by_type(mesh: &flank::fem::mesh::Mesh) -> serde_json::Value {
     let mut counts = std::collections::BTreeMap::<String, usize>::new();
     for e in &mesh.elements {
         *counts.entry(e.kind.name().to_string()).or_default() += 1;
@@ -92,9 +92,9 @@ fn mesh_scene(
         None => scene.mesh.element == flank::scene::ElementKind::Hex20,
     };
     let element_kind = if hex20 {
-        flank::mesh::ElementKind::C3D20
+        flank::fem::mesh::ElementKind::C3D20
     } else {
-        flank::mesh::ElementKind::C3D15
+        flank::fem::mesh::ElementKind::C3D15
     };
     if mesher == MesherChoice::Gmsh && !GMSH_AVAILABLE {
         anyhow::bail!("--mesher gmsh: {GMSH_MISSING}");
@@ -312,7 +312,7 @@ fn write_body(
 ) -> Result<usize> {
     use std::io::Write;
     let mesh = &model.mesh;
-    flank::mesh::inp::write_deck(model, &out.join(format!("{name}.inp")))?;
+    flank::deck::write_deck(model, &out.join(format!("{name}.inp")))?;
     flank::report::vtu::write_vtu(&out.join(format!("{name}.vtu")), mesh, &[], &[])?;
     let uv_path = out.join(format!("{name}_flank_uv.csv"));
     let mut w = flank::atomic_file::AtomicWriter::create(&uv_path)?;

@@ -53,7 +53,7 @@ pub fn run(args: Args) -> Result<()> {
         no_stress,
         quiet,
     } = args;
-    let parsed = flank::mesh::inp::read_deck(&deck)?;
+    let parsed = flank::deck::read_deck(&deck)?;
     for w in &parsed.warnings {
         eprintln!("warning: {}:{}: {}", deck.display(), w.line, w.message);
     }
@@ -95,7 +95,7 @@ pub fn run(args: Args) -> Result<()> {
 fn solve_contact_deck(
     deck: &std::path::Path,
     out: &std::path::Path,
-    parsed: &flank::mesh::inp::Deck,
+    parsed: &flank::deck::Deck,
     ordering: OrderingMethod,
     threads: usize,
     recover_stress: bool,

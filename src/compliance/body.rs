@@ -11,6 +11,7 @@
 
 use crate::compliance::FlankNodes;
 use crate::error::FlankError;
+use crate::fem::mesh::Mesh;
 use crate::fem::model::Model;
 use crate::geometry::cylindrical::CylindricalGear;
 use crate::geometry::gear_pair::{Flank, GearBody};
@@ -19,7 +20,6 @@ use crate::mesh::bevel_body::bevel_body_model;
 use crate::mesh::bevel_sector::BevelSectorOptions;
 use crate::mesh::gear_body::{body_model, BodyModel, Mesher};
 use crate::mesh::gear_sector::SectorOptions;
-use crate::mesh::Mesh;
 use crate::scene::{AnyScene, BevelScene, ElementKind, Scene};
 use crate::settings::FlankSelection;
 use std::collections::HashMap;
@@ -119,8 +119,8 @@ pub fn bevel_sector_options(
         }
     }
     let element = match o.element.unwrap_or(scene.mesh.element) {
-        ElementKind::Hex20 => crate::mesh::ElementKind::C3D20,
-        ElementKind::Wedge15 => crate::mesh::ElementKind::C3D15,
+        ElementKind::Hex20 => crate::fem::mesh::ElementKind::C3D20,
+        ElementKind::Wedge15 => crate::fem::mesh::ElementKind::C3D15,
     };
     Ok(BevelSectorOptions {
         flank_size,
@@ -221,8 +221,8 @@ pub fn sector_options(scene: &Scene, o: &BodyMeshOptions) -> Result<SectorOption
         )));
     }
     let element = match o.element.unwrap_or(scene.mesh.element) {
-        ElementKind::Hex20 => crate::mesh::ElementKind::C3D20,
-        ElementKind::Wedge15 => crate::mesh::ElementKind::C3D15,
+        ElementKind::Hex20 => crate::fem::mesh::ElementKind::C3D20,
+        ElementKind::Wedge15 => crate::fem::mesh::ElementKind::C3D15,
     };
     Ok(SectorOptions {
         teeth: scene.mesh.teeth_in_sector as usize,
@@ -439,7 +439,7 @@ mod tests {
             .mesh
             .elements
             .iter()
-            .all(|e| e.kind == crate::mesh::ElementKind::C3D20));
+            .all(|e| e.kind == crate::fem::mesh::ElementKind::C3D20));
         for sel in [FlankSelection::Loaded, FlankSelection::Left] {
             let f = body_flank_nodes(&body, sel).unwrap();
             assert_eq!(f.sets.len(), 3);
@@ -462,7 +462,7 @@ mod tests {
             .mesh
             .elements
             .iter()
-            .all(|e| e.kind == crate::mesh::ElementKind::C3D15));
+            .all(|e| e.kind == crate::fem::mesh::ElementKind::C3D15));
         let f = body_flank_nodes(&body, FlankSelection::Loaded).unwrap();
         assert!(!f.faces.is_empty() && f.faces.iter().all(|x| x.nodes.len() == 8));
         let mesh_normals = f.face_normals().unwrap();
@@ -534,11 +534,11 @@ mod tests {
         let (kw, qw, cw, ww) = faces(ElementKind::Wedge15);
         assert_eq!(
             kh.into_iter().collect::<Vec<_>>(),
-            [crate::mesh::ElementKind::C3D20]
+            [crate::fem::mesh::ElementKind::C3D20]
         );
         assert_eq!(
             kw.into_iter().collect::<Vec<_>>(),
-            [crate::mesh::ElementKind::C3D15]
+            [crate::fem::mesh::ElementKind::C3D15]
         );
         assert!(qh && qw && !cw.is_empty());
         assert!(cw == ch, "wedge15 and hex20 flank faces differ");

@@ -810,8 +810,6 @@ pub fn read_trusted(path: &Path, key: &str) -> Option<ComplianceTensor> {
     }
 }
 
-pub use super::tensor_cache::{CacheOutcome, ComplianceCache};
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -57,7 +57,7 @@ use rayon::prelude::*;
 use crate::compliance::compressed::{
     admissible, compress_block, page_len, Block, BlrOptions, BlrTensor, Layout,
 };
-use crate::compliance::pages::PAGE;
+use crate::compliance::page_order::PAGE;
 use crate::compliance::tensor::{factor_flank, Beside, FlankFactor};
 use crate::compliance::{
     tensor_meta, ComplianceOptions, ComplianceStats, ComplianceTensor, FlankNodes,

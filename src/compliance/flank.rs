@@ -11,7 +11,7 @@ use std::collections::HashMap;
 
 use crate::error::FlankError;
 use crate::fem::element::{face_nodes, quad8_shape, tri6_shape};
-use crate::mesh::Mesh;
+use crate::fem::mesh::Mesh;
 
 /// Exact outward normal of a flank set's surface at (u, v): `f(set index, u, v)`.
 pub type NormalFn<'a> = dyn Fn(usize, f64, f64) -> Result<[f64; 3], FlankError> + 'a;

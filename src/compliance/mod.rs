@@ -116,20 +116,22 @@ pub mod compressed_build;
 pub mod contact_probe;
 pub mod flank;
 pub mod interpolation;
+pub mod page_order;
 pub mod pages;
 pub mod plot;
 pub mod run;
 pub mod tensor;
 pub mod tensor_cache;
 
-pub use cache::{ComplianceCache, FileFormat};
+pub use cache::FileFormat;
 pub use flank::{FlankFace, FlankNodes};
 pub use interpolation::{directional, CellShape, Directional, FlankInterpolator, SurfaceLoad};
 pub use tensor::{compute_compliance, ComplianceOptions, ComplianceStats};
+pub use tensor_cache::ComplianceCache;
 
 use crate::error::FlankError;
+use crate::fem::mesh::Mesh;
 use crate::fem::model::Model;
-use crate::mesh::Mesh;
 
 /// The compliance of one body on its flank nodes, with what it was computed
 /// from. `matrix` is 3N × 3N, full, symmetric, node-major (x, y, z), mm/N.

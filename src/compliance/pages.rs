@@ -7,8 +7,9 @@
 //! cells of one position costs a cache miss per three values. Here the
 //! flank nodes are renumbered by (set, u, v) (a spur contact line, along v
 //! at nearly constant u, becomes a run of consecutive nodes) and cut into
-//! pages of [`PAGE`] nodes; the blocks between two pages are copied, once,
-//! on first use, into one contiguous array, node block by node block.
+//! pages of [`PAGE`] nodes ([`crate::compliance::page_order`]); the blocks
+//! between two pages are copied, once, on first use, into one contiguous
+//! array, node block by node block.
 //! Nothing is approximated: a page holds the tensor's own values.
 //! A compressed tensor's low-rank page pairs are also offered as their
 //! factors ([`FactoredPage`]), which the F kernel multiplies without
@@ -24,35 +25,9 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::OnceLock;
 
 use crate::compliance::compressed::SharedBlr;
+use crate::compliance::page_order::{paged_order, paged_positions, PAGE};
 use crate::compliance::ComplianceTensor;
 use crate::error::FlankError;
-
-/// Nodes per page.
-pub const PAGE: usize = 64;
-
-/// The paged position of each flank node: the inverse of [`paged_order`].
-pub(crate) fn paged_positions(order: &[u32]) -> Vec<u32> {
-    let mut position = vec![0u32; order.len()];
-    for (p, &a) in order.iter().enumerate() {
-        position[a as usize] = p as u32;
-    }
-    position
-}
-
-/// The flank nodes of `t` in the paged order: by (set, u, v), then node.
-pub fn paged_order(t: &ComplianceTensor) -> Vec<u32> {
-    let f = &t.flank;
-    let mut order: Vec<u32> = (0..t.node_count() as u32).collect();
-    order.sort_by(|&a, &b| {
-        let (a, b) = (a as usize, b as usize);
-        f.set_of[a]
-            .cmp(&f.set_of[b])
-            .then(f.uv[a][0].total_cmp(&f.uv[b][0]))
-            .then(f.uv[a][1].total_cmp(&f.uv[b][1]))
-            .then(a.cmp(&b))
-    });
-    order
-}
 
 /// Paged node blocks of one compliance tensor (built lazily), copied from
 /// its dense matrix or decompressed from its block low-rank form

@@ -10,9 +10,10 @@ use crate::compliance::body::{
     active_flank_cut, active_margin_mm, any_scene_body, bevel_sector_options, flank_nodes_on,
     flank_uv_on, sector_options, BodyMeshOptions, SectorBody,
 };
-use crate::compliance::cache::{self, CacheOutcome, ComplianceCache, FileFormat};
+use crate::compliance::cache::{self, FileFormat};
 use crate::compliance::contact_probe::{directional_matrices, retain_meshed, ProbePoint};
 use crate::compliance::plot::plot_cnn;
+use crate::compliance::tensor_cache::{CacheOutcome, ComplianceCache};
 use crate::compliance::{
     cache_key, clamp_sets, compliance_tensor, mesh_hash, region_cache_key, ComplianceOptions,
     ComplianceTensor, FlankInterpolator,
@@ -232,10 +233,10 @@ fn prepare_body(
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
     let name = body.name.as_str();
     let deck = out.join(format!("{name}.inp"));
-    crate::mesh::inp::write_deck(&body.model, &deck)?;
+    crate::deck::write_deck(&body.model, &deck)?;
     // the tensors belong to the mesh of the deck as written (coordinates
     // as printed), so that the deck solved elsewhere is the same model
-    let parsed = crate::mesh::inp::read_deck(&deck)?;
+    let parsed = crate::deck::read_deck(&deck)?;
     let mut model = parsed.model;
     let uv = flank_uv_on(body, &model.mesh)?;
     let mut flank = flank_nodes_on(&model.mesh, &uv, body.surfaces.as_ref(), options.flanks)?;

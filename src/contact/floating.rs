@@ -364,7 +364,7 @@ mod tests {
     use super::*;
     use crate::fem::element::HEX20_NODES;
     use crate::fem::material::Material;
-    use crate::mesh::{ElementKind, Mesh};
+    use crate::fem::mesh::{ElementKind, Mesh};
 
     fn cube() -> Model {
         let mut mesh = Mesh::new();

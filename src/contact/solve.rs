@@ -951,9 +951,9 @@ mod tests {
         SurfaceKind,
     };
     use crate::fem::material::Material;
+    use crate::fem::mesh::{Mesh, SetKind};
     use crate::fem::model::Dirichlet;
     use crate::mesh::structured::{box_faces, box_mesh, BoxElement};
-    use crate::mesh::{Mesh, SetKind};
 
     /// Two blocks L × L × H stacked in z, `n_low` and `n_up` cells across,
     /// the upper one pressed down by δ on its top; statically determinate

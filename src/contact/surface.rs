@@ -14,8 +14,8 @@
 
 use crate::contact::definition::{Surface, SurfaceKind};
 use crate::fem::element::face_nodes;
+use crate::fem::mesh::Mesh;
 use crate::fem::quadrature::{quad_rule, TRIANGLE_3};
-use crate::mesh::Mesh;
 
 /// Lumped area weights of the corner and midside nodes of an 8-node face.
 pub const QUAD8_AREA_WEIGHTS: [f64; 2] = [0.01, 0.24];

@@ -18,8 +18,10 @@ use crate::fem::constraints::{DofMap, DofTarget};
 use crate::fem::element::edges;
 use crate::fem::element::{stiffness, ElementWorkspace};
 use crate::fem::model::Model;
-use crate::fem::ordering::{order_groups_anchored, order_groups_last, OrderingMethod, NO_ANCHOR};
-use crate::fem::substructuring::{order_groups_two_domain, DomainSplit};
+use crate::fem::ordering::{
+    order_groups_anchored, order_groups_last, order_groups_two_domain, DomainSplit, OrderingMethod,
+    NO_ANCHOR,
+};
 // defined beside the orderings that consume it; re-exported at its old path
 pub use crate::fem::ordering::GroupGraph;
 

@@ -7,7 +7,7 @@
 //! solver can index without checks.
 
 use crate::error::FlankError;
-use crate::mesh::Mesh;
+use crate::fem::mesh::Mesh;
 
 /// What a surface is made of.
 #[derive(Clone, Debug, PartialEq)]

@@ -12,8 +12,8 @@
 use std::sync::OnceLock;
 
 use crate::error::FlankError;
+use crate::fem::mesh::ElementKind;
 use crate::fem::quadrature::{hex_rule, wedge_rule, QuadraturePoint};
-use crate::mesh::ElementKind;
 
 /// Reference coordinates of the 20 hexahedron nodes (CalculiX order).
 pub const HEX20_NODES: [[f64; 3]; 20] = [

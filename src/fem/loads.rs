@@ -10,9 +10,9 @@
 
 use crate::error::FlankError;
 use crate::fem::element::{face_nodes, quad8_shape, tri6_shape};
+use crate::fem::mesh::ElementKind;
 use crate::fem::model::Model;
 use crate::fem::quadrature::{quad_rule, TRIANGLE_3};
-use crate::mesh::ElementKind;
 
 /// Calls `f(N, n dA · w)` at every point of CalculiX's rule for this face:
 /// the face shape functions and the (unnormalised, outward) area vector

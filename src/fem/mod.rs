@@ -5,8 +5,8 @@
 //! (Dirichlet elimination, rigid hub coupling) → `solver` (ordering,
 //! sparse Cholesky; `substructuring`: the two-domain factorization) →
 //! `refinement` (mixed-precision CG to f64 round-off) → `stress`
-//! (recovery at nodes). `model` holds what a
-//! deck defines, `contact_definition` its contact surfaces and pairs (the
+//! (recovery at nodes). `mesh` holds nodes, elements and sets, `model`
+//! what a deck defines (the mesh, materials, loads, constraints), `contact_definition` its contact surfaces and pairs (the
 //! contact *solution* is [`crate::contact`]'s).
 
 pub mod assembly;
@@ -15,6 +15,7 @@ pub mod contact_definition;
 pub mod element;
 pub mod loads;
 pub mod material;
+pub mod mesh;
 pub mod model;
 pub mod ordering;
 pub mod quadrature;

@@ -5,7 +5,7 @@
 //! dof = 3·node + component (0 = x, 1 = y, 2 = z).
 
 use crate::fem::material::Material;
-use crate::mesh::Mesh;
+use crate::fem::mesh::Mesh;
 
 /// Prescribed displacement of one DOF.
 #[derive(Clone, Debug, PartialEq)]

@@ -255,7 +255,7 @@ pub fn order_groups_anchored(
 /// The graph the unanchored groups induce (renumbered 0..m; each anchored
 /// group's weight carried by its first anchor) and the old index of each of
 /// its vertices: the graph [`order_groups_anchored`] orders, checked.
-pub(crate) fn anchored_subgraph(
+fn anchored_subgraph(
     graph: &GroupGraph,
     anchor: &[[usize; 2]],
 ) -> Result<(GroupGraph, Vec<usize>), FlankError> {
@@ -390,6 +390,127 @@ pub fn expand_group_order(group_perm: &[usize], group_start: &[usize]) -> (Vec<u
         inv[old] = new;
     }
     (fwd, inv)
+}
+
+/// DOF counts of the two-domain numbering \[A, S, B\].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct DomainSplit {
+    pub a: usize,
+    pub s: usize,
+    pub b: usize,
+}
+
+/// The two-domain order of the DOF groups: `perm[new] = old` with the
+/// groups of part A first, then the separator S, then part B, and the group
+/// counts of the three.
+///
+/// The separator is METIS's vertex separator of the graph of unanchored
+/// groups (`anchor`, as in [`order_groups_anchored`]: on a quadratic mesh
+/// the corner nodes, each carrying its midside nodes' weight). An anchored
+/// group joins the part of an anchor (its neighbourhood lies inside each
+/// anchor's, so it cannot touch the other part), or S if its anchors are in
+/// S. Each part is then ordered on its own by `method` (anchored the same
+/// way). Refused if a part is empty or an edge of
+/// `graph` joins A and B.
+pub fn order_groups_two_domain(
+    graph: &GroupGraph,
+    method: OrderingMethod,
+    anchor: &[[usize; 2]],
+) -> Result<(Vec<usize>, [usize; 3]), FlankError> {
+    let n = graph.weight.len();
+    let (sub, old_of) = anchored_subgraph(graph, anchor)?;
+    let sub_part = metis_vertex_separator(&sub)?;
+    let mut part = vec![2u8; n];
+    for (i, &g) in old_of.iter().enumerate() {
+        part[g] = sub_part[i];
+    }
+    for g in 0..n {
+        if anchor[g] != NO_ANCHOR {
+            let sides = anchor[g]
+                .iter()
+                .filter(|&&h| h != usize::MAX)
+                .map(|&h| part[h]);
+            let (mut in_a, mut in_b) = (false, false);
+            for p in sides {
+                in_a |= p == 0;
+                in_b |= p == 1;
+            }
+            part[g] = match (in_a, in_b) {
+                (true, false) => 0,
+                (false, true) => 1,
+                _ => 2,
+            };
+        }
+    }
+    for g in 0..n {
+        if part[g] == 2 {
+            continue;
+        }
+        if let Some(&h) = graph.adjncy[graph.xadj[g]..graph.xadj[g + 1]]
+            .iter()
+            .find(|&&h| part[h] != 2 && part[h] != part[g])
+        {
+            return Err(FlankError::Solver(format!(
+                "two-domain split: groups {g} and {h} on opposite sides are coupled"
+            )));
+        }
+    }
+    let members = |p: u8| -> Vec<usize> { (0..n).filter(|&g| part[g] == p).collect() };
+    let (a, s, b) = (members(0), members(2), members(1));
+    if a.is_empty() || b.is_empty() {
+        return Err(FlankError::Solver(format!(
+            "two-domain split: the separator leaves a part empty ({} / {} / {} groups)",
+            a.len(),
+            s.len(),
+            b.len()
+        )));
+    }
+    let order_part = |groups: &[usize]| -> Result<Vec<usize>, FlankError> {
+        let mut local = vec![usize::MAX; n];
+        for (i, &g) in groups.iter().enumerate() {
+            local[g] = i;
+        }
+        let mut xadj = vec![0usize];
+        let mut adjncy = Vec::new();
+        let mut anchors = Vec::with_capacity(groups.len());
+        for &g in groups {
+            adjncy.extend(
+                graph.adjncy[graph.xadj[g]..graph.xadj[g + 1]]
+                    .iter()
+                    .filter(|&&h| local[h] != usize::MAX)
+                    .map(|&h| local[h]),
+            );
+            xadj.push(adjncy.len());
+            // anchors in this part (at least one if anchored, see above)
+            let mut a = NO_ANCHOR;
+            let mut k = 0;
+            for &h in &anchor[g] {
+                if h != usize::MAX && local[h] != usize::MAX {
+                    a[k] = local[h];
+                    k += 1;
+                }
+            }
+            anchors.push(a);
+        }
+        let weight = groups.iter().map(|&g| graph.weight[g]).collect();
+        let sub = GroupGraph {
+            xadj,
+            adjncy,
+            weight,
+        };
+        let perm = if anchors.iter().any(|a| *a != NO_ANCHOR) {
+            order_groups_anchored(&sub, method, &anchors)?
+        } else {
+            order_groups(&sub, method)?
+        };
+        Ok(perm.into_iter().map(|i| groups[i]).collect())
+    };
+    // one after the other: METIS's random generator (GKlib) is a C static,
+    // and `ordering` serializes every METIS call on it anyway
+    let mut perm = order_part(&a)?;
+    perm.extend_from_slice(&s);
+    perm.extend(order_part(&b)?);
+    Ok((perm, [a.len(), s.len(), b.len()]))
 }
 
 #[cfg(test)]

@@ -761,8 +761,8 @@ mod tests {
     use super::*;
     use crate::fem::element::{HEX20_NODES, WEDGE15_NODES};
     use crate::fem::material::Material;
+    use crate::fem::mesh::{ElementKind, Mesh};
     use crate::fem::model::{Dirichlet, Pressure};
-    use crate::mesh::{ElementKind, Mesh};
 
     /// One element on [0,1]³ (or the unit wedge × [0,1]) under uniaxial pressure
     /// on the face x = 1: u_x = −p x / E, u_y = ν p y / E exactly.

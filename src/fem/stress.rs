@@ -13,8 +13,8 @@ use rayon::prelude::*;
 
 use crate::error::FlankError;
 use crate::fem::element::{gradients, inv3, ReferenceElement, HEX20_NODES, WEDGE15_NODES};
+use crate::fem::mesh::ElementKind;
 use crate::fem::model::Model;
-use crate::mesh::ElementKind;
 
 /// Nodal results of the stress recovery.
 #[derive(Clone, Debug)]

@@ -43,8 +43,9 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use crate::compliance::body::{bevel_scene_body, BodyMeshOptions};
-use crate::compliance::cache::{ComplianceCache, FileFormat};
+use crate::compliance::cache::FileFormat;
 use crate::compliance::run::{body_tensor, BodyTensorOptions};
+use crate::compliance::tensor_cache::ComplianceCache;
 use crate::compliance::FlankInterpolator;
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;

@@ -16,12 +16,13 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use crate::compliance::body::{scene_body, BodyMeshOptions};
-use crate::compliance::cache::{ComplianceCache, FileFormat};
+use crate::compliance::cache::FileFormat;
 use crate::compliance::compressed::{BlrOptions, BlrTensor};
 use crate::compliance::run::{
     body_tensor, build_compressed, cylindrical_region_cut, open_compressed, BodyTensorOptions,
     OpenedCompressed,
 };
+use crate::compliance::tensor_cache::ComplianceCache;
 use crate::compliance::{ComplianceStats, ComplianceTensor};
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;

@@ -10,7 +10,8 @@
 use std::sync::Arc;
 
 use crate::compliance::interpolation::FlankGrids;
-use crate::compliance::pages::{FactoredPage, TensorPages, PAGE};
+use crate::compliance::page_order::PAGE;
+use crate::compliance::pages::{FactoredPage, TensorPages};
 use crate::compliance::ComplianceTensor;
 use crate::error::FlankError;
 use crate::geometry::vec3::dot;

@@ -23,13 +23,13 @@ use std::sync::Arc;
 
 use crate::error::FlankError;
 use crate::fem::material::Material;
+use crate::fem::mesh::ElementKind;
 use crate::fem::model::{Dirichlet, Model, NodalForce};
 use crate::geometry::cylindrical::CylindricalGear;
 use crate::geometry::gear_pair::GearBody;
 use crate::geometry::rack::{Flank, ToothProfile};
 use crate::geometry::GearSpec;
 use crate::mesh::gear_sector::{flank_segment, gear_sector, GearSectorMesh, SectorOptions};
-use crate::mesh::ElementKind;
 
 /// Which mesher makes the sector of [`gear_body_with`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -27,9 +27,9 @@ use crate::fem::contact_definition::{
     ContactDefinition, ContactPair, PressureOverclosure, Surface, SurfaceInteraction, SurfaceKind,
 };
 use crate::fem::material::Material;
+use crate::fem::mesh::Mesh;
 use crate::fem::model::{Dirichlet, Model, Pressure};
 use crate::mesh::structured::{box_faces, box_mesh, map_nodes, BoxElement};
-use crate::mesh::Mesh;
 
 /// Geometry and mesh of the Hertz slice.
 #[derive(Clone, Debug)]

@@ -38,10 +38,10 @@ use crate::fem::contact_definition::{
     ContactDefinition, ContactPair, PressureOverclosure, Surface, SurfaceInteraction, SurfaceKind,
 };
 use crate::fem::material::Material;
+use crate::fem::mesh::{Mesh, SetKind};
 use crate::fem::model::{Dirichlet, Model, Pressure};
 use crate::mesh::hertz::{graded_distribution, lattice_position};
 use crate::mesh::structured::{box_faces, box_mesh, map_nodes, BoxElement};
-use crate::mesh::{Mesh, SetKind};
 
 /// Geometry and mesh of the point-contact quarter model.
 #[derive(Clone, Debug)]

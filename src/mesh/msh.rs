@@ -43,7 +43,7 @@ use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
 use crate::error::FlankError;
-use crate::mesh::{ElementKind, Mesh};
+use crate::fem::mesh::{ElementKind, Mesh};
 
 type Result<T> = std::result::Result<T, FlankError>;
 

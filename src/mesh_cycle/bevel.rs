@@ -293,7 +293,7 @@ impl BevelCycle {
     /// pair (pinion flanks slave), the normal law of the run. Solved as it
     /// is (flank `solve`, ccx) it is this position's problem.
     pub fn write_deck(&self, roll_deg: f64, path: &std::path::Path) -> Result<(), FlankError> {
-        crate::mesh::inp::write_deck(&self.deck_model(roll_deg), path)
+        crate::deck::write_deck(&self.deck_model(roll_deg), path)
     }
 
     /// The model [`Self::write_deck`] writes.

@@ -14,9 +14,9 @@ use crate::contact::{
     ContactDefinition, ContactPair, PressureOverclosure, Surface, SurfaceInteraction, SurfaceKind,
 };
 use crate::error::FlankError;
+use crate::fem::mesh::Mesh;
 use crate::fem::model::{Dirichlet, Model, RigidCoupling};
 use crate::geometry::gear_pair::{GearPair, PairPlacement};
-use crate::mesh::Mesh;
 use crate::scene::Scene;
 use crate::settings::SlaveBody;
 

@@ -1058,7 +1058,7 @@ fn write_position_deck(cycle: &MeshCycle, out: &Path, roll_deg: f64) -> Result<(
         .map(|p| model.contact.pairs[cycle.pairing_at(p, roll).0].clone())
         .collect();
     let name = vtu_name(roll_deg).replace(".vtu", ".inp");
-    crate::mesh::inp::write_deck(&model, &out.join(name))
+    crate::deck::write_deck(&model, &out.join(name))
 }
 
 /// The VTU file of a roll angle: `roll_+012.50deg.vtu`.

@@ -29,7 +29,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use crate::mesh::{ElementKind, Mesh};
+use crate::fem::mesh::{ElementKind, Mesh};
 use crate::{FlankError, Result};
 
 /// A field given at the nodes: `values[components * node + c]`.

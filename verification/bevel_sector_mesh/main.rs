@@ -21,10 +21,10 @@ use std::path::Path;
 use std::time::Instant;
 
 use flank::ccx::relative_difference;
+use flank::deck::{read_deck, write_deck};
 use flank::fem::static_analysis::{solve_static, SolveOptions};
 use flank::mesh::bevel_body::bevel_body_model;
 use flank::mesh::bevel_sector::{bevel_sector, flank_edge_deviation, BevelSectorOptions, Shank};
-use flank::mesh::inp::{read_deck, write_deck};
 use flank::scene::{read_any_scene, AnyScene, BevelScene};
 
 fn scene(seed: &str) -> BevelScene {
@@ -94,7 +94,7 @@ fn seed003_gear_deck_matches_ccx() {
 /// in the deck): flank and ccx agree.
 #[test]
 fn seed003_gear_wedge15_deck_matches_ccx() {
-    deck_matches_ccx_in(1, None, 1.0, true, flank::mesh::ElementKind::C3D15);
+    deck_matches_ccx_in(1, None, 1.0, true, flank::fem::mesh::ElementKind::C3D15);
 }
 
 /// The seed 003 pinion with a shank (30 mm × 40 mm), clamped at its
@@ -125,7 +125,7 @@ fn seed003_pinion_with_shank_deck_matches_ccx() {
 /// (with `ccx`, when installed) by ccx agree to 1e-6; returns the load
 /// point's displacement along the load.
 fn deck_matches_ccx(m: usize, shank: Option<Shank>, fs: f64, ccx: bool) -> f64 {
-    deck_matches_ccx_in(m, shank, fs, ccx, flank::mesh::ElementKind::C3D20)
+    deck_matches_ccx_in(m, shank, fs, ccx, flank::fem::mesh::ElementKind::C3D20)
 }
 
 /// [`deck_matches_ccx`] in elements of `element`.
@@ -134,7 +134,7 @@ fn deck_matches_ccx_in(
     shank: Option<Shank>,
     fs: f64,
     ccx: bool,
-    element: flank::mesh::ElementKind,
+    element: flank::fem::mesh::ElementKind,
 ) -> f64 {
     let sc = scene("seed003-hypoid");
     let opts = BevelSectorOptions {
@@ -158,7 +158,7 @@ fn deck_matches_ccx_in(
     }
     let tag = match (shank.is_some(), element) {
         (true, _) => "_shank",
-        (false, flank::mesh::ElementKind::C3D15) => "_wedge15",
+        (false, flank::fem::mesh::ElementKind::C3D15) => "_wedge15",
         _ => "",
     };
     // one folder per deck: the tests run in parallel, and a shared scratch
@@ -221,7 +221,7 @@ fn seed003_wedge15_against_hex20_fine() {
 }
 
 fn wedge15_against_hex20(sizes: &[f64]) {
-    use flank::mesh::ElementKind;
+    use flank::fem::mesh::ElementKind;
     let sc = scene("seed003-hypoid");
     println!("| member | flank size (mm) | element | nodes | DOFs | elements | min scaled Jacobian | max aspect | meshing (s) | tip along the force (mm) | solve (s) |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|");

@@ -23,9 +23,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use flank::ccx::{relative_difference, run_ccx};
+use flank::deck::{read_deck, write_deck};
 use flank::fem::model::{Dirichlet, NodalForce, Pressure};
 use flank::fem::static_analysis::{solve_static, SolveOptions};
-use flank::mesh::inp::{read_deck, write_deck};
 use flank::mesh::structured::{box_faces, box_mesh, distort_interior, BoxElement};
 
 const TOLERANCE: f64 = 1e-6;

@@ -5,8 +5,8 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use flank::fem::material::Material;
+use flank::fem::mesh::Mesh;
 use flank::fem::model::{Dirichlet, Model};
-use flank::mesh::Mesh;
 
 /// A model with one material on every element.
 pub fn model_from_mesh(mesh: Mesh, young: f64, poisson: f64) -> Model {

@@ -57,10 +57,10 @@ use std::time::Instant;
 
 use flank::fem::element::{det3, inv3, jacobian, shape};
 use flank::fem::material::Material;
+use flank::fem::mesh::ElementKind;
 use flank::fem::model::{Dirichlet, Model};
 use flank::fem::static_analysis::{solve_static, SolveOptions};
 use flank::mesh::structured::{box_mesh, distort_interior, BoxElement};
-use flank::mesh::ElementKind;
 
 const YOUNG: f64 = 1.0;
 const POISSON: f64 = 0.3;

@@ -68,10 +68,10 @@ use flank::fem::element::{
     check_jacobian, stiffness, ElementWorkspace, HEX20_NODES, WEDGE15_NODES,
 };
 use flank::fem::material::Material;
+use flank::fem::mesh::{ElementKind, Mesh};
 use flank::fem::model::Dirichlet;
 use flank::fem::static_analysis::{solve_static, SolveOptions};
 use flank::mesh::structured::{box_faces, box_mesh, BoxElement};
-use flank::mesh::{ElementKind, Mesh};
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 
 const YOUNG: f64 = 210e3;

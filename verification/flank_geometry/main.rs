@@ -29,9 +29,9 @@ use std::collections::HashSet;
 use std::time::Instant;
 
 use flank::fem::element::{edges, face_nodes, quad8_shape};
+use flank::fem::mesh::ElementKind;
 use flank::geometry::rack::{Flank, ToothProfile};
 use flank::mesh::gear_sector::{flank_segment, gear_sector, GearSectorMesh, SectorOptions};
-use flank::mesh::ElementKind;
 use flank::scene::read_scene;
 
 fn rot(p: [f64; 2], a: f64) -> [f64; 2] {

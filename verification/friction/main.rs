@@ -41,9 +41,9 @@ use flank::contact::{
     ContactDefinition, ContactPair, Friction, PressureOverclosure, Surface, SurfaceInteraction,
     SurfaceKind,
 };
+use flank::fem::mesh::{Mesh, SetKind};
 use flank::fem::model::{Model, NodalForce, Pressure};
 use flank::mesh::structured::{box_faces, box_mesh, BoxElement};
-use flank::mesh::{Mesh, SetKind};
 
 const E: f64 = 210_000.0;
 const NU: f64 = 0.3;
@@ -194,7 +194,7 @@ fn by_label(path: &Path) -> HashMap<u64, [f64; 3]> {
 fn flank_solve(model: &Model, case: &str) -> Result<Run, String> {
     let dir = common::scratch_dir(&format!("friction_{case}"));
     let deck = dir.join("deck.inp");
-    flank::mesh::inp::write_deck(model, &deck).unwrap();
+    flank::deck::write_deck(model, &deck).unwrap();
     let out = dir.join("out");
     let t = Instant::now();
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_flank"))
@@ -475,7 +475,7 @@ fn same_deck_in_calculix() {
         return;
     }
     let dir = common::scratch_dir("friction_f_ccx");
-    let mut text = flank::mesh::inp::format_deck(&m).unwrap();
+    let mut text = flank::deck::format_deck(&m).unwrap();
     text = text.replace(
         "*STATIC\n",
         "*STATIC\n0.1, 1.0, 1e-6, 0.1\n*CONTROLS, PARAMETERS=TIME INCREMENTATION\n30, 40, 9, 200, 10, 4, 0, 5\n",

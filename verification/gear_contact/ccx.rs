@@ -6,7 +6,7 @@
 //! double-contact roll angle (−6°) and in the middle of the kinematic
 //! single contact. At each position the pair model is moved to its placed
 //! coordinates (`MeshCycle::placement`) and written with
-//! `flank::mesh::inp::format_deck`: the pinion hub as `*RIGID BODY` (REF
+//! `flank::deck::format_deck`: the pinion hub as `*RIGID BODY` (REF
 //! NODE fixed, ROT NODE free in z with the torque `*CLOAD` −T), the gear
 //! bore `*BOUNDARY`, three `*CONTACT PAIR`s (pinion right flanks slave).
 //! The same deck is solved
@@ -137,7 +137,7 @@ fn position(c: &MeshCycle, name: &str, roll_deg: f64) -> Option<Position> {
     });
     let max = *moved.mesh.node_labels.iter().max().unwrap();
     let (r, q) = (max + 1, max + 2);
-    let written = flank::mesh::inp::format_deck(&moved).expect("format_deck");
+    let written = flank::deck::format_deck(&moved).expect("format_deck");
 
     // the written deck: hub, torque, bore, three pairs, the penalty
     assert!(
@@ -207,7 +207,7 @@ fn position(c: &MeshCycle, name: &str, roll_deg: f64) -> Option<Position> {
 
     // flank on the deck read back: the plain solver, no placement
     let t = Instant::now();
-    let deck = flank::mesh::inp::read_deck(&path).expect("read the deck back");
+    let deck = flank::deck::read_deck(&path).expect("read the deck back");
     assert_eq!(deck.model.couplings, moved.couplings);
     let options = ContactOptions {
         recover_stress: false,

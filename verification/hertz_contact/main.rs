@@ -632,7 +632,7 @@ fn penalty_sweep() {
 /// up to a clearance c₀√A with c₀ = 0.3 (ccx's default 1e-3 pairs only the
 /// nodes touching at the start).
 fn ccx_deck(m: &Model) -> String {
-    let mut text = flank::mesh::inp::format_deck(m).unwrap();
+    let mut text = flank::deck::format_deck(m).unwrap();
     text = text.replace(
         "*STATIC\n",
         "*STATIC\n*CONTROLS, PARAMETERS=TIME INCREMENTATION\n30, 30, 9, 200, 10, 4, 0, 5\n",

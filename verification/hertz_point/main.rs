@@ -418,7 +418,7 @@ fn flank_solve(deck: &std::path::Path, out: &std::path::Path) -> serde_json::Val
 /// default 1e-3 pairs only the nodes touching at the start), as in
 /// `verification/hertz_contact`.
 fn ccx_deck(m: &Model) -> String {
-    let text = flank::mesh::inp::format_deck(m).unwrap();
+    let text = flank::deck::format_deck(m).unwrap();
     let text = text.replace(
         "*STATIC\n",
         "*STATIC\n*CONTROLS, PARAMETERS=TIME INCREMENTATION\n30, 30, 9, 200, 10, 4, 0, 5\n",

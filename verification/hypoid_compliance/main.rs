@@ -34,8 +34,8 @@ use flank::compliance::run::{
     body_tensor, mean_contact_axis, BodyTensorOptions, MEAN_CONTACT_POINTS,
 };
 use flank::compliance::{ComplianceOptions, ComplianceTensor};
+use flank::deck::read_deck;
 use flank::fem::static_analysis::{solve_static, SolveOptions};
-use flank::mesh::inp::read_deck;
 use flank::scene::{read_any_scene, AnyScene, BevelScene};
 use flank::settings::FlankSelection;
 use flank::tca::major_axis::AxisPoint;

@@ -106,7 +106,7 @@ struct DeckAnswer {
 
 fn deck_answer(deck: &Path) -> DeckAnswer {
     let t = Instant::now();
-    let parsed = flank::mesh::inp::read_deck(deck).expect("read the deck back");
+    let parsed = flank::deck::read_deck(deck).expect("read the deck back");
     let options = ContactOptions {
         recover_stress: false,
         pairing: flank::contact::pairing::PairingOptions {
@@ -204,7 +204,7 @@ fn position_flank_vs_ccx() {
         tension: Some(TENSION),
         c0: Some(C0),
     });
-    let written = flank::mesh::inp::format_deck(&model).expect("format_deck");
+    let written = flank::deck::format_deck(&model).expect("format_deck");
     let _ = path;
     let max = *c.model.model.mesh.node_labels.iter().max().unwrap();
     let (r, q) = (max + 1, max + 2);

@@ -226,6 +226,6 @@ const DECK_CELLS: [usize; 3] = [12, 24, 8];
 fn write_le10_deck() {
     let model = le10_model(DECK_CELLS, BoxElement::Hex20);
     let path = std::path::Path::new("verification/nafems_le10/le10.inp");
-    flank::mesh::inp::write_deck(&model, path).expect("deck written");
+    flank::deck::write_deck(&model, path).expect("deck written");
     println!("wrote {}", path.display());
 }

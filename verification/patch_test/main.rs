@@ -55,10 +55,10 @@ mod common;
 use std::time::Instant;
 
 use flank::fem::loads::traction_face_load;
+use flank::fem::mesh::Mesh;
 use flank::fem::model::{Dirichlet, NodalForce};
 use flank::fem::static_analysis::{solve_static, SolveOptions, StaticSolution};
 use flank::mesh::structured::{box_faces, box_mesh, distort_interior, BoxElement};
-use flank::mesh::Mesh;
 
 const YOUNG: f64 = 1e6;
 const POISSON: f64 = 0.25;

@@ -161,9 +161,9 @@ use std::path::Path;
 use std::sync::Mutex;
 use std::time::Instant;
 
+use flank::deck::format_deck;
 use flank::fem::model::{Dirichlet, Model, NodalForce, RigidCoupling};
 use flank::fem::static_analysis::{solve_static, SolveOptions, StaticSolution};
-use flank::mesh::inp::format_deck;
 use flank::mesh::structured::{annulus, BoxElement};
 use flank::FlankError;
 
@@ -857,7 +857,7 @@ fn d_deck_in_flank_and_ccx() {
         let path = dir.join(format!("{name}.inp"));
         std::fs::write(&path, text).unwrap();
         // the deck is read back to the model's coupling
-        let deck = flank::mesh::inp::read_deck(&path).unwrap();
+        let deck = flank::deck::read_deck(&path).unwrap();
         assert_eq!(deck.model.couplings, model.couplings, "{name}");
         let lib = solve_static(&deck.model, &SolveOptions::default()).unwrap();
         let t = Instant::now();
@@ -1033,7 +1033,7 @@ fn e_contact_deck_held_by_a_reference_node() {
     std::fs::write(&path, &text).unwrap();
 
     // the deck's model is the in-memory one: same contact answer
-    let deck = flank::mesh::inp::read_deck(&path).unwrap();
+    let deck = flank::deck::read_deck(&path).unwrap();
     assert_eq!(deck.model.couplings, model.couplings);
     let opts = flank::contact::ContactOptions::default();
     let a = flank::contact::solve_contact(&model, &opts).unwrap();

@@ -88,10 +88,10 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use flank::ccx::{relative_difference, run_ccx};
+use flank::deck::{read_deck, write_deck};
 use flank::fem::model::Model;
 use flank::fem::static_analysis::{solve_static, SolveOptions, SolveStats, StaticSolution};
 use flank::fem::substructuring::Substructure;
-use flank::mesh::inp::{read_deck, write_deck};
 use flank::mesh::structured::{cantilever_model, BoxElement};
 
 /// flank vs ccx, max|du|/max|u| over all nodes.

@@ -4,7 +4,7 @@
 //! with the reason.
 
 use crate::compliance::compressed::{page_len, Block, BlrOptions, BlrStats, BlrTensor};
-use crate::compliance::pages::{paged_order, paged_positions, PAGE};
+use crate::compliance::page_order::{paged_order, paged_positions, PAGE};
 use crate::compliance::{ComplianceTensor, Fnv128, WordHash};
 use crate::error::FlankError;
 

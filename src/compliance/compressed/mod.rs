@@ -75,7 +75,7 @@ use std::time::Instant;
 use faer::Mat;
 use rayon::prelude::*;
 
-use crate::compliance::pages::{paged_order, paged_positions, PAGE};
+use crate::compliance::page_order::{paged_order, paged_positions, PAGE};
 use crate::compliance::ComplianceTensor;
 use crate::error::FlankError;
 

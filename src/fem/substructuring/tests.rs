@@ -1,6 +1,7 @@
 use super::*;
 use crate::fem::assembly::Assembly;
 use crate::fem::constraints::DofMap;
+use crate::fem::ordering::{order_groups_two_domain, GroupGraph, NO_ANCHOR};
 use crate::mesh::structured::{cantilever_model, BoxElement};
 use crate::testing::Rng;
 

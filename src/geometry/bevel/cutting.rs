@@ -39,9 +39,10 @@ use crate::geometry::bevel::body::{angle_from_y, facing, wrap_angle, BevelGear};
 use crate::geometry::bevel::conjugate::ConjugatePinion;
 use crate::geometry::bevel::cradle_machine::MachineSettings;
 use crate::geometry::bevel::cutter::{BladeSide, CutterHead};
-use crate::geometry::bevel::cyclo_palloid::{cyclo_palloid_pinion, HobbedMeanPoint, PinionTilt};
+use crate::geometry::bevel::cyclo_palloid::{cyclo_palloid_pinion, PinionTilt};
 use crate::geometry::bevel::ease_off::{EaseOffSpec, EasedPinion};
 use crate::geometry::bevel::generated_surface::{FlankKind, FlankMeasure};
+use crate::geometry::bevel::hobbing_settings::HobbedMeanPoint;
 use crate::geometry::bevel::hobbing_settings::{self, HobbingBlank, HobbingCutter, HobbingSetup};
 use crate::geometry::bevel::machine_settings::{
     self, CutterChoice, MemberSetup, SettingsRefinement,

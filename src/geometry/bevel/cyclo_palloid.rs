@@ -71,10 +71,10 @@
 use nalgebra::{Matrix3, Vector3};
 
 use crate::error::{FlankError, Result};
-use crate::geometry::bevel::body::{angle_from_y, wrap_angle};
-use crate::geometry::bevel::face_hobbing::{tilt_matrix, HobbingBlade};
-use crate::geometry::bevel::generated_surface::FlankMeasure;
-use crate::geometry::bevel::hobbing_settings::{HobbedFlank, HobbingBlank, HobbingSetup};
+use crate::geometry::bevel::face_hobbing::tilt_matrix;
+use crate::geometry::bevel::hobbing_settings::{
+    measure_mean_point, HobbedMeanPoint, HobbingBlank, HobbingSetup,
+};
 use crate::geometry::vec3::V3;
 
 /// The variables of the pinion setup (module docs): the head's tilt i
@@ -96,45 +96,6 @@ impl PinionTiltVariables {
             width_change: x[2],
         }
     }
-}
-
-/// A face-hobbed member's figures at the mean points of its two flanks
-/// (u = 0, v = R_m): pressure and spiral angles (rad) of the concave
-/// (outside blade) and convex (inside blade) flank on the member's pitch
-/// cone, and the mean normal thickness ρ_m Δφ cos β_m (mm).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct HobbedMeanPoint {
-    pub pressure_angle: (f64, f64),
-    pub spiral_angle: (f64, f64),
-    pub thickness: f64,
-}
-
-/// Measures `setup`'s two flanks at their mean points (only the mean-point
-/// solve: [`HobbedFlank::mean_point_solve`]).
-pub fn measure_mean_point(setup: &HobbingSetup) -> Result<HobbedMeanPoint> {
-    let b = &setup.blank;
-    let one = |blade: &HobbingBlade| -> Result<(V3, FlankMeasure)> {
-        let (_, p) = HobbedFlank::mean_point_solve(
-            setup.settings,
-            *blade,
-            b.section(),
-            b.mean_dedendum,
-            setup.mean_point,
-        )?;
-        Ok((
-            p.jet.r,
-            FlankMeasure::on_pitch_cone(p.jet.r, p.normal, b.pitch_angle),
-        ))
-    };
-    let (pc, cc) = one(&setup.outside)?;
-    let (pv, cv) = one(&setup.inside)?;
-    let d = wrap_angle(angle_from_y(pc) - angle_from_y(pv)).abs();
-    let rho = b.mean_cone_distance * b.pitch_angle.sin();
-    Ok(HobbedMeanPoint {
-        pressure_angle: (cc.pressure_angle, cv.pressure_angle),
-        spiral_angle: (cc.spiral_angle, cv.spiral_angle),
-        thickness: rho * d * b.spiral_angle.cos(),
-    })
 }
 
 impl HobbingSetup {
@@ -327,6 +288,7 @@ pub fn cyclo_palloid_pinion(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::bevel::body::{angle_from_y, wrap_angle};
     use crate::geometry::bevel::cutter::BladeSide;
     use crate::geometry::bevel::cutting::CutterSpec;
     use crate::geometry::bevel::hobbing_settings::{HobbingCutter, Member};

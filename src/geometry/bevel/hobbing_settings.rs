@@ -58,13 +58,13 @@
 //! centred on +y, each flank turned by ±π/z onto it.
 
 use crate::error::{FlankError, Result};
+use crate::geometry::bevel::body::{angle_from_y, wrap_angle};
 use crate::geometry::bevel::cradle_machine::MachineSettings;
 use crate::geometry::bevel::cutter::{Blade, BladeSide};
-use crate::geometry::bevel::cyclo_palloid::{measure_mean_point, HobbedMeanPoint};
 use crate::geometry::bevel::face_hobbing::{
     ExtendedEpicycloid, FaceHobbing, FaceHobbingSettings, HobbingBlade,
 };
-use crate::geometry::bevel::generated_surface::ROOT_ARC_ANGLE;
+use crate::geometry::bevel::generated_surface::{FlankMeasure, ROOT_ARC_ANGLE};
 use crate::geometry::bevel::generation::{
     solve_axial, AxialSection, ConeLine, EnvelopeError, EnvelopeFlank, EnvelopePoint, SolveOptions,
 };
@@ -682,6 +682,45 @@ pub struct HobbedFlank {
 /// Spiral angle, hand and pressure angle measured on a flank: the same
 /// figures as on a face-milled flank.
 pub use crate::geometry::bevel::generated_surface::FlankMeasure as HobbedMeasure;
+
+/// A face-hobbed member's figures at the mean points of its two flanks
+/// (u = 0, v = R_m): pressure and spiral angles (rad) of the concave
+/// (outside blade) and convex (inside blade) flank on the member's pitch
+/// cone, and the mean normal thickness ρ_m Δφ cos β_m (mm).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HobbedMeanPoint {
+    pub pressure_angle: (f64, f64),
+    pub spiral_angle: (f64, f64),
+    pub thickness: f64,
+}
+
+/// Measures `setup`'s two flanks at their mean points (only the mean-point
+/// solve: [`HobbedFlank::mean_point_solve`]).
+pub fn measure_mean_point(setup: &HobbingSetup) -> Result<HobbedMeanPoint> {
+    let b = &setup.blank;
+    let one = |blade: &HobbingBlade| -> Result<(V3, FlankMeasure)> {
+        let (_, p) = HobbedFlank::mean_point_solve(
+            setup.settings,
+            *blade,
+            b.section(),
+            b.mean_dedendum,
+            setup.mean_point,
+        )?;
+        Ok((
+            p.jet.r,
+            FlankMeasure::on_pitch_cone(p.jet.r, p.normal, b.pitch_angle),
+        ))
+    };
+    let (pc, cc) = one(&setup.outside)?;
+    let (pv, cv) = one(&setup.inside)?;
+    let d = wrap_angle(angle_from_y(pc) - angle_from_y(pv)).abs();
+    let rho = b.mean_cone_distance * b.pitch_angle.sin();
+    Ok(HobbedMeanPoint {
+        pressure_angle: (cc.pressure_angle, cv.pressure_angle),
+        spiral_angle: (cc.spiral_angle, cv.spiral_angle),
+        thickness: rho * d * b.spiral_angle.cos(),
+    })
+}
 
 fn describe(s: &FaceHobbingSettings, e: &EnvelopeError, what: &str) -> FlankError {
     let m = &s.machine;

@@ -213,6 +213,31 @@ impl BlankDesign {
     }
 }
 
+/// Clause 6 for any method; a zero offset is method 0 (with β = β_Δ1 for
+/// method 1).
+fn pitch_cones(c: &pitch_cone::ConeInputs) -> Result<PitchCones> {
+    let s6 = if c.method == 0 || c.a == 0.0 {
+        let beta = match (c.method, c.beta_m1_desired, c.beta_m2) {
+            (1, Some(b), _) => b,
+            (_, _, Some(b)) => b,
+            _ => {
+                return Err(pitch_cone::missing(
+                    "beta_m2_deg",
+                    "the wheel's mean spiral angle",
+                ))
+            }
+        };
+        pitch_cone::method0(c, beta)?
+    } else {
+        match c.method {
+            1 => hypoid_methods::method1(c)?,
+            2 => hypoid_methods::method2(c)?,
+            _ => hypoid_methods::method3(c)?,
+        }
+    };
+    pitch_cone::finish(c, &s6)
+}
+
 /// The standard's calculation for one input set.
 pub fn blank_design(inputs: &BlankInputs) -> Result<BlankDesign> {
     inputs.validate()?;
@@ -230,7 +255,7 @@ pub fn blank_design(inputs: &BlankInputs) -> Result<BlankDesign> {
         rc0: inputs.rc0_mm,
         z0: inputs.z0.map(f64::from),
     };
-    let cones = pitch_cone::pitch_cones(&c)?;
+    let cones = pitch_cones(&c)?;
     let hobbing = match c.z0 {
         Some(z0) => Some(pitch_cone::hobbing(z0, c.z2, c.rc0, &cones)?),
         None => None,

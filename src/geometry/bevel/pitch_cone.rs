@@ -14,7 +14,8 @@
 //!   β_m1 = β_m2, c_be2 = 1/2 (given d_m2 instead: R_m = d_m2 / (2 sin δ2)).
 //! * Methods 1–3 (hypoid gears): see [`super::hypoid_methods`]. A zero
 //!   offset gives the method-0 cones for every method (the clean branch in
-//!   [`pitch_cones`]: method 1's chain divides 0 by 0 there).
+//!   `pitch_cones` of [`super::blank_design`]: method 1's chain divides 0
+//!   by 0 there).
 //!
 //! Formula numbers are those of ISO 23509:2016 as transcribed in a public
 //! C# implementation of the standard (namespace `ISO23509Calc`, found with
@@ -126,26 +127,6 @@ pub fn method0(c: &ConeInputs, beta: f64) -> Result<Clause6> {
         check: 0.0,
         trials: 1,
     })
-}
-
-/// Clause 6 for any method; a zero offset is method 0 (with β = β_Δ1 for
-/// method 1).
-pub fn pitch_cones(c: &ConeInputs) -> Result<PitchCones> {
-    let s6 = if c.method == 0 || c.a == 0.0 {
-        let beta = match (c.method, c.beta_m1_desired, c.beta_m2) {
-            (1, Some(b), _) => b,
-            (_, _, Some(b)) => b,
-            _ => return Err(missing("beta_m2_deg", "the wheel's mean spiral angle")),
-        };
-        method0(c, beta)?
-    } else {
-        match c.method {
-            1 => super::hypoid_methods::method1(c)?,
-            2 => super::hypoid_methods::method2(c)?,
-            _ => super::hypoid_methods::method3(c)?,
-        }
-    };
-    finish(c, &s6)
 }
 
 /// `asin` that refuses an argument outside [−1, 1] with a message.
@@ -263,7 +244,7 @@ mod tests {
     fn method0_pitch_angles_follow_the_shaft_angle() {
         for sigma in [60.0, 90.0, 110.0] {
             let c = inputs(sigma);
-            let p = pitch_cones(&c).unwrap();
+            let p = finish(&c, &method0(&c, c.beta_m2.unwrap()).unwrap()).unwrap();
             let u = 41.0 / 13.0;
             let s = c.sigma;
             assert!((p.delta1.tan() - s.sin() / (s.cos() + u)).abs() < 1e-12);

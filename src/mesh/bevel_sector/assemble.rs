@@ -14,11 +14,11 @@ use super::station::FaceLayout;
 use super::{err, BevelSectorMesh, BevelSectorOptions, Mount};
 use crate::error::FlankError;
 use crate::fem::element::check_jacobian;
+use crate::fem::mesh::{ElementKind, Mesh};
 use crate::geometry::bevel::body::BevelGear;
 use crate::geometry::gear_pair::{Flank, GearBody};
 use crate::mesh::gear_sector::Quality;
 use crate::mesh::section_cells::upper_layout;
-use crate::mesh::{ElementKind, Mesh};
 
 /// Nodes merged by position (cells of `tol`).
 struct Registry {

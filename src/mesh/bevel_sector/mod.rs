@@ -129,9 +129,9 @@ use std::collections::HashMap;
 pub use deviation::flank_edge_deviation;
 
 use crate::error::FlankError;
+use crate::fem::mesh::{ElementKind, Mesh};
 use crate::geometry::bevel::body::BevelGear;
 use crate::mesh::gear_sector::Quality;
-use crate::mesh::{ElementKind, Mesh};
 
 /// Options of [`bevel_sector`].
 #[derive(Clone, Debug)]

@@ -59,7 +59,7 @@ fn flank_deviation(gear: &BevelGear, r: &BevelSectorMesh) -> (f64, [f64; 2]) {
 /// Conformity: no face is shared by more than two elements, and every
 /// face used once (a free face) has all its corners on one boundary set,
 /// so no crack lies inside the body where blocks or pitches meet.
-fn assert_conforming(mesh: &crate::mesh::Mesh, m: usize) {
+fn assert_conforming(mesh: &crate::fem::mesh::Mesh, m: usize) {
     let mut faces: HashMap<Vec<usize>, usize> = HashMap::new();
     for e in &mesh.elements {
         for f in 1..=e.kind.face_count() {
@@ -329,7 +329,7 @@ fn wedges() -> BevelSectorOptions {
 }
 
 /// Node coordinates of a set, sorted.
-fn set_coords(mesh: &crate::mesh::Mesh, set: &str) -> Vec<[f64; 3]> {
+fn set_coords(mesh: &crate::fem::mesh::Mesh, set: &str) -> Vec<[f64; 3]> {
     let mut v: Vec<[f64; 3]> = mesh.node_sets[set]
         .iter()
         .map(|&n| mesh.coords[n])
@@ -345,7 +345,7 @@ fn set_coords(mesh: &crate::mesh::Mesh, set: &str) -> Vec<[f64; 3]> {
 }
 
 /// Area (mm²) of the element faces on a node set.
-fn set_area(mesh: &crate::mesh::Mesh, set: &str) -> f64 {
+fn set_area(mesh: &crate::fem::mesh::Mesh, set: &str) -> f64 {
     use crate::contact::surface::{face_area, faces_on_nodes, Face};
     faces_on_nodes(mesh, &mesh.node_sets[set])
         .into_iter()
@@ -395,7 +395,8 @@ fn wedge15_sectors_match_hex20() {
         assert!(wed.quality.min_scaled_jacobian > 0.2, "{:?}", wed.quality);
         assert_conforming(mesh, m);
         assert!(node_dist <= 1e-9, "{node_dist}");
-        let names = |m: &crate::mesh::Mesh| m.node_sets.keys().cloned().collect::<HashSet<_>>();
+        let names =
+            |m: &crate::fem::mesh::Mesh| m.node_sets.keys().cloned().collect::<HashSet<_>>();
         assert_eq!(names(mesh), names(&hex.mesh));
         for set in mesh.node_sets.keys() {
             if matches!(set.as_str(), "NALL" | "TOE" | "HEEL") {

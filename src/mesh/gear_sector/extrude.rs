@@ -10,9 +10,9 @@ use super::section::Section;
 use super::{err, GearSectorMesh, Quality, SectorOptions};
 use crate::error::FlankError;
 use crate::fem::element::check_jacobian;
+use crate::fem::mesh::Mesh;
 use crate::geometry::rack::Flank;
 use crate::geometry::GearSpec;
-use crate::mesh::Mesh;
 
 /// The sector mesh of `section` (module doc of [`super`]).
 pub(super) fn extrude(

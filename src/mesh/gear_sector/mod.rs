@@ -90,9 +90,9 @@ mod tests;
 use std::collections::HashMap;
 
 use crate::error::FlankError;
+use crate::fem::mesh::{ElementKind, Mesh};
 use crate::geometry::rack::{Segment, ToothProfile};
 use crate::geometry::GearSpec;
-use crate::mesh::{ElementKind, Mesh};
 
 use extrude::extrude;
 pub use modify::{modify_flanks, FlankModificationReport};

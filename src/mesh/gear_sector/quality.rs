@@ -2,7 +2,7 @@
 //! Gauss points and edge aspect ratio.
 
 use crate::fem::element::{det3, jacobian, ReferenceElement};
-use crate::mesh::ElementKind;
+use crate::fem::mesh::ElementKind;
 
 /// Element quality figures.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

@@ -12,10 +12,10 @@ use std::f64::consts::PI;
 use super::lattice::{cart, graded, half_lattice, pol, quad_cell, rot, Block, Cell, Points};
 use super::{err, ProfileBand, SectorOptions};
 use crate::error::FlankError;
+use crate::fem::mesh::ElementKind;
 use crate::geometry::rack::{Flank, Segment, ToothProfile};
 use crate::geometry::GearSpec;
 use crate::mesh::section_cells::{upper_layout, LatticeCell, Lp, Mid};
-use crate::mesh::ElementKind;
 
 /// A transverse section, ready for the extrusion.
 pub(super) struct Section {

@@ -78,11 +78,11 @@ use std::time::Instant;
 use super::Session;
 use crate::error::FlankError;
 use crate::fem::element::{check_jacobian, edges};
+use crate::fem::mesh::{ElementKind, Mesh};
 use crate::geometry::rack::{Flank, Segment, ToothProfile};
 use crate::geometry::GearSpec;
 use crate::mesh::gear_sector::{flank_segment, GearSectorMesh, Quality, SectorOptions};
 use crate::mesh::msh::{GMSH_HEX20_TO_CCX, GMSH_PRISM15_TO_CCX};
-use crate::mesh::{ElementKind, Mesh};
 
 type Result<T> = std::result::Result<T, FlankError>;
 

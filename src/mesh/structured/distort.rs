@@ -6,7 +6,7 @@ use std::collections::HashMap;
 
 use super::corner_count;
 use crate::fem::element::{edges, face_nodes};
-use crate::mesh::Mesh;
+use crate::fem::mesh::Mesh;
 
 /// Marks the nodes on the mesh boundary: the nodes of element faces that no
 /// other element shares (faces are matched by their sorted corner nodes).

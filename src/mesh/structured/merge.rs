@@ -3,7 +3,7 @@
 
 use std::collections::HashMap;
 
-use crate::mesh::Mesh;
+use crate::fem::mesh::Mesh;
 
 /// Merges nodes closer than `tolerance` to each other (Euclidean distance
 /// `< tolerance`) into one node; returns how many nodes were removed.

@@ -33,8 +33,8 @@ mod tests;
 
 use std::f64::consts::FRAC_PI_2;
 
-use super::{ElementKind, Mesh};
 use crate::fem::element::face_nodes;
+use crate::fem::mesh::{ElementKind, Mesh};
 
 pub use distort::distort_interior;
 pub use merge::merge_coincident_nodes;

@@ -6,8 +6,8 @@ use std::path::Path;
 use super::{parse_deck, Deck};
 use crate::error::{FlankError, Result};
 use crate::fem::material::Material;
+use crate::fem::mesh::{ElementKind, Mesh};
 use crate::fem::model::{Dirichlet, Model, NodalForce, Pressure};
-use crate::mesh::{ElementKind, Mesh};
 
 /// One C3D20 element using every supported keyword, with comments, mixed
 /// case, a continued keyword line, GENERATE and a Fortran exponent.

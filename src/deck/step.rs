@@ -236,7 +236,7 @@ impl Parser {
 
 #[cfg(test)]
 mod tests {
-    use crate::mesh::inp::test_decks::*;
+    use crate::deck::test_decks::*;
 
     #[test]
     fn undefined_set_in_boundary() {

@@ -466,7 +466,7 @@ impl Parser {
 
 #[cfg(test)]
 mod tests {
-    use crate::mesh::inp::test_decks::*;
+    use crate::deck::test_decks::*;
 
     #[test]
     fn rigid_body_is_read() {

@@ -55,8 +55,8 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use crate::error::{FlankError, Result};
+use crate::fem::mesh::ElementKind;
 use crate::fem::model::Model;
-use crate::mesh::ElementKind;
 
 use contact::{RawInteraction, RawPair, RawSurface};
 use coupling::RawCoupling;
@@ -252,7 +252,7 @@ enum Block {
 struct Parser {
     files: Vec<PathBuf>,
     warnings: Vec<DeckWarning>,
-    mesh: crate::mesh::Mesh,
+    mesh: crate::fem::mesh::Mesh,
     title: Vec<String>,
     elements: Vec<RawElement>,
     materials: Vec<RawMaterial>,
@@ -280,7 +280,7 @@ impl Parser {
         Parser {
             files: vec![file.to_path_buf()],
             warnings: Vec::new(),
-            mesh: crate::mesh::Mesh::new(),
+            mesh: crate::fem::mesh::Mesh::new(),
             title: Vec::new(),
             elements: Vec::new(),
             materials: Vec::new(),

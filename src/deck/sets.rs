@@ -226,7 +226,7 @@ impl Parser {
 mod tests {
     use std::fmt::Write as _;
 
-    use crate::mesh::inp::test_decks::*;
+    use crate::deck::test_decks::*;
 
     #[test]
     fn implicit_eall_and_nall() {

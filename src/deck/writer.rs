@@ -599,12 +599,12 @@ mod tests {
     use std::path::Path;
 
     use super::*;
+    use crate::deck::lexer::{looks_numeric, split_fields};
+    use crate::deck::read_deck;
+    use crate::deck::real::CCX_REAL_WIDTH;
+    use crate::deck::test_decks::*;
     use crate::fem::contact_definition::PressureOverclosure;
     use crate::fem::model::{Dirichlet, RigidCoupling};
-    use crate::mesh::inp::lexer::{looks_numeric, split_fields};
-    use crate::mesh::inp::read_deck;
-    use crate::mesh::inp::real::CCX_REAL_WIDTH;
-    use crate::mesh::inp::test_decks::*;
 
     #[test]
     fn round_trip() {

@@ -117,7 +117,7 @@ fn answer_changing_keywords_are_errors() {
 }
 
 /// Timing on a large structured deck (about 800k nodes, 96k C3D20):
-/// `cargo test --lib mesh::inp::tests::large_deck -- --ignored --nocapture`.
+/// `cargo test --lib deck::tests::large_deck -- --ignored --nocapture`.
 #[test]
 #[ignore]
 fn large_deck() {

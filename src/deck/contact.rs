@@ -469,8 +469,8 @@ impl Parser {
 
 #[cfg(test)]
 mod tests {
+    use crate::deck::test_decks::*;
     use crate::fem::contact_definition::{ContactPair, PressureOverclosure, SurfaceKind};
-    use crate::mesh::inp::test_decks::*;
 
     #[test]
     fn contact_keywords_are_read() {

@@ -340,8 +340,8 @@ impl Parser {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::inp::read_deck;
-    use crate::mesh::inp::test_decks::*;
+    use crate::deck::read_deck;
+    use crate::deck::test_decks::*;
     use crate::testing::Rng;
 
     #[test]

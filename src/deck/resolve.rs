@@ -438,8 +438,11 @@ impl Parser {
 
 /// The mesh without the `drop`ped nodes (which belong to no element) and
 /// the map old → new node index (`usize::MAX` for dropped nodes).
-fn without_nodes(mesh: &crate::mesh::Mesh, drop: &[bool]) -> (crate::mesh::Mesh, Vec<usize>) {
-    let mut out = crate::mesh::Mesh::new();
+fn without_nodes(
+    mesh: &crate::fem::mesh::Mesh,
+    drop: &[bool],
+) -> (crate::fem::mesh::Mesh, Vec<usize>) {
+    let mut out = crate::fem::mesh::Mesh::new();
     let mut remap = vec![usize::MAX; mesh.node_count()];
     for (i, (&label, &x)) in mesh.node_labels.iter().zip(&mesh.coords).enumerate() {
         if !drop[i] {

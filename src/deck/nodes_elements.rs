@@ -12,7 +12,7 @@
 use super::lexer::{norm_name, Card, Loc};
 use super::{Block, Cmd, Parser};
 use crate::error::Result;
-use crate::mesh::ElementKind;
+use crate::fem::mesh::ElementKind;
 
 pub(super) struct RawElement {
     pub(super) label: u64,
@@ -217,9 +217,9 @@ impl Parser {
 
 #[cfg(test)]
 mod tests {
+    use crate::deck::test_decks::*;
+    use crate::fem::mesh::ElementKind;
     use crate::fem::model::Pressure;
-    use crate::mesh::inp::test_decks::*;
-    use crate::mesh::ElementKind;
 
     #[test]
     fn wedge_deck() {

@@ -190,7 +190,7 @@ impl Parser {
 
 #[cfg(test)]
 mod tests {
-    use crate::mesh::inp::test_decks::*;
+    use crate::deck::test_decks::*;
 
     #[test]
     fn negative_young_modulus() {
