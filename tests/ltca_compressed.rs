@@ -10,7 +10,8 @@
 use std::path::{Path, PathBuf};
 
 use flank::compliance::compressed::{BlrOptions, BlrTensor};
-use flank::ltca::cycle::{run_scene, LtcaOptions};
+use flank::ltca::cycle::LtcaOptions;
+use flank::ltca::run::run_scene;
 
 mod common;
 

@@ -10,7 +10,8 @@ use std::path::{Path, PathBuf};
 
 use flank::compliance::body::{active_flank_cut, active_margin_mm};
 use flank::compliance::body::{scene_body, BodyMeshOptions};
-use flank::ltca::cycle::{run_scene, LtcaOptions};
+use flank::ltca::cycle::LtcaOptions;
+use flank::ltca::run::run_scene;
 use flank::scene::read_scene;
 use flank::settings::FlankRegion;
 

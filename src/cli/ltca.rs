@@ -105,7 +105,8 @@ fn variants(s: &serde_json::Value) -> Vec<(&serde_json::Value, Option<&'static s
 }
 
 pub fn run(args: Args) -> Result<()> {
-    use flank::ltca::cycle::{run_scene, LtcaOptions};
+    use flank::ltca::cycle::LtcaOptions;
+    use flank::ltca::run::run_scene;
     let Args {
         scene,
         out,

@@ -708,11 +708,11 @@ fn run_variant(
             beyond_rolls.join(", ")
         ));
     }
-    let loops = crate::ltca::cycle::iteration_limits(&results);
+    let loops = crate::ltca::run::iteration_limits(&results);
     notes.extend(loops.warnings());
     let path = out.join("ltca_positions.csv");
     crate::atomic_file::write(&path, csv)?;
-    crate::ltca::cycle::write_points_csv(&out.join("ltca_points.csv"), &results)?;
+    crate::ltca::run::write_points_csv(&out.join("ltca_points.csv"), &results)?;
     let plots = plot_variant(ltca, out, &results)?;
     let te_pp = te.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
         - te.iter().cloned().fold(f64::INFINITY, f64::min);
@@ -783,7 +783,7 @@ fn run_variant(
         "max_pressure_mpa": worst(|r| r.max_pressure_mpa),
         "max_kkt": worst(|r| r.kkt_max),
         "iteration_limits": loops.to_json(),
-        "friction": ltca.options.settings.friction.as_ref().map(|f| crate::ltca::cycle::friction_summary(&results, f, ltca.torque)),
+        "friction": ltca.options.settings.friction.as_ref().map(|f| crate::ltca::run::friction_summary(&results, f, ltca.torque)),
         "pairs_loaded_at_a_flank_edge": edge_loaded,
         "compliance_s": ltca.compliance_s,
         "tca_s": ltca.tca_s,

@@ -1,15 +1,14 @@
-//! The LTCA over a mesh cycle (`flank ltca`): compliance tensors of both
-//! bodies once (computed or read from a cache), then per roll angle the
-//! unloaded TCA, the compliance matrix of its candidate points and the
-//! contact QP. Outputs: `ltca_cycle.csv`, `ltca_points.csv` (load
-//! distribution along every contact line), `summary.json` and plots of the
-//! force per tooth pair and the TE (SVG, PNG).
+//! The LTCA of a spur/helical pair over a mesh cycle: compliance tensors of
+//! both bodies once (computed or read from a cache), then per roll angle
+//! the unloaded TCA, the compliance matrix of its candidate points and the
+//! contact QP ([`LtcaCycle`]). The `flank ltca` run over a scene, its files
+//! and summary, is [`crate::ltca::run`].
 //!
 //! Pairs are numbered as in FE contact ([`crate::mesh_cycle`]): pair p is
 //! pinion tooth p + 1 with its mate, so the two runs compare column by
 //! column.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -25,13 +24,11 @@ use crate::compliance::run::{
 use crate::compliance::tensor_cache::ComplianceCache;
 use crate::compliance::{ComplianceStats, ComplianceTensor};
 use crate::error::FlankError;
-use crate::fem::static_analysis::peak_memory_mb;
 use crate::geometry::gear_pair::{engagement_roll_angles, GearPair};
-use crate::iteration_limits::IterationLimits;
 use crate::load_sharing::LOADED_FRACTION;
 use crate::ltca::local::contact_modulus;
 use crate::ltca::model::{LtcaBodies, LtcaFriction, LtcaSettings, PositionResult};
-use crate::scene::{read_scene, Scene};
+use crate::scene::Scene;
 use crate::settings::FlankRegion;
 use crate::settings::QpSolver;
 use crate::settings::{FrictionModel, LocalModel};
@@ -40,7 +37,7 @@ use crate::tca::{Tca, TcaSettings};
 /// Default K (candidate points per contact line).
 pub const DEFAULT_POINTS_PER_LINE: usize = 20;
 
-/// Options of [`run`]; `None` falls back to the scene's `[analyses.ltca]`,
+/// Options of [`crate::ltca::run::run`]; `None` falls back to the scene's `[analyses.ltca]`,
 /// then to the defaults.
 #[derive(Clone, Debug, Default)]
 pub struct LtcaOptions {
@@ -466,7 +463,7 @@ impl LtcaCycle {
         r.per_pair(&r.line_friction_n, self.pair.sector_teeth())
     }
 
-    fn loaded(&self, r: &PositionResult, p: usize) -> bool {
+    pub(crate) fn loaded(&self, r: &PositionResult, p: usize) -> bool {
         self.pair_forces(r)[p] > LOADED_FRACTION * self.nominal_force()
     }
 
@@ -541,331 +538,11 @@ pub fn roll_angles(scene: &Scene, pair: &dyn GearPair, o: &LtcaOptions) -> (Vec<
     (engagement_roll_angles(pair, step), true)
 }
 
-/// `flank ltca SCENE`: reads the scene and runs [`run`].
-pub fn run_scene(path: &Path, options: &LtcaOptions) -> Result<serde_json::Value, FlankError> {
-    let scene = read_scene(path)?;
-    run(&scene, options)
-}
-
-/// The LTCA over the scene's roll angles; writes the outputs into
-/// `options.out` and returns the summary. On `options.threads` threads
-/// (0: rayon's global pool); the answer is the same on any number (fixed
-/// summation orders).
-pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, FlankError> {
-    crate::fem::solver::with_threads(options.threads, || run_cycle(scene, options))
-}
-
-fn run_cycle(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, FlankError> {
-    let t_total = Instant::now();
-    let out = &options.out;
-    // the wet–dry loop (seed 002): the cycle below is its dry pass at μ₀
-    let lubricated = crate::ltca::lubricated::loop_settings(scene, options)?;
-    std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
-    let dry_options;
-    let options = match &lubricated {
-        Some(l) => {
-            dry_options = l.dry_options(options);
-            &dry_options
-        }
-        None => options,
-    };
-    let cycle = LtcaCycle::new(scene, options)?;
-    let (mut angles, default_range) = roll_angles(scene, cycle.pair.as_ref(), options);
-    let mid = cycle.pair.middle() - 1;
-    let t_cycle = Instant::now();
-    let mut results = cycle.solve_cycle(&angles)?;
-    let cycle_s = t_cycle.elapsed().as_secs_f64();
-    let positions_solved = results.len();
-    let mut extended = 0;
-    if default_range {
-        let step = scene
-            .analyses
-            .ltca
-            .as_ref()
-            .and_then(|a| a.roll_step_deg)
-            .unwrap_or(1.0);
-        let limit = (cycle.pair.pinion().angular_pitch().to_degrees() / step).ceil() as usize;
-        for _ in 0..limit {
-            if !cycle.loaded(&results[0], mid) {
-                break;
-            }
-            let a = angles[0] - step;
-            results.insert(0, cycle.solve(a)?);
-            angles.insert(0, a);
-            extended += 1;
-        }
-        for _ in 0..limit {
-            if !cycle.loaded(&results[results.len() - 1], mid) {
-                break;
-            }
-            let a = angles[angles.len() - 1] + step;
-            results.push(cycle.solve(a)?);
-            angles.push(a);
-            extended += 1;
-        }
-    }
-    let mut notes = scene.material_warnings();
-    let limits = cycle.loaded_limits(&angles, &results)?;
-    if limits.is_none() {
-        notes.push("contact ratio not measured: the roll angles do not cover the middle pair's whole engagement with an unloaded position before and after".to_string());
-    }
-    let mut lubrication = None;
-    if let Some(l) = &lubricated {
-        let dry = std::mem::take(&mut results);
-        let lc = crate::ltca::lubricated::lubricated_cycle(&cycle, scene, l, dry, &angles, out)?;
-        results = lc.results;
-        notes.push(format!(
-            "lubricated: the contact-limit bisection ran at the dry pass's μ₀ = {}; the positions, and the forces and power of `friction` (whose `mu` is μ₀; its power is the mean over all positions, the `lubrication` one over one pitch), are the last wet pass's, solved with μ per tooth pair (lubrication_passes.csv)",
-            l.settings.initial_mu
-        ));
-        lubrication = Some(lc.summary);
-    }
-    let pitch_deg = cycle.pair.pinion().angular_pitch().to_degrees();
-    let contact_ratio = limits.map(|(s, e)| (e - s) / pitch_deg);
-    let nominal = cycle.nominal_force();
-    let np = cycle.pair.sector_teeth();
-    let forces: Vec<Vec<f64>> = results.iter().map(|r| cycle.pair_forces(r)).collect();
-    let single: Vec<usize> = (0..results.len())
-        .filter(|&i| (0..np).all(|p| (p == mid) == (forces[i][p] > LOADED_FRACTION * nominal)))
-        .collect();
-    let single_pair_force_n = (!single.is_empty())
-        .then(|| single.iter().map(|&i| forces[i][mid]).sum::<f64>() / single.len() as f64);
-    let flagged: Vec<String> = results
-        .iter()
-        .filter(|r| !r.kkt_within_tolerance)
-        .map(|r| {
-            format!(
-                "{}°: KKT residual {:.2e} above tolerance",
-                r.roll_deg, r.kkt_max
-            )
-        })
-        .collect();
-    let friction: Vec<Vec<f64>> = results.iter().map(|r| cycle.pair_friction(r)).collect();
-    write_cycle_csv(
-        &out.join("ltca_cycle.csv"),
-        &results,
-        &forces,
-        &friction,
-        nominal,
-    )?;
-    write_points_csv(&out.join("ltca_points.csv"), &results)?;
-    let teeth: Vec<(usize, usize)> = (1..=np).map(|k| (k, cycle.pair.mate(k))).collect();
-    let series: Vec<Vec<f64>> = (0..np)
-        .map(|p| forces.iter().map(|f| f[p]).collect())
-        .collect();
-    let te: Vec<f64> = results.iter().map(|r| r.te_urad).collect();
-    let plots = crate::report::cycle_plot::plot_cycle(
-        out,
-        "ltca_",
-        &angles,
-        &series,
-        &te,
-        &teeth,
-        nominal,
-        cycle.pair.transmission_error_radius(),
-    )
-    .unwrap_or_else(|e| {
-        notes.push(format!("plots not written: {e}"));
-        Vec::new()
-    });
-    let pattern = crate::ltca::pattern::plot_contact_pattern(out, &results, cycle.pair.middle(), {
-        let (z0, z1) = cycle.pair.pinion().blank().axial_range;
-        z1 - z0
-    })
-    .unwrap_or_else(|e| {
-        notes.push(format!("contact pattern not plotted: {e}"));
-        Vec::new()
-    });
-    let loops = iteration_limits(&results);
-    notes.extend(loops.warnings());
-    // the positions run side by side: the wall time of the cycle over them
-    // (the extension and the bisection after it, one position at a time,
-    // are not in it)
-    let time_per_position_s = cycle_s / positions_solved.max(1) as f64;
-    let worst = |f: fn(&PositionResult) -> f64| results.iter().map(f).fold(0.0f64, f64::max);
-    let summary = serde_json::json!({
-        "scene": scene.source.display().to_string(),
-        "analysis": "ltca_mesh_cycle",
-        "contact_ratio": contact_ratio,
-        "contact_ratio_kinematic": cycle.pair.kinematic_contact_ratio(),
-        "middle_pair_loaded_deg": limits.map(|(s, e)| [s, e]),
-        "single_pair_force_n": single_pair_force_n,
-        "nominal_force_n": nominal,
-        "single_pair_force_error": single_pair_force_n.map(|f| f / nominal - 1.0),
-        "positions": results.len(),
-        "extension_positions": extended,
-        "points_per_line": cycle.points_per_line,
-        "cycle_s": cycle_s,
-        "time_per_position_s": time_per_position_s,
-        "total_s": t_total.elapsed().as_secs_f64(),
-        "setup": cycle.setup,
-        "settings": cycle.settings,
-        "max_kkt": worst(|r| r.kkt_max),
-        "max_condition": results.iter().filter_map(|r| r.condition).reduce(f64::max),
-        "max_condition_loaded": results.iter().filter_map(|r| r.condition_loaded).reduce(f64::max),
-        "tensor_backward_error": cycle.setup.backward_error,
-        "warnings": results
-            .iter()
-            .flat_map(|r| r.warnings.iter().map(move |w| format!("{:.4}°: {w}", r.roll_deg)))
-            .collect::<Vec<_>>(),
-        "kkt_flagged": flagged,
-        "iteration_limits": loops.to_json(),
-        "max_pressure_mpa": worst(|r| r.max_pressure_mpa),
-        "friction": cycle.settings.friction.as_ref().map(|f| friction_summary(&results, f, cycle.torque)),
-        "peak_memory_mb": peak_memory_mb(),
-        "tooth_pairs": teeth,
-        "files": {"csv": ["ltca_cycle.csv", "ltca_points.csv"], "plots": plots, "contact_pattern": pattern},
-        "notes": notes,
-        "steps": results,
-    });
-    let mut summary = summary;
-    if let (Some(m), Some(l)) = (summary.as_object_mut(), lubrication) {
-        m.insert("lubrication".into(), l);
-    }
-    let p = out.join("summary.json");
-    crate::atomic_file::write(
-        &p,
-        serde_json::to_string_pretty(&summary)
-            .map_err(|e| FlankError::Model(format!("summary: {e}")))?
-            + "\n",
-    )?;
-    Ok(summary)
-}
-
-/// The bounded loops of every position together (the summary's
-/// `iteration_limits`).
-pub(crate) fn iteration_limits(results: &[PositionResult]) -> IterationLimits {
-    let mut all = IterationLimits::new();
-    for r in results {
-        all.merge(&r.iteration_limits);
-    }
-    all
-}
-
-/// The frictional LTCA over the cycle (seeds 001/003): the Coulomb
-/// solve's worst residual and, if run, the largest difference from Lemke's
-/// method; the tangential-to-normal force ratio; the friction power loss
-/// Σ |P_t v_s| (W) and the mesh efficiency 1 − P_loss/(T ω₁), mean over the
-/// positions (seed 001 eq. for P_loss; η as Xu & Kahraman's
-/// instantaneous mesh efficiency).
-pub(crate) fn friction_summary(
-    results: &[PositionResult],
-    friction: &LtcaFriction,
-    torque_nmm: f64,
-) -> serde_json::Value {
-    let num = |r: &PositionResult, k: &str| -> f64 {
-        r.friction
-            .as_ref()
-            .and_then(|f| f.pointer(k))
-            .and_then(serde_json::Value::as_f64)
-            .unwrap_or(0.0)
-    };
-    let max = |k: &str| results.iter().map(|r| num(r, k)).fold(0.0f64, f64::max);
-    let (pt, pn): (f64, f64) = results
-        .iter()
-        .flat_map(|r| &r.points)
-        .fold((0.0, 0.0), |(a, b), p| {
-            (a + p.friction_n.abs(), b + p.force_n)
-        });
-    let n = results.len().max(1) as f64;
-    let power: Vec<f64> = results.iter().map(|r| r.friction_power_w).collect();
-    let mean_power = power.iter().sum::<f64>() / n;
-    let input_w = torque_nmm * 1e-3 * friction.pinion_speed_rad_s;
-    let within = results.iter().all(|r| r.kkt_within_tolerance);
-    serde_json::json!({
-        "mu": friction.mu,
-        "increments": friction.options.increments,
-        "max_residual": max("/max_residual/max"),
-        "max_coupling": max("/coupling"),
-        "within_tolerance": within,
-        "cross_check_max_load_difference": friction.cross_check.then(|| max("/cross_check/load_difference")),
-        "cross_check_max_rotation_difference": friction.cross_check.then(|| max("/cross_check/rotation_difference")),
-        "tangential_to_normal": if pn > 0.0 { pt / pn } else { 0.0 },
-        "power_loss_w": power,
-        "mean_power_loss_w": mean_power,
-        "input_power_w": input_w,
-        "mesh_efficiency": if input_w > 0.0 { 1.0 - mean_power / input_w } else { f64::NAN },
-    })
-}
-
-fn write_cycle_csv(
-    path: &Path,
-    results: &[PositionResult],
-    forces: &[Vec<f64>],
-    friction: &[Vec<f64>],
-    nominal: f64,
-) -> Result<(), FlankError> {
-    use std::fmt::Write;
-    let np = forces.first().map_or(0, Vec::len);
-    let mut s = String::from("roll_deg");
-    for p in 1..=np {
-        let _ = write!(s, ",force_pair{p}_n,share_pair{p}");
-    }
-    for p in 1..=np {
-        let _ = write!(s, ",friction_pair{p}_n");
-    }
-    s.push_str(",te_urad,te_um,unloaded_te_urad,mesh_stiffness_n_per_um,max_pressure_mpa,friction_power_w,candidates,qp_iterations,local_iterations,kkt,condition,time_s\n");
-    for ((r, f), ft) in results.iter().zip(forces).zip(friction) {
-        let _ = write!(s, "{}", r.roll_deg);
-        let total: f64 = f.iter().sum::<f64>().max(1e-300);
-        for &x in f {
-            let _ = write!(s, ",{x},{}", if nominal > 0.0 { x / total } else { 0.0 });
-        }
-        for &x in ft {
-            let _ = write!(s, ",{x}");
-        }
-        let _ = writeln!(
-            s,
-            ",{},{},{},{},{},{},{},{},{},{:e},{},{}",
-            r.te_urad,
-            r.te_um,
-            r.unloaded_te_urad,
-            r.mesh_stiffness_n_per_um,
-            r.max_pressure_mpa,
-            r.friction_power_w,
-            r.candidates,
-            r.qp_iterations,
-            r.local_iterations,
-            r.kkt_max,
-            r.condition.map_or(String::new(), |c| format!("{c:e}")),
-            r.time_s
-        );
-    }
-    crate::atomic_file::write(path, s)
-}
-
-pub(crate) fn write_points_csv(path: &Path, results: &[PositionResult]) -> Result<(), FlankError> {
-    use std::fmt::Write;
-    let mut s = String::from("roll_deg,pinion_tooth,gear_tooth,kind,along_mm,x_mm,y_mm,z_mm,separation_um,force_n,load_per_length_n_per_mm,pressure_mpa,half_width_mm,gap_um,friction_n,state,sliding_velocity_m_s\n");
-    for r in results {
-        for p in &r.points {
-            let (k, m, kind) = &r.lines[p.line];
-            let _ = writeln!(
-                s,
-                "{},{k},{m},{kind},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-                r.roll_deg,
-                p.along_mm,
-                p.position[0],
-                p.position[1],
-                p.position[2],
-                p.separation_mm * 1e3,
-                p.force_n,
-                p.load_per_length,
-                p.pressure_mpa,
-                p.half_width_mm,
-                p.gap_mm * 1e3,
-                p.friction_n,
-                p.state,
-                p.sliding_velocity_m_s
-            );
-        }
-    }
-    crate::atomic_file::write(path, s)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::read_scene;
+    use std::path::Path;
 
     /// A position's result without its wall times (the only fields that
     /// differ between runs).

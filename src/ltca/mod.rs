@@ -8,7 +8,8 @@
 //!   (seeds 001, 003: normal and tangential compliances, stick/slip/
 //!   separation, load increments), solved per increment by clarabel
 //!   (Tresca QPs, fixed point, polish) and cross-checked by Lemke's method.
-//! * [`cycle`]: spur/helical pairs over a mesh cycle (line contact);
+//! * [`cycle`]: spur/helical pairs over a mesh cycle (line contact), run
+//!   over a scene with its files by [`run`];
 //!   [`bevel`]: bevel/hypoid pairs (candidate points on each pair's
 //!   contact-ellipse major axis), both through [`model::LtcaBodies`]
 //!   (its compliance F from the tensors: [`influence`]);
@@ -31,4 +32,5 @@ pub mod lubricated;
 pub mod model;
 pub mod pattern;
 pub mod qp;
+pub mod run;
 pub mod te_fit;

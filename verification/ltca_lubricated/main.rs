@@ -191,14 +191,14 @@ fn check_tables(standstill_varied: bool) {
     }
 }
 
-/// The loop on `sc` through `flank::ltca::cycle::run`; the summary.
+/// The loop on `sc` through `flank::ltca::run::run`; the summary.
 fn ltca_loop(
     sc: &Scene,
     name: &str,
     roll_angles: Option<Vec<f64>>,
 ) -> (serde_json::Value, PathBuf) {
     let out = work(name);
-    let s = flank::ltca::cycle::run(
+    let s = flank::ltca::run::run(
         sc,
         &LtcaOptions {
             roll_angles_deg: roll_angles,
