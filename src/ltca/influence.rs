@@ -15,7 +15,7 @@ use crate::compliance::pages::{FactoredPage, TensorPages};
 use crate::compliance::ComplianceTensor;
 use crate::error::FlankError;
 use crate::geometry::vec3::dot;
-use crate::ltca::model::Candidate;
+use crate::ltca::candidate::Candidate;
 
 /// F's tensor part of both bodies, Σ_b n₍b₎ᵢᵀ C_b(i, j) n₍b₎ⱼ (n × n,
 /// row-major): the two bodies' [`normal_compliance`] side by side on the

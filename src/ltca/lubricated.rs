@@ -35,7 +35,8 @@ use crate::geometry::cylindrical::MeshKinematics;
 use crate::load_sharing::LOADED_FRACTION;
 use crate::ltca::cycle::{LtcaCycle, LtcaOptions};
 use crate::ltca::local::hertz_line;
-use crate::ltca::model::{LtcaSettings, PositionResult};
+use crate::ltca::model::PositionResult;
+use crate::ltca::solve_settings::LtcaSettings;
 use crate::lubrication::{
     involute_contact, reduced_modulus, wet_dry_loop, LoopResult, LoopSettings, OperatingPoint,
 };

@@ -21,10 +21,10 @@
 //!   [`crate::lubrication`]).
 
 pub mod bevel;
+pub mod candidate;
 pub mod cycle;
 pub mod edges;
 pub mod friction;
-pub mod friction_settings;
 pub mod hertz_elliptic;
 pub mod influence;
 pub mod local;
@@ -33,4 +33,5 @@ pub mod model;
 pub mod pattern;
 pub mod qp;
 pub mod run;
+pub mod solve_settings;
 pub mod te_fit;

@@ -34,7 +34,7 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use crate::compliance::interpolation::{CellShape, FlankGrids, FlankInterpolator, SurfaceLoad};
+use crate::compliance::interpolation::{CellShape, FlankGrids, FlankInterpolator};
 use crate::compliance::ComplianceTensor;
 use crate::contact::placement::Frame;
 use crate::error::FlankError;
@@ -42,6 +42,7 @@ use crate::geometry::gear_pair::{Flank, PairPlacement};
 use crate::geometry::surface::ToothSurface;
 use crate::geometry::vec3::{cross, dot, sub};
 use crate::iteration_limits::{IterationLimits, LoopEnd};
+use crate::ltca::candidate::Candidate;
 use crate::ltca::friction::{
     cross_check, friction_coupling, solve_friction, solve_sliding, FrictionProblem, FrictionSolver,
     PointState, MAX_ACTIVE_SET_ITERATIONS, MAX_SLIDING_ITERATIONS, SLIDING_TOLERANCE,
@@ -51,10 +52,9 @@ use crate::ltca::local::{hertz_line, Cell, NearField};
 use crate::ltca::qp::{
     condition_number, singular_on, solve_contact_qp, ContactQp, QpOptions, QpSolution,
 };
+use crate::ltca::solve_settings::{LtcaFriction, LtcaSettings};
 use crate::settings::{FrictionModel, LocalModel};
 use crate::tca::{LineKind, TcaPosition};
-
-pub use crate::ltca::friction_settings::LtcaFriction;
 
 /// Relative change of the Hertz half-widths at which their fixed point
 /// stops: 1 % moves the near-field term by (2/(π E*)) P′ ln(1.01), < 1e-3 of
@@ -96,46 +96,6 @@ fn fe_cell_extents(kappa: f64, h: f64, a: f64, tips: [f64; 2]) -> [[f64; 2]; 2] 
         [side(tips[1]), side(tips[0])],
         [side(tips[0]), side(tips[1])],
     ]
-}
-
-/// Settings of the LTCA solve at one position.
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct LtcaSettings {
-    pub local: LocalModel,
-    /// κ: FE cell half-width across the line in flank element sizes.
-    pub fe_cell_factor: f64,
-    /// Gauss points per direction over a cell (tensor interpolation).
-    pub cell_samples: usize,
-    /// Limit on the fixed-point iterations on the Hertz half-widths (≥ 1);
-    /// the loop stops earlier when they change by less than
-    /// [`HALF_WIDTH_TOLERANCE`]. Default 10: seed 002 converges in 1–3
-    /// rounds, seed 004 (helical, K = 40) in 6–7 and seed 001 (hypoid) in
-    /// up to 8, where the former default 4 stopped 27 of 50 and 12 of 30
-    /// positions unconverged.
-    pub local_iterations: usize,
-    pub qp: QpOptions,
-    /// Report κ(F) (one symmetric eigen-decomposition per position).
-    pub condition: bool,
-    /// Coulomb friction (seeds 001/003); `None`: frictionless.
-    pub friction: Option<LtcaFriction>,
-    /// μ per tooth pair (entry k − 1 for pinion tooth k), replacing
-    /// `friction.mu` (the wet–dry loop, [`crate::ltca::lubricated`]).
-    pub pair_mu: Option<Vec<f64>>,
-}
-
-impl Default for LtcaSettings {
-    fn default() -> Self {
-        LtcaSettings {
-            local: LocalModel::default(),
-            fe_cell_factor: 1.0,
-            cell_samples: 3,
-            local_iterations: 10,
-            qp: QpOptions::default(),
-            condition: false,
-            friction: None,
-            pair_mu: None,
-        }
-    }
 }
 
 /// The two bodies of the LTCA: tensors and what the cells need.
@@ -246,21 +206,6 @@ pub struct PositionResult {
     /// `iteration_limits`.
     #[serde(skip)]
     pub iteration_limits: IterationLimits,
-}
-
-/// A candidate point with its cells on both flanks.
-pub(crate) struct Candidate {
-    pub(crate) line: usize,
-    pub(crate) position: [f64; 3],
-    pub(crate) along: f64,
-    pub(crate) half_length: f64,
-    /// Half-width across the line of the FE cell (mm).
-    pub(crate) c: f64,
-    pub(crate) loads: [SurfaceLoad; 2],
-    pub(crate) normals: [[f64; 3]; 2],
-    /// The tangent (friction) direction in each body's own frame, with the
-    /// normal's sign convention (the gear's both reversed).
-    pub(crate) tangents: [[f64; 3]; 2],
 }
 
 /// Start of the warning that F is singular over every candidate point

@@ -141,7 +141,7 @@ fn seed003_ltca_against_fe_contact() {
 #[test]
 fn seed003_frictional_ltca_cross_checks() {
     use flank::ltca::friction::{FrictionOptions, Increments};
-    use flank::ltca::model::LtcaFriction;
+    use flank::ltca::solve_settings::LtcaFriction;
     let sc = scene();
     let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("ltca_hypoid_friction");
     let _ = std::fs::remove_dir_all(&work);

@@ -35,7 +35,8 @@ use std::path::{Path, PathBuf};
 
 use flank::compliance::body::BodyMeshOptions;
 use flank::ltca::cycle::{LtcaCycle, LtcaOptions};
-use flank::ltca::model::{LtcaSettings, PositionResult};
+use flank::ltca::model::PositionResult;
+use flank::ltca::solve_settings::LtcaSettings;
 use flank::lubrication::{evaluate, MeanPressure, OperatingPoint};
 use flank::scene::{read_scene, Scene};
 use flank::settings::FrictionModel;
