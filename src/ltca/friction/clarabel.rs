@@ -2,11 +2,11 @@
 //! and kinematic slip) by the interior-point solver clarabel, the fixed
 //! point on the bounds, then the polish (module doc of [`super`]).
 
-use super::incremental::StepAnswer;
 use super::polish::polish;
+use super::problem::StepAnswer;
+use super::problem::{FrictionOptions, Prepared};
 use super::residual::{gaps, residuals, slips, states, Previous};
 use super::semismooth::{newton, NewtonEnd};
-use super::{FrictionOptions, Prepared};
 use crate::error::FlankError;
 
 /// A friction bound below this fraction of P₀ is treated as zero: the

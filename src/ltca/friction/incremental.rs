@@ -1,26 +1,13 @@
 //! The load-increment driver: the torque schedule, one solve per
 //! increment from the previous totals, the states and residuals of each.
 
-use super::residual::{gaps, residuals, slips, states, Previous, Residuals};
-use super::{
+use super::problem::Residuals;
+use super::problem::{
     FrictionOptions, FrictionSolution, FrictionSolver, Increment, Increments, Prepared,
     MAX_INCREMENTS,
 };
+use super::residual::{gaps, residuals, slips, states, Previous};
 use crate::error::FlankError;
-
-/// What a per-increment solver returns: the totals and its counters.
-pub(crate) struct StepAnswer {
-    pub(crate) pn: Vec<f64>,
-    pub(crate) pt: Vec<f64>,
-    pub(crate) theta: f64,
-    pub(crate) iterations: usize,
-    pub(crate) inner_iterations: usize,
-    pub(crate) polish_iterations: usize,
-    pub(crate) polished: bool,
-    pub(crate) newton_iterations: usize,
-    pub(crate) newton: bool,
-    pub(crate) limit_hit: bool,
-}
 
 /// The totals T₁ < T₂ < … < T_N = T of the schedule (empty for T = 0).
 pub(crate) fn schedule(torque: f64, increments: Increments) -> Result<Vec<f64>, FlankError> {

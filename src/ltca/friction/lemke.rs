@@ -47,9 +47,9 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::incremental::StepAnswer;
+use super::problem::StepAnswer;
+use super::problem::{FrictionOptions, Prepared};
 use super::residual::Previous;
-use super::{FrictionOptions, Prepared};
 use crate::error::FlankError;
 
 /// Rebuilds of the LCP with a wider rotation shift before giving up.

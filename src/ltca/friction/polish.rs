@@ -5,8 +5,9 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::residual::{gaps, slips, PointState, Previous};
-use super::Prepared;
+use super::problem::PointState;
+use super::problem::Prepared;
+use super::residual::{gaps, slips, Previous};
 use crate::error::FlankError;
 
 /// Relative tolerance of the state updates (a state changes only when its

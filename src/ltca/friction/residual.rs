@@ -1,68 +1,8 @@
 //! Gaps, slips, states and residuals of an increment's answer: one routine
 //! for both solvers, so that neither grades itself.
 
-use super::Prepared;
-
-/// The state of a candidate point at the end of an increment.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum PointState {
-    /// Open: P_n = P_t = 0.
-    Separated,
-    /// Closed, no slip over the increment, |P_t| ≤ μP_n.
-    Stick,
-    /// Closed, slipping along +t; P_t = +μP_n resists it.
-    SlipPositive,
-    /// Closed, slipping along −t; P_t = −μP_n.
-    SlipNegative,
-}
-
-/// Relative residuals of an answer (P_n, P_t, θ) of increment k. Scales:
-/// loads P₀ = T / min r_n, lengths δ₀ (see `Prepared`), κ = P₀/δ₀.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
-pub struct Residuals {
-    /// |Σ r_n P_n + r_t P_t − T_k| / T_k.
-    pub equilibrium: f64,
-    /// No penetration: max(0, −min g) / δ₀.
-    pub gap: f64,
-    /// No tension: max(0, −min P_n) / P₀.
-    pub load: f64,
-    /// Normal complementarity, threshold-free: maxᵢ min(P_n,i⁺/P₀, |gᵢ|/δ₀).
-    pub complementarity: f64,
-    /// Friction cone: max(0, max(|P_t| − μP_n)) / P₀.
-    pub cone: f64,
-    /// Coulomb law (stick/slip/direction) as the natural map:
-    /// maxᵢ |P_t − proj_[−μP_n⁺, μP_n⁺](P_t + κΔσ)| / P₀; zero iff stick
-    /// (Δσ = 0) or slip with P_t = μP_n sign Δσ, given the cone.
-    pub coulomb: f64,
-    /// The largest of the above.
-    pub max: f64,
-    /// min g (mm), unscaled.
-    pub min_gap: f64,
-    /// min P_n (N), unscaled.
-    pub min_load: f64,
-}
-
-impl Residuals {
-    /// Componentwise maximum (min_gap, min_load: minimum).
-    pub fn worst(&self, o: &Residuals) -> Residuals {
-        Residuals {
-            equilibrium: self.equilibrium.max(o.equilibrium),
-            gap: self.gap.max(o.gap),
-            load: self.load.max(o.load),
-            complementarity: self.complementarity.max(o.complementarity),
-            cone: self.cone.max(o.cone),
-            coulomb: self.coulomb.max(o.coulomb),
-            max: if self.max.is_nan() || o.max.is_nan() {
-                f64::NAN
-            } else {
-                self.max.max(o.max)
-            },
-            min_gap: self.min_gap.min(o.min_gap),
-            min_load: self.min_load.min(o.min_load),
-        }
-    }
-}
+use super::problem::Prepared;
+use super::problem::{PointState, Residuals};
 
 /// The previous totals of an increment.
 pub(crate) struct Previous<'a> {

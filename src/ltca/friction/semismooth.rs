@@ -61,8 +61,8 @@
 
 use nalgebra::{DMatrix, DVector};
 
+use super::problem::Prepared;
 use super::residual::{gaps, slips, Previous};
-use super::Prepared;
 
 /// Armijo constant σ.
 const ARMIJO: f64 = 1e-4;

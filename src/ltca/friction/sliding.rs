@@ -38,7 +38,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::FrictionProblem;
+use super::problem::FrictionProblem;
 use crate::error::FlankError;
 use crate::ltca::qp::{solve_contact_qp, ContactQp, QpOptions};
 
