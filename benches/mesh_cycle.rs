@@ -13,7 +13,7 @@ use std::time::Instant;
 use criterion::{criterion_group, criterion_main, Criterion};
 
 use flank::compliance::body::BodyMeshOptions;
-use flank::mesh_cycle::run::{MeshCycle, RunSettings};
+use flank::mesh_cycle::cycle::{MeshCycle, RunSettings};
 
 use flank::settings::{ContactLaw, SlaveBody};
 

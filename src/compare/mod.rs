@@ -35,7 +35,7 @@ use crate::error::FlankError;
 use crate::geometry::gear_pair::GearPair;
 use crate::ltca::cycle::{LtcaCycle, LtcaOptions};
 use crate::ltca::model::PositionResult;
-use crate::mesh_cycle::run::{default_roll_angles, settings, MeshCycle, RunOptions, StepResult};
+use crate::mesh_cycle::run::{settings, RunOptions};
 use crate::scene::{read_scene, Scene};
 use crate::settings::SlaveBody;
 
@@ -44,6 +44,7 @@ pub mod plot;
 pub mod pmax_reference;
 pub mod reference;
 
+use crate::mesh_cycle::cycle::{default_roll_angles, MeshCycle, StepResult};
 use reference::{extrapolate, ExtrapolatedReference};
 
 /// Options of [`compare`].

@@ -650,14 +650,14 @@ pub fn run_bevel(
         .fold(f64::INFINITY, f64::min);
     let mut loops = IterationLimits::new();
     for s in &steps {
-        crate::mesh_cycle::run::record_active_set(
+        crate::mesh_cycle::cycle::record_active_set(
             &mut loops,
             s.active_set_iterations,
             cycle.contact.max_iterations,
             s.max_violation_mm,
         );
         if let Some(converged) = s.friction_converged {
-            crate::mesh_cycle::run::record_friction(
+            crate::mesh_cycle::cycle::record_friction(
                 &mut loops,
                 converged,
                 s.friction_iterations,

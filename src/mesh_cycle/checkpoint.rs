@@ -21,7 +21,7 @@ use std::path::{Path, PathBuf};
 use sha2::{Digest, Sha256};
 
 use crate::error::FlankError;
-use crate::mesh_cycle::run::{RunSettings, StepResult};
+use crate::mesh_cycle::cycle::{RunSettings, StepResult};
 
 /// The file name in the output folder.
 pub const FILE: &str = "checkpoint.json";

@@ -36,8 +36,9 @@ use crate::fem::static_analysis::peak_memory_mb;
 use crate::geometry::gear_pair::LineKind;
 use crate::mesh::gear_body::body_of_sector;
 use crate::mesh::gear_sector::{gear_sector_banded, ProfileBand};
+use crate::mesh_cycle::cycle::{MeshCycle, RunSettings};
 use crate::mesh_cycle::pair_model::{combine, PairBody};
-use crate::mesh_cycle::run::{MeshCycle, RunSettings};
+
 use crate::scene::Scene;
 use crate::settings::{ContactLaw, SlaveBody};
 

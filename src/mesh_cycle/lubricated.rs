@@ -15,7 +15,8 @@ use crate::geometry::cylindrical::MeshKinematics;
 use crate::lubrication::{
     involute_contact, reduced_modulus, wet_dry_loop, LoopResult, LoopSettings, OperatingPoint,
 };
-use crate::mesh_cycle::run::{MeshCycle, StepResult};
+use crate::mesh_cycle::cycle::{MeshCycle, StepResult};
+
 use crate::scene::Scene;
 
 /// The loop of the scene's `[analyses.lubrication]` for `flank run` (`None`

@@ -6,11 +6,12 @@
 //! pair_model  both sectors in one model (own frames), pinion hub coupled
 //!             to a torque-loaded reference node, gear hub clamped,
 //!             one contact pair per tooth pair (right flanks)
-//! run         factorize once; per roll angle: place, pair, solve the
-//!             condensed contact problem; force per pair, load sharing,
-//!             transmission error, pressure, patch; contact ratio,
-//!             single-pair force; CSV, summary.json, VTU, plots
-//!             (`report::cycle_plot`)
+//! cycle       factorize once; per roll angle: place, pair, solve the
+//!             condensed contact problem; force per pair, pressure, patch
+//! run         `flank run`: options, the cycle over the roll angles,
+//!             load sharing, transmission error, contact ratio,
+//!             single-pair force; checkpoints; CSV, summary.json, VTU,
+//!             plots (`report::cycle_plot`)
 //! bevel       a bevel/hypoid pair's FE contact at a roll angle (the
 //!             bevel sector meshes, the same pair model and solver)
 //! bevel_checks  the bad inputs a hypoid run refuses before factorizing:
@@ -29,6 +30,7 @@ pub mod bevel;
 pub mod bevel_checks;
 pub mod checkpoint;
 pub mod contact_band;
+pub mod cycle;
 pub mod lubricated;
 pub mod pair_model;
 pub mod run;

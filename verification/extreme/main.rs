@@ -39,7 +39,8 @@ use std::time::Instant;
 
 use flank::compliance::body::BodyMeshOptions;
 use flank::ltca::cycle::{LtcaCycle, LtcaOptions};
-use flank::mesh_cycle::run::{settings, MeshCycle, RunOptions};
+use flank::mesh_cycle::cycle::MeshCycle;
+use flank::mesh_cycle::run::{settings, RunOptions};
 use flank::scene::{parse_scene, Scene};
 use flank::settings::ContactLaw;
 

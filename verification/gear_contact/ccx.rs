@@ -50,7 +50,7 @@ use std::time::Instant;
 
 use flank::compliance::body::BodyMeshOptions;
 use flank::contact::{solve_contact, ContactOptions, PressureOverclosure};
-use flank::mesh_cycle::run::{MeshCycle, RunSettings};
+use flank::mesh_cycle::cycle::{MeshCycle, RunSettings};
 
 use flank::scene::{read_scene, ElementKind};
 use flank::settings::{ContactLaw, SlaveBody};

@@ -40,7 +40,7 @@ use std::path::Path;
 use flank::compliance::body::BodyMeshOptions;
 use flank::contact::{solve_contact, ContactOptions};
 use flank::geometry::cylindrical::MeshKinematics;
-use flank::mesh_cycle::run::{MeshCycle, RunSettings};
+use flank::mesh_cycle::cycle::{MeshCycle, RunSettings};
 
 use flank::scene::{read_scene, ElementKind, Scene};
 use flank::settings::{ContactLaw, SlaveBody};
@@ -219,7 +219,7 @@ const LTCA_CONTACT_RATIO: f64 = 1.711;
 #[test]
 fn coarse_mesh_cycle() {
     let sc = scene();
-    let angles = flank::mesh_cycle::run::default_roll_angles(
+    let angles = flank::mesh_cycle::cycle::default_roll_angles(
         &flank::geometry::cylindrical::CylindricalPair::new(&sc.pair, [None, None], 3).unwrap(),
         2.0,
     );

@@ -43,7 +43,8 @@ use std::path::{Path, PathBuf};
 use flank::compliance::body::BodyMeshOptions;
 use flank::ltca::cycle::{LtcaCycle, LtcaOptions};
 use flank::ltca::model::PositionResult;
-use flank::mesh_cycle::run::{settings, MeshCycle, RunOptions};
+use flank::mesh_cycle::cycle::MeshCycle;
+use flank::mesh_cycle::run::{settings, RunOptions};
 use flank::scene::{read_scene, Scene};
 use flank::settings::FrictionModel;
 

@@ -141,11 +141,11 @@ mod tests;
 
 use crate::error::FlankError;
 
+pub(crate) use problem::Prepared;
 pub use problem::{
     FrictionOptions, FrictionProblem, FrictionSolution, FrictionSolver, Increment, Increments,
     PointState, Residuals, DEFAULT_MAX_NEWTON, MAX_INCREMENTS, SYMMETRY_TOLERANCE,
 };
-pub(crate) use problem::Prepared;
 pub use sliding::{
     friction_coupling, solve_sliding, SlidingAnswer, MAX_ACTIVE_SET_ITERATIONS,
     MAX_SLIDING_ITERATIONS, SLIDING_TOLERANCE,
