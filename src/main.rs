@@ -121,6 +121,19 @@ fn main() -> std::process::ExitCode {
     }
 }
 
+/// `flank ARGV…` parsed (the program name added).
+fn parse_argv(argv: &[String]) -> std::result::Result<Cli, String> {
+    Cli::try_parse_from(std::iter::once("flank".to_string()).chain(argv.iter().cloned()))
+        .map_err(|e| e.to_string())
+}
+
+/// The command line handed to campaigns: their analyses are flank
+/// commands, checked and (in `run-task`) run in this process.
+const COMMAND_LINE: cli::campaign::CommandLine = cli::campaign::CommandLine {
+    check: |argv| parse_argv(argv).map(|_| ()),
+    run: |argv| run(parse_argv(argv)?).map_err(|e| format!("{e:#}")),
+};
+
 fn run(cli: Cli) -> Result<()> {
     if let Some(mb) = cli.memory_limit_mb {
         anyhow::ensure!(
@@ -144,6 +157,6 @@ fn run(cli: Cli) -> Result<()> {
         Command::Blank(args) => cli::blank::run(args),
         Command::Grid(args) => cli::grid::run(args),
         Command::Tca(args) => cli::tca::run(args),
-        Command::Campaign(args) => cli::campaign::run(args),
+        Command::Campaign(args) => cli::campaign::run(args, &COMMAND_LINE),
     }
 }

@@ -4,7 +4,6 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
-use clap::Parser;
 
 use flank::campaign::Campaign;
 
@@ -91,7 +90,18 @@ enum Sub {
     },
 }
 
-pub fn run(args: Args) -> Result<()> {
+/// The flank command line as a campaign sees it: check an analysis's
+/// arguments before any job runs, and run a job's analysis in this process
+/// (`run-task`). `main` owns the parser and hands these in, so this module
+/// does not import it.
+pub struct CommandLine {
+    /// Parses `flank ARGV…`; the parser's message on failure.
+    pub check: fn(&[String]) -> std::result::Result<(), String>,
+    /// Parses and runs `flank ARGV…`; the error chain on failure.
+    pub run: fn(&[String]) -> std::result::Result<(), String>,
+}
+
+pub fn run(args: Args, command_line: &CommandLine) -> Result<()> {
     match args.command {
         Sub::Run {
             common,
@@ -101,7 +111,7 @@ pub fn run(args: Args) -> Result<()> {
             batch,
             quiet,
         } => {
-            let c = open(&common)?;
+            let c = open(&common, command_line)?;
             let jobs = c.jobs()?;
             let selected: Vec<flank::campaign::Job> = match &only {
                 None => jobs.clone(),
@@ -150,16 +160,10 @@ pub fn run(args: Args) -> Result<()> {
             Ok(())
         }
         Sub::RunTask { common, index } => {
-            let c = open(&common)?;
+            let c = open(&common, command_line)?;
             let indices = parse_index_list(&index, c.job_count()).context("--index")?;
             anyhow::ensure!(!indices.is_empty(), "--index `{index}`: no job index");
-            let analysis = |argv: &[String]| {
-                let cli = crate::Cli::try_parse_from(
-                    std::iter::once("flank".to_string()).chain(argv.iter().cloned()),
-                )
-                .map_err(|e| e.to_string())?;
-                crate::run(cli).map_err(|e| format!("{e:#}"))
-            };
+            let analysis = command_line.run;
             if let [index] = indices[..] {
                 match flank::campaign::task::run_task(&c, index, &analysis)? {
                     flank::campaign::task::TaskOutcome::AlreadyDone => {
@@ -194,7 +198,7 @@ pub fn run(args: Args) -> Result<()> {
             common,
             max_array_size,
         } => {
-            let c = open(&common)?;
+            let c = open(&common, command_line)?;
             let jobs = c.jobs()?;
             let exe = std::env::current_exe().context("the flank executable")?;
             let subs = flank::campaign::slurm::submit(&c, &jobs, &exe, max_array_size)?;
@@ -212,7 +216,7 @@ pub fn run(args: Args) -> Result<()> {
             Ok(())
         }
         Sub::Status { common, wait } => {
-            let c = open(&common)?;
+            let c = open(&common, command_line)?;
             let jobs = c.jobs()?;
             let st = match wait {
                 Some(w) => flank::campaign::slurm::wait(
@@ -237,12 +241,12 @@ pub fn run(args: Args) -> Result<()> {
             Ok(())
         }
         Sub::Collect { common } => {
-            let c = open(&common)?;
+            let c = open(&common, command_line)?;
             let jobs = c.jobs()?;
             collect(&c, &jobs, false)
         }
         Sub::List { common } => {
-            let c = open(&common)?;
+            let c = open(&common, command_line)?;
             let jobs = c.jobs()?;
             for j in &jobs {
                 let inputs: Vec<String> =
@@ -310,13 +314,13 @@ fn parse_index_list(list: &str, n: usize) -> Result<Vec<usize>> {
 
 /// Opens the campaign and checks each analysis's `[args]` with flank's own
 /// command line, so a wrong option is an error at its line before anything runs.
-fn open(common: &Common) -> Result<Campaign> {
+fn open(common: &Common, command_line: &CommandLine) -> Result<Campaign> {
     let c = Campaign::open(&common.campaign, common.out.as_deref())?;
-    check_args(&c)?;
+    check_args(&c, command_line)?;
     Ok(c)
 }
 
-fn check_args(c: &Campaign) -> Result<()> {
+fn check_args(c: &Campaign, command_line: &CommandLine) -> Result<()> {
     for analysis in &c.file.analyses {
         let (options, line) = match c.file.args.get(analysis) {
             Some((o, l)) => (o.clone(), *l),
@@ -328,9 +332,7 @@ fn check_args(c: &Campaign) -> Result<()> {
             Path::new("out"),
             &options,
         );
-        if let Err(e) = crate::Cli::try_parse_from(std::iter::once("flank".to_string()).chain(argv))
-        {
-            let msg = e.to_string();
+        if let Err(msg) = (command_line.check)(&argv) {
             let first = msg
                 .lines()
                 .next()

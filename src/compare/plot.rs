@@ -8,7 +8,7 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::compare::MethodRun;
+use crate::compare::method_run::MethodRun;
 use crate::error::FlankError;
 use crate::report::figure::{font_available, write_svg_png, Figure};
 

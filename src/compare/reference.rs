@@ -16,7 +16,7 @@
 //! nodal pressure that does not resolve the Hertz width has no asymptotic
 //! range; the finest run's value stands in, as before.
 
-use super::{shares, MethodRun};
+use super::method_run::{shares, MethodRun};
 use crate::grid_convergence::{gci, GciIssue};
 
 /// Roache's safety factor for three grids.

@@ -23,8 +23,9 @@ use crate::fem::assembly::SparsePattern;
 use crate::fem::ordering::OrderingMethod;
 
 mod reach;
+mod supernode_tree;
 pub use reach::SolveReach;
-use reach::SupernodeTree;
+use supernode_tree::SupernodeTree;
 
 /// Arithmetic of the Cholesky factor.
 #[derive(

@@ -5,7 +5,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::{
+use super::problem::{
     Prepared, QpOptions, Raw, ADDITION_FRACTION, PIVOT_RATIO_MIN, REGULARIZATION_MAX,
     REGULARIZATION_START,
 };

@@ -5,7 +5,7 @@
 
 use super::active_set::iterate;
 use super::kkt::residuals;
-use super::{Prepared, QpOptions, Raw};
+use super::problem::{Prepared, QpOptions, Raw};
 use crate::error::FlankError;
 
 /// clarabel on the scaled QP, then the polish (module doc). T > 0.

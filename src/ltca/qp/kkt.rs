@@ -3,7 +3,7 @@
 
 use nalgebra::{DMatrix, SymmetricEigen};
 
-use super::{ContactQp, Kkt};
+use super::problem::{ContactQp, Kkt};
 
 /// The KKT residuals from F p (the shared part of [`kkt`] and the solvers).
 pub(super) fn residuals(
