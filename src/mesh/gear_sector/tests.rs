@@ -7,6 +7,7 @@ use super::*;
 use crate::fem::element::check_jacobian;
 use crate::geometry::rack::Flank;
 use crate::geometry::{Hand, RackProfile};
+use std::collections::HashMap;
 use std::f64::consts::PI;
 use std::time::Instant;
 
