@@ -21,7 +21,7 @@
 //!                                                          │
 //!                                                       report
 //!                                             (CSV, JSON, VTU, SVG/PNG plots)
-//! deck.inp ─► mesh::inp ─► fem ─► (contact) ─► report         (`flank solve`)
+//! deck.inp ─► deck ─► fem ─► (contact) ─► report               (`flank solve`)
 //! ```
 //!
 //! * [`scene`]: scene files (TOML): the pair, gears and micro-geometry,
@@ -34,13 +34,17 @@
 //!   lines) and its spur/helical implementation
 //!   ([`geometry::cylindrical`], exact rack-generated involute helicoids,
 //!   micro-geometry). Every analysis below sees gears only through it.
-//! * [`mesh`]: nodes, quadratic solid elements (C3D20, C3D20R, C3D15),
-//!   sets; the gear-sector mesher ([`mesh::gear_body::body_model`] picks the
-//!   mesher of the gear's type); CalculiX deck reader/writer; .msh import;
-//!   structured meshes for verification.
-//! * [`fem`]: elements, quadrature, assembly, constraints, sparse Cholesky,
-//!   stress recovery, the linear static analysis; the model data a deck
-//!   defines (including its contact definition).
+//! * [`mesh`]: the gear-sector meshers ([`mesh::gear_body::body_model`]
+//!   picks the mesher of the gear's type); .msh import; structured meshes
+//!   for verification.
+//! * [`deck`]: CalculiX/Abaqus decks read into an FE model and written
+//!   from one.
+//! * [`fem`]: the mesh (nodes, quadratic solid elements C3D20, C3D20R,
+//!   C3D15, sets), elements, quadrature, assembly, constraints, sparse
+//!   Cholesky, stress recovery, the linear static analysis; the model data
+//!   a deck defines (including its contact definition).
+//! * [`settings`]: the choices the analyses offer (solvers, laws, models),
+//!   plain data read by the scene, the command line and the engines.
 //! * [`compliance`]: nodal compliance tensors of a gear body on its flanks
 //!   (one factorization; Schur complement or blocked solves), HDF5/native
 //!   cache, interpolation at flank points and contact cells (the LTCA input).
@@ -67,9 +71,12 @@
 //!   run as child `flank` processes locally or as a Slurm job array; the
 //!   top layer: nothing imports it.
 //!
-//! Layers: geometry, mesh and fem never import from contact, compliance,
-//! tca, ltca, mesh_cycle or compare; ltca does not import from the FE-contact
-//! driver (mesh_cycle).
+//! Layers, lowest first: error; the leaves (text files, atomic files,
+//! interrupt, resources, iteration limits, grid convergence); settings;
+//! geometry; fem; mesh and deck; lubrication; scene; tca, ccx and
+//! load_sharing; contact; report; compliance; ltca; mesh_cycle; compare;
+//! campaign. A module imports only from lower layers and no files import
+//! each other in a circle (`tests/layering.rs`, the README's "Layout").
 //!
 //! The library is usable without the command line; a cantilever solved in
 //! memory:

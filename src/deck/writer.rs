@@ -815,7 +815,7 @@ mod tests {
 
     /// Checks the writer against a real ccx 2.20: written decks give the same
     /// answer as the hand-written ones, and every real notation the writer
-    /// emits is read correctly. `cargo test --lib mesh::inp -- --ignored`.
+    /// emits is read correctly. `cargo test --lib deck -- --ignored`.
     #[test]
     #[ignore]
     fn ccx_reads_written_decks() {

@@ -125,7 +125,6 @@ mod station;
 #[cfg(test)]
 mod tests;
 
-
 pub use deviation::flank_edge_deviation;
 use sector::err;
 pub use sector::{
