@@ -17,34 +17,15 @@
 //!
 //! [`Model::contact`]: crate::fem::model::Model::contact
 
-use super::lexer::{norm_keyword, norm_name, Card, Loc};
-use super::{Block, Cmd, Parser};
+use super::lexer::{norm_keyword, norm_name};
+use super::parser::Parser;
+use super::records::{Block, Cmd, RawInteraction, RawPair, RawSurface};
+use super::records::{Card, Loc};
 use crate::error::Result;
 use crate::fem::contact_definition::{
     ContactDefinition, ContactPair, Friction, PressureOverclosure, Surface, SurfaceInteraction,
     SurfaceKind,
 };
-
-pub(super) struct RawSurface {
-    pub(super) name: String,
-    pub(super) node_type: bool,
-    pub(super) loc: Loc,
-}
-
-pub(super) struct RawInteraction {
-    pub(super) name: String,
-    pub(super) behavior: Option<PressureOverclosure>,
-    pub(super) friction: Option<Friction>,
-    pub(super) loc: Loc,
-}
-
-pub(super) struct RawPair {
-    pub(super) interaction: String,
-    pub(super) slave: String,
-    pub(super) master: String,
-    pub(super) small_sliding: bool,
-    pub(super) loc: Loc,
-}
 
 impl Parser {
     pub(super) fn kw_surface(&mut self, card: &Card) -> Result<Block> {

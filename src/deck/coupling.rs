@@ -24,41 +24,13 @@
 
 use std::collections::HashMap;
 
-use super::lexer::{norm_name, Card, Loc};
-use super::{Block, Cmd, Parser, StepState};
+use super::lexer::norm_name;
+use super::parser::Parser;
+use super::records::{Block, Cmd, RawCoupling, StepState};
+use super::records::{Card, Loc};
+use super::records::{CouplingMembers, RefRole};
 use crate::error::Result;
 use crate::fem::model::{Dirichlet, RigidCoupling};
-
-/// Which nodes a hub coupling holds.
-pub(super) enum CouplingMembers {
-    NodeSet(u32),
-    /// All nodes of the elements of a set.
-    ElementSet(u32),
-    /// The nodes of a `*SURFACE` (faces: corner and midside nodes).
-    Surface(String),
-}
-
-/// A `*RIGID BODY` or a `*COUPLING` + `*KINEMATIC` as read.
-pub(super) struct RawCoupling {
-    /// `RIGID BODY` or `COUPLING`.
-    pub(super) keyword: &'static str,
-    /// The set name (*RIGID BODY) or CONSTRAINT NAME (*COUPLING).
-    pub(super) name: String,
-    pub(super) members: CouplingMembers,
-    pub(super) ref_node: u64,
-    /// *RIGID BODY only: the node whose DOFs 1-3 are the rotations.
-    pub(super) rot_node: Option<u64>,
-    /// *COUPLING only: translations covered by the *KINEMATIC lines.
-    pub(super) kinematic: [bool; 3],
-    pub(super) loc: Loc,
-}
-
-/// What a reference node's DOFs are: (coupling, `true` for a ROT NODE).
-#[derive(Clone, Copy)]
-pub(super) struct RefRole {
-    pub(super) coupling: usize,
-    pub(super) rot: bool,
-}
 
 impl Parser {
     /// Hub couplings are model data: ccx refuses them inside a step.

@@ -5,8 +5,9 @@
 //! Also which keywords stay inside a `*MATERIAL` or a `*SURFACE
 //! INTERACTION`.
 
-use super::lexer::Card;
-use super::{Block, Parser};
+use super::parser::Parser;
+use super::records::Block;
+use super::records::Card;
 use crate::error::Result;
 
 /// Output requests: accepted, data lines skipped silently.

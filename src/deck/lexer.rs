@@ -12,7 +12,9 @@
 
 use std::path::Path;
 
-use super::{DeckWarning, Parser, Target};
+use super::parser::Parser;
+use super::records::{Card, Loc};
+use super::records::{DeckWarning, Target};
 use crate::error::{FlankError, Result};
 
 pub(super) fn read_text(path: &Path) -> std::io::Result<String> {
@@ -31,20 +33,6 @@ pub(super) fn read_text(path: &Path) -> std::io::Result<String> {
 
 /// Nesting limit for `*INCLUDE` (also stops include cycles).
 const MAX_INCLUDE_DEPTH: usize = 16;
-
-/// Source position: index into `Parser::files` and 1-based line.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Loc {
-    pub(super) file: usize,
-    pub(super) line: usize,
-}
-
-/// A keyword line: upper-case name, parameters (upper-case key, raw value).
-pub(super) struct Card {
-    pub(super) name: String,
-    pub(super) params: Vec<(String, Option<String>)>,
-    pub(super) loc: Loc,
-}
 
 /// Upper-case name without surrounding blanks or quotes.
 pub(super) fn norm_name(raw: &str) -> String {

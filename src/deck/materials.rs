@@ -9,16 +9,12 @@
 //! a warning). At the end every element needs a material; materials without
 //! `*ELASTIC` that no section uses are dropped with a warning.
 
-use super::lexer::{norm_name, Card, Loc};
-use super::{Block, Cmd, Parser};
+use super::lexer::norm_name;
+use super::parser::Parser;
+use super::records::{Block, Cmd, RawMaterial};
+use super::records::{Card, Loc};
 use crate::error::Result;
 use crate::fem::material::Material;
-
-pub(super) struct RawMaterial {
-    pub(super) name: String,
-    pub(super) elastic: Option<(f64, f64)>,
-    pub(super) loc: Loc,
-}
 
 impl Parser {
     pub(super) fn kw_material(&mut self, card: &Card) -> Result<Block> {

@@ -11,6 +11,8 @@
 //!
 //! | file | reads |
 //! | --- | --- |
+//! | `records.rs` | what the reader keeps: positions, cards, records as read, the commands replayed at the end, the current block |
+//! | `parser.rs` | the reader's state (`Parser`), whose methods live in the files below |
 //! | `lexer.rs` | lines, comments, keyword lines and their continuation, parameters, `*INCLUDE`, labels, DOFs, reals; file:line of errors |
 //! | `nodes_elements.rs` | `*NODE`, `*ELEMENT` |
 //! | `sets.rs` | `*NSET`, `*ELSET` (`GENERATE`), `NALL`/`EALL` |
@@ -40,7 +42,9 @@ mod keywords;
 mod lexer;
 mod materials;
 mod nodes_elements;
+mod parser;
 mod real;
+mod records;
 mod resolve;
 mod sets;
 mod step;
@@ -52,30 +56,18 @@ mod test_decks;
 mod tests;
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use crate::error::{FlankError, Result};
-use crate::fem::mesh::ElementKind;
 use crate::fem::model::Model;
 
-use contact::{RawInteraction, RawPair, RawSurface};
-use coupling::RawCoupling;
 use keywords::{INTERACTION_KEYWORDS, MATERIAL_KEYWORDS, OUTPUT_KEYWORDS};
-use lexer::{read_text, split_fields, Card, Loc};
-use materials::RawMaterial;
-use nodes_elements::RawElement;
-use step::StepState;
+use lexer::{read_text, split_fields};
+use parser::Parser;
+pub use records::DeckWarning;
+use records::{Block, Card, Cmd, Loc, StepState};
 
 pub use writer::{format_deck, write_deck};
-
-/// A non-fatal remark about a deck (something was ignored).
-#[derive(Clone, Debug, PartialEq)]
-pub struct DeckWarning {
-    /// 1-based line the remark is about, 0 for the deck as a whole. For lines
-    /// of an `*INCLUDE`d file the message names that file.
-    pub line: usize,
-    pub message: String,
-}
 
 /// A parsed deck: the model plus what was ignored on the way.
 #[derive(Clone, Debug)]
@@ -105,175 +97,6 @@ pub fn parse_deck(text: &str, file: &Path) -> Result<Deck> {
 // ---------------------------------------------------------------------------
 // Reader state
 // ---------------------------------------------------------------------------
-
-/// A node/element given by label or by set (name id).
-#[derive(Clone, Copy)]
-enum Target {
-    Label(u64),
-    Set(u32),
-}
-
-enum SetItem {
-    Label(u64),
-    Set(u32),
-    Range { first: u64, last: u64, step: u64 },
-}
-
-/// Commands replayed in file order once all nodes and elements are known.
-enum Cmd {
-    NodeRange {
-        set: u32,
-        start: usize,
-        end: usize,
-    },
-    ElemRange {
-        set: u32,
-        start: usize,
-        end: usize,
-    },
-    Define {
-        elem: bool,
-        set: u32,
-    },
-    SetItem {
-        elem: bool,
-        set: u32,
-        item: SetItem,
-        loc: Loc,
-    },
-    Section {
-        elset: u32,
-        material: String,
-        loc: Loc,
-    },
-    /// Components `first..=last` (0-based, 0..=5: rotations 3..=5 mean
-    /// something only on a reference node) of the target nodes.
-    Boundary {
-        target: Target,
-        first: usize,
-        last: usize,
-        value: f64,
-        loc: Loc,
-    },
-    Cload {
-        target: Target,
-        comp: usize,
-        value: f64,
-        loc: Loc,
-    },
-    Dload {
-        target: Target,
-        face: usize,
-        value: f64,
-        loc: Loc,
-    },
-    /// `*RIGID BODY` number `coupling`: its node or element set is taken as
-    /// it stands at this point of the deck.
-    Coupling {
-        coupling: usize,
-    },
-    /// A data line of `*SURFACE` number `surface`: element(s) with a face,
-    /// or node(s) (`face == 0`).
-    SurfaceItem {
-        surface: usize,
-        target: Target,
-        face: usize,
-        loc: Loc,
-    },
-}
-
-/// What the data lines after the current keyword mean.
-enum Block {
-    Start,
-    Heading,
-    Node {
-        set: Option<u32>,
-        start: usize,
-        extra_warned: bool,
-    },
-    Element {
-        kind: ElementKind,
-        set: Option<u32>,
-        start: usize,
-        /// The last element still lacks node labels.
-        open: bool,
-    },
-    Set {
-        elem: bool,
-        set: u32,
-        generate: bool,
-    },
-    Elastic {
-        material: usize,
-        lines: usize,
-        loc: Loc,
-    },
-    /// Keyword without data lines: a data line is an error.
-    NoData(String),
-    /// Data lines skipped silently.
-    Ignore,
-    /// At most one data line of numbers, skipped (`*STATIC`'s time stepping,
-    /// `*SOLID SECTION`'s thickness): anything more is an error, since it is
-    /// most likely a keyword line that lost its `*` and would be dropped.
-    OneNumericLine {
-        keyword: String,
-        seen: bool,
-    },
-    Boundary,
-    Cload,
-    Dload,
-    Surface {
-        surface: usize,
-        node_type: bool,
-    },
-    SurfaceBehavior {
-        interaction: usize,
-        linear: bool,
-        lines: usize,
-    },
-    Friction {
-        interaction: usize,
-        lines: usize,
-        loc: Loc,
-    },
-    ContactPair {
-        interaction: String,
-        small_sliding: bool,
-    },
-    /// DOF lines of the `*KINEMATIC` of coupling `coupling`.
-    Kinematic {
-        coupling: usize,
-        loc: Loc,
-    },
-}
-
-/// The reader: what was read so far and the block the next data line
-/// belongs to.
-struct Parser {
-    files: Vec<PathBuf>,
-    warnings: Vec<DeckWarning>,
-    mesh: crate::fem::mesh::Mesh,
-    title: Vec<String>,
-    elements: Vec<RawElement>,
-    materials: Vec<RawMaterial>,
-    material_ids: HashMap<String, usize>,
-    current_material: Option<usize>,
-    surfaces: Vec<RawSurface>,
-    interactions: Vec<RawInteraction>,
-    current_interaction: Option<usize>,
-    pairs: Vec<RawPair>,
-    couplings: Vec<RawCoupling>,
-    /// A `*COUPLING` whose `*KINEMATIC` must come next.
-    pending_coupling: Option<usize>,
-    names: Vec<String>,
-    name_ids: HashMap<String, u32>,
-    cmds: Vec<Cmd>,
-    block: Block,
-    step: StepState,
-    boundary_seen: bool,
-    cload_seen: bool,
-    dload_seen: bool,
-}
 
 impl Parser {
     fn new(file: &Path) -> Self {

@@ -9,17 +9,12 @@
 //! `*NODE` may follow `*ELEMENT`; an `NSET=`/`ELSET=` on the keyword records
 //! the range of nodes/elements of its block.
 
-use super::lexer::{norm_name, Card, Loc};
-use super::{Block, Cmd, Parser};
+use super::lexer::norm_name;
+use super::parser::Parser;
+use super::records::{Block, Cmd, RawElement};
+use super::records::{Card, Loc};
 use crate::error::Result;
 use crate::fem::mesh::ElementKind;
-
-pub(super) struct RawElement {
-    pub(super) label: u64,
-    pub(super) kind: ElementKind,
-    pub(super) nodes: Vec<u64>,
-    pub(super) loc: Loc,
-}
 
 impl Parser {
     pub(super) fn kw_node(&mut self, card: &Card) -> Result<Block> {

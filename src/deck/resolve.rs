@@ -10,11 +10,13 @@
 
 use std::collections::HashMap;
 
-use super::coupling::CouplingMembers;
-use super::lexer::Loc;
+use super::parser::Parser;
+use super::records::CouplingMembers;
+use super::records::Loc;
+use super::records::StepState;
+use super::records::{Cmd, SetItem};
 use super::sets::IdxSet;
-use super::step::StepState;
-use super::{Cmd, Deck, Parser, SetItem};
+use super::Deck;
 use crate::error::Result;
 use crate::fem::contact_definition::SurfaceKind;
 use crate::fem::model::{Dirichlet, Model, NodalForce, Pressure};

@@ -8,8 +8,10 @@
 //! deck, so a set holds what was added to it *before* the line that uses it;
 //! `NALL`/`EALL` mean all nodes/elements unless defined explicitly.
 
-use super::lexer::{looks_numeric, Card, Loc};
-use super::{Block, Cmd, Parser, SetItem, Target};
+use super::lexer::looks_numeric;
+use super::parser::Parser;
+use super::records::{Block, Cmd, SetItem, Target};
+use super::records::{Card, Loc};
 use crate::error::Result;
 
 /// Unique members of a set in insertion order; a bitmap makes inserts O(1).

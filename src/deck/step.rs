@@ -13,16 +13,12 @@
 //! rigid-coupling reference nodes are resolved in [`super::coupling`].
 //! `OP=MOD` is accepted, `OP=NEW` only where it removes nothing.
 
-use super::lexer::{norm_name, Card, Loc};
-use super::{Block, Cmd, Parser};
+use super::lexer::norm_name;
+use super::parser::Parser;
+use super::records::StepState;
+use super::records::{Block, Cmd};
+use super::records::{Card, Loc};
 use crate::error::Result;
-
-/// Where the deck is relative to its (one) `*STEP`.
-pub(super) enum StepState {
-    Before,
-    Open { loc: Loc, procedure: bool },
-    Closed,
-}
 
 impl Parser {
     /// `*STEP[, NLGEOM=NO]`: opens the one step.

@@ -5,6 +5,7 @@ use std::fmt::Write as _;
 
 use super::test_decks::*;
 use super::*;
+use crate::fem::mesh::ElementKind;
 use crate::fem::model::{NodalForce, Pressure};
 
 #[test]
