@@ -1,6 +1,6 @@
 //! Files written whole or not at all, and locks between flank processes.
 //!
-//! Every result and cache file flank writes goes through [`write`] or
+//! Every result and cache file flank writes goes through [`write`](fn@write) or
 //! [`write_with`]: the bytes go to a temporary name beside the target
 //! ([`temp_path`], a hidden `.tmp-<pid>-<n>.<name>` that keeps the
 //! extension, so that plotters and HDF5 pick the right format), are synced,

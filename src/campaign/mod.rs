@@ -3,7 +3,7 @@
 //! a Slurm job array, and collected into one table with convergence and
 //! distribution summaries. See `docs/campaigns.md`.
 //!
-//! Layers: [`file`] parses the campaign file, [`sample`] draws tolerances,
+//! Layers: [`file`](mod@file) parses the campaign file, [`sample`] draws tolerances,
 //! [`variants`] resolves jobs and their identities, [`resources`] estimates
 //! memory, [`store`] keeps the job folders, [`task`] runs one job,
 //! [`local`] is the local executor, [`slurm`] the Slurm one, [`collect`] (with

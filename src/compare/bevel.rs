@@ -18,7 +18,7 @@
 //! `incremental`: friction against the kinematic sliding), FE contact's
 //! static Coulomb law (friction against the slip of the loading step); the
 //! tangential force per pair is compared besides the normal forces
-//! ([`super::errors`]).
+//! (`super::errors`).
 
 use std::time::Instant;
 

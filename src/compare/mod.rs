@@ -5,7 +5,7 @@
 //! cached) and FE contact (at several flank element sizes, one
 //! factorization per size) are run at the same roll angles. The reference
 //! is FE contact extrapolated to h → 0 from the three finest meshes when
-//! three or more are given ([`reference`]: Richardson per position and
+//! three or more are given ([`reference`](mod@reference): Richardson per position and
 //! pair, with the GCI as its uncertainty), else the finest mesh. Errors,
 //! over the positions:
 //!

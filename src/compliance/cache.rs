@@ -42,7 +42,7 @@
 //! [`FlankError::Parse`] naming the file. Files are written to a temporary
 //! name and renamed, so an interrupted run leaves no half-written cache.
 //!
-//! **Cache.** [`ComplianceCache`] ([`super::tensor_cache`]) keeps tensors by
+//! **Cache.** [`ComplianceCache`](super::tensor_cache::ComplianceCache) keeps tensors by
 //! their [`crate::compliance::cache_key`] in memory and in a directory.
 
 use std::io::Write;

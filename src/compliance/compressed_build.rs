@@ -8,7 +8,7 @@
 //! the compliance columns C[:, q] = Eᵀ K⁻¹ E_q are solved at once with the
 //! body's sparse Cholesky factor (192 unit right-hand sides, the blocked
 //! method's solves); every block (r, q) with r ≥ q is cut from that panel
-//! and compressed as [`crate::compliance::compressed::compress_block`]
+//! and compressed as `crate::compliance::compressed::compress_block`
 //! does from the dense tensor (ACA, its error checked exactly against the
 //! block at hand, QR/SVD recompression, the final error recomputed:
 //! ‖B − U Vᵀ‖_F ≤ ε ‖B‖_F for every block); the panel is then dropped. A
@@ -31,7 +31,7 @@
 //! Peak memory: the factor, a panel of reach rows × 192 doubles per
 //! thread, and the compressed form. The memory guard counts the first two
 //! before the factorization (the reach is known from the symbolic
-//! analysis) and the third as it grows ([`check_growth`]: its size is
+//! analysis) and the third as it grows (`check_growth`: its size is
 //! known only as the blocks are compressed). Cost: one factorization plus
 //! ⌈N/64⌉ panel solves of 192 right-hand sides each, against the dense
 //! path's factorization plus 3N solves (blocked) or the dense m × m

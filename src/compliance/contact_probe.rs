@@ -46,7 +46,7 @@ pub struct DirectionalMatrices {
     pub tt: Vec<f64>,
 }
 
-/// What [`probe`] found (mm/N), for summaries.
+/// What `probe` found (mm/N), for summaries.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct ProbeReport {
     pub points: usize,

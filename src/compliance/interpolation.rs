@@ -226,7 +226,7 @@ pub struct FlankInterpolator<'a> {
 /// [`FlankInterpolator::new`] and shareable between interpolators of the
 /// same tensor ([`FlankInterpolator::with_grids`]). It also carries the
 /// tensor's paged node blocks ([`FlankGrids::pages`]), built on first use,
-/// and per face a box in (u, v) that holds it ([`face_box`]): a point
+/// and per face a box in (u, v) that holds it (`face_box`): a point
 /// outside a face's box is not tried on it (no Newton solve).
 pub struct FlankGrids(
     Vec<Grid>,

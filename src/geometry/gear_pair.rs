@@ -19,15 +19,15 @@
 //! # Conventions shared by every implementation
 //!
 //! * **Own frames**: each body's surfaces and mesh are in its own frame,
-//!   axis = own z. [`GearPair::frames`] places them (own → global).
+//!   axis = own z. [`PairPlacement::frames`] places them (own → global).
 //! * **Roll angle** θ: the pinion rotation in the drive direction (rad),
 //!   0 when the middle tooth pair's kinematic contact is at its reference
 //!   point (the pitch point of a cylindrical pair). The gear turns by
-//!   [`GearPair::ratio`] θ.
+//!   [`PairPlacement::ratio`] θ.
 //! * **Drive flanks**: a positive torque loads the right flanks
 //!   ([`Flank::Right`]) of both bodies (`FLANK_R<k>` node sets).
 //! * **Sector teeth** are numbered 1..=n; pinion tooth k meets gear tooth
-//!   [`GearPair::mate`]`(k)`.
+//!   [`PairPlacement::mate`]`(k)`.
 //! * **Kinematic contact lines** ([`KinematicLine`]): where the unloaded,
 //!   unmodified surfaces touch (or, for tip-corner windows, where an edge
 //!   may touch under load), as a line parameter ξ with a seed for the

@@ -15,7 +15,7 @@
 //!   length along the edge (arc length per edge parameter at the contact,
 //!   a first-order map over the few mm of L). Where the search finds no
 //!   closed patch the whole edge is the candidate line (counted by the
-//!   caller through [`EdgeLine::whole_edge`]).
+//!   caller through `EdgeLine::whole_edge`).
 //! * **Points.** K points at the centres of K equal segments of [−L, L]
 //!   on the edge curve (u = u_tip(v) for a tip edge) of the edge member's
 //!   tooth, placed by the pair's frames at the roll (gear unturned, as the

@@ -128,7 +128,7 @@ fn centreline_second_antiderivative(t: f64, y: f64) -> f64 {
 /// The mean of [`centreline_rectangle_influence`]`(y, c, l)` over
 /// y ∈ [y₀ − m, y₀ + m] (m > 0: a cell of half-length m along the line whose
 /// centre is y₀ from the strip's), in closed form through
-/// [`centreline_second_antiderivative`]:
+/// `centreline_second_antiderivative`:
 /// [B(y₀+m+l) − B(y₀+m−l) − B(y₀−m+l) + B(y₀−m−l)] / (2m). Exact where a
 /// Gauss rule along the cell is not: the integrand has y ln|y| kinks at the
 /// strip's ends (4 Gauss points: 0.2 % off for a cell on itself, 1 % for

@@ -16,7 +16,7 @@ use crate::lubrication::operating_point::{evaluate, ContactEhl, OperatingPoint};
 
 /// Relative changes of μ are taken against max(μ_used, this): a contact
 /// whose μ is (near) zero (pure rolling with the isothermal fallback of
-/// [`crate::lubrication::traction`]) does not make the change infinite.
+/// [`crate::lubrication::traction`](mod@crate::lubrication::traction)) does not make the change infinite.
 pub const MU_FLOOR: f64 = 1e-4;
 
 /// Settings of the loop (`[analyses.lubrication]`).

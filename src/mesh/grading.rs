@@ -8,7 +8,7 @@ const MAX_GRADED: usize = 100_000;
 /// Sizes starting at h0, growing by q up to hmax, scaled to sum exactly to
 /// len. `what` names the length in the error: a length or size that is not
 /// positive and finite (a bore reaching the tooth section once looped
-/// forever, allocating) or more than [`MAX_GRADED`] sizes.
+/// forever, allocating) or more than `MAX_GRADED` sizes.
 pub fn graded(len: f64, h0: f64, q: f64, hmax: f64, what: &str) -> Result<Vec<f64>, String> {
     let ok = |x: f64| x > 0.0 && x.is_finite();
     if !(ok(len) && ok(h0) && ok(hmax) && q >= 1.0 && q.is_finite()) {
@@ -97,7 +97,7 @@ pub const BAND_GROWTH: f64 = 1.25;
 /// inside a band is at most the band size: a band is at least as fine as
 /// asked. Errors (naming `what`): a length, size or
 /// band that is not positive and finite, a band entirely off the line, or
-/// more than [`MAX_GRADED`] elements.
+/// more than `MAX_GRADED` elements.
 pub fn banded_sizes(
     len: f64,
     coarse: f64,

@@ -41,7 +41,7 @@ pub enum LatticeCell {
 }
 
 /// The two triangles (corners, midsides) of the quadrilateral with corners
-/// `c` and midsides `m` (m[k] on the edge c[k]–c[k+1]), split along the
+/// `c` and midsides `m` (m\[k\] on the edge c\[k\]–c[k+1]), split along the
 /// diagonal c0–c2 (`first`) or c1–c3, whose midside point is `centre`;
 /// the triangles keep the quadrilateral's orientation.
 pub fn split_quad<P: Copy>(c: [P; 4], m: [P; 4], centre: P, first: bool) -> [([P; 3], [P; 3]); 2] {

@@ -147,7 +147,7 @@ pub struct UnloadedPair {
 
 /// Per roll angle and tooth pair, in the nominal placement: the smallest
 /// FE gap and the deepest exact interpenetration of the
-/// [`EXACT_CANDIDATES`] deepest candidates (module docs).
+/// `EXACT_CANDIDATES` deepest candidates (module docs).
 pub fn exact_depths(
     model: &PairModel,
     pair: &dyn PairPlacement,

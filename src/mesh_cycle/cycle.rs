@@ -7,7 +7,7 @@
 //! Reuse: the pair model keeps both bodies in their own frames, so K and
 //! its Cholesky factor ([`ElasticSystem`]) are the same at every roll
 //! angle. Per position only the contact geometry is rebuilt (bodies placed
-//! by [`GearPair::nominal_frames`], search and projection) and the condensed
+//! by [`PairPlacement::nominal_frames`](crate::geometry::gear_pair::PairPlacement::nominal_frames), search and projection) and the condensed
 //! problem is solved: one solve for the gaps under the torque, one per
 //! Delassus column of a constraint that enters the active set, one final
 //! solve. Nothing is refactorized.

@@ -5,7 +5,7 @@
 //! node-to-surface contact pair per meshing tooth pair on the drive flanks.
 //!
 //! The bodies stay in their own frames (their stiffness is then the same
-//! at every roll angle and is factorized once); [`GearPair::nominal_frames`]
+//! at every roll angle and is factorized once); [`PairPlacement::nominal_frames`]
 //! places them for the contact geometry of each position.
 
 use crate::compliance::body::{scene_body, BodyMeshOptions};

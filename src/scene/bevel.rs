@@ -111,7 +111,7 @@ pub struct BevelScene {
     /// Lines of the keys the analyses' own checks point at.
     pub lines: BevelKeyLines,
     /// The pinion's shank (`[pinion] shank_length_mm`,
-    /// `shank_diameter_mm`; [`pinion_shank`]), `None` when neither is given.
+    /// `shank_diameter_mm`; `pinion_shank`), `None` when neither is given.
     pub pinion_shank: Option<crate::mesh::bevel_sector::Shank>,
 }
 

@@ -29,12 +29,12 @@
 //!
 //! # Conventions
 //!
-//! * **Global frame and roll angle** are the pair's ([`GearPair::frames`]);
+//! * **Global frame and roll angle** are the pair's ([`PairPlacement::frames`](crate::geometry::gear_pair::PairPlacement::frames));
 //!   for spur and helical pairs: pinion axis = z axis, gear axis at (0, a);
 //!   θ = pinion rotation in the drive direction (clockwise seen from +z), 0
 //!   when the middle pair's kinematic contact is at the pitch point. The
 //!   loaded flanks are the right flanks ([`Flank::Right`]) of both bodies;
-//!   pinion sector tooth k meets gear tooth [`GearPair::mate`]`(k)`.
+//!   pinion sector tooth k meets gear tooth [`PairPlacement::mate`](crate::geometry::gear_pair::PairPlacement::mate)`(k)`.
 //! * **Flank parameters** (u, v): those of each body's [`ToothSurface`] in
 //!   its own (sector) frame (spur/helical: u the involute roll angle, v the
 //!   body's own z in mm).
@@ -51,14 +51,14 @@
 //!   rotation in the drive direction that brings the closest point into
 //!   contact (> 0: the flanks are apart, the gear lags its ideal position;
 //!   < 0: they overlap).
-//! * **Misalignment** is the pair's ([`GearPair::misalignment`]); spur and
+//! * **Misalignment** is the pair's ([`PairPlacement::misalignment`](crate::geometry::gear_pair::PairPlacement::misalignment)); spur and
 //!   helical pairs take it as tilts in and normal to the plane of action
 //!   and a centre-distance error
 //!   ([`crate::geometry::cylindrical::CylindricalPair::with_plane_of_action_misalignment`], whose docs
 //!   give the ISO 6336-1 f_Σβ / f_Σδ correspondence), or as the bevel
 //!   set ΔE, ΔP, ΔG, ΔΣ ([`crate::geometry::cylindrical::CylindricalPair::with_misalignment`]).
 //! * **Velocities** (m/s, from the pinion speed; the gear turns at
-//!   ω₂ = ω₁ [`GearPair::ratio`]): v_ti = V_ti·e_roll, the tangential
+//!   ω₂ = ω₁ [`PairPlacement::ratio`](crate::geometry::gear_pair::PairPlacement::ratio)): v_ti = V_ti·e_roll, the tangential
 //!   surface velocity of body i (seed `004_…` §2.2: V_ti = v_i − (v_i·n) n,
 //!   v_i = ω_i × r_i) along the rolling direction e_roll = (n × a₁)/|n × a₁|
 //!   (a₁ the pinion axis; across the contact line of a parallel-axis pair,
@@ -117,7 +117,7 @@ fn own(f: &Frame, x: V3) -> V3 {
 }
 
 /// Sampling settings of the TCA (mm). The misalignment belongs to the
-/// pair ([`GearPair::misalignment`]; for spur and helical pairs
+/// pair ([`PairPlacement::misalignment`](crate::geometry::gear_pair::PairPlacement::misalignment); for spur and helical pairs
 /// [`crate::geometry::cylindrical::CylindricalPair::with_plane_of_action_misalignment`]).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct TcaSettings {

@@ -31,7 +31,7 @@ impl BlrTensor {
     /// The file bytes: magic, version, JSON header, the paged order (u32),
     /// per block a kind byte (0 dense, 1 low rank), the rank (u32) and the
     /// values (f64, little endian), then the checksum of all that
-    /// ([`crate::compliance::WordHash`], u64).
+    /// (`crate::compliance::WordHash`, u64).
     pub fn to_bytes(&self) -> Vec<u8> {
         let header = serde_json::to_vec(&FileHeader {
             cache_key: self.cache_key.clone(),
@@ -76,7 +76,7 @@ impl BlrTensor {
     /// error naming the reason when the file is corrupt, of another
     /// version, of another tensor (cache key, dimension, node order) or of
     /// another accuracy, never another tensor's values. The file is read
-    /// in order straight into the blocks ([`FileReader`]): no whole-file
+    /// in order straight into the blocks (`FileReader`): no whole-file
     /// buffer, and a stale file is refused after its header.
     pub fn read(
         path: &std::path::Path,

@@ -56,7 +56,7 @@
 //! (α_concave − α*_concave, α_convex − α*_convex, (s_mn − s*_mn)/R_m1)
 //! measured on the generated flanks at their mean points (u = 0, v = R_m1;
 //! pressure angles on the pinion's pitch cone as
-//! [`FlankMeasure::on_pitch_cone`]; s_mn = ρ_m Δφ cos β_m1 as
+//! [`FlankMeasure::on_pitch_cone`](crate::geometry::bevel::generated_surface::FlankMeasure::on_pitch_cone); s_mn = ρ_m Δφ cos β_m1 as
 //! `machine_settings::check_mean_point`), its Jacobian by forward
 //! differences, at most `max_iterations` steps, each bounded and halved
 //! until the residual decreases (≤ 20 halvings); the error names the

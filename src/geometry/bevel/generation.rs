@@ -363,7 +363,7 @@ fn within_tool<M: EnvelopeMap + ?Sized>(map: &M, q: [f64; 3]) -> Result<(), Enve
 
 /// The surface point at axial position `z` and radius `rho` (work frame):
 /// bounded damped Newton on (z(q) − z*, ρ(q) − ρ*, f(q)/f_scale) from `q0`
-/// (for a formate map ψ = q0[2] is held). f_scale is the map's fixed
+/// (for a formate map ψ = q0\[2\] is held). f_scale is the map's fixed
 /// [`EnvelopeMap::meshing_length`] when it gives one (all rows in mm), else
 /// |∇f| frozen at the start (so that all three rows weigh alike). Each step
 /// is shortened to the map's [`EnvelopeMap::max_roll_step`] in ψ, then

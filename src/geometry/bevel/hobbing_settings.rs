@@ -585,7 +585,7 @@ const ROOT_TRACE_STEPS: usize = 6000;
 /// edge radius turned 0.1 rad up from its tangency with the tip plane),
 /// as a polyline (v, u) sorted by v over the face width (plus 2 % at each
 /// end), marched in the cutter angle θ from `theta_mean` both ways (steps
-/// of [`ROOT_TRACE_STEP`], at most [`ROOT_TRACE_STEPS`] each way).
+/// of `ROOT_TRACE_STEP`, at most `ROOT_TRACE_STEPS` each way).
 ///
 /// Why not the root cone or a straight line: without roll the blade tip
 /// (s_min) sweeps the tip plane z_m = 0, which touches the root cone only

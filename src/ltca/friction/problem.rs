@@ -121,7 +121,7 @@ impl FrictionSolver {
     }
 }
 
-/// Options of [`solve_friction`].
+/// Options of [`solve_friction`](super::solve_friction).
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct FrictionOptions {
     pub increments: Increments,
@@ -210,7 +210,7 @@ pub struct Increment {
     pub limit_hit: bool,
 }
 
-/// The answer of [`solve_friction`].
+/// The answer of [`solve_friction`](super::solve_friction).
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct FrictionSolution {
     pub solver: FrictionSolver,

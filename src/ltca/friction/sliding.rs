@@ -64,7 +64,7 @@ pub struct SlidingAnswer {
     pub gap: Vec<f64>,
     /// Fixed-point iterations (frictionless QPs solved) and whether the
     /// bound [`MAX_SLIDING_ITERATIONS`] was hit before the tolerance
-    /// [`SLIDING_TOLERANCE`] or the round-off floor ([`SLIDING_FLOOR`]).
+    /// [`SLIDING_TOLERANCE`] or the round-off floor (`SLIDING_FLOOR`).
     pub iterations: usize,
     pub limit_hit: bool,
     /// Primal–dual active-set iterations after a fixed point that did not

@@ -127,7 +127,7 @@ pub const SINGULAR_PIVOT: f64 = 1e-12;
 
 /// Whether the principal block of F (n × n row-major, symmetric part) on
 /// the points `on` is numerically singular: a Cholesky factorization of it
-/// meets a pivot ≤ [`SINGULAR_PIVOT`] × its largest diagonal entry. A
+/// meets a pivot ≤ `SINGULAR_PIVOT` × its largest diagonal entry. A
 /// singular block on the loaded points means the loads there are not
 /// unique (any null vector with rᵀv = 0 can be added), although the gaps
 /// and θ are. O(m³/3) for m points.

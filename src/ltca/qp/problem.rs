@@ -48,7 +48,7 @@ impl ContactQp<'_> {
     }
 }
 
-/// Options of [`solve_contact_qp`].
+/// Options of [`solve_contact_qp`](super::solve_contact_qp).
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct QpOptions {
     pub solver: QpSolver,
@@ -97,7 +97,7 @@ pub struct Kkt {
     pub max: f64,
 }
 
-/// The answer of [`solve_contact_qp`].
+/// The answer of [`solve_contact_qp`](super::solve_contact_qp).
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct QpSolution {
     /// p, normal point loads (N).
