@@ -19,8 +19,7 @@
 
 use super::lexer::{norm_keyword, norm_name};
 use super::parser::Parser;
-use super::records::{Block, Cmd, RawInteraction, RawPair, RawSurface};
-use super::records::{Card, Loc};
+use super::records::{Block, Card, Cmd, Loc, RawInteraction, RawPair, RawSurface};
 use crate::error::Result;
 use crate::fem::contact_definition::{
     ContactDefinition, ContactPair, Friction, PressureOverclosure, Surface, SurfaceInteraction,

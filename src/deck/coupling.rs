@@ -26,9 +26,7 @@ use std::collections::HashMap;
 
 use super::lexer::norm_name;
 use super::parser::Parser;
-use super::records::{Block, Cmd, RawCoupling, StepState};
-use super::records::{Card, Loc};
-use super::records::{CouplingMembers, RefRole};
+use super::records::{Block, Card, Cmd, CouplingMembers, Loc, RawCoupling, RefRole, StepState};
 use crate::error::Result;
 use crate::fem::model::{Dirichlet, RigidCoupling};
 

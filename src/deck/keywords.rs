@@ -6,8 +6,7 @@
 //! INTERACTION`.
 
 use super::parser::Parser;
-use super::records::Block;
-use super::records::Card;
+use super::records::{Block, Card};
 use crate::error::Result;
 
 /// Output requests: accepted, data lines skipped silently.

@@ -13,8 +13,7 @@
 use std::path::Path;
 
 use super::parser::Parser;
-use super::records::{Card, Loc};
-use super::records::{DeckWarning, Target};
+use super::records::{Card, DeckWarning, Loc, Target};
 use crate::error::{FlankError, Result};
 
 pub(super) fn read_text(path: &Path) -> std::io::Result<String> {

@@ -11,8 +11,7 @@
 
 use super::lexer::norm_name;
 use super::parser::Parser;
-use super::records::{Block, Cmd, RawElement};
-use super::records::{Card, Loc};
+use super::records::{Block, Card, Cmd, Loc, RawElement};
 use crate::error::Result;
 use crate::fem::mesh::ElementKind;
 

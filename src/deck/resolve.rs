@@ -11,10 +11,7 @@
 use std::collections::HashMap;
 
 use super::parser::Parser;
-use super::records::CouplingMembers;
-use super::records::Loc;
-use super::records::StepState;
-use super::records::{Cmd, SetItem};
+use super::records::{Cmd, CouplingMembers, Loc, SetItem, StepState};
 use super::sets::IdxSet;
 use super::Deck;
 use crate::error::Result;

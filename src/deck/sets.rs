@@ -10,8 +10,7 @@
 
 use super::lexer::looks_numeric;
 use super::parser::Parser;
-use super::records::{Block, Cmd, SetItem, Target};
-use super::records::{Card, Loc};
+use super::records::{Block, Card, Cmd, Loc, SetItem, Target};
 use crate::error::Result;
 
 /// Unique members of a set in insertion order; a bitmap makes inserts O(1).

@@ -15,9 +15,7 @@
 
 use super::lexer::norm_name;
 use super::parser::Parser;
-use super::records::StepState;
-use super::records::{Block, Cmd};
-use super::records::{Card, Loc};
+use super::records::{Block, Card, Cmd, Loc, StepState};
 use crate::error::Result;
 
 impl Parser {

@@ -30,9 +30,7 @@ use crate::ltca::local::contact_modulus;
 use crate::ltca::model::{LtcaBodies, PositionResult};
 use crate::ltca::solve_settings::{LtcaFriction, LtcaSettings};
 use crate::scene::Scene;
-use crate::settings::FlankRegion;
-use crate::settings::QpSolver;
-use crate::settings::{FrictionModel, LocalModel};
+use crate::settings::{FlankRegion, FrictionModel, LocalModel, QpSolver};
 use crate::tca::{Tca, TcaSettings};
 
 /// Default K (candidate points per contact line).

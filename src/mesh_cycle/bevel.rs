@@ -33,8 +33,7 @@ use crate::mesh_cycle::checkpoint::{self, Checkpoint, Position};
 use crate::mesh_cycle::pair_model::{combine, set_automatic_penalty, PairBody, PairModel};
 use crate::report::fe_pattern::{plot_fe_pattern, PatternNode};
 use crate::scene::BevelScene;
-use crate::settings::ContactLaw;
-use crate::settings::SlaveBody;
+use crate::settings::{ContactLaw, SlaveBody};
 use crate::tca::point_contact::{projection, ARCSEC_PER_RAD};
 
 /// Slave nodes beyond the search distance that penetrate: the search is

@@ -42,8 +42,9 @@ use crate::geometry::bevel::cutter::{BladeSide, CutterHead};
 use crate::geometry::bevel::cyclo_palloid::{cyclo_palloid_pinion, PinionTilt};
 use crate::geometry::bevel::ease_off::{EaseOffSpec, EasedPinion};
 use crate::geometry::bevel::generated_surface::{FlankKind, FlankMeasure};
-use crate::geometry::bevel::hobbing_settings::HobbedMeanPoint;
-use crate::geometry::bevel::hobbing_settings::{self, HobbingBlank, HobbingCutter, HobbingSetup};
+use crate::geometry::bevel::hobbing_settings::{
+    self, HobbedMeanPoint, HobbingBlank, HobbingCutter, HobbingSetup,
+};
 use crate::geometry::bevel::machine_settings::{
     self, CutterChoice, MemberSetup, SettingsRefinement,
 };

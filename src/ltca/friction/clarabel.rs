@@ -3,8 +3,7 @@
 //! point on the bounds, then the polish (module doc of [`super`]).
 
 use super::polish::polish;
-use super::problem::StepAnswer;
-use super::problem::{FrictionOptions, Prepared};
+use super::problem::{FrictionOptions, Prepared, StepAnswer};
 use super::residual::{gaps, residuals, slips, states, Previous};
 use super::semismooth::{newton, NewtonEnd};
 use crate::error::FlankError;

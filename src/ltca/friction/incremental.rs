@@ -1,9 +1,8 @@
 //! The load-increment driver: the torque schedule, one solve per
 //! increment from the previous totals, the states and residuals of each.
 
-use super::problem::Residuals;
 use super::problem::{
-    FrictionOptions, FrictionSolution, FrictionSolver, Increment, Increments, Prepared,
+    FrictionOptions, FrictionSolution, FrictionSolver, Increment, Increments, Prepared, Residuals,
     MAX_INCREMENTS,
 };
 use super::residual::{gaps, residuals, slips, states, Previous};

@@ -47,8 +47,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::problem::StepAnswer;
-use super::problem::{FrictionOptions, Prepared};
+use super::problem::{FrictionOptions, Prepared, StepAnswer};
 use super::residual::Previous;
 use crate::error::FlankError;
 

@@ -5,8 +5,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::problem::PointState;
-use super::problem::Prepared;
+use super::problem::{PointState, Prepared};
 use super::residual::{gaps, slips, Previous};
 use crate::error::FlankError;
 

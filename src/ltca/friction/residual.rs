@@ -1,8 +1,7 @@
 //! Gaps, slips, states and residuals of an increment's answer: one routine
 //! for both solvers, so that neither grades itself.
 
-use super::problem::Prepared;
-use super::problem::{PointState, Residuals};
+use super::problem::{PointState, Prepared, Residuals};
 
 /// The previous totals of an increment.
 pub(crate) struct Previous<'a> {
