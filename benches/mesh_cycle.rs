@@ -14,7 +14,6 @@ use criterion::{criterion_group, criterion_main, Criterion};
 
 use flank::compliance::body::BodyMeshOptions;
 use flank::mesh_cycle::cycle::{MeshCycle, RunSettings};
-
 use flank::settings::{ContactLaw, SlaveBody};
 
 fn cycle() -> MeshCycle {
