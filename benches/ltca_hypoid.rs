@@ -15,15 +15,11 @@ use criterion::{criterion_group, criterion_main, Criterion};
 
 use flank::compliance::body::BodyMeshOptions;
 use flank::ltca::bevel::{BevelLtca, BevelLtcaOptions};
-use flank::scene::{read_any_scene, AnyScene};
+use flank::scene::read_scene;
 
 fn bench(c: &mut Criterion) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let AnyScene::Bevel(scene) =
-        read_any_scene(&root.join("papers/seed003-hypoid/scene_eased.toml")).unwrap()
-    else {
-        panic!("seed 003 is a bevel scene");
-    };
+    let scene = read_scene(&root.join("papers/seed003-hypoid/scene_eased.toml")).unwrap();
     let tmp = Path::new(env!("CARGO_TARGET_TMPDIR")).join("bench_ltca_hypoid");
     let options = BevelLtcaOptions {
         out: tmp.join("out"),

@@ -68,15 +68,13 @@ use std::path::Path;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 
-use flank::scene::{read_any_scene, AnyScene};
+use flank::scene::read_scene;
 use flank::tca::point_contact::{point_tca, PointTcaSettings};
 
 fn bench(c: &mut Criterion) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("papers/seed000-hypoid/scene.toml");
-    let AnyScene::Bevel(scene) = read_any_scene(&path).unwrap() else {
-        panic!("seed 000 is a bevel scene");
-    };
-    let pair = scene.pair.clone();
+    let scene = read_scene(&path).unwrap();
+    let pair = scene.bevel("the point-TCA bench").unwrap().pair.clone();
     let mut g = c.benchmark_group("point_tca_seed000");
     g.sample_size(10);
     for (name, search) in [

@@ -66,15 +66,21 @@ fn main() -> anyhow::Result<()> {
         cycle.setup.flank_nodes,
         t.elapsed().as_secs_f64()
     );
-    let kin =
-        &flank::geometry::cylindrical::MeshKinematics::new(&scene.pair, cycle.pair.sector_teeth())?;
+    let kin = &flank::geometry::cylindrical::MeshKinematics::new(
+        &scene.cylindrical("this test").unwrap().pair,
+        cycle.pair.sector_teeth(),
+    )?;
     let k = kin.middle;
     // the contact line of pair k runs s(z) = s0(roll) + slope·z across the
     // face (s the transverse position on the line of action, slope
     // −r_b1 dφ/dz of the pinion's helix): the roll at which it crosses
     // mid face at s
     let mid_face = 0.5 * kin.face_width[0];
-    let twist = flank::geometry::rack::ToothProfile::new(&scene.pair.pinion, "pinion")?.twist_rate;
+    let twist = flank::geometry::rack::ToothProfile::new(
+        &scene.cylindrical("this test").unwrap().pair.pinion,
+        "pinion",
+    )?
+    .twist_rate;
     let slope = -kin.base_radius[0] * twist;
     let roll_at = |s: f64| -> anyhow::Result<f64> { Ok(kin.roll_at(k, s - slope * mid_face)) };
     // a dense TCA for the velocities at mid face

@@ -80,9 +80,8 @@ fn grids_of_the_hypoid_seeds() {
     std::fs::create_dir_all(&dir).unwrap();
     for seed in ["seed003-hypoid", "seed000-hypoid"] {
         let scene = root.join("papers").join(seed).join("scene.toml");
-        let flank::scene::AnyScene::Bevel(s) = flank::scene::read_any_scene(&scene).unwrap() else {
-            panic!("{seed} is not a bevel scene")
-        };
+        let scene_read = flank::scene::read_scene(&scene).unwrap();
+        let s = scene_read.bevel("this test").unwrap();
         for (b, member) in ["pinion", "gear"].into_iter().enumerate() {
             for (side, name) in [(Flank::Left, "left"), (Flank::Right, "right")] {
                 let out = dir.join(format!("{seed}_{member}_{name}.csv"));
@@ -133,11 +132,13 @@ fn ease_off_grid_of_a_conjugate_pinion() {
     );
     let scene = dir.join("conjugate.toml");
     std::fs::write(&scene, text).unwrap();
-    let flank::scene::AnyScene::Bevel(parsed) = flank::scene::read_any_scene(&scene).unwrap()
-    else {
-        panic!("not a bevel scene")
-    };
-    let eased = parsed.pinion_eased.clone().expect("eased pinion");
+    let parsed = flank::scene::read_scene(&scene).unwrap();
+    let eased = parsed
+        .bevel("this test")
+        .unwrap()
+        .pinion_eased
+        .clone()
+        .expect("eased pinion");
     for side in ["left", "right"] {
         let out = dir.join(format!("ease_{side}.csv"));
         let (ok, err) = flank_grid(&[

@@ -103,7 +103,9 @@ fn seed002_compliance_checks() {
         }
         assert!(err <= 1e-12, "{body_name}: interpolation at nodes {err:e}");
         // C_nn on the contact line at the working pitch point: positive definite
-        let report = flank::geometry::pair::check_pair(&scene.pair).unwrap();
+        let report =
+            flank::geometry::pair::check_pair(&scene.cylindrical("this test").unwrap().pair)
+                .unwrap();
         let (line, _) =
             contact_line(&t, "FLANK_R2", report.working_pressure_angle_rad.tan()).unwrap();
         println!(

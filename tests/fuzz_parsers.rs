@@ -413,14 +413,18 @@ fn scene_to_mesh(text: String, mesh: bool) -> Result<usize, String> {
     use flank::mesh::gear_sector::SectorOptions;
     let verbose = std::env::var_os("FLANK_FUZZ_VERBOSE").is_some();
     let path = root().join("papers/seed002-spur/fuzz_scene.toml");
-    let scene = match flank::scene::parse_any_scene(&text, &path) {
-        Ok(flank::scene::AnyScene::Cylindrical(s)) => s,
+    let scene = match flank::scene::parse_scene(&text, &path) {
+        Ok(s) if !s.is_bevel() => s,
         _ => return Ok(0),
     };
     if !mesh {
         return Ok(0);
     }
-    let pair = match scene.flank_modifications().and_then(|_| scene.gear_pair()) {
+    let pair = match scene
+        .cylindrical("the fuzzed mesher")
+        .and_then(|c| c.flank_modifications())
+        .and_then(|_| scene.gear_pair())
+    {
         Ok(p) => p,
         Err(e) => {
             if verbose {
@@ -431,8 +435,14 @@ fn scene_to_mesh(text: String, mesh: bool) -> Result<usize, String> {
     };
     let mut meshed = 0;
     for (i, (spec, material)) in [
-        (&scene.pair.pinion, &scene.pinion_material),
-        (&scene.pair.gear, &scene.gear_material),
+        (
+            &scene.cylindrical("this test").unwrap().pair.pinion,
+            &scene.pinion_material,
+        ),
+        (
+            &scene.cylindrical("this test").unwrap().pair.gear,
+            &scene.gear_material,
+        ),
     ]
     .into_iter()
     .enumerate()
@@ -506,7 +516,8 @@ fn blank_seeds() -> Vec<Vec<u8>> {
 /// The seed 002 pinion's tooth profile (the measured profile is read against it).
 fn seed002_profile() -> flank::geometry::rack::ToothProfile {
     let scene = flank::scene::read_scene(&root().join("papers/seed002-spur/scene.toml")).unwrap();
-    flank::geometry::rack::ToothProfile::new(&scene.pair.pinion, "pinion").unwrap()
+    let pair = &scene.cylindrical("this test").unwrap().pair;
+    flank::geometry::rack::ToothProfile::new(&pair.pinion, "pinion").unwrap()
 }
 
 fn grid_seeds() -> Vec<Vec<u8>> {

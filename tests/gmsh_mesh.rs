@@ -158,8 +158,9 @@ fn compare_round_trip(a: &Mesh, b: &Mesh) {
 #[test]
 fn seed002_pinion_gmsh_hex20_and_wedge15() {
     let scene = flank::scene::read_scene(&root().join("papers/seed002-spur/scene.toml")).unwrap();
-    let spec = &scene.pair.pinion;
-    let report = flank::geometry::pair::check_pair(&scene.pair).unwrap();
+    let spec = &scene.cylindrical("this test").unwrap().pair.pinion;
+    let report =
+        flank::geometry::pair::check_pair(&scene.cylindrical("this test").unwrap().pair).unwrap();
     let rb = flank::geometry::involute::base_radius(spec);
     let force = scene.load.torque_nmm / rb;
     let radius = rb / report.working_pressure_angle_rad.cos();

@@ -23,7 +23,7 @@
 //!
 //! Every estimate has a 256 MB floor (the process itself).
 
-use crate::scene::AnyScene;
+use crate::scene::{Gears, Scene};
 
 /// Smallest estimate (MB): the flank process with its tables.
 const FLOOR_MB: f64 = 256.0;
@@ -41,34 +41,34 @@ const BEVEL_FE_MB: f64 = 4096.0;
 
 /// Estimated peak memory (MB) of one job: `analysis` on `scene` with the
 /// command-line `options` (a `--flank-size` there overrides the scene's).
-pub fn estimate_mb(analysis: &str, scene: &AnyScene, options: &[String]) -> f64 {
+pub fn estimate_mb(analysis: &str, scene: &Scene, options: &[String]) -> f64 {
     let option = |name: &str| -> Option<f64> {
         let i = options.iter().position(|o| o == name)?;
         options.get(i + 1)?.parse().ok()
     };
-    let s = match scene {
-        AnyScene::Cylindrical(s) => s,
-        AnyScene::Bevel(_) => {
+    let c = match &scene.gears {
+        Gears::Cylindrical(c) => c,
+        Gears::Bevel(_) => {
             return match analysis {
                 "mesh" | "tca" => SMALL_MB,
                 _ => BEVEL_FE_MB,
             }
         }
     };
-    let p = &s.pair.pinion;
+    let p = &c.pair.pinion;
     let mn = p.normal_module;
-    let z = f64::from(s.mesh.teeth_in_sector);
-    let b = p.face_width.max(s.pair.gear.face_width);
+    let z = f64::from(scene.mesh.teeth_in_sector);
+    let b = p.face_width.max(c.pair.gear.face_width);
     let scale = (b / 13.3) * (mn / 3.8) * (z / 3.0);
     let mb = match analysis {
         "run" | "compare" => {
             let h = option("--flank-size")
-                .or(s.mesh.flank_size)
+                .or(scene.mesh.flank_size)
                 .unwrap_or(mn / 8.0);
             MB_PER_DOF * DOFS_PER_INV_MM * scale / h
         }
         "ltca" | "compliance" => {
-            let ltca = s.analyses.ltca.as_ref();
+            let ltca = scene.analyses.ltca.as_ref();
             let h = option("--flank-size")
                 .or(ltca.and_then(|l| l.flank_size_mm))
                 .unwrap_or(mn / 8.0);
@@ -95,10 +95,10 @@ pub fn cores() -> usize {
 mod tests {
     use super::*;
 
-    fn seed002() -> AnyScene {
+    fn seed002() -> Scene {
         let p =
             std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("papers/seed002-spur/scene.toml");
-        crate::scene::read_any_scene(&p).unwrap()
+        crate::scene::read_scene(&p).unwrap()
     }
 
     /// The rule against the measured peaks it was fitted to, and one it was

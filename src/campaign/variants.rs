@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use sha2::{Digest, Sha256};
 
 use crate::error::{FlankError, Result};
-use crate::scene::AnyScene;
+use crate::scene::Scene;
 
 use super::file::{read_campaign_file, CampaignFile, Loc, THREADED};
 use super::resources;
@@ -148,8 +148,8 @@ impl Campaign {
     }
 
     /// Parses a variant's scene; the error is the scene parser's message.
-    fn check_scene(&self, text: &str) -> std::result::Result<AnyScene, String> {
-        crate::scene::parse_any_scene(text, &self.file.scene).map_err(|e| match e {
+    fn check_scene(&self, text: &str) -> std::result::Result<Scene, String> {
+        crate::scene::parse_scene(text, &self.file.scene).map_err(|e| match e {
             FlankError::Parse { message, .. } => message,
             e => e.to_string(),
         })

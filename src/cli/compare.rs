@@ -119,8 +119,10 @@ pub fn run(args: Args) -> Result<()> {
         friction_mu,
         pmax_reference,
     };
-    let s = match flank::scene::read_any_scene(&scene)? {
-        flank::scene::AnyScene::Bevel(b) => {
+    let read = flank::scene::read_scene(&scene)?;
+    let s = match read.is_bevel() {
+        true => {
+            let b = &read;
             if compression.is_some_and(|c| c.epsilon().is_some()) {
                 anyhow::bail!("--compression: implemented for spur/helical pairs only");
             }
@@ -142,9 +144,9 @@ pub fn run(args: Args) -> Result<()> {
             if let Some(l) = local {
                 ltca.settings.local = l;
             }
-            flank::compare::bevel::compare_bevel(&b, &options, &ltca)
+            flank::compare::bevel::compare_bevel(b, &options, &ltca)
         }
-        flank::scene::AnyScene::Cylindrical(_) => compare_scene(&scene, &options),
+        false => compare_scene(&scene, &options),
     }
     .with_context(|| format!("LTCA against FE contact for {}", scene.display()))?;
     if !quiet {

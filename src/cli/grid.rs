@@ -9,7 +9,7 @@ use anyhow::{bail, Context, Result};
 use flank::geometry::bevel::ease_off::deviation_grid_at;
 use flank::geometry::gear_pair::{Flank, GearBody};
 use flank::geometry::measurement_grid::{measurement_grid, GridSpec};
-use flank::scene::AnyScene;
+use flank::scene::Gears;
 
 #[derive(Clone, Copy, clap::ValueEnum)]
 pub enum Member {
@@ -73,7 +73,7 @@ pub fn run(args: Args) -> Result<()> {
     if !(0.0..0.5).contains(&args.inset) {
         bail!("--inset {}: the margin must be in [0, 0.5)", args.inset);
     }
-    let scene = flank::scene::read_any_scene(&args.scene)?;
+    let scene = flank::scene::read_scene(&args.scene)?;
     let (b, name) = match args.member {
         Member::Pinion => (0, "pinion"),
         Member::Gear => (1, "gear"),
@@ -85,12 +85,12 @@ pub fn run(args: Args) -> Result<()> {
     // cylindrical pairs through their gear pair; bevel/hypoid members as
     // the scene cut them
     let cylindrical;
-    let body: &dyn GearBody = match &scene {
-        AnyScene::Cylindrical(s) => {
-            cylindrical = s.gear_pair()?;
+    let body: &dyn GearBody = match &scene.gears {
+        Gears::Cylindrical(_) => {
+            cylindrical = scene.gear_pair()?;
             cylindrical.body(b)
         }
-        AnyScene::Bevel(s) => s.bodies[b].as_ref(),
+        Gears::Bevel(s) => s.bodies[b].as_ref(),
     };
     let surface = body.flank(side, args.tooth).with_context(|| {
         format!(
@@ -113,8 +113,8 @@ pub fn run(args: Args) -> Result<()> {
         args.tooth
     );
     if args.ease_off {
-        let eased = match (&scene, args.member) {
-            (AnyScene::Bevel(s), Member::Pinion) => s.pinion_eased.as_ref(),
+        let eased = match (&scene.gears, args.member) {
+            (Gears::Bevel(s), Member::Pinion) => s.pinion_eased.as_ref(),
             _ => None,
         };
         let Some(eased) = eased else {

@@ -143,7 +143,9 @@ pub fn run(args: Args) -> Result<()> {
         ),
         None => None,
     };
-    if let flank::scene::AnyScene::Bevel(b) = flank::scene::read_any_scene(&scene)? {
+    let read = flank::scene::read_scene(&scene)?;
+    if read.is_bevel() {
+        let b = &read;
         use flank::ltca::bevel::{run_bevel, BevelLtcaOptions};
         if flank_region == Some(flank::settings::FlankRegion::Active) {
             anyhow::bail!("--flank-region active: implemented for spur/helical pairs only (a bevel/hypoid LTCA takes the full flank)");
@@ -191,7 +193,7 @@ pub fn run(args: Args) -> Result<()> {
             edges: edges.or(a.edges).unwrap_or(d.edges),
             positions: a.positions.unwrap_or(d.positions),
         };
-        let all = run_bevel(&b, &options)
+        let all = run_bevel(b, &options)
             .with_context(|| format!("LTCA mesh cycle of {}", scene.display()))?;
         for (s, name) in variants(&all) {
             if quiet {

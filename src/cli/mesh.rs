@@ -75,18 +75,17 @@ fn mesh_scene(
     use flank::geometry::involute::base_radius;
     use flank::mesh::gear_body::{body_model, Mesher, GMSH_AVAILABLE, GMSH_MISSING};
     use flank::mesh::gear_sector::SectorOptions;
-    let scene = match flank::scene::read_any_scene(path)? {
-        flank::scene::AnyScene::Cylindrical(s) => s,
-        flank::scene::AnyScene::Bevel(b) => {
-            if mesher == MesherChoice::Gmsh {
-                anyhow::bail!(
-                    "--mesher gmsh: bevel and hypoid bodies are meshed by the native mesher only"
-                );
-            }
-            return mesh_bevel_scene(path, &b, out, flank_size, base_size, with_load, element);
+    let scene = flank::scene::read_scene(path)?;
+    if scene.is_bevel() {
+        if mesher == MesherChoice::Gmsh {
+            anyhow::bail!(
+                "--mesher gmsh: bevel and hypoid bodies are meshed by the native mesher only"
+            );
         }
-    };
-    let report = flank::geometry::pair::check_pair(&scene.pair)?;
+        return mesh_bevel_scene(path, &scene, out, flank_size, base_size, with_load, element);
+    }
+    let cyl = scene.cylindrical("`flank mesh` of cylindrical gears")?;
+    let report = flank::geometry::pair::check_pair(&cyl.pair)?;
     let hex20 = match element {
         Some(e) => e == MeshElement::Hex20,
         None => scene.mesh.element == flank::scene::ElementKind::Hex20,
@@ -99,7 +98,7 @@ fn mesh_scene(
     if mesher == MesherChoice::Gmsh && !GMSH_AVAILABLE {
         anyhow::bail!("--mesher gmsh: {GMSH_MISSING}");
     }
-    let mn = scene.pair.pinion.normal_module;
+    let mn = cyl.pair.pinion.normal_module;
     let flank_size = flank_size.or(scene.mesh.flank_size).unwrap_or(mn / 8.0);
     let base_size = base_size.or(scene.mesh.base_size).unwrap_or(mn / 2.0);
     if !(flank_size > 0.0 && base_size >= flank_size) {
@@ -115,14 +114,14 @@ fn mesh_scene(
         element: element_kind,
     };
     let cos_aw = report.working_pressure_angle_rad.cos();
-    let force = scene.load.torque_nmm / base_radius(&scene.pair.pinion);
-    let modifications = scene.flank_modifications()?;
+    let force = scene.load.torque_nmm / base_radius(&cyl.pair.pinion);
+    let modifications = cyl.flank_modifications()?;
     // the gears through the gear-pair interface (with their modifications)
     let pair = scene.gear_pair()?;
     let mut bodies = serde_json::Map::new();
     let members = [
-        ("pinion", &scene.pair.pinion, &scene.pinion_material),
-        ("gear", &scene.pair.gear, &scene.gear_material),
+        ("pinion", &cyl.pair.pinion, &scene.pinion_material),
+        ("gear", &cyl.pair.gear, &scene.gear_material),
     ];
     // both bodies first: a body that cannot be meshed leaves no file behind
     let mut models = Vec::new();
@@ -195,13 +194,14 @@ fn mesh_scene(
 /// tooth's drive flank.
 fn mesh_bevel_scene(
     path: &std::path::Path,
-    scene: &flank::scene::BevelScene,
+    scene: &flank::scene::Scene,
     out: &std::path::Path,
     flank_size: Option<f64>,
     base_size: Option<f64>,
     with_load: bool,
     element: Option<MeshElement>,
 ) -> Result<()> {
+    let bevel = scene.bevel("this command on bevel/hypoid pairs")?;
     use flank::mesh::bevel_body::bevel_body_model;
     let options = flank::compliance::body::bevel_sector_options(
         scene,
@@ -216,7 +216,7 @@ fn mesh_bevel_scene(
         },
     )?;
     let (flank_size, base_size) = (options.flank_size, options.base_size);
-    let ratio = scene.blank.z2 / scene.blank.z1;
+    let ratio = bevel.blank.z2 / bevel.blank.z1;
     let torques = [scene.load.torque_nmm, scene.load.torque_nmm * ratio];
     let members = [
         ("pinion", &scene.pinion_material),
@@ -227,14 +227,14 @@ fn mesh_bevel_scene(
     for (i, (name, material)) in members.iter().enumerate() {
         let torque = with_load.then_some(torques[i]);
         models.push(bevel_body_model(
-            &scene.bodies[i],
+            &bevel.bodies[i],
             name,
             material,
             &options.member(i == 0),
             torque,
         )?);
     }
-    let partial = scene.mesh.teeth_in_sector < scene.blank_inputs.z1;
+    let partial = scene.mesh.teeth_in_sector < bevel.blank_inputs.z1;
     if options.shank.is_some() && partial {
         println!(
             "warning: {}",
@@ -288,9 +288,9 @@ fn mesh_bevel_scene(
         "bodies": bodies,
         "pair": {
             "kind": format!("{:?}", scene.kind).to_lowercase(),
-            "shaft_angle_deg": scene.blank.sigma.to_degrees(),
-            "offset_mm": scene.blank.a,
-            "teeth": [scene.blank.z1, scene.blank.z2],
+            "shaft_angle_deg": bevel.blank.sigma.to_degrees(),
+            "offset_mm": bevel.blank.a,
+            "teeth": [bevel.blank.z1, bevel.blank.z2],
         },
     });
     flank::atomic_file::write(

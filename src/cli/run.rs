@@ -134,7 +134,9 @@ pub fn run(args: Args) -> Result<()> {
         }
         return Ok(());
     }
-    if let flank::scene::AnyScene::Bevel(b) = flank::scene::read_any_scene(&scene)? {
+    let read = flank::scene::read_scene(&scene)?;
+    if read.is_bevel() {
+        let b = &read;
         let unsupported = [
             (reference_angles.is_some(), "--reference-angles"),
             (slave.is_some(), "--slave"),
@@ -159,7 +161,7 @@ pub fn run(args: Args) -> Result<()> {
         };
         return run_bevel_scene(
             &scene,
-            &b,
+            b,
             &out,
             sizes,
             roll_angles,
@@ -233,7 +235,7 @@ struct BevelContact {
 #[allow(clippy::too_many_arguments)]
 fn run_bevel_scene(
     path: &std::path::Path,
-    scene: &flank::scene::BevelScene,
+    scene: &flank::scene::Scene,
     out: &std::path::Path,
     sizes: SectorArgs,
     roll_angles: Option<Vec<f64>>,

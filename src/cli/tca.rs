@@ -23,7 +23,7 @@ use std::sync::Arc;
 
 use anyhow::{bail, Context, Result};
 use flank::geometry::gear_pair::{Misalignment, PairPlacement};
-use flank::scene::AnyScene;
+use flank::scene::Gears;
 use flank::tca::line_cycle::{line_tca_cycle, LineTcaCycle};
 use flank::tca::point_contact::{
     point_tca, point_tca_shared, EllipseMemo, PointTca, PointTcaSettings, ARCSEC_PER_RAD,
@@ -69,7 +69,7 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    let scene = flank::scene::read_any_scene(&args.scene)?;
+    let scene = flank::scene::read_scene(&args.scene)?;
     if !(args.approach_mm.is_finite() && args.approach_mm > 0.0) {
         bail!(
             "--approach-mm {}: a finite positive elastic approach δ is needed (seed 000: 0.00635 mm finished, 0.00381 mm lapped)",
@@ -105,9 +105,10 @@ pub fn run(args: Args) -> Result<()> {
             bail!("{name} {v}: a finite value is needed");
         }
     }
-    match scene {
-        AnyScene::Bevel(s) => {
-            let pair: Arc<dyn PairPlacement> = Arc::new(s.pair.with_misalignment(mis));
+    let s = &scene;
+    match &scene.gears {
+        Gears::Bevel(bevel) => {
+            let pair: Arc<dyn PairPlacement> = Arc::new(bevel.pair.with_misalignment(mis));
             let settings = PointTcaSettings {
                 positions_per_pitch: args.positions_per_pitch,
                 approach_mm: args.approach_mm,
@@ -167,7 +168,7 @@ pub fn run(args: Args) -> Result<()> {
                 if !(r.is_finite() && r > 0.0) {
                     bail!("--sweep-mm {r}: a finite positive half-range is needed");
                 }
-                sweep(&args.out, &s.pair, mis, r, &settings)?;
+                sweep(&args.out, &bevel.pair, mis, r, &settings)?;
             }
             println!("{}", serde_json::to_string_pretty(&summary)?);
             for (variant, t) in [("with edges", &with), ("without edges", &without)] {
@@ -187,13 +188,13 @@ pub fn run(args: Args) -> Result<()> {
             }
             Ok(())
         }
-        AnyScene::Cylindrical(s) => {
+        Gears::Cylindrical(cyl) => {
             if args.sweep_mm.is_some() {
                 bail!("--sweep-mm: the V–H sweep is for bevel and hypoid scenes; a spur or helical pair's misalignment is swept by a campaign (docs/campaigns.md)");
             }
             // a sector with every pair that can be in mesh and one more on
             // each side: ε_γ = ε_α + ε_β (ISO 21771), b the common face
-            let g = &s.pair;
+            let g = &cyl.pair;
             let face = g.pinion.face_width.min(g.gear.face_width);
             let eps_beta = face * g.pinion.helix_angle.sin().abs()
                 / (std::f64::consts::PI * g.pinion.normal_module);
@@ -208,7 +209,7 @@ pub fn run(args: Args) -> Result<()> {
             let pair: Arc<dyn flank::geometry::gear_pair::GearPair> = Arc::new(
                 flank::geometry::cylindrical::CylindricalPair::new(
                     g,
-                    s.flank_modifications()?,
+                    cyl.flank_modifications()?,
                     teeth,
                 )?
                 .with_misalignment(mis)?,

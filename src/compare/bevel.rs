@@ -26,7 +26,7 @@ use crate::error::FlankError;
 use crate::ltca::bevel::{BevelLtca, BevelLtcaOptions};
 use crate::mesh::bevel_sector::BevelSectorOptions;
 use crate::mesh_cycle::bevel::{BevelCycle, BevelRunOptions};
-use crate::scene::BevelScene;
+use crate::scene::Scene;
 use crate::tca::point_contact::ARCSEC_PER_RAD;
 
 use super::{best_ltca, errors, markdown, per_pair, plot, CompareOptions, MethodRun};
@@ -34,10 +34,11 @@ use super::{best_ltca, errors, markdown, per_pair, plot, CompareOptions, MethodR
 /// The hypoid comparison; writes `compare.json`, `compare.md` and
 /// `error_vs_time.{svg,png}` into `options.out`.
 pub fn compare_bevel(
-    scene: &BevelScene,
+    scene: &Scene,
     options: &CompareOptions,
     ltca: &BevelLtcaOptions,
 ) -> Result<serde_json::Value, FlankError> {
+    let bevel = scene.bevel("the bevel/hypoid comparison")?;
     options.validate()?;
     if !options.pmax_reference.is_empty() {
         return Err(FlankError::Model(
@@ -126,7 +127,7 @@ pub fn compare_bevel(
                     base_size: options
                         .fe_base_size
                         .or(scene.mesh.base_size)
-                        .unwrap_or(scene.blank.cones.m_mn / 2.0)
+                        .unwrap_or(bevel.blank.cones.m_mn / 2.0)
                         .max(h),
                     ..Default::default()
                 },
@@ -142,7 +143,7 @@ pub fn compare_bevel(
             .map(|&a| cycle.solve(a))
             .collect::<Result<_, _>>()?;
         let cycle_s = t.elapsed().as_secs_f64();
-        let ratio = scene.blank.z1 / scene.blank.z2;
+        let ratio = bevel.blank.z1 / bevel.blank.z2;
         fe.push(MethodRun {
             method: "fe_contact".into(),
             label: format!("FE flank {h} mm"),

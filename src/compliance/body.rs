@@ -20,7 +20,7 @@ use crate::mesh::bevel_body::bevel_body_model;
 use crate::mesh::bevel_sector::BevelSectorOptions;
 use crate::mesh::gear_body::{body_model, BodyModel, Mesher};
 use crate::mesh::gear_sector::SectorOptions;
-use crate::scene::{AnyScene, BevelScene, ElementKind, Scene};
+use crate::scene::{ElementKind, Scene};
 use crate::settings::FlankSelection;
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -51,13 +51,14 @@ impl From<BodyModel> for SectorBody {
 
 /// The body `name` ("pinion" or "gear") of a scene of either pair type.
 pub fn any_scene_body(
-    scene: &AnyScene,
+    scene: &Scene,
     name: &str,
     options: &BodyMeshOptions,
 ) -> Result<SectorBody, FlankError> {
-    match scene {
-        AnyScene::Cylindrical(s) => scene_body(s, name, options).map(SectorBody::from),
-        AnyScene::Bevel(s) => bevel_scene_body(s, name, options),
+    if scene.is_bevel() {
+        bevel_scene_body(scene, name, options)
+    } else {
+        scene_body(scene, name, options).map(SectorBody::from)
     }
 }
 
@@ -65,10 +66,11 @@ pub fn any_scene_body(
 /// overrides: absent sizes default to m_mn/8 (flank) and m_mn/2 (base);
 /// the element family is the option's, else the scene's `[mesh] element`.
 pub fn bevel_sector_options(
-    scene: &BevelScene,
+    scene: &Scene,
     o: &BodyMeshOptions,
 ) -> Result<BevelSectorOptions, FlankError> {
-    let mn = scene.blank.cones.m_mn;
+    let bevel = scene.bevel("the bevel/hypoid compliance")?;
+    let mn = bevel.blank.cones.m_mn;
     let flank_size = o.flank_size.or(scene.mesh.flank_size).unwrap_or(mn / 8.0);
     let base_size = o.base_size.or(scene.mesh.base_size).unwrap_or(mn / 2.0);
     // where a size came from: the option, the scene's key (file:line) or the default
@@ -80,13 +82,13 @@ pub fn bevel_sector_options(
         };
     let flank_source = source(
         o.flank_size,
-        scene.lines.flank_size,
+        bevel.lines.flank_size,
         "--flank-size",
         "mesh.flank_size_mm",
     );
     let base_source = source(
         o.base_size,
-        scene.lines.base_size,
+        bevel.lines.base_size,
         "--base-size",
         "mesh.base_size_mm",
     );
@@ -100,7 +102,7 @@ pub fn bevel_sector_options(
     // the base size): coarser sizes leave one distorted layer (a 50 mm
     // flank size on seed 003 meshed with scaled Jacobians of 0.12, a 60 mm
     // base size with one face layer and an aspect ratio of 71)
-    for (name, body) in ["pinion", "gear"].iter().zip(&scene.bodies) {
+    for (name, body) in ["pinion", "gear"].iter().zip(&bevel.bodies) {
         let c = body.cones();
         let limit = 0.5 * c.b.min(c.ham + c.hfm);
         if flank_size > limit {
@@ -126,7 +128,7 @@ pub fn bevel_sector_options(
         flank_size,
         base_size,
         element,
-        shank: scene.pinion_shank,
+        shank: bevel.pinion_shank,
         ..Default::default()
     })
 }
@@ -143,8 +145,8 @@ pub const COMPLIANCE_FLANK_MODULES: f64 = 0.4;
 
 /// `o` with the compliance defaults ([`COMPLIANCE_FLANK_MODULES`]) where
 /// neither the option nor the scene's `[mesh]` gives a size.
-pub fn compliance_sizes(scene: &BevelScene, o: &BodyMeshOptions) -> BodyMeshOptions {
-    let flank = COMPLIANCE_FLANK_MODULES * scene.blank.cones.m_mn;
+pub fn compliance_sizes(scene: &Scene, o: &BodyMeshOptions) -> BodyMeshOptions {
+    let flank = COMPLIANCE_FLANK_MODULES * scene.normal_module();
     let flank_size = o.flank_size.or(scene.mesh.flank_size).unwrap_or(flank);
     let base_size = o
         .base_size
@@ -161,10 +163,11 @@ pub fn compliance_sizes(scene: &BevelScene, o: &BodyMeshOptions) -> BodyMeshOpti
 /// writes it (nominal load: the pinion torque on the pinion, the torque ×
 /// z₂/z₁ on the gear, at the middle tooth's drive flank).
 pub fn bevel_scene_body(
-    scene: &BevelScene,
+    scene: &Scene,
     name: &str,
     options: &BodyMeshOptions,
 ) -> Result<SectorBody, FlankError> {
+    let bevel = scene.bevel("the bevel/hypoid compliance")?;
     let (index, material) = match name {
         "pinion" => (0, &scene.pinion_material),
         "gear" => (1, &scene.gear_material),
@@ -177,9 +180,9 @@ pub fn bevel_scene_body(
     let sector = bevel_sector_options(scene, &compliance_sizes(scene, options))?;
     let torque = [
         scene.load.torque_nmm,
-        scene.load.torque_nmm * scene.blank.z2 / scene.blank.z1,
+        scene.load.torque_nmm * bevel.blank.z2 / bevel.blank.z1,
     ][index];
-    let gear = &scene.bodies[index];
+    let gear = &bevel.bodies[index];
     let body = bevel_body_model(
         gear,
         name,
@@ -212,7 +215,8 @@ pub struct BodyMeshOptions {
 
 /// The sector options `flank mesh` uses for `scene` with these overrides.
 pub fn sector_options(scene: &Scene, o: &BodyMeshOptions) -> Result<SectorOptions, FlankError> {
-    let mn = scene.pair.pinion.normal_module;
+    let cyl = scene.cylindrical("the spur/helical compliance")?;
+    let mn = cyl.pair.pinion.normal_module;
     let flank_size = o.flank_size.or(scene.mesh.flank_size).unwrap_or(mn / 8.0);
     let base_size = o.base_size.or(scene.mesh.base_size).unwrap_or(mn / 2.0);
     if !(flank_size > 0.0 && base_size >= flank_size) {
@@ -243,10 +247,11 @@ pub fn scene_body(
     name: &str,
     options: &BodyMeshOptions,
 ) -> Result<BodyModel, FlankError> {
-    let report = crate::geometry::pair::check_pair(&scene.pair)?;
+    let cyl = scene.cylindrical("the spur/helical compliance")?;
+    let report = crate::geometry::pair::check_pair(&cyl.pair)?;
     let (spec, material, index) = match name {
-        "pinion" => (&scene.pair.pinion, &scene.pinion_material, 0),
-        "gear" => (&scene.pair.gear, &scene.gear_material, 1),
+        "pinion" => (&cyl.pair.pinion, &scene.pinion_material, 0),
+        "gear" => (&cyl.pair.gear, &scene.gear_material, 1),
         other => {
             return Err(FlankError::Model(format!(
                 "unknown body '{other}' (pinion or gear)"
@@ -256,12 +261,12 @@ pub fn scene_body(
     let sector = sector_options(scene, options)?;
     // the scene's gear behind the gear-pair interface, with its flank
     // modification (applied to the flank nodes, as in `flank mesh`)
-    let [m1, m2] = scene.flank_modifications()?;
+    let [m1, m2] = cyl.flank_modifications()?;
     let modification = if index == 0 { m1 } else { m2 };
     let gear = CylindricalGear::new(spec, name, sector.teeth, modification)?;
     // the deck's nominal load of `flank mesh`: T/r_b1 at the working pitch
     // radius r_b/cos α_wt (ISO 6336-1 single-pair normal force)
-    let force = scene.load.torque_nmm / base_radius(&scene.pair.pinion);
+    let force = scene.load.torque_nmm / base_radius(&cyl.pair.pinion);
     let cos_aw = report.working_pressure_angle_rad.cos();
     let load = (options.with_load && force > 0.0).then_some((force, base_radius(spec) / cos_aw));
     body_model(&gear, material, &sector, Mesher::Native, load)
@@ -297,6 +302,7 @@ pub fn active_margin_mm(flank_size: f64) -> f64 {
 /// (u = u_form − t there, as in [`crate::mesh::gear_sector`]); at most down
 /// to the root circle (u_form − 1, the whole fillet).
 pub fn active_flank_cut(scene: &Scene, name: &str, margin_mm: f64) -> Result<f64, FlankError> {
+    let cyl = scene.cylindrical("the spur/helical compliance")?;
     use crate::geometry::gear_pair::Flank as Side;
     use crate::geometry::rack::ToothProfile;
     use crate::mesh::gear_sector::flank_segment;
@@ -305,10 +311,10 @@ pub fn active_flank_cut(scene: &Scene, name: &str, margin_mm: f64) -> Result<f64
             "active flank margin {margin_mm} mm: a finite value ≥ 0 is needed"
         )));
     }
-    let report = crate::geometry::pair::check_pair(&scene.pair)?;
+    let report = crate::geometry::pair::check_pair(&cyl.pair)?;
     let (spec, sap) = match name {
-        "pinion" => (&scene.pair.pinion, report.pinion.active_start_radius),
-        "gear" => (&scene.pair.gear, report.gear.active_start_radius),
+        "pinion" => (&cyl.pair.pinion, report.pinion.active_start_radius),
+        "gear" => (&cyl.pair.gear, report.gear.active_start_radius),
         other => {
             return Err(FlankError::Model(format!(
                 "unknown body '{other}' (pinion or gear)"
@@ -480,11 +486,7 @@ mod tests {
             "{}/papers/seed003-hypoid/scene.toml",
             env!("CARGO_MANIFEST_DIR")
         );
-        let crate::scene::AnyScene::Bevel(s) =
-            crate::scene::read_any_scene(std::path::Path::new(&path)).unwrap()
-        else {
-            panic!("not a bevel scene")
-        };
+        let s = crate::scene::read_scene(std::path::Path::new(&path)).unwrap();
         let faces = |element| {
             let o = BodyMeshOptions {
                 flank_size: Some(2.0),
@@ -554,12 +556,8 @@ mod tests {
             "{}/papers/seed003-hypoid/scene.toml",
             env!("CARGO_MANIFEST_DIR")
         );
-        let crate::scene::AnyScene::Bevel(s) =
-            crate::scene::read_any_scene(std::path::Path::new(&path)).unwrap()
-        else {
-            panic!("not a bevel scene")
-        };
-        let m = s.blank.cones.m_mn;
+        let s = crate::scene::read_scene(std::path::Path::new(&path)).unwrap();
+        let m = s.bevel("this test").unwrap().blank.cones.m_mn;
         let d = compliance_sizes(&s, &BodyMeshOptions::default());
         assert_eq!(d.flank_size, Some(COMPLIANCE_FLANK_MODULES * m));
         assert_eq!(d.base_size, Some(4.0 * COMPLIANCE_FLANK_MODULES * m));

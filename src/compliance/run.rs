@@ -20,7 +20,7 @@ use crate::compliance::{
 };
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
-use crate::scene::{read_any_scene, AnyScene, BevelScene, ComplianceAnalysis, Scene};
+use crate::scene::{read_scene, ComplianceAnalysis, Gears, Scene};
 use crate::settings::{FlankRegion, FlankSelection, Method};
 use crate::tca::major_axis::{major_axis_points, AxisPoint};
 use crate::tca::point_contact::{point_tca, PointTcaSettings};
@@ -54,17 +54,17 @@ pub struct RunOptions {
 /// now (a bevel/hypoid body's flank parameter u runs across the pitch
 /// generatrix, and its active boundary is a curve in (u, v)).
 pub fn region_cut(
-    scene: &AnyScene,
+    scene: &Scene,
     name: &str,
     region: FlankRegion,
     mesh: &BodyMeshOptions,
 ) -> Result<Option<f64>, FlankError> {
-    match (region, scene) {
-        (FlankRegion::Full, _) => Ok(None),
-        (_, AnyScene::Cylindrical(s)) => cylindrical_region_cut(s, name, region, mesh),
-        (FlankRegion::Active, AnyScene::Bevel(_)) => Err(FlankError::Model(
+    match region {
+        FlankRegion::Full => Ok(None),
+        FlankRegion::Active if scene.is_bevel() => Err(FlankError::Model(
             "flank region `active` is implemented for spur/helical pairs only; a bevel/hypoid body takes `full`".into(),
         )),
+        FlankRegion::Active => cylindrical_region_cut(scene, name, region, mesh),
     }
 }
 
@@ -471,11 +471,8 @@ pub fn body_tensor(
 /// `summary.json` into `options.out`; returns the summary.
 pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value, FlankError> {
     let t_all = Instant::now();
-    let scene = read_any_scene(path)?;
-    let (analyses, teeth) = match &scene {
-        AnyScene::Cylindrical(s) => (&s.analyses, s.mesh.teeth_in_sector as usize),
-        AnyScene::Bevel(s) => (&s.analyses, s.mesh.teeth_in_sector as usize),
-    };
+    let scene = read_scene(path)?;
+    let (analyses, teeth) = (&scene.analyses, scene.mesh.teeth_in_sector as usize);
     let analysis: ComplianceAnalysis = analyses.compliance.clone().unwrap_or_default();
     let method = options.method.unwrap_or(analysis.method);
     let flanks = options.flanks.unwrap_or(analysis.flanks);
@@ -496,16 +493,13 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
     if region == FlankRegion::Active {
         region_cut(&scene, "pinion", region, &options.mesh)?;
     }
-    match &scene {
-        AnyScene::Cylindrical(s) => {
-            sector_options(s, &options.mesh)?;
-        }
-        AnyScene::Bevel(s) => {
-            bevel_sector_options(
-                s,
-                &crate::compliance::body::compliance_sizes(s, &options.mesh),
-            )?;
-        }
+    if scene.is_bevel() {
+        bevel_sector_options(
+            &scene,
+            &crate::compliance::body::compliance_sizes(&scene, &options.mesh),
+        )?;
+    } else {
+        sector_options(&scene, &options.mesh)?;
     }
     let format = options.format.unwrap_or_else(FileFormat::default_format);
     let out = &options.out;
@@ -517,18 +511,15 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
     // where each body's tensors are probed: a spur/helical body along the
     // contact line through the working pitch point, a bevel/hypoid body
     // along the major axis of the middle pair's contact at roll 0
-    let u_pitch = match &scene {
-        AnyScene::Cylindrical(s) => Some(
-            crate::geometry::pair::check_pair(&s.pair)?
+    let u_pitch = match &scene.gears {
+        Gears::Cylindrical(c) => Some(
+            crate::geometry::pair::check_pair(&c.pair)?
                 .working_pressure_angle_rad
                 .tan(),
         ),
-        AnyScene::Bevel(_) => None,
+        Gears::Bevel(_) => None,
     };
-    let axis = match &scene {
-        AnyScene::Bevel(s) => Some(mean_contact_axis(s)),
-        AnyScene::Cylindrical(_) => None,
-    };
+    let axis = scene.is_bevel().then(|| mean_contact_axis(&scene));
     let bodies: Vec<String> = if options.bodies.is_empty() {
         vec!["pinion".into(), "gear".into()]
     } else {
@@ -629,13 +620,16 @@ pub const MEAN_CONTACT_POINTS: usize = 11;
 /// with the default approach δ, flank contact only, curvature ellipse):
 /// the roll angle, the ellipse's semi-major axis and its major-axis points
 /// on [pinion, gear]; or why there is none.
-pub fn mean_contact_axis(scene: &BevelScene) -> Result<(f64, [Vec<AxisPoint>; 2]), String> {
+pub fn mean_contact_axis(scene: &Scene) -> Result<(f64, [Vec<AxisPoint>; 2]), String> {
+    let bevel = scene
+        .bevel("the bevel/hypoid compliance")
+        .map_err(|e| e.to_string())?;
     let settings = PointTcaSettings {
         edges: false,
         search_directions: 0,
         ..Default::default()
     };
-    let tca = point_tca(scene.pair.as_ref(), &settings).map_err(|e| e.to_string())?;
+    let tca = point_tca(bevel.pair.as_ref(), &settings).map_err(|e| e.to_string())?;
     let at_zero = tca
         .positions
         .iter()
@@ -650,7 +644,7 @@ pub fn mean_contact_axis(scene: &BevelScene) -> Result<(f64, [Vec<AxisPoint>; 2]
         .ellipse
         .and_then(|e| e.semi_major_mm)
         .ok_or("the middle pair's contact at roll 0 has no finite contact ellipse")?;
-    let points = major_axis_points(scene.pair.as_ref(), c, MEAN_CONTACT_POINTS)
+    let points = major_axis_points(bevel.pair.as_ref(), c, MEAN_CONTACT_POINTS)
         .map_err(|e| e.to_string())?;
     Ok((a, points))
 }

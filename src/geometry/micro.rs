@@ -467,11 +467,19 @@ pub(crate) mod test_gears {
     /// ("seed002-spur", "seed004-helical").
     pub fn gear(scene: &str, which: usize) -> (ToothProfile, f64) {
         let s = crate::scene::read_scene(&papers().join(scene).join("scene.toml")).unwrap();
-        let r = check_pair(&s.pair).unwrap();
+        let r = check_pair(&s.cylindrical("this test").unwrap().pair).unwrap();
         let (spec, rep, name) = if which == 0 {
-            (&s.pair.pinion, &r.pinion, "pinion")
+            (
+                &s.cylindrical("this test").unwrap().pair.pinion,
+                &r.pinion,
+                "pinion",
+            )
         } else {
-            (&s.pair.gear, &r.gear, "gear")
+            (
+                &s.cylindrical("this test").unwrap().pair.gear,
+                &r.gear,
+                "gear",
+            )
         };
         let tp = ToothProfile::new(spec, name).unwrap();
         let u = roll_angle_at_radius(tp.geometry.base_radius, rep.active_start_radius).unwrap();
@@ -832,7 +840,11 @@ mod tests {
             "material = \"15NiMoCr10\"\n[pinion.micro]\ntip_relief_um = 10.0\ntip_relief_length_mm = 1.0\nlead_crowning_um = 4.0\n\n[gear]",
         );
         let s = crate::scene::parse_scene(&text, &path).unwrap();
-        let [p, g] = s.flank_modifications().unwrap();
+        let [p, g] = s
+            .cylindrical("this test")
+            .unwrap()
+            .flank_modifications()
+            .unwrap();
         assert!(g.is_none());
         let p = p.unwrap();
         let (tp, _) = gear("seed002-spur", 0);

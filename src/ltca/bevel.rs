@@ -55,7 +55,7 @@ use crate::ltca::edges::{edge_line, EdgeLine};
 use crate::ltca::local::contact_modulus;
 use crate::ltca::model::{LtcaBodies, PositionResult};
 use crate::ltca::solve_settings::{LtcaFriction, LtcaSettings};
-use crate::scene::BevelScene;
+use crate::scene::Scene;
 use crate::settings::EdgeVariants;
 use crate::tca::major_axis::major_axis_line;
 use crate::tca::point_contact::{point_tca, PointTca, PointTcaSettings, ARCSEC_PER_RAD};
@@ -136,7 +136,7 @@ pub struct BevelLtca {
 impl BevelLtcaOptions {
     /// Checks the options against the scene before anything is computed
     /// or written.
-    pub fn validate(&self, scene: &BevelScene) -> Result<(), FlankError> {
+    pub fn validate(&self, scene: &Scene) -> Result<(), FlankError> {
         let torque = scene.load.torque_nmm;
         if !(torque > 0.0 && torque.is_finite()) {
             return Err(FlankError::Model(format!(
@@ -178,7 +178,7 @@ impl BevelLtcaOptions {
     }
 
     /// The checked friction settings (`None` for μ = 0).
-    fn friction(&self, scene: &BevelScene) -> Result<Option<LtcaFriction>, FlankError> {
+    fn friction(&self, scene: &Scene) -> Result<Option<LtcaFriction>, FlankError> {
         LtcaFriction::checked(
             self.friction_mu,
             self.increments,
@@ -191,7 +191,8 @@ impl BevelLtcaOptions {
 }
 
 impl BevelLtca {
-    pub fn new(scene: &BevelScene, options: &BevelLtcaOptions) -> Result<Self, FlankError> {
+    pub fn new(scene: &Scene, options: &BevelLtcaOptions) -> Result<Self, FlankError> {
+        let bevel = scene.bevel("the bevel/hypoid LTCA")?;
         options.validate(scene)?;
         let torque = scene.load.torque_nmm;
         let t = Instant::now();
@@ -209,7 +210,7 @@ impl BevelLtca {
         let compliance_s = t.elapsed().as_secs_f64();
         let edges = options.edges != EdgeVariants::Without;
         let (tca, tca_s) = trace(
-            scene.pair.as_ref(),
+            bevel.pair.as_ref(),
             options.positions,
             edges,
             scene.load.speed_rpm,
@@ -236,7 +237,7 @@ impl BevelLtca {
         let bodies = LtcaBodies {
             tensors: [pinion, gear],
             grids,
-            pair: Arc::clone(&scene.pair) as Arc<dyn PairPlacement>,
+            pair: Arc::clone(&bevel.pair) as Arc<dyn PairPlacement>,
             nominal_moment_arm_mm: arm,
             te_radius_mm: arm,
             contact_modulus: contact_modulus(
@@ -245,7 +246,7 @@ impl BevelLtca {
             ),
         };
         Ok(BevelLtca {
-            pair: Arc::clone(&scene.pair),
+            pair: Arc::clone(&bevel.pair),
             tca,
             bodies,
             options,
@@ -533,7 +534,7 @@ impl BevelLtca {
 /// of the module docs, for each variant of [`BevelLtcaOptions::edges`];
 /// returns the summary.
 pub fn run_bevel(
-    scene: &BevelScene,
+    scene: &Scene,
     options: &BevelLtcaOptions,
 ) -> Result<serde_json::Value, FlankError> {
     let t_total = Instant::now();
@@ -588,7 +589,7 @@ fn write_summary(out: &std::path::Path, summary: &serde_json::Value) -> Result<(
 
 /// One variant's cycle: its CSVs in `out`, its summary returned.
 fn run_variant(
-    scene: &BevelScene,
+    scene: &Scene,
     ltca: &BevelLtca,
     out: &std::path::Path,
 ) -> Result<serde_json::Value, FlankError> {
@@ -1004,7 +1005,7 @@ fn trace(
 
 /// A sector body that cannot be meshed: the error, with what clears a toe
 /// slot whose fillets meet (seed 000's upright pinion).
-fn mesh_hint(scene: &BevelScene, e: FlankError) -> FlankError {
+fn mesh_hint(scene: &Scene, e: FlankError) -> FlankError {
     let m = match &e {
         FlankError::Model(m) if m.contains("no gap land") => m.clone(),
         _ => return e,

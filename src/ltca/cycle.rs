@@ -140,8 +140,9 @@ pub struct LtcaCycle {
 impl LtcaCycle {
     /// Tensors (from `out`, the cache, or computed) and the TCA of `scene`.
     pub fn new(scene: &Scene, options: &LtcaOptions) -> Result<Self, FlankError> {
+        let cyl = scene.cylindrical("the spur/helical LTCA")?;
         let a = scene.analyses.ltca.clone().unwrap_or_default();
-        let mn = scene.pair.pinion.normal_module;
+        let mn = cyl.pair.pinion.normal_module;
         let mesh = BodyMeshOptions {
             flank_size: options
                 .mesh

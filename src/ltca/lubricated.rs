@@ -156,6 +156,7 @@ pub fn lubricated_cycle(
     angles: &[f64],
     out: &Path,
 ) -> Result<LubricatedLtca, FlankError> {
+    let cyl = scene.cylindrical("the spur/helical LTCA")?;
     let t0 = Instant::now();
     let settings = &ls.settings;
     let lub = scene
@@ -180,8 +181,8 @@ pub fn lubricated_cycle(
         )));
     }
     let np = cycle.pair.sector_teeth();
-    let kin = MeshKinematics::new(&scene.pair, np)?;
-    let crowning = [0, 1].map(|i| scene.micro[i].as_ref().map_or(0.0, |m| m.lead_crowning));
+    let kin = MeshKinematics::new(&cyl.pair, np)?;
+    let crowning = [0, 1].map(|i| cyl.micro[i].as_ref().map_or(0.0, |m| m.lead_crowning));
     let e_prime = reduced_modulus(
         [scene.pinion_material.young, scene.gear_material.young],
         [scene.pinion_material.poisson, scene.gear_material.poisson],

@@ -280,7 +280,11 @@ mod tests {
             std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("papers/seed002-spur/scene.toml");
         let scene = crate::scene::read_scene(&path).unwrap();
         let pair = scene.gear_pair().unwrap();
-        let kin = MeshKinematics::new(&scene.pair, scene.mesh.teeth_in_sector as usize).unwrap();
+        let kin = MeshKinematics::new(
+            &scene.cylindrical("this test").unwrap().pair,
+            scene.mesh.teeth_in_sector as usize,
+        )
+        .unwrap();
         let tca = Tca::new(pair.clone(), 11758.0, TcaSettings::default()).unwrap();
         let mut checked = 0;
         for roll_deg in [-9.0, -2.5, 0.0, 4.0, 11.0] {
@@ -324,7 +328,7 @@ mod tests {
         let path =
             std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("papers/seed002-spur/scene.toml");
         let scene = crate::scene::read_scene(&path).unwrap();
-        let kin = MeshKinematics::new(&scene.pair, 3).unwrap();
+        let kin = MeshKinematics::new(&scene.cylindrical("this test").unwrap().pair, 3).unwrap();
         // the pitch point C: ρ_t1 = r_b1 tan α_wt
         let c = kin.base_radius[0] * kin.working_pressure_angle.tan();
         let ic = involute_contact(&kin, c - kin.path_start, 11758.0, [0.0; 2]).unwrap();

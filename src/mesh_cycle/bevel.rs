@@ -32,7 +32,7 @@ use crate::mesh::bevel_sector::BevelSectorOptions;
 use crate::mesh_cycle::checkpoint::{self, Checkpoint, Position};
 use crate::mesh_cycle::pair_model::{combine, set_automatic_penalty, PairBody, PairModel};
 use crate::report::fe_pattern::{plot_fe_pattern, PatternNode};
-use crate::scene::BevelScene;
+use crate::scene::Scene;
 use crate::settings::{ContactLaw, SlaveBody};
 use crate::tca::point_contact::{projection, ARCSEC_PER_RAD};
 
@@ -161,35 +161,33 @@ pub struct BevelCycle {
 
 impl BevelCycle {
     /// Meshes both members, builds the pair model and factorizes it.
-    pub fn new(scene: &BevelScene, options: &BevelRunOptions) -> Result<Self, FlankError> {
+    pub fn new(scene: &Scene, options: &BevelRunOptions) -> Result<Self, FlankError> {
         let model = Self::pair_model(scene, options)?;
         Self::factorize(scene, model, options)
     }
 
     /// Both members meshed and combined into the pair model (the law of
     /// `options`), not yet factorized.
-    pub fn pair_model(
-        scene: &BevelScene,
-        options: &BevelRunOptions,
-    ) -> Result<PairModel, FlankError> {
+    pub fn pair_model(scene: &Scene, options: &BevelRunOptions) -> Result<PairModel, FlankError> {
+        let bevel = scene.bevel("the bevel/hypoid FE mesh cycle")?;
         crate::mesh_cycle::bevel_checks::check_torque(scene)?;
         let torque = scene.load.torque_nmm;
         let pinion = bevel_body_model(
-            &scene.bodies[0],
+            &bevel.bodies[0],
             "pinion",
             &scene.pinion_material,
             &options.mesh.member(true),
             None,
         )?;
         let gear = bevel_body_model(
-            &scene.bodies[1],
+            &bevel.bodies[1],
             "gear",
             &scene.gear_material,
             &options.mesh.member(false),
             None,
         )?;
         let mut model = combine(
-            scene.pair.as_ref(),
+            bevel.pair.as_ref(),
             [
                 PairBody::of("pinion", &pinion.model, &pinion.sector.flank_uv),
                 PairBody::of("gear", &gear.model, &gear.sector.flank_uv),
@@ -235,10 +233,11 @@ impl BevelCycle {
 
     /// Factorizes the pair model of [`Self::pair_model`].
     pub fn factorize(
-        scene: &BevelScene,
+        scene: &Scene,
         model: PairModel,
         options: &BevelRunOptions,
     ) -> Result<Self, FlankError> {
+        let bevel = scene.bevel("the bevel/hypoid FE mesh cycle")?;
         let torque = scene.load.torque_nmm;
         let system = ElasticSystem::new(
             &model.model,
@@ -260,7 +259,7 @@ impl BevelCycle {
             .map(|v| v.iter().copied().collect())
             .unwrap_or_default();
         Ok(BevelCycle {
-            pair: scene.pair.clone(),
+            pair: bevel.pair.clone(),
             model,
             system,
             contact: Self::contact_options(options),
@@ -494,15 +493,16 @@ pub const DEFAULT_POSITIONS: usize = 20;
 /// writes `positions.csv` (per position and tooth pair) and
 /// `summary.json` into `out` and returns the summary.
 pub fn run_bevel(
-    scene: &BevelScene,
+    scene: &Scene,
     options: &BevelRunOptions,
     roll_angles_deg: Option<Vec<f64>>,
     out: &std::path::Path,
 ) -> Result<serde_json::Value, FlankError> {
+    let bevel = scene.bevel("the bevel/hypoid FE mesh cycle")?;
     use crate::mesh_cycle::bevel_checks as checks;
     use std::io::Write;
     checks::check_torque(scene)?;
-    let pitch = scene.pair.tooth_roll_step().abs().to_degrees();
+    let pitch = bevel.pair.tooth_roll_step().abs().to_degrees();
     // the functional contact ratio needs the default cycle (positions
     // spread evenly over one pitch)
     let default_cycle = roll_angles_deg.is_none();
@@ -519,7 +519,7 @@ pub fn run_bevel(
     let t_check = Instant::now();
     // meshing first: a member that cannot be meshed is the more basic error
     let model = BevelCycle::pair_model(scene, options)?;
-    if options.mesh.shank.is_some() && scene.mesh.teeth_in_sector < scene.blank_inputs.z1 {
+    if options.mesh.shank.is_some() && scene.mesh.teeth_in_sector < bevel.blank_inputs.z1 {
         run_warnings.push(crate::mesh::bevel_sector::SHANK_SECTOR_WARNING.to_string());
     }
     if checks::check_sector(scene, &rolls)?.is_none() {
@@ -530,7 +530,7 @@ pub fn run_bevel(
     }
     let unloaded = checks::exact_depths(
         &model,
-        scene.pair.as_ref(),
+        bevel.pair.as_ref(),
         &rolls,
         &BevelCycle::contact_options(options).pairing,
     )?;
@@ -691,7 +691,7 @@ pub fn run_bevel(
         "factorization_gflop_per_s": cycle.system.stats.flops / cycle.system.stats.factorization_s.max(1e-9) / 1e9,
         "input_checks_s": checks_s,
         "largest_exact_unloaded_interpenetration_mm": unloaded.iter().map(|u| u.exact_depth_mm).fold(0.0, f64::max),
-        "gross_interpenetration_limit_mm": checks::GROSS_INTERPENETRATION_MODULE * scene.blank.cones.m_mn,
+        "gross_interpenetration_limit_mm": checks::GROSS_INTERPENETRATION_MODULE * bevel.blank.cones.m_mn,
         "warnings": run_warnings,
         "time_per_position_s": steps.iter().map(|s| s.time_s).sum::<f64>() / steps.len().max(1) as f64,
         "peak_memory_mb": crate::fem::static_analysis::peak_memory_mb(),
@@ -729,7 +729,7 @@ pub fn run_bevel(
 mod tests {
     use super::*;
     use crate::geometry::gear_pair::Flank;
-    use crate::scene::{read_any_scene, AnyScene};
+    use crate::scene::read_scene;
 
     /// Seed 003, coarse, roll 0: the contact forces balance the torque
     /// about the pinion axis (moment balance at round-off), the active set
@@ -745,9 +745,7 @@ mod tests {
             "{}/papers/seed003-hypoid/scene.toml",
             env!("CARGO_MANIFEST_DIR")
         );
-        let AnyScene::Bevel(s) = read_any_scene(std::path::Path::new(&path)).unwrap() else {
-            panic!("not a bevel scene")
-        };
+        let s = read_scene(std::path::Path::new(&path)).unwrap();
         let cycle = BevelCycle::new(
             &s,
             &BevelRunOptions {

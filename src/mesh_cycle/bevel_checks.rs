@@ -44,7 +44,7 @@ use crate::contact::placement::Placement;
 use crate::error::FlankError;
 use crate::geometry::gear_pair::{Flank, PairPlacement};
 use crate::mesh_cycle::pair_model::PairModel;
-use crate::scene::BevelScene;
+use crate::scene::Scene;
 use crate::tca::point_contact::{point_tca, PointTcaSettings};
 
 /// Gross unloaded interpenetration, in mean normal modules (module docs).
@@ -57,12 +57,13 @@ const EXACT_CANDIDATES: usize = 8;
 /// `load.torque_nm` must load the pairs: a zero torque leaves every pair
 /// unloaded and the pinion's rotation undetermined (a negative one is
 /// refused when the scene is read).
-pub fn check_torque(scene: &BevelScene) -> Result<(), FlankError> {
+pub fn check_torque(scene: &Scene) -> Result<(), FlankError> {
+    let bevel = scene.bevel("the bevel/hypoid FE mesh cycle")?;
     let t = scene.load.torque_nmm;
     if !(t > 0.0 && t.is_finite()) {
         return Err(FlankError::Model(format!(
             "{}: `load.torque_nm` = {}: FE contact needs a positive pinion torque; with none every tooth pair is unloaded and the pinion's rotation is not determined",
-            scene.at(scene.lines.torque),
+            scene.at(bevel.lines.torque),
             t / 1000.0
         )));
     }
@@ -76,8 +77,9 @@ pub fn check_torque(scene: &BevelScene) -> Result<(), FlankError> {
 /// naming `mesh.teeth_in_sector` and the count needed. Returns the
 /// smallest sufficient sector, or `None` when the TCA does not run (a
 /// warning is then the caller's).
-pub fn check_sector(scene: &BevelScene, rolls_deg: &[f64]) -> Result<Option<usize>, FlankError> {
-    let pair = scene.pair.as_ref();
+pub fn check_sector(scene: &Scene, rolls_deg: &[f64]) -> Result<Option<usize>, FlankError> {
+    let bevel = scene.bevel("the bevel/hypoid FE mesh cycle")?;
+    let pair = bevel.pair.as_ref();
     let settings = PointTcaSettings {
         search_directions: 0,
         ..Default::default()
@@ -108,14 +110,14 @@ pub fn check_sector(scene: &BevelScene, rolls_deg: &[f64]) -> Result<Option<usiz
         needed.last().copied().unwrap_or(0),
     );
     // the smallest sector whose middle tooth ⌈n/2⌉ has the needed pairs on both sides
-    let z1 = scene.blank_inputs.z1 as usize;
+    let z1 = bevel.blank_inputs.z1 as usize;
     let enough = (1..=z1).find(|&n| {
         let km = n.div_ceil(2) as i64;
         km > -lo && n as i64 - km >= hi
     });
     if let Some((roll, offset)) = missing {
         let n = pair.sector_teeth();
-        let key = match scene.lines.teeth_in_sector {
+        let key = match bevel.lines.teeth_in_sector {
             Some(l) => format!("{} `mesh.teeth_in_sector` = {n}", scene.at(l)),
             None => format!(
                 "`mesh.teeth_in_sector` (default {n}, in [mesh] of {})",
@@ -210,11 +212,12 @@ pub fn exact_depths(
 /// Gross interpenetration (module docs) is an error naming the pinion's
 /// cut, the deepest pair and position, and both depths.
 pub fn check_interpenetration(
-    scene: &BevelScene,
+    scene: &Scene,
     model: &PairModel,
     found: &[UnloadedPair],
 ) -> Result<(), FlankError> {
-    let limit = GROSS_INTERPENETRATION_MODULE * scene.blank.cones.m_mn;
+    let bevel = scene.bevel("the bevel/hypoid FE mesh cycle")?;
+    let limit = GROSS_INTERPENETRATION_MODULE * bevel.blank.cones.m_mn;
     let Some(w) = found
         .iter()
         .filter(|w| w.exact_depth_mm > limit)
@@ -225,7 +228,7 @@ pub fn check_interpenetration(
     let (kp, kg) = model.teeth[w.pair];
     Err(FlankError::Model(format!(
         "{} [pinion]: the unloaded bodies interpenetrate: at roll {:.3}° pinion tooth {kp} lies {:.4} mm inside gear tooth {kg} (exact surfaces; FE gap {:.4} mm), more than {GROSS_INTERPENETRATION_MODULE} m_mn = {limit:.4} mm (an unloaded TE cannot explain it: the flanks cross and another pair stops the gear): the pinion's cut does not mesh with the gear; change its machine settings ([pinion.machine]), or cut it conjugate with an ease-off (`pinion.process` = \"conjugate\", [pinion.ease_off]) or synthesised (\"synthesised\", [pinion.synthesis]); `flank tca` reports the crossing",
-        scene.at(scene.lines.pinion),
+        scene.at(bevel.lines.pinion),
         w.roll_deg,
         w.exact_depth_mm,
         w.fe_gap_there_mm,
@@ -238,27 +241,27 @@ mod tests {
     use crate::mesh::bevel_body::bevel_body_model;
     use crate::mesh::bevel_sector::BevelSectorOptions;
     use crate::mesh_cycle::pair_model::{combine, PairBody};
-    use crate::scene::{read_any_scene, AnyScene};
+    use crate::scene::read_scene;
     use crate::settings::SlaveBody;
 
-    fn scene(rel: &str) -> BevelScene {
+    fn scene(rel: &str) -> Scene {
         let path = format!("{}/papers/{rel}", env!("CARGO_MANIFEST_DIR"));
-        let AnyScene::Bevel(s) = read_any_scene(std::path::Path::new(&path)).unwrap() else {
-            panic!("not a bevel scene")
-        };
+        let s = read_scene(std::path::Path::new(&path)).unwrap();
         s
     }
 
-    fn model(s: &BevelScene, flank: f64) -> PairModel {
+    fn model(s: &Scene, flank: f64) -> PairModel {
+        let bevel = s.bevel("this test").unwrap();
         let opts = BevelSectorOptions {
             flank_size: flank,
             base_size: 4.0 * flank,
             ..Default::default()
         };
-        let p = bevel_body_model(&s.bodies[0], "pinion", &s.pinion_material, &opts, None).unwrap();
-        let g = bevel_body_model(&s.bodies[1], "gear", &s.gear_material, &opts, None).unwrap();
+        let p =
+            bevel_body_model(&bevel.bodies[0], "pinion", &s.pinion_material, &opts, None).unwrap();
+        let g = bevel_body_model(&bevel.bodies[1], "gear", &s.gear_material, &opts, None).unwrap();
         combine(
-            s.pair.as_ref(),
+            bevel.pair.as_ref(),
             [
                 PairBody::of("pinion", &p.model, &p.sector.flank_uv),
                 PairBody::of("gear", &g.model, &g.sector.flank_uv),
@@ -289,14 +292,27 @@ mod tests {
             ("seed001-hypoid/scene.toml", false),
         ] {
             let s = scene(rel);
-            let limit = GROSS_INTERPENETRATION_MODULE * s.blank.cones.m_mn;
-            let pitch = s.pair.tooth_roll_step().abs().to_degrees();
+            let limit =
+                GROSS_INTERPENETRATION_MODULE * s.bevel("this test").unwrap().blank.cones.m_mn;
+            let pitch = s
+                .bevel("this test")
+                .unwrap()
+                .pair
+                .tooth_roll_step()
+                .abs()
+                .to_degrees();
             let rolls: Vec<f64> = (0..20)
                 .map(|i| -0.5 * pitch + pitch * i as f64 / 20.0)
                 .collect();
             for flank in [2.0, 1.0] {
                 let m = model(&s, flank);
-                let found = exact_depths(&m, s.pair.as_ref(), &rolls, &pairing).unwrap();
+                let found = exact_depths(
+                    &m,
+                    s.bevel("this test").unwrap().pair.as_ref(),
+                    &rolls,
+                    &pairing,
+                )
+                .unwrap();
                 let deepest = found
                     .iter()
                     .max_by(|a, b| a.exact_depth_mm.total_cmp(&b.exact_depth_mm))
@@ -337,7 +353,13 @@ mod tests {
     #[test]
     fn a_one_tooth_sector_is_refused() {
         let s = scene("seed003-hypoid/scene_eased.toml");
-        let pitch = s.pair.tooth_roll_step().abs().to_degrees();
+        let pitch = s
+            .bevel("this test")
+            .unwrap()
+            .pair
+            .tooth_roll_step()
+            .abs()
+            .to_degrees();
         let rolls: Vec<f64> = (0..20)
             .map(|i| -0.5 * pitch + pitch * i as f64 / 20.0)
             .collect();
@@ -347,11 +369,7 @@ mod tests {
             env!("CARGO_MANIFEST_DIR")
         );
         let text = std::fs::read_to_string(&path).unwrap() + "\n[mesh]\nteeth_in_sector = 1\n";
-        let AnyScene::Bevel(one) =
-            crate::scene::parse_any_scene(&text, std::path::Path::new("one.toml")).unwrap()
-        else {
-            panic!()
-        };
+        let one = crate::scene::parse_scene(&text, std::path::Path::new("one.toml")).unwrap();
         let e = check_sector(&one, &rolls).unwrap_err().to_string();
         println!("{e}");
         assert!(

@@ -136,13 +136,14 @@ pub struct BandPosition {
 /// The kinematic flank contacts of `pair` at `roll_deg` and their Hertz
 /// half-width under the nominal single-pair load (module docs).
 pub fn band_contacts(scene: &Scene, roll_deg: f64) -> Result<Vec<BandContact>, FlankError> {
+    let cyl = scene.cylindrical("the contact-band study")?;
     let gp = scene.gear_pair()?;
     let rb = [
-        crate::geometry::involute::base_radius(&scene.pair.pinion),
-        crate::geometry::involute::base_radius(&scene.pair.gear),
+        crate::geometry::involute::base_radius(&cyl.pair.pinion),
+        crate::geometry::involute::base_radius(&cyl.pair.gear),
     ];
     let e_star = e_star(scene);
-    let w = scene.load.torque_nmm / gp.nominal_moment_arm() / scene.pair.pinion.face_width;
+    let w = scene.load.torque_nmm / gp.nominal_moment_arm() / cyl.pair.pinion.face_width;
     let mut out = Vec::new();
     for line in gp.contact_lines(roll_deg.to_radians(), 0.0) {
         if line.kind != LineKind::Flank {
@@ -181,6 +182,7 @@ pub fn run_contact_band(
     roll_deg: &[f64],
     options: &BandOptions,
 ) -> Result<Vec<BandPosition>, FlankError> {
+    let cyl = scene.cylindrical("the contact-band study")?;
     if let Some(s) = options.size_mm {
         if !(s > 0.0 && s.is_finite()) {
             return Err(FlankError::Model(format!(
@@ -194,12 +196,12 @@ pub fn run_contact_band(
             options.half_width_b
         )));
     }
-    if scene.pair.pinion.helix_angle != 0.0 {
+    if cyl.pair.pinion.helix_angle != 0.0 {
         return Err(FlankError::Model(
             "contact bands: spur pairs only (the band follows the transverse involute; a helical contact line crosses the profile)".into(),
         ));
     }
-    if scene.flank_modifications()?.iter().any(Option::is_some) {
+    if cyl.flank_modifications()?.iter().any(Option::is_some) {
         return Err(FlankError::Model(
             "contact bands: the scene's flank modifications are not applied to banded meshes yet"
                 .into(),
@@ -213,6 +215,7 @@ pub fn run_contact_band(
 }
 
 fn position(scene: &Scene, roll: f64, options: &BandOptions) -> Result<BandPosition, FlankError> {
+    let cyl = scene.cylindrical("the contact-band study")?;
     let t0 = Instant::now();
     let contacts = band_contacts(scene, roll)?;
     let mut bands: [Vec<ProfileBand>; 2] = [Vec::new(), Vec::new()];
@@ -238,8 +241,8 @@ fn position(scene: &Scene, roll: f64, options: &BandOptions) -> Result<BandPosit
     let mut models = Vec::new();
     let (mut min_j, mut max_a) = (f64::INFINITY, 0.0f64);
     for (b, (name, spec, material)) in [
-        ("pinion", &scene.pair.pinion, &scene.pinion_material),
-        ("gear", &scene.pair.gear, &scene.gear_material),
+        ("pinion", &cyl.pair.pinion, &scene.pinion_material),
+        ("gear", &cyl.pair.gear, &scene.gear_material),
     ]
     .into_iter()
     .enumerate()
@@ -291,7 +294,7 @@ fn position(scene: &Scene, roll: f64, options: &BandOptions) -> Result<BandPosit
     let solve_s = t1.elapsed().as_secs_f64();
     let step = &solved.step;
     let model = &cycle.pair.model;
-    let face = scene.pair.pinion.face_width;
+    let face = cyl.pair.pinion.face_width;
     let e_star = e_star(scene);
     let mut pairs = Vec::new();
     for (p, &(k, _)) in cycle.pair.teeth.iter().enumerate() {

@@ -74,6 +74,7 @@ pub fn lubricated_cycle(
     dry: Vec<StepResult>,
     out: &Path,
 ) -> Result<LubricatedCycle, FlankError> {
+    let cyl = scene.cylindrical("the spur/helical FE mesh cycle")?;
     let lub = scene.lubricant.as_ref().ok_or_else(|| {
         FlankError::Model("the lubricated mesh cycle needs a [lubricant] table".into())
     })?;
@@ -83,8 +84,8 @@ pub fn lubricated_cycle(
             cycle.settings.friction_mu, settings.initial_mu
         )));
     }
-    let kin = MeshKinematics::new(&scene.pair, cycle.pair.teeth.len())?;
-    let crowning = [0, 1].map(|i| scene.micro[i].as_ref().map_or(0.0, |m| m.lead_crowning));
+    let kin = MeshKinematics::new(&cyl.pair, cycle.pair.teeth.len())?;
+    let crowning = [0, 1].map(|i| cyl.micro[i].as_ref().map_or(0.0, |m| m.lead_crowning));
     let e_prime = reduced_modulus(
         [scene.pinion_material.young, scene.gear_material.young],
         [scene.pinion_material.poisson, scene.gear_material.poisson],

@@ -44,56 +44,58 @@
 //! the `[blank]` header when the key is absent).
 
 use std::collections::BTreeMap;
-use std::path::PathBuf;
 use std::sync::Arc;
 
 use serde::Deserialize;
 use toml::Spanned;
 
-use super::analyses::{self, Analyses, RawAnalyses};
+use super::analyses::{self, RawAnalyses};
 use super::bevel_cutting::{
     self, CutterTilt, Process, RawCutter, RawEaseOff, RawMachine, RawMemberCutting, RawSynthesis,
 };
-use super::load::{self, Load, RawLoad};
+use super::load::{self, RawLoad};
 use super::location::{Cx, Res};
 use super::materials::{self, RawMaterial};
-use super::mesh::{self, MeshOptions, RawMesh};
+use super::mesh::{self, RawMesh};
+use super::{Gears, PairKind, Scene};
 use crate::error::FlankError;
-use crate::fem::material::Material;
 use crate::geometry::bevel::body::BevelGear;
 use crate::geometry::bevel::cutting::{self, MachineCut, PinionCut};
 use crate::geometry::bevel::pair::BevelPair;
 use crate::geometry::bevel::{blank_design, BlankDesign, BlankInputs};
 use crate::geometry::Hand;
 
-/// Kind of a bevel pair.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, Deserialize)]
+/// `[pair] kind` of a bevel pair as read (the scene's [`PairKind`] once
+/// read).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "snake_case")]
-pub enum BevelKind {
+pub(super) enum BevelKind {
     /// Intersecting axes (ISO 23509 method 0).
     SpiralBevel,
     /// Offset axes (methods 1–3).
     Hypoid,
 }
 
-/// A parsed and validated bevel/hypoid scene (internal units), with both
+impl From<BevelKind> for PairKind {
+    fn from(k: BevelKind) -> Self {
+        match k {
+            BevelKind::SpiralBevel => PairKind::SpiralBevel,
+            BevelKind::Hypoid => PairKind::Hypoid,
+        }
+    }
+}
+
+/// The gears of a spiral bevel or hypoid pair (internal units), with both
 /// members cut (their flanks are built when the scene is read, so settings
 /// that do not cut the blank are refused at load, at their key).
 #[derive(Clone, Debug)]
-pub struct BevelScene {
-    pub kind: BevelKind,
+pub struct BevelGears {
     pub pinion_hand: Hand,
     /// The `[blank]` input set as read, and its design.
     pub blank_inputs: BlankInputs,
     pub blank: BlankDesign,
     /// Bore diameters of `[pinion, gear]` (mm).
     pub bore_diameter: [f64; 2],
-    pub pinion_material: Material,
-    pub gear_material: Material,
-    pub load: Load,
-    pub analyses: Analyses,
-    pub mesh: MeshOptions,
-    pub source: PathBuf,
     /// How the gear and the pinion are cut.
     pub gear_cut: MachineCut,
     pub pinion_cut: PinionCut,
@@ -188,7 +190,7 @@ fn pinion_shank(
     Ok(Some(crate::mesh::bevel_sector::Shank { length, diameter }))
 }
 
-/// 1-based lines in [`BevelScene::source`] of the tables and keys that
+/// 1-based lines in [`Scene::source`] of the tables and keys that
 /// checks made after the scene is read (FE contact, meshing) point at.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct BevelKeyLines {
@@ -201,13 +203,6 @@ pub struct BevelKeyLines {
     pub teeth_in_sector: Option<usize>,
     pub flank_size: Option<usize>,
     pub base_size: Option<usize>,
-}
-
-impl BevelScene {
-    /// `file:line` of a line of the scene.
-    pub fn at(&self, line: usize) -> String {
-        format!("{}:{line}", self.source.display())
-    }
 }
 
 #[derive(Deserialize)]
@@ -298,7 +293,7 @@ fn blank_error(
     cx.err(span, format!("[blank]: {message}"))
 }
 
-pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<BevelScene> {
+pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<Scene> {
     let kind = *raw.pair.kind.get_ref();
     // JSON has no NaN or infinity (they would become null): refuse them here, at their key
     for (k, v) in raw.blank.get_ref() {
@@ -442,18 +437,11 @@ pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<BevelScene> {
     let pair = cutting::assembly_for(&inputs, &blank, gear_hand)
         .and_then(|assembly| BevelPair::new(bodies.clone(), assembly))
         .map_err(|e| cx.err(raw.pair.pinion_hand.span(), format!("`[pair]`: {e}")))?;
-    Ok(BevelScene {
-        kind,
+    let gears = BevelGears {
         pinion_hand,
         blank_inputs: inputs,
         blank,
         bore_diameter,
-        pinion_material,
-        gear_material,
-        load,
-        analyses,
-        mesh,
-        source: cx.file.to_path_buf(),
         gear_cut,
         pinion_cut,
         bodies,
@@ -462,6 +450,18 @@ pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<BevelScene> {
         cutting_report: [pinion_flanks.report, gear_flanks.report],
         lines,
         pinion_shank,
+    };
+    Ok(Scene {
+        kind: kind.into(),
+        gears: Gears::Bevel(Box::new(gears)),
+        pinion_material,
+        gear_material,
+        load,
+        analyses,
+        mesh,
+        lubricant: None,
+        source: cx.file.to_path_buf(),
+        kind_line: cx.line(raw.pair.kind.span().start),
     })
 }
 
@@ -493,8 +493,8 @@ fn spur_only_ltca_key(l: &analyses::LtcaAnalysis) -> Option<&'static str> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::test_support::{expect_any_err, line_of};
-    use crate::scene::{parse_any_scene, parse_scene, AnyScene};
+    use crate::scene::test_support::{expect_err, line_of};
+    use crate::scene::{parse_scene, BevelGears};
     use std::path::Path;
 
     const SCENE: &str = r#"[pair]
@@ -538,16 +538,22 @@ torque_nm = 117.07
 speed_rpm = 1000.0
 "#;
 
-    fn parse(text: &str) -> Result<AnyScene, FlankError> {
-        parse_any_scene(text, Path::new("s.toml"))
+    fn parse(text: &str) -> Result<Scene, FlankError> {
+        parse_scene(text, Path::new("s.toml"))
+    }
+
+    fn bevel(text: &str) -> BevelGears {
+        *match parse(text).unwrap().gears {
+            Gears::Bevel(b) => b,
+            Gears::Cylindrical(_) => panic!("not a bevel scene"),
+        }
     }
 
     #[test]
     fn a_hypoid_scene_reads_and_runs_its_blank_design() {
-        let AnyScene::Bevel(s) = parse(SCENE).unwrap() else {
-            panic!("not a bevel scene")
-        };
-        assert_eq!(s.kind, BevelKind::Hypoid);
+        let scene = parse(SCENE).unwrap();
+        assert_eq!(scene.kind, PairKind::Hypoid);
+        let s = scene.bevel("this test").unwrap();
         assert_eq!(s.pinion_hand, Hand::Left);
         assert_eq!(s.blank.method, 3);
         assert_eq!(s.blank_inputs.z2, 41);
@@ -555,8 +561,9 @@ speed_rpm = 1000.0
         let c = &s.blank.cones;
         assert!((2.0 * c.re2 * c.delta2.sin() - 213.2).abs() < 1e-9);
         assert_eq!(s.bore_diameter, [20.0, 130.0]);
-        // The cylindrical reader refuses it at its kind.
-        let e = parse_scene(SCENE, Path::new("s.toml"))
+        // An analysis of spur/helical pairs only refuses it at its kind.
+        let e = scene
+            .cylindrical("the contact-band study")
             .unwrap_err()
             .to_string();
         assert!(
@@ -569,27 +576,27 @@ speed_rpm = 1000.0
     fn bad_bevel_scenes_point_at_the_key() {
         let edit = |from: &str, to: &str| SCENE.replacen(from, to, 1);
         let t = edit("z1 = 12", "z1 = 0");
-        expect_any_err(&t, line_of(&t, "z1 = 0"), &["z1", "positive"]);
+        expect_err(&t, line_of(&t, "z1 = 0"), &["z1", "positive"]);
         let t = edit("x_smn = 0.0\n", "");
-        expect_any_err(&t, line_of(&t, "[blank]"), &["x_smn", "missing"]);
+        expect_err(&t, line_of(&t, "[blank]"), &["x_smn", "missing"]);
         let t = edit("z0 = 5", "z0 = 5\nfoo = 1");
-        expect_any_err(&t, line_of(&t, "foo = 1"), &["foo"]);
+        expect_err(&t, line_of(&t, "foo = 1"), &["foo"]);
         let t = edit("kind = \"hypoid\"", "kind = \"spiral_bevel\"");
-        expect_any_err(&t, 2, &["pair.kind", "blank.method"]);
+        expect_err(&t, 2, &["pair.kind", "blank.method"]);
         let t = edit("bore_diameter_mm = 130.0", "bore_diameter_mm = 190.0");
-        expect_any_err(
+        expect_err(
             &t,
             line_of(&t, "190.0"),
             &["gear.bore_diameter_mm", "root cone"],
         );
         let t = edit("pinion_hand = \"left\"", "pinion_hand = \"up\"");
-        expect_any_err(&t, 3, &["pinion_hand"]);
+        expect_err(&t, 3, &["pinion_hand"]);
         let t = edit("material = \"steel\"", "material = \"brass\"");
-        expect_any_err(&t, line_of(&t, "\"brass\""), &["materials.brass"]);
+        expect_err(&t, line_of(&t, "\"brass\""), &["materials.brass"]);
         // nan/inf became JSON null ("invalid type: null" at [blank]): now at the key
         for bad in ["nan", "inf", "-inf"] {
             let t = edit("a_mm = 30.0", &format!("a_mm = {bad}"));
-            expect_any_err(&t, line_of(&t, "a_mm ="), &["blank.a_mm", "finite"]);
+            expect_err(&t, line_of(&t, "a_mm ="), &["blank.a_mm", "finite"]);
         }
     }
 
@@ -600,10 +607,6 @@ speed_rpm = 1000.0
     /// at are the scene's.
     #[test]
     fn pinion_shank_keys_default_and_range() {
-        let bevel = |t: &str| match parse(t).unwrap() {
-            AnyScene::Bevel(s) => s,
-            _ => panic!("not a bevel scene"),
-        };
         let s = bevel(SCENE);
         assert_eq!(s.pinion_shank, None);
         assert_eq!(s.lines.pinion, line_of(SCENE, "[pinion]"));
@@ -645,12 +648,12 @@ speed_rpm = 1000.0
             ),
         ] {
             let t = edit(pin, &format!("bore_diameter_mm = 20.0\n{bad}"));
-            expect_any_err(&t, line_of(&t, bad), words);
+            expect_err(&t, line_of(&t, bad), words);
         }
         let t = edit(
             "bore_diameter_mm = 130.0",
             "bore_diameter_mm = 130.0\nshank_length_mm = 50.0",
         );
-        expect_any_err(&t, line_of(&t, "shank_length_mm"), &["[gear]", "pinion's"]);
+        expect_err(&t, line_of(&t, "shank_length_mm"), &["[gear]", "pinion's"]);
     }
 }

@@ -661,8 +661,8 @@ mod tests {
     use crate::geometry::bevel::body::angle_from_y;
     use crate::geometry::bevel::generated_surface::FlankMeasure;
     use crate::geometry::gear_pair::{Flank, GearBody};
-    use crate::scene::test_support::{expect_any_err, line_of};
-    use crate::scene::{parse_any_scene, AnyScene, BevelScene};
+    use crate::scene::test_support::{expect_err, line_of};
+    use crate::scene::{parse_scene, BevelGears, Gears};
     use std::path::Path;
 
     /// Seed 003's scene (method 1, face milling).
@@ -672,10 +672,10 @@ mod tests {
     const HOBBED: &str = include_str!("../../papers/seed000-hypoid/scene.toml");
     const TILTED: &str = include_str!("../../papers/seed000-hypoid/scene_tilted.toml");
 
-    fn parse(text: &str) -> Result<BevelScene, FlankError> {
-        match parse_any_scene(text, Path::new("s.toml"))? {
-            AnyScene::Bevel(s) => Ok(s),
-            AnyScene::Cylindrical(_) => panic!("not a bevel scene"),
+    fn parse(text: &str) -> Result<BevelGears, FlankError> {
+        match parse_scene(text, Path::new("s.toml"))?.gears {
+            Gears::Bevel(s) => Ok(*s),
+            Gears::Cylindrical(_) => panic!("not a bevel scene"),
         }
     }
 
@@ -827,26 +827,26 @@ mod tests {
     fn bad_cutting_keys_point_at_the_key() {
         // the Cyclo-Palloid tilt: pinion only, face hobbing only, generated
         let t = TILTED.replace("[gear]\n", "[gear]\ncutter_tilt = \"from_blank\"\n");
-        expect_any_err(
+        expect_err(
             &t,
             line_of(&t, "[gear]") + 1,
             &["gear.cutter_tilt", "pinion only"],
         );
         let t = MILLED.replace("[pinion]\n", "[pinion]\ncutter_tilt = \"from_blank\"\n");
-        expect_any_err(
+        expect_err(
             &t,
             line_of(&t, "cutter_tilt"),
             &["pinion.cutter_tilt", "face-hobbed", "method 1"],
         );
         let key = "cutter_tilt = \"from_blank\"  #";
         let t = TILTED.replace("[pinion]\n", "[pinion]\nprocess = \"formate\"\n");
-        expect_any_err(&t, line_of(&t, key), &["pinion.cutter_tilt", "generated"]);
+        expect_err(&t, line_of(&t, key), &["pinion.cutter_tilt", "generated"]);
         let t = TILTED.replace("[pinion]\n", "[pinion]\nprocess = \"conjugate\"\n");
-        expect_any_err(&t, line_of(&t, key), &["pinion.cutter_tilt", "machine"]);
+        expect_err(&t, line_of(&t, key), &["pinion.cutter_tilt", "machine"]);
         let t = TILTED.replace("[gear]\n", "[gear]\nprocess = \"formate\"\n");
-        expect_any_err(&t, line_of(&t, key), &["pinion.cutter_tilt", "formate"]);
+        expect_err(&t, line_of(&t, key), &["pinion.cutter_tilt", "formate"]);
         let t = TILTED.replace(key, "cutter_tilt = \"sideways\"  #");
-        expect_any_err(&t, line_of(&t, "\"sideways\""), &["sideways"]);
+        expect_err(&t, line_of(&t, "\"sideways\""), &["sideways"]);
         let with = |base: &str, section: &str, extra: &str| {
             let t = base.replacen(section, &format!("{section}\n{extra}"), 1);
             assert_ne!(t, base);
@@ -855,14 +855,14 @@ mod tests {
         let gear = "[gear]\nbore_diameter_mm = 140.0\nmaterial = \"steel\"";
         // a cutter too small for the face width
         let t = with(MILLED, gear, "\n[gear.cutter]\nradius_mm = 5.0");
-        expect_any_err(
+        expect_err(
             &t,
             line_of(&t, "radius_mm = 5.0"),
             &["gear", "radius", "face width"],
         );
         // blade groups on a face-milled blank
         let t = with(MILLED, gear, "\n[gear.cutter]\nblade_groups = 5");
-        expect_any_err(
+        expect_err(
             &t,
             line_of(&t, "blade_groups = 5"),
             &["gear.cutter.blade_groups", "face hobbing"],
@@ -870,7 +870,7 @@ mod tests {
         // an ease-off on a machined pinion
         let pinion = "[pinion]\nbore_diameter_mm = 20.0\nmaterial = \"steel\"";
         let t = with(MILLED, pinion, "\n[pinion.ease_off]\nbias_um = 5.0");
-        expect_any_err(
+        expect_err(
             &t,
             line_of(&t, "[pinion.ease_off]"),
             &["pinion.ease_off", "conjugate"],
@@ -881,25 +881,25 @@ mod tests {
             pinion,
             "process = \"conjugate\"\n\n[pinion.cutter]\nradius_mm = 100.0",
         );
-        expect_any_err(
+        expect_err(
             &t,
             line_of(&t, "[pinion.cutter]"),
             &["pinion.cutter", "conjugate"],
         );
         // a conjugate gear
         let t = with(MILLED, gear, "process = \"conjugate\"");
-        expect_any_err(
+        expect_err(
             &t,
             line_of(&t, "process = \"conjugate\""),
             &["gear.process", "machine"],
         );
         // an unknown process
         let t = with(MILLED, gear, "process = \"lapped\"");
-        expect_any_err(&t, line_of(&t, "process = \"lapped\""), &["process"]);
+        expect_err(&t, line_of(&t, "process = \"lapped\""), &["process"]);
         // explicit settings without the blades
         let machine = "\n[gear.machine]\nradial_distance_mm = 180.0\ncradle_angle_deg = 30.0\nmachine_root_angle_deg = 69.0\nsliding_base_mm = 0.0\nblank_offset_mm = 0.0\nmachine_center_to_back_mm = 0.0\nratio_of_roll = 0.96";
         let t = with(MILLED, gear, machine);
-        expect_any_err(
+        expect_err(
             &t,
             line_of(&t, "[gear.machine]"),
             &["gear.cutter.inside_point_radius_mm", "missing"],
@@ -907,14 +907,14 @@ mod tests {
         // explicit settings on a face-hobbed blank
         let hob_gear = "[gear]\nbore_diameter_mm = 130.0\nmaterial = \"steel\"";
         let t = with(HOBBED, hob_gear, machine);
-        expect_any_err(
+        expect_err(
             &t,
             line_of(&t, "[gear.machine]"),
             &["gear.machine", "face hobbing"],
         );
         // a negative radial distance
         let t = with(MILLED, gear, &machine.replace("= 180.0", "= -180.0"));
-        expect_any_err(
+        expect_err(
             &t,
             line_of(&t, "-180.0"),
             &["gear.machine.radial_distance_mm"],

@@ -10,7 +10,7 @@ use toml::Spanned;
 
 use super::involute::{base_diameter, root_diameter, tip_diameter, tip_thickness};
 use super::location::{Cx, Res};
-use super::pair::{GearSpans, PairKind};
+use super::pair::{CylindricalKind, GearSpans};
 use crate::geometry::micro::{MicroGeometry, Relief, ReliefShape};
 use crate::geometry::{GearSpec, Hand, RackProfile};
 
@@ -84,7 +84,12 @@ impl RawMicro {
     }
 }
 
-pub(super) fn gear(cx: &Cx, g: &RawGear, name: &str, kind: PairKind) -> Res<(GearSpec, GearSpans)> {
+pub(super) fn gear(
+    cx: &Cx,
+    g: &RawGear,
+    name: &str,
+    kind: CylindricalKind,
+) -> Res<(GearSpec, GearSpans)> {
     let key = |k: &str| format!("{name}.{k}");
 
     let z = *g.teeth.get_ref();
@@ -113,8 +118,8 @@ pub(super) fn gear(cx: &Cx, g: &RawGear, name: &str, kind: PairKind) -> Res<(Gea
     }
 
     let (beta_deg, helix_span) = match (&g.helix_angle_deg, kind) {
-        (None, PairKind::Spur) => (0.0, g.teeth.span()),
-        (Some(b), PairKind::Spur) => {
+        (None, CylindricalKind::Spur) => (0.0, g.teeth.span()),
+        (Some(b), CylindricalKind::Spur) => {
             let beta = cx.finite(b, &key("helix_angle_deg"))?;
             if beta != 0.0 {
                 return Err(cx.err(
@@ -127,13 +132,13 @@ pub(super) fn gear(cx: &Cx, g: &RawGear, name: &str, kind: PairKind) -> Res<(Gea
             }
             (0.0, b.span())
         }
-        (None, PairKind::Helical) => {
+        (None, CylindricalKind::Helical) => {
             return Err(cx.err(
                 g.teeth.span(),
                 format!("[{name}]: missing field `helix_angle_deg` (required for a helical pair)"),
             ))
         }
-        (Some(b), PairKind::Helical) => {
+        (Some(b), CylindricalKind::Helical) => {
             let beta = cx.finite(b, &key("helix_angle_deg"))?;
             if !(beta > 0.0 && beta < 45.0) {
                 return Err(cx.err(
@@ -149,20 +154,20 @@ pub(super) fn gear(cx: &Cx, g: &RawGear, name: &str, kind: PairKind) -> Res<(Gea
     };
 
     let hand = match (&g.hand, kind) {
-        (None, PairKind::Spur) => Hand::Right,
-        (Some(h), PairKind::Spur) => {
+        (None, CylindricalKind::Spur) => Hand::Right,
+        (Some(h), CylindricalKind::Spur) => {
             return Err(cx.err(
                 h.span(),
                 format!("`{}`: a spur gear has no hand (helical only)", key("hand")),
             ))
         }
-        (None, PairKind::Helical) => {
+        (None, CylindricalKind::Helical) => {
             return Err(cx.err(
                 g.teeth.span(),
                 format!("[{name}]: missing field `hand` (\"left\" or \"right\", required for a helical pair)"),
             ))
         }
-        (Some(h), PairKind::Helical) => *h.get_ref(),
+        (Some(h), CylindricalKind::Helical) => *h.get_ref(),
     };
 
     let b = cx.positive(&g.face_width_mm, &key("face_width_mm"))?;
@@ -526,7 +531,9 @@ mod tests {
             "end_relief_length_mm = 2.0\nmeasured_profile_csv = \"cmm/pinion.csv\"\n",
         );
         let s = parse_scene(&t, &dir.join("scene.toml")).unwrap();
-        let m = s.micro[0].as_ref().unwrap();
+        let m = s.cylindrical("this test").unwrap().micro[0]
+            .as_ref()
+            .unwrap();
         assert_eq!(
             m.measured_profile.as_deref(),
             Some(dir.join("cmm/pinion.csv").as_path())

@@ -109,35 +109,89 @@ use pair::RawPair;
 pub use analyses::{
     Analyses, ComplianceAnalysis, ContactAnalysis, LtcaAnalysis, LubricationAnalysis, MeshAnalysis,
 };
-pub use bevel::{BevelKind, BevelScene};
+pub use bevel::{BevelGears, BevelKeyLines};
 pub use load::Load;
 pub use mesh::{ElementKind, MeshOptions};
-pub use pair::PairKind;
 
 /// Flank modifications: defined in [`crate::geometry::micro`], re-exported here
 /// because a scene is where they are read.
 pub use crate::geometry::micro::{MicroGeometry, Relief, ReliefShape};
 
-/// A parsed and validated scene, in internal units.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+/// A parsed and validated scene, in internal units: the pair, whose kind
+/// is data ([`PairKind`], with the kind's own gear data in [`Gears`]), the
+/// materials, the load, the analyses asked for and the meshing options.
+/// Every analysis reads one of these, whatever the pair kind.
+#[derive(Clone, Debug)]
 pub struct Scene {
     pub kind: PairKind,
-    /// For spur pairs the helix angles are 0 and the hands `Right` (meaningless).
-    pub pair: PairSpec,
+    /// The gears of the pair: what only one pair kind has.
+    pub gears: Gears,
     pub pinion_material: Material,
     pub gear_material: Material,
     pub load: Load,
-    /// Flank modifications of `[pinion, gear]`.
-    pub micro: [Option<MicroGeometry>; 2],
     pub analyses: Analyses,
     pub mesh: MeshOptions,
-    /// `[lubricant]`: oil and solid thermal data (internal units), if given.
+    /// `[lubricant]`: oil and solid thermal data (internal units), if given
+    /// (spur and helical pairs: the bevel reader refuses the table).
     pub lubricant: Option<crate::lubrication::Lubricant>,
     /// The scene file (as given); relative paths inside it are resolved against its folder.
     pub source: PathBuf,
+    /// 1-based line of `pair.kind` (where a kind an analysis does not
+    /// handle is reported).
+    pub kind_line: usize,
 }
 
-impl Scene {
+/// Kind of a gear pair (`[pair] kind`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PairKind {
+    /// Parallel axes, straight teeth.
+    Spur,
+    /// Parallel axes, helical teeth.
+    Helical,
+    /// Intersecting axes (ISO 23509 method 0).
+    SpiralBevel,
+    /// Offset axes (ISO 23509 methods 1–3).
+    Hypoid,
+}
+
+impl PairKind {
+    /// The name as in the scene file.
+    pub fn name(self) -> &'static str {
+        match self {
+            PairKind::Spur => "spur",
+            PairKind::Helical => "helical",
+            PairKind::SpiralBevel => "spiral_bevel",
+            PairKind::Hypoid => "hypoid",
+        }
+    }
+
+    /// Spiral bevel or hypoid.
+    pub fn is_bevel(self) -> bool {
+        matches!(self, PairKind::SpiralBevel | PairKind::Hypoid)
+    }
+}
+
+/// The gears of a pair, by pair kind.
+#[derive(Clone, Debug)]
+#[allow(clippy::large_enum_variant)]
+pub enum Gears {
+    /// Spur or helical: ISO 21771 gear data and flank modifications.
+    Cylindrical(CylindricalGears),
+    /// Spiral bevel or hypoid: the ISO 23509 blank and both members cut.
+    Bevel(Box<BevelGears>),
+}
+
+/// The gears of a spur or helical pair.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct CylindricalGears {
+    /// For spur pairs the helix angles are 0 and the hands `Right` (meaningless).
+    pub pair: PairSpec,
+    /// Flank modifications of `[pinion, gear]`.
+    pub micro: [Option<MicroGeometry>; 2],
+}
+
+impl CylindricalGears {
     /// The flank modifications of `[pinion, gear]`, bound to their gears
     /// ([`FlankModification::new`]): tooth profiles, the start of active
     /// profile from [`crate::geometry::pair::check_pair`] and the face widths.
@@ -155,7 +209,7 @@ impl Scene {
     }
 
     /// The flank modification of member `i` (0 = pinion, 1 = gear) bound to
-    /// its gear (see [`Scene::flank_modifications`]).
+    /// its gear (see [`CylindricalGears::flank_modifications`]).
     fn flank_modification(&self, i: usize) -> Result<Option<FlankModification>, FlankError> {
         let Some(micro) = &self.micro[i] else {
             return Ok(None);
@@ -174,14 +228,79 @@ impl Scene {
         let u_sap = roll_angle_at_radius(profile.geometry.base_radius, sap)?;
         FlankModification::new(micro, &profile, u_sap, spec.face_width).map(Some)
     }
+}
+
+impl Scene {
+    /// The spur/helical gears, or the error that `what` (an analysis or
+    /// option, e.g. "the contact-band study") handles spur and helical
+    /// pairs only, at the scene's `pair.kind` line.
+    pub fn cylindrical(&self, what: &str) -> Result<&CylindricalGears, FlankError> {
+        match &self.gears {
+            Gears::Cylindrical(c) => Ok(c),
+            Gears::Bevel(_) => Err(self.kind_error(what, "spur and helical")),
+        }
+    }
+
+    /// [`Scene::cylindrical`], to edit (a study that varies the gears of a
+    /// scene it has read).
+    pub fn cylindrical_mut(&mut self, what: &str) -> Result<&mut CylindricalGears, FlankError> {
+        if self.is_bevel() {
+            return Err(self.kind_error(what, "spur and helical"));
+        }
+        match &mut self.gears {
+            Gears::Cylindrical(c) => Ok(c),
+            Gears::Bevel(_) => unreachable!("checked above"),
+        }
+    }
+
+    /// The bevel/hypoid gears, or the error that `what` handles spiral
+    /// bevel and hypoid pairs only, at the scene's `pair.kind` line.
+    pub fn bevel(&self, what: &str) -> Result<&BevelGears, FlankError> {
+        match &self.gears {
+            Gears::Bevel(b) => Ok(b),
+            Gears::Cylindrical(_) => Err(self.kind_error(what, "spiral bevel and hypoid")),
+        }
+    }
+
+    /// The pair's (mean) normal module m_n (mm): the gears' normal module
+    /// of a cylindrical pair, ISO 23509's mean normal module m_mn of a
+    /// bevel pair. The scale of the meshing defaults.
+    pub fn normal_module(&self) -> f64 {
+        match &self.gears {
+            Gears::Cylindrical(c) => c.pair.pinion.normal_module,
+            Gears::Bevel(b) => b.blank.cones.m_mn,
+        }
+    }
+
+    /// Whether the pair is a spiral bevel or hypoid pair.
+    pub fn is_bevel(&self) -> bool {
+        matches!(self.gears, Gears::Bevel(_))
+    }
+
+    fn kind_error(&self, what: &str, kinds: &str) -> FlankError {
+        FlankError::Parse {
+            file: self.source.clone(),
+            line: self.kind_line,
+            message: format!(
+                "`pair.kind` = \"{}\": {what} handles {kinds} pairs only",
+                self.kind.name()
+            ),
+        }
+    }
+
+    /// `file:line` of a line of the scene.
+    pub fn at(&self, line: usize) -> String {
+        format!("{}:{line}", self.source.display())
+    }
 
     /// The scene's spur/helical pair behind the gear-pair interface, as
     /// sectors of `[mesh] teeth_in_sector` teeth with the flank
     /// modifications, aligned.
     pub fn cylindrical_pair(&self) -> Result<CylindricalPair, FlankError> {
+        let c = self.cylindrical("the cylindrical gear-pair model")?;
         CylindricalPair::new(
-            &self.pair,
-            self.flank_modifications()?,
+            &c.pair,
+            c.flank_modifications()?,
             self.mesh.teeth_in_sector as usize,
         )
     }
@@ -205,55 +324,23 @@ impl Scene {
     }
 }
 
-/// Reads and validates a scene file.
+/// Reads and validates a scene file of any pair kind.
 pub fn read_scene(path: &Path) -> Result<Scene, FlankError> {
     let text = crate::text_file::read_utf8(path)?;
     parse_scene(&text, path)
 }
 
-/// Parses and validates scene text; `path` names the file in errors and
-/// anchors relative paths (measured profiles). Spur and helical pairs only:
-/// a bevel/hypoid scene is an error at its `kind` (read it with
-/// [`parse_any_scene`]).
+/// Parses and validates scene text of any pair kind (`[pair] kind`); `path`
+/// names the file in errors and anchors relative paths (measured
+/// profiles).
 pub fn parse_scene(text: &str, path: &Path) -> Result<Scene, FlankError> {
-    let cx = Cx { text, file: path };
-    if let Some(kind) = bevel_kind(&cx)? {
-        return Err(cx.err(
-            kind.span(),
-            format!(
-                "`pair.kind` = \"{}\": this command handles spur and helical pairs only so far (bevel and hypoid scenes are read by `flank check`, `flank grid`, `flank tca`, `flank mesh` and `flank run`)",
-                kind.get_ref()
-            ),
-        ));
-    }
-    let raw: RawScene = toml::from_str(text).map_err(|e| cx.toml_error(&e))?;
-    build(&cx, raw)
-}
-
-/// A scene of any pair type.
-#[derive(Clone, Debug)]
-#[allow(clippy::large_enum_variant)]
-pub enum AnyScene {
-    /// Spur or helical.
-    Cylindrical(Scene),
-    /// Spiral bevel or hypoid.
-    Bevel(BevelScene),
-}
-
-/// Reads and validates a scene file of any pair type.
-pub fn read_any_scene(path: &Path) -> Result<AnyScene, FlankError> {
-    let text = crate::text_file::read_utf8(path)?;
-    parse_any_scene(&text, path)
-}
-
-/// Parses and validates scene text of any pair type (`[pair] kind`).
-pub fn parse_any_scene(text: &str, path: &Path) -> Result<AnyScene, FlankError> {
     let cx = Cx { text, file: path };
     if bevel_kind(&cx)?.is_some() {
         let raw: bevel::RawBevelScene = toml::from_str(text).map_err(|e| cx.toml_error(&e))?;
-        return Ok(AnyScene::Bevel(bevel::build(&cx, raw)?));
+        return bevel::build(&cx, raw);
     }
-    parse_scene(text, path).map(AnyScene::Cylindrical)
+    let raw: RawScene = toml::from_str(text).map_err(|e| cx.toml_error(&e))?;
+    build(&cx, raw)
 }
 
 /// `[pair] kind` if it names a bevel pair.
@@ -349,18 +436,7 @@ fn build(cx: &Cx, raw: RawScene) -> Res<Scene> {
     let min_module = pair.pinion.normal_module.min(pair.gear.normal_module);
     let mesh = mesh::mesh_options(cx, raw.mesh.as_ref(), min_teeth, min_module)?;
 
-    let scene = Scene {
-        kind,
-        pair,
-        pinion_material,
-        gear_material,
-        load,
-        micro,
-        analyses,
-        mesh,
-        lubricant,
-        source: cx.file.to_path_buf(),
-    };
+    let gears = CylindricalGears { pair, micro };
     // bind the modifications to their gears now (a relief longer than the
     // active profile, a measured profile that does not fit): the error names
     // the `[<gear>.micro]` table instead of surfacing later without a line
@@ -369,12 +445,24 @@ fn build(cx: &Cx, raw: RawScene) -> Res<Scene> {
         (1, "gear", &raw.gear.micro),
     ] {
         if let Some(m) = raw_micro {
-            scene.flank_modification(i).map_err(|e| match e {
+            gears.flank_modification(i).map_err(|e| match e {
                 FlankError::Model(msg) => cx.err(m.first_span(), format!("`{name}.micro`: {msg}")),
                 e => e,
             })?;
         }
     }
+    let scene = Scene {
+        kind: kind.into(),
+        gears: Gears::Cylindrical(gears),
+        pinion_material,
+        gear_material,
+        load,
+        analyses,
+        mesh,
+        lubricant,
+        source: cx.file.to_path_buf(),
+        kind_line: cx.line(raw.pair.kind.span().start),
+    };
     Ok(scene)
 }
 
@@ -410,8 +498,8 @@ mod tests {
     fn spur_scene_in_internal_units() {
         let s = parse(SPUR).unwrap();
         assert_eq!(s.kind, PairKind::Spur);
-        let p = &s.pair.pinion;
-        let g = &s.pair.gear;
+        let p = &s.cylindrical("this test").unwrap().pair.pinion;
+        let g = &s.cylindrical("this test").unwrap().pair.gear;
         assert_eq!((p.teeth, g.teeth), (13, 35));
         assert!(close(p.normal_module, 3.8));
         assert!(close(p.normal_pressure_angle, 20f64.to_radians()));
@@ -424,7 +512,10 @@ mod tests {
         assert_eq!(p.tip_diameter, Some(58.7));
         assert_eq!(g.tip_diameter, Some(135.5));
         assert!(close(p.bore_diameter, 20.0));
-        assert!(close(s.pair.centre_distance, 90.0));
+        assert!(close(
+            s.cylindrical("this test").unwrap().pair.centre_distance,
+            90.0
+        ));
         assert_eq!(
             s.pinion_material,
             Material::new("steel", 206000.0, 0.3).unwrap()
@@ -434,7 +525,9 @@ mod tests {
         assert!(close(s.load.torque_nmm, 312_000.0));
         assert!(close(s.load.speed_rpm, 11758.0));
         // µm → mm
-        let m = s.micro[0].as_ref().unwrap();
+        let m = s.cylindrical("this test").unwrap().micro[0]
+            .as_ref()
+            .unwrap();
         let tip = m.tip_relief.unwrap();
         assert!(close(tip.amount, 0.010));
         assert!(close(tip.length, 1.0));
@@ -446,7 +539,7 @@ mod tests {
         let end = m.end_relief.unwrap();
         assert!(close(end.amount, 0.020));
         assert_eq!(end.shape, ReliefShape::Linear);
-        assert!(s.micro[1].is_none());
+        assert!(s.cylindrical("this test").unwrap().micro[1].is_none());
         assert_eq!(s.analyses.mesh, Some(MeshAnalysis {}));
         assert_eq!(
             s.mesh,
@@ -467,8 +560,8 @@ mod tests {
     fn helical_scene_in_internal_units() {
         let s = parse(HELICAL).unwrap();
         assert_eq!(s.kind, PairKind::Helical);
-        let p = &s.pair.pinion;
-        let g = &s.pair.gear;
+        let p = &s.cylindrical("this test").unwrap().pair.pinion;
+        let g = &s.cylindrical("this test").unwrap().pair.gear;
         assert!(close(p.normal_module, 15.0)); // integer in the file
         assert!(close(p.helix_angle, 20f64.to_radians()));
         assert!(close(g.helix_angle, 20f64.to_radians()));
@@ -479,7 +572,7 @@ mod tests {
         assert_eq!(s.pinion_material.name, "a");
         assert_eq!(s.gear_material, Material::new("b", 210000.0, 0.29).unwrap());
         assert!(close(s.load.torque_nmm, 5.0e6));
-        assert_eq!(s.micro, [None, None]);
+        assert_eq!(s.cylindrical("this test").unwrap().micro, [None, None]);
         assert_eq!(s.analyses, Analyses::default());
         assert_eq!(s.mesh, MeshOptions::default());
         // reference centre distance: (21 + 37) 15 / (2 cos 20°) = 462.9173 mm
@@ -557,31 +650,51 @@ mod tests {
         let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("papers");
         let s2 = read_scene(&root.join("seed002-spur/scene.toml")).unwrap();
         assert_eq!(s2.kind, PairKind::Spur);
-        assert_eq!((s2.pair.pinion.teeth, s2.pair.gear.teeth), (13, 35));
-        assert!(close(s2.pair.centre_distance, 90.0));
+        assert_eq!(
+            (
+                s2.cylindrical("this test").unwrap().pair.pinion.teeth,
+                s2.cylindrical("this test").unwrap().pair.gear.teeth
+            ),
+            (13, 35)
+        );
+        assert!(close(
+            s2.cylindrical("this test").unwrap().pair.centre_distance,
+            90.0
+        ));
         assert!(close(s2.load.torque_nmm, 312_000.0));
         assert!(close(s2.pinion_material.young, 206_000.0));
-        let eps2 = transverse_contact_ratio(&s2.pair);
+        let eps2 = transverse_contact_ratio(&s2.cylindrical("this test").unwrap().pair);
         assert!((1.45..=1.51).contains(&eps2), "seed 002 eps_alpha {eps2}");
         assert!((eps2 - 1.4844).abs() < 1e-4, "README value {eps2}");
 
         let s4 = read_scene(&root.join("seed004-helical/scene.toml")).unwrap();
         assert_eq!(s4.kind, PairKind::Helical);
-        assert_eq!((s4.pair.pinion.teeth, s4.pair.gear.teeth), (21, 37));
-        assert!(close(s4.pair.pinion.helix_angle, 20f64.to_radians()));
+        assert_eq!(
+            (
+                s4.cylindrical("this test").unwrap().pair.pinion.teeth,
+                s4.cylindrical("this test").unwrap().pair.gear.teeth
+            ),
+            (21, 37)
+        );
+        assert!(close(
+            s4.cylindrical("this test").unwrap().pair.pinion.helix_angle,
+            20f64.to_radians()
+        ));
         assert!(close(s4.load.torque_nmm, 5.0e6));
         assert!(close(s4.gear_material.young, 207_000.0));
-        let eps4 = transverse_contact_ratio(&s4.pair);
+        let eps4 = transverse_contact_ratio(&s4.cylindrical("this test").unwrap().pair);
         assert!((eps4 - 1.5029).abs() < 1e-4, "README value {eps4}");
 
         // the geometry module's pair check accepts both and agrees on ε_α
-        let r2 = crate::geometry::pair::check_pair(&s2.pair).unwrap();
+        let r2 =
+            crate::geometry::pair::check_pair(&s2.cylindrical("this test").unwrap().pair).unwrap();
         assert!(
             (r2.contact_ratio - eps2).abs() < 1e-9,
             "{}",
             r2.contact_ratio
         );
-        let r4 = crate::geometry::pair::check_pair(&s4.pair).unwrap();
+        let r4 =
+            crate::geometry::pair::check_pair(&s4.cylindrical("this test").unwrap().pair).unwrap();
         assert!(
             (r4.contact_ratio - eps4).abs() < 1e-9,
             "{}",

@@ -13,18 +13,28 @@ use super::location::{Cx, Res};
 use crate::error::FlankError;
 use crate::geometry::{GearSpec, Hand, PairSpec};
 
-/// Kind of a cylindrical gear pair.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, Deserialize)]
+/// `[pair] kind` of a cylindrical pair as read (the scene's
+/// [`super::PairKind`] once read).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "lowercase")]
-pub enum PairKind {
+pub(super) enum CylindricalKind {
     Spur,
     Helical,
+}
+
+impl From<CylindricalKind> for super::PairKind {
+    fn from(k: CylindricalKind) -> Self {
+        match k {
+            CylindricalKind::Spur => super::PairKind::Spur,
+            CylindricalKind::Helical => super::PairKind::Helical,
+        }
+    }
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawPair {
-    pub(super) kind: Spanned<PairKind>,
+    pub(super) kind: Spanned<CylindricalKind>,
     centre_distance_mm: Spanned<f64>,
 }
 
@@ -43,7 +53,7 @@ pub(super) struct GearSpans {
 pub(super) fn pair_spec(
     cx: &Cx,
     raw: &RawPair,
-    kind: PairKind,
+    kind: CylindricalKind,
     pinion: GearSpec,
     ps: &GearSpans,
     gear_spec: GearSpec,
@@ -83,7 +93,7 @@ pub(super) fn pair_spec(
             ),
         ));
     }
-    if kind == PairKind::Helical && pinion.hand == gear_spec.hand {
+    if kind == CylindricalKind::Helical && pinion.hand == gear_spec.hand {
         return Err(cx.err(
             gs.hand.clone().unwrap_or(gs.helix.clone()),
             format!(

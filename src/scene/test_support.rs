@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use super::{parse_any_scene, parse_scene, AnyScene, Scene};
+use super::{parse_scene, Scene};
 use crate::error::FlankError;
 
 pub(super) const SPUR: &str = r#"
@@ -113,19 +113,9 @@ pub(super) fn line_of(text: &str, needle: &str) -> usize {
     1 + text[..i].matches('\n').count()
 }
 
-/// Any pair type (spur, helical, bevel, hypoid).
-pub(super) fn parse_any(text: &str) -> Result<AnyScene, FlankError> {
-    parse_any_scene(text, Path::new("/nonexistent/scene.toml"))
-}
-
 /// Asserts a Parse error at `line` whose message contains every one of `words`.
 pub(super) fn expect_err(text: &str, line: usize, words: &[&str]) {
     assert_parse_error(parse(text).map(|_| ()), line, words)
-}
-
-/// [`expect_err`] for a scene of any pair type.
-pub(super) fn expect_any_err(text: &str, line: usize, words: &[&str]) {
-    assert_parse_error(parse_any(text).map(|_| ()), line, words)
 }
 
 fn assert_parse_error(result: Result<(), FlankError>, line: usize, words: &[&str]) {

@@ -12,7 +12,10 @@ const HELICAL: &str = "seed004-helical";
 fn pair(scene: &str) -> PairSpec {
     crate::scene::read_scene(&papers().join(scene).join("scene.toml"))
         .unwrap()
+        .cylindrical("this test")
+        .unwrap()
         .pair
+        .clone()
 }
 
 fn modification(scene: &str, which: usize, m: &MicroGeometry) -> FlankModification {

@@ -275,7 +275,7 @@ fn meshed_flanks_against_exact_tooth() {
         "/papers/seed002-spur/scene.toml"
     )))
     .unwrap();
-    let spec = &scene.pair.pinion;
+    let spec = &scene.cylindrical("this case").unwrap().pair.pinion;
     let p = ToothProfile::new(spec, "pinion").unwrap();
     let g = &p.geometry;
     println!(

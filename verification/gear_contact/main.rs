@@ -220,7 +220,12 @@ const LTCA_CONTACT_RATIO: f64 = 1.711;
 fn coarse_mesh_cycle() {
     let sc = scene();
     let angles = flank::mesh_cycle::cycle::default_roll_angles(
-        &flank::geometry::cylindrical::CylindricalPair::new(&sc.pair, [None, None], 3).unwrap(),
+        &flank::geometry::cylindrical::CylindricalPair::new(
+            &sc.cylindrical("this case").unwrap().pair,
+            [None, None],
+            3,
+        )
+        .unwrap(),
         2.0,
     );
     let out = std::env::temp_dir().join(format!("flank_gear_contact_{}", std::process::id()));
@@ -347,7 +352,9 @@ fn helical_pair_carries_the_torque() {
     )
     .unwrap();
     let nominal = c.nominal_force();
-    let bb = MeshKinematics::new(&sc.pair, 3).unwrap().base_helix_angle;
+    let bb = MeshKinematics::new(&sc.cylindrical("this case").unwrap().pair, 3)
+        .unwrap()
+        .base_helix_angle;
     assert!(
         (bb.to_degrees() - 18.75).abs() < 0.05,
         "β_b = {}",

@@ -126,11 +126,22 @@ fn seed002_single_pair_stiffness_vs_iso6336() {
         "/papers/seed002-spur/scene.toml"
     )))
     .unwrap();
-    let report = check_pair(&scene.pair).unwrap();
-    let iso = tooth_stiffness(&scene.pair, report.contact_ratio).unwrap();
-    let force = scene.load.torque_nmm / base_radius(&scene.pair.pinion);
+    let report = check_pair(&scene.cylindrical("this case").unwrap().pair).unwrap();
+    let iso = tooth_stiffness(
+        &scene.cylindrical("this case").unwrap().pair,
+        report.contact_ratio,
+    )
+    .unwrap();
+    let force =
+        scene.load.torque_nmm / base_radius(&scene.cylindrical("this case").unwrap().pair.pinion);
     let cos_aw = report.working_pressure_angle_rad.cos();
-    let b = scene.pair.pinion.face_width.min(scene.pair.gear.face_width);
+    let b = scene
+        .cylindrical("this case")
+        .unwrap()
+        .pair
+        .pinion
+        .face_width
+        .min(scene.cylindrical("this case").unwrap().pair.gear.face_width);
     println!(
         "ISO 6336-1: c′ = {:.3} N/(mm·µm), c_γα = {:.3}; F_n = {force:.1} N",
         iso.single, iso.mesh
@@ -146,20 +157,20 @@ fn seed002_single_pair_stiffness_vs_iso6336() {
             ..Default::default()
         };
         let (d1, n1, dofs1) = tooth_deflection(
-            &scene.pair.pinion,
+            &scene.cylindrical("this case").unwrap().pair.pinion,
             "pinion",
             &scene.pinion_material,
             &options,
             force,
-            base_radius(&scene.pair.pinion) / cos_aw,
+            base_radius(&scene.cylindrical("this case").unwrap().pair.pinion) / cos_aw,
         );
         let (d2, _, dofs2) = tooth_deflection(
-            &scene.pair.gear,
+            &scene.cylindrical("this case").unwrap().pair.gear,
             "gear",
             &scene.gear_material,
             &options,
             force,
-            base_radius(&scene.pair.gear) / cos_aw,
+            base_radius(&scene.cylindrical("this case").unwrap().pair.gear) / cos_aw,
         );
         let c_fe = force / (b * (d1 + d2) * 1e3);
         let ratio = c_fe / iso.single;

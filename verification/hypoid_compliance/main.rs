@@ -36,18 +36,15 @@ use flank::compliance::run::{
 use flank::compliance::{ComplianceOptions, ComplianceTensor};
 use flank::deck::read_deck;
 use flank::fem::static_analysis::{solve_static, SolveOptions};
-use flank::scene::{read_any_scene, AnyScene, BevelScene};
+use flank::scene::{read_scene, Scene};
 use flank::settings::FlankSelection;
 use flank::tca::major_axis::AxisPoint;
 
 /// `papers/<seed>/<file>` (seed 003: `scene_eased.toml`, the pinion with a
 /// bearing; its gear is the one of `scene.toml`).
-fn scene(seed: &str, file: &str) -> BevelScene {
+fn scene(seed: &str, file: &str) -> Scene {
     let path = format!("{}/papers/{seed}/{file}", env!("CARGO_MANIFEST_DIR"));
-    match read_any_scene(Path::new(&path)).unwrap() {
-        AnyScene::Bevel(b) => b,
-        _ => panic!("{seed} is not a bevel scene"),
-    }
+    read_scene(Path::new(&path)).unwrap()
 }
 
 fn sizes(flank: f64, with_load: bool) -> BodyMeshOptions {
@@ -60,7 +57,7 @@ fn sizes(flank: f64, with_load: bool) -> BodyMeshOptions {
 }
 
 fn tensor_of(
-    sc: &BevelScene,
+    sc: &Scene,
     name: &str,
     flank: f64,
     out: &Path,

@@ -40,7 +40,7 @@ use std::time::Instant;
 use flank::contact::{solve_contact, ContactOptions, PressureOverclosure};
 use flank::mesh::bevel_sector::BevelSectorOptions;
 use flank::mesh_cycle::bevel::{BevelCycle, BevelRunOptions, BevelStep};
-use flank::scene::{read_any_scene, AnyScene};
+use flank::scene::read_scene;
 use flank::settings::ContactLaw;
 use flank::tca::point_contact::ARCSEC_PER_RAD;
 
@@ -57,9 +57,7 @@ fn cycle(flank_size: f64) -> BevelCycle {
         "{}/papers/seed003-hypoid/scene_eased.toml",
         env!("CARGO_MANIFEST_DIR")
     );
-    let AnyScene::Bevel(mut scene) = read_any_scene(Path::new(&path)).unwrap() else {
-        panic!("not a bevel scene")
-    };
+    let mut scene = read_scene(Path::new(&path)).unwrap();
     scene.load.torque_nmm *= std::env::var("HYPOID_CCX_TORQUE_FACTOR")
         .ok()
         .and_then(|v| v.parse().ok())

@@ -19,7 +19,7 @@ use flank::geometry::bevel::body::BevelGear;
 use flank::geometry::bevel::pair::BevelPair;
 use flank::geometry::gear_pair::{Misalignment, PairPlacement};
 use flank::geometry::tangency::{ContactSystem, Edge};
-use flank::scene::{read_any_scene, AnyScene, BevelScene};
+use flank::scene::{read_scene, Scene};
 use flank::tca::point_contact::{
     point_tca, point_tca_shared, EllipseMemo, PointTca, PointTcaSettings,
 };
@@ -28,20 +28,17 @@ fn papers() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("papers")
 }
 
-fn bevel(path: &Path) -> BevelScene {
-    match read_any_scene(path).unwrap() {
-        AnyScene::Bevel(s) => s,
-        _ => panic!("not a bevel scene"),
-    }
+fn bevel(path: &Path) -> Scene {
+    read_scene(path).unwrap()
 }
 
-fn seed000() -> BevelScene {
+fn seed000() -> Scene {
     bevel(&papers().join("seed000-hypoid/scene.toml"))
 }
 
 /// Seed 000's scene with `extra` lines after `[pinion]`, written to a
 /// temporary file.
-fn seed000_with(extra: &str, name: &str) -> BevelScene {
+fn seed000_with(extra: &str, name: &str) -> Scene {
     let text = std::fs::read_to_string(papers().join("seed000-hypoid/scene.toml")).unwrap();
     let text = text.replace("[pinion]\n", &format!("[pinion]\n{extra}\n"));
     let dir = std::env::temp_dir().join(format!("flank_hypoid_tca_{}", std::process::id()));
@@ -70,7 +67,11 @@ fn middle_contacts(t: &PointTca) -> impl Iterator<Item = &flank::tca::point_cont
 fn a_conjugate_pair_has_no_te_and_line_contact() {
     let s = seed000_with("process = \"conjugate\"", "conjugate.toml");
     let t0 = std::time::Instant::now();
-    let t = point_tca(s.pair.as_ref(), &settings(false, 0, 0.00635)).unwrap();
+    let t = point_tca(
+        s.bevel("this case").unwrap().pair.as_ref(),
+        &settings(false, 0, 0.00635),
+    )
+    .unwrap();
     let worst = middle_contacts(&t)
         .map(|c| c.gear_lag_rad.abs())
         .fold(0.0f64, f64::max);
@@ -116,10 +117,12 @@ fn crossing_flanks_are_reported() {
         "{}/papers/seed003-hypoid/scene.toml",
         env!("CARGO_MANIFEST_DIR")
     );
-    let AnyScene::Bevel(s) = read_any_scene(Path::new(&path)).unwrap() else {
-        panic!("not a bevel scene")
-    };
-    let t = point_tca(s.pair.as_ref(), &settings(true, 0, 0.00635)).unwrap();
+    let s = read_scene(Path::new(&path)).unwrap();
+    let t = point_tca(
+        s.bevel("this case").unwrap().pair.as_ref(),
+        &settings(true, 0, 0.00635),
+    )
+    .unwrap();
     let c = t.crossing.expect("seed 003's flanks cross");
     println!(
         "(e) seed 003: flanks cross by {:.4} mm at roll {:.3}°, pair offset {}, pinion (u, v) = ({:.3}, {:.3}) mm",
@@ -130,7 +133,11 @@ fn crossing_flanks_are_reported() {
         c.pinion_uv[1]
     );
     assert!(c.depth_mm > 0.1, "{c:?}");
-    let seed000 = point_tca(seed000().pair.as_ref(), &settings(true, 0, 0.00635)).unwrap();
+    let seed000 = point_tca(
+        seed000().bevel("this case").unwrap().pair.as_ref(),
+        &settings(true, 0, 0.00635),
+    )
+    .unwrap();
     assert!(seed000.crossing.is_none(), "{:?}", seed000.crossing);
 }
 
@@ -162,7 +169,7 @@ fn the_screened_crossing_check_finds_what_every_point_finds() {
         let run = |exhaustive: bool| {
             let t0 = std::time::Instant::now();
             let t = point_tca(
-                s.pair.as_ref(),
+                s.bevel("this case").unwrap().pair.as_ref(),
                 &PointTcaSettings {
                     search_directions: 0,
                     edges,
@@ -229,7 +236,11 @@ fn interior(t: &PointTca) -> Vec<(f64, f64, f64, f64)> {
 fn curvature_and_searched_ellipses_agree_on_the_flanks() {
     let s = seed000();
     for (delta, limit) in [(0.0001, Some(0.01)), (0.00635, None)] {
-        let t = point_tca(s.pair.as_ref(), &settings(false, 36, delta)).unwrap();
+        let t = point_tca(
+            s.bevel("this case").unwrap().pair.as_ref(),
+            &settings(false, 36, delta),
+        )
+        .unwrap();
         let pts = interior(&t);
         // compare over the middle half of the path (the ellipse away from
         // the toe and heel, where the search stops at the flank's end)
@@ -261,7 +272,7 @@ fn shared_ellipse_searches_give_the_fresh_results() {
     // second run must equal a fresh one bit for bit and search only the
     // contacts the first did not
     let s = seed000();
-    let pair = s.pair.as_ref();
+    let pair = s.bevel("this case").unwrap().pair.as_ref();
     let memo = EllipseMemo::default();
     let with = point_tca_shared(pair, &settings(true, 8, 0.00635), &memo).unwrap();
     let after_with = memo.len();
@@ -294,8 +305,12 @@ fn shared_ellipse_searches_give_the_fresh_results() {
 #[test]
 fn edge_contacts_lie_on_the_tip_cone_and_touch_the_flank() {
     let s = seed000();
-    let t = point_tca(s.pair.as_ref(), &settings(true, 0, 0.00635)).unwrap();
-    let pair = s.pair.as_ref();
+    let t = point_tca(
+        s.bevel("this case").unwrap().pair.as_ref(),
+        &settings(true, 0, 0.00635),
+    )
+    .unwrap();
+    let pair = s.bevel("this case").unwrap().pair.as_ref();
     let mut n = 0;
     let (mut cone, mut tangency) = (0.0f64, 0.0f64);
     for c in middle_contacts(&t) {
@@ -333,8 +348,15 @@ fn edge_contacts_lie_on_the_tip_cone_and_touch_the_flank() {
 fn misalignment_moves_the_pattern() {
     let s = seed000();
     let st = settings(false, 0, 0.00635);
-    let base = point_tca(s.pair.as_ref(), &st).unwrap();
-    let same = point_tca(&s.pair.with_misalignment(Misalignment::default()), &st).unwrap();
+    let base = point_tca(s.bevel("this case").unwrap().pair.as_ref(), &st).unwrap();
+    let same = point_tca(
+        &s.bevel("this case")
+            .unwrap()
+            .pair
+            .with_misalignment(Misalignment::default()),
+        &st,
+    )
+    .unwrap();
     assert_eq!(base, same);
     let at_zero = |t: &PointTca| {
         let p = t
@@ -379,7 +401,11 @@ fn misalignment_moves_the_pattern() {
             },
         ),
     ] {
-        let t = point_tca(&s.pair.with_misalignment(m), &st).unwrap();
+        let t = point_tca(
+            &s.bevel("this case").unwrap().pair.with_misalignment(m),
+            &st,
+        )
+        .unwrap();
         let p = at_zero(&t);
         let moved = (p[0] - p0[0]).hypot(p[1] - p0[1]);
         println!(
@@ -408,7 +434,9 @@ fn bad_input_is_refused_with_the_reason() {
             "positions_per_pitch",
         ),
     ] {
-        let e = point_tca(s.pair.as_ref(), &st).unwrap_err().to_string();
+        let e = point_tca(s.bevel("this case").unwrap().pair.as_ref(), &st)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains(what), "{e}");
     }
     // a gear of the pinion's hand: the seed 000 gear mirrored (the pinion
@@ -425,8 +453,11 @@ fn bad_input_is_refused_with_the_reason() {
     std::fs::write(&p, text).unwrap();
     let right = bevel(&p);
     let wrong = BevelPair::new(
-        [mirror.bodies[0].clone(), right.bodies[1].clone()],
-        *mirror.pair.pair_assembly(),
+        [
+            mirror.bevel("this case").unwrap().bodies[0].clone(),
+            right.bevel("this case").unwrap().bodies[1].clone(),
+        ],
+        *mirror.bevel("this case").unwrap().pair.pair_assembly(),
     );
     let e = wrong.unwrap_err().to_string();
     println!("(e) same-hand pair: {e}");

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 
 use flank::geometry::gear_pair::PairPlacement;
 use flank::geometry::tangency::ContactSystem;
-use flank::scene::{read_any_scene, AnyScene, BevelScene};
+use flank::scene::{read_scene, Scene};
 use flank::tca::point_contact::{point_tca, PairContact, PointTcaSettings};
 
 /// Tolerances, stated before measuring: path ±1°, 2a ±5 %, TE level ±10 %.
@@ -31,7 +31,7 @@ fn arcsec(rad: f64) -> f64 {
 
 /// Seed 003's synthesised scene with its `[pinion.synthesis]` table
 /// replaced by `targets` (None: as written), from a scratch file.
-fn scene(targets: Option<&str>, name: &str) -> Result<BevelScene, String> {
+fn scene(targets: Option<&str>, name: &str) -> Result<Scene, String> {
     let original = papers().join("seed003-hypoid/scene_synthesised.toml");
     let path = match targets {
         None => original,
@@ -48,11 +48,7 @@ fn scene(targets: Option<&str>, name: &str) -> Result<BevelScene, String> {
             p
         }
     };
-    match read_any_scene(&path) {
-        Ok(AnyScene::Bevel(s)) => Ok(s),
-        Ok(_) => panic!("not a bevel scene"),
-        Err(e) => Err(e.to_string()),
-    }
+    read_scene(&path).map_err(|e| e.to_string())
 }
 
 /// The three figures as a bevel-gear engineer reads them off a TCA run of
@@ -73,7 +69,7 @@ struct Figures {
     points: usize,
 }
 
-fn measure(s: &BevelScene, approach_mm: f64) -> Figures {
+fn measure(s: &Scene, approach_mm: f64) -> Figures {
     let settings = PointTcaSettings {
         positions_per_pitch: 80,
         approach_mm,
@@ -82,7 +78,7 @@ fn measure(s: &BevelScene, approach_mm: f64) -> Figures {
         max_pitches: 1.0,
         ..Default::default()
     };
-    let t = point_tca(s.pair.as_ref(), &settings).unwrap();
+    let t = point_tca(s.bevel("this case").unwrap().pair.as_ref(), &settings).unwrap();
     let pitch = t.pitch_rad;
     let middle: Vec<(f64, &PairContact)> = t
         .positions
@@ -132,7 +128,7 @@ fn measure(s: &BevelScene, approach_mm: f64) -> Figures {
     } else if path <= -0.5 * PI {
         path += PI;
     }
-    let half = PI / s.pair.pinion().teeth() as f64;
+    let half = PI / s.bevel("this case").unwrap().pair.pinion().teeth() as f64;
     Figures {
         mean_roll_deg: centre.to_degrees(),
         path_angle_deg: path.to_degrees(),

@@ -313,11 +313,17 @@ fn stability_cases() {
         profile_crowning: 0.02,
         ..Default::default()
     };
-    crowned.micro = [Some(m.clone()), Some(m)];
+    crowned.cylindrical_mut("this case").unwrap().micro = [Some(m.clone()), Some(m)];
     let cc = cycle(&crowned, "crowned", 20);
     let r = cc.solve(single).unwrap();
     check(&r, "crowned");
-    let mid = 0.5 * crowned.pair.pinion.face_width;
+    let mid = 0.5
+        * crowned
+            .cylindrical("this case")
+            .unwrap()
+            .pair
+            .pinion
+            .face_width;
     let centroid = |r: &PositionResult| {
         let f: f64 = r.points.iter().map(|p| p.force_n).sum();
         r.points

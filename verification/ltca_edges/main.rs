@@ -19,7 +19,7 @@ use std::time::Instant;
 
 use flank::compliance::body::BodyMeshOptions;
 use flank::ltca::bevel::{run_bevel, BevelLtca, BevelLtcaOptions};
-use flank::scene::{read_any_scene, AnyScene, BevelScene};
+use flank::scene::{read_scene, Scene};
 use flank::settings::EdgeVariants;
 use flank::tca::point_contact::ARCSEC_PER_RAD;
 
@@ -37,12 +37,9 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-fn scene() -> BevelScene {
+fn scene() -> Scene {
     let path = root().join("papers/seed000-hypoid/scene_tilted_ltca.toml");
-    match read_any_scene(&path).unwrap() {
-        AnyScene::Bevel(b) => b,
-        _ => panic!("not a bevel scene"),
-    }
+    read_scene(&path).unwrap()
 }
 
 fn options(work: &Path, edges: EdgeVariants) -> BevelLtcaOptions {

@@ -25,20 +25,17 @@ use flank::compliance::body::BodyMeshOptions;
 use flank::ltca::bevel::{BevelLtca, BevelLtcaOptions};
 use flank::mesh::bevel_sector::BevelSectorOptions;
 use flank::mesh_cycle::bevel::{BevelCycle, BevelRunOptions};
-use flank::scene::{read_any_scene, AnyScene, BevelScene};
+use flank::scene::{read_scene, Scene};
 
 const TOL_SHARE: f64 = 0.02;
 const TOL_TE: f64 = 0.03;
 
-fn scene() -> BevelScene {
+fn scene() -> Scene {
     let path = format!(
         "{}/papers/seed003-hypoid/scene_eased.toml",
         env!("CARGO_MANIFEST_DIR")
     );
-    match read_any_scene(Path::new(&path)).unwrap() {
-        AnyScene::Bevel(b) => b,
-        _ => panic!("not a bevel scene"),
-    }
+    read_scene(Path::new(&path)).unwrap()
 }
 
 #[test]

@@ -201,7 +201,10 @@ mod tests {
             "/papers/seed002-spur/scene.toml"
         )))
         .unwrap()
+        .cylindrical("this test")
+        .unwrap()
         .pair
+        .clone()
     }
 
     /// Placed with [`MeshKinematics::frames`], the exact right flanks of

@@ -4,14 +4,23 @@ use std::path::Path;
 use super::*;
 use crate::fem::element::face_nodes;
 use crate::geometry::gear_pair::{Flank, GearBody};
-use crate::scene::{read_any_scene, AnyScene, BevelScene};
+use crate::scene::{read_scene, BevelGears, Gears};
 
-fn scene(seed: &str) -> BevelScene {
+fn scene(seed: &str) -> BevelGears {
     let path = format!("{}/papers/{seed}/scene.toml", env!("CARGO_MANIFEST_DIR"));
-    match read_any_scene(Path::new(&path)).unwrap() {
-        AnyScene::Bevel(b) => b,
+    match read_scene(Path::new(&path)).unwrap().gears {
+        Gears::Bevel(b) => *b,
         _ => panic!("{seed} is not a bevel scene"),
     }
+}
+
+/// The seeds' material (both members).
+fn steel() -> crate::fem::material::Material {
+    let path = format!(
+        "{}/papers/seed003-hypoid/scene.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    read_scene(Path::new(&path)).unwrap().gear_material
 }
 
 fn coarse() -> BevelSectorOptions {
@@ -173,14 +182,7 @@ fn loaded_ring_gear_solves() {
     use crate::fem::static_analysis::{solve_static, SolveOptions};
     use crate::mesh::bevel_body::bevel_body_model;
     let sc = scene("seed003-hypoid");
-    let body = bevel_body_model(
-        &sc.bodies[1],
-        "gear",
-        &sc.gear_material,
-        &coarse(),
-        Some(1.0e6),
-    )
-    .unwrap();
+    let body = bevel_body_model(&sc.bodies[1], "gear", &steel(), &coarse(), Some(1.0e6)).unwrap();
     let (node, f) = body.load.unwrap();
     let sol = solve_static(
         &body.model,
@@ -485,8 +487,7 @@ fn wedge15_ring_gear_deflects_as_hex20() {
     let sc = scene("seed003-hypoid");
     let mut out = Vec::new();
     for opts in [coarse(), wedges()] {
-        let body =
-            bevel_body_model(&sc.bodies[1], "gear", &sc.gear_material, &opts, Some(1.0e6)).unwrap();
+        let body = bevel_body_model(&sc.bodies[1], "gear", &steel(), &opts, Some(1.0e6)).unwrap();
         let (node, f) = body.load.unwrap();
         let mesh = &body.model.mesh;
         let x = mesh.coords[node];
