@@ -71,7 +71,8 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    use flank::compare::{compare_scene, CompareOptions};
+    use flank::compare::run::compare_scene;
+    use flank::compare::CompareOptions;
     let Args {
         scene,
         out,
@@ -119,36 +120,8 @@ pub fn run(args: Args) -> Result<()> {
         friction_mu,
         pmax_reference,
     };
-    let read = flank::scene::read_scene(&scene)?;
-    let s = match read.is_bevel() {
-        true => {
-            let b = &read;
-            if compression.is_some_and(|c| c.epsilon().is_some()) {
-                anyhow::bail!("--compression: implemented for spur/helical pairs only");
-            }
-            // as `flank ltca`: the command line, then the scene's [analyses.ltca]
-            let a = b.analyses.ltca.clone().unwrap_or_default();
-            let d = flank::ltca::bevel::BevelLtcaOptions::default();
-            let mu = friction_mu.or(a.friction_mu).unwrap_or(0.0);
-            if mu == 0.0 && (increments.is_some() || friction_model.is_some()) {
-                anyhow::bail!("--increments and --friction-model need friction (--friction-mu > 0 or [analyses.ltca] friction_mu)");
-            }
-            let mut ltca = flank::ltca::bevel::BevelLtcaOptions {
-                mesh: sizes.body_options(false),
-                threads,
-                friction_mu: mu,
-                increments: increments.or(a.increments).unwrap_or(d.increments),
-                friction_model: friction_model.or(a.friction_model).unwrap_or_default(),
-                ..d
-            };
-            if let Some(l) = local {
-                ltca.settings.local = l;
-            }
-            flank::compare::bevel::compare_bevel(b, &options, &ltca)
-        }
-        false => compare_scene(&scene, &options),
-    }
-    .with_context(|| format!("LTCA against FE contact for {}", scene.display()))?;
+    let s = compare_scene(&scene, &options)
+        .with_context(|| format!("LTCA against FE contact for {}", scene.display()))?;
     if !quiet {
         let f = |k: &str| s[k].as_f64().unwrap_or(f64::NAN);
         println!(

@@ -106,7 +106,7 @@ fn variants(s: &serde_json::Value) -> Vec<(&serde_json::Value, Option<&'static s
 
 pub fn run(args: Args) -> Result<()> {
     use flank::ltca::cycle::LtcaOptions;
-    use flank::ltca::run::run_scene;
+    use flank::ltca::run::run;
     let Args {
         scene,
         out,
@@ -143,59 +143,32 @@ pub fn run(args: Args) -> Result<()> {
         ),
         None => None,
     };
+    let options = LtcaOptions {
+        out: out.clone(),
+        mesh: sizes.body_options(false),
+        roll_angles_deg: roll_angles,
+        points_per_line,
+        solver,
+        local,
+        fe_cell_factor,
+        cache,
+        condition: !no_condition,
+        threads,
+        quiet,
+        friction_mu,
+        increments,
+        cross_check,
+        friction_model,
+        flank_region,
+        compression,
+        span_approach_mm,
+        edges,
+    };
     let read = flank::scene::read_scene(&scene)?;
+    let s =
+        run(&read, &options).with_context(|| format!("LTCA mesh cycle of {}", scene.display()))?;
     if read.is_bevel() {
-        let b = &read;
-        use flank::ltca::bevel::{run_bevel, BevelLtcaOptions};
-        if flank_region == Some(flank::settings::FlankRegion::Active) {
-            anyhow::bail!("--flank-region active: implemented for spur/helical pairs only (a bevel/hypoid LTCA takes the full flank)");
-        }
-        if compression.is_some_and(|c| c.epsilon().is_some()) {
-            anyhow::bail!("--compression: implemented for spur/helical pairs only");
-        }
-        let d = BevelLtcaOptions::default();
-        // the command line first, then the scene's [analyses.ltca] (its
-        // spur-only keys are refused when the scene loads), then defaults
-        let a = b.analyses.ltca.clone().unwrap_or_default();
-        let mut settings = d.settings.clone();
-        if let Some(s) = solver.or(a.solver) {
-            settings.qp.solver = s;
-        }
-        if let Some(l) = local.or(a.local) {
-            settings.local = l;
-        }
-        if let Some(f) = fe_cell_factor.or(a.fe_cell_factor) {
-            settings.fe_cell_factor = f;
-        }
-        if let Some(n) = a.local_iterations {
-            settings.local_iterations = n;
-        }
-        settings.condition = !no_condition;
-        let friction_mu = friction_mu.or(a.friction_mu).unwrap_or(0.0);
-        if friction_mu == 0.0 && (cross_check || increments.is_some() || friction_model.is_some()) {
-            anyhow::bail!("--increments, --cross-check and --friction-model need friction (--friction-mu > 0 or [analyses.ltca] friction_mu)");
-        }
-        let options = BevelLtcaOptions {
-            out: out.clone(),
-            mesh: sizes.body_options(false),
-            points_per_pair: points_per_line
-                .or(a.points_per_line)
-                .unwrap_or(d.points_per_pair),
-            roll_angles_deg: roll_angles.or(a.roll_angles_deg),
-            span_approach_mm: span_approach_mm.unwrap_or(d.span_approach_mm),
-            friction_mu,
-            increments: increments.or(a.increments).unwrap_or(d.increments),
-            cross_check,
-            friction_model: friction_model.or(a.friction_model).unwrap_or_default(),
-            settings,
-            cache,
-            threads,
-            edges: edges.or(a.edges).unwrap_or(d.edges),
-            positions: a.positions.unwrap_or(d.positions),
-        };
-        let all = run_bevel(b, &options)
-            .with_context(|| format!("LTCA mesh cycle of {}", scene.display()))?;
-        for (s, name) in variants(&all) {
+        for (s, name) in variants(&s) {
             if quiet {
                 continue;
             }
@@ -236,33 +209,6 @@ pub fn run(args: Args) -> Result<()> {
         }
         return Ok(());
     }
-    if span_approach_mm.is_some() {
-        anyhow::bail!("--span-approach-mm: for bevel and hypoid scenes only");
-    }
-    if edges.is_some() {
-        anyhow::bail!("--edges: for bevel and hypoid scenes only (a spur/helical LTCA always takes its tip corners as candidates)");
-    }
-    let options = LtcaOptions {
-        out: out.clone(),
-        mesh: sizes.body_options(false),
-        roll_angles_deg: roll_angles,
-        points_per_line,
-        solver,
-        local,
-        fe_cell_factor,
-        cache,
-        condition: !no_condition,
-        threads,
-        quiet,
-        friction_mu,
-        increments,
-        cross_check,
-        friction_model,
-        flank_region,
-        compression,
-    };
-    let s = run_scene(&scene, &options)
-        .with_context(|| format!("LTCA mesh cycle of {}", scene.display()))?;
     if !quiet {
         let f = |k: &str| s[k].as_f64().unwrap_or(f64::NAN);
         println!(

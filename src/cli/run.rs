@@ -72,7 +72,7 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    use flank::mesh_cycle::run::{run_scene, RunOptions};
+    use flank::mesh_cycle::run::{run, run_scene, RunOptions};
     let Args {
         scene,
         out,
@@ -134,42 +134,6 @@ pub fn run(args: Args) -> Result<()> {
         }
         return Ok(());
     }
-    let read = flank::scene::read_scene(&scene)?;
-    if read.is_bevel() {
-        let b = &read;
-        let unsupported = [
-            (reference_angles.is_some(), "--reference-angles"),
-            (slave.is_some(), "--slave"),
-        ];
-        if let Some((_, name)) = unsupported.iter().find(|(given, _)| *given) {
-            anyhow::bail!(
-                "{name}: not available for bevel and hypoid scenes yet (their FE contact has the pinion as slave)"
-            );
-        }
-        let friction_mu = friction_mu
-            .or(b.analyses.contact.as_ref().and_then(|c| c.friction_mu))
-            .unwrap_or(0.0);
-        if !(0.0..=1.0).contains(&friction_mu) {
-            anyhow::bail!("--friction-mu {friction_mu}: must be in 0…1");
-        }
-        let contact = BevelContact {
-            law: law.unwrap_or(flank::settings::ContactLaw::Hard),
-            penalty_factor: penalty_factor.unwrap_or(1.0),
-            decks,
-            resume,
-            friction_mu,
-        };
-        return run_bevel_scene(
-            &scene,
-            b,
-            &out,
-            sizes,
-            roll_angles,
-            contact,
-            threads,
-            quiet,
-        );
-    }
     let options = RunOptions {
         out: out.clone(),
         mesh: sizes.body_options(false),
@@ -188,6 +152,16 @@ pub fn run(args: Args) -> Result<()> {
     };
     // the first Ctrl-C stops at the next position boundary
     flank::interrupt::install_sigint_handler()?;
+    let read = flank::scene::read_scene(&scene)?;
+    if read.is_bevel() {
+        let s = run(&read, &options)
+            .with_context(|| format!("FE contact of the hypoid pair of {}", scene.display()))?;
+        if !quiet {
+            print_bevel(&s);
+            println!("wrote {}", out.display());
+        }
+        return Ok(());
+    }
     let s = run_scene(&scene, &options)
         .with_context(|| format!("FE contact mesh cycle of {}", scene.display()))?;
     if !quiet {
@@ -222,80 +196,30 @@ pub fn run(args: Args) -> Result<()> {
     Ok(())
 }
 
-/// The contact options of a hypoid run.
-struct BevelContact {
-    law: flank::settings::ContactLaw,
-    penalty_factor: f64,
-    decks: bool,
-    resume: bool,
-    friction_mu: f64,
-}
-
-/// `flank run` on a bevel/hypoid scene ([`flank::mesh_cycle::bevel`]).
-#[allow(clippy::too_many_arguments)]
-fn run_bevel_scene(
-    path: &std::path::Path,
-    scene: &flank::scene::Scene,
-    out: &std::path::Path,
-    sizes: SectorArgs,
-    roll_angles: Option<Vec<f64>>,
-    contact: BevelContact,
-    threads: usize,
-    quiet: bool,
-) -> Result<()> {
-    use flank::mesh_cycle::bevel::{run_bevel, BevelRunOptions};
-    let mesh = flank::compliance::body::bevel_sector_options(scene, &sizes.body_options(false))?;
-    let threads = if threads == 0 {
-        std::thread::available_parallelism().map_or(1, |n| n.get())
-    } else {
-        threads
-    };
-    if !(contact.penalty_factor > 0.0 && contact.penalty_factor.is_finite()) {
-        anyhow::bail!(
-            "--penalty-factor {}: a positive finite factor is needed",
-            contact.penalty_factor
+/// What `flank run` prints of a bevel/hypoid run's summary.
+fn print_bevel(s: &serde_json::Value) {
+    let f = |k: &str| s[k].as_f64().unwrap_or(f64::NAN);
+    println!(
+        "{} positions, {} nodes, {} DOFs; factorization {:.2} s once, {:.2} s per position",
+        s["positions"],
+        s["nodes"],
+        s["dofs"],
+        f("factorization_s"),
+        f("time_per_position_s")
+    );
+    println!(
+        "TE peak-to-peak {:.2} arcsec; largest contact pressure {:.0} MPa; moment balance {:.1e}",
+        f("te_peak_to_peak_arcsec"),
+        f("max_pressure_mpa"),
+        f("max_moment_balance")
+    );
+    for w in s["warnings"].as_array().into_iter().flatten() {
+        println!("warning: {}", w.as_str().unwrap_or_default());
+    }
+    let pen = f("largest_unloaded_interpenetration_mm");
+    if pen > 1e-3 {
+        println!(
+            "warning: the unloaded flanks interpenetrate by up to {pen:.4} mm in the nominal placement (positions.csv: min_initial_gap_mm); the loaded TE contains the unloaded TE this resolves"
         );
     }
-    let options = BevelRunOptions {
-        mesh,
-        law: contact.law,
-        penalty_factor: contact.penalty_factor,
-        decks: contact.decks,
-        resume: contact.resume,
-        friction_mu: contact.friction_mu,
-        threads,
-        ..Default::default()
-    };
-    // the first Ctrl-C stops at the next position boundary
-    flank::interrupt::install_sigint_handler()?;
-    let s = run_bevel(scene, &options, roll_angles, out)
-        .with_context(|| format!("FE contact of the hypoid pair of {}", path.display()))?;
-    if !quiet {
-        let f = |k: &str| s[k].as_f64().unwrap_or(f64::NAN);
-        println!(
-            "{} positions, {} nodes, {} DOFs; factorization {:.2} s once, {:.2} s per position",
-            s["positions"],
-            s["nodes"],
-            s["dofs"],
-            f("factorization_s"),
-            f("time_per_position_s")
-        );
-        println!(
-            "TE peak-to-peak {:.2} arcsec; largest contact pressure {:.0} MPa; moment balance {:.1e}",
-            f("te_peak_to_peak_arcsec"),
-            f("max_pressure_mpa"),
-            f("max_moment_balance")
-        );
-        for w in s["warnings"].as_array().into_iter().flatten() {
-            println!("warning: {}", w.as_str().unwrap_or_default());
-        }
-        let pen = f("largest_unloaded_interpenetration_mm");
-        if pen > 1e-3 {
-            println!(
-                "warning: the unloaded flanks interpenetrate by up to {pen:.4} mm in the nominal placement (positions.csv: min_initial_gap_mm); the loaded TE contains the unloaded TE this resolves"
-            );
-        }
-        println!("wrote {}", out.display());
-    }
-    Ok(())
 }

@@ -31,6 +31,40 @@ use crate::tca::point_contact::ARCSEC_PER_RAD;
 
 use super::{best_ltca, errors, markdown, per_pair, plot, CompareOptions, MethodRun};
 
+/// The hypoid LTCA's options of a comparison: the compliance mesh, the
+/// threads and the local model of `options.ltca`; friction (μ, increments,
+/// model) from `options`, else the scene's `[analyses.ltca]`; everything
+/// else the hypoid LTCA's default (K is swept, the TCA without edges).
+pub fn ltca_options(
+    scene: &Scene,
+    options: &CompareOptions,
+) -> Result<BevelLtcaOptions, FlankError> {
+    let o = &options.ltca;
+    if o.compression.is_some_and(|c| c.epsilon().is_some()) {
+        return Err(FlankError::Model(
+            "--compression: implemented for spur/helical pairs only".into(),
+        ));
+    }
+    let a = scene.analyses.ltca.clone().unwrap_or_default();
+    let d = BevelLtcaOptions::default();
+    let mu = options.friction_mu.or(a.friction_mu).unwrap_or(0.0);
+    if mu == 0.0 && (o.increments.is_some() || o.friction_model.is_some()) {
+        return Err(FlankError::Model("--increments and --friction-model need friction (--friction-mu > 0 or [analyses.ltca] friction_mu)".into()));
+    }
+    let mut ltca = BevelLtcaOptions {
+        mesh: o.mesh,
+        threads: o.threads,
+        friction_mu: mu,
+        increments: o.increments.or(a.increments).unwrap_or(d.increments),
+        friction_model: o.friction_model.or(a.friction_model).unwrap_or_default(),
+        ..d
+    };
+    if let Some(l) = o.local {
+        ltca.settings.local = l;
+    }
+    Ok(ltca)
+}
+
 /// The hypoid comparison; writes `compare.json`, `compare.md` and
 /// `error_vs_time.{svg,png}` into `options.out`.
 pub fn compare_bevel(

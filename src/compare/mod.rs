@@ -36,7 +36,7 @@ use crate::geometry::gear_pair::GearPair;
 use crate::ltca::cycle::{LtcaCycle, LtcaOptions};
 use crate::ltca::model::PositionResult;
 use crate::mesh_cycle::run::{settings, RunOptions};
-use crate::scene::{read_scene, Scene};
+use crate::scene::Scene;
 use crate::settings::SlaveBody;
 
 pub mod bevel;
@@ -44,6 +44,7 @@ pub mod method_run;
 pub mod plot;
 pub mod pmax_reference;
 pub mod reference;
+pub mod run;
 
 use crate::mesh_cycle::cycle::{default_roll_angles, MeshCycle, StepResult};
 use method_run::shares;
@@ -342,17 +343,14 @@ fn fe_run_cached(
     Ok((r, false))
 }
 
-/// `flank compare SCENE`: reads the scene and runs [`compare`].
-pub fn compare_scene(
-    path: &Path,
+/// The comparison of a spur/helical pair: both methods at the same
+/// positions; writes `compare.json`, `compare.md` and
+/// `error_vs_time.{svg,png}` into `options.out` (any pair kind:
+/// [`run::compare`]).
+pub fn compare_cylindrical(
+    scene: &Scene,
     options: &CompareOptions,
 ) -> Result<serde_json::Value, FlankError> {
-    compare(&read_scene(path)?, options)
-}
-
-/// Runs both methods at the same positions, writes `compare.json`,
-/// `compare.md` and `error_vs_time.{svg,png}` into `options.out`.
-pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Value, FlankError> {
     options.validate()?;
     // the contact-band p_max reference, read before anything runs
     let pmax_ref = if options.pmax_reference.is_empty() {

@@ -51,6 +51,7 @@ use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
 use crate::geometry::gear_pair::PairPlacement;
 use crate::geometry::tangency::ContactSystem;
+use crate::ltca::cycle::LtcaOptions;
 use crate::ltca::edges::{edge_line, EdgeLine};
 use crate::ltca::local::contact_modulus;
 use crate::ltca::model::{LtcaBodies, PositionResult};
@@ -107,6 +108,63 @@ impl Default for BevelLtcaOptions {
             threads: 0,
             edges: EdgeVariants::Without,
         }
+    }
+}
+
+impl BevelLtcaOptions {
+    /// The hypoid LTCA's options of a scene: each one from `o` (the
+    /// command line), else the scene's `[analyses.ltca]` (its spur-only
+    /// keys are refused when the scene is read), else the default. The
+    /// options only a spur/helical LTCA has are refused with the reason.
+    pub fn merged(scene: &Scene, o: &LtcaOptions) -> Result<Self, FlankError> {
+        let refuse = |m: &str| Err(FlankError::Model(m.into()));
+        if o.flank_region == Some(crate::settings::FlankRegion::Active) {
+            return refuse("--flank-region active: implemented for spur/helical pairs only (a bevel/hypoid LTCA takes the full flank)");
+        }
+        if o.compression.is_some_and(|c| c.epsilon().is_some()) {
+            return refuse("--compression: implemented for spur/helical pairs only");
+        }
+        let d = BevelLtcaOptions::default();
+        let a = scene.analyses.ltca.clone().unwrap_or_default();
+        let mut settings = d.settings.clone();
+        if let Some(s) = o.solver.or(a.solver) {
+            settings.qp.solver = s;
+        }
+        if let Some(l) = o.local.or(a.local) {
+            settings.local = l;
+        }
+        if let Some(f) = o.fe_cell_factor.or(a.fe_cell_factor) {
+            settings.fe_cell_factor = f;
+        }
+        if let Some(n) = a.local_iterations {
+            settings.local_iterations = n;
+        }
+        settings.condition = o.condition;
+        let friction_mu = o.friction_mu.or(a.friction_mu).unwrap_or(0.0);
+        if friction_mu == 0.0
+            && (o.cross_check || o.increments.is_some() || o.friction_model.is_some())
+        {
+            return refuse("--increments, --cross-check and --friction-model need friction (--friction-mu > 0 or [analyses.ltca] friction_mu)");
+        }
+        Ok(BevelLtcaOptions {
+            out: o.out.clone(),
+            mesh: o.mesh,
+            points_per_pair: o
+                .points_per_line
+                .or(a.points_per_line)
+                .unwrap_or(d.points_per_pair),
+            roll_angles_deg: o.roll_angles_deg.clone().or(a.roll_angles_deg),
+            span_approach_mm: o.span_approach_mm.unwrap_or(d.span_approach_mm),
+            friction_mu,
+            increments: o.increments.or(a.increments).unwrap_or(d.increments),
+            cross_check: o.cross_check,
+            friction_model: o.friction_model.or(a.friction_model).unwrap_or_default(),
+            settings,
+            cache: o.cache.clone(),
+            threads: o.threads,
+            edges: o.edges.or(a.edges).unwrap_or(d.edges),
+            positions: a.positions.unwrap_or(d.positions),
+        })
     }
 }
 
@@ -710,11 +768,11 @@ fn run_variant(
             beyond_rolls.join(", ")
         ));
     }
-    let loops = crate::ltca::run::iteration_limits(&results);
+    let loops = crate::ltca::outputs::iteration_limits(&results);
     notes.extend(loops.warnings());
     let path = out.join("ltca_positions.csv");
     crate::atomic_file::write(&path, csv)?;
-    crate::ltca::run::write_points_csv(&out.join("ltca_points.csv"), &results)?;
+    crate::ltca::outputs::write_points_csv(&out.join("ltca_points.csv"), &results)?;
     let plots = plot_variant(ltca, out, &results)?;
     let te_pp = te.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
         - te.iter().cloned().fold(f64::INFINITY, f64::min);
@@ -785,7 +843,7 @@ fn run_variant(
         "max_pressure_mpa": worst(|r| r.max_pressure_mpa),
         "max_kkt": worst(|r| r.kkt_max),
         "iteration_limits": loops.to_json(),
-        "friction": ltca.options.settings.friction.as_ref().map(|f| crate::ltca::run::friction_summary(&results, f, ltca.torque)),
+        "friction": ltca.options.settings.friction.as_ref().map(|f| crate::ltca::outputs::friction_summary(&results, f, ltca.torque)),
         "pairs_loaded_at_a_flank_edge": edge_loaded,
         "compliance_s": ltca.compliance_s,
         "tca_s": ltca.tca_s,

@@ -68,6 +68,14 @@ pub struct LtcaOptions {
     /// Dense or block low-rank tensors (default: the scene's
     /// `[analyses.ltca] compression`, else dense).
     pub compression: Option<crate::settings::Compression>,
+    /// Bevel/hypoid pairs: the separation (mm) out to which each pair's
+    /// candidate axis runs (default
+    /// [`crate::ltca::bevel::DEFAULT_SPAN_APPROACH_MM`]).
+    pub span_approach_mm: Option<f64>,
+    /// Bevel/hypoid pairs: the TCA's edge contacts as candidates, or not,
+    /// or both variants (default: the scene's `[analyses.ltca] edges`,
+    /// else without).
+    pub edges: Option<crate::settings::EdgeVariants>,
 }
 
 /// The corner-contact extension must exceed the loaded approach by this

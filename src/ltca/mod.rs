@@ -30,6 +30,7 @@ pub mod influence;
 pub mod local;
 pub mod lubricated;
 pub mod model;
+pub mod outputs;
 pub mod pattern;
 pub mod qp;
 pub mod run;

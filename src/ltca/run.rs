@@ -12,11 +12,11 @@
 
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
-use crate::iteration_limits::IterationLimits;
 use crate::load_sharing::LOADED_FRACTION;
+use crate::ltca::bevel::{run_bevel, BevelLtcaOptions};
 use crate::ltca::cycle::{roll_angles, LtcaCycle, LtcaOptions};
 use crate::ltca::model::PositionResult;
-use crate::ltca::solve_settings::LtcaFriction;
+use crate::ltca::outputs::{friction_summary, iteration_limits, write_points_csv};
 use crate::scene::{read_scene, Scene};
 use std::path::Path;
 use std::time::Instant;
@@ -27,11 +27,25 @@ pub fn run_scene(path: &Path, options: &LtcaOptions) -> Result<serde_json::Value
     run(&scene, options)
 }
 
-/// The LTCA over the scene's roll angles; writes the outputs into
-/// `options.out` and returns the summary. On `options.threads` threads
-/// (0: rayon's global pool); the answer is the same on any number (fixed
+/// The LTCA over the scene's mesh cycle, for any pair kind; writes the
+/// outputs into `options.out` and returns the summary. Every option is
+/// taken from `options`, else the scene's `[analyses.ltca]`, else its
+/// default; a bevel/hypoid scene runs [`crate::ltca::bevel::run_bevel`]
+/// with [`BevelLtcaOptions::merged`]. On `options.threads` threads (0:
+/// rayon's global pool); the answer is the same on any number (fixed
 /// summation orders).
 pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, FlankError> {
+    if scene.is_bevel() {
+        return run_bevel(scene, &BevelLtcaOptions::merged(scene, options)?);
+    }
+    if options.span_approach_mm.is_some() {
+        return Err(FlankError::Model(
+            "--span-approach-mm: for bevel and hypoid scenes only".into(),
+        ));
+    }
+    if options.edges.is_some() {
+        return Err(FlankError::Model("--edges: for bevel and hypoid scenes only (a spur/helical LTCA always takes its tip corners as candidates)".into()));
+    }
     crate::fem::solver::with_threads(options.threads, || run_cycle(scene, options))
 }
 
@@ -212,62 +226,6 @@ fn run_cycle(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, 
     Ok(summary)
 }
 
-/// The bounded loops of every position together (the summary's
-/// `iteration_limits`).
-pub(crate) fn iteration_limits(results: &[PositionResult]) -> IterationLimits {
-    let mut all = IterationLimits::new();
-    for r in results {
-        all.merge(&r.iteration_limits);
-    }
-    all
-}
-
-/// The frictional LTCA over the cycle (seeds 001/003): the Coulomb
-/// solve's worst residual and, if run, the largest difference from Lemke's
-/// method; the tangential-to-normal force ratio; the friction power loss
-/// Σ |P_t v_s| (W) and the mesh efficiency 1 − P_loss/(T ω₁), mean over the
-/// positions (seed 001 eq. for P_loss; η as Xu & Kahraman's
-/// instantaneous mesh efficiency).
-pub(crate) fn friction_summary(
-    results: &[PositionResult],
-    friction: &LtcaFriction,
-    torque_nmm: f64,
-) -> serde_json::Value {
-    let num = |r: &PositionResult, k: &str| -> f64 {
-        r.friction
-            .as_ref()
-            .and_then(|f| f.pointer(k))
-            .and_then(serde_json::Value::as_f64)
-            .unwrap_or(0.0)
-    };
-    let max = |k: &str| results.iter().map(|r| num(r, k)).fold(0.0f64, f64::max);
-    let (pt, pn): (f64, f64) = results
-        .iter()
-        .flat_map(|r| &r.points)
-        .fold((0.0, 0.0), |(a, b), p| {
-            (a + p.friction_n.abs(), b + p.force_n)
-        });
-    let n = results.len().max(1) as f64;
-    let power: Vec<f64> = results.iter().map(|r| r.friction_power_w).collect();
-    let mean_power = power.iter().sum::<f64>() / n;
-    let input_w = torque_nmm * 1e-3 * friction.pinion_speed_rad_s;
-    let within = results.iter().all(|r| r.kkt_within_tolerance);
-    serde_json::json!({
-        "mu": friction.mu,
-        "increments": friction.options.increments,
-        "max_residual": max("/max_residual/max"),
-        "max_coupling": max("/coupling"),
-        "within_tolerance": within,
-        "cross_check_max_load_difference": friction.cross_check.then(|| max("/cross_check/load_difference")),
-        "cross_check_max_rotation_difference": friction.cross_check.then(|| max("/cross_check/rotation_difference")),
-        "tangential_to_normal": if pn > 0.0 { pt / pn } else { 0.0 },
-        "power_loss_w": power,
-        "mean_power_loss_w": mean_power,
-        "input_power_w": input_w,
-        "mesh_efficiency": if input_w > 0.0 { 1.0 - mean_power / input_w } else { f64::NAN },
-    })
-}
-
 fn write_cycle_csv(
     path: &Path,
     results: &[PositionResult],
@@ -310,35 +268,6 @@ fn write_cycle_csv(
             r.condition.map_or(String::new(), |c| format!("{c:e}")),
             r.time_s
         );
-    }
-    crate::atomic_file::write(path, s)
-}
-
-pub(crate) fn write_points_csv(path: &Path, results: &[PositionResult]) -> Result<(), FlankError> {
-    use std::fmt::Write;
-    let mut s = String::from("roll_deg,pinion_tooth,gear_tooth,kind,along_mm,x_mm,y_mm,z_mm,separation_um,force_n,load_per_length_n_per_mm,pressure_mpa,half_width_mm,gap_um,friction_n,state,sliding_velocity_m_s\n");
-    for r in results {
-        for p in &r.points {
-            let (k, m, kind) = &r.lines[p.line];
-            let _ = writeln!(
-                s,
-                "{},{k},{m},{kind},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-                r.roll_deg,
-                p.along_mm,
-                p.position[0],
-                p.position[1],
-                p.position[2],
-                p.separation_mm * 1e3,
-                p.force_n,
-                p.load_per_length,
-                p.pressure_mpa,
-                p.half_width_mm,
-                p.gap_mm * 1e3,
-                p.friction_n,
-                p.state,
-                p.sliding_velocity_m_s
-            );
-        }
     }
     crate::atomic_file::write(path, s)
 }

@@ -584,7 +584,7 @@ pub fn run_bevel(
     let resumed = kept.reused();
     if options.decks {
         for &r in &rolls {
-            let name = crate::mesh_cycle::run::vtu_name(r).replace(".vtu", ".inp");
+            let name = crate::report::vtu::vtu_name(r).replace(".vtu", ".inp");
             cycle.write_deck(r, &out.join(name))?;
         }
     }

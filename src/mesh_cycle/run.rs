@@ -17,12 +17,13 @@ use crate::fem::static_analysis::peak_memory_mb;
 
 use crate::geometry::gear_pair::GearPair;
 use crate::load_sharing::LOADED_FRACTION;
+use crate::mesh_cycle::bevel::{run_bevel, BevelRunOptions};
 use crate::mesh_cycle::checkpoint::{self, Checkpoint};
 use crate::mesh_cycle::cycle::{
     default_roll_angles, iteration_limits, MeshCycle, RunSettings, Solved, StepResult,
     ILL_CONDITIONED,
 };
-use crate::report::vtu::{write_vtu, PointField};
+use crate::report::vtu::{vtu_name, write_vtu, PointField};
 use crate::scene::{read_scene, ContactAnalysis, Scene};
 use crate::settings::{ContactLaw, SlaveBody};
 
@@ -55,6 +56,55 @@ pub struct RunOptions {
     /// Take the positions of `out/checkpoint.json` left by an interrupted
     /// run of the same scene and options ([`super::checkpoint`]).
     pub resume: bool,
+}
+
+/// The FE contact options of a bevel/hypoid run: each from `o` (the
+/// command line), else the scene's `[analyses.contact] friction_mu`, else
+/// the default (hard contact, penalty factor 1, frictionless, all cores);
+/// the bevel sector mesh from `o.mesh` and the scene's `[mesh]`
+/// ([`crate::compliance::body::bevel_sector_options`]). Options a bevel
+/// run does not have yet are refused: reference angles (the seeds'
+/// convention is that of cylindrical pairs) and the gear as slave.
+pub fn bevel_options(scene: &Scene, o: &RunOptions) -> Result<BevelRunOptions, FlankError> {
+    let refuse = |m: String| Err(FlankError::Model(m));
+    let unsupported = [
+        (o.reference_angles_deg.is_some(), "--reference-angles"),
+        (o.slave.is_some(), "--slave"),
+    ];
+    if let Some((_, name)) = unsupported.iter().find(|(given, _)| *given) {
+        return refuse(format!(
+            "{name}: not available for bevel and hypoid scenes yet (their FE contact has the pinion as slave)"
+        ));
+    }
+    let friction_mu = o
+        .friction_mu
+        .or(scene.analyses.contact.as_ref().and_then(|c| c.friction_mu))
+        .unwrap_or(0.0);
+    if !(0.0..=1.0).contains(&friction_mu) {
+        return refuse(format!("--friction-mu {friction_mu}: must be in 0…1"));
+    }
+    let penalty_factor = o.penalty_factor.unwrap_or(1.0);
+    if !(penalty_factor > 0.0 && penalty_factor.is_finite()) {
+        return refuse(format!(
+            "--penalty-factor {penalty_factor}: a positive finite factor is needed"
+        ));
+    }
+    let mesh = crate::compliance::body::bevel_sector_options(scene, &o.mesh)?;
+    let threads = if o.threads == 0 {
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    } else {
+        o.threads
+    };
+    Ok(BevelRunOptions {
+        mesh,
+        law: o.law.unwrap_or(ContactLaw::Hard),
+        penalty_factor,
+        decks: o.decks,
+        resume: o.resume,
+        friction_mu,
+        threads,
+        ..Default::default()
+    })
 }
 
 /// Resolves the run's settings from the options, the scene's
@@ -163,7 +213,7 @@ fn scene_roll_angles(a: &ContactAnalysis, pair: &dyn GearPair) -> Result<Vec<f64
 /// `options.out`. Returns the summary (also written as summary.json).
 pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value, FlankError> {
     let scene = read_scene(path)?;
-    if scene.analyses.contact.is_none() {
+    if !scene.is_bevel() && scene.analyses.contact.is_none() {
         return Err(FlankError::Model(format!(
             "{}: the scene asks for no analysis `flank run` performs; add `contact = {{}}` under [analyses] for the FE contact mesh cycle",
             path.display()
@@ -172,8 +222,14 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
     run(&scene, options)
 }
 
-/// The mesh cycle of a parsed scene (see [`run_scene`]).
+/// The mesh cycle of a parsed scene of any pair kind (see [`run_scene`]);
+/// a bevel/hypoid scene runs [`crate::mesh_cycle::bevel::run_bevel`] with
+/// [`bevel_options`].
 pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, FlankError> {
+    if scene.is_bevel() {
+        let bevel = bevel_options(scene, options)?;
+        return run_bevel(scene, &bevel, options.roll_angles_deg.clone(), &options.out);
+    }
     let t_total = Instant::now();
     let gear_pair = scene.gear_pair()?;
     let settings = settings(scene, gear_pair.as_ref(), options)?;
@@ -489,11 +545,6 @@ fn write_position_deck(cycle: &MeshCycle, out: &Path, roll_deg: f64) -> Result<(
         .collect();
     let name = vtu_name(roll_deg).replace(".vtu", ".inp");
     crate::deck::write_deck(&model, &out.join(name))
-}
-
-/// The VTU file of a roll angle: `roll_+012.50deg.vtu`.
-pub fn vtu_name(roll_deg: f64) -> String {
-    format!("roll_{roll_deg:+08.3}deg.vtu")
 }
 
 /// `roll_…deg.vtu`: both bodies placed at the roll angle, displacement

@@ -315,6 +315,11 @@ fn int_array(s: &mut String, name: &str, values: impl Iterator<Item = u64>) {
     s.push_str("        </DataArray>\n");
 }
 
+/// The VTU file of a roll angle: `roll_+012.50deg.vtu`.
+pub fn vtu_name(roll_deg: f64) -> String {
+    format!("roll_{roll_deg:+08.3}deg.vtu")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -57,12 +57,11 @@ use super::load::{self, RawLoad};
 use super::location::{Cx, Res};
 use super::materials::{self, RawMaterial};
 use super::mesh::{self, RawMesh};
-use super::{Gears, PairKind, Scene};
+use super::validated::{BevelGears, BevelKeyLines, Gears, PairKind, Scene};
 use crate::error::FlankError;
-use crate::geometry::bevel::body::BevelGear;
-use crate::geometry::bevel::cutting::{self, MachineCut, PinionCut};
+use crate::geometry::bevel::cutting::{self};
 use crate::geometry::bevel::pair::BevelPair;
-use crate::geometry::bevel::{blank_design, BlankDesign, BlankInputs};
+use crate::geometry::bevel::{blank_design, BlankInputs};
 use crate::geometry::Hand;
 
 /// `[pair] kind` of a bevel pair as read (the scene's [`PairKind`] once
@@ -83,38 +82,6 @@ impl From<BevelKind> for PairKind {
             BevelKind::Hypoid => PairKind::Hypoid,
         }
     }
-}
-
-/// The gears of a spiral bevel or hypoid pair (internal units), with both
-/// members cut (their flanks are built when the scene is read, so settings
-/// that do not cut the blank are refused at load, at their key).
-#[derive(Clone, Debug)]
-pub struct BevelGears {
-    pub pinion_hand: Hand,
-    /// The `[blank]` input set as read, and its design.
-    pub blank_inputs: BlankInputs,
-    pub blank: BlankDesign,
-    /// Bore diameters of `[pinion, gear]` (mm).
-    pub bore_diameter: [f64; 2],
-    /// How the gear and the pinion are cut.
-    pub gear_cut: MachineCut,
-    pub pinion_cut: PinionCut,
-    /// The members as sectors of `mesh.teeth_in_sector` teeth:
-    /// `[pinion, gear]`, drive flank = right.
-    pub bodies: [Arc<BevelGear>; 2],
-    /// The bodies in their assembly (no misalignment).
-    pub pair: Arc<BevelPair>,
-    /// Process, cutter, settings and mean-point figures of each member
-    /// (JSON), `[pinion, gear]`.
-    pub cutting_report: [serde_json::Value; 2],
-    /// A conjugate pinion's eased flanks `[drive, coast]` (with an
-    /// `[pinion.ease_off]`): the ease-off reads back against them.
-    pub pinion_eased: Option<[Arc<crate::geometry::bevel::ease_off::EasedPinion>; 2]>,
-    /// Lines of the keys the analyses' own checks point at.
-    pub lines: BevelKeyLines,
-    /// The pinion's shank (`[pinion] shank_length_mm`,
-    /// `shank_diameter_mm`; `pinion_shank`), `None` when neither is given.
-    pub pinion_shank: Option<crate::mesh::bevel_sector::Shank>,
 }
 
 /// Longest shank, in face widths: a longer stem is a shaft (a beam), not
@@ -188,21 +155,6 @@ fn pinion_shank(
         ));
     }
     Ok(Some(crate::mesh::bevel_sector::Shank { length, diameter }))
-}
-
-/// 1-based lines in [`Scene::source`] of the tables and keys that
-/// checks made after the scene is read (FE contact, meshing) point at.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct BevelKeyLines {
-    /// The `[pinion]` table (its cut: process, machine, ease-off).
-    pub pinion: usize,
-    /// `load.torque_nm`.
-    pub torque: usize,
-    /// `mesh.teeth_in_sector`, `mesh.flank_size_mm`, `mesh.base_size_mm`
-    /// when given.
-    pub teeth_in_sector: Option<usize>,
-    pub flank_size: Option<usize>,
-    pub base_size: Option<usize>,
 }
 
 #[derive(Deserialize)]

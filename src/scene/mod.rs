@@ -83,21 +83,14 @@ mod mesh;
 mod pair;
 #[cfg(test)]
 mod test_support;
+mod validated;
 
-use std::sync::Arc;
-
-use crate::geometry::cylindrical::CylindricalPair;
-use crate::geometry::gear_pair::GearPair;
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use serde::Deserialize;
 
 use crate::error::FlankError;
-use crate::fem::material::Material;
-use crate::geometry::micro::{roll_angle_at_radius, FlankModification};
-use crate::geometry::rack::ToothProfile;
-use crate::geometry::PairSpec;
 use analyses::RawAnalyses;
 use gear::RawGear;
 use load::RawLoad;
@@ -109,220 +102,13 @@ use pair::RawPair;
 pub use analyses::{
     Analyses, ComplianceAnalysis, ContactAnalysis, LtcaAnalysis, LubricationAnalysis, MeshAnalysis,
 };
-pub use bevel::{BevelGears, BevelKeyLines};
 pub use load::Load;
 pub use mesh::{ElementKind, MeshOptions};
+pub use validated::{BevelGears, BevelKeyLines, CylindricalGears, Gears, PairKind, Scene};
 
 /// Flank modifications: defined in [`crate::geometry::micro`], re-exported here
 /// because a scene is where they are read.
 pub use crate::geometry::micro::{MicroGeometry, Relief, ReliefShape};
-
-/// A parsed and validated scene, in internal units: the pair, whose kind
-/// is data ([`PairKind`], with the kind's own gear data in [`Gears`]), the
-/// materials, the load, the analyses asked for and the meshing options.
-/// Every analysis reads one of these, whatever the pair kind.
-#[derive(Clone, Debug)]
-pub struct Scene {
-    pub kind: PairKind,
-    /// The gears of the pair: what only one pair kind has.
-    pub gears: Gears,
-    pub pinion_material: Material,
-    pub gear_material: Material,
-    pub load: Load,
-    pub analyses: Analyses,
-    pub mesh: MeshOptions,
-    /// `[lubricant]`: oil and solid thermal data (internal units), if given
-    /// (spur and helical pairs: the bevel reader refuses the table).
-    pub lubricant: Option<crate::lubrication::Lubricant>,
-    /// The scene file (as given); relative paths inside it are resolved against its folder.
-    pub source: PathBuf,
-    /// 1-based line of `pair.kind` (where a kind an analysis does not
-    /// handle is reported).
-    pub kind_line: usize,
-}
-
-/// Kind of a gear pair (`[pair] kind`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum PairKind {
-    /// Parallel axes, straight teeth.
-    Spur,
-    /// Parallel axes, helical teeth.
-    Helical,
-    /// Intersecting axes (ISO 23509 method 0).
-    SpiralBevel,
-    /// Offset axes (ISO 23509 methods 1–3).
-    Hypoid,
-}
-
-impl PairKind {
-    /// The name as in the scene file.
-    pub fn name(self) -> &'static str {
-        match self {
-            PairKind::Spur => "spur",
-            PairKind::Helical => "helical",
-            PairKind::SpiralBevel => "spiral_bevel",
-            PairKind::Hypoid => "hypoid",
-        }
-    }
-
-    /// Spiral bevel or hypoid.
-    pub fn is_bevel(self) -> bool {
-        matches!(self, PairKind::SpiralBevel | PairKind::Hypoid)
-    }
-}
-
-/// The gears of a pair, by pair kind.
-#[derive(Clone, Debug)]
-#[allow(clippy::large_enum_variant)]
-pub enum Gears {
-    /// Spur or helical: ISO 21771 gear data and flank modifications.
-    Cylindrical(CylindricalGears),
-    /// Spiral bevel or hypoid: the ISO 23509 blank and both members cut.
-    Bevel(Box<BevelGears>),
-}
-
-/// The gears of a spur or helical pair.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
-pub struct CylindricalGears {
-    /// For spur pairs the helix angles are 0 and the hands `Right` (meaningless).
-    pub pair: PairSpec,
-    /// Flank modifications of `[pinion, gear]`.
-    pub micro: [Option<MicroGeometry>; 2],
-}
-
-impl CylindricalGears {
-    /// The flank modifications of `[pinion, gear]`, bound to their gears
-    /// ([`FlankModification::new`]): tooth profiles, the start of active
-    /// profile from [`crate::geometry::pair::check_pair`] and the face widths.
-    /// `None` where the scene has no `[<gear>.micro]`; warnings (e.g. a
-    /// measured range that does not cover the active profile) are in
-    /// [`FlankModification::warnings`].
-    pub fn flank_modifications(&self) -> Result<[Option<FlankModification>; 2], FlankError> {
-        let bind = |i: usize, name: &str| {
-            self.flank_modification(i).map_err(|e| match e {
-                FlankError::Model(m) => FlankError::Model(format!("{name}: {m}")),
-                e => e,
-            })
-        };
-        Ok([bind(0, "pinion")?, bind(1, "gear")?])
-    }
-
-    /// The flank modification of member `i` (0 = pinion, 1 = gear) bound to
-    /// its gear (see [`CylindricalGears::flank_modifications`]).
-    fn flank_modification(&self, i: usize) -> Result<Option<FlankModification>, FlankError> {
-        let Some(micro) = &self.micro[i] else {
-            return Ok(None);
-        };
-        let report = crate::geometry::pair::check_pair(&self.pair)?;
-        let (spec, name, sap) = if i == 0 {
-            (
-                &self.pair.pinion,
-                "pinion",
-                report.pinion.active_start_radius,
-            )
-        } else {
-            (&self.pair.gear, "gear", report.gear.active_start_radius)
-        };
-        let profile = ToothProfile::new(spec, name)?;
-        let u_sap = roll_angle_at_radius(profile.geometry.base_radius, sap)?;
-        FlankModification::new(micro, &profile, u_sap, spec.face_width).map(Some)
-    }
-}
-
-impl Scene {
-    /// The spur/helical gears, or the error that `what` (an analysis or
-    /// option, e.g. "the contact-band study") handles spur and helical
-    /// pairs only, at the scene's `pair.kind` line.
-    pub fn cylindrical(&self, what: &str) -> Result<&CylindricalGears, FlankError> {
-        match &self.gears {
-            Gears::Cylindrical(c) => Ok(c),
-            Gears::Bevel(_) => Err(self.kind_error(what, "spur and helical")),
-        }
-    }
-
-    /// [`Scene::cylindrical`], to edit (a study that varies the gears of a
-    /// scene it has read).
-    pub fn cylindrical_mut(&mut self, what: &str) -> Result<&mut CylindricalGears, FlankError> {
-        if self.is_bevel() {
-            return Err(self.kind_error(what, "spur and helical"));
-        }
-        match &mut self.gears {
-            Gears::Cylindrical(c) => Ok(c),
-            Gears::Bevel(_) => unreachable!("checked above"),
-        }
-    }
-
-    /// The bevel/hypoid gears, or the error that `what` handles spiral
-    /// bevel and hypoid pairs only, at the scene's `pair.kind` line.
-    pub fn bevel(&self, what: &str) -> Result<&BevelGears, FlankError> {
-        match &self.gears {
-            Gears::Bevel(b) => Ok(b),
-            Gears::Cylindrical(_) => Err(self.kind_error(what, "spiral bevel and hypoid")),
-        }
-    }
-
-    /// The pair's (mean) normal module m_n (mm): the gears' normal module
-    /// of a cylindrical pair, ISO 23509's mean normal module m_mn of a
-    /// bevel pair. The scale of the meshing defaults.
-    pub fn normal_module(&self) -> f64 {
-        match &self.gears {
-            Gears::Cylindrical(c) => c.pair.pinion.normal_module,
-            Gears::Bevel(b) => b.blank.cones.m_mn,
-        }
-    }
-
-    /// Whether the pair is a spiral bevel or hypoid pair.
-    pub fn is_bevel(&self) -> bool {
-        matches!(self.gears, Gears::Bevel(_))
-    }
-
-    fn kind_error(&self, what: &str, kinds: &str) -> FlankError {
-        FlankError::Parse {
-            file: self.source.clone(),
-            line: self.kind_line,
-            message: format!(
-                "`pair.kind` = \"{}\": {what} handles {kinds} pairs only",
-                self.kind.name()
-            ),
-        }
-    }
-
-    /// `file:line` of a line of the scene.
-    pub fn at(&self, line: usize) -> String {
-        format!("{}:{line}", self.source.display())
-    }
-
-    /// The scene's spur/helical pair behind the gear-pair interface, as
-    /// sectors of `[mesh] teeth_in_sector` teeth with the flank
-    /// modifications, aligned.
-    pub fn cylindrical_pair(&self) -> Result<CylindricalPair, FlankError> {
-        let c = self.cylindrical("the cylindrical gear-pair model")?;
-        CylindricalPair::new(
-            &c.pair,
-            c.flank_modifications()?,
-            self.mesh.teeth_in_sector as usize,
-        )
-    }
-
-    /// Warnings about the members' materials (ν near ½:
-    /// [`crate::fem::material::Material::locking_warning`]), one per
-    /// material, for the analyses' summaries.
-    pub fn material_warnings(&self) -> Vec<String> {
-        let mut w: Vec<String> = [&self.pinion_material, &self.gear_material]
-            .iter()
-            .filter_map(|m| m.locking_warning())
-            .collect();
-        w.dedup();
-        w
-    }
-
-    /// The scene's pair behind the gear-pair interface
-    /// ([`crate::geometry::gear_pair::GearPair`]): what every analysis uses.
-    pub fn gear_pair(&self) -> Result<Arc<dyn GearPair>, FlankError> {
-        Ok(Arc::new(self.cylindrical_pair()?))
-    }
-}
 
 /// Reads and validates a scene file of any pair kind.
 pub fn read_scene(path: &Path) -> Result<Scene, FlankError> {
@@ -484,6 +270,7 @@ fn bevel_only_ltca_key(l: &analyses::LtcaAnalysis) -> Option<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fem::material::Material;
     use crate::geometry::{Hand, RackProfile};
     use crate::scene::involute::{
         reference_diameter, shift_sum_for_centre_distance, transverse_contact_ratio,

@@ -14,7 +14,7 @@ use crate::error::FlankError;
 use crate::geometry::{GearSpec, Hand, PairSpec};
 
 /// `[pair] kind` of a cylindrical pair as read (the scene's
-/// [`super::PairKind`] once read).
+/// [`super::validated::PairKind`] once read).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub(super) enum CylindricalKind {
@@ -22,11 +22,11 @@ pub(super) enum CylindricalKind {
     Helical,
 }
 
-impl From<CylindricalKind> for super::PairKind {
+impl From<CylindricalKind> for super::validated::PairKind {
     fn from(k: CylindricalKind) -> Self {
         match k {
-            CylindricalKind::Spur => super::PairKind::Spur,
-            CylindricalKind::Helical => super::PairKind::Helical,
+            CylindricalKind::Spur => super::validated::PairKind::Spur,
+            CylindricalKind::Helical => super::validated::PairKind::Helical,
         }
     }
 }
