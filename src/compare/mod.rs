@@ -51,7 +51,7 @@ use method_run::shares;
 pub use method_run::MethodRun;
 use reference::{extrapolate, ExtrapolatedReference};
 
-/// Options of [`compare`].
+/// Options of [`run::compare`].
 #[derive(Clone, Debug)]
 pub struct CompareOptions {
     pub out: PathBuf,
@@ -76,6 +76,26 @@ pub struct CompareOptions {
     /// directories) as the p_max reference ([`pmax_reference`]); empty: p_max
     /// against the finest uniform FE run only.
     pub pmax_reference: Vec<PathBuf>,
+}
+
+/// `flank compare`'s defaults: K = 5, 10, 20, 40; FE flank elements of
+/// 1.0 and 0.5 mm; roll step 1°; output `out`.
+impl Default for CompareOptions {
+    fn default() -> Self {
+        CompareOptions {
+            out: PathBuf::from("out"),
+            points_per_line: vec![5, 10, 20, 40],
+            fe_flank_sizes: vec![1.0, 0.5],
+            fe_base_size: None,
+            roll_angles_deg: None,
+            roll_step_deg: 1.0,
+            ltca: LtcaOptions::default(),
+            threads: 0,
+            quiet: false,
+            friction_mu: None,
+            pmax_reference: Vec::new(),
+        }
+    }
 }
 
 impl CompareOptions {
