@@ -24,8 +24,10 @@
 //! deck.inp ─► deck ─► fem ─► (contact) ─► report               (`flank solve`)
 //! ```
 //!
-//! * [`scene`]: scene files (TOML): the pair, gears and micro-geometry,
-//!   materials, load, the analyses asked for; errors name file:line.
+//! * [`scene`]: scene files (TOML) into one [`scene::Scene`] for every pair
+//!   kind (its [`scene::PairKind`] is data): the pair, gears and
+//!   micro-geometry, materials, load, the analyses asked for; errors name
+//!   file:line.
 //! * [`geometry`]: what a gear is. The **gear-pair interface**
 //!   ([`geometry::gear_pair`]: [`geometry::surface::ToothSurface`] r(u, v)
 //!   with normals, derivatives, boundaries and tip edge;
