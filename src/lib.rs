@@ -97,6 +97,42 @@
 //! assert!(sol.stats.backward_error < 1e-14);
 //! ```
 
+//!
+//! One scene type reads every pair kind, and each analysis has one entry
+//! point for all of them (the pair kind is data, [`scene::Gears`]):
+//!
+//! ```
+//! use std::path::Path;
+//! use flank::scene::{read_scene, PairKind};
+//!
+//! let papers = Path::new(env!("CARGO_MANIFEST_DIR")).join("papers");
+//! let spur = read_scene(&papers.join("seed002-spur/scene.toml"))?;
+//! assert_eq!(spur.kind, PairKind::Spur);
+//! assert_eq!(spur.cylindrical("this example")?.pair.pinion.teeth, 13);
+//! assert!((spur.load.torque_nmm - 312_000.0).abs() < 1e-9); // internal units: N·mm
+//!
+//! let hypoid = read_scene(&papers.join("seed003-hypoid/scene_eased.toml"))?;
+//! assert_eq!(hypoid.kind, PairKind::Hypoid);
+//! assert_eq!(hypoid.bevel("this example")?.blank_inputs.z1, 11);
+//! // an analysis of one kind refuses the other at the scene's `pair.kind` line
+//! let refused = hypoid.cylindrical("the contact-band study").unwrap_err();
+//! assert!(refused.to_string().contains("spur and helical pairs only"));
+//! # Ok::<(), flank::error::FlankError>(())
+//! ```
+//!
+//! The analyses take the options of their command (`None`: the scene's
+//! `[analyses.*]`, else the default) and write their files into `out`;
+//! `examples/` runs each of them:
+//!
+//! ```no_run
+//! use flank::ltca::cycle::LtcaOptions;
+//! # let scene = flank::scene::read_scene(std::path::Path::new("scene.toml"))?;
+//! let options = LtcaOptions { out: "out/ltca".into(), ..Default::default() };
+//! let summary = flank::ltca::run::run(&scene, &options)?; // spur, helical, bevel or hypoid
+//! println!("max KKT residual {}", summary["max_kkt"]);
+//! # Ok::<(), flank::error::FlankError>(())
+//! ```
+
 // Index loops mirror the formulas (K_ab, J_ij, …) in numerical kernels.
 #![allow(clippy::needless_range_loop)]
 // `!(x > y)` is used on purpose: it is also true when x is NaN.

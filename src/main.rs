@@ -55,7 +55,8 @@ enum Command {
     /// both bodies' compliance tensors (computed once, cached beside the
     /// decks in --out), then per roll angle the unloaded TCA, the normal
     /// compliance of the candidate points and the contact QP. Writes
-    /// ltca_cycle.csv, ltca_points.csv, summary.json and plots.
+    /// ltca_cycle.csv (spur/helical) or ltca_positions.csv (bevel/hypoid),
+    /// ltca_points.csv, summary.json and plots (docs/outputs.md).
     Ltca(cli::ltca::Args),
     /// LTCA against FE contact at the same roll angles: LTCA at several K,
     /// FE contact at several flank element sizes (the finest is the
@@ -64,10 +65,12 @@ enum Command {
     /// FE contact over a mesh cycle (the scene's [analyses.contact]): both
     /// sectors meshed and placed in mesh, pinion hub coupled to a reference
     /// node loaded by the torque, gear hub clamped, one contact solve per
-    /// roll angle with the stiffness factorized once. Writes
-    /// mesh_cycle.csv, summary.json (contact_ratio, single_pair_force_n,
-    /// positions, time_per_position_s, nodes, ...), force_per_tooth and
-    /// transmission_error plots (SVG, PNG) and roll_<angle>deg.vtu.
+    /// roll angle with the stiffness factorized once. Writes, for a
+    /// spur/helical pair, mesh_cycle.csv, summary.json (contact_ratio,
+    /// single_pair_force_n, positions, time_per_position_s, nodes, ...),
+    /// force_per_tooth and transmission_error plots (SVG, PNG) and
+    /// roll_<angle>deg.vtu; for a bevel/hypoid pair positions.csv,
+    /// contact_pattern.csv, summary.json and plots (docs/outputs.md).
     Run(cli::run::Args),
     /// Write the benchmark cantilever as a CalculiX deck: a box L × 10 × 10 mm
     /// (L = 10·nx/ny mm … so elements are cubes), clamped at x = 0, 1 kN tip
