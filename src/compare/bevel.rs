@@ -153,7 +153,10 @@ pub fn compare_bevel(
             angles.len()
         ));
         let t = Instant::now();
-        let cycle = BevelCycle::new(
+        // the inputs `flank run` refuses are refused here too (a sector too
+        // small for the pairs in mesh at these angles, interpenetrating
+        // unloaded bodies): FE numbers of such a model are not a reference
+        let cycle = BevelCycle::checked(
             scene,
             &BevelRunOptions {
                 mesh: BevelSectorOptions {
@@ -169,7 +172,9 @@ pub fn compare_bevel(
                 friction_mu: mu,
                 ..Default::default()
             },
-        )?;
+            &angles,
+        )?
+        .cycle;
         let setup_s = t.elapsed().as_secs_f64();
         let t = Instant::now();
         let steps: Vec<_> = angles

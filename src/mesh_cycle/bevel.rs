@@ -29,6 +29,7 @@ use crate::geometry::gear_pair::PairPlacement;
 use crate::iteration_limits::IterationLimits;
 use crate::mesh::bevel_body::bevel_body_model;
 use crate::mesh::bevel_sector::BevelSectorOptions;
+use crate::mesh_cycle::bevel_checks as checks;
 use crate::mesh_cycle::checkpoint::{self, Checkpoint, Position};
 use crate::mesh_cycle::pair_model::{combine, set_automatic_penalty, PairBody, PairModel};
 use crate::report::fe_pattern::{plot_fe_pattern, PatternNode};
@@ -170,7 +171,7 @@ impl BevelCycle {
     /// `options`), not yet factorized.
     pub fn pair_model(scene: &Scene, options: &BevelRunOptions) -> Result<PairModel, FlankError> {
         let bevel = scene.bevel("the bevel/hypoid FE mesh cycle")?;
-        crate::mesh_cycle::bevel_checks::check_torque(scene)?;
+        checks::check_torque(scene)?;
         let torque = scene.load.torque_nmm;
         let pinion = bevel_body_model(
             &bevel.bodies[0],
@@ -487,6 +488,66 @@ impl BevelCycle {
 /// Positions of the default run over one mesh cycle.
 pub const DEFAULT_POSITIONS: usize = 20;
 
+/// A factorized cycle after the input checks (see [`BevelCycle::checked`]).
+pub struct CheckedCycle {
+    pub cycle: BevelCycle,
+    /// The unloaded pairs' exact depths at the roll angles checked.
+    pub unloaded: Vec<checks::UnloadedPair>,
+    /// What the checks could not establish (shank with a partial sector;
+    /// the point TCA did not run).
+    pub warnings: Vec<String>,
+    /// Time of the checks and of the factorization (s).
+    pub checks_s: f64,
+    pub factorization_s: f64,
+}
+
+impl BevelCycle {
+    /// The cycle of `scene` for the roll angles `rolls`, built only after
+    /// the checks that refuse bad inputs before the factorization
+    /// ([`crate::mesh_cycle::bevel_checks`]): the torque, the members
+    /// meshed (the more basic error first), a sector that holds every pair
+    /// in mesh at these angles, no gross unloaded interpenetration. Every
+    /// FE contact cycle of a bevel pair goes through it (`flank run`,
+    /// `flank compare`).
+    pub fn checked(
+        scene: &Scene,
+        options: &BevelRunOptions,
+        rolls: &[f64],
+    ) -> Result<CheckedCycle, FlankError> {
+        let bevel = scene.bevel("the bevel/hypoid FE mesh cycle")?;
+        checks::check_torque(scene)?;
+        let mut warnings = Vec::new();
+        let t_check = Instant::now();
+        let model = BevelCycle::pair_model(scene, options)?;
+        if options.mesh.shank.is_some() && scene.mesh.teeth_in_sector < bevel.blank_inputs.z1 {
+            warnings.push(crate::mesh::bevel_sector::SHANK_SECTOR_WARNING.to_string());
+        }
+        if checks::check_sector(scene, rolls)?.is_none() {
+            warnings.push(
+                "the point TCA did not run: whether the sector holds every pair in mesh is not checked"
+                    .to_string(),
+            );
+        }
+        let unloaded = checks::exact_depths(
+            &model,
+            bevel.pair.as_ref(),
+            rolls,
+            &BevelCycle::contact_options(options).pairing,
+        )?;
+        checks::check_interpenetration(scene, &model, &unloaded)?;
+        let checks_s = t_check.elapsed().as_secs_f64();
+        let t0 = Instant::now();
+        let cycle = BevelCycle::factorize(scene, model, options)?;
+        Ok(CheckedCycle {
+            cycle,
+            unloaded,
+            warnings,
+            checks_s,
+            factorization_s: t0.elapsed().as_secs_f64(),
+        })
+    }
+}
+
 /// `flank run` on a bevel/hypoid scene: the pair factorized once, then
 /// `roll_angles_deg` (default: [`DEFAULT_POSITIONS`] positions over one
 /// mesh cycle centred on roll 0, the middle pair at the mean point);
@@ -499,7 +560,6 @@ pub fn run_bevel(
     out: &std::path::Path,
 ) -> Result<serde_json::Value, FlankError> {
     let bevel = scene.bevel("the bevel/hypoid FE mesh cycle")?;
-    use crate::mesh_cycle::bevel_checks as checks;
     use std::io::Write;
     checks::check_torque(scene)?;
     let pitch = bevel.pair.tooth_roll_step().abs().to_degrees();
@@ -514,31 +574,13 @@ pub fn run_bevel(
     if let Some(r) = rolls.iter().find(|r| !r.is_finite()) {
         return Err(FlankError::Model(format!("roll angle {r} is not a number")));
     }
-    let mut run_warnings = Vec::new();
-    // the bad inputs refused before the factorization (bevel_checks)
-    let t_check = Instant::now();
-    // meshing first: a member that cannot be meshed is the more basic error
-    let model = BevelCycle::pair_model(scene, options)?;
-    if options.mesh.shank.is_some() && scene.mesh.teeth_in_sector < bevel.blank_inputs.z1 {
-        run_warnings.push(crate::mesh::bevel_sector::SHANK_SECTOR_WARNING.to_string());
-    }
-    if checks::check_sector(scene, &rolls)?.is_none() {
-        run_warnings.push(
-            "the point TCA did not run: whether the sector holds every pair in mesh is not checked"
-                .to_string(),
-        );
-    }
-    let unloaded = checks::exact_depths(
-        &model,
-        bevel.pair.as_ref(),
-        &rolls,
-        &BevelCycle::contact_options(options).pairing,
-    )?;
-    checks::check_interpenetration(scene, &model, &unloaded)?;
-    let checks_s = t_check.elapsed().as_secs_f64();
-    let t0 = Instant::now();
-    let cycle = BevelCycle::factorize(scene, model, options)?;
-    let factorization_s = t0.elapsed().as_secs_f64();
+    let CheckedCycle {
+        cycle,
+        unloaded,
+        warnings: run_warnings,
+        checks_s,
+        factorization_s,
+    } = BevelCycle::checked(scene, options, &rolls)?;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
     // every position is kept in checkpoint.json as it is solved; SIGINT is
     // polled between positions (the spur cycle's protocol)
