@@ -515,9 +515,10 @@ impl BevelCycle {
         rolls: &[f64],
     ) -> Result<CheckedCycle, FlankError> {
         let bevel = scene.bevel("the bevel/hypoid FE mesh cycle")?;
-        checks::check_torque(scene)?;
         let mut warnings = Vec::new();
         let t_check = Instant::now();
+        // meshing first (it checks the torque): a member that cannot be
+        // meshed is the more basic error
         let model = BevelCycle::pair_model(scene, options)?;
         if options.mesh.shank.is_some() && scene.mesh.teeth_in_sector < bevel.blank_inputs.z1 {
             warnings.push(crate::mesh::bevel_sector::SHANK_SECTOR_WARNING.to_string());

@@ -244,6 +244,11 @@ mod tests {
     use crate::scene::read_scene;
     use crate::settings::SlaveBody;
 
+    /// The bevel gears of a scene this test reads.
+    fn gears(s: &Scene) -> &crate::scene::BevelGears {
+        s.bevel("this test").unwrap()
+    }
+
     fn scene(rel: &str) -> Scene {
         let path = format!("{}/papers/{rel}", env!("CARGO_MANIFEST_DIR"));
         let s = read_scene(std::path::Path::new(&path)).unwrap();
@@ -251,7 +256,7 @@ mod tests {
     }
 
     fn model(s: &Scene, flank: f64) -> PairModel {
-        let bevel = s.bevel("this test").unwrap();
+        let bevel = gears(s);
         let opts = BevelSectorOptions {
             flank_size: flank,
             base_size: 4.0 * flank,
@@ -292,27 +297,14 @@ mod tests {
             ("seed001-hypoid/scene.toml", false),
         ] {
             let s = scene(rel);
-            let limit =
-                GROSS_INTERPENETRATION_MODULE * s.bevel("this test").unwrap().blank.cones.m_mn;
-            let pitch = s
-                .bevel("this test")
-                .unwrap()
-                .pair
-                .tooth_roll_step()
-                .abs()
-                .to_degrees();
+            let limit = GROSS_INTERPENETRATION_MODULE * gears(&s).blank.cones.m_mn;
+            let pitch = gears(&s).pair.tooth_roll_step().abs().to_degrees();
             let rolls: Vec<f64> = (0..20)
                 .map(|i| -0.5 * pitch + pitch * i as f64 / 20.0)
                 .collect();
             for flank in [2.0, 1.0] {
                 let m = model(&s, flank);
-                let found = exact_depths(
-                    &m,
-                    s.bevel("this test").unwrap().pair.as_ref(),
-                    &rolls,
-                    &pairing,
-                )
-                .unwrap();
+                let found = exact_depths(&m, gears(&s).pair.as_ref(), &rolls, &pairing).unwrap();
                 let deepest = found
                     .iter()
                     .max_by(|a, b| a.exact_depth_mm.total_cmp(&b.exact_depth_mm))
@@ -353,13 +345,7 @@ mod tests {
     #[test]
     fn a_one_tooth_sector_is_refused() {
         let s = scene("seed003-hypoid/scene_eased.toml");
-        let pitch = s
-            .bevel("this test")
-            .unwrap()
-            .pair
-            .tooth_roll_step()
-            .abs()
-            .to_degrees();
+        let pitch = gears(&s).pair.tooth_roll_step().abs().to_degrees();
         let rolls: Vec<f64> = (0..20)
             .map(|i| -0.5 * pitch + pitch * i as f64 / 20.0)
             .collect();

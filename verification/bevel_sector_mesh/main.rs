@@ -27,6 +27,11 @@ use flank::mesh::bevel_body::bevel_body_model;
 use flank::mesh::bevel_sector::{bevel_sector, flank_edge_deviation, BevelSectorOptions, Shank};
 use flank::scene::{read_scene, Scene};
 
+/// The bevel gears of a scene this case reads.
+fn gears(s: &Scene) -> &flank::scene::BevelGears {
+    s.bevel("this case").unwrap()
+}
+
 fn scene(seed: &str) -> Scene {
     let path = format!("{}/papers/{seed}/scene.toml", env!("CARGO_MANIFEST_DIR"));
     read_scene(Path::new(&path)).unwrap()
@@ -40,7 +45,7 @@ fn hypoid_members_mesh_validly() {
     println!("|---|---|---|---|---|---|---|---|---|---|");
     for seed in ["seed003-hypoid", "seed001-hypoid", "seed000-hypoid"] {
         let sc = scene(seed);
-        for (m, gear) in sc.bevel("this case").unwrap().bodies.iter().enumerate() {
+        for (m, gear) in gears(&sc).bodies.iter().enumerate() {
             for fs in [1.0, 0.5] {
                 let opts = BevelSectorOptions {
                     flank_size: fs,
@@ -141,21 +146,11 @@ fn deck_matches_ccx_in(
         element,
         ..Default::default()
     };
-    let torque = sc.load.torque_nmm
-        * [
-            1.0,
-            sc.bevel("this case").unwrap().blank.z2 / sc.bevel("this case").unwrap().blank.z1,
-        ][m];
+    let torque = sc.load.torque_nmm * [1.0, gears(&sc).blank.z2 / gears(&sc).blank.z1][m];
     let name = ["pinion", "gear"][m];
     let material = [&sc.pinion_material, &sc.gear_material][m];
-    let body = bevel_body_model(
-        &sc.bevel("this case").unwrap().bodies[m],
-        name,
-        material,
-        &opts,
-        Some(torque),
-    )
-    .unwrap();
+    let body =
+        bevel_body_model(&gears(&sc).bodies[m], name, material, &opts, Some(torque)).unwrap();
     if let Some(sh) = body.sector.shank {
         println!(
             "{name} with shank: {} nodes, min scaled Jacobian {:.3}, max aspect {:.1}; {sh:?}",
@@ -245,21 +240,17 @@ fn wedge15_against_hex20(sizes: &[f64]) {
                 };
                 let name = ["pinion", "gear"][m];
                 let t = Instant::now();
-                let r =
-                    bevel_sector(&sc.bevel("this case").unwrap().bodies[m], name, &opts).unwrap();
+                let r = bevel_sector(&gears(&sc).bodies[m], name, &opts).unwrap();
                 let t_mesh = t.elapsed().as_secs_f64();
                 assert!(r.quality.min_scaled_jacobian > 0.2, "{:?}", r.quality);
                 let (mut tip, mut t_solve) = (String::from("—"), String::from("—"));
                 if m == 1 {
                     let body = bevel_body_model(
-                        &sc.bevel("this case").unwrap().bodies[1],
+                        &gears(&sc).bodies[1],
                         name,
                         &sc.gear_material,
                         &opts,
-                        Some(
-                            sc.load.torque_nmm * sc.bevel("this case").unwrap().blank.z2
-                                / sc.bevel("this case").unwrap().blank.z1,
-                        ),
+                        Some(sc.load.torque_nmm * gears(&sc).blank.z2 / gears(&sc).blank.z1),
                     )
                     .unwrap();
                     let (node, f) = body.load.unwrap();

@@ -30,7 +30,12 @@ use flank::geometry::pair::check_pair;
 use flank::geometry::rack::{Flank, ToothProfile};
 use flank::mesh::gear_body::gear_body;
 use flank::mesh::gear_sector::{flank_segment, SectorOptions};
-use flank::scene::read_scene;
+use flank::scene::{read_scene, Scene};
+
+/// The spur/helical gears of a scene this case reads.
+fn gears(s: &Scene) -> &flank::scene::CylindricalGears {
+    s.cylindrical("this case").unwrap()
+}
 
 /// Deflection (mm) of one body's middle tooth under the line load `force` (N)
 /// at radius `radius`, and the number of loaded nodes.
@@ -126,22 +131,15 @@ fn seed002_single_pair_stiffness_vs_iso6336() {
         "/papers/seed002-spur/scene.toml"
     )))
     .unwrap();
-    let report = check_pair(&scene.cylindrical("this case").unwrap().pair).unwrap();
-    let iso = tooth_stiffness(
-        &scene.cylindrical("this case").unwrap().pair,
-        report.contact_ratio,
-    )
-    .unwrap();
-    let force =
-        scene.load.torque_nmm / base_radius(&scene.cylindrical("this case").unwrap().pair.pinion);
+    let report = check_pair(&gears(&scene).pair).unwrap();
+    let iso = tooth_stiffness(&gears(&scene).pair, report.contact_ratio).unwrap();
+    let force = scene.load.torque_nmm / base_radius(&gears(&scene).pair.pinion);
     let cos_aw = report.working_pressure_angle_rad.cos();
-    let b = scene
-        .cylindrical("this case")
-        .unwrap()
+    let b = gears(&scene)
         .pair
         .pinion
         .face_width
-        .min(scene.cylindrical("this case").unwrap().pair.gear.face_width);
+        .min(gears(&scene).pair.gear.face_width);
     println!(
         "ISO 6336-1: c′ = {:.3} N/(mm·µm), c_γα = {:.3}; F_n = {force:.1} N",
         iso.single, iso.mesh
@@ -157,20 +155,20 @@ fn seed002_single_pair_stiffness_vs_iso6336() {
             ..Default::default()
         };
         let (d1, n1, dofs1) = tooth_deflection(
-            &scene.cylindrical("this case").unwrap().pair.pinion,
+            &gears(&scene).pair.pinion,
             "pinion",
             &scene.pinion_material,
             &options,
             force,
-            base_radius(&scene.cylindrical("this case").unwrap().pair.pinion) / cos_aw,
+            base_radius(&gears(&scene).pair.pinion) / cos_aw,
         );
         let (d2, _, dofs2) = tooth_deflection(
-            &scene.cylindrical("this case").unwrap().pair.gear,
+            &gears(&scene).pair.gear,
             "gear",
             &scene.gear_material,
             &options,
             force,
-            base_radius(&scene.cylindrical("this case").unwrap().pair.gear) / cos_aw,
+            base_radius(&gears(&scene).pair.gear) / cos_aw,
         );
         let c_fe = force / (b * (d1 + d2) * 1e3);
         let ratio = c_fe / iso.single;

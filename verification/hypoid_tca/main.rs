@@ -32,6 +32,11 @@ fn bevel(path: &Path) -> Scene {
     read_scene(path).unwrap()
 }
 
+/// The bevel gears of a scene this case reads.
+fn gears(s: &Scene) -> &flank::scene::BevelGears {
+    s.bevel("this case").unwrap()
+}
+
 fn seed000() -> Scene {
     bevel(&papers().join("seed000-hypoid/scene.toml"))
 }
@@ -67,11 +72,7 @@ fn middle_contacts(t: &PointTca) -> impl Iterator<Item = &flank::tca::point_cont
 fn a_conjugate_pair_has_no_te_and_line_contact() {
     let s = seed000_with("process = \"conjugate\"", "conjugate.toml");
     let t0 = std::time::Instant::now();
-    let t = point_tca(
-        s.bevel("this case").unwrap().pair.as_ref(),
-        &settings(false, 0, 0.00635),
-    )
-    .unwrap();
+    let t = point_tca(gears(&s).pair.as_ref(), &settings(false, 0, 0.00635)).unwrap();
     let worst = middle_contacts(&t)
         .map(|c| c.gear_lag_rad.abs())
         .fold(0.0f64, f64::max);
@@ -118,11 +119,7 @@ fn crossing_flanks_are_reported() {
         env!("CARGO_MANIFEST_DIR")
     );
     let s = read_scene(Path::new(&path)).unwrap();
-    let t = point_tca(
-        s.bevel("this case").unwrap().pair.as_ref(),
-        &settings(true, 0, 0.00635),
-    )
-    .unwrap();
+    let t = point_tca(gears(&s).pair.as_ref(), &settings(true, 0, 0.00635)).unwrap();
     let c = t.crossing.expect("seed 003's flanks cross");
     println!(
         "(e) seed 003: flanks cross by {:.4} mm at roll {:.3}°, pair offset {}, pinion (u, v) = ({:.3}, {:.3}) mm",
@@ -169,7 +166,7 @@ fn the_screened_crossing_check_finds_what_every_point_finds() {
         let run = |exhaustive: bool| {
             let t0 = std::time::Instant::now();
             let t = point_tca(
-                s.bevel("this case").unwrap().pair.as_ref(),
+                gears(&s).pair.as_ref(),
                 &PointTcaSettings {
                     search_directions: 0,
                     edges,
@@ -236,11 +233,7 @@ fn interior(t: &PointTca) -> Vec<(f64, f64, f64, f64)> {
 fn curvature_and_searched_ellipses_agree_on_the_flanks() {
     let s = seed000();
     for (delta, limit) in [(0.0001, Some(0.01)), (0.00635, None)] {
-        let t = point_tca(
-            s.bevel("this case").unwrap().pair.as_ref(),
-            &settings(false, 36, delta),
-        )
-        .unwrap();
+        let t = point_tca(gears(&s).pair.as_ref(), &settings(false, 36, delta)).unwrap();
         let pts = interior(&t);
         // compare over the middle half of the path (the ellipse away from
         // the toe and heel, where the search stops at the flank's end)
@@ -272,7 +265,7 @@ fn shared_ellipse_searches_give_the_fresh_results() {
     // second run must equal a fresh one bit for bit and search only the
     // contacts the first did not
     let s = seed000();
-    let pair = s.bevel("this case").unwrap().pair.as_ref();
+    let pair = gears(&s).pair.as_ref();
     let memo = EllipseMemo::default();
     let with = point_tca_shared(pair, &settings(true, 8, 0.00635), &memo).unwrap();
     let after_with = memo.len();
@@ -305,12 +298,8 @@ fn shared_ellipse_searches_give_the_fresh_results() {
 #[test]
 fn edge_contacts_lie_on_the_tip_cone_and_touch_the_flank() {
     let s = seed000();
-    let t = point_tca(
-        s.bevel("this case").unwrap().pair.as_ref(),
-        &settings(true, 0, 0.00635),
-    )
-    .unwrap();
-    let pair = s.bevel("this case").unwrap().pair.as_ref();
+    let t = point_tca(gears(&s).pair.as_ref(), &settings(true, 0, 0.00635)).unwrap();
+    let pair = gears(&s).pair.as_ref();
     let mut n = 0;
     let (mut cone, mut tangency) = (0.0f64, 0.0f64);
     for c in middle_contacts(&t) {
@@ -348,12 +337,9 @@ fn edge_contacts_lie_on_the_tip_cone_and_touch_the_flank() {
 fn misalignment_moves_the_pattern() {
     let s = seed000();
     let st = settings(false, 0, 0.00635);
-    let base = point_tca(s.bevel("this case").unwrap().pair.as_ref(), &st).unwrap();
+    let base = point_tca(gears(&s).pair.as_ref(), &st).unwrap();
     let same = point_tca(
-        &s.bevel("this case")
-            .unwrap()
-            .pair
-            .with_misalignment(Misalignment::default()),
+        &gears(&s).pair.with_misalignment(Misalignment::default()),
         &st,
     )
     .unwrap();
@@ -401,11 +387,7 @@ fn misalignment_moves_the_pattern() {
             },
         ),
     ] {
-        let t = point_tca(
-            &s.bevel("this case").unwrap().pair.with_misalignment(m),
-            &st,
-        )
-        .unwrap();
+        let t = point_tca(&gears(&s).pair.with_misalignment(m), &st).unwrap();
         let p = at_zero(&t);
         let moved = (p[0] - p0[0]).hypot(p[1] - p0[1]);
         println!(
@@ -434,7 +416,7 @@ fn bad_input_is_refused_with_the_reason() {
             "positions_per_pitch",
         ),
     ] {
-        let e = point_tca(s.bevel("this case").unwrap().pair.as_ref(), &st)
+        let e = point_tca(gears(&s).pair.as_ref(), &st)
             .unwrap_err()
             .to_string();
         assert!(e.contains(what), "{e}");
@@ -454,10 +436,10 @@ fn bad_input_is_refused_with_the_reason() {
     let right = bevel(&p);
     let wrong = BevelPair::new(
         [
-            mirror.bevel("this case").unwrap().bodies[0].clone(),
-            right.bevel("this case").unwrap().bodies[1].clone(),
+            gears(&mirror).bodies[0].clone(),
+            gears(&right).bodies[1].clone(),
         ],
-        *mirror.bevel("this case").unwrap().pair.pair_assembly(),
+        *gears(&mirror).pair.pair_assembly(),
     );
     let e = wrong.unwrap_err().to_string();
     println!("(e) same-hand pair: {e}");
