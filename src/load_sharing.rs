@@ -47,9 +47,36 @@ pub fn beyond_pitch_error(te_urad: f64, pitch_rad: f64) -> Option<String> {
     })
 }
 
+/// Arc seconds per radian (180 · 3600 / π; the point TCA's
+/// `crate::tca::point_contact::ARCSEC_PER_RAD`, a module of the same layer).
+const ARCSEC_PER_RAD: f64 = 180.0 * 3600.0 / std::f64::consts::PI;
+
+/// The loaded TE at the gear (arcsec) from the loaded TE at the pinion
+/// (µrad): Δθ₂ = −θ₁ · z₁/z₂. Every output of the LTCA and of FE contact
+/// gives both forms (`te_urad`, pinion, > 0 under a driving torque;
+/// `te_arcsec`, gear, the sign of the point TCA's Δφ₂ = φ₂ − (z₁/z₂) φ₁,
+/// `src/tca/point_contact.rs`), whatever the pair kind. `ratio` = z₁/z₂.
+pub fn te_arcsec_at_gear(te_urad: f64, ratio: f64) -> f64 {
+    -te_urad * 1e-6 * ratio * ARCSEC_PER_RAD
+}
+
+/// The inverse of [`te_arcsec_at_gear`]: the pinion TE (µrad) from the gear
+/// TE (arcsec).
+pub fn te_urad_at_pinion(te_arcsec: f64, ratio: f64) -> f64 {
+    -te_arcsec / (ratio * ARCSEC_PER_RAD) * 1e6
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn te_forms_convert_both_ways() {
+        // 100 µrad at the pinion of a 13:39 pair: −100e-6 · (1/3) · 206 264.8″
+        let a = te_arcsec_at_gear(100.0, 13.0 / 39.0);
+        assert!((a + 6.875_493).abs() < 1e-6, "{a}");
+        assert!((te_urad_at_pinion(a, 13.0 / 39.0) - 100.0).abs() < 1e-9);
+    }
 
     #[test]
     fn beyond_pitch_error_from_one_pitch_on() {
