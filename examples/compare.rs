@@ -9,15 +9,11 @@
 
 use std::path::Path;
 
-use flank::compare::run::compare;
-use flank::compare::CompareOptions;
-use flank::compliance::body::BodyMeshOptions;
-use flank::ltca::cycle::LtcaOptions;
-use flank::scene::read_scene;
+use flank::api::{compare, load_scene, BodyMeshOptions, CompareOptions, LtcaOptions};
 
 fn main() -> anyhow::Result<()> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let scene = read_scene(&root.join("papers/seed002-spur/scene.toml"))?;
+    let scene = load_scene(root.join("papers/seed002-spur/scene.toml"))?;
     let options = CompareOptions {
         out: root.join("out/example_compare"),
         points_per_line: vec![5, 10],
@@ -37,16 +33,15 @@ fn main() -> anyhow::Result<()> {
         ..Default::default()
     };
     let summary = compare(&scene, &options)?;
-    let number = |key: &str| summary[key].as_f64().unwrap_or(f64::NAN);
     println!(
         "best LTCA {} against {}: load share within {:.4}, TE {:.2} %, p_max {:.2} %; LTCA cycle {:.3} s, FE cycle {:.1} s",
-        summary["best_ltca"],
-        summary["reference"],
-        number("load_sharing_rel_err"),
-        100.0 * number("te_rel_err"),
-        100.0 * number("pmax_rel_err"),
-        number("ltca_cycle_s"),
-        number("fe_cycle_s"),
+        summary.best_ltca,
+        summary.reference,
+        summary.load_sharing_rel_err,
+        100.0 * summary.te_rel_err,
+        100.0 * summary.pmax_rel_err,
+        summary.ltca_cycle_s,
+        summary.fe_cycle_s,
     );
     println!(
         "the table per K and FE mesh: {}",

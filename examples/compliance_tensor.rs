@@ -9,13 +9,14 @@
 
 use std::path::Path;
 
-use flank::compliance::body::BodyMeshOptions;
-use flank::compliance::run::{run_scene, RunOptions};
+use flank::api::{
+    compliance, read_compliance_tensor, BodyMeshOptions, ComplianceOptions, FileFormat,
+};
 
 fn main() -> anyhow::Result<()> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let out = root.join("out/example_compliance");
-    let options = RunOptions {
+    let options = ComplianceOptions {
         out: out.clone(),
         mesh: BodyMeshOptions {
             flank_size: Some(1.0),
@@ -25,12 +26,10 @@ fn main() -> anyhow::Result<()> {
         bodies: vec!["pinion".into()],
         ..Default::default()
     };
-    run_scene(&root.join("papers/seed002-spur/scene.toml"), &options)?;
-    let format = options
-        .format
-        .unwrap_or_else(flank::compliance::cache::FileFormat::default_format);
+    compliance(root.join("papers/seed002-spur/scene.toml"), &options)?;
+    let format = options.format.unwrap_or_else(FileFormat::default_format);
     let file = out.join(format!("pinion.compliance.{}", format.extension()));
-    let tensor = flank::compliance::cache::read(&file)?;
+    let tensor = read_compliance_tensor(&file)?;
     let n = tensor.node_count();
     println!(
         "{}: {} flank nodes, C is {} × {} ({}), asymmetry {:.1e}",

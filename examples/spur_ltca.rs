@@ -10,13 +10,11 @@
 
 use std::path::Path;
 
-use flank::compliance::body::BodyMeshOptions;
-use flank::ltca::cycle::LtcaOptions;
-use flank::scene::read_scene;
+use flank::api::{load_scene, ltca, BodyMeshOptions, KindSummary, LtcaOptions};
 
 fn main() -> anyhow::Result<()> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let scene = read_scene(&root.join("papers/seed002-spur/scene.toml"))?;
+    let scene = load_scene(root.join("papers/seed002-spur/scene.toml"))?;
     let options = LtcaOptions {
         out: root.join("out/example_spur_ltca"),
         mesh: BodyMeshOptions {
@@ -27,16 +25,21 @@ fn main() -> anyhow::Result<()> {
         // every other option: the scene's [analyses.ltca], else the default
         ..Default::default()
     };
-    let summary = flank::ltca::run::run(&scene, &options)?;
-    let number = |key: &str| summary[key].as_f64().unwrap_or(f64::NAN);
+    let result = ltca(&scene, &options)?;
+    let summary = result.first();
+    let KindSummary::Cylindrical(spur) = &summary.kind else {
+        anyhow::bail!("a spur scene gives a cylindrical summary");
+    };
+    let or_nan = |x: Option<f64>| x.unwrap_or(f64::NAN);
     println!(
-        "{} positions: contact ratio {:.3} (kinematic {:.3}), single-pair force {:.1} N ({:+.2} % from T/r_b), max KKT residual {:.1e}",
-        summary["positions"],
-        number("contact_ratio"),
-        number("contact_ratio_kinematic"),
-        number("single_pair_force_n"),
-        100.0 * number("single_pair_force_error"),
-        number("max_kkt"),
+        "{} positions: contact ratio {:.3} (kinematic {:.3}), single-pair force {:.1} N ({:+.2} % from T/r_b), loaded TE {:.2} µrad peak-to-peak, max KKT residual {:.1e}",
+        summary.positions,
+        or_nan(spur.contact_ratio),
+        spur.contact_ratio_kinematic,
+        or_nan(spur.single_pair_force_n),
+        100.0 * or_nan(spur.single_pair_force_error),
+        summary.te_peak_to_peak_urad,
+        summary.max_kkt,
     );
     println!(
         "load sharing and TE per roll angle: {}",

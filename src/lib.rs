@@ -24,6 +24,9 @@
 //! deck.inp ─► deck ─► fem ─► (contact) ─► report               (`flank solve`)
 //! ```
 //!
+//! **Start at [`api`]**: load a scene, override keys, run an analysis, read
+//! its typed result. The modules below are the layers it stands on.
+//!
 //! * [`scene`]: scene files (TOML) into one [`scene::Scene`] for every pair
 //!   kind (its [`scene::PairKind`] is data): the pair, gears and
 //!   micro-geometry, materials, load, the analyses asked for; errors name
@@ -128,8 +131,15 @@
 //! use flank::ltca::cycle::LtcaOptions;
 //! # let scene = flank::scene::read_scene(std::path::Path::new("scene.toml"))?;
 //! let options = LtcaOptions { out: "out/ltca".into(), ..Default::default() };
-//! let summary = flank::ltca::run::run(&scene, &options)?; // spur, helical, bevel or hypoid
-//! println!("max KKT residual {}", summary["max_kkt"]);
+//! let result = flank::ltca::run::run(&scene, &options)?; // spur, helical, bevel or hypoid
+//! let cycle = result.first(); // a typed summary, the same fields for every pair kind
+//! println!(
+//!     "TE {:.2} µrad ({:.2} arcsec at the gear) peak-to-peak; max KKT residual {:.1e}",
+//!     cycle.te_peak_to_peak_urad, cycle.te_peak_to_peak_arcsec, cycle.max_kkt
+//! );
+//! for step in &cycle.steps {
+//!     println!("{:+.2}°: shares {:?}", step.position.roll_deg, step.load_share);
+//! }
 //! # Ok::<(), flank::error::FlankError>(())
 //! ```
 
@@ -138,6 +148,7 @@
 // `!(x > y)` is used on purpose: it is also true when x is NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod api;
 pub mod atomic_file;
 pub mod campaign;
 pub mod ccx;

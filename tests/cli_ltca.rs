@@ -11,6 +11,87 @@ fn dir(name: &str) -> PathBuf {
     common::cli::scratch_dir("cli_ltca", name)
 }
 
+/// The per-position LTCA files every pair kind writes, with the same
+/// columns (a sector of `teeth` pinion teeth), and both forms of the TE:
+/// te_arcsec = −te_urad · 10⁻⁶ · z₁/z₂ · 206 264.8 on every row, and the
+/// summary's common keys.
+fn same_ltca_files_for_every_kind(d: &std::path::Path, teeth: usize, ratio: f64, kind: &str) {
+    let mut cycle = vec!["roll_deg".to_string()];
+    for p in 1..=teeth {
+        cycle.push(format!("force_pair{p}_n"));
+        cycle.push(format!("share_pair{p}"));
+    }
+    for p in 1..=teeth {
+        cycle.push(format!("friction_pair{p}_n"));
+    }
+    cycle.extend(
+        "te_urad,te_um,unloaded_te_urad,mesh_stiffness_n_per_um,max_pressure_mpa,friction_power_w,candidates,qp_iterations,local_iterations,kkt,condition,time_s,te_arcsec,unloaded_te_arcsec"
+            .split(',')
+            .map(String::from),
+    );
+    let positions = "roll_deg,pair,pinion_tooth,gear_tooth,force_n,load_share,max_pressure_mpa,te_arcsec,friction_n,te_urad";
+    let arcsec = |urad: f64| -urad * 1e-6 * ratio * 180.0 * 3600.0 / std::f64::consts::PI;
+    let read = |f: &str| -> (Vec<String>, Vec<Vec<String>>) {
+        let text = std::fs::read_to_string(d.join(f)).unwrap_or_else(|e| panic!("{f}: {e}"));
+        let mut lines = text.lines();
+        let head = lines.next().unwrap().split(',').map(String::from).collect();
+        let rows = lines
+            .map(|l| l.split(',').map(String::from).collect())
+            .collect();
+        (head, rows)
+    };
+    let (head, rows) = read("ltca_cycle.csv");
+    assert_eq!(head, cycle, "ltca_cycle.csv of {kind}");
+    let (head_p, rows_p) = read("ltca_positions.csv");
+    assert_eq!(head_p.join(","), positions, "ltca_positions.csv of {kind}");
+    assert_eq!(rows_p.len(), teeth * rows.len(), "{kind}");
+    let col = |h: &[String], name: &str| h.iter().position(|c| c == name).unwrap();
+    let num = |x: &str| x.parse::<f64>().unwrap();
+    for (h, rs) in [(&head, &rows), (&head_p, &rows_p)] {
+        let (u, a) = (col(h, "te_urad"), col(h, "te_arcsec"));
+        for r in rs {
+            let (u, a) = (num(&r[u]), num(&r[a]));
+            assert!(
+                u > 0.0 && (a - arcsec(u)).abs() <= 1e-12 * a.abs(),
+                "{kind}: te_urad {u} vs te_arcsec {a}"
+            );
+        }
+    }
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["schema_version"], 1);
+    assert_eq!(s["pair_kind"], kind);
+    let te: Vec<f64> = rows
+        .iter()
+        .map(|r| num(&r[col(&head, "te_urad")]))
+        .collect();
+    let pp =
+        te.iter().cloned().fold(f64::MIN, f64::max) - te.iter().cloned().fold(f64::MAX, f64::min);
+    let (su, sa) = (
+        s["te_peak_to_peak_urad"].as_f64().unwrap(),
+        s["te_peak_to_peak_arcsec"].as_f64().unwrap(),
+    );
+    assert!((su - pp).abs() <= 1e-9 * pp, "{kind}: {su} vs {pp}");
+    assert!((sa - arcsec(pp).abs()).abs() <= 1e-9 * sa, "{kind}: {sa}");
+    for st in s["steps"].as_array().unwrap() {
+        for key in ["pair_force_n", "load_share", "pair_friction_n"] {
+            assert_eq!(
+                st[key].as_array().map(Vec::len),
+                Some(teeth),
+                "{kind} {key}"
+            );
+        }
+        for key in [
+            "te_urad",
+            "te_arcsec",
+            "unloaded_te_urad",
+            "unloaded_te_arcsec",
+        ] {
+            assert!(st[key].is_number(), "{kind} {key}");
+        }
+    }
+}
+
 #[test]
 fn ltca_writes_the_cycle_files() {
     let d = dir("cycle");
@@ -54,6 +135,7 @@ fn ltca_writes_the_cycle_files() {
         csv.lines().count() - 1,
         s["positions"].as_u64().unwrap() as usize
     );
+    same_ltca_files_for_every_kind(&d, 3, 13.0 / 35.0, "spur");
     // every bounded loop of the solve is tallied: one Hertz half-width
     // fixed point per position, one QP per fixed-point iteration
     let loops = &s["iteration_limits"];
@@ -92,12 +174,22 @@ fn ltca_writes_the_cycle_files() {
         std::fs::read_to_string(d.join("ltca_points.csv")).unwrap(),
         std::fs::read_to_string(d1.join("ltca_points.csv")).unwrap()
     );
-    // the cycle rows but their wall time (the last column)
-    let rows = |dir: &PathBuf| -> Vec<String> {
+    // the cycle rows but their wall time (the column time_s)
+    let rows = |dir: &PathBuf| -> Vec<Vec<String>> {
         let text = std::fs::read_to_string(dir.join("ltca_cycle.csv")).unwrap();
-        assert!(text.lines().next().unwrap().ends_with(",time_s"));
+        let time = text
+            .lines()
+            .next()
+            .unwrap()
+            .split(',')
+            .position(|c| c == "time_s")
+            .expect("a time_s column");
         text.lines()
-            .map(|l| l.rsplit_once(',').unwrap().0.to_string())
+            .map(|l| {
+                let mut cells: Vec<String> = l.split(',').map(String::from).collect();
+                cells.remove(time);
+                cells
+            })
             .collect()
     };
     assert_eq!(rows(&d), rows(&d1));
@@ -429,6 +521,7 @@ fn hypoid_ltca_writes_its_files() {
     }
     let csv = std::fs::read_to_string(d.join("ltca_positions.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 3 * 3);
+    same_ltca_files_for_every_kind(&d, 3, 11.0 / 41.0, "hypoid");
     // the positions are solved in parallel: one thread gives the same files
     let d1 = dir("hypoid_one_thread");
     let (ok, out, err) = flank(&[

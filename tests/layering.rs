@@ -68,6 +68,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("mesh_cycle", 13), // FE contact over a mesh cycle (`flank run`)
     ("compare", 14),    // LTCA against FE contact (`flank compare`)
     ("campaign", 15),   // studies over many variants of a scene
+    ("api", 16),        // the library's short API over the analyses
 ];
 
 /// A name bound in a module: an item defined in a file, a submodule, or an

@@ -29,9 +29,13 @@ fn options(out: &Path, compression: Option<Compression>) -> LtcaOptions {
 fn seed002_ltca_on_compressed_tensors_agrees_with_dense() {
     let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("ltca_compressed");
     let _ = std::fs::remove_dir_all(&d);
-    let dense = run_scene(&scene_path(), &options(&d, None)).unwrap();
+    let dense = run_scene(&scene_path(), &options(&d, None))
+        .unwrap()
+        .to_json();
     let eps = 1e-6;
-    let blr = run_scene(&scene_path(), &options(&d, Some(Compression::Blr(eps)))).unwrap();
+    let blr = run_scene(&scene_path(), &options(&d, Some(Compression::Blr(eps))))
+        .unwrap()
+        .to_json();
     // built panel by panel (the dense files beside them are not read), the
     // compressed form stored beside them
     assert_eq!(blr["setup"]["computed"], serde_json::json!([true, true]));

@@ -30,9 +30,13 @@ fn options(out: &Path, region: Option<FlankRegion>) -> LtcaOptions {
 fn seed002_ltca_on_the_active_flank_equals_the_full_flank() {
     let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("ltca_flank_region");
     let _ = std::fs::remove_dir_all(&d);
-    let active = run_scene(&scene_path(), &options(&d, Some(FlankRegion::Active))).unwrap();
+    let active = run_scene(&scene_path(), &options(&d, Some(FlankRegion::Active)))
+        .unwrap()
+        .to_json();
     // the default where the pair is known: the active flank, reused from disk
-    let default = run_scene(&scene_path(), &options(&d, None)).unwrap();
+    let default = run_scene(&scene_path(), &options(&d, None))
+        .unwrap()
+        .to_json();
     assert_eq!(
         default["setup"]["computed"],
         serde_json::json!([false, false])
@@ -42,7 +46,9 @@ fn seed002_ltca_on_the_active_flank_equals_the_full_flank() {
         active["setup"]["flank_nodes"]
     );
     // the full flank in the same folder: not the restricted file, computed
-    let full = run_scene(&scene_path(), &options(&d, Some(FlankRegion::Full))).unwrap();
+    let full = run_scene(&scene_path(), &options(&d, Some(FlankRegion::Full)))
+        .unwrap()
+        .to_json();
     assert_eq!(full["setup"]["computed"], serde_json::json!([true, true]));
     let nodes = |s: &serde_json::Value, b: usize| s["setup"]["flank_nodes"][b].as_u64().unwrap();
     for b in 0..2 {

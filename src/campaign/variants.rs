@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 use sha2::{Digest, Sha256};
 
 use crate::error::{FlankError, Result};
+use crate::scene::overrides::set_key;
 use crate::scene::Scene;
 
 use super::file::{read_campaign_file, CampaignFile, Loc, THREADED};
@@ -265,55 +266,6 @@ impl Campaign {
     }
 }
 
-/// Sets a dotted scene key (`pinion.micro.tip_relief_um`,
-/// `analyses.ltca.misalignment_urad.0`): tables are created where absent,
-/// numeric parts index existing arrays.
-pub fn set_key(
-    t: &mut toml::Table,
-    key: &str,
-    value: toml::Value,
-) -> std::result::Result<(), String> {
-    let parts: Vec<&str> = key.split('.').collect();
-    let mut cur: &mut toml::Value = t.entry(parts[0]).or_insert_with(|| {
-        if parts.len() > 1 {
-            toml::Value::Table(Default::default())
-        } else {
-            toml::Value::Boolean(false)
-        }
-    });
-    for (i, p) in parts.iter().enumerate().skip(1) {
-        let last = i + 1 == parts.len();
-        cur = match cur {
-            toml::Value::Table(tab) => tab.entry(*p).or_insert_with(|| {
-                if last {
-                    toml::Value::Boolean(false)
-                } else {
-                    toml::Value::Table(Default::default())
-                }
-            }),
-            toml::Value::Array(a) => {
-                let n = a.len();
-                let k: usize = p.parse().map_err(|_| {
-                    format!(
-                        "`{}` is an array: index it with a number",
-                        parts[..i].join(".")
-                    )
-                })?;
-                a.get_mut(k)
-                    .ok_or_else(|| format!("index {k} beyond the array's {n} values"))?
-            }
-            _ => {
-                return Err(format!(
-                    "`{}` is a value, not a table",
-                    parts[..i].join(".")
-                ))
-            }
-        };
-    }
-    *cur = value;
-    Ok(())
-}
-
 /// Makes relative file names in the scene (string keys ending in `_csv`)
 /// absolute against the scene's folder, so the scene can be written anywhere.
 fn absolute_paths(t: &mut toml::Table, dir: &Path) {
@@ -433,20 +385,5 @@ mod tests {
         assert_eq!(m[0].as_float(), Some(0.0));
         assert!((10.0..=20.0).contains(&m[1].as_float().unwrap()));
         assert_eq!(j.inputs.len(), 3);
-    }
-
-    #[test]
-    fn set_key_creates_tables_and_indexes_arrays() {
-        let mut t: toml::Table = toml::from_str("[a]\nx = [1.0, 2.0]\ny = 3\n").unwrap();
-        set_key(&mut t, "a.x.1", toml::Value::Float(5.0)).unwrap();
-        set_key(&mut t, "b.c.d", toml::Value::Integer(1)).unwrap();
-        assert_eq!(t["a"]["x"][1].as_float(), Some(5.0));
-        assert_eq!(t["b"]["c"]["d"].as_integer(), Some(1));
-        assert!(set_key(&mut t, "a.y.z", toml::Value::Integer(1))
-            .unwrap_err()
-            .contains("not a table"));
-        assert!(set_key(&mut t, "a.x.7", toml::Value::Integer(1))
-            .unwrap_err()
-            .contains("beyond"));
     }
 }

@@ -123,25 +123,23 @@ pub fn run(args: Args) -> Result<()> {
     let s = compare_scene(&scene, &options)
         .with_context(|| format!("LTCA against FE contact for {}", scene.display()))?;
     if !quiet {
-        let f = |k: &str| s[k].as_f64().unwrap_or(f64::NAN);
         println!(
             "best {} against {}: load sharing {:.4}, TE {:.4}, p_max {:.4} (against {}); LTCA cycle {:.4} s, FE cycle {:.1} s (+{:.1} s setup): {:.0}×",
-            s["best_ltca"].as_str().unwrap_or(""),
-            s["reference"].as_str().unwrap_or(""),
-            f("load_sharing_rel_err"),
-            f("te_rel_err"),
-            f("pmax_rel_err"),
-            s["pmax_reference"].as_str().unwrap_or(""),
-            f("ltca_cycle_s"),
-            f("fe_cycle_s"),
-            f("fe_setup_s"),
-            f("speedup")
+            s.best_ltca,
+            s.reference,
+            s.load_sharing_rel_err,
+            s.te_rel_err,
+            s.pmax_rel_err,
+            s.pmax_reference,
+            s.ltca_cycle_s,
+            s.fe_cycle_s,
+            s.fe_setup_s,
+            s.speedup
         );
-        if f("friction_mu") > 0.0 {
+        if s.friction_mu > 0.0 {
             println!(
                 "friction μ = {}: tangential force {:.4} (of the total normal force)",
-                f("friction_mu"),
-                f("tangential_force_rel_err")
+                s.friction_mu, s.tangential_force_rel_err
             );
         }
         println!("wrote {}", out.display());

@@ -4,7 +4,8 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 
-use crate::cli::common::{print_notes, SectorArgs};
+use crate::cli::common::{print_lubrication, SectorArgs};
+use flank::ltca::summary::{KindSummary, LtcaSummary};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -89,21 +90,6 @@ pub struct Args {
     quiet: bool,
 }
 
-/// The variant summaries of a bevel LTCA summary (one, unnamed, or
-/// `with_edges` and `without_edges`).
-fn variants(s: &serde_json::Value) -> Vec<(&serde_json::Value, Option<&'static str>)> {
-    let named: Vec<_> = ["with_edges", "without_edges"]
-        .into_iter()
-        .filter(|k| s[*k].is_object())
-        .map(|k| (&s[k], Some(k)))
-        .collect();
-    if named.is_empty() {
-        vec![(s, None)]
-    } else {
-        named
-    }
-}
-
 pub fn run(args: Args) -> Result<()> {
     use flank::ltca::cycle::LtcaOptions;
     use flank::ltca::run::run;
@@ -165,90 +151,93 @@ pub fn run(args: Args) -> Result<()> {
         edges,
     };
     let read = flank::scene::read_scene(&scene)?;
-    let s =
+    let result =
         run(&read, &options).with_context(|| format!("LTCA mesh cycle of {}", scene.display()))?;
-    if read.is_bevel() {
-        for (s, name) in variants(&s) {
-            if quiet {
-                continue;
-            }
-            let f = |k: &str| s[k].as_f64().unwrap_or(f64::NAN);
-            if let Some(name) = name {
-                println!("{name}:");
-            }
-            println!(
-                "{} positions, K = {} per major axis: {:.3} s for the cycle ({:.1} ms per position); tensors {:.1} s, TCA {:.2} s",
-                s["positions"],
-                s["points_per_pair"],
-                f("cycle_s"),
-                1e3 * f("time_per_position_s"),
-                f("compliance_s"),
-                f("tca_s")
-            );
-            println!(
-                "loaded TE {:.2} arcsec peak-to-peak (gear); largest contact pressure {:.0} MPa; max KKT residual {:.1e}",
-                f("te_peak_to_peak_arcsec"),
-                f("max_pressure_mpa"),
-                f("max_kkt")
-            );
-            let sharing = &s["load_sharing"];
-            if sharing.is_object() {
-                println!(
-                    "functional contact ratio {:.3} (pairs loaded above {} % of the force: {}…{}; single-pair zone {:.2}° of roll)",
-                    f("functional_contact_ratio"),
-                    100.0 * sharing["loaded_share_threshold"].as_f64().unwrap_or(f64::NAN),
-                    sharing["min_loaded_pairs"],
-                    sharing["max_loaded_pairs"],
-                    sharing["single_pair_span_deg"].as_f64().unwrap_or(f64::NAN)
-                );
-            }
-            print_notes(s);
-        }
-        if !quiet {
-            println!("wrote {}", out.display());
-        }
+    if quiet {
         return Ok(());
     }
-    if !quiet {
-        let f = |k: &str| s[k].as_f64().unwrap_or(f64::NAN);
-        println!(
-            "{} positions, K = {}: {:.4} s for the cycle ({:.2} ms per position); compliance {:.1} s",
-            s["positions"],
-            s["points_per_line"],
-            f("cycle_s"),
-            1e3 * f("time_per_position_s"),
-            s["setup"]["compliance_s"].as_f64().unwrap_or(f64::NAN)
-        );
-        println!(
-            "contact ratio {:.4} (kinematic ε_α {:.4}); single-pair force {:.1} N vs T/(r_b1 cos β_b) = {:.1} N ({:+.2} %); max KKT residual {:.1e}",
-            f("contact_ratio"),
-            f("contact_ratio_kinematic"),
-            f("single_pair_force_n"),
-            f("nominal_force_n"),
-            100.0 * f("single_pair_force_error"),
-            f("max_kkt")
-        );
-        if let Some(fr) = s["friction"].as_object() {
-            let g = |k: &str| fr.get(k).and_then(|v| v.as_f64()).unwrap_or(f64::NAN);
-            println!(
-                "friction μ = {}: P_t/P_n {:.4}, mean friction power {:.1} W, mesh efficiency {:.4}; largest Coulomb residual {:.1e}{}",
-                g("mu"),
-                g("tangential_to_normal"),
-                g("mean_power_loss_w"),
-                g("mesh_efficiency"),
-                g("max_residual"),
-                match fr.get("cross_check_max_load_difference").and_then(|v| v.as_f64()) {
-                    Some(d) => format!(", Lemke cross-check {d:.1e}"),
-                    None => String::new(),
-                }
-            );
+    for (name, s) in result.cycles() {
+        if let Some(name) = name {
+            println!("{name}:");
         }
-        crate::cli::common::print_lubrication(&s);
-        print_notes(&s);
-        for n in s["kkt_flagged"].as_array().into_iter().flatten() {
-            println!("flagged: {}", n.as_str().unwrap_or(""));
-        }
-        println!("wrote {}", out.display());
+        print_cycle(s);
     }
+    println!("wrote {}", out.display());
     Ok(())
+}
+
+/// The lines `flank ltca` prints of one cycle.
+fn print_cycle(s: &LtcaSummary) {
+    match &s.kind {
+        KindSummary::Bevel(b) => {
+            println!(
+                "{} positions, K = {} per major axis: {:.3} s for the cycle ({:.1} ms per position); tensors {:.1} s, TCA {:.2} s",
+                s.positions,
+                b.points_per_pair,
+                s.cycle_s,
+                1e3 * s.time_per_position_s,
+                b.compliance_s,
+                b.tca_s
+            );
+            println!(
+                "loaded TE {:.2} arcsec peak-to-peak (gear; {:.1} µrad at the pinion); largest contact pressure {:.0} MPa; max KKT residual {:.1e}",
+                s.te_peak_to_peak_arcsec, s.te_peak_to_peak_urad, s.max_pressure_mpa, s.max_kkt
+            );
+            if let Some(sharing) = &b.load_sharing {
+                println!(
+                    "functional contact ratio {:.3} (pairs loaded above {} % of the force: {}…{}; single-pair zone {:.2}° of roll)",
+                    sharing.functional_contact_ratio,
+                    100.0 * sharing.loaded_share_threshold,
+                    sharing.min_loaded_pairs,
+                    sharing.max_loaded_pairs,
+                    sharing.single_pair_span_deg
+                );
+            }
+        }
+        KindSummary::Cylindrical(c) => {
+            let or_nan = |x: Option<f64>| x.unwrap_or(f64::NAN);
+            println!(
+                "{} positions, K = {}: {:.4} s for the cycle ({:.2} ms per position); compliance {:.1} s",
+                s.positions,
+                c.points_per_line,
+                s.cycle_s,
+                1e3 * s.time_per_position_s,
+                c.setup.compliance_s
+            );
+            println!(
+                "contact ratio {:.4} (kinematic ε_α {:.4}); single-pair force {:.1} N vs T/(r_b1 cos β_b) = {:.1} N ({:+.2} %); max KKT residual {:.1e}",
+                or_nan(c.contact_ratio),
+                c.contact_ratio_kinematic,
+                or_nan(c.single_pair_force_n),
+                c.nominal_force_n,
+                100.0 * or_nan(c.single_pair_force_error),
+                s.max_kkt
+            );
+            if let Some(fr) = &s.friction {
+                println!(
+                    "friction μ = {}: P_t/P_n {:.4}, mean friction power {:.1} W, mesh efficiency {:.4}; largest Coulomb residual {:.1e}{}",
+                    fr.mu,
+                    fr.tangential_to_normal,
+                    fr.mean_power_loss_w,
+                    fr.mesh_efficiency,
+                    fr.max_residual,
+                    match fr.cross_check_max_load_difference {
+                        Some(d) => format!(", Lemke cross-check {d:.1e}"),
+                        None => String::new(),
+                    }
+                );
+            }
+            if let Some(l) = &c.lubrication {
+                print_lubrication(&serde_json::json!({ "lubrication": l }));
+            }
+        }
+    }
+    for n in &s.notes {
+        println!("note: {n}");
+    }
+    if let KindSummary::Cylindrical(c) = &s.kind {
+        for n in &c.kkt_flagged {
+            println!("flagged: {n}");
+        }
+    }
 }

@@ -29,6 +29,7 @@ use crate::mesh_cycle::bevel::{BevelCycle, BevelRunOptions};
 use crate::scene::Scene;
 use crate::tca::point_contact::ARCSEC_PER_RAD;
 
+use super::summary::{BevelCompare, CompareFiles, CompareKind, CompareSummary, CompareTargets};
 use super::{best_ltca, errors, markdown, per_pair, plot, CompareOptions, MethodRun};
 
 /// The hypoid LTCA's options of a comparison: the compliance mesh, the
@@ -71,7 +72,7 @@ pub fn compare_bevel(
     scene: &Scene,
     options: &CompareOptions,
     ltca: &BevelLtcaOptions,
-) -> Result<serde_json::Value, FlankError> {
+) -> Result<CompareSummary, FlankError> {
     let bevel = scene.bevel("the bevel/hypoid comparison")?;
     options.validate()?;
     if !options.pmax_reference.is_empty() {
@@ -240,43 +241,49 @@ pub fn compare_bevel(
     super::position_table(&mut md, &best.label, &per_position, [0.02, 0.03]);
     let p = out.join("compare.md");
     crate::atomic_file::write(&p, &md)?;
-    let json = serde_json::json!({
-        "scene": scene.source.display().to_string(),
-        "pair": "hypoid",
-        "positions": angles.len(),
-        "roll_angles_deg": angles,
-        "reference": reference.label,
-        "reference_extrapolated": extrapolated,
-        "best_ltca": best.label,
-        "load_sharing_rel_err": best.load_sharing_err,
-        "te_rel_err": best.te_rel_err,
-        "pmax_rel_err": best.pmax_rel_err,
-        "pmax_reference": format!(
+    let summary = CompareSummary {
+        schema_version: crate::ltca::summary::SCHEMA_VERSION,
+        scene: scene.source.display().to_string(),
+        pair_kind: scene.kind.name(),
+        positions: angles.len(),
+        roll_angles_deg: angles,
+        reference: reference.label.clone(),
+        reference_extrapolated: extrapolated,
+        best_ltca: best.label.clone(),
+        load_sharing_rel_err: best.load_sharing_err,
+        te_rel_err: best.te_rel_err,
+        pmax_rel_err: best.pmax_rel_err,
+        pmax_reference: format!(
             "{} (the finest run's p_max)",
             fe.last().map_or("FE", |r| r.label.as_str())
         ),
-        "tangential_force_rel_err": best.tangential_force_err,
-        "friction_mu": mu,
-        "ltca_friction_model": (mu > 0.0).then_some(lo.friction_model),
-        "ltca_increments": (mu > 0.0).then_some(lo.increments),
-        "ltca_cycle_s": best.cycle_s,
-        "fe_cycle_s": reference.cycle_s,
-        "fe_setup_s": reference.setup_s,
-        "speedup": reference.cycle_s / best.cycle_s,
-        "targets": {
-            "load_sharing_rel_err": 0.02, "te_rel_err": 0.03, "pmax_rel_err": 0.05,
-            "ltca_cycle_s": 1.0,
+        tangential_force_rel_err: best.tangential_force_err,
+        friction_mu: mu,
+        ltca_cycle_s: best.cycle_s,
+        fe_cycle_s: reference.cycle_s,
+        fe_setup_s: reference.setup_s,
+        speedup: reference.cycle_s / best.cycle_s,
+        targets: CompareTargets {
+            load_sharing_rel_err: 0.02,
+            te_rel_err: 0.03,
+            pmax_rel_err: 0.05,
+            ltca_cycle_s: 1.0,
+            speedup: None,
         },
-        "ltca_settings": lo.settings,
-        "ltca_span_approach_mm": lo.span_approach_mm,
-        "runs": fe.iter().chain(runs.iter()).collect::<Vec<_>>(),
-        "best_ltca_per_position": per_position,
-        "files": {"markdown": "compare.md", "plots": plots},
-    });
-    let p = out.join("compare.json");
-    crate::atomic_file::write(
-        &p,
-        serde_json::to_string_pretty(&json).map_err(|e| FlankError::Model(e.to_string()))? + "\n",
-    )?;
-    Ok(json)
+        ltca_settings: lo.settings.clone(),
+        runs: fe.iter().chain(runs.iter()).cloned().collect(),
+        best_ltca_per_position: per_position,
+        files: CompareFiles {
+            markdown: "compare.md".into(),
+            plots,
+        },
+        kind: CompareKind::Bevel(Box::new(BevelCompare {
+            pair: "hypoid",
+            ltca_friction_model: (mu > 0.0).then_some(lo.friction_model),
+            ltca_increments: (mu > 0.0).then_some(lo.increments),
+            ltca_span_approach_mm: lo.span_approach_mm,
+        })),
+    };
+    summary.write(out)?;
+    Ok(summary)
 }

@@ -45,11 +45,16 @@ pub mod plot;
 pub mod pmax_reference;
 pub mod reference;
 pub mod run;
+pub mod summary;
 
 use crate::mesh_cycle::cycle::{default_roll_angles, MeshCycle, StepResult};
 use method_run::shares;
 pub use method_run::MethodRun;
 use reference::{extrapolate, ExtrapolatedReference};
+use summary::{
+    CompareFiles, CompareKind, CompareSummary, CompareTargets, CylindricalCompare, PmaxContactBand,
+    PositionError,
+};
 
 /// Options of [`run::compare`].
 #[derive(Clone, Debug)]
@@ -370,7 +375,7 @@ fn fe_run_cached(
 pub fn compare_cylindrical(
     scene: &Scene,
     options: &CompareOptions,
-) -> Result<serde_json::Value, FlankError> {
+) -> Result<CompareSummary, FlankError> {
     options.validate()?;
     // the contact-band p_max reference, read before anything runs
     let pmax_ref = if options.pmax_reference.is_empty() {
@@ -517,45 +522,52 @@ pub fn compare_cylindrical(
     }
     let p = out.join("compare.md");
     crate::atomic_file::write(&p, &md)?;
-    let json = serde_json::json!({
-        "scene": scene.source.display().to_string(),
-        "positions": angles.len(),
-        "roll_angles_deg": angles,
-        "reference": reference.label,
-        "reference_extrapolated": extrapolated,
-        "flank_contact_positions": flank_positions.iter().filter(|&&b| b).count(),
-        "best_ltca": best.label,
-        "load_sharing_rel_err": best.load_sharing_err,
-        "te_rel_err": best.te_rel_err,
-        "pmax_rel_err": best.pmax_rel_err,
-        "pmax_reference": pmax_against,
-        "pmax_uniform_fe_rel_err": best.pmax_uniform_fe_rel_err,
-        "pmax_contact_band": pmax_ref.as_ref().map(|x| serde_json::json!({
-            "reference": x.pairs, "ltca": pmax_runs,
-        })),
-        "tangential_force_rel_err": best.tangential_force_err,
-        "friction_mu": ltca_mu,
-        "fe_friction_mu": fe_mu,
-        "ltca_cycle_s": best.cycle_s,
-        "fe_cycle_s": reference.cycle_s,
-        "fe_setup_s": reference.setup_s,
-        "speedup": reference.cycle_s / best.cycle_s,
-        "targets": {
-            "load_sharing_rel_err": 0.02, "te_rel_err": 0.02, "pmax_rel_err": 0.05,
-            "ltca_cycle_s": 0.1, "speedup": 1000.0,
+    let summary = CompareSummary {
+        schema_version: crate::ltca::summary::SCHEMA_VERSION,
+        scene: scene.source.display().to_string(),
+        pair_kind: scene.kind.name(),
+        positions: angles.len(),
+        roll_angles_deg: angles,
+        reference: reference.label.clone(),
+        reference_extrapolated: extrapolated,
+        best_ltca: best.label.clone(),
+        load_sharing_rel_err: best.load_sharing_err,
+        te_rel_err: best.te_rel_err,
+        pmax_rel_err: best.pmax_rel_err,
+        pmax_reference: pmax_against,
+        tangential_force_rel_err: best.tangential_force_err,
+        friction_mu: ltca_mu,
+        ltca_cycle_s: best.cycle_s,
+        fe_cycle_s: reference.cycle_s,
+        fe_setup_s: reference.setup_s,
+        speedup: reference.cycle_s / best.cycle_s,
+        targets: CompareTargets {
+            load_sharing_rel_err: 0.02,
+            te_rel_err: 0.02,
+            pmax_rel_err: 0.05,
+            ltca_cycle_s: 0.1,
+            speedup: Some(1000.0),
         },
-        "ltca_settings": base.settings,
-        "ltca_compliance": base.setup,
-        "runs": fe.iter().chain(ltca.iter()).collect::<Vec<_>>(),
-        "best_ltca_per_position": per_position,
-        "files": {"markdown": "compare.md", "plots": plots},
-    });
-    let p = out.join("compare.json");
-    crate::atomic_file::write(
-        &p,
-        serde_json::to_string_pretty(&json).map_err(|e| FlankError::Model(e.to_string()))? + "\n",
-    )?;
-    Ok(json)
+        ltca_settings: base.settings.clone(),
+        runs: fe.iter().chain(ltca.iter()).cloned().collect(),
+        best_ltca_per_position: per_position,
+        files: CompareFiles {
+            markdown: "compare.md".into(),
+            plots,
+        },
+        kind: CompareKind::Cylindrical(Box::new(CylindricalCompare {
+            flank_contact_positions: flank_positions.iter().filter(|&&b| b).count(),
+            pmax_uniform_fe_rel_err: best.pmax_uniform_fe_rel_err,
+            pmax_contact_band: pmax_ref.map(|x| PmaxContactBand {
+                reference: x.pairs,
+                ltca: pmax_runs,
+            }),
+            fe_friction_mu: fe_mu,
+            ltca_compliance: base.setup.clone(),
+        })),
+    };
+    summary.write(out)?;
+    Ok(summary)
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -631,25 +643,6 @@ pub(crate) fn markdown(
         }
     }
     s
-}
-
-/// One position of the best LTCA against the reference: the errors the
-/// table's maxima are taken over, beside the reference's uncertainty.
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct PositionError {
-    pub roll_deg: f64,
-    /// The reference's load shares per pair.
-    pub reference_shares: Vec<f64>,
-    /// The reference's TE (µrad).
-    pub reference_te_urad: f64,
-    /// Largest |share difference| over the pairs.
-    pub share_err: f64,
-    /// Relative TE difference (signed: < 0 the LTCA's TE is lower).
-    pub te_rel_err: f64,
-    /// The reference's largest share uncertainty over the pairs and its
-    /// relative TE uncertainty (NaN without an extrapolated reference).
-    pub share_uncertainty: f64,
-    pub te_uncertainty: f64,
 }
 
 /// Per position, `run` against `reference` ([`PositionError`]).

@@ -6,22 +6,20 @@
 use std::path::Path;
 
 use super::bevel::{compare_bevel, ltca_options};
+use super::summary::CompareSummary;
 use super::{compare_cylindrical, CompareOptions};
 use crate::error::FlankError;
 use crate::scene::{read_scene, Scene};
 
 /// `flank compare SCENE`: reads the scene and runs [`compare`].
-pub fn compare_scene(
-    path: &Path,
-    options: &CompareOptions,
-) -> Result<serde_json::Value, FlankError> {
+pub fn compare_scene(path: &Path, options: &CompareOptions) -> Result<CompareSummary, FlankError> {
     compare(&read_scene(path)?, options)
 }
 
 /// LTCA against FE contact at the same positions, for any pair kind;
 /// writes `compare.json`, `compare.md` and `error_vs_time.{svg,png}` into
 /// `options.out` and returns the summary.
-pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<serde_json::Value, FlankError> {
+pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<CompareSummary, FlankError> {
     if scene.is_bevel() {
         return compare_bevel(scene, options, &ltca_options(scene, options)?);
     }

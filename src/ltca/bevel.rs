@@ -32,11 +32,13 @@
 //! in edge contact contributes K points along the edge; `Both` runs the
 //! variant with edges and the one without on the same tensors.
 //!
-//! Outputs (`out`): `ltca_positions.csv` (per position and tooth pair, the
-//! columns of the FE run's `positions.csv`), `ltca_points.csv` (load along
-//! every axis), `summary.json`; with `edges = Both` the two CSVs of each
-//! variant in `out/with_edges/` and `out/without_edges/`, and summary.json
-//! with one object per variant under `with_edges` and `without_edges`.
+//! Outputs (`out`): the files of every pair kind's LTCA
+//! ([`crate::ltca::outputs`]: `ltca_cycle.csv` per position,
+//! `ltca_positions.csv` per position and tooth pair, `ltca_points.csv` the
+//! load along every axis), `summary.json` (the serialization of
+//! [`LtcaResult`]); with `edges = Both` the CSVs of each variant in
+//! `out/with_edges/` and `out/without_edges/`, and summary.json with one
+//! object per variant under `with_edges` and `without_edges`.
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -55,7 +57,12 @@ use crate::ltca::cycle::LtcaOptions;
 use crate::ltca::edges::{edge_line, EdgeLine};
 use crate::ltca::local::contact_modulus;
 use crate::ltca::model::{LtcaBodies, PositionResult};
+use crate::ltca::outputs::{write_cycle_csv, write_points_csv, write_positions_csv};
 use crate::ltca::solve_settings::{LtcaFriction, LtcaSettings};
+use crate::ltca::summary::{
+    peak_to_peak, shares, BevelLtcaSummary, EdgeVariantRatios, EdgeVariantSummaries, KindSummary,
+    LtcaResult, LtcaStep, LtcaSummary, SCHEMA_VERSION,
+};
 use crate::scene::Scene;
 use crate::settings::EdgeVariants;
 use crate::tca::major_axis::major_axis_line;
@@ -591,10 +598,7 @@ impl BevelLtca {
 /// `flank ltca` on a bevel/hypoid scene: the cycle's positions, the files
 /// of the module docs, for each variant of [`BevelLtcaOptions::edges`];
 /// returns the summary.
-pub fn run_bevel(
-    scene: &Scene,
-    options: &BevelLtcaOptions,
-) -> Result<serde_json::Value, FlankError> {
+pub fn run_bevel(scene: &Scene, options: &BevelLtcaOptions) -> Result<LtcaResult, FlankError> {
     let t_total = Instant::now();
     options.validate(scene)?;
     let out = &options.out;
@@ -602,20 +606,13 @@ pub fn run_bevel(
     let first = BevelLtca::new(scene, options)?;
     let runs = options.edges.runs();
     if runs.len() == 1 {
-        let mut s = run_variant(scene, &first, out)?;
-        s["edges"] = runs[0].1.into();
-        s["total_s"] = t_total.elapsed().as_secs_f64().into();
-        write_summary(out, &s)?;
-        return Ok(s);
+        let mut s = run_variant(scene, &first, out, runs[0].1)?;
+        s.total_s = t_total.elapsed().as_secs_f64();
+        let result = LtcaResult::Cycle(Box::new(s));
+        result.write(out)?;
+        return Ok(result);
     }
-    let mut summary = serde_json::json!({
-        "scene": scene.source.display().to_string(),
-        "analysis": "ltca_bevel_cycle",
-        "edges": "both",
-        "compliance_s": first.compliance_s,
-        "flank_nodes": first.flank_nodes,
-    });
-    let mut ratios = serde_json::Map::new();
+    let mut variants = Vec::new();
     for (edges, name) in runs {
         let other;
         let ltca = if edges == first.edges {
@@ -626,23 +623,36 @@ pub fn run_bevel(
         };
         let dir = out.join(name);
         std::fs::create_dir_all(&dir).map_err(|e| FlankError::io(&dir, e))?;
-        let s = run_variant(scene, ltca, &dir)?;
-        ratios.insert(name.into(), s["functional_contact_ratio"].clone());
-        summary[name] = s;
+        variants.push(run_variant(scene, ltca, &dir, name)?);
     }
-    summary["functional_contact_ratio"] = ratios.into();
-    summary["total_s"] = t_total.elapsed().as_secs_f64().into();
-    summary["peak_memory_mb"] = peak_memory_mb().into();
-    write_summary(out, &summary)?;
-    Ok(summary)
-}
-
-/// Writes `out/summary.json`.
-fn write_summary(out: &std::path::Path, summary: &serde_json::Value) -> Result<(), FlankError> {
-    crate::atomic_file::write(
-        &out.join("summary.json"),
-        serde_json::to_string_pretty(summary).unwrap_or_default() + "\n",
-    )
+    let (Some(without_edges), Some(with_edges)) = (variants.pop(), variants.pop()) else {
+        return Err(FlankError::Model(
+            "LTCA: --edges both ran fewer than two variants".into(),
+        ));
+    };
+    let ratio = |s: &LtcaSummary| match &s.kind {
+        KindSummary::Bevel(b) => b.functional_contact_ratio,
+        KindSummary::Cylindrical(_) => None,
+    };
+    let result = LtcaResult::EdgeVariants(Box::new(EdgeVariantSummaries {
+        schema_version: SCHEMA_VERSION,
+        scene: scene.source.display().to_string(),
+        analysis: "ltca_bevel_cycle",
+        pair_kind: scene.kind.name(),
+        edges: "both",
+        compliance_s: first.compliance_s,
+        flank_nodes: first.flank_nodes,
+        functional_contact_ratio: EdgeVariantRatios {
+            with_edges: ratio(&with_edges),
+            without_edges: ratio(&without_edges),
+        },
+        with_edges,
+        without_edges,
+        total_s: t_total.elapsed().as_secs_f64(),
+        peak_memory_mb: peak_memory_mb(),
+    }));
+    result.write(out)?;
+    Ok(result)
 }
 
 /// One variant's cycle: its CSVs in `out`, its summary returned.
@@ -650,8 +660,9 @@ fn run_variant(
     scene: &Scene,
     ltca: &BevelLtca,
     out: &std::path::Path,
-) -> Result<serde_json::Value, FlankError> {
-    use std::fmt::Write;
+    variant: &'static str,
+) -> Result<LtcaSummary, FlankError> {
+    let t_variant = Instant::now();
     let options = &ltca.options;
     let pitch = ltca.cycle_deg();
     let n = options.positions;
@@ -672,41 +683,18 @@ fn run_variant(
         .collect();
     let results: Vec<PositionResult> = solved.iter().flatten().cloned().collect();
     let np = ltca.pair.sector_teeth();
-    let mut csv = String::from(
-        "roll_deg,pair,pinion_tooth,gear_tooth,force_n,load_share,max_pressure_mpa,te_arcsec,friction_n\n",
-    );
+    let ratio = ltca.pair.ratio();
+    let steps: Vec<LtcaStep> = results
+        .iter()
+        .map(|r| LtcaStep::new(r.clone(), np, ratio))
+        .collect();
     let mut notes = Vec::new();
-    let mut te = Vec::new();
+    let te: Vec<f64> = steps.iter().map(|s| s.te_arcsec).collect();
+    let te_urad: Vec<f64> = results.iter().map(|r| r.te_urad).collect();
     let mut edge_loaded = 0usize;
     let mut beyond = 0usize;
     let mut beyond_rolls = Vec::new();
     for r in &results {
-        let forces = ltca.pair_forces(r);
-        let friction = ltca.pair_friction(r);
-        let total: f64 = forces.iter().sum();
-        let te_arcsec = ltca.te_arcsec(r);
-        te.push(te_arcsec);
-        for (p, &f) in forces.iter().enumerate() {
-            let pmax = r
-                .points
-                .iter()
-                .filter(|q| r.lines[q.line].0 == p + 1)
-                .map(|q| q.pressure_mpa)
-                .fold(0.0f64, f64::max);
-            let _ = writeln!(
-                csv,
-                "{},{},{},{},{:e},{:e},{:e},{:e},{:e}",
-                r.roll_deg,
-                p + 1,
-                p + 1,
-                ltca.pair.mate(p + 1),
-                f,
-                if total > 0.0 { f / total } else { 0.0 },
-                pmax,
-                te_arcsec,
-                friction[p]
-            );
-        }
         // a loaded end point: where the axis kept all K points the span is
         // too short; where the flank's edge clipped it the contact reaches
         // that edge (counted)
@@ -770,12 +758,11 @@ fn run_variant(
     }
     let loops = crate::ltca::outputs::iteration_limits(&results);
     notes.extend(loops.warnings());
-    let path = out.join("ltca_positions.csv");
-    crate::atomic_file::write(&path, csv)?;
-    crate::ltca::outputs::write_points_csv(&out.join("ltca_points.csv"), &results)?;
+    let mates: Vec<usize> = (1..=np).map(|k| ltca.pair.mate(k)).collect();
+    write_cycle_csv(&out.join("ltca_cycle.csv"), &steps, np)?;
+    write_positions_csv(&out.join("ltca_positions.csv"), &steps, &mates)?;
+    write_points_csv(&out.join("ltca_points.csv"), &results)?;
     let plots = plot_variant(ltca, out, &results)?;
-    let te_pp = te.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
-        - te.iter().cloned().fold(f64::INFINITY, f64::min);
     let worst = |f: fn(&PositionResult) -> f64| results.iter().map(f).fold(0.0f64, f64::max);
     // the functional contact ratio needs the default cycle (positions
     // spread evenly over one pitch)
@@ -821,88 +808,74 @@ fn run_variant(
                 .sum::<f64>()
         })
         .fold(0.0, f64::max);
-    let mut summary = serde_json::json!({
-        "scene": scene.source.display().to_string(),
-        "analysis": "ltca_bevel_cycle",
-        "positions": results.len(),
-        "mesh_cycle_deg": pitch,
-        "torque_nm": ltca.torque / 1000.0,
-        "points_per_pair": options.points_per_pair,
-        "span_approach_mm": options.span_approach_mm,
-        "friction_mu": options.friction_mu,
-        "increments": (options.friction_mu > 0.0).then_some(options.increments),
-        "approach_mm": ltca.tca.settings.approach_mm,
-        "flank_nodes": ltca.flank_nodes,
-        "tooth_pairs": (1..=np).map(|k| (k, ltca.pair.mate(k))).collect::<Vec<_>>(),
-        "te_peak_to_peak_arcsec": te_pp,
-        // seed 003's Δθ(φ) = a₀ + a₁φ + a₂φ² (φ pinion roll in °, Δθ at the gear in ″)
-        "te_quadratic_fit": crate::ltca::te_fit::quadratic_te_fit(
-            &results.iter().map(|r| r.roll_deg).collect::<Vec<_>>(),
-            &te,
-        ),
-        "max_pressure_mpa": worst(|r| r.max_pressure_mpa),
-        "max_kkt": worst(|r| r.kkt_max),
-        "iteration_limits": loops.to_json(),
-        "friction": ltca.options.settings.friction.as_ref().map(|f| crate::ltca::outputs::friction_summary(&results, f, ltca.torque)),
-        "pairs_loaded_at_a_flank_edge": edge_loaded,
-        "compliance_s": ltca.compliance_s,
-        "tca_s": ltca.tca_s,
-        "cycle_s": cycle_s,
-        "time_per_position_s": cycle_s / results.len().max(1) as f64,
-        "peak_memory_mb": peak_memory_mb(),
-        "settings": options.settings,
-        "notes": notes,
-        "steps": results.iter().zip(&te).map(|(r, &t)| step_json(ltca, r, t)).collect::<Vec<_>>(),
-    });
-    // (a second object: one json! of all keys passes the macro's recursion
-    // limit)
-    let more = serde_json::json!({
-        // frictionless: Σ P r = T (with friction the tangential forces
-        // take part of the torque)
-        "max_torque_balance_error": (options.friction_mu == 0.0).then(|| results
+    // frictionless: Σ P r = T (with friction the tangential forces take
+    // part of the torque)
+    let torque_balance = (options.friction_mu == 0.0).then(|| {
+        results
             .iter()
             .map(|r| {
                 let m: f64 = r.points.iter().map(|q| q.force_n * q.moment_arm_mm).sum();
                 (m - ltca.torque).abs() / ltca.torque
             })
-            .fold(0.0f64, f64::max)),
-        "edge_contact": ltca.edges,
-        "plots": plots,
-        "positions_without_contact_deg": gaps,
-        "edge_candidate_points": edge_points,
-        "max_edge_force_n": edge_force,
-        "pairs_beyond_sector_within_approach": beyond,
-        "functional_contact_ratio": sharing.as_ref().map(|s| s.functional_contact_ratio),
-        "load_sharing": sharing,
-        "tca_contact_ratio": ltca.tca.contact_ratio,
-        "tca_transitions": ltca.tca.transitions,
+            .fold(0.0f64, f64::max)
     });
-    if let (Some(s), Some(m)) = (summary.as_object_mut(), more.as_object()) {
-        s.extend(m.clone());
-    }
-    Ok(summary)
-}
-
-/// One position of a variant's summary.
-fn step_json(ltca: &BevelLtca, r: &PositionResult, t: f64) -> serde_json::Value {
-    let mut j = serde_json::json!({
-            "roll_deg": r.roll_deg,
-            "pair_force_n": ltca.pair_forces(r),
-            "load_share": shares(&ltca.pair_forces(r)),
-            "pair_friction_n": ltca.pair_friction(r),
-            "friction": r.friction,
-            "te_arcsec": t,
-            "unloaded_te_arcsec": -r.unloaded_te_urad * 1e-6 * ltca.pair.ratio() * ARCSEC_PER_RAD,
-            "max_pressure_mpa": r.max_pressure_mpa,
-            "candidates": r.candidates,
-            "qp_iterations": r.qp_iterations,
-            "kkt_max": r.kkt_max,
-            "time_s": r.time_s,
-    });
-    j["lines"] = serde_json::json!(r.lines);
-    j["line_force_n"] = serde_json::json!(r.line_force_n);
-    j["skipped_points"] = r.skipped_points.into();
-    j
+    Ok(LtcaSummary {
+        schema_version: SCHEMA_VERSION,
+        scene: scene.source.display().to_string(),
+        analysis: "ltca_bevel_cycle",
+        pair_kind: scene.kind.name(),
+        positions: results.len(),
+        tooth_pairs: (1..=np).map(|k| (k, ltca.pair.mate(k))).collect(),
+        te_peak_to_peak_urad: peak_to_peak(&te_urad),
+        te_peak_to_peak_arcsec: peak_to_peak(&te),
+        max_pressure_mpa: worst(|r| r.max_pressure_mpa),
+        max_kkt: worst(|r| r.kkt_max),
+        iteration_limits: loops,
+        friction: ltca
+            .options
+            .settings
+            .friction
+            .as_ref()
+            .map(|f| crate::ltca::outputs::friction_summary(&results, f, ltca.torque)),
+        settings: options.settings.clone(),
+        cycle_s,
+        time_per_position_s: cycle_s / results.len().max(1) as f64,
+        total_s: t_variant.elapsed().as_secs_f64(),
+        peak_memory_mb: peak_memory_mb(),
+        notes,
+        kind: KindSummary::Bevel(Box::new(BevelLtcaSummary {
+            edges: variant,
+            edge_contact: ltca.edges,
+            mesh_cycle_deg: pitch,
+            torque_nm: ltca.torque / 1000.0,
+            points_per_pair: options.points_per_pair,
+            span_approach_mm: options.span_approach_mm,
+            approach_mm: ltca.tca.settings.approach_mm,
+            friction_mu: options.friction_mu,
+            increments: (options.friction_mu > 0.0).then_some(options.increments),
+            flank_nodes: ltca.flank_nodes,
+            // seed 003's Δθ(φ) = a₀ + a₁φ + a₂φ² (φ pinion roll in °, Δθ at
+            // the gear in ″)
+            te_quadratic_fit: crate::ltca::te_fit::quadratic_te_fit(
+                &results.iter().map(|r| r.roll_deg).collect::<Vec<_>>(),
+                &te,
+            ),
+            max_torque_balance_error: torque_balance,
+            pairs_loaded_at_a_flank_edge: edge_loaded,
+            pairs_beyond_sector_within_approach: beyond,
+            positions_without_contact_deg: gaps,
+            edge_candidate_points: edge_points,
+            max_edge_force_n: edge_force,
+            functional_contact_ratio: sharing.as_ref().map(|s| s.functional_contact_ratio),
+            load_sharing: sharing,
+            tca_contact_ratio: ltca.tca.contact_ratio,
+            tca_transitions: ltca.tca.transitions.clone(),
+            compliance_s: ltca.compliance_s,
+            tca_s: ltca.tca_s,
+            plots,
+        })),
+        steps,
+    })
 }
 
 /// `load_sharing.{svg,png}` (share of each pinion tooth against roll),
@@ -1078,13 +1051,4 @@ fn mesh_hint(scene: &Scene, e: FlankError) -> FlankError {
     FlankError::Model(format!(
         "{m}. The LTCA needs the compliance tensors of both sector bodies, so both must be meshed: a pinion cut with the Cyclo-Palloid head tilt, `[pinion] cutter_tilt = \"from_blank\"`{tilted}, opens the toe slot"
     ))
-}
-
-/// Each force's share of their sum (0 without load).
-fn shares(forces: &[f64]) -> Vec<f64> {
-    let s: f64 = forces.iter().sum();
-    forces
-        .iter()
-        .map(|x| if s > 0.0 { x / s } else { 0.0 })
-        .collect()
 }

@@ -35,4 +35,5 @@ pub mod pattern;
 pub mod qp;
 pub mod run;
 pub mod solve_settings;
+pub mod summary;
 pub mod te_fit;

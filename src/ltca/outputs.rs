@@ -1,5 +1,6 @@
 //! What both LTCA drivers (spur/helical [`crate::ltca::run`], bevel/hypoid
 //! [`crate::ltca::bevel`]) write and summarise of their positions: the
+//! per-position CSVs (`ltca_cycle.csv`, `ltca_positions.csv`), the
 //! per-point CSV, the friction summary and the positions' bounded loops.
 
 use std::path::Path;
@@ -8,6 +9,7 @@ use crate::error::FlankError;
 use crate::iteration_limits::IterationLimits;
 use crate::ltca::model::PositionResult;
 use crate::ltca::solve_settings::LtcaFriction;
+use crate::ltca::summary::{FrictionSummary, LtcaStep};
 
 /// The bounded loops of every position together (the summary's
 /// `iteration_limits`).
@@ -29,7 +31,7 @@ pub fn friction_summary(
     results: &[PositionResult],
     friction: &LtcaFriction,
     torque_nmm: f64,
-) -> serde_json::Value {
+) -> FrictionSummary {
     let num = |r: &PositionResult, k: &str| -> f64 {
         r.friction
             .as_ref()
@@ -48,23 +50,112 @@ pub fn friction_summary(
     let power: Vec<f64> = results.iter().map(|r| r.friction_power_w).collect();
     let mean_power = power.iter().sum::<f64>() / n;
     let input_w = torque_nmm * 1e-3 * friction.pinion_speed_rad_s;
-    let within = results.iter().all(|r| r.kkt_within_tolerance);
-    serde_json::json!({
-        "mu": friction.mu,
-        "increments": friction.options.increments,
-        "max_residual": max("/max_residual/max"),
-        "max_coupling": max("/coupling"),
-        "within_tolerance": within,
-        "cross_check_max_load_difference": friction.cross_check.then(|| max("/cross_check/load_difference")),
-        "cross_check_max_rotation_difference": friction.cross_check.then(|| max("/cross_check/rotation_difference")),
-        "tangential_to_normal": if pn > 0.0 { pt / pn } else { 0.0 },
-        "power_loss_w": power,
-        "mean_power_loss_w": mean_power,
-        "input_power_w": input_w,
-        "mesh_efficiency": if input_w > 0.0 { 1.0 - mean_power / input_w } else { f64::NAN },
-    })
+    FrictionSummary {
+        mu: friction.mu,
+        increments: friction.options.increments,
+        max_residual: max("/max_residual/max"),
+        max_coupling: max("/coupling"),
+        within_tolerance: results.iter().all(|r| r.kkt_within_tolerance),
+        cross_check_max_load_difference: friction
+            .cross_check
+            .then(|| max("/cross_check/load_difference")),
+        cross_check_max_rotation_difference: friction
+            .cross_check
+            .then(|| max("/cross_check/rotation_difference")),
+        tangential_to_normal: if pn > 0.0 { pt / pn } else { 0.0 },
+        power_loss_w: power,
+        mean_power_loss_w: mean_power,
+        input_power_w: input_w,
+        mesh_efficiency: if input_w > 0.0 {
+            1.0 - mean_power / input_w
+        } else {
+            f64::NAN
+        },
+    }
 }
 
+/// `ltca_cycle.csv`, one row per position (every pair kind): per pair k
+/// its force, share and friction; the loaded TE at the pinion (µrad) and
+/// times the TE radius (µm; r_b1 of a cylindrical pair, the middle pair's
+/// moment arm at roll 0 of a bevel pair); the unloaded TE; the secant mesh
+/// stiffness; solver counts; and, last, both TEs at the gear (arcsec).
+pub fn write_cycle_csv(path: &Path, steps: &[LtcaStep], teeth: usize) -> Result<(), FlankError> {
+    use std::fmt::Write;
+    let mut s = String::from("roll_deg");
+    for p in 1..=teeth {
+        let _ = write!(s, ",force_pair{p}_n,share_pair{p}");
+    }
+    for p in 1..=teeth {
+        let _ = write!(s, ",friction_pair{p}_n");
+    }
+    s.push_str(",te_urad,te_um,unloaded_te_urad,mesh_stiffness_n_per_um,max_pressure_mpa,friction_power_w,candidates,qp_iterations,local_iterations,kkt,condition,time_s,te_arcsec,unloaded_te_arcsec\n");
+    for step in steps {
+        let r = &step.position;
+        let _ = write!(s, "{}", r.roll_deg);
+        for (f, share) in step.pair_force_n.iter().zip(&step.load_share) {
+            let _ = write!(s, ",{f},{share}");
+        }
+        for x in &step.pair_friction_n {
+            let _ = write!(s, ",{x}");
+        }
+        let _ = writeln!(
+            s,
+            ",{},{},{},{},{},{},{},{},{},{:e},{},{},{},{}",
+            r.te_urad,
+            r.te_um,
+            r.unloaded_te_urad,
+            r.mesh_stiffness_n_per_um,
+            r.max_pressure_mpa,
+            r.friction_power_w,
+            r.candidates,
+            r.qp_iterations,
+            r.local_iterations,
+            r.kkt_max,
+            r.condition.map_or(String::new(), |c| format!("{c:e}")),
+            r.time_s,
+            step.te_arcsec,
+            step.unloaded_te_arcsec
+        );
+    }
+    crate::atomic_file::write(path, s)
+}
+
+/// `ltca_positions.csv`, one row per position and pair k of the sector
+/// (every pair kind): its teeth, force, share, largest pressure, friction
+/// force and the position's loaded TE at the gear (arcsec) and, last, at
+/// the pinion (µrad). `mates[k − 1]` is the gear tooth of pinion tooth k.
+pub fn write_positions_csv(
+    path: &Path,
+    steps: &[LtcaStep],
+    mates: &[usize],
+) -> Result<(), FlankError> {
+    use std::fmt::Write;
+    let mut s = String::from(
+        "roll_deg,pair,pinion_tooth,gear_tooth,force_n,load_share,max_pressure_mpa,te_arcsec,friction_n,te_urad\n",
+    );
+    for step in steps {
+        let r = &step.position;
+        for (p, (&f, &mate)) in step.pair_force_n.iter().zip(mates).enumerate() {
+            let _ = writeln!(
+                s,
+                "{},{},{},{},{:e},{:e},{:e},{:e},{:e},{:e}",
+                r.roll_deg,
+                p + 1,
+                p + 1,
+                mate,
+                f,
+                step.load_share[p],
+                step.pair_max_pressure_mpa(p + 1),
+                step.te_arcsec,
+                step.pair_friction_n[p],
+                r.te_urad
+            );
+        }
+    }
+    crate::atomic_file::write(path, s)
+}
+
+/// `ltca_points.csv`, one row per candidate point of every position.
 pub fn write_points_csv(path: &Path, results: &[PositionResult]) -> Result<(), FlankError> {
     use std::fmt::Write;
     let mut s = String::from("roll_deg,pinion_tooth,gear_tooth,kind,along_mm,x_mm,y_mm,z_mm,separation_um,force_n,load_per_length_n_per_mm,pressure_mpa,half_width_mm,gap_um,friction_n,state,sliding_velocity_m_s\n");

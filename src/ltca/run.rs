@@ -2,9 +2,11 @@
 //! [`crate::ltca::cycle::LtcaCycle`] over the scene's roll angles (extended
 //! while the middle pair is loaded at an end), the wet–dry loop when the
 //! scene asks for it ([`crate::ltca::lubricated`]), and the outputs:
-//! `ltca_cycle.csv`, `ltca_points.csv` (load distribution along every
-//! contact line), `summary.json` and plots of the force per tooth pair and
-//! the TE (SVG, PNG).
+//! `ltca_cycle.csv` and `ltca_positions.csv` (the files of every pair kind,
+//! [`crate::ltca::outputs`]), `ltca_points.csv` (load distribution along
+//! every contact line), `summary.json` (the serialization of
+//! [`crate::ltca::summary::LtcaResult`]) and plots of the force per tooth
+//! pair and the TE (SVG, PNG).
 //!
 //! Pairs are numbered as in FE contact ([`crate::mesh_cycle`]): pair p is
 //! pinion tooth p + 1 with its mate, so the two runs compare column by
@@ -16,13 +18,20 @@ use crate::load_sharing::LOADED_FRACTION;
 use crate::ltca::bevel::{run_bevel, BevelLtcaOptions};
 use crate::ltca::cycle::{roll_angles, LtcaCycle, LtcaOptions};
 use crate::ltca::model::PositionResult;
-use crate::ltca::outputs::{friction_summary, iteration_limits, write_points_csv};
+use crate::ltca::outputs::{
+    friction_summary, iteration_limits, write_cycle_csv, write_points_csv, write_positions_csv,
+};
+use crate::ltca::summary::peak_to_peak;
+use crate::ltca::summary::{
+    CylindricalLtcaSummary, KindSummary, LtcaFiles, LtcaResult, LtcaStep, LtcaSummary,
+    SCHEMA_VERSION,
+};
 use crate::scene::{read_scene, Scene};
 use std::path::Path;
 use std::time::Instant;
 
 /// `flank ltca SCENE`: reads the scene and runs [`run`].
-pub fn run_scene(path: &Path, options: &LtcaOptions) -> Result<serde_json::Value, FlankError> {
+pub fn run_scene(path: &Path, options: &LtcaOptions) -> Result<LtcaResult, FlankError> {
     let scene = read_scene(path)?;
     run(&scene, options)
 }
@@ -34,7 +43,7 @@ pub fn run_scene(path: &Path, options: &LtcaOptions) -> Result<serde_json::Value
 /// with [`BevelLtcaOptions::merged`]. On `options.threads` threads (0:
 /// rayon's global pool); the answer is the same on any number (fixed
 /// summation orders).
-pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, FlankError> {
+pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<LtcaResult, FlankError> {
     if scene.is_bevel() {
         return run_bevel(scene, &BevelLtcaOptions::merged(scene, options)?);
     }
@@ -49,7 +58,7 @@ pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, Fl
     crate::fem::solver::with_threads(options.threads, || run_cycle(scene, options))
 }
 
-fn run_cycle(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, FlankError> {
+fn run_cycle(scene: &Scene, options: &LtcaOptions) -> Result<LtcaResult, FlankError> {
     let t_total = Instant::now();
     let out = &options.out;
     // the wet–dry loop (seed 002): the cycle below is its dry pass at μ₀
@@ -134,14 +143,14 @@ fn run_cycle(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, 
             )
         })
         .collect();
-    let friction: Vec<Vec<f64>> = results.iter().map(|r| cycle.pair_friction(r)).collect();
-    write_cycle_csv(
-        &out.join("ltca_cycle.csv"),
-        &results,
-        &forces,
-        &friction,
-        nominal,
-    )?;
+    let ratio = cycle.pair.ratio();
+    let steps: Vec<LtcaStep> = results
+        .iter()
+        .map(|r| LtcaStep::new(r.clone(), np, ratio))
+        .collect();
+    let mates: Vec<usize> = (1..=np).map(|k| cycle.pair.mate(k)).collect();
+    write_cycle_csv(&out.join("ltca_cycle.csv"), &steps, np)?;
+    write_positions_csv(&out.join("ltca_positions.csv"), &steps, &mates)?;
     write_points_csv(&out.join("ltca_points.csv"), &results)?;
     let teeth: Vec<(usize, usize)> = (1..=np).map(|k| (k, cycle.pair.mate(k))).collect();
     let series: Vec<Vec<f64>> = (0..np)
@@ -177,97 +186,67 @@ fn run_cycle(scene: &Scene, options: &LtcaOptions) -> Result<serde_json::Value, 
     // are not in it)
     let time_per_position_s = cycle_s / positions_solved.max(1) as f64;
     let worst = |f: fn(&PositionResult) -> f64| results.iter().map(f).fold(0.0f64, f64::max);
-    let summary = serde_json::json!({
-        "scene": scene.source.display().to_string(),
-        "analysis": "ltca_mesh_cycle",
-        "contact_ratio": contact_ratio,
-        "contact_ratio_kinematic": cycle.pair.kinematic_contact_ratio(),
-        "middle_pair_loaded_deg": limits.map(|(s, e)| [s, e]),
-        "single_pair_force_n": single_pair_force_n,
-        "nominal_force_n": nominal,
-        "single_pair_force_error": single_pair_force_n.map(|f| f / nominal - 1.0),
-        "positions": results.len(),
-        "extension_positions": extended,
-        "points_per_line": cycle.points_per_line,
-        "cycle_s": cycle_s,
-        "time_per_position_s": time_per_position_s,
-        "total_s": t_total.elapsed().as_secs_f64(),
-        "setup": cycle.setup,
-        "settings": cycle.settings,
-        "max_kkt": worst(|r| r.kkt_max),
-        "max_condition": results.iter().filter_map(|r| r.condition).reduce(f64::max),
-        "max_condition_loaded": results.iter().filter_map(|r| r.condition_loaded).reduce(f64::max),
-        "tensor_backward_error": cycle.setup.backward_error,
-        "warnings": results
-            .iter()
-            .flat_map(|r| r.warnings.iter().map(move |w| format!("{:.4}°: {w}", r.roll_deg)))
-            .collect::<Vec<_>>(),
-        "kkt_flagged": flagged,
-        "iteration_limits": loops.to_json(),
-        "max_pressure_mpa": worst(|r| r.max_pressure_mpa),
-        "friction": cycle.settings.friction.as_ref().map(|f| friction_summary(&results, f, cycle.torque)),
-        "peak_memory_mb": peak_memory_mb(),
-        "tooth_pairs": teeth,
-        "files": {"csv": ["ltca_cycle.csv", "ltca_points.csv"], "plots": plots, "contact_pattern": pattern},
-        "notes": notes,
-        "steps": results,
-    });
-    let mut summary = summary;
-    if let (Some(m), Some(l)) = (summary.as_object_mut(), lubrication) {
-        m.insert("lubrication".into(), l);
-    }
-    let p = out.join("summary.json");
-    crate::atomic_file::write(
-        &p,
-        serde_json::to_string_pretty(&summary)
-            .map_err(|e| FlankError::Model(format!("summary: {e}")))?
-            + "\n",
-    )?;
-    Ok(summary)
-}
-
-fn write_cycle_csv(
-    path: &Path,
-    results: &[PositionResult],
-    forces: &[Vec<f64>],
-    friction: &[Vec<f64>],
-    nominal: f64,
-) -> Result<(), FlankError> {
-    use std::fmt::Write;
-    let np = forces.first().map_or(0, Vec::len);
-    let mut s = String::from("roll_deg");
-    for p in 1..=np {
-        let _ = write!(s, ",force_pair{p}_n,share_pair{p}");
-    }
-    for p in 1..=np {
-        let _ = write!(s, ",friction_pair{p}_n");
-    }
-    s.push_str(",te_urad,te_um,unloaded_te_urad,mesh_stiffness_n_per_um,max_pressure_mpa,friction_power_w,candidates,qp_iterations,local_iterations,kkt,condition,time_s\n");
-    for ((r, f), ft) in results.iter().zip(forces).zip(friction) {
-        let _ = write!(s, "{}", r.roll_deg);
-        let total: f64 = f.iter().sum::<f64>().max(1e-300);
-        for &x in f {
-            let _ = write!(s, ",{x},{}", if nominal > 0.0 { x / total } else { 0.0 });
-        }
-        for &x in ft {
-            let _ = write!(s, ",{x}");
-        }
-        let _ = writeln!(
-            s,
-            ",{},{},{},{},{},{},{},{},{},{:e},{},{}",
-            r.te_urad,
-            r.te_um,
-            r.unloaded_te_urad,
-            r.mesh_stiffness_n_per_um,
-            r.max_pressure_mpa,
-            r.friction_power_w,
-            r.candidates,
-            r.qp_iterations,
-            r.local_iterations,
-            r.kkt_max,
-            r.condition.map_or(String::new(), |c| format!("{c:e}")),
-            r.time_s
-        );
-    }
-    crate::atomic_file::write(path, s)
+    let te_arcsec: Vec<f64> = steps.iter().map(|s| s.te_arcsec).collect();
+    let summary = LtcaSummary {
+        schema_version: SCHEMA_VERSION,
+        scene: scene.source.display().to_string(),
+        analysis: "ltca_mesh_cycle",
+        pair_kind: scene.kind.name(),
+        positions: results.len(),
+        tooth_pairs: teeth,
+        te_peak_to_peak_urad: peak_to_peak(&te),
+        te_peak_to_peak_arcsec: peak_to_peak(&te_arcsec),
+        max_pressure_mpa: worst(|r| r.max_pressure_mpa),
+        max_kkt: worst(|r| r.kkt_max),
+        iteration_limits: loops,
+        friction: cycle
+            .settings
+            .friction
+            .as_ref()
+            .map(|f| friction_summary(&results, f, cycle.torque)),
+        settings: cycle.settings.clone(),
+        cycle_s,
+        time_per_position_s,
+        total_s: t_total.elapsed().as_secs_f64(),
+        peak_memory_mb: peak_memory_mb(),
+        notes,
+        kind: KindSummary::Cylindrical(Box::new(CylindricalLtcaSummary {
+            contact_ratio,
+            contact_ratio_kinematic: cycle.pair.kinematic_contact_ratio(),
+            middle_pair_loaded_deg: limits.map(|(s, e)| [s, e]),
+            single_pair_force_n,
+            nominal_force_n: nominal,
+            single_pair_force_error: single_pair_force_n.map(|f| f / nominal - 1.0),
+            extension_positions: extended,
+            points_per_line: cycle.points_per_line,
+            setup: cycle.setup.clone(),
+            max_condition: results.iter().filter_map(|r| r.condition).reduce(f64::max),
+            max_condition_loaded: results
+                .iter()
+                .filter_map(|r| r.condition_loaded)
+                .reduce(f64::max),
+            tensor_backward_error: cycle.setup.backward_error,
+            warnings: results
+                .iter()
+                .flat_map(|r| {
+                    r.warnings
+                        .iter()
+                        .map(move |w| format!("{:.4}°: {w}", r.roll_deg))
+                })
+                .collect(),
+            kkt_flagged: flagged,
+            files: LtcaFiles {
+                csv: ["ltca_cycle.csv", "ltca_positions.csv", "ltca_points.csv"]
+                    .map(String::from)
+                    .to_vec(),
+                plots,
+                contact_pattern: pattern,
+            },
+            lubrication,
+        })),
+        steps,
+    };
+    let result = LtcaResult::Cycle(Box::new(summary));
+    result.write(out)?;
+    Ok(result)
 }

@@ -80,6 +80,7 @@ mod location;
 mod lubricant;
 mod materials;
 mod mesh;
+pub mod overrides;
 mod pair;
 #[cfg(test)]
 mod test_support;

@@ -68,7 +68,9 @@ fn seed000_ltca_with_and_without_edge_contact() {
     let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("ltca_edges");
     let _ = std::fs::remove_dir_all(&work);
     let t = Instant::now();
-    let s = run_bevel(&sc, &options(&work, EdgeVariants::Both)).unwrap();
+    let s = run_bevel(&sc, &options(&work, EdgeVariants::Both))
+        .unwrap()
+        .to_json();
     let run_s = t.elapsed().as_secs_f64();
     let (w, o) = (&s["with_edges"], &s["without_edges"]);
     println!(

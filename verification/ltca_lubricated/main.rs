@@ -206,7 +206,8 @@ fn ltca_loop(
             ..options(out.clone())
         },
     )
-    .unwrap();
+    .unwrap()
+    .to_json();
     (s, out)
 }
 

@@ -1,0 +1,134 @@
+//! The short API of flank: load a scene (any pair kind), override its keys,
+//! run an analysis, read its typed result. Everything here is also
+//! reachable by its own module path; this page is where to start.
+//!
+//! | step | function | result |
+//! |---|---|---|
+//! | read a scene | [`load_scene`], [`load_scene_with`] (dotted keys overridden) | [`Scene`] |
+//! | compliance tensors | [`compliance`], [`read_compliance_tensor`] | `summary.json` as JSON; [`ComplianceTensor`] |
+//! | LTCA over the mesh cycle | [`ltca`] | [`LtcaResult`] |
+//! | FE contact over the mesh cycle | [`fe_mesh_cycle`] | `summary.json` as JSON |
+//! | LTCA against FE contact | [`compare`] | [`CompareSummary`] |
+//!
+//! Each analysis takes the options of its command: a field left `None`
+//! falls back to the scene's `[analyses.*]` key, else to the default
+//! (docs/scene.md), and the files go to `options.out` (docs/outputs.md).
+//!
+//! ```
+//! use flank::api::{load_scene, load_scene_with, PairKind};
+//! use std::path::Path;
+//!
+//! let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+//! let spur = load_scene(root.join("papers/seed002-spur/scene.toml"))?;
+//! assert_eq!(spur.kind, PairKind::Spur);
+//! // the same scene at a third of its torque: the override passes the file's checks
+//! let light = load_scene_with(
+//!     root.join("papers/seed002-spur/scene.toml"),
+//!     &[("load.torque_nm", toml::Value::Float(104.0))],
+//! )?;
+//! assert!((light.load.torque_nmm - 104_000.0).abs() < 1e-9);
+//! // a value the scene refuses names the override
+//! let refused = load_scene_with(
+//!     root.join("papers/seed003-hypoid/scene_eased.toml"),
+//!     &[("load.torque_nm", toml::Value::Float(-1.0))],
+//! )
+//! .unwrap_err();
+//! assert!(refused.to_string().contains("with the overrides load.torque_nm"));
+//! # Ok::<(), flank::error::FlankError>(())
+//! ```
+//!
+//! An LTCA of any pair kind, read through its typed result (the same
+//! fields for a spur and a hypoid pair; `examples/spur_ltca.rs` and
+//! `examples/hypoid_ltca.rs` run it):
+//!
+//! ```no_run
+//! use flank::api::{load_scene, ltca, LtcaOptions};
+//!
+//! let scene = load_scene("papers/seed003-hypoid/scene_eased.toml")?;
+//! let result = ltca(&scene, &LtcaOptions { out: "out/ltca".into(), ..Default::default() })?;
+//! let cycle = result.first();
+//! println!(
+//!     "{} positions, TE {:.2} arcsec at the gear ({:.1} µrad at the pinion) peak-to-peak",
+//!     cycle.positions, cycle.te_peak_to_peak_arcsec, cycle.te_peak_to_peak_urad
+//! );
+//! for step in &cycle.steps {
+//!     println!("{:+.2}°: load shares {:?}", step.position.roll_deg, step.load_share);
+//! }
+//! # Ok::<(), flank::error::FlankError>(())
+//! ```
+#![warn(missing_docs)]
+
+use std::path::Path;
+
+use crate::error::FlankError;
+
+pub use crate::compare::summary::{CompareKind, CompareSummary};
+pub use crate::compare::CompareOptions;
+pub use crate::compliance::body::BodyMeshOptions;
+pub use crate::compliance::cache::FileFormat;
+pub use crate::compliance::run::RunOptions as ComplianceOptions;
+pub use crate::compliance::ComplianceTensor;
+pub use crate::ltca::cycle::LtcaOptions;
+pub use crate::ltca::summary::{
+    BevelLtcaSummary, CylindricalLtcaSummary, KindSummary, LtcaResult, LtcaStep, LtcaSummary,
+    SCHEMA_VERSION,
+};
+pub use crate::mesh_cycle::run::RunOptions as FeOptions;
+pub use crate::scene::{Gears, PairKind, Scene};
+
+/// Reads and validates the scene file at `path`, of any pair kind
+/// ([`crate::scene::read_scene`]); a bad key is a Parse error with its
+/// file and line.
+pub fn load_scene(path: impl AsRef<Path>) -> Result<Scene, FlankError> {
+    crate::scene::read_scene(path.as_ref())
+}
+
+/// [`load_scene`] with dotted keys set first (`load.torque_nm`,
+/// `pinion.micro.tip_relief_um`, `analyses.ltca.misalignment_urad.0`), as a
+/// campaign's variants set them ([`crate::scene::overrides`]): the file is
+/// checked as written, then with the overrides.
+pub fn load_scene_with(
+    path: impl AsRef<Path>,
+    overrides: &[(&str, toml::Value)],
+) -> Result<Scene, FlankError> {
+    let path = path.as_ref();
+    let text = crate::text_file::read_utf8(path)?;
+    crate::scene::overrides::parse_scene_with(&text, path, overrides)
+}
+
+/// The compliance tensors of both bodies of the scene at `path`
+/// ([`crate::compliance::run::run_scene`]): written into `options.out`,
+/// their summary returned.
+pub fn compliance(
+    path: impl AsRef<Path>,
+    options: &ComplianceOptions,
+) -> Result<serde_json::Value, FlankError> {
+    crate::compliance::run::run_scene(path.as_ref(), options)
+}
+
+/// Reads a compliance tensor file (`<body>.compliance.h5` or `.bin`, by
+/// its extension; [`crate::compliance::cache::read`]): C, 3N × 3N, mm/N,
+/// with its flank nodes and metadata.
+pub fn read_compliance_tensor(path: impl AsRef<Path>) -> Result<ComplianceTensor, FlankError> {
+    crate::compliance::cache::read(path.as_ref())
+}
+
+/// The compliance-matrix LTCA over the scene's mesh cycle, any pair kind
+/// ([`crate::ltca::run::run`]); the files of docs/outputs.md in
+/// `options.out`.
+pub fn ltca(scene: &Scene, options: &LtcaOptions) -> Result<LtcaResult, FlankError> {
+    crate::ltca::run::run(scene, options)
+}
+
+/// Quasi-static FE contact over the scene's mesh cycle, any pair kind
+/// ([`crate::mesh_cycle::run::run`]).
+pub fn fe_mesh_cycle(scene: &Scene, options: &FeOptions) -> Result<serde_json::Value, FlankError> {
+    crate::mesh_cycle::run::run(scene, options)
+}
+
+/// The LTCA against FE contact at the same positions, any pair kind
+/// ([`crate::compare::run::compare`]): `compare.json`, `compare.md` and the
+/// error-against-time plot in `options.out`.
+pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<CompareSummary, FlankError> {
+    crate::compare::run::compare(scene, options)
+}
