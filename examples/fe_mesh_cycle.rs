@@ -31,11 +31,11 @@ fn main() -> anyhow::Result<()> {
     let summary = run(&scene, &options)?;
     println!(
         "{} positions, {} DOFs, factorization {:.2} s once, {:.2} s per position; TE peak-to-peak {:.2} µrad",
-        summary["positions"],
-        summary["dofs"],
-        summary["factorization_s"].as_f64().unwrap_or(f64::NAN),
-        summary["time_per_position_s"].as_f64().unwrap_or(f64::NAN),
-        summary["te_peak_to_peak_urad"].as_f64().unwrap_or(f64::NAN),
+        summary.positions,
+        summary.dofs,
+        summary.factorization_s,
+        summary.time_per_position_s,
+        summary.te_peak_to_peak_urad,
     );
     println!(
         "force and share per pair: {}",

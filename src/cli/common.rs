@@ -45,9 +45,14 @@ pub fn print_notes(summary: &serde_json::Value) {
 /// Prints the one-line summary of the wet–dry loop (the summary's
 /// `lubrication` object, `flank run` and `flank ltca`) and its warnings.
 pub fn print_lubrication(summary: &serde_json::Value) {
-    let Some(l) = summary.get("lubrication") else {
-        return;
-    };
+    if let Some(l) = summary.get("lubrication") {
+        print_wet_dry_loop(l);
+    }
+}
+
+/// Prints the one-line summary of a wet–dry loop's `lubrication` object
+/// and its warnings.
+pub fn print_wet_dry_loop(l: &serde_json::Value) {
     let g = |k: &str| l[k].as_f64().unwrap_or(f64::NAN);
     println!(
         "lubrication: {} wet pass(es), {}; last change of μ {:+.3} %; μ max {:.4}; mesh power loss {:.0} W, efficiency {:.3} %",
