@@ -10,14 +10,12 @@
 
 use std::path::Path;
 
-use flank::compliance::body::BodyMeshOptions;
-use flank::mesh_cycle::run::{run, RunOptions};
-use flank::scene::read_scene;
+use flank::api::{fe_mesh_cycle, load_scene, BodyMeshOptions, FeOptions};
 
 fn main() -> anyhow::Result<()> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let scene = read_scene(&root.join("papers/seed002-spur/scene.toml"))?;
-    let options = RunOptions {
+    let scene = load_scene(root.join("papers/seed002-spur/scene.toml"))?;
+    let options = FeOptions {
         out: root.join("out/example_fe_mesh_cycle"),
         mesh: BodyMeshOptions {
             flank_size: Some(1.0),
@@ -28,14 +26,14 @@ fn main() -> anyhow::Result<()> {
         // contact law, slave, friction: the scene's [analyses.contact], else the defaults
         ..Default::default()
     };
-    let summary = run(&scene, &options)?;
+    let summary = fe_mesh_cycle(&scene, &options)?;
     println!(
         "{} positions, {} DOFs, factorization {:.2} s once, {:.2} s per position; TE peak-to-peak {:.2} µrad",
-        summary["positions"],
-        summary["dofs"],
-        summary["factorization_s"].as_f64().unwrap_or(f64::NAN),
-        summary["time_per_position_s"].as_f64().unwrap_or(f64::NAN),
-        summary["te_peak_to_peak_urad"].as_f64().unwrap_or(f64::NAN),
+        summary.positions,
+        summary.dofs,
+        summary.factorization_s,
+        summary.time_per_position_s,
+        summary.te_peak_to_peak_urad,
     );
     println!(
         "force and share per pair: {}",

@@ -7,7 +7,7 @@
 //! | read a scene | [`load_scene`], [`load_scene_with`] (dotted keys overridden) | [`Scene`] |
 //! | compliance tensors | [`compliance`], [`read_compliance_tensor`] | `summary.json` as JSON; [`ComplianceTensor`] |
 //! | LTCA over the mesh cycle | [`ltca`] | [`LtcaResult`] |
-//! | FE contact over the mesh cycle | [`fe_mesh_cycle`] | `summary.json` as JSON |
+//! | FE contact over the mesh cycle | [`fe_mesh_cycle`] | [`RunSummary`] |
 //! | LTCA against FE contact | [`compare`] | [`CompareSummary`] |
 //!
 //! Each analysis takes the options of its command: a field left `None`
@@ -71,9 +71,10 @@ pub use crate::compliance::ComplianceTensor;
 pub use crate::ltca::cycle::LtcaOptions;
 pub use crate::ltca::summary::{
     BevelLtcaSummary, CylindricalLtcaSummary, KindSummary, LtcaResult, LtcaStep, LtcaSummary,
-    SCHEMA_VERSION,
 };
 pub use crate::mesh_cycle::run::RunOptions as FeOptions;
+pub use crate::mesh_cycle::summary::{RunKind, RunSummary};
+pub use crate::report::summary::SCHEMA_VERSION;
 pub use crate::scene::{Gears, PairKind, Scene};
 
 /// Reads and validates the scene file at `path`, of any pair kind
@@ -122,7 +123,7 @@ pub fn ltca(scene: &Scene, options: &LtcaOptions) -> Result<LtcaResult, FlankErr
 
 /// Quasi-static FE contact over the scene's mesh cycle, any pair kind
 /// ([`crate::mesh_cycle::run::run`]).
-pub fn fe_mesh_cycle(scene: &Scene, options: &FeOptions) -> Result<serde_json::Value, FlankError> {
+pub fn fe_mesh_cycle(scene: &Scene, options: &FeOptions) -> Result<RunSummary, FlankError> {
     crate::mesh_cycle::run::run(scene, options)
 }
 

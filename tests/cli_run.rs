@@ -53,6 +53,7 @@ fn run_writes_the_mesh_cycle_files() {
     assert_eq!(active["calls"].as_u64(), Some(2), "{active}");
     assert_eq!(active["limit_hits"].as_u64(), Some(0), "{active}");
     assert!(active["most_iterations"].as_u64().unwrap() >= 1);
+    assert_same_files_as_every_kind(&dir, &s, "spur");
     for file in [
         "mesh_cycle.csv",
         "force_per_tooth.svg",
@@ -321,6 +322,7 @@ fn seed003_hypoid_run_writes_balanced_positions() {
     }
     let csv = std::fs::read_to_string(out.join("positions.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 3 * 3);
+    assert_same_files_as_every_kind(&out, &s, "hypoid");
     // the contact pattern: one row per loaded node and position, plotted
     // on both members
     let closed: u64 = s["steps"]
@@ -407,4 +409,34 @@ fn seed003_hypoid_run_with_friction_balances() {
         moved > 1.0,
         "friction changed no pair force by 1 N ({moved})"
     );
+}
+
+/// The files every pair kind writes with the same columns (3 tooth pairs
+/// in both the spur and the hypoid run here): `mesh_cycle.csv` and
+/// `positions.csv` have the header of the one writer
+/// (`flank::mesh_cycle::outputs`), so a spur and a hypoid run have the same
+/// headers; every row is as wide as its header; the summary gives its
+/// schema version, the pair kind and the TE peak-to-peak in both forms.
+fn assert_same_files_as_every_kind(dir: &std::path::Path, s: &serde_json::Value, kind: &str) {
+    use flank::mesh_cycle::outputs::{mesh_cycle_header, POSITIONS_HEADER};
+    for (file, header) in [
+        ("mesh_cycle.csv", mesh_cycle_header(3)),
+        ("positions.csv", POSITIONS_HEADER.to_string()),
+    ] {
+        let text = std::fs::read_to_string(dir.join(file)).unwrap();
+        let mut lines = text.lines();
+        assert_eq!(lines.next(), Some(header.as_str()), "{file}");
+        let n = header.split(',').count();
+        for l in lines {
+            assert_eq!(l.split(',').count(), n, "{file}: {l}");
+        }
+    }
+    assert_eq!(
+        s["schema_version"].as_u64(),
+        Some(flank::mesh_cycle::summary::SCHEMA_VERSION as u64)
+    );
+    assert_eq!(s["pair_kind"], kind);
+    for key in ["te_peak_to_peak_urad", "te_peak_to_peak_arcsec"] {
+        assert!(s[key].as_f64().is_some(), "{key}: {}", s[key]);
+    }
 }

@@ -35,19 +35,9 @@ pub enum MeshElement {
     Wedge15,
 }
 
-/// Prints the `notes` of a run summary, one `note: …` line each.
-pub fn print_notes(summary: &serde_json::Value) {
-    for n in summary["notes"].as_array().into_iter().flatten() {
-        println!("note: {}", n.as_str().unwrap_or(""));
-    }
-}
-
-/// Prints the one-line summary of the wet–dry loop (the summary's
-/// `lubrication` object, `flank run` and `flank ltca`) and its warnings.
-pub fn print_lubrication(summary: &serde_json::Value) {
-    let Some(l) = summary.get("lubrication") else {
-        return;
-    };
+/// Prints the one-line summary of a wet–dry loop's `lubrication` object
+/// and its warnings.
+pub fn print_wet_dry_loop(l: &serde_json::Value) {
     let g = |k: &str| l[k].as_f64().unwrap_or(f64::NAN);
     println!(
         "lubrication: {} wet pass(es), {}; last change of μ {:+.3} %; μ max {:.4}; mesh power loss {:.0} W, efficiency {:.3} %",

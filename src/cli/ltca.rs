@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 
-use crate::cli::common::{print_lubrication, SectorArgs};
+use crate::cli::common::{print_wet_dry_loop, SectorArgs};
 use flank::ltca::summary::{KindSummary, LtcaSummary};
 
 #[derive(clap::Args)]
@@ -228,7 +228,7 @@ fn print_cycle(s: &LtcaSummary) {
                 );
             }
             if let Some(l) = &c.lubrication {
-                print_lubrication(&serde_json::json!({ "lubrication": l }));
+                print_wet_dry_loop(l);
             }
         }
     }

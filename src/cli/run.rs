@@ -4,7 +4,9 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 
-use crate::cli::common::{print_lubrication, print_notes, SectorArgs};
+use flank::mesh_cycle::summary::{BevelRun, CylindricalRun, RunKind, RunSummary};
+
+use crate::cli::common::{print_wet_dry_loop, SectorArgs};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -157,7 +159,9 @@ pub fn run(args: Args) -> Result<()> {
         let s = run(&read, &options)
             .with_context(|| format!("FE contact of the hypoid pair of {}", scene.display()))?;
         if !quiet {
-            print_bevel(&s);
+            if let RunKind::Bevel(b) = &s.kind {
+                print_bevel(&s, b);
+            }
             println!("wrote {}", out.display());
         }
         return Ok(());
@@ -165,58 +169,82 @@ pub fn run(args: Args) -> Result<()> {
     let s = run_scene(&scene, &options)
         .with_context(|| format!("FE contact mesh cycle of {}", scene.display()))?;
     if !quiet {
-        let f = |k: &str| s[k].as_f64().unwrap_or(f64::NAN);
-        println!(
-            "{} positions, {} nodes, {} DOFs; factorization {:.2} s once, {:.2} s per position; peak {:.0} MB",
-            s["positions"],
-            s["nodes"],
-            s["dofs"],
-            f("factorization_s"),
-            f("time_per_position_s"),
-            f("peak_memory_mb")
-        );
-        println!(
-            "contact ratio {:.4} (kinematic ε_α {:.4}); single-pair force {:.1} N vs T/(r_b1 cos β_b) = {:.1} N ({:+.2} %); TE peak-to-peak {:.2} µrad",
-            f("contact_ratio"),
-            f("contact_ratio_kinematic"),
-            f("single_pair_force_n"),
-            f("nominal_force_n"),
-            100.0 * f("single_pair_force_error"),
-            f("te_peak_to_peak_urad")
-        );
-        println!("contact law: {}", s["law"]);
-        print_lubrication(&s);
-        print_notes(&s);
-        let w = s["warnings"].as_array().map_or(0, Vec::len);
-        if w > 0 {
-            println!("{w} warning(s) in summary.json");
+        if let RunKind::Cylindrical(c) = &s.kind {
+            print_cylindrical(&s, c);
         }
         println!("wrote {}", out.display());
     }
     Ok(())
 }
 
+/// A figure as the printed summary shows it: NaN where summary.json has
+/// null (a figure not measured, or not finite).
+fn shown(v: f64) -> f64 {
+    if v.is_finite() {
+        v
+    } else {
+        f64::NAN
+    }
+}
+
+/// What `flank run` prints of a spur/helical run's summary.
+fn print_cylindrical(s: &RunSummary, c: &CylindricalRun) {
+    println!(
+        "{} positions, {} nodes, {} DOFs; factorization {:.2} s once, {:.2} s per position; peak {:.0} MB",
+        s.positions,
+        s.nodes,
+        s.dofs,
+        shown(s.factorization_s),
+        shown(s.time_per_position_s),
+        shown(s.peak_memory_mb)
+    );
+    let opt = |v: Option<f64>| shown(v.unwrap_or(f64::NAN));
+    println!(
+        "contact ratio {:.4} (kinematic ε_α {:.4}); single-pair force {:.1} N vs T/(r_b1 cos β_b) = {:.1} N ({:+.2} %); TE peak-to-peak {:.2} µrad",
+        opt(c.contact_ratio),
+        shown(c.contact_ratio_kinematic),
+        opt(c.single_pair_force_n),
+        shown(c.nominal_force_n),
+        100.0 * opt(c.single_pair_force_error),
+        shown(s.te_peak_to_peak_urad)
+    );
+    // the law as summary.json writes it
+    println!(
+        "contact law: {}",
+        serde_json::to_value(c.law).unwrap_or_default()
+    );
+    if let Some(l) = &c.lubrication {
+        print_wet_dry_loop(l);
+    }
+    for n in &s.notes {
+        println!("note: {n}");
+    }
+    let w = s.warnings.len();
+    if w > 0 {
+        println!("{w} warning(s) in summary.json");
+    }
+}
+
 /// What `flank run` prints of a bevel/hypoid run's summary.
-fn print_bevel(s: &serde_json::Value) {
-    let f = |k: &str| s[k].as_f64().unwrap_or(f64::NAN);
+fn print_bevel(s: &RunSummary, b: &BevelRun) {
     println!(
         "{} positions, {} nodes, {} DOFs; factorization {:.2} s once, {:.2} s per position",
-        s["positions"],
-        s["nodes"],
-        s["dofs"],
-        f("factorization_s"),
-        f("time_per_position_s")
+        s.positions,
+        s.nodes,
+        s.dofs,
+        shown(s.factorization_s),
+        shown(s.time_per_position_s)
     );
     println!(
         "TE peak-to-peak {:.2} arcsec; largest contact pressure {:.0} MPa; moment balance {:.1e}",
-        f("te_peak_to_peak_arcsec"),
-        f("max_pressure_mpa"),
-        f("max_moment_balance")
+        shown(s.te_peak_to_peak_arcsec),
+        shown(b.max_pressure_mpa),
+        shown(b.max_moment_balance)
     );
-    for w in s["warnings"].as_array().into_iter().flatten() {
-        println!("warning: {}", w.as_str().unwrap_or_default());
+    for w in &s.warnings {
+        println!("warning: {w}");
     }
-    let pen = f("largest_unloaded_interpenetration_mm");
+    let pen = shown(b.largest_unloaded_interpenetration_mm);
     if pen > 1e-3 {
         println!(
             "warning: the unloaded flanks interpenetrate by up to {pen:.4} mm in the nominal placement (positions.csv: min_initial_gap_mm); the loaded TE contains the unloaded TE this resolves"

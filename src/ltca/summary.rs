@@ -24,10 +24,7 @@ use crate::ltca::solve_settings::LtcaSettings;
 use crate::ltca::te_fit::QuadraticTeFit;
 use crate::tca::point_contact::Transition;
 
-/// Version of the layout of `summary.json` (of `flank ltca`, `flank run`
-/// and `flank compare` alike): raised when a key changes its meaning or
-/// goes; a key added leaves it.
-pub const SCHEMA_VERSION: u32 = 1;
+pub use crate::report::summary::SCHEMA_VERSION;
 
 /// What `flank ltca` returns and writes to `summary.json`.
 #[derive(Clone, Debug, Serialize)]
@@ -170,10 +167,10 @@ pub fn shares(forces: &[f64]) -> Vec<f64> {
         .collect()
 }
 
-/// max − min of `values` (−∞ for none).
+/// max − min of `values` (−∞ for none;
+/// [`crate::report::summary::peak_to_peak`]).
 pub fn peak_to_peak(values: &[f64]) -> f64 {
-    values.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
-        - values.iter().cloned().fold(f64::INFINITY, f64::min)
+    crate::report::summary::peak_to_peak(values.iter().copied())
 }
 
 /// The figures only one pair kind has.

@@ -13,7 +13,8 @@
 //! TE = −Δφ₁ z₁/z₂, arc seconds, the sign of the unloaded TCA's TE),
 //! largest contact pressure, the closed slave nodes (the contact pattern)
 //! and whether the pinion's tip edge carries load (closed slave nodes on
-//! the tip land).
+//! the tip land). `flank run` over the cycle, its files and summary, is
+//! [`crate::mesh_cycle::bevel_run`].
 
 use std::collections::HashSet;
 use std::time::Instant;
@@ -26,13 +27,11 @@ use crate::contact::PressureOverclosure;
 use crate::error::FlankError;
 use crate::fem::ordering::OrderingMethod;
 use crate::geometry::gear_pair::PairPlacement;
-use crate::iteration_limits::IterationLimits;
 use crate::mesh::bevel_body::bevel_body_model;
 use crate::mesh::bevel_sector::BevelSectorOptions;
 use crate::mesh_cycle::bevel_checks as checks;
-use crate::mesh_cycle::checkpoint::{self, Checkpoint, Position};
 use crate::mesh_cycle::pair_model::{combine, set_automatic_penalty, PairBody, PairModel};
-use crate::report::fe_pattern::{plot_fe_pattern, PatternNode};
+use crate::report::fe_pattern::PatternNode;
 use crate::scene::Scene;
 use crate::settings::{ContactLaw, SlaveBody};
 use crate::tca::point_contact::{projection, ARCSEC_PER_RAD};
@@ -135,27 +134,14 @@ pub struct BevelStep {
     pub pattern: Vec<PatternNode>,
 }
 
-/// A position as the checkpoint keeps it: the step with its contact
-/// pattern (which summary.json leaves out).
-#[derive(Clone, serde::Serialize, serde::Deserialize)]
-struct KeptStep {
-    step: BevelStep,
-    pattern: Vec<PatternNode>,
-}
-
-impl Position for KeptStep {
-    fn roll_deg(&self) -> f64 {
-        self.step.roll_deg
-    }
-}
-
 /// A factorized hypoid pair model, ready to solve roll angles.
 pub struct BevelCycle {
     pub pair: std::sync::Arc<crate::geometry::bevel::pair::BevelPair>,
     pub model: PairModel,
     pub system: ElasticSystem,
-    contact: ContactOptions,
-    torque: f64,
+    /// The pairing and active-set options, and the pinion torque (N·mm).
+    pub(super) contact: ContactOptions,
+    pub(super) torque: f64,
     /// Slave nodes on the pinion's tip land.
     tip_nodes: HashSet<usize>,
 }
@@ -547,225 +533,6 @@ impl BevelCycle {
             factorization_s: t0.elapsed().as_secs_f64(),
         })
     }
-}
-
-/// `flank run` on a bevel/hypoid scene: the pair factorized once, then
-/// `roll_angles_deg` (default: [`DEFAULT_POSITIONS`] positions over one
-/// mesh cycle centred on roll 0, the middle pair at the mean point);
-/// writes `positions.csv` (per position and tooth pair) and
-/// `summary.json` into `out` and returns the summary.
-pub fn run_bevel(
-    scene: &Scene,
-    options: &BevelRunOptions,
-    roll_angles_deg: Option<Vec<f64>>,
-    out: &std::path::Path,
-) -> Result<serde_json::Value, FlankError> {
-    let bevel = scene.bevel("the bevel/hypoid FE mesh cycle")?;
-    use std::io::Write;
-    checks::check_torque(scene)?;
-    let pitch = bevel.pair.tooth_roll_step().abs().to_degrees();
-    // the functional contact ratio needs the default cycle (positions
-    // spread evenly over one pitch)
-    let default_cycle = roll_angles_deg.is_none();
-    let rolls = roll_angles_deg.unwrap_or_else(|| {
-        (0..DEFAULT_POSITIONS)
-            .map(|i| -0.5 * pitch + pitch * i as f64 / DEFAULT_POSITIONS as f64)
-            .collect()
-    });
-    if let Some(r) = rolls.iter().find(|r| !r.is_finite()) {
-        return Err(FlankError::Model(format!("roll angle {r} is not a number")));
-    }
-    let CheckedCycle {
-        cycle,
-        unloaded,
-        warnings: run_warnings,
-        checks_s,
-        factorization_s,
-    } = BevelCycle::checked(scene, options, &rolls)?;
-    std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
-    // every position is kept in checkpoint.json as it is solved; SIGINT is
-    // polled between positions (the spur cycle's protocol)
-    let settings = format!(
-        "{:?}",
-        (
-            options.search_distance_mm,
-            &options.law,
-            options.penalty_factor,
-            options.friction_mu
-        )
-    );
-    let key = checkpoint::key(&scene.source, &options.mesh, &settings);
-    let mut kept: Checkpoint<KeptStep> = Checkpoint::open(out, key, options.resume)?;
-    let mut steps: Vec<BevelStep> = Vec::with_capacity(rolls.len());
-    for &r in &rolls {
-        let step = match kept.take(r)? {
-            Some(k) => BevelStep {
-                pattern: k.pattern,
-                ..k.step
-            },
-            None => {
-                let step = cycle.solve(r)?;
-                kept.record(&KeptStep {
-                    pattern: step.pattern.clone(),
-                    step: step.clone(),
-                })?;
-                step
-            }
-        };
-        steps.push(step);
-        if crate::interrupt::requested() {
-            return Err(FlankError::Interrupted(format!(
-                "stopped at a position boundary after {} solved position(s); they are kept in {}; \
-                 resume with the same command and options plus --resume (`flank run SCENE --out {} ... --resume`): \
-                 only the remaining positions are solved",
-                steps.len(),
-                kept.path().display(),
-                out.display()
-            )));
-        }
-    }
-    let resumed = kept.reused();
-    if options.decks {
-        for &r in &rolls {
-            let name = crate::report::vtu::vtu_name(r).replace(".vtu", ".inp");
-            cycle.write_deck(r, &out.join(name))?;
-        }
-    }
-    let path = out.join("positions.csv");
-    let mut w = crate::atomic_file::AtomicWriter::create(&path)?;
-    let io = |e| FlankError::io(&path, e);
-    writeln!(
-        w,
-        "roll_deg,pair,pinion_tooth,gear_tooth,force_n,load_share,max_pressure_mpa,closed_nodes,pinion_tip_edge,min_initial_gap_mm,te_arcsec"
-    )
-    .map_err(io)?;
-    for st in &steps {
-        for p in 0..st.pair_force_n.len() {
-            let (k, m) = cycle.model.teeth[p];
-            writeln!(
-                w,
-                "{},{},{k},{m},{:e},{:e},{:e},{},{},{:e},{:e}",
-                st.roll_deg,
-                p + 1,
-                st.pair_force_n[p],
-                st.load_share[p],
-                st.max_pressure_mpa[p],
-                st.closed_nodes[p],
-                st.pinion_tip_edge[p],
-                st.min_initial_gap_mm[p],
-                st.te_arcsec
-            )
-            .map_err(io)?;
-        }
-    }
-    w.commit()?;
-    // the contact pattern: every loaded node of every position
-    let path = out.join("contact_pattern.csv");
-    let mut w = crate::atomic_file::AtomicWriter::create(&path)?;
-    let io = |e| FlankError::io(&path, e);
-    writeln!(
-        w,
-        "roll_deg,pair,pinion_along_face_mm,pinion_height_mm,gear_along_face_mm,gear_height_mm,pressure_mpa"
-    )
-    .map_err(io)?;
-    for st in &steps {
-        for n in &st.pattern {
-            let [p, g] = n.projection_mm;
-            writeln!(
-                w,
-                "{},{},{:e},{:e},{:e},{:e},{:e}",
-                st.roll_deg, n.pair, p[0], p[1], g[0], g[1], n.pressure_mpa
-            )
-            .map_err(io)?;
-        }
-    }
-    w.commit()?;
-    let pattern: Vec<PatternNode> = steps.iter().flat_map(|s| s.pattern.clone()).collect();
-    let plots = plot_fe_pattern(out, cycle.pair.as_ref(), &pattern)?;
-    let te: Vec<f64> = steps.iter().map(|s| s.te_arcsec).collect();
-    let te_pp = te.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
-        - te.iter().cloned().fold(f64::INFINITY, f64::min);
-    let interference = steps
-        .iter()
-        .flat_map(|s| s.min_initial_gap_mm.iter())
-        .cloned()
-        .fold(f64::INFINITY, f64::min);
-    let mut loops = IterationLimits::new();
-    for s in &steps {
-        crate::mesh_cycle::cycle::record_active_set(
-            &mut loops,
-            s.active_set_iterations,
-            cycle.contact.max_iterations,
-            s.max_violation_mm,
-        );
-        if let Some(converged) = s.friction_converged {
-            crate::mesh_cycle::cycle::record_friction(
-                &mut loops,
-                converged,
-                s.friction_iterations,
-                s.friction_rounds,
-                s.friction_bound_change,
-            );
-        }
-    }
-    // the LTCA's measure ([`crate::load_sharing::cycle`]): pairs above 1 %
-    // of the position's normal force, over one pitch
-    let sharing = default_cycle
-        .then(|| {
-            let forces: Vec<Vec<f64>> = steps.iter().map(|s| s.pair_force_n.clone()).collect();
-            crate::load_sharing::cycle_sharing(&forces, pitch)
-        })
-        .flatten();
-    let summary = serde_json::json!({
-        "scene": scene.source.display().to_string(),
-        "positions": steps.len(),
-        "functional_contact_ratio": sharing.as_ref().map(|s| s.functional_contact_ratio),
-        "load_sharing": sharing,
-        "nodes": cycle.model.model.mesh.node_count(),
-        "nodes_per_body": cycle.model.nodes,
-        "elements_per_body": cycle.model.elements,
-        "dofs": 3 * cycle.model.model.mesh.node_count(),
-        "factorization_s": factorization_s,
-        "nnz_factor": cycle.system.stats.nnz_factor,
-        "factorization_flops": cycle.system.stats.flops,
-        // the numeric factorization alone (factorization_s above also
-        // holds assembly, ordering and the condition estimates)
-        "numeric_factorization_s": cycle.system.stats.factorization_s,
-        "factorization_gflop_per_s": cycle.system.stats.flops / cycle.system.stats.factorization_s.max(1e-9) / 1e9,
-        "input_checks_s": checks_s,
-        "largest_exact_unloaded_interpenetration_mm": unloaded.iter().map(|u| u.exact_depth_mm).fold(0.0, f64::max),
-        "gross_interpenetration_limit_mm": checks::GROSS_INTERPENETRATION_MODULE * bevel.blank.cones.m_mn,
-        "warnings": run_warnings,
-        "time_per_position_s": steps.iter().map(|s| s.time_s).sum::<f64>() / steps.len().max(1) as f64,
-        "peak_memory_mb": crate::fem::static_analysis::peak_memory_mb(),
-        "mesh_cycle_deg": pitch,
-        "torque_nm": cycle.torque / 1000.0,
-        "te_peak_to_peak_arcsec": te_pp,
-        "max_pressure_mpa": steps.iter().flat_map(|s| s.max_pressure_mpa.iter()).cloned().fold(0.0, f64::max),
-        "largest_unloaded_interpenetration_mm": (-interference).max(0.0),
-        "max_moment_balance": steps.iter().map(|s| s.moment_balance.abs()).fold(0.0, f64::max),
-        "iteration_limits": loops.to_json(),
-        "tooth_pairs": cycle.model.teeth,
-        "plots": plots,
-        "kinematics": cycle.pair.describe(),
-        "law": match cycle.model.model.contact.interactions[0].behavior {
-            Some(PressureOverclosure::Linear { slope: Some(s), .. }) => serde_json::json!({ "penalty_slope_mpa_per_mm": s, "factor": options.penalty_factor }),
-            _ => serde_json::json!("hard"),
-        },
-        "slave": "pinion",
-        "friction_mu": options.friction_mu,
-        "max_coulomb_residual": steps.iter().map(|s| s.coulomb_residual).fold(0.0, f64::max),
-        "friction_not_converged": steps.iter().filter(|s| s.friction_converged == Some(false)).count(),
-        "resumed_positions": resumed,
-        "steps": steps,
-    });
-    let path = out.join("summary.json");
-    crate::atomic_file::write(
-        &path,
-        serde_json::to_string_pretty(&summary).unwrap_or_default() + "\n",
-    )?;
-    kept.remove()?;
-    Ok(summary)
 }
 
 #[cfg(test)]

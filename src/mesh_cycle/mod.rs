@@ -14,6 +14,12 @@
 //!             plots (`report::cycle_plot`)
 //! bevel       a bevel/hypoid pair's FE contact at a roll angle (the
 //!             bevel sector meshes, the same pair model and solver)
+//! bevel_run   `flank run` on a bevel/hypoid scene: the checked cycle
+//!             over the roll angles, checkpoints, files, summary
+//! outputs     mesh_cycle.csv and positions.csv, the same columns for
+//!             every pair kind, from one record per position
+//! summary     summary.json as a typed struct (`RunSummary`), the keys
+//!             of both kinds and each kind's own
 //! bevel_checks  the bad inputs a hypoid run refuses before factorizing:
 //!             no torque, a sector too small, interpenetrating bodies
 //! contact_band  FE contact per roll angle on meshes with contact bands
@@ -28,11 +34,15 @@
 
 pub mod bevel;
 pub mod bevel_checks;
+pub mod bevel_run;
 pub mod checkpoint;
 pub mod contact_band;
 pub mod cycle;
 pub mod lubricated;
+pub mod outputs;
 pub mod pair_model;
 pub mod run;
+pub mod summary;
 
 pub use run::RunOptions;
+pub use summary::RunSummary;

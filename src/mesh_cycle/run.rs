@@ -16,12 +16,17 @@ use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
 
 use crate::geometry::gear_pair::GearPair;
-use crate::load_sharing::LOADED_FRACTION;
-use crate::mesh_cycle::bevel::{run_bevel, BevelRunOptions};
+use crate::load_sharing::{te_arcsec_at_gear, LOADED_FRACTION};
+use crate::mesh_cycle::bevel::BevelRunOptions;
+use crate::mesh_cycle::bevel_run::run_bevel;
 use crate::mesh_cycle::checkpoint::{self, Checkpoint};
 use crate::mesh_cycle::cycle::{
     default_roll_angles, iteration_limits, MeshCycle, RunSettings, Solved, StepResult,
     ILL_CONDITIONED,
+};
+use crate::mesh_cycle::outputs::{self, PairRecord, PositionRecord};
+use crate::mesh_cycle::summary::{
+    peak_to_peak, CylindricalRun, CylindricalStep, RunFiles, RunKind, RunSummary, SCHEMA_VERSION,
 };
 use crate::report::vtu::{vtu_name, write_vtu, PointField};
 use crate::scene::{read_scene, ContactAnalysis, Scene};
@@ -211,7 +216,7 @@ fn scene_roll_angles(a: &ContactAnalysis, pair: &dyn GearPair) -> Result<Vec<f64
 
 /// `flank run SCENE`: the FE contact mesh cycle of the scene, written to
 /// `options.out`. Returns the summary (also written as summary.json).
-pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value, FlankError> {
+pub fn run_scene(path: &Path, options: &RunOptions) -> Result<RunSummary, FlankError> {
     let scene = read_scene(path)?;
     if !scene.is_bevel() && scene.analyses.contact.is_none() {
         return Err(FlankError::Model(format!(
@@ -223,9 +228,9 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
 }
 
 /// The mesh cycle of a parsed scene of any pair kind (see [`run_scene`]);
-/// a bevel/hypoid scene runs [`crate::mesh_cycle::bevel::run_bevel`] with
+/// a bevel/hypoid scene runs [`crate::mesh_cycle::bevel_run::run_bevel`] with
 /// [`bevel_options`].
-pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, FlankError> {
+pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError> {
     if scene.is_bevel() {
         let bevel = bevel_options(scene, options)?;
         return run_bevel(scene, &bevel, options.roll_angles_deg.clone(), &options.out);
@@ -278,7 +283,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
     let stop = |steps: &[StepResult]| -> Result<(), FlankError> {
         if crate::interrupt::requested() {
             bar.abandon();
-            return Err(interrupted(out, steps, np));
+            return Err(interrupted(&cycle, out, steps, np));
         }
         Ok(())
     };
@@ -383,7 +388,9 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
         .collect();
     let loops = iteration_limits(&steps, cycle.contact.max_iterations);
     notes.extend(loops.warnings());
-    write_steps_csv(&out.join("mesh_cycle.csv"), &steps, np)?;
+    let records = position_records(&cycle, &steps);
+    outputs::write_mesh_cycle_csv(&out.join("mesh_cycle.csv"), np, &records)?;
+    outputs::write_positions_csv(&out.join("positions.csv"), &records)?;
     let (lpstc, hpstc) = cycle.gear_pair.single_contact();
     let (eng_a, eng_e) = cycle.gear_pair.engagement(cycle.gear_pair.middle());
     // TE over the positions where the middle pair carries load (1.5
@@ -422,84 +429,93 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
             stats.scaled_condition_estimate, stats.condition_estimate
         ));
     }
-    let mut summary = serde_json::json!({
-        "scene": scene.source.display().to_string(),
-        "analysis": "fe_contact_mesh_cycle",
-        "contact_ratio": contact_ratio,
-        "contact_ratio_kinematic": cycle.gear_pair.kinematic_contact_ratio(),
-        "single_pair_force_n": single_pair_force_n,
-        "nominal_force_n": nominal,
-        "single_pair_force_error": single_pair_force_n.map(|f| f / nominal - 1.0),
-        "single_contact_positions": single.len(),
-        "middle_pair_loaded_deg": limits.map(|(s, e)| [s, e]),
-        "middle_pair_kinematic_deg": [eng_a.to_degrees(), eng_e.to_degrees()],
-        "kinematic_single_contact_deg": [lpstc.to_degrees(), hpstc.to_degrees()],
-        "angular_pitch_deg": pitch_deg,
-        "loaded_threshold_fraction": LOADED_FRACTION,
-        "positions": steps.len(),
-        "refinement_positions": refine_solves,
-        "extension_positions": extended,
-        "resumed_positions": reused,
-        "time_per_position_s": time_per_position_s,
-        "setup_s": setup_s,
-        "total_s": t_total.elapsed().as_secs_f64(),
-        "nodes": cycle.pair.model.mesh.node_count(),
-    });
-    if let (Some(m), Some(l)) = (summary.as_object_mut(), lubrication) {
-        m.insert("lubrication".into(), l);
-    }
-    let more = serde_json::json!({
-        "nodes_per_body": cycle.pair.nodes,
-        "elements_per_body": cycle.pair.elements,
-        "dofs": stats.dofs,
-        "nnz_factor": stats.nnz_factor,
-        "factorization_flops": stats.flops,
-        "factorization_gflop_per_s": stats.flops / stats.factorization_s.max(1e-9) / 1e9,
-        "ordering": stats.ordering,
-        "assembly_s": stats.assembly_s,
-        "factorization_s": stats.factorization_s,
-        "condition_estimate": stats.condition_estimate,
-        "scaled_condition_estimate": stats.scaled_condition_estimate,
-        "condition_estimate_s": stats.condition_s,
-        "threads": crate::fem::solver::parallelism(options.threads).degree(),
-        "peak_memory_mb": peak_memory_mb(),
-        "estimated_peak_memory_mb": stats.estimated_peak_mb,
-    });
-    let more2 = serde_json::json!({
-        "te_positions": te.len(),
-        "te_mean_urad": te_mean,
-        "te_peak_to_peak_urad": te_pp,
-        "te_peak_to_peak_um": te_pp * cycle.gear_pair.transmission_error_radius() * 1e-3,
-        "max_violation_mm": worst(|s| s.max_violation_mm),
-        "max_complementarity": worst(|s| s.complementarity),
-        "max_equilibrium": worst(|s| s.equilibrium),
-        "max_backward_error": worst(|s| s.backward_error),
-        "iteration_limits": loops.to_json(),
-        "settings": cycle.settings,
-        "law": match cycle.pair.model.contact.interactions[0].behavior {
-            Some(PressureOverclosure::Linear { slope: Some(s), .. }) =>
-                serde_json::to_value(NormalLaw::Penalty { slope: s, automatic: cycle.settings.penalty_factor == 1.0 }).unwrap_or_default(),
-            _ => serde_json::to_value(NormalLaw::Hard).unwrap_or_default(),
+    let law = match cycle.pair.model.contact.interactions[0].behavior {
+        Some(PressureOverclosure::Linear { slope: Some(s), .. }) => NormalLaw::Penalty {
+            slope: s,
+            automatic: cycle.settings.penalty_factor == 1.0,
         },
-        "tooth_pairs": cycle.pair.teeth,
-        "kinematics": cycle.gear_pair.describe(),
-        "files": {
-            "csv": "mesh_cycle.csv",
-            "plots": plot_files,
-            "vtu": if cycle.settings.vtu { "roll_<angle>deg.vtu" } else { "" },
+        _ => NormalLaw::Hard,
+    };
+    let ratio = cycle.gear_pair.ratio();
+    let te_arcsec: Vec<f64> = te.iter().map(|&t| te_arcsec_at_gear(t, ratio)).collect();
+    let kind = CylindricalRun {
+        analysis: "fe_contact_mesh_cycle",
+        contact_ratio,
+        contact_ratio_kinematic: cycle.gear_pair.kinematic_contact_ratio(),
+        single_pair_force_n,
+        nominal_force_n: nominal,
+        single_pair_force_error: single_pair_force_n.map(|f| f / nominal - 1.0),
+        single_contact_positions: single.len(),
+        middle_pair_loaded_deg: limits.map(|(s, e)| [s, e]),
+        middle_pair_kinematic_deg: [eng_a.to_degrees(), eng_e.to_degrees()],
+        kinematic_single_contact_deg: [lpstc.to_degrees(), hpstc.to_degrees()],
+        angular_pitch_deg: pitch_deg,
+        loaded_threshold_fraction: LOADED_FRACTION,
+        refinement_positions: refine_solves,
+        extension_positions: extended,
+        setup_s,
+        total_s: t_total.elapsed().as_secs_f64(),
+        lubrication,
+        ordering: stats.ordering.clone(),
+        assembly_s: stats.assembly_s,
+        condition_estimate: stats.condition_estimate,
+        scaled_condition_estimate: stats.scaled_condition_estimate,
+        condition_estimate_s: stats.condition_s,
+        threads: crate::fem::solver::parallelism(options.threads).degree(),
+        estimated_peak_memory_mb: stats.estimated_peak_mb,
+        te_positions: te.len(),
+        te_mean_urad: te_mean,
+        te_peak_to_peak_um: te_pp * cycle.gear_pair.transmission_error_radius() * 1e-3,
+        max_violation_mm: worst(|s| s.max_violation_mm),
+        max_complementarity: worst(|s| s.complementarity),
+        max_equilibrium: worst(|s| s.equilibrium),
+        max_backward_error: worst(|s| s.backward_error),
+        settings: cycle.settings.clone(),
+        law,
+        steps: steps
+            .iter()
+            .map(|s| CylindricalStep {
+                step: s.clone(),
+                te_arcsec: te_arcsec_at_gear(s.te_urad, ratio),
+            })
+            .collect(),
+    };
+    let summary = RunSummary {
+        schema_version: SCHEMA_VERSION,
+        pair_kind: scene.kind.name(),
+        scene: scene.source.display().to_string(),
+        positions: steps.len(),
+        resumed_positions: reused,
+        nodes: cycle.pair.model.mesh.node_count(),
+        nodes_per_body: cycle.pair.nodes,
+        elements_per_body: cycle.pair.elements,
+        dofs: stats.dofs,
+        nnz_factor: stats.nnz_factor,
+        factorization_flops: stats.flops,
+        factorization_s: stats.factorization_s,
+        factorization_gflop_per_s: stats.flops / stats.factorization_s.max(1e-9) / 1e9,
+        time_per_position_s,
+        peak_memory_mb: peak_memory_mb(),
+        te_peak_to_peak_urad: te_pp,
+        te_peak_to_peak_arcsec: peak_to_peak(te_arcsec.iter().copied()),
+        iteration_limits: loops,
+        tooth_pairs: cycle.pair.teeth.clone(),
+        kinematics: cycle.gear_pair.describe(),
+        files: RunFiles {
+            csv: "mesh_cycle.csv",
+            positions_csv: "positions.csv",
+            plots: plot_files,
+            vtu: if cycle.settings.vtu {
+                "roll_<angle>deg.vtu"
+            } else {
+                ""
+            },
         },
-        "notes": notes,
-        "warnings": warnings,
-        "steps": steps,
-    });
-    if let (Some(m), Some(a), Some(b)) =
-        (summary.as_object_mut(), more.as_object(), more2.as_object())
-    {
-        m.extend(a.clone());
-        m.extend(b.clone());
-    }
-    let text = serde_json::to_string_pretty(&summary)
-        .map_err(|e| FlankError::Model(format!("summary: {e}")))?;
+        notes,
+        warnings,
+        kind: RunKind::Cylindrical(Box::new(kind)),
+    };
+    let text = summary.to_json_text()?;
     let p = out.join("summary.json");
     crate::atomic_file::write(&p, text)?;
     // complete: summary.json holds every position
@@ -511,11 +527,12 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<serde_json::Value, Fla
 /// The error of a run stopped by SIGINT after the positions `steps`: they
 /// are in checkpoint.json (and their VTU files), and in
 /// `mesh_cycle.partial.csv` for a look; the message says how to resume.
-fn interrupted(out: &Path, steps: &[StepResult], np: usize) -> FlankError {
+fn interrupted(cycle: &MeshCycle, out: &Path, steps: &[StepResult], np: usize) -> FlankError {
     let mut sorted = steps.to_vec();
     sorted.sort_by(|a, b| a.roll_deg.total_cmp(&b.roll_deg));
     let partial = out.join("mesh_cycle.partial.csv");
-    let written = match write_steps_csv(&partial, &sorted, np) {
+    let records = position_records(cycle, &sorted);
+    let written = match outputs::write_mesh_cycle_csv(&partial, np, &records) {
         Ok(()) => format!(" and {}", partial.display()),
         Err(e) => format!(" ({e})"),
     };
@@ -579,61 +596,42 @@ fn write_position_vtu(
     )
 }
 
-fn write_steps_csv(path: &Path, steps: &[StepResult], np: usize) -> Result<(), FlankError> {
-    use std::fmt::Write as _;
-    let mut s = String::from("roll_deg,reference_deg");
-    for p in 1..=np {
-        let _ = write!(
-            s,
-            ",force_pair{p}_n,share_pair{p},position_pair{p}_mm,max_pressure_pair{p}_mpa,closed_nodes_pair{p}"
-        );
-    }
-    s.push_str(",te_urad,te_um,candidates,iterations,columns,max_violation_mm,complementarity,equilibrium,time_s");
-    for p in 1..=np {
-        let _ = write!(s, ",slave_pair{p}");
-    }
-    for p in 1..=np {
-        let _ = write!(s, ",friction_pair{p}_n");
-    }
-    s.push('\n');
-    for st in steps {
-        let _ = write!(
-            s,
-            "{},{}",
-            st.roll_deg,
-            st.reference_deg.map_or(String::new(), |v| format!("{v}"))
-        );
-        for p in 0..np {
-            let _ = write!(
-                s,
-                ",{},{},{},{},{}",
-                st.pair_force_n[p],
-                st.load_share[p],
-                st.kinematic_position_mm[p],
-                st.max_pressure_mpa[p],
-                st.patch[p].closed_nodes
-            );
-        }
-        let _ = write!(
-            s,
-            ",{},{},{},{},{},{:e},{:e},{:e},{}",
-            st.te_urad,
-            st.te_um,
-            st.candidates,
-            st.active_set_iterations,
-            st.delassus_columns,
-            st.max_violation_mm,
-            st.complementarity,
-            st.equilibrium,
-            st.time_s
-        );
-        for b in &st.slave {
-            let _ = write!(s, ",{}", b.name());
-        }
-        for f in &st.friction_force_n {
-            let _ = write!(s, ",{f}");
-        }
-        s.push('\n');
-    }
-    crate::atomic_file::write(path, s)
+/// The positions as the files of both pair kinds hold them (the figures
+/// only bevel pairs have, tip edge, unloaded gap and moment balance, are
+/// left out).
+fn position_records(cycle: &MeshCycle, steps: &[StepResult]) -> Vec<PositionRecord> {
+    let ratio = cycle.gear_pair.ratio();
+    steps
+        .iter()
+        .map(|st| PositionRecord {
+            roll_deg: st.roll_deg,
+            reference_deg: st.reference_deg,
+            pairs: (0..st.pair_force_n.len())
+                .map(|p| PairRecord {
+                    pinion_tooth: cycle.pair.teeth[p].0,
+                    gear_tooth: cycle.pair.teeth[p].1,
+                    force_n: st.pair_force_n[p],
+                    load_share: st.load_share[p],
+                    position_mm: Some(st.kinematic_position_mm[p]),
+                    max_pressure_mpa: st.max_pressure_mpa[p],
+                    closed_nodes: st.patch[p].closed_nodes,
+                    slave: st.slave[p],
+                    friction_n: st.friction_force_n[p],
+                    pinion_tip_edge: None,
+                    min_initial_gap_mm: None,
+                })
+                .collect(),
+            te_urad: st.te_urad,
+            te_arcsec: te_arcsec_at_gear(st.te_urad, ratio),
+            te_um: Some(st.te_um),
+            candidates: st.candidates,
+            iterations: st.active_set_iterations,
+            columns: Some(st.delassus_columns),
+            max_violation_mm: st.max_violation_mm,
+            complementarity: st.complementarity,
+            equilibrium: Some(st.equilibrium),
+            moment_balance: None,
+            time_s: st.time_s,
+        })
+        .collect()
 }

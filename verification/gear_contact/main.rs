@@ -238,7 +238,9 @@ fn coarse_mesh_cycle() {
         quiet: true,
         ..Default::default()
     };
-    let s = flank::mesh_cycle::run::run(&sc, &options).unwrap();
+    let s = flank::mesh_cycle::run::run(&sc, &options)
+        .unwrap()
+        .to_json();
     let cr = s["contact_ratio"].as_f64().expect("contact ratio measured");
     let f = s["single_pair_force_error"]
         .as_f64()

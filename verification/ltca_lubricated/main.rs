@@ -357,7 +357,8 @@ fn ltca_loop_against_the_fe_loop() {
             ..Default::default()
         },
     )
-    .unwrap();
+    .unwrap()
+    .to_json();
     let fe_s = t.elapsed().as_secs_f64();
     let (l, f) = (&lt["lubrication"], &fe["lubrication"]);
     let g = |v: &serde_json::Value, k: &str| v[k].as_f64().unwrap();

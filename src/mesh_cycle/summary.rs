@@ -1,0 +1,228 @@
+//! The summary of `flank run` as a typed struct ([`RunSummary`]):
+//! summary.json is its serialization, whatever the pair kind. The figures
+//! both kinds have are its own fields; what only a cylindrical or only a
+//! bevel/hypoid run has is the flattened [`RunKind`], so that each kind
+//! keeps every key it had.
+
+use serde::ser::SerializeStruct;
+use serde::Serialize;
+
+use crate::contact::pairing::NormalLaw;
+use crate::iteration_limits::IterationLimits;
+use crate::load_sharing::CycleSharing;
+use crate::mesh_cycle::bevel::BevelStep;
+use crate::mesh_cycle::cycle::{RunSettings, StepResult};
+use crate::settings::SlaveBody;
+
+pub use crate::report::summary::{peak_to_peak, SCHEMA_VERSION};
+
+/// summary.json of `flank run`.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunSummary {
+    /// [`SCHEMA_VERSION`].
+    pub schema_version: u32,
+    /// "spur", "helical", "spiral_bevel" or "hypoid" (the scene's kind).
+    pub pair_kind: &'static str,
+    pub scene: String,
+    /// Rows of `mesh_cycle.csv`, and positions taken from a checkpoint.
+    pub positions: usize,
+    pub resumed_positions: usize,
+    pub nodes: usize,
+    pub nodes_per_body: [usize; 2],
+    pub elements_per_body: [usize; 2],
+    /// Cylindrical pairs: the free DOFs; bevel pairs: 3 × nodes
+    /// (constrained ones included).
+    pub dofs: usize,
+    pub nnz_factor: usize,
+    pub factorization_flops: f64,
+    /// Cylindrical pairs: the numeric factorization; bevel pairs: with the
+    /// assembly, ordering and condition estimates (s).
+    pub factorization_s: f64,
+    pub factorization_gflop_per_s: f64,
+    pub time_per_position_s: f64,
+    pub peak_memory_mb: f64,
+    /// Peak-to-peak loaded TE, at the pinion (µrad) and at the gear
+    /// (arcsec), over the positions of the TE statistics (cylindrical: the
+    /// middle pair loaded; bevel: all).
+    pub te_peak_to_peak_urad: f64,
+    pub te_peak_to_peak_arcsec: f64,
+    pub iteration_limits: IterationLimits,
+    /// (pinion tooth, gear tooth) of each pair k.
+    pub tooth_pairs: Vec<(usize, usize)>,
+    /// The pair's description (as `flank tca`'s `pair`).
+    pub kinematics: serde_json::Value,
+    /// The files written.
+    pub files: RunFiles,
+    pub notes: Vec<String>,
+    pub warnings: Vec<String>,
+    #[serde(flatten)]
+    pub kind: RunKind,
+}
+
+impl RunSummary {
+    /// The summary as a JSON value (summary.json), for callers that read it
+    /// by key.
+    pub fn to_json(&self) -> serde_json::Value {
+        serde_json::to_value(self).unwrap_or(serde_json::Value::Null)
+    }
+
+    /// summary.json's text.
+    pub fn to_json_text(&self) -> Result<String, crate::error::FlankError> {
+        serde_json::to_string_pretty(self)
+            .map_err(|e| crate::error::FlankError::Model(format!("summary: {e}")))
+    }
+}
+
+/// The files of a run (relative to its output directory).
+#[derive(Clone, Debug, Serialize)]
+pub struct RunFiles {
+    /// `mesh_cycle.csv`, one row per roll angle.
+    pub csv: &'static str,
+    /// `positions.csv`, one row per roll angle and tooth pair.
+    pub positions_csv: &'static str,
+    pub plots: Vec<String>,
+    /// The VTU name pattern, empty when none are written.
+    pub vtu: &'static str,
+}
+
+/// What only one pair kind reports.
+#[derive(Clone, Debug, Serialize)]
+#[serde(untagged)]
+pub enum RunKind {
+    Cylindrical(Box<CylindricalRun>),
+    Bevel(Box<BevelRun>),
+}
+
+/// A spur/helical run's own figures.
+#[derive(Clone, Debug, Serialize)]
+pub struct CylindricalRun {
+    /// `"fe_contact_mesh_cycle"`.
+    pub analysis: &'static str,
+    /// The middle pair's loaded interval / angular pitch.
+    pub contact_ratio: Option<f64>,
+    pub contact_ratio_kinematic: f64,
+    /// Mean middle-pair force over the single-contact positions (N), the
+    /// nominal T/(r_b1 cos β_b) and their ratio − 1.
+    pub single_pair_force_n: Option<f64>,
+    pub nominal_force_n: f64,
+    pub single_pair_force_error: Option<f64>,
+    pub single_contact_positions: usize,
+    pub middle_pair_loaded_deg: Option<[f64; 2]>,
+    pub middle_pair_kinematic_deg: [f64; 2],
+    pub kinematic_single_contact_deg: [f64; 2],
+    pub angular_pitch_deg: f64,
+    pub loaded_threshold_fraction: f64,
+    pub refinement_positions: usize,
+    pub extension_positions: usize,
+    pub setup_s: f64,
+    pub total_s: f64,
+    /// The wet–dry loop's figures, with `[analyses.lubrication]`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lubrication: Option<serde_json::Value>,
+    pub ordering: String,
+    pub assembly_s: f64,
+    pub condition_estimate: f64,
+    pub scaled_condition_estimate: f64,
+    pub condition_estimate_s: f64,
+    pub threads: usize,
+    pub estimated_peak_memory_mb: f64,
+    /// The TE statistics' positions (middle pair loaded).
+    pub te_positions: usize,
+    pub te_mean_urad: f64,
+    pub te_peak_to_peak_um: f64,
+    pub max_violation_mm: f64,
+    pub max_complementarity: f64,
+    pub max_equilibrium: f64,
+    pub max_backward_error: f64,
+    pub settings: RunSettings,
+    pub law: NormalLaw,
+    pub steps: Vec<CylindricalStep>,
+}
+
+/// A cylindrical position in summary.json: the step and its TE at the gear.
+#[derive(Clone, Debug, Serialize)]
+pub struct CylindricalStep {
+    #[serde(flatten)]
+    pub step: StepResult,
+    /// Loaded TE at the gear (arcsec).
+    pub te_arcsec: f64,
+}
+
+/// A bevel/hypoid run's own figures.
+#[derive(Clone, Debug, Serialize)]
+pub struct BevelRun {
+    /// As in the hypoid LTCA (default cycle only).
+    pub functional_contact_ratio: Option<f64>,
+    pub load_sharing: Option<CycleSharing>,
+    /// The numeric factorization alone (s).
+    pub numeric_factorization_s: f64,
+    /// The bad-input checks before the factorization (s).
+    pub input_checks_s: f64,
+    pub largest_exact_unloaded_interpenetration_mm: f64,
+    pub gross_interpenetration_limit_mm: f64,
+    pub largest_unloaded_interpenetration_mm: f64,
+    pub mesh_cycle_deg: f64,
+    pub torque_nm: f64,
+    pub max_pressure_mpa: f64,
+    pub max_moment_balance: f64,
+    pub plots: Vec<String>,
+    pub law: BevelLaw,
+    pub slave: SlaveBody,
+    pub friction_mu: f64,
+    pub max_coulomb_residual: f64,
+    pub friction_not_converged: usize,
+    pub steps: Vec<BevelRunStep>,
+}
+
+/// A bevel position in summary.json: the step and its TE at the pinion.
+#[derive(Clone, Debug, Serialize)]
+pub struct BevelRunStep {
+    #[serde(flatten)]
+    pub step: BevelStep,
+    /// Loaded TE at the pinion (µrad).
+    pub te_urad: f64,
+}
+
+/// The normal law of a bevel run as its summary gives it: `"hard"`, or
+/// `{"penalty_slope_mpa_per_mm": …, "factor": …}`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum BevelLaw {
+    Hard,
+    Penalty { slope_mpa_per_mm: f64, factor: f64 },
+}
+
+impl Serialize for BevelLaw {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match *self {
+            BevelLaw::Hard => s.serialize_str("hard"),
+            BevelLaw::Penalty {
+                slope_mpa_per_mm,
+                factor,
+            } => {
+                let mut m = s.serialize_struct("BevelLaw", 2)?;
+                m.serialize_field("penalty_slope_mpa_per_mm", &slope_mpa_per_mm)?;
+                m.serialize_field("factor", &factor)?;
+                m.end()
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bevel_law_keeps_its_keys() {
+        assert_eq!(serde_json::to_value(BevelLaw::Hard).unwrap(), "hard");
+        let v = serde_json::to_value(BevelLaw::Penalty {
+            slope_mpa_per_mm: 2.0,
+            factor: 1.0,
+        })
+        .unwrap();
+        assert_eq!(
+            v,
+            serde_json::json!({"penalty_slope_mpa_per_mm": 2.0, "factor": 1.0})
+        );
+    }
+}
