@@ -5,6 +5,7 @@
 //! | step | function | result |
 //! |---|---|---|
 //! | read a scene | [`load_scene`], [`load_scene_with`] (dotted keys overridden) | [`Scene`] |
+//! | check the pair | [`check`] | [`PairCheck`] |
 //! | compliance tensors | [`compliance`], [`read_compliance_tensor`] | `summary.json` as JSON; [`ComplianceTensor`] |
 //! | LTCA over the mesh cycle | [`ltca`] | [`LtcaResult`] |
 //! | FE contact over the mesh cycle | [`fe_mesh_cycle`] | [`RunSummary`] |
@@ -75,6 +76,7 @@ pub use crate::ltca::summary::{
 pub use crate::mesh_cycle::run::RunOptions as FeOptions;
 pub use crate::mesh_cycle::summary::{RunKind, RunSummary};
 pub use crate::report::summary::SCHEMA_VERSION;
+pub use crate::scene::check::PairCheck;
 pub use crate::scene::{Gears, PairKind, Scene};
 
 /// Reads and validates the scene file at `path`, of any pair kind
@@ -95,6 +97,14 @@ pub fn load_scene_with(
     let path = path.as_ref();
     let text = crate::text_file::read_utf8(path)?;
     crate::scene::overrides::parse_scene_with(&text, path, overrides)
+}
+
+/// The check of the scene's pair ([`crate::scene::check::check`], `flank
+/// check`): a cylindrical pair's contact ratios, working pressure angle and
+/// ISO 6336-1 stiffness, or a bevel/hypoid pair's ISO 23509 blank and
+/// cutting reports.
+pub fn check(scene: &Scene) -> Result<PairCheck, FlankError> {
+    crate::scene::check::check(scene)
 }
 
 /// The compliance tensors of both bodies of the scene at `path`

@@ -73,6 +73,7 @@
 mod analyses;
 mod bevel;
 mod bevel_cutting;
+pub mod check;
 mod gear;
 mod involute;
 mod load;

@@ -1,0 +1,82 @@
+//! What `flank check` reports of a scene, typed: a cylindrical pair's
+//! figures (contact ratios, working pressure angle, spans) with its ISO
+//! 6336-1 stiffness, or a bevel/hypoid pair's ISO 23509 blank and how each
+//! member is cut.
+
+use serde::Serialize;
+
+use super::validated::{Gears, PairKind, Scene};
+use crate::error::FlankError;
+use crate::geometry::iso6336::ToothStiffness;
+use crate::geometry::pair::PairReport;
+use crate::geometry::Hand;
+
+/// The check of a scene's pair (`flank check` prints it as JSON).
+#[derive(Clone, Debug, Serialize)]
+#[serde(untagged)]
+pub enum PairCheck {
+    /// Spur and helical pairs.
+    Cylindrical(Box<CylindricalCheck>),
+    /// Spiral bevel and hypoid pairs.
+    Bevel(Box<BevelCheck>),
+}
+
+/// A cylindrical pair's figures ([`crate::geometry::pair::check_pair`])
+/// and the plausibility band of FE stiffness.
+#[derive(Clone, Debug, Serialize)]
+pub struct CylindricalCheck {
+    #[serde(flatten)]
+    pub report: PairReport,
+    /// ISO 6336-1 single and mesh stiffness (N/(mm·µm)), or why the
+    /// standard does not apply.
+    pub iso6336_stiffness_n_per_mm_um: Iso6336Stiffness,
+}
+
+/// ISO 6336-1's stiffness, or the reason it does not apply.
+#[derive(Clone, Debug, Serialize)]
+#[serde(untagged)]
+pub enum Iso6336Stiffness {
+    Figures(ToothStiffness),
+    NotApplicable(String),
+}
+
+/// A bevel/hypoid pair's blank table and cutting reports.
+#[derive(Clone, Debug, Serialize)]
+pub struct BevelCheck {
+    pub kind: PairKind,
+    /// ISO 23509 calculation method, 0–3.
+    pub method: u8,
+    pub pinion_hand: Hand,
+    /// The standard's output keys (mm, degrees).
+    pub blank: serde_json::Map<String, serde_json::Value>,
+    /// Process, cutter, machine settings, mean-point figures measured on
+    /// the flanks.
+    pub pinion: serde_json::Value,
+    pub gear: serde_json::Value,
+}
+
+/// Checks the scene's pair.
+pub fn check(scene: &Scene) -> Result<PairCheck, FlankError> {
+    match &scene.gears {
+        Gears::Cylindrical(c) => {
+            let report = crate::geometry::pair::check_pair(&c.pair)?;
+            let iso = match crate::geometry::iso6336::tooth_stiffness(&c.pair, report.contact_ratio)
+            {
+                Ok(s) => Iso6336Stiffness::Figures(s),
+                Err(e) => Iso6336Stiffness::NotApplicable(format!("not applicable: {e}")),
+            };
+            Ok(PairCheck::Cylindrical(Box::new(CylindricalCheck {
+                report,
+                iso6336_stiffness_n_per_mm_um: iso,
+            })))
+        }
+        Gears::Bevel(b) => Ok(PairCheck::Bevel(Box::new(BevelCheck {
+            kind: scene.kind,
+            method: b.blank.method,
+            pinion_hand: b.pinion_hand,
+            blank: b.blank.outputs(),
+            pinion: b.cutting_report[0].clone(),
+            gear: b.cutting_report[1].clone(),
+        }))),
+    }
+}
