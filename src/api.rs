@@ -6,6 +6,7 @@
 //! |---|---|---|
 //! | read a scene | [`load_scene`], [`load_scene_with`] (dotted keys overridden) | [`Scene`] |
 //! | check the pair | [`check`] | [`PairCheck`] |
+//! | unloaded TCA | [`tca`] | [`TcaSummary`] (in [`TcaRun`]) |
 //! | compliance tensors | [`compliance`], [`read_compliance_tensor`] | `summary.json` as JSON; [`ComplianceTensor`] |
 //! | LTCA over the mesh cycle | [`ltca`] | [`LtcaResult`] |
 //! | FE contact over the mesh cycle | [`fe_mesh_cycle`] | [`RunSummary`] |
@@ -75,9 +76,10 @@ pub use crate::ltca::summary::{
 };
 pub use crate::mesh_cycle::run::RunOptions as FeOptions;
 pub use crate::mesh_cycle::summary::{RunKind, RunSummary};
-pub use crate::report::summary::SCHEMA_VERSION;
 pub use crate::scene::check::PairCheck;
 pub use crate::scene::{Gears, PairKind, Scene};
+pub use crate::summary::SCHEMA_VERSION;
+pub use crate::tca::run::{TcaCycles, TcaKind, TcaOptions, TcaRun, TcaSummary};
 
 /// Reads and validates the scene file at `path`, of any pair kind
 /// ([`crate::scene::read_scene`]); a bad key is a Parse error with its
@@ -105,6 +107,47 @@ pub fn load_scene_with(
 /// cutting reports.
 pub fn check(scene: &Scene) -> Result<PairCheck, FlankError> {
     crate::scene::check::check(scene)
+}
+
+/// The unloaded TCA over the mesh cycle with and without edge contact,
+/// any pair kind ([`crate::tca::run::run`]): its tables, plots and
+/// `summary.json` (and, with `options.sweep_mm`, the V–H sweep and chart)
+/// in `options.out`. The result's `warnings` are for the user (the trace's
+/// iteration limits, crossing flanks).
+pub fn tca(scene: &Scene, options: &TcaOptions) -> Result<TcaRun, FlankError> {
+    let mut run = crate::tca::run::run(scene, options)?;
+    let out = &options.out;
+    match &run.cycles {
+        TcaCycles::Point {
+            pair,
+            with,
+            without,
+        } => {
+            crate::report::tca_plot::plot_point_tca(out, pair.as_ref(), with, without)?;
+        }
+        TcaCycles::Line { with, without } => {
+            let plots = crate::report::line_tca_plot::plot_line_tca(out, with, without)?;
+            if let TcaKind::Line(l) = &mut run.summary.kind {
+                l.plots = plots;
+            }
+        }
+    }
+    let text = serde_json::to_string_pretty(&run.summary)
+        .map_err(|e| FlankError::Model(format!("summary: {e}")))?;
+    crate::atomic_file::write(&out.join("summary.json"), text)?;
+    let chart: Vec<crate::report::vh_plot::VhPoint> = crate::tca::run::vh_sweep(scene, options)?
+        .into_iter()
+        .map(|s| crate::report::vh_plot::VhPoint {
+            offset_error_mm: s.offset_error_mm,
+            pinion_axial_mm: s.pinion_axial_mm,
+            centre_mm: s.centre_mm,
+            te_peak_to_peak_arcsec: s.te_peak_to_peak_arcsec,
+        })
+        .collect();
+    if options.sweep_mm.is_some() {
+        crate::report::vh_plot::plot_vh_sweep(out, &chart)?;
+    }
+    Ok(run)
 }
 
 /// The compliance tensors of both bodies of the scene at `path`

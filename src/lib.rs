@@ -48,6 +48,7 @@
 //!   C3D15, sets), elements, quadrature, assembly, constraints, sparse
 //!   Cholesky, stress recovery, the linear static analysis; the model data
 //!   a deck defines (including its contact definition).
+//! * [`summary`]: what every `summary.json` shares (its `schema_version`).
 //! * [`settings`]: the choices the analyses offer (solvers, laws, models),
 //!   plain data read by the scene, the command line and the engines.
 //! * [`compliance`]: nodal compliance tensors of a gear body on its flanks
@@ -171,6 +172,7 @@ pub mod report;
 pub mod resources;
 pub mod scene;
 pub mod settings;
+pub mod summary;
 pub mod tca;
 #[cfg(test)]
 pub(crate) mod testing;

@@ -51,6 +51,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("resources", 1),
     ("iteration_limits", 1),
     ("grid_convergence", 1),
+    ("summary", 1),  // what every summary.json shares (schema version)
     ("settings", 2), // solver-settings enums shared by the scene and the solvers
     ("geometry", 3), // what a gear is: the gear-pair interface, flanks, micro-geometry
     ("fem", 4),      // elements, assembly, constraints, sparse Cholesky, static analysis

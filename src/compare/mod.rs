@@ -523,7 +523,7 @@ pub fn compare_cylindrical(
     let p = out.join("compare.md");
     crate::atomic_file::write(&p, &md)?;
     let summary = CompareSummary {
-        schema_version: crate::report::summary::SCHEMA_VERSION,
+        schema_version: crate::summary::SCHEMA_VERSION,
         scene: scene.source.display().to_string(),
         pair_kind: scene.kind.name(),
         positions: angles.len(),

@@ -18,7 +18,7 @@ use crate::ltca::solve_settings::LtcaSettings;
 /// `compare.json`.
 #[derive(Clone, Debug, Serialize)]
 pub struct CompareSummary {
-    /// [`crate::report::summary::SCHEMA_VERSION`].
+    /// [`crate::summary::SCHEMA_VERSION`].
     pub schema_version: u32,
     pub scene: String,
     /// `spur`, `helical`, `spiral_bevel` or `hypoid`.

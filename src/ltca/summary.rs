@@ -24,7 +24,7 @@ use crate::ltca::solve_settings::LtcaSettings;
 use crate::ltca::te_fit::QuadraticTeFit;
 use crate::tca::point_contact::Transition;
 
-pub use crate::report::summary::SCHEMA_VERSION;
+pub use crate::summary::SCHEMA_VERSION;
 
 /// What `flank ltca` returns and writes to `summary.json`.
 #[derive(Clone, Debug, Serialize)]
@@ -168,9 +168,9 @@ pub fn shares(forces: &[f64]) -> Vec<f64> {
 }
 
 /// max − min of `values` (−∞ for none;
-/// [`crate::report::summary::peak_to_peak`]).
+/// [`crate::summary::peak_to_peak`]).
 pub fn peak_to_peak(values: &[f64]) -> f64 {
-    crate::report::summary::peak_to_peak(values.iter().copied())
+    crate::summary::peak_to_peak(values.iter().copied())
 }
 
 /// The figures only one pair kind has.

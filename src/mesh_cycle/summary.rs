@@ -14,7 +14,7 @@ use crate::mesh_cycle::bevel::BevelStep;
 use crate::mesh_cycle::cycle::{RunSettings, StepResult};
 use crate::settings::SlaveBody;
 
-pub use crate::report::summary::{peak_to_peak, SCHEMA_VERSION};
+pub use crate::summary::{peak_to_peak, SCHEMA_VERSION};
 
 /// summary.json of `flank run`.
 #[derive(Clone, Debug, Serialize)]

@@ -5,7 +5,6 @@ pub mod figure;
 pub mod line_tca_plot;
 pub mod lubrication;
 pub mod solution;
-pub mod summary;
 pub mod tca_plot;
 pub mod vh_plot;
 pub mod vtu;

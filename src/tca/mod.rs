@@ -105,6 +105,7 @@ pub mod ellipse;
 pub mod line_cycle;
 pub mod major_axis;
 pub mod point_contact;
+pub mod run;
 #[cfg(test)]
 mod tests;
 
