@@ -27,7 +27,6 @@ use crate::ltca::bevel::{BevelLtca, BevelLtcaOptions};
 use crate::mesh::bevel_sector::BevelSectorOptions;
 use crate::mesh_cycle::bevel::{BevelCycle, BevelRunOptions};
 use crate::scene::Scene;
-use crate::tca::point_contact::ARCSEC_PER_RAD;
 
 use super::summary::{BevelCompare, CompareFiles, CompareKind, CompareSummary, CompareTargets};
 use super::{best_ltca, errors, markdown, per_pair, plot, CompareOptions, MethodRun};
@@ -198,7 +197,7 @@ pub fn compare_bevel(
             // the pinion's loaded rotation (µrad) from the TE at the gear
             te_urad: steps
                 .iter()
-                .map(|s| -s.te_arcsec / (ratio * ARCSEC_PER_RAD) * 1e6)
+                .map(|s| crate::load_sharing::te_urad_at_pinion(s.te_arcsec, ratio))
                 .collect(),
             pmax_mpa: steps
                 .iter()

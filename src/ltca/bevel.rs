@@ -66,7 +66,7 @@ use crate::ltca::summary::{
 use crate::scene::Scene;
 use crate::settings::EdgeVariants;
 use crate::tca::major_axis::major_axis_line;
-use crate::tca::point_contact::{point_tca, PointTca, PointTcaSettings, ARCSEC_PER_RAD};
+use crate::tca::point_contact::{point_tca, PointTca, PointTcaSettings};
 use crate::tca::TcaPosition;
 
 /// Options of [`BevelLtca::new`] and [`run_bevel`].
@@ -591,7 +591,7 @@ impl BevelLtca {
 
     /// Loaded TE at the gear (arcsec), with the FE run's sign: −θ z₁/z₂.
     pub fn te_arcsec(&self, r: &PositionResult) -> f64 {
-        -r.te_urad * 1e-6 * self.pair.ratio() * ARCSEC_PER_RAD
+        crate::load_sharing::te_arcsec_at_gear(r.te_urad, self.pair.ratio())
     }
 }
 
@@ -927,7 +927,7 @@ fn plot_variant(
         "share of the normal force",
         &curves,
     )?;
-    let arcsec = |x: f64| -x * 1e-6 * ltca.pair.ratio() * ARCSEC_PER_RAD;
+    let arcsec = |x: f64| crate::load_sharing::te_arcsec_at_gear(x, ltca.pair.ratio());
     files.extend(plot_series(
         out,
         "transmission_error",
