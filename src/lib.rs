@@ -34,7 +34,7 @@
 //! * [`geometry`]: what a gear is. The **gear-pair interface**
 //!   ([`geometry::gear_pair`]: [`geometry::surface::ToothSurface`] r(u, v)
 //!   with normals, derivatives, boundaries and tip edge;
-//!   [`geometry::gear_pair::GearBody`]; [`geometry::gear_pair::GearPair`]
+//!   [`geometry::gear_pair::GearBody`]; [`geometry::gear_pair::LineContactPair`]
 //!   with assembly, misalignment, frames, engagement and kinematic contact
 //!   lines) and its spur/helical implementation
 //!   ([`geometry::cylindrical`], exact rack-generated involute helicoids,

@@ -10,7 +10,7 @@ pub mod cycle;
 pub use cycle::{cycle_sharing, CycleSharing};
 
 /// Fraction of the nominal single-pair force T / r (r the pair's
-/// [`crate::geometry::gear_pair::GearPair::nominal_moment_arm`], r_b1 cos β_b
+/// [`crate::geometry::gear_pair::LineContactPair::nominal_moment_arm`], r_b1 cos β_b
 /// for a cylindrical pair) above which a tooth pair counts as carrying load
 /// (contact ratio, single contact).
 pub const LOADED_FRACTION: f64 = 1e-3;

@@ -32,7 +32,7 @@ use std::time::Instant;
 
 use crate::compliance::body::BodyMeshOptions;
 use crate::error::FlankError;
-use crate::geometry::gear_pair::GearPair;
+use crate::geometry::gear_pair::LineContactPair;
 use crate::ltca::cycle::{LtcaCycle, LtcaOptions};
 use crate::ltca::model::PositionResult;
 use crate::mesh_cycle::run::{settings, RunOptions};
@@ -260,7 +260,7 @@ fn ltca_run(cycle: &LtcaCycle, angles: &[f64]) -> Result<MethodRun, FlankError> 
 /// slave of every pair at every position is recorded.
 fn fe_run(
     scene: &Scene,
-    pair: &dyn GearPair,
+    pair: &dyn LineContactPair,
     (size, base): (f64, Option<f64>),
     angles: &[f64],
     threads: usize,
@@ -338,7 +338,7 @@ fn fe_run(
 /// runs; runs cached under an older slave rule are not reused).
 fn fe_run_cached(
     scene: &Scene,
-    pair: &dyn GearPair,
+    pair: &dyn LineContactPair,
     (size, base): (f64, Option<f64>),
     angles: &[f64],
     threads: usize,

@@ -5,33 +5,40 @@
 //! * a **gear body** ([`GearBody`]): tooth count, the tooth surfaces
 //!   ([`ToothSurface`]) of both flanks of every tooth of the sector that is
 //!   modelled, the blank (bore, root, face), the axis (own z);
-//! * a **gear pair** ([`GearPair`]): the assembly (shaft angle, offset,
+//! * a **gear pair** ([`GearPair`], implemented by every pair kind): the
+//!   assembly (shaft angle, offset,
 //!   mounting distances: [`Assembly`]), the misalignment set
 //!   ([`Misalignment`]: ΔE, ΔP, ΔG, ΔΣ of bevel/hypoid practice), the ratio
 //!   and the kinematics (rigid placement of both bodies for a pinion roll
 //!   angle, which teeth pair up, when a tooth pair is in mesh, where its
-//!   kinematic contact lies).
+//!   kinematic contact lies);
+//! * a **line-contact pair** ([`LineContactPair`]): a gear pair whose
+//!   unloaded flanks touch along lines (spur and helical pairs): its path
+//!   of contact, engagement and kinematic contact lines, which the line
+//!   TCA samples. A bevel/hypoid pair touches at points; its candidates
+//!   come from the point TCA (`tca::candidates` is the seam of both).
 //!
 //! Spur and helical gears (parallel axes, exact rack-generated involute
-//! helicoids) implement it in [`crate::geometry::cylindrical`]; a test pair
-//! of rolling cylinders implements it in `tca` tests.
+//! helicoids) implement both in [`crate::geometry::cylindrical`], bevel and
+//! hypoid pairs [`GearPair`] in [`crate::geometry::bevel::pair`]; a test
+//! pair of rolling cylinders implements both in `tca` tests.
 //!
 //! # Conventions shared by every implementation
 //!
 //! * **Own frames**: each body's surfaces and mesh are in its own frame,
-//!   axis = own z. [`PairPlacement::frames`] places them (own → global).
+//!   axis = own z. [`GearPair::frames`] places them (own → global).
 //! * **Roll angle** θ: the pinion rotation in the drive direction (rad),
 //!   0 when the middle tooth pair's kinematic contact is at its reference
 //!   point (the pitch point of a cylindrical pair). The gear turns by
-//!   [`PairPlacement::ratio`] θ.
+//!   [`GearPair::ratio`] θ.
 //! * **Drive flanks**: a positive torque loads the right flanks
 //!   ([`Flank::Right`]) of both bodies (`FLANK_R<k>` node sets).
 //! * **Sector teeth** are numbered 1..=n; pinion tooth k meets gear tooth
-//!   [`PairPlacement::mate`]`(k)`.
+//!   [`GearPair::mate`]`(k)`.
 //! * **Kinematic contact lines** ([`KinematicLine`]): where the unloaded,
 //!   unmodified surfaces touch (or, for tip-corner windows, where an edge
 //!   may touch under load), as a line parameter ξ with a seed for the
-//!   TCA's Newton solves ([`GearPair::line_seed`]).
+//!   TCA's Newton solves ([`LineContactPair::line_seed`]).
 
 use std::fmt::Debug;
 
@@ -130,7 +137,7 @@ pub enum LineKind {
 }
 
 /// A kinematic contact line of one tooth pair at one roll angle: a line
-/// parameter ξ over `range`, sampled by [`GearPair::line_seed`].
+/// parameter ξ over `range`, sampled by [`LineContactPair::line_seed`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct KinematicLine {
     pub pinion_tooth: usize,
@@ -170,7 +177,7 @@ pub struct ContactSeed {
 /// Where the two bodies of a pair are and how they turn together: what
 /// every analysis of a pair needs, whatever its kind of contact (the
 /// point-contact TCA of a bevel pair needs no more).
-pub trait PairPlacement: Debug + Send + Sync {
+pub trait GearPair: Debug + Send + Sync {
     fn pinion(&self) -> &dyn GearBody;
     fn gear(&self) -> &dyn GearBody;
     /// Body 0 (pinion) or 1 (gear).
@@ -216,9 +223,9 @@ pub trait PairPlacement: Debug + Send + Sync {
 }
 
 /// A gear pair with line-contact kinematics: the placement
-/// ([`PairPlacement`]) and the kinematic contact lines, paths and arms the
+/// ([`GearPair`]) and the kinematic contact lines, paths and arms the
 /// LTCA and the FE mesh cycle sample (module docs).
-pub trait GearPair: PairPlacement {
+pub trait LineContactPair: GearPair {
     /// Kinematic engagement of pinion tooth `k`: roll angles of the start
     /// and the end of its contact.
     fn engagement(&self, k: usize) -> (f64, f64);
@@ -256,7 +263,7 @@ pub trait GearPair: PairPlacement {
 /// Roll angles (deg) on whole multiples of `step_deg` over the middle
 /// pair's kinematic engagement, widened by two steps on each side: the
 /// default positions of a mesh cycle (FE contact and LTCA alike).
-pub fn engagement_roll_angles(pair: &dyn GearPair, step_deg: f64) -> Vec<f64> {
+pub fn engagement_roll_angles(pair: &dyn LineContactPair, step_deg: f64) -> Vec<f64> {
     let (a, e) = pair.engagement(pair.middle());
     let start = (a.to_degrees() / step_deg).floor() - 2.0;
     let end = (e.to_degrees() / step_deg).ceil() + 2.0;

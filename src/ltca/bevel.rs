@@ -51,7 +51,7 @@ use crate::compliance::tensor_cache::ComplianceCache;
 use crate::compliance::FlankInterpolator;
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
-use crate::geometry::gear_pair::PairPlacement;
+use crate::geometry::gear_pair::GearPair;
 use crate::geometry::tangency::ContactSystem;
 use crate::ltca::cycle::LtcaOptions;
 use crate::ltca::edges::{edge_line, EdgeLine};
@@ -302,7 +302,7 @@ impl BevelLtca {
         let bodies = LtcaBodies {
             tensors: [pinion, gear],
             grids,
-            pair: Arc::clone(&bevel.pair) as Arc<dyn PairPlacement>,
+            pair: Arc::clone(&bevel.pair) as Arc<dyn GearPair>,
             nominal_moment_arm_mm: arm,
             te_radius_mm: arm,
             contact_modulus: contact_modulus(

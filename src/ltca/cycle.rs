@@ -24,7 +24,7 @@ use crate::compliance::run::{
 use crate::compliance::tensor_cache::ComplianceCache;
 use crate::compliance::{ComplianceStats, ComplianceTensor};
 use crate::error::FlankError;
-use crate::geometry::gear_pair::{engagement_roll_angles, GearPair};
+use crate::geometry::gear_pair::{engagement_roll_angles, LineContactPair};
 use crate::load_sharing::LOADED_FRACTION;
 use crate::ltca::local::contact_modulus;
 use crate::ltca::model::{LtcaBodies, PositionResult};
@@ -135,7 +135,7 @@ struct Prepared {
 /// A prepared LTCA: both bodies' tensors, the TCA and the settings.
 pub struct LtcaCycle {
     /// The pair (the TCA's).
-    pub pair: Arc<dyn GearPair>,
+    pub pair: Arc<dyn LineContactPair>,
     pub tca: Tca,
     pub bodies: LtcaBodies,
     pub settings: LtcaSettings,
@@ -271,7 +271,7 @@ impl LtcaCycle {
             ..TcaSettings::default()
         };
         tca_settings.validate()?;
-        let pair: Arc<dyn GearPair> = Arc::new(
+        let pair: Arc<dyn LineContactPair> = Arc::new(
             scene
                 .cylindrical_pair()?
                 .with_plane_of_action_misalignment(
@@ -328,7 +328,7 @@ impl LtcaCycle {
         let bodies = LtcaBodies {
             tensors: [pinion.tensor, gear.tensor],
             grids,
-            pair: Arc::clone(&pair) as Arc<dyn crate::geometry::gear_pair::PairPlacement>,
+            pair: Arc::clone(&pair) as Arc<dyn crate::geometry::gear_pair::GearPair>,
             nominal_moment_arm_mm: pair.nominal_moment_arm(),
             te_radius_mm: pair.transmission_error_radius(),
             contact_modulus: contact_modulus(
@@ -533,7 +533,7 @@ fn ltca_friction(scene: &Scene, o: &LtcaOptions) -> Result<Option<LtcaFriction>,
 
 /// Roll angles of the scene's `[analyses.ltca]` (or the options'), and
 /// whether they are the default range (then extended while loaded).
-pub fn roll_angles(scene: &Scene, pair: &dyn GearPair, o: &LtcaOptions) -> (Vec<f64>, bool) {
+pub fn roll_angles(scene: &Scene, pair: &dyn LineContactPair, o: &LtcaOptions) -> (Vec<f64>, bool) {
     let a = scene.analyses.ltca.clone().unwrap_or_default();
     if let Some(r) = o.roll_angles_deg.clone().or(a.roll_angles_deg) {
         return (r, false);

@@ -45,7 +45,7 @@
 
 use crate::error::FlankError;
 use crate::geometry::contact_curvature::FlankAtContact;
-use crate::geometry::gear_pair::{Flank, LineKind, PairPlacement};
+use crate::geometry::gear_pair::{Flank, GearPair, LineKind};
 use crate::geometry::surface::ToothSurface;
 use crate::geometry::tangency::{ContactSystem, Edge};
 use crate::geometry::vec3::{add, cross, dot, norm, sub, unit, V3};
@@ -75,7 +75,7 @@ pub enum EdgeLine {
 /// Errors for a flank contact or bad sizes; `Ok(None)` for a pair outside
 /// the sector.
 pub fn edge_line(
-    pair: &dyn PairPlacement,
+    pair: &dyn GearPair,
     c: &PairContact,
     roll: f64,
     k: usize,

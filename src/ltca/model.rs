@@ -38,7 +38,7 @@ use crate::compliance::interpolation::{CellShape, FlankGrids, FlankInterpolator}
 use crate::compliance::ComplianceTensor;
 use crate::contact::placement::Frame;
 use crate::error::FlankError;
-use crate::geometry::gear_pair::{Flank, PairPlacement};
+use crate::geometry::gear_pair::{Flank, GearPair};
 use crate::geometry::surface::ToothSurface;
 use crate::geometry::vec3::{cross, dot, sub};
 use crate::iteration_limits::{IterationLimits, LoopEnd};
@@ -105,12 +105,12 @@ pub struct LtcaBodies {
     pub grids: [Arc<FlankGrids>; 2],
     /// The pair: the flank surfaces (profile lengths of the cells, tip
     /// edges).
-    pub pair: Arc<dyn PairPlacement>,
+    pub pair: Arc<dyn GearPair>,
     /// Moment arm of the nominal single-pair normal force (mm; the first
     /// guess of the Hertz widths) and the radius that turns a pinion
     /// rotation into a TE length (mm): a spur/helical pair's
-    /// [`crate::geometry::gear_pair::GearPair::nominal_moment_arm`] and
-    /// [`crate::geometry::gear_pair::GearPair::transmission_error_radius`];
+    /// [`crate::geometry::gear_pair::LineContactPair::nominal_moment_arm`] and
+    /// [`crate::geometry::gear_pair::LineContactPair::transmission_error_radius`];
     /// a bevel pair's moment arm of the mean contact.
     pub nominal_moment_arm_mm: f64,
     pub te_radius_mm: f64,

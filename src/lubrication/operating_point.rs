@@ -50,7 +50,7 @@ pub struct InvoluteContact {
 }
 
 /// The involute contact of a spur/helical pair at `path_position_mm` from
-/// the start of the path of contact (as [`crate::geometry::gear_pair::GearPair::path_position`]),
+/// the start of the path of contact (as [`crate::geometry::gear_pair::LineContactPair::path_position`]),
 /// pinion speed `speed_rpm`, lead crowning [pinion, gear] (mm) over the
 /// face widths of `kin`.
 pub fn involute_contact(

@@ -5,7 +5,7 @@
 //! gear's mount clamped, frictionless node-to-surface contact between the
 //! drive (right) flanks of every modelled tooth pair, pinion nodes as
 //! slaves; per roll angle the bodies are placed by
-//! [`PairPlacement::nominal_frames`] and the condensed contact problem is
+//! [`GearPair::nominal_frames`] and the condensed contact problem is
 //! solved ([`crate::contact::solve::solve_pairs_placed`]).
 //!
 //! Per position: force per tooth pair, load sharing, loaded transmission
@@ -26,7 +26,7 @@ use crate::contact::system::ElasticSystem;
 use crate::contact::PressureOverclosure;
 use crate::error::FlankError;
 use crate::fem::ordering::OrderingMethod;
-use crate::geometry::gear_pair::PairPlacement;
+use crate::geometry::gear_pair::GearPair;
 use crate::mesh::bevel_body::bevel_body_model;
 use crate::mesh::bevel_sector::BevelSectorOptions;
 use crate::mesh_cycle::bevel_checks as checks;

@@ -42,7 +42,7 @@ use std::collections::BTreeSet;
 use crate::contact::pairing::{build_pair_placed, PairingOptions};
 use crate::contact::placement::Placement;
 use crate::error::FlankError;
-use crate::geometry::gear_pair::{Flank, PairPlacement};
+use crate::geometry::gear_pair::{Flank, GearPair};
 use crate::mesh_cycle::pair_model::PairModel;
 use crate::scene::Scene;
 use crate::tca::point_contact::{point_tca, PointTcaSettings};
@@ -152,7 +152,7 @@ pub struct UnloadedPair {
 /// `EXACT_CANDIDATES` deepest candidates (module docs).
 pub fn exact_depths(
     model: &PairModel,
-    pair: &dyn PairPlacement,
+    pair: &dyn GearPair,
     rolls_deg: &[f64],
     pairing: &PairingOptions,
 ) -> Result<Vec<UnloadedPair>, FlankError> {

@@ -6,7 +6,7 @@
 
 use crate::contact::PressureOverclosure;
 use crate::error::FlankError;
-use crate::geometry::gear_pair::PairPlacement;
+use crate::geometry::gear_pair::GearPair;
 use crate::iteration_limits::IterationLimits;
 use crate::load_sharing::te_urad_at_pinion;
 use crate::mesh_cycle::bevel::{

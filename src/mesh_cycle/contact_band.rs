@@ -8,7 +8,7 @@
 //!
 //! Per position and tooth pair in kinematic flank contact:
 //! * the contact point on each flank from the TCA's kinematic line
-//!   ([`GearPair::contact_lines`](crate::geometry::gear_pair::GearPair::contact_lines), [`GearPair::line_seed`](crate::geometry::gear_pair::GearPair::line_seed) at the middle
+//!   ([`LineContactPair::contact_lines`](crate::geometry::gear_pair::LineContactPair::contact_lines), [`LineContactPair::line_seed`](crate::geometry::gear_pair::LineContactPair::line_seed) at the middle
 //!   of the line), as the involute roll angle u, radius r_b √(1 + u²) and
 //!   radius of curvature ρ = r_b u (transverse; cylindrical involute);
 //! * the Hertz half-width of the nominal single-pair load,

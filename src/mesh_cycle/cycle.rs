@@ -7,7 +7,7 @@
 //! Reuse: the pair model keeps both bodies in their own frames, so K and
 //! its Cholesky factor ([`ElasticSystem`]) are the same at every roll
 //! angle. Per position only the contact geometry is rebuilt (bodies placed
-//! by [`PairPlacement::nominal_frames`](crate::geometry::gear_pair::PairPlacement::nominal_frames), search and projection) and the condensed
+//! by [`GearPair::nominal_frames`](crate::geometry::gear_pair::GearPair::nominal_frames), search and projection) and the condensed
 //! problem is solved: one solve for the gaps under the torque, one per
 //! Delassus column of a constraint that enters the active set, one final
 //! solve. Nothing is refactorized.
@@ -20,7 +20,7 @@ use crate::contact::system::ElasticSystem;
 use crate::contact::{Friction, PressureOverclosure};
 use crate::error::FlankError;
 use crate::fem::ordering::OrderingMethod;
-use crate::geometry::gear_pair::{engagement_roll_angles, GearPair};
+use crate::geometry::gear_pair::{engagement_roll_angles, LineContactPair};
 use crate::iteration_limits::{IterationLimits, LoopEnd};
 use crate::mesh_cycle::pair_model::{pair_model, PairModel};
 use crate::scene::Scene;
@@ -220,7 +220,7 @@ pub struct Solved {
 /// Everything a run needs between positions.
 pub struct MeshCycle {
     /// The gear pair (kinematics, nominal placement).
-    pub gear_pair: Arc<dyn GearPair>,
+    pub gear_pair: Arc<dyn LineContactPair>,
     pub pair: PairModel,
     pub system: ElasticSystem,
     pub settings: RunSettings,
@@ -587,6 +587,6 @@ impl MeshCycle {
 }
 
 /// Default roll angles: [`engagement_roll_angles`].
-pub fn default_roll_angles(pair: &dyn GearPair, step_deg: f64) -> Vec<f64> {
+pub fn default_roll_angles(pair: &dyn LineContactPair, step_deg: f64) -> Vec<f64> {
     engagement_roll_angles(pair, step_deg)
 }

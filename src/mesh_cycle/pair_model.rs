@@ -5,7 +5,7 @@
 //! node-to-surface contact pair per meshing tooth pair on the drive flanks.
 //!
 //! The bodies stay in their own frames (their stiffness is then the same
-//! at every roll angle and is factorized once); [`PairPlacement::nominal_frames`]
+//! at every roll angle and is factorized once); [`GearPair::nominal_frames`]
 //! places them for the contact geometry of each position.
 
 use crate::compliance::body::{scene_body, BodyMeshOptions};
@@ -16,7 +16,7 @@ use crate::contact::{
 use crate::error::FlankError;
 use crate::fem::mesh::Mesh;
 use crate::fem::model::{Dirichlet, Model, RigidCoupling};
-use crate::geometry::gear_pair::{GearPair, PairPlacement};
+use crate::geometry::gear_pair::{GearPair, LineContactPair};
 use crate::scene::Scene;
 use crate::settings::SlaveBody;
 
@@ -43,7 +43,7 @@ pub struct PairModel {
 /// torque T (N·mm, > 0: drives the right flanks) and the normal law `law`.
 pub fn pair_model(
     scene: &Scene,
-    gears: &dyn GearPair,
+    gears: &dyn LineContactPair,
     mesh: &BodyMeshOptions,
     law: PressureOverclosure,
     slave: SlaveBody,
@@ -107,11 +107,11 @@ fn label_offset(max: u64) -> u64 {
 
 /// Both bodies in one model (module docs): the pinion's mount (`MOUNT`,
 /// else `BORE`) coupled to a reference node on its axis loaded by the
-/// torque T (N·mm) in the drive sense ([`PairPlacement::rotation_axes`]),
+/// torque T (N·mm) in the drive sense ([`GearPair::rotation_axes`]),
 /// the gear's own conditions kept, one contact pair per tooth pair on the
 /// right (drive) flanks, pinion tooth k against gear tooth `mate(k)`.
 pub fn combine(
-    gears: &dyn PairPlacement,
+    gears: &dyn GearPair,
     bodies: [PairBody; 2],
     torque: f64,
     law: PressureOverclosure,

@@ -15,7 +15,7 @@ use crate::contact::PressureOverclosure;
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
 
-use crate::geometry::gear_pair::GearPair;
+use crate::geometry::gear_pair::LineContactPair;
 use crate::load_sharing::{te_arcsec_at_gear, LOADED_FRACTION};
 use crate::mesh_cycle::bevel::BevelRunOptions;
 use crate::mesh_cycle::bevel_run::run_bevel;
@@ -116,7 +116,7 @@ pub fn bevel_options(scene: &Scene, o: &RunOptions) -> Result<BevelRunOptions, F
 /// `[analyses.contact]` and the defaults.
 pub fn settings(
     scene: &Scene,
-    pair: &dyn GearPair,
+    pair: &dyn LineContactPair,
     o: &RunOptions,
 ) -> Result<RunSettings, FlankError> {
     let a = scene.analyses.contact.clone().unwrap_or_default();
@@ -184,12 +184,15 @@ pub fn settings(
 
 /// Roll angles (deg) of angles given in a reference convention whose
 /// value `start` marks the kinematic start of single contact.
-fn reference_to_roll(pair: &dyn GearPair, start: f64, angles: &[f64]) -> Vec<f64> {
+fn reference_to_roll(pair: &dyn LineContactPair, start: f64, angles: &[f64]) -> Vec<f64> {
     let lpstc = pair.single_contact().0.to_degrees();
     angles.iter().map(|x| x - start + lpstc).collect()
 }
 
-fn scene_roll_angles(a: &ContactAnalysis, pair: &dyn GearPair) -> Result<Vec<f64>, FlankError> {
+fn scene_roll_angles(
+    a: &ContactAnalysis,
+    pair: &dyn LineContactPair,
+) -> Result<Vec<f64>, FlankError> {
     if let Some(v) = &a.roll_angles_deg {
         return Ok(v.clone());
     }

@@ -13,7 +13,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::error::FlankError;
-use crate::geometry::gear_pair::PairPlacement;
+use crate::geometry::gear_pair::GearPair;
 use crate::report::figure::{write_svg_png, Figure};
 use crate::report::tca_plot::{outline, projection_chart};
 
@@ -34,7 +34,7 @@ pub struct PatternNode {
 /// a loaded node).
 pub fn plot_fe_pattern(
     out: &Path,
-    pair: &dyn PairPlacement,
+    pair: &dyn GearPair,
     nodes: &[PatternNode],
 ) -> Result<Vec<String>, FlankError> {
     plot_pattern(out, pair, nodes, "FE contact")
@@ -44,7 +44,7 @@ pub fn plot_fe_pattern(
 /// title, e.g. "LTCA").
 pub fn plot_pattern(
     out: &Path,
-    pair: &dyn PairPlacement,
+    pair: &dyn GearPair,
     nodes: &[PatternNode],
     method: &str,
 ) -> Result<Vec<String>, FlankError> {

@@ -12,7 +12,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::error::FlankError;
-use crate::geometry::gear_pair::{Flank, PairPlacement};
+use crate::geometry::gear_pair::{Flank, GearPair};
 use crate::geometry::tangency::ContactSystem;
 use crate::report::figure::{font_available, write_svg_png, Figure};
 use crate::tca::point_contact::{projection, PointTca, ARCSEC_PER_RAD};
@@ -234,7 +234,7 @@ pub(crate) fn projection_chart<'a, DB: DrawingBackend>(
 
 /// The outline of member `b`'s middle drive flank in its axial projection:
 /// form line, heel, tip, toe.
-pub(crate) fn outline(pair: &dyn PairPlacement, b: usize) -> Vec<(f64, f64)> {
+pub(crate) fn outline(pair: &dyn GearPair, b: usize) -> Vec<(f64, f64)> {
     let body = pair.body(b);
     let tooth = if b == 0 {
         pair.middle()
@@ -274,7 +274,7 @@ pub(crate) fn outline(pair: &dyn PairPlacement, b: usize) -> Vec<(f64, f64)> {
 /// `bearing_pattern_gear` (.svg, .png) into `out`; returns the file names.
 pub fn plot_point_tca(
     out: &Path,
-    pair: &dyn PairPlacement,
+    pair: &dyn GearPair,
     with: &PointTca,
     without: &PointTca,
 ) -> Result<Vec<String>, FlankError> {

@@ -17,7 +17,7 @@ use crate::geometry::bevel::cutting::{MachineCut, PinionCut};
 use crate::geometry::bevel::pair::BevelPair;
 use crate::geometry::bevel::{BlankDesign, BlankInputs};
 use crate::geometry::cylindrical::CylindricalPair;
-use crate::geometry::gear_pair::GearPair;
+use crate::geometry::gear_pair::LineContactPair;
 use crate::geometry::micro::{roll_angle_at_radius, FlankModification, MicroGeometry};
 use crate::geometry::rack::ToothProfile;
 use crate::geometry::{Hand, PairSpec};
@@ -209,8 +209,8 @@ impl Scene {
     }
 
     /// The scene's pair behind the gear-pair interface
-    /// ([`crate::geometry::gear_pair::GearPair`]): what every analysis uses.
-    pub fn gear_pair(&self) -> Result<Arc<dyn GearPair>, FlankError> {
+    /// ([`crate::geometry::gear_pair::LineContactPair`]): what every analysis uses.
+    pub fn gear_pair(&self) -> Result<Arc<dyn LineContactPair>, FlankError> {
         Ok(Arc::new(self.cylindrical_pair()?))
     }
 }

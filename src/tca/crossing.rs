@@ -38,7 +38,7 @@
 //! exhaustive one.
 
 use crate::geometry::frame::Frame;
-use crate::geometry::gear_pair::{Flank, PairPlacement};
+use crate::geometry::gear_pair::{Flank, GearPair};
 use crate::geometry::surface::ToothSurface;
 use crate::geometry::vec3::{dot, norm, solve3, sub, V3};
 
@@ -263,7 +263,7 @@ fn neighbours(k: usize) -> impl Iterator<Item = usize> {
 /// The crossing check of one pair over a TCA (module docs): the pinion
 /// grid and the gear screen, built once.
 pub struct CrossingScan<'a> {
-    pair: &'a dyn PairPlacement,
+    pair: &'a dyn GearPair,
     /// (u, v) and own-frame point of each pinion grid point, face line by
     /// face line (toe to heel), form line to tip along each.
     pinion: Vec<([f64; 2], V3)>,
@@ -272,7 +272,7 @@ pub struct CrossingScan<'a> {
 
 impl<'a> CrossingScan<'a> {
     /// The pinion grid and the gear screen of `pair`'s middle pair.
-    pub fn new(pair: &'a dyn PairPlacement) -> Self {
+    pub fn new(pair: &'a dyn GearPair) -> Self {
         let km = pair.middle();
         let ps = pair
             .pinion()

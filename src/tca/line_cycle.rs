@@ -17,7 +17,7 @@
 //! and without them.
 
 use crate::error::FlankError;
-use crate::geometry::gear_pair::{GearPair, LineKind};
+use crate::geometry::gear_pair::{LineContactPair, LineKind};
 use crate::tca::Tca;
 
 type Result<T> = std::result::Result<T, FlankError>;
@@ -96,7 +96,7 @@ pub fn line_tca_cycle(
             "line TCA: approach δ = {approach_mm} mm; a finite positive value is needed"
         )));
     }
-    let pair: &dyn GearPair = tca.pair().as_ref();
+    let pair: &dyn LineContactPair = tca.pair().as_ref();
     let mut positions = Vec::with_capacity(positions_per_pitch);
     for roll in tca.roll_angles_for_cycle(positions_per_pitch) {
         let p = tca.position(roll)?;

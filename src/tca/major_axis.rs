@@ -14,7 +14,7 @@
 //! ellipse running off the face or over the tip) are left out and counted.
 
 use crate::error::FlankError;
-use crate::geometry::gear_pair::{Flank, LineKind, PairPlacement};
+use crate::geometry::gear_pair::{Flank, GearPair, LineKind};
 use crate::geometry::surface::{normal_curvature, on_active_flank, ToothSurface};
 use crate::geometry::vec3::{add, cross, dot, norm, sub, unit, V3};
 
@@ -45,7 +45,7 @@ pub struct AxisPoint {
 /// pair at offset ≠ 0, a contact without ellipse (edge contact without
 /// search), or a line contact (no finite major axis).
 pub fn major_axis_points(
-    pair: &dyn PairPlacement,
+    pair: &dyn GearPair,
     c: &PairContact,
     k: usize,
 ) -> Result<[Vec<AxisPoint>; 2], FlankError> {
@@ -109,7 +109,7 @@ pub fn major_axis_points(
 
 /// The major axis of pair contact `c` as a contact line of `k` candidate
 /// points for the compliance-matrix LTCA at pinion roll `roll` (rad), the
-/// pair's frames at that roll ([`PairPlacement::frames`], misalignment
+/// pair's frames at that roll ([`GearPair::frames`], misalignment
 /// included), in the conventions of [`super::TcaPosition`]: the line runs
 /// over the axis where the curvature separation stays below
 /// `span_approach_mm` (semi-axis a·√(δ_span/δ), a the ellipse's at the
@@ -124,7 +124,7 @@ pub fn major_axis_points(
 /// gear's active flank are left out. `None` for a pair outside the sector,
 /// an edge contact or a line contact (no finite major axis).
 pub fn major_axis_line(
-    pair: &dyn PairPlacement,
+    pair: &dyn GearPair,
     c: &PairContact,
     roll: f64,
     k: usize,

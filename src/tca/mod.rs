@@ -1,9 +1,9 @@
 //! Unloaded tooth contact analysis (TCA) of a gear pair given through the
-//! gear-pair interface ([`GearPair`]): the geometric input of the
+//! gear-pair interface ([`LineContactPair`]): the geometric input of the
 //! compliance-matrix LTCA.
 //!
 //! At a roll angle the TCA takes the pair's kinematic contact lines
-//! ([`GearPair::contact_lines`]: the tooth pairs in mesh, each line as a
+//! ([`LineContactPair::contact_lines`]: the tooth pairs in mesh, each line as a
 //! parameter range with seeds), samples each line with points, and gives
 //! per point the flank parameters of both bodies (where the LTCA
 //! interpolates the compliance tensors), the initial normal separation w
@@ -29,12 +29,12 @@
 //!
 //! # Conventions
 //!
-//! * **Global frame and roll angle** are the pair's ([`PairPlacement::frames`](crate::geometry::gear_pair::PairPlacement::frames));
+//! * **Global frame and roll angle** are the pair's ([`GearPair::frames`](crate::geometry::gear_pair::GearPair::frames));
 //!   for spur and helical pairs: pinion axis = z axis, gear axis at (0, a);
 //!   θ = pinion rotation in the drive direction (clockwise seen from +z), 0
 //!   when the middle pair's kinematic contact is at the pitch point. The
 //!   loaded flanks are the right flanks ([`Flank::Right`]) of both bodies;
-//!   pinion sector tooth k meets gear tooth [`PairPlacement::mate`](crate::geometry::gear_pair::PairPlacement::mate)`(k)`.
+//!   pinion sector tooth k meets gear tooth [`GearPair::mate`](crate::geometry::gear_pair::GearPair::mate)`(k)`.
 //! * **Flank parameters** (u, v): those of each body's [`ToothSurface`] in
 //!   its own (sector) frame (spur/helical: u the involute roll angle, v the
 //!   body's own z in mm).
@@ -51,14 +51,14 @@
 //!   rotation in the drive direction that brings the closest point into
 //!   contact (> 0: the flanks are apart, the gear lags its ideal position;
 //!   < 0: they overlap).
-//! * **Misalignment** is the pair's ([`PairPlacement::misalignment`](crate::geometry::gear_pair::PairPlacement::misalignment)); spur and
+//! * **Misalignment** is the pair's ([`GearPair::misalignment`](crate::geometry::gear_pair::GearPair::misalignment)); spur and
 //!   helical pairs take it as tilts in and normal to the plane of action
 //!   and a centre-distance error
 //!   ([`crate::geometry::cylindrical::CylindricalPair::with_plane_of_action_misalignment`], whose docs
 //!   give the ISO 6336-1 f_Σβ / f_Σδ correspondence), or as the bevel
 //!   set ΔE, ΔP, ΔG, ΔΣ ([`crate::geometry::cylindrical::CylindricalPair::with_misalignment`]).
 //! * **Velocities** (m/s, from the pinion speed; the gear turns at
-//!   ω₂ = ω₁ [`PairPlacement::ratio`](crate::geometry::gear_pair::PairPlacement::ratio)): v_ti = V_ti·e_roll, the tangential
+//!   ω₂ = ω₁ [`GearPair::ratio`](crate::geometry::gear_pair::GearPair::ratio)): v_ti = V_ti·e_roll, the tangential
 //!   surface velocity of body i (seed `004_…` §2.2: V_ti = v_i − (v_i·n) n,
 //!   v_i = ω_i × r_i) along the rolling direction e_roll = (n × a₁)/|n × a₁|
 //!   (a₁ the pinion axis; across the contact line of a parallel-axis pair,
@@ -97,7 +97,7 @@ use std::sync::Arc;
 use crate::error::FlankError;
 use crate::geometry::frame::Frame;
 pub use crate::geometry::gear_pair::LineKind;
-use crate::geometry::gear_pair::{ContactSeed, Flank, GearPair, KinematicLine};
+use crate::geometry::gear_pair::{ContactSeed, Flank, KinematicLine, LineContactPair};
 use crate::geometry::surface::ToothSurface;
 
 pub mod crossing;
@@ -118,7 +118,7 @@ fn own(f: &Frame, x: V3) -> V3 {
 }
 
 /// Sampling settings of the TCA (mm). The misalignment belongs to the
-/// pair ([`PairPlacement::misalignment`](crate::geometry::gear_pair::PairPlacement::misalignment); for spur and helical pairs
+/// pair ([`GearPair::misalignment`](crate::geometry::gear_pair::GearPair::misalignment); for spur and helical pairs
 /// [`crate::geometry::cylindrical::CylindricalPair::with_plane_of_action_misalignment`]).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct TcaSettings {
@@ -273,10 +273,10 @@ pub struct TcaPosition {
 }
 
 /// Unloaded tooth contact analysis of a gear pair (any type behind
-/// [`GearPair`]).
+/// [`LineContactPair`]).
 #[derive(Clone, Debug)]
 pub struct Tca {
-    pair: Arc<dyn GearPair>,
+    pair: Arc<dyn LineContactPair>,
     settings: TcaSettings,
     /// ω₁, ω₂ (rad/s).
     omega: [f64; 2],
@@ -285,7 +285,11 @@ pub struct Tca {
 impl Tca {
     /// The TCA of `pair` at the pinion speed `speed_rpm` (≥ 0; for the
     /// velocities) with `settings`.
-    pub fn new(pair: Arc<dyn GearPair>, speed_rpm: f64, settings: TcaSettings) -> Result<Self> {
+    pub fn new(
+        pair: Arc<dyn LineContactPair>,
+        speed_rpm: f64,
+        settings: TcaSettings,
+    ) -> Result<Self> {
         settings.validate()?;
         if !(speed_rpm.is_finite() && speed_rpm >= 0.0) {
             return Err(FlankError::Model(format!(
@@ -302,7 +306,7 @@ impl Tca {
     }
 
     /// The pair analysed.
-    pub fn pair(&self) -> &Arc<dyn GearPair> {
+    pub fn pair(&self) -> &Arc<dyn LineContactPair> {
         &self.pair
     }
 

@@ -1,12 +1,12 @@
 //! Tooth contact analysis of pairs in point contact (spiral bevel and
 //! hypoid pairs with a localized bearing), with edge contact, through the
-//! gear-pair interface ([`PairPlacement`]).
+//! gear-pair interface ([`GearPair`]).
 //!
 //! # Method
 //!
 //! * **One trace serves every tooth pair.** The teeth of a body are turned
 //!   copies of one tooth, so pair i (i pitches after the middle pair) at
-//!   roll θ is the middle pair at θ − i·[`PairPlacement::tooth_roll_step`],
+//!   roll θ is the middle pair at θ − i·[`GearPair::tooth_roll_step`],
 //!   misalignment included (it moves the whole gear). The middle pair is
 //!   traced over a roll grid of step h = pitch / `positions_per_pitch`,
 //!   each position's tangency seeded by the previous one
@@ -46,7 +46,7 @@
 use crate::error::FlankError;
 use crate::geometry::bevel::body::BevelGear;
 use crate::geometry::frame::Frame;
-use crate::geometry::gear_pair::{Flank, GearBody, PairPlacement};
+use crate::geometry::gear_pair::{Flank, GearBody, GearPair};
 use crate::geometry::surface::ToothSurface;
 use crate::geometry::tangency::{
     self, ContactSystem, Edge, GearTurn, PlacedFlank, Tangency, TangencySeed,
@@ -251,7 +251,7 @@ struct Placement<'a> {
     turn: GearTurn,
 }
 
-fn placement<'a>(pair: &'a dyn PairPlacement, roll: f64) -> Placement<'a> {
+fn placement<'a>(pair: &'a dyn GearPair, roll: f64) -> Placement<'a> {
     let km = pair.middle();
     let [f1, f2] = pair.frames(roll);
     let p = pair
@@ -279,7 +279,7 @@ fn placement<'a>(pair: &'a dyn PairPlacement, roll: f64) -> Placement<'a> {
 }
 
 fn solve_at(
-    pair: &dyn PairPlacement,
+    pair: &dyn GearPair,
     roll: f64,
     system: ContactSystem,
     seed: &TangencySeed,
@@ -290,7 +290,7 @@ fn solve_at(
 
 /// The drive flanks of the middle pair (pinion, gear), on which the trace
 /// runs.
-fn middle_drive_flanks(pair: &dyn PairPlacement) -> (&dyn ToothSurface, &dyn ToothSurface) {
+fn middle_drive_flanks(pair: &dyn GearPair) -> (&dyn ToothSurface, &dyn ToothSurface) {
     let km = pair.middle();
     (
         pair.pinion().flank(Flank::Right, km).unwrap(),
@@ -349,7 +349,7 @@ struct DriveFlanks<'a> {
 }
 
 impl<'a> DriveFlanks<'a> {
-    fn new(pair: &'a dyn PairPlacement) -> Self {
+    fn new(pair: &'a dyn GearPair) -> Self {
         let (ps, gs) = middle_drive_flanks(pair);
         DriveFlanks {
             pinion: FormMemo::new(ps),
@@ -426,7 +426,7 @@ struct Traced {
 
 /// Traces the middle pair from roll 0 in the direction `dir` (±1).
 fn trace(
-    pair: &dyn PairPlacement,
+    pair: &dyn GearPair,
     settings: &PointTcaSettings,
     h: f64,
     start: &Tangency,
@@ -566,7 +566,7 @@ fn edge_distances(f: &DriveFlanks, t: &Tangency) -> [f64; 6] {
 /// the choice independent of how precisely the crossing is located (two
 /// boundaries can be a round-off apart there).
 fn take_over(
-    pair: &dyn PairPlacement,
+    pair: &dyn GearPair,
     flanks: &DriveFlanks,
     past: f64,
     roll: f64,
@@ -646,7 +646,7 @@ fn holding_margin(f: &DriveFlanks, t: &Tangency) -> f64 {
 /// halve in two trials; each trial solved from the last contact that
 /// holds. Bounded by [`CHANGE_SOLVES`] solves (the bracket is then wider).
 fn locate_change(
-    pair: &dyn PairPlacement,
+    pair: &dyn GearPair,
     flanks: &DriveFlanks,
     system: ContactSystem,
     (a0, at_a): (f64, Tangency),
@@ -752,7 +752,7 @@ impl EllipseMemo {
 }
 
 /// The point-contact TCA of `pair` (module docs).
-pub fn point_tca(pair: &dyn PairPlacement, settings: &PointTcaSettings) -> Result<PointTca> {
+pub fn point_tca(pair: &dyn GearPair, settings: &PointTcaSettings) -> Result<PointTca> {
     point_tca_shared(pair, settings, &EllipseMemo::default())
 }
 
@@ -760,7 +760,7 @@ pub fn point_tca(pair: &dyn PairPlacement, settings: &PointTcaSettings) -> Resul
 /// pair held in `memo` (and adding its own): the results are those of
 /// [`point_tca`] bit for bit.
 pub fn point_tca_shared(
-    pair: &dyn PairPlacement,
+    pair: &dyn GearPair,
     settings: &PointTcaSettings,
     memo: &EllipseMemo,
 ) -> Result<PointTca> {

@@ -21,7 +21,7 @@ use serde::Serialize;
 
 use crate::error::FlankError;
 use crate::geometry::bevel::pair::BevelPair;
-use crate::geometry::gear_pair::{GearPair, Misalignment, PairPlacement};
+use crate::geometry::gear_pair::{GearPair, LineContactPair, Misalignment};
 use crate::iteration_limits::IterationLimits;
 use crate::scene::{Gears, Scene};
 use crate::tca::crossing::ScanCount;
@@ -121,7 +121,7 @@ pub struct TcaSummary {
     pub scene: String,
     /// `spur`, `helical`, `spiral_bevel` or `hypoid`.
     pub pair_kind: &'static str,
-    /// The pair's kinematic data ([`PairPlacement::describe`]).
+    /// The pair's kinematic data ([`GearPair::describe`]).
     pub pair: serde_json::Value,
     pub approach_mm: f64,
     pub misalignment: Misalignment,
@@ -244,7 +244,7 @@ impl LineVariant {
 pub enum TcaCycles {
     /// A bevel/hypoid pair (misaligned as asked) and its point TCAs.
     Point {
-        pair: Arc<dyn PairPlacement>,
+        pair: Arc<dyn GearPair>,
         with: Box<PointTca>,
         without: Box<PointTca>,
     },
@@ -270,7 +270,7 @@ pub fn run(scene: &Scene, options: &TcaOptions) -> Result<TcaRun, FlankError> {
     let out = &options.out;
     match &scene.gears {
         Gears::Bevel(bevel) => {
-            let pair: Arc<dyn PairPlacement> = Arc::new(bevel.pair.with_misalignment(mis));
+            let pair: Arc<dyn GearPair> = Arc::new(bevel.pair.with_misalignment(mis));
             let settings = point_settings(scene, options);
             let t0 = std::time::Instant::now();
             // the flank contacts of both runs are the same points: their
@@ -358,13 +358,13 @@ pub fn run(scene: &Scene, options: &TcaOptions) -> Result<TcaRun, FlankError> {
             let face = g.pinion.face_width.min(g.gear.face_width);
             let eps_beta = face * g.pinion.helix_angle.sin().abs()
                 / (std::f64::consts::PI * g.pinion.normal_module);
-            let eps_alpha = GearPair::kinematic_contact_ratio(&scene.cylindrical_pair()?);
+            let eps_alpha = LineContactPair::kinematic_contact_ratio(&scene.cylindrical_pair()?);
             let mut teeth = (scene.mesh.teeth_in_sector as usize)
                 .max((eps_alpha + eps_beta).ceil() as usize + 2);
             if teeth.is_multiple_of(2) {
                 teeth += 1;
             }
-            let pair: Arc<dyn GearPair> = Arc::new(
+            let pair: Arc<dyn LineContactPair> = Arc::new(
                 crate::geometry::cylindrical::CylindricalPair::new(
                     g,
                     cyl.flank_modifications()?,

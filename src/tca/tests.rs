@@ -748,7 +748,7 @@ fn axial_displacements() {
 #[test]
 fn point_contact_tca_of_crowned_cylindrical_pairs() {
     use crate::geometry::frame::Frame;
-    use crate::geometry::gear_pair::PairPlacement;
+    use crate::geometry::gear_pair::GearPair;
     use crate::tca::point_contact::{point_tca, PointTcaSettings};
     for (scene, teeth) in [(SPUR, 3), (HELICAL, 3)] {
         let m = MicroGeometry {

@@ -14,8 +14,8 @@ use std::sync::Arc;
 
 use flank::geometry::frame::Frame;
 use flank::geometry::gear_pair::{
-    Assembly, Blank, ContactSeed, Flank, GearBody, GearPair, KinematicLine, LineKind, Misalignment,
-    PairPlacement,
+    Assembly, Blank, ContactSeed, Flank, GearBody, GearPair, KinematicLine, LineContactPair,
+    LineKind, Misalignment,
 };
 use flank::geometry::surface::{principal_curvatures, ToothSurface};
 use flank::tca::{Tca, TcaSettings};
@@ -173,7 +173,7 @@ impl PlanePin {
     }
 }
 
-impl PairPlacement for PlanePin {
+impl GearPair for PlanePin {
     fn pinion(&self) -> &dyn GearBody {
         &self.pinion
     }
@@ -213,7 +213,7 @@ impl PairPlacement for PlanePin {
     }
 }
 
-impl GearPair for PlanePin {
+impl LineContactPair for PlanePin {
     fn engagement(&self, _k: usize) -> (f64, f64) {
         (-0.2, 0.2)
     }

@@ -85,7 +85,7 @@ fn cycle(flank_size: f64) -> BevelCycle {
 /// TE at the gear (arcsec) from the pinion's rotation about its axis, as
 /// `BevelCycle::solve` reports it.
 fn te_of(c: &BevelCycle, rz: f64) -> f64 {
-    use flank::geometry::gear_pair::PairPlacement;
+    use flank::geometry::gear_pair::GearPair;
     let sense = c.pair.rotation_axes()[0][2].signum();
     -rz * sense * c.pair.ratio() * ARCSEC_PER_RAD
 }

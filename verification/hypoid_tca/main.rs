@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 
 use flank::geometry::bevel::body::BevelGear;
 use flank::geometry::bevel::pair::BevelPair;
-use flank::geometry::gear_pair::{Misalignment, PairPlacement};
+use flank::geometry::gear_pair::{GearPair, Misalignment};
 use flank::geometry::tangency::{ContactSystem, Edge};
 use flank::scene::{read_scene, Scene};
 use flank::tca::point_contact::{

@@ -11,7 +11,7 @@
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
-use flank::geometry::gear_pair::PairPlacement;
+use flank::geometry::gear_pair::GearPair;
 use flank::geometry::tangency::ContactSystem;
 use flank::scene::{read_scene, Scene};
 use flank::tca::point_contact::{point_tca, PairContact, PointTcaSettings};

@@ -1,5 +1,5 @@
 //! A spiral bevel or hypoid pair behind the gear-pair interface
-//! ([`PairPlacement`]): two [`BevelGear`] sectors placed by the assembly
+//! ([`GearPair`]): two [`BevelGear`] sectors placed by the assembly
 //! ([`PairAssembly`]) and turned together.
 //!
 //! * **Body frames**: a member's body has tooth 1 centred on its own +y
@@ -19,7 +19,7 @@
 //! * **Tooth order**: tooth k + 1 of a body is tooth k turned by −2π/z
 //!   about its own +z, so it follows tooth k into mesh after the body turns
 //!   by +2π/z about own +z: after a roll of ±2π/z₁ by the sense of the
-//!   pinion's rotation ([`PairPlacement::tooth_roll_step`]).
+//!   pinion's rotation ([`GearPair::tooth_roll_step`]).
 
 use std::f64::consts::PI;
 use std::sync::Arc;
@@ -30,7 +30,7 @@ use super::assembly::PairAssembly;
 use super::body::BevelGear;
 use crate::error::{FlankError, Result};
 use crate::geometry::frame::Frame;
-use crate::geometry::gear_pair::{Assembly, Flank, GearBody, Misalignment, PairPlacement};
+use crate::geometry::gear_pair::{Assembly, Flank, GearBody, GearPair, Misalignment};
 use crate::geometry::tangency::{self, ContactSystem, GearTurn, PlacedFlank, TangencySeed};
 use crate::geometry::vec3::{cross, dot, sub, V3};
 
@@ -171,7 +171,7 @@ fn member_frames(assembly: &PairAssembly, phi1: f64, phi2: f64) -> [Frame; 2] {
     assembly.frames(phi1 - 0.5 * PI, phi2 - 0.5 * PI)
 }
 
-impl PairPlacement for BevelPair {
+impl GearPair for BevelPair {
     fn pinion(&self) -> &dyn GearBody {
         self.bodies[0].as_ref()
     }

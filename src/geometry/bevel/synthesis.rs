@@ -89,7 +89,7 @@ use crate::geometry::bevel::pair::BevelPair;
 use crate::geometry::bevel::BlankDesign;
 use crate::geometry::contact_curvature::{curvature_ellipse, FlankAtContact};
 use crate::geometry::frame::Frame;
-use crate::geometry::gear_pair::{Flank, PairPlacement};
+use crate::geometry::gear_pair::{Flank, GearPair};
 use crate::geometry::surface::ToothSurface;
 use crate::geometry::tangency::{self, ContactSystem, GearTurn, PlacedFlank, TangencySeed};
 use crate::geometry::Hand;

@@ -4,7 +4,7 @@
 //!
 //! * [`CylindricalGear`]: a [`GearBody`], both flanks of every tooth of the
 //!   sector with the gear's flank modification;
-//! * [`CylindricalPair`]: a [`GearPair`], the kinematics of
+//! * [`CylindricalPair`]: a [`LineContactPair`], the kinematics of
 //!   [`MeshKinematics`] (line of action, path of contact, roll angle) and
 //!   its misalignment in plane-of-action terms.
 //!
@@ -43,8 +43,8 @@ use crate::error::FlankError;
 use crate::geometry::flank::FlankSurface;
 use crate::geometry::frame::Frame;
 use crate::geometry::gear_pair::{
-    Assembly, Blank, ContactSeed, Flank, GearBody, GearPair, KinematicLine, LineKind, Misalignment,
-    PairPlacement,
+    Assembly, Blank, ContactSeed, Flank, GearBody, GearPair, KinematicLine, LineContactPair,
+    LineKind, Misalignment,
 };
 use crate::geometry::involute::{root_radius, tip_radius};
 use crate::geometry::micro::FlankModification;
@@ -452,7 +452,7 @@ impl CylindricalPair {
     }
 }
 
-impl PairPlacement for CylindricalPair {
+impl GearPair for CylindricalPair {
     fn pinion(&self) -> &dyn GearBody {
         &self.bodies[0]
     }
@@ -529,7 +529,7 @@ impl PairPlacement for CylindricalPair {
     }
 }
 
-impl GearPair for CylindricalPair {
+impl LineContactPair for CylindricalPair {
     fn engagement(&self, k: usize) -> (f64, f64) {
         self.kin.engagement(k)
     }
@@ -765,7 +765,7 @@ mod tests {
             assert!(e.to_string().contains("misalignment"), "{e}");
         }
         // the pair through the interface
-        let q: &dyn GearPair = &p;
+        let q: &dyn LineContactPair = &p;
         assert_eq!(q.assembly().shaft_angle_rad, 0.0);
         assert_eq!(q.mate(1), 3);
         assert!((q.ratio() - 21.0 / 37.0).abs() < 1e-15);
