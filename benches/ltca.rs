@@ -70,8 +70,8 @@ fn bench(c: &mut Criterion) {
         "tensors: {:?} flank nodes, {:.1} s (computed {:?})",
         cycle.setup.flank_nodes, cycle.setup.compliance_s, cycle.setup.computed
     );
-    let (a, e) = cycle.pair.engagement(cycle.pair.middle());
-    let (l, h) = cycle.pair.single_contact();
+    let (a, e) = cycle.line_pair().unwrap().engagement(cycle.pair.middle());
+    let (l, h) = cycle.line_pair().unwrap().single_contact();
     let double = 0.5 * (a + l).to_degrees();
     let single = 0.5 * (l + h).to_degrees();
     for (name, roll) in [("double", double), ("single", single)] {

@@ -1,9 +1,9 @@
-//! The hypoid LTCA (`flank::ltca::bevel`) of seed 003's eased pair
+//! The hypoid LTCA (`flank::ltca::cycle`) of seed 003's eased pair
 //! (`papers/seed003-hypoid/scene_eased.toml`, 1000 N·m on the gear) with its
 //! compliance tensors cached (coarse bodies: flank 2 mm, base 8 mm, computed
 //! once before the timing): one position (roll 0) with friction μ = 0.07 in
 //! 10 load increments, and the whole frictionless cycle of 20 positions
-//! (`BevelLtca::solve_cycle`, positions in parallel). Issue 19's target:
+//! (`LtcaCycle::solve_cycle`, positions in parallel). Issue 19's target:
 //! the cycle ≤ 1 s with the tensors cached. Medians in `benches/README.md`.
 //!
 //! `cargo bench --bench ltca_hypoid` (`RAYON_NUM_THREADS=1` for one thread).
@@ -14,14 +14,14 @@ use std::path::Path;
 use criterion::{criterion_group, criterion_main, Criterion};
 
 use flank::compliance::body::BodyMeshOptions;
-use flank::ltca::bevel::{BevelLtca, BevelLtcaOptions};
+use flank::ltca::cycle::{LtcaCycle, LtcaOptions};
 use flank::scene::read_scene;
 
 fn bench(c: &mut Criterion) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let scene = read_scene(&root.join("papers/seed003-hypoid/scene_eased.toml")).unwrap();
     let tmp = Path::new(env!("CARGO_TARGET_TMPDIR")).join("bench_ltca_hypoid");
-    let options = BevelLtcaOptions {
+    let options = LtcaOptions {
         out: tmp.join("out"),
         mesh: BodyMeshOptions {
             flank_size: Some(2.0),
@@ -29,20 +29,21 @@ fn bench(c: &mut Criterion) {
             ..Default::default()
         },
         cache: Some(tmp.join("cache")),
+        quiet: true,
         ..Default::default()
     };
     std::fs::create_dir_all(&options.out).unwrap();
-    let frictionless = BevelLtca::new(&scene, &options).unwrap();
-    let friction = BevelLtca::new(
+    let frictionless = LtcaCycle::new(&scene, &options).unwrap();
+    let friction = LtcaCycle::new(
         &scene,
-        &BevelLtcaOptions {
-            friction_mu: 0.07,
-            increments: 10,
+        &LtcaOptions {
+            friction_mu: Some(0.07),
+            increments: Some(10),
             ..options.clone()
         },
     )
     .unwrap();
-    let pitch = frictionless.cycle_deg();
+    let pitch = frictionless.point().unwrap().cycle_deg();
     let rolls: Vec<f64> = (0..20)
         .map(|i| -0.5 * pitch + pitch * i as f64 / 20.0)
         .collect();

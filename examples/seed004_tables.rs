@@ -84,9 +84,9 @@ fn main() -> anyhow::Result<()> {
     let slope = -kin.base_radius[0] * twist;
     let roll_at = |s: f64| -> anyhow::Result<f64> { Ok(kin.roll_at(k, s - slope * mid_face)) };
     // a dense TCA for the velocities at mid face
-    let mut dense = cycle.tca.settings().clone();
+    let mut dense = cycle.line_tca()?.settings().clone();
     dense.points_per_line = 2001;
-    let tca = cycle.tca.with_settings(dense)?;
+    let tca = cycle.line_tca()?.with_settings(dense)?;
     let s_pitch = kin.base_radius[0] * kin.working_pressure_angle.tan();
     // Table 1
     let paper1 = [
@@ -143,7 +143,7 @@ fn main() -> anyhow::Result<()> {
     let mut rows = vec![String::new(); 11];
     for torque_nm in [5000.0, 8000.0] {
         scene.load.torque_nmm = torque_nm * 1e3;
-        let mut c = cycle.with_points_per_line(&scene, 40)?;
+        let mut c = cycle.with_points_per_line(40)?;
         c.torque = scene.load.torque_nmm;
         for (i, row) in rows.iter_mut().enumerate() {
             let x = i as f64 / 10.0;
@@ -156,7 +156,7 @@ fn main() -> anyhow::Result<()> {
                 .iter()
                 .position(|(p, _, kind)| *p == k && kind == "Flank")
                 .expect("middle pair line");
-            let length = c.tca.position(roll)?.lines[li].length_mm;
+            let length = c.line_tca()?.position(roll)?.lines[li].length_mm;
             let force = r.line_force_n[li];
             let peak = r
                 .points

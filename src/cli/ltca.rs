@@ -149,6 +149,8 @@ pub fn run(args: Args) -> Result<()> {
         compression,
         span_approach_mm,
         edges,
+        // a bevel pair's grid: the scene's `[analyses.ltca] positions`
+        positions: None,
     };
     let read = flank::scene::read_scene(&scene)?;
     let result =

@@ -1,5 +1,5 @@
 //! `flank compare` on a bevel/hypoid scene (issue 19 point 5): the hypoid
-//! LTCA ([`crate::ltca::bevel`], at several K on the tensors of one
+//! LTCA ([`crate::ltca::cycle`], at several K on the tensors of one
 //! compliance mesh) against FE contact of the hypoid pair
 //! ([`crate::mesh_cycle::bevel`], hard contact, at several flank sizes) at
 //! the same roll angles, the finest FE the reference; the errors, times and
@@ -23,46 +23,25 @@
 use std::time::Instant;
 
 use crate::error::FlankError;
-use crate::ltca::bevel::{BevelLtca, BevelLtcaOptions};
+use crate::ltca::cycle::{LtcaCycle, LtcaOptions};
 use crate::mesh::bevel_sector::BevelSectorOptions;
 use crate::mesh_cycle::bevel::{BevelCycle, BevelRunOptions};
 use crate::scene::Scene;
+use crate::settings::EdgeVariants;
 
 use super::summary::{BevelCompare, CompareFiles, CompareKind, CompareSummary, CompareTargets};
 use super::{best_ltca, errors, markdown, per_pair, plot, CompareOptions, MethodRun};
 
-/// The hypoid LTCA's options of a comparison: the compliance mesh, the
-/// threads and the local model of `options.ltca`; friction (μ, increments,
-/// model) from `options`, else the scene's `[analyses.ltca]`; everything
-/// else the hypoid LTCA's default (K is swept, the TCA without edges).
-pub fn ltca_options(
-    scene: &Scene,
-    options: &CompareOptions,
-) -> Result<BevelLtcaOptions, FlankError> {
-    let o = &options.ltca;
-    if o.compression.is_some_and(|c| c.epsilon().is_some()) {
-        return Err(FlankError::Model(
-            "--compression: implemented for spur/helical pairs only".into(),
-        ));
-    }
-    let a = scene.analyses.ltca.clone().unwrap_or_default();
-    let d = BevelLtcaOptions::default();
-    let mu = options.friction_mu.or(a.friction_mu).unwrap_or(0.0);
-    if mu == 0.0 && (o.increments.is_some() || o.friction_model.is_some()) {
-        return Err(FlankError::Model("--increments and --friction-model need friction (--friction-mu > 0 or [analyses.ltca] friction_mu)".into()));
-    }
-    let mut ltca = BevelLtcaOptions {
-        mesh: o.mesh,
-        threads: o.threads,
-        friction_mu: mu,
-        increments: o.increments.or(a.increments).unwrap_or(d.increments),
-        friction_model: o.friction_model.or(a.friction_model).unwrap_or_default(),
-        ..d
-    };
-    if let Some(l) = o.local {
-        ltca.settings.local = l;
-    }
-    Ok(ltca)
+/// The hypoid LTCA's options of a comparison: `options.ltca` (merged with
+/// the scene's `[analyses.ltca]` as `flank ltca` merges them,
+/// [`LtcaCycle::new`]) with the command line's μ, and the TCA without
+/// edges (K is swept, [`CompareOptions::points_per_line`]).
+pub fn ltca_options(options: &CompareOptions) -> LtcaOptions {
+    let mut lo = options.ltca.clone();
+    lo.out = options.out.join("ltca_bodies");
+    lo.friction_mu = options.friction_mu.or(lo.friction_mu);
+    lo.edges = Some(EdgeVariants::Without);
+    lo
 }
 
 /// The hypoid comparison; writes `compare.json`, `compare.md` and
@@ -70,7 +49,6 @@ pub fn ltca_options(
 pub fn compare_bevel(
     scene: &Scene,
     options: &CompareOptions,
-    ltca: &BevelLtcaOptions,
 ) -> Result<CompareSummary, FlankError> {
     let bevel = scene.bevel("the bevel/hypoid comparison")?;
     options.validate()?;
@@ -79,11 +57,8 @@ pub fn compare_bevel(
             "--pmax-reference: contact-band runs exist for spur pairs only, not for bevel/hypoid scenes".into(),
         ));
     }
-    // the command line's μ, else the LTCA options' (the scene's)
-    let mu = options.friction_mu.unwrap_or(ltca.friction_mu);
-    let mut lo = ltca.clone();
-    lo.friction_mu = mu;
-    lo.validate(scene)?;
+    let mut lo = ltca_options(options);
+    lo.points_per_line = Some(options.points_per_line[0]);
     let out = &options.out;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
     let say = |m: String| {
@@ -93,29 +68,24 @@ pub fn compare_bevel(
     };
     // LTCA first (its TCA grid fixes the roll angles): tensors once
     say("LTCA: compliance tensors and TCA …".into());
-    lo.out = out.join("ltca_bodies");
+    let t = Instant::now();
+    let base = LtcaCycle::new(scene, &lo)?;
+    let setup = t.elapsed().as_secs_f64();
+    let friction = base.settings.friction.clone();
+    let mu = friction.as_ref().map_or(0.0, |f| f.mu);
+    // the TCA grid's own angles, so both methods see the same ones
+    let want = options.roll_angles_deg.clone().unwrap_or_else(|| {
+        base.point()
+            .map(|p| p.cycle_rolls_deg())
+            .unwrap_or_default()
+    });
+    let angles: Vec<f64> = want
+        .iter()
+        .map(|&a| base.solve(a).map(|r| r.roll_deg))
+        .collect::<Result<_, _>>()?;
     let mut runs = Vec::new();
-    let mut angles: Vec<f64> = Vec::new();
-    let mut setup = 0.0;
-    for (i, &k) in options.points_per_line.iter().enumerate() {
-        lo.points_per_pair = k;
-        let t = Instant::now();
-        let l = BevelLtca::new(scene, &lo)?;
-        if i == 0 {
-            setup = t.elapsed().as_secs_f64();
-            let pitch = l.cycle_deg();
-            let n = lo.positions;
-            // the TCA grid's own angles, so both methods see the same ones
-            let want = options.roll_angles_deg.clone().unwrap_or_else(|| {
-                (0..n)
-                    .map(|j| -0.5 * pitch + pitch * j as f64 / n as f64)
-                    .collect()
-            });
-            angles = want
-                .iter()
-                .map(|&a| l.solve(a).map(|r| r.roll_deg))
-                .collect::<Result<_, _>>()?;
-        }
+    for &k in &options.points_per_line {
+        let l = base.with_points_per_line(k)?;
         let t = Instant::now();
         let results = l.solve_cycle(&angles)?;
         let cycle_s = t.elapsed().as_secs_f64();
@@ -123,7 +93,7 @@ pub fn compare_bevel(
             method: "ltca".into(),
             label: format!("LTCA K = {k}"),
             points_per_line: Some(k),
-            flank_size_mm: ltca.mesh.flank_size,
+            flank_size_mm: options.ltca.mesh.flank_size,
             nodes: None,
             pair_force_n: results.iter().map(|r| l.pair_forces(r)).collect(),
             pair_tangential_n: results
@@ -269,7 +239,7 @@ pub fn compare_bevel(
             ltca_cycle_s: 1.0,
             speedup: None,
         },
-        ltca_settings: lo.settings.clone(),
+        ltca_settings: base.settings.clone(),
         runs: fe.iter().chain(runs.iter()).cloned().collect(),
         best_ltca_per_position: per_position,
         files: CompareFiles {
@@ -278,9 +248,9 @@ pub fn compare_bevel(
         },
         kind: CompareKind::Bevel(Box::new(BevelCompare {
             pair: "hypoid",
-            ltca_friction_model: (mu > 0.0).then_some(lo.friction_model),
-            ltca_increments: (mu > 0.0).then_some(lo.increments),
-            ltca_span_approach_mm: lo.span_approach_mm,
+            ltca_friction_model: friction.as_ref().map(|f| f.model),
+            ltca_increments: friction.as_ref().and_then(|f| f.increment_count()),
+            ltca_span_approach_mm: base.point()?.span_approach_mm,
         })),
     };
     summary.write(out)?;

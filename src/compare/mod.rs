@@ -430,7 +430,7 @@ pub fn compare_cylindrical(
     let mut ltca = Vec::new();
     let mut pmax_runs = Vec::new();
     for &k in &options.points_per_line {
-        let c = base.with_points_per_line(scene, k)?;
+        let c = base.with_points_per_line(k)?;
         // one warm-up pass (page faults, thread pool), then the timed cycle
         let _ = c.solve(angles[angles.len() / 2])?;
         let run = ltca_run(&c, &angles)?;

@@ -1,11 +1,11 @@
 //! `flank compare` over a scene of any pair kind: the spur/helical
 //! comparison ([`super::compare_cylindrical`]) or the bevel/hypoid one
-//! ([`super::bevel::compare_bevel`], its LTCA options merged by
+//! ([`super::bevel::compare_bevel`], its LTCA options
 //! [`super::bevel::ltca_options`]).
 
 use std::path::Path;
 
-use super::bevel::{compare_bevel, ltca_options};
+use super::bevel::compare_bevel;
 use super::summary::CompareSummary;
 use super::{compare_cylindrical, CompareOptions};
 use crate::error::FlankError;
@@ -21,7 +21,7 @@ pub fn compare_scene(path: &Path, options: &CompareOptions) -> Result<CompareSum
 /// `options.out` and returns the summary.
 pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<CompareSummary, FlankError> {
     if scene.is_bevel() {
-        return compare_bevel(scene, options, &ltca_options(scene, options)?);
+        return compare_bevel(scene, options);
     }
     compare_cylindrical(scene, options)
 }

@@ -12,7 +12,7 @@ use crate::compare::method_run::MethodRun;
 use crate::compare::pmax_reference::{PmaxReferencePair, PmaxRun};
 use crate::compare::reference::ExtrapolatedReference;
 use crate::error::FlankError;
-use crate::ltca::cycle::Setup;
+use crate::ltca::bodies::Setup;
 use crate::ltca::solve_settings::LtcaSettings;
 
 /// `compare.json`.

@@ -923,7 +923,7 @@ mod tests {
         let work =
             std::env::temp_dir().join(format!("flank_ltca_edge_cell_{}", std::process::id()));
         let cycle = seed002_cycle(1.5, 3.0, &work, None);
-        let (a, e) = cycle.pair.engagement(cycle.pair.middle());
+        let (a, e) = cycle.line_pair().unwrap().engagement(cycle.pair.middle());
         let pitch = cycle.pair.pinion().angular_pitch();
         let mut corners = [0usize; 2];
         // approach and recess beyond the kinematic ends: both tip corners
@@ -931,8 +931,8 @@ mod tests {
             let d = 0.06 * pitch * i as f64 / 8.0;
             [a - d, e + d]
         }) {
-            let position = cycle.tca.position(roll).unwrap();
-            let frames = cycle.tca.frames(roll);
+            let position = cycle.line_tca().unwrap().position(roll).unwrap();
+            let frames = cycle.line_tca().unwrap().frames(roll);
             let (built, _) = cycle
                 .bodies
                 .candidates(&position, &frames, cycle.torque, &cycle.settings)
@@ -993,8 +993,8 @@ mod tests {
     /// bodies at the seed 002 positions in double and single contact.
     fn fast_against_streamed(flank: f64, base: f64, work: PathBuf, cache: Option<PathBuf>) {
         let cycle = seed002_cycle(flank, base, &work, cache);
-        let (a, e) = cycle.pair.engagement(cycle.pair.middle());
-        let (l, h) = cycle.pair.single_contact();
+        let (a, e) = cycle.line_pair().unwrap().engagement(cycle.pair.middle());
+        let (l, h) = cycle.line_pair().unwrap().single_contact();
         let mut rolls = vec![0.5 * (a + l), 0.5 * (l + h)];
         // and a few more across the pitch
         let pitch = cycle.pair.pinion().angular_pitch();
@@ -1018,8 +1018,8 @@ mod tests {
             .collect();
         let mut worst_factored: f64 = 0.0;
         for roll in rolls {
-            let position = cycle.tca.position(roll).unwrap();
-            let frames = cycle.tca.frames(roll);
+            let position = cycle.line_tca().unwrap().position(roll).unwrap();
+            let frames = cycle.line_tca().unwrap().frames(roll);
             let (built, _) = cycle
                 .bodies
                 .candidates(&position, &frames, cycle.torque, &cycle.settings)
@@ -1137,11 +1137,11 @@ mod tests {
     fn time_node_by_node_against_streamed() {
         let work = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/ltca-bench");
         let cycle = seed002_cycle(0.475, 1.0, &work, Some(work.join("cache")));
-        let (a, _) = cycle.pair.engagement(cycle.pair.middle());
-        let (l, h) = cycle.pair.single_contact();
+        let (a, _) = cycle.line_pair().unwrap().engagement(cycle.pair.middle());
+        let (l, h) = cycle.line_pair().unwrap().single_contact();
         for (name, roll) in [("double", 0.5 * (a + l)), ("single", 0.5 * (l + h))] {
-            let position = cycle.tca.position(roll).unwrap();
-            let frames = cycle.tca.frames(roll);
+            let position = cycle.line_tca().unwrap().position(roll).unwrap();
+            let frames = cycle.line_tca().unwrap().frames(roll);
             let (built, _) = cycle
                 .bodies
                 .candidates(&position, &frames, cycle.torque, &cycle.settings)

@@ -181,6 +181,7 @@ pub fn lubricated_cycle(
         )));
     }
     let np = cycle.pair.sector_teeth();
+    let line_pair = cycle.line_pair()?;
     let kin = MeshKinematics::new(&cyl.pair, np)?;
     let crowning = [0, 1].map(|i| cyl.micro[i].as_ref().map_or(0.0, |m| m.lead_crowning));
     let e_prime = reduced_modulus(
@@ -220,7 +221,7 @@ pub fn lubricated_cycle(
                         if !(f[p] > LOADED_FRACTION * nominal) {
                             return Ok(None);
                         }
-                        let s = cycle.pair.path_position(p + 1, r.roll_deg.to_radians());
+                        let s = line_pair.path_position(p + 1, r.roll_deg.to_radians());
                         let c = involute_contact(&kin, s, speed, crowning)?;
                         let area = loaded_area(r, p + 1, c.radius_x_mm, e_star);
                         OperatingPoint::new(&c, f[p], area, length, e_prime, settings.mean_pressure)

@@ -20,10 +20,9 @@
 //!   spur/helical LTCA (μ per position and tooth pair from the EHL model of
 //!   [`crate::lubrication`]).
 
-pub mod bevel;
+pub mod bodies;
 pub mod candidate;
 pub mod cycle;
-pub mod edges;
 pub mod friction;
 pub mod hertz_elliptic;
 pub mod influence;
@@ -32,6 +31,7 @@ pub mod lubricated;
 pub mod model;
 pub mod outputs;
 pub mod pattern;
+pub mod point_run;
 pub mod qp;
 pub mod run;
 pub mod solve_settings;

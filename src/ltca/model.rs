@@ -99,6 +99,7 @@ fn fe_cell_extents(kappa: f64, h: f64, a: f64, tips: [f64; 2]) -> [[f64; 2]; 2] 
 }
 
 /// The two bodies of the LTCA: tensors and what the cells need.
+#[derive(Clone)]
 pub struct LtcaBodies {
     pub tensors: [Arc<ComplianceTensor>; 2],
     /// Face search structures of the two tensors (built once).

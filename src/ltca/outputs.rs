@@ -1,5 +1,5 @@
 //! What both LTCA drivers (spur/helical [`crate::ltca::run`], bevel/hypoid
-//! [`crate::ltca::bevel`]) write and summarise of their positions: the
+//! [`crate::ltca::point_run`]) write and summarise of their positions: the
 //! per-position CSVs (`ltca_cycle.csv`, `ltca_positions.csv`), the
 //! per-point CSV, the friction summary and the positions' bounded loops.
 

@@ -1,4 +1,5 @@
-//! The `flank ltca` run of a spur/helical scene: the cycle of
+//! The `flank ltca` run of a scene: for a bevel/hypoid pair
+//! [`crate::ltca::point_run`]; for a spur/helical pair the cycle of
 //! [`crate::ltca::cycle::LtcaCycle`] over the scene's roll angles (extended
 //! while the middle pair is loaded at an end), the wet–dry loop when the
 //! scene asks for it ([`crate::ltca::lubricated`]), and the outputs:
@@ -15,12 +16,12 @@
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
 use crate::load_sharing::LOADED_FRACTION;
-use crate::ltca::bevel::{run_bevel, BevelLtcaOptions};
 use crate::ltca::cycle::{roll_angles, LtcaCycle, LtcaOptions};
 use crate::ltca::model::PositionResult;
 use crate::ltca::outputs::{
     friction_summary, iteration_limits, write_cycle_csv, write_points_csv, write_positions_csv,
 };
+use crate::ltca::point_run::run_point;
 use crate::ltca::summary::peak_to_peak;
 use crate::ltca::summary::{
     CylindricalLtcaSummary, KindSummary, LtcaFiles, LtcaResult, LtcaStep, LtcaSummary,
@@ -39,26 +40,22 @@ pub fn run_scene(path: &Path, options: &LtcaOptions) -> Result<LtcaResult, Flank
 /// The LTCA over the scene's mesh cycle, for any pair kind; writes the
 /// outputs into `options.out` and returns the summary. Every option is
 /// taken from `options`, else the scene's `[analyses.ltca]`, else its
-/// default; a bevel/hypoid scene runs [`crate::ltca::bevel::run_bevel`]
-/// with [`BevelLtcaOptions::merged`]. On `options.threads` threads (0:
+/// default ([`LtcaCycle::new`]); a bevel/hypoid scene runs
+/// [`crate::ltca::point_run::run_point`]. On `options.threads` threads (0:
 /// rayon's global pool); the answer is the same on any number (fixed
 /// summation orders).
 pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<LtcaResult, FlankError> {
-    if scene.is_bevel() {
-        return run_bevel(scene, &BevelLtcaOptions::merged(scene, options)?);
-    }
-    if options.span_approach_mm.is_some() {
-        return Err(FlankError::Model(
-            "--span-approach-mm: for bevel and hypoid scenes only".into(),
-        ));
-    }
-    if options.edges.is_some() {
-        return Err(FlankError::Model("--edges: for bevel and hypoid scenes only (a spur/helical LTCA always takes its tip corners as candidates)".into()));
-    }
-    crate::fem::solver::with_threads(options.threads, || run_cycle(scene, options))
+    crate::fem::solver::with_threads(options.threads, || {
+        if scene.is_bevel() {
+            run_point(scene, options)
+        } else {
+            run_line(scene, options)
+        }
+    })
 }
 
-fn run_cycle(scene: &Scene, options: &LtcaOptions) -> Result<LtcaResult, FlankError> {
+/// The run of a spur/helical scene (module docs).
+fn run_line(scene: &Scene, options: &LtcaOptions) -> Result<LtcaResult, FlankError> {
     let t_total = Instant::now();
     let out = &options.out;
     // the wet–dry loop (seed 002): the cycle below is its dry pass at μ₀
@@ -73,7 +70,8 @@ fn run_cycle(scene: &Scene, options: &LtcaOptions) -> Result<LtcaResult, FlankEr
         None => options,
     };
     let cycle = LtcaCycle::new(scene, options)?;
-    let (mut angles, default_range) = roll_angles(scene, cycle.pair.as_ref(), options);
+    let line_pair = cycle.line_pair()?;
+    let (mut angles, default_range) = roll_angles(scene, line_pair.as_ref(), options);
     let mid = cycle.pair.middle() - 1;
     let t_cycle = Instant::now();
     let mut results = cycle.solve_cycle(&angles)?;
@@ -165,7 +163,7 @@ fn run_cycle(scene: &Scene, options: &LtcaOptions) -> Result<LtcaResult, FlankEr
         &te,
         &teeth,
         nominal,
-        cycle.pair.transmission_error_radius(),
+        line_pair.transmission_error_radius(),
     )
     .unwrap_or_else(|e| {
         notes.push(format!("plots not written: {e}"));
@@ -212,7 +210,7 @@ fn run_cycle(scene: &Scene, options: &LtcaOptions) -> Result<LtcaResult, FlankEr
         notes,
         kind: KindSummary::Cylindrical(Box::new(CylindricalLtcaSummary {
             contact_ratio,
-            contact_ratio_kinematic: cycle.pair.kinematic_contact_ratio(),
+            contact_ratio_kinematic: line_pair.kinematic_contact_ratio(),
             middle_pair_loaded_deg: limits.map(|(s, e)| [s, e]),
             single_pair_force_n,
             nominal_force_n: nominal,

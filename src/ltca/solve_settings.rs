@@ -71,6 +71,15 @@ pub struct LtcaFriction {
 }
 
 impl LtcaFriction {
+    /// The number of equal load increments (`None` for increments of a
+    /// size).
+    pub fn increment_count(&self) -> Option<usize> {
+        match self.options.increments {
+            crate::ltca::friction::Increments::Count(n) => Some(n),
+            crate::ltca::friction::Increments::Size(_) => None,
+        }
+    }
+
     /// The checked settings of μ (`None` for μ = 0), `increments` equal
     /// load steps and `model`, for a pinion at `speed_rpm` (friction needs
     /// the sliding direction, i.e. a speed > 0; `source` names the scene).

@@ -18,7 +18,7 @@ use serde::Serialize;
 use crate::error::FlankError;
 use crate::iteration_limits::IterationLimits;
 use crate::load_sharing::CycleSharing;
-use crate::ltca::cycle::Setup;
+use crate::ltca::bodies::Setup;
 use crate::ltca::model::PositionResult;
 use crate::ltca::solve_settings::LtcaSettings;
 use crate::ltca::te_fit::QuadraticTeFit;

@@ -100,10 +100,13 @@ pub use crate::geometry::gear_pair::LineKind;
 use crate::geometry::gear_pair::{ContactSeed, Flank, KinematicLine, LineContactPair};
 use crate::geometry::surface::ToothSurface;
 
+pub mod candidates;
 pub mod crossing;
+pub mod edge_lines;
 pub mod ellipse;
 pub mod line_cycle;
 pub mod major_axis;
+pub mod point_candidates;
 pub mod point_contact;
 pub mod run;
 #[cfg(test)]

@@ -111,8 +111,8 @@ fn check(r: &PositionResult, what: &str) {
 /// Roll angles (deg): early double contact, single contact, late double
 /// contact, and the two ends of the kinematic engagement of the middle pair.
 fn angles(c: &LtcaCycle) -> Vec<f64> {
-    let (a, e) = c.pair.engagement(c.pair.middle());
-    let (l, h) = c.pair.single_contact();
+    let (a, e) = c.line_pair().unwrap().engagement(c.pair.middle());
+    let (l, h) = c.line_pair().unwrap().single_contact();
     vec![
         a.to_degrees() + 1.0,
         0.5 * (a + l).to_degrees(),
@@ -132,7 +132,7 @@ fn against_fe(scene: &Scene, c: &LtcaCycle, roll: &[f64]) -> (f64, f64) {
         quiet: true,
         ..Default::default()
     };
-    let s = settings(scene, c.pair.as_ref(), &o).unwrap();
+    let s = settings(scene, c.line_pair().unwrap().as_ref(), &o).unwrap();
     let fe = MeshCycle::new(scene, &mesh(), s, 0).unwrap();
     println!(
         "roll (deg) | FE shares | LTCA shares | FE TE (µrad) | LTCA TE | LTCA ms (cells, F, H, QP)"
@@ -199,7 +199,7 @@ fn points_per_line_convergence() {
     let runs: Vec<Vec<(Vec<f64>, f64)>> = [10, 20, 40]
         .iter()
         .map(|&k| {
-            let c = base.with_points_per_line(&scene, k).unwrap();
+            let c = base.with_points_per_line(k).unwrap();
             roll.iter()
                 .map(|&a| {
                     let r = c.solve(a).unwrap();
@@ -275,7 +275,7 @@ fn stability_cases() {
     for factor in [1e-3, 10.0] {
         let mut s = nominal.clone();
         s.load.torque_nmm *= factor;
-        let mut cf = c.with_points_per_line(&s, 20).unwrap();
+        let mut cf = c.with_points_per_line(20).unwrap();
         cf.torque = s.load.torque_nmm;
         let r = cf.solve(single).unwrap();
         check(&r, &format!("torque × {factor}"));
@@ -298,7 +298,7 @@ fn stability_cases() {
     );
     assert!(r.te_urad < 0.8 * base.te_urad);
     // zero backlash = ideal conjugate flanks: every line separation is 0
-    let tca = c.tca.position(single.to_radians()).unwrap();
+    let tca = c.line_tca().unwrap().position(single.to_radians()).unwrap();
     let wmax = tca
         .lines
         .iter()

@@ -4,8 +4,8 @@
 //! the Cyclo-Palloid pinion tilt in 5-tooth sectors
 //! (`papers/seed000-hypoid/scene_tilted_ltca.toml`, 400 N·m on the gear),
 //! one mesh cycle of 20 positions, LTCA with the TCA's edge contacts as
-//! candidate lines and without them (`flank::ltca::bevel`,
-//! `flank::ltca::edges`), tensors of both sector bodies at flank 2 mm,
+//! candidate lines and without them (`flank::ltca::cycle`,
+//! `flank::tca::edge_lines`), tensors of both sector bodies at flank 2 mm,
 //! base 8 mm. Checks that could fail: the equilibrium and KKT residuals of
 //! both variants, the edge lines' unloaded TE against the TCA's envelope,
 //! the without-edges variant of a two-variant run against a separate
@@ -18,7 +18,8 @@ use std::process::Command;
 use std::time::Instant;
 
 use flank::compliance::body::BodyMeshOptions;
-use flank::ltca::bevel::{run_bevel, BevelLtca, BevelLtcaOptions};
+use flank::ltca::cycle::{LtcaCycle, LtcaOptions};
+use flank::ltca::run::run;
 use flank::scene::{read_scene, Scene};
 use flank::settings::EdgeVariants;
 use flank::tca::point_contact::ARCSEC_PER_RAD;
@@ -42,8 +43,8 @@ fn scene() -> Scene {
     read_scene(&path).unwrap()
 }
 
-fn options(work: &Path, edges: EdgeVariants) -> BevelLtcaOptions {
-    BevelLtcaOptions {
+fn options(work: &Path, edges: EdgeVariants) -> LtcaOptions {
+    LtcaOptions {
         out: work.join(format!("{edges:?}")),
         mesh: BodyMeshOptions {
             flank_size: Some(2.0),
@@ -53,7 +54,8 @@ fn options(work: &Path, edges: EdgeVariants) -> BevelLtcaOptions {
         },
         cache: Some(work.join("cache")),
         threads: 2,
-        edges,
+        edges: Some(edges),
+        quiet: true,
         ..Default::default()
     }
 }
@@ -68,7 +70,7 @@ fn seed000_ltca_with_and_without_edge_contact() {
     let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("ltca_edges");
     let _ = std::fs::remove_dir_all(&work);
     let t = Instant::now();
-    let s = run_bevel(&sc, &options(&work, EdgeVariants::Both))
+    let s = run(&sc, &options(&work, EdgeVariants::Both))
         .unwrap()
         .to_json();
     let run_s = t.elapsed().as_secs_f64();
@@ -171,13 +173,13 @@ fn seed000_ltca_with_and_without_edge_contact() {
     // the variants one at a time on the cached tensors: the two-variant
     // run's without-edges cycle is the plain LTCA's, bit for bit
     let t = Instant::now();
-    let plain = BevelLtca::new(&sc, &options(&work, EdgeVariants::Without)).unwrap();
-    let with = BevelLtca::new(&sc, &options(&work, EdgeVariants::With)).unwrap();
+    let plain = LtcaCycle::new(&sc, &options(&work, EdgeVariants::Without)).unwrap();
+    let with = LtcaCycle::new(&sc, &options(&work, EdgeVariants::With)).unwrap();
     println!(
         "separate LTCAs on the cached tensors: {:.1} s",
         t.elapsed().as_secs_f64()
     );
-    assert!(!plain.edges && with.edges);
+    assert!(!plain.point().unwrap().edges && with.point().unwrap().edges);
     let steps_o = o["steps"].as_array().unwrap();
     let rolls: Vec<f64> = steps_o.iter().map(|st| f(&st["roll_deg"])).collect();
     let again = plain.solve_cycle_gaps(&rolls).unwrap();
@@ -200,10 +202,10 @@ fn seed000_ltca_with_and_without_edge_contact() {
     // reaches, 1 − flank span of the TCA over the pitch, to a grid step
     let n = 20.0;
     let gaps = o["positions_without_contact_deg"].as_array().unwrap().len() as f64;
-    let expected = (1.0 - plain.tca.flank_span_ratio).max(0.0);
+    let expected = (1.0 - plain.point().unwrap().tca.flank_span_ratio).max(0.0);
     println!(
         "without edges: no contact at {gaps} of 20 positions; TCA flank span {:.3} pitches (gap {:.3} of the pitch)",
-        plain.tca.flank_span_ratio, expected
+        plain.point().unwrap().tca.flank_span_ratio, expected
     );
     assert!((gaps / n - expected).abs() <= 1.0 / n + 1e-12);
 
@@ -214,6 +216,8 @@ fn seed000_ltca_with_and_without_edge_contact() {
         for st in v["steps"].as_array().unwrap() {
             let roll = f(&st["roll_deg"]);
             let Some(p) = ltca
+                .point()
+                .unwrap()
                 .tca
                 .positions
                 .iter()
@@ -378,7 +382,7 @@ fn seed000_edge_ltca_against_fe_contact() {
     let roll = -9.0;
     let t = Instant::now();
     let opts = options(&work, EdgeVariants::With);
-    let ltca = BevelLtca::new(&sc, &opts).unwrap();
+    let ltca = LtcaCycle::new(&sc, &opts).unwrap();
     let r = ltca.solve(roll).unwrap();
     let t_ltca = t.elapsed().as_secs_f64();
     let t = Instant::now();

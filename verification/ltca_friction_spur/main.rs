@@ -138,7 +138,7 @@ const MODELS: [FrictionModel; 3] = [
 fn friction_ltca_closed_form_limits_and_solvers() {
     let scene = scene();
     let frictionless = cycle(&scene, 0.0, FrictionModel::Incremental, false);
-    let pair = &frictionless.pair;
+    let pair = frictionless.line_pair().unwrap();
     let torque = frictionless.torque;
     let rb1 = pair.nominal_moment_arm();
     // operating pressure angle: r_w1 = a z1/(z1 + z2)
@@ -230,8 +230,8 @@ fn limits_and_solvers(scene: &Scene, mesh: BodyMeshOptions, angles: &[f64]) {
 fn solvers_agree_on_coarse_tensors() {
     let scene = scene();
     let c = cycle(&scene, 0.0, FrictionModel::Incremental, false);
-    let (a, _) = c.pair.engagement(c.pair.middle());
-    let (l, h) = c.pair.single_contact();
+    let (a, _) = c.line_pair().unwrap().engagement(c.pair.middle());
+    let (l, h) = c.line_pair().unwrap().single_contact();
     limits_and_solvers(
         &scene,
         mesh(),
@@ -255,7 +255,7 @@ fn against_fe(scene: &Scene, angles: &[f64]) -> (f64, f64, f64) {
             quiet: true,
             ..Default::default()
         };
-        let s = settings(scene, l0.pair.as_ref(), &o).unwrap();
+        let s = settings(scene, l0.line_pair().unwrap().as_ref(), &o).unwrap();
         MeshCycle::new(scene, &mesh(), s, 0).unwrap()
     };
     let (fe0, fe1) = (fe(0.0), fe(MU));
@@ -310,8 +310,8 @@ fn against_fe(scene: &Scene, angles: &[f64]) -> (f64, f64, f64) {
 fn standstill_ltca_against_fe_contact_with_friction() {
     let scene = scene();
     let c = cycle(&scene, 0.0, FrictionModel::Standstill, false);
-    let (a, e) = c.pair.engagement(c.pair.middle());
-    let (l, h) = c.pair.single_contact();
+    let (a, e) = c.line_pair().unwrap().engagement(c.pair.middle());
+    let (l, h) = c.line_pair().unwrap().single_contact();
     let angles = [
         a.to_degrees() + 1.0,
         0.5 * (a + l).to_degrees(),
@@ -331,7 +331,7 @@ fn standstill_ltca_against_fe_contact_with_friction() {
 fn standstill_ltca_against_fe_mid_single_contact() {
     let scene = scene();
     let c = cycle(&scene, 0.0, FrictionModel::Standstill, false);
-    let (l, h) = c.pair.single_contact();
+    let (l, h) = c.line_pair().unwrap().single_contact();
     let (wt, wn, wte) = against_fe(&scene, &[0.5 * (l + h).to_degrees()]);
     assert!(wt <= 0.1 && wn <= 0.1 && wte <= 0.25);
 }

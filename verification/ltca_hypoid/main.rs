@@ -4,7 +4,7 @@
 //! seed 003 pair with the eased pinion (`papers/seed003-hypoid/scene_eased.toml`,
 //! 1000 N·m on the gear) at three roll angles of its cycle (the middle
 //! pair entering, at the mean point, leaving): the compliance-matrix LTCA
-//! (`flank::ltca::bevel`: tensors of both bevel sector bodies, K points on
+//! (`flank::ltca::cycle`: tensors of both bevel sector bodies, K points on
 //! each pair's contact-ellipse major axis from the point TCA, strip Hertz
 //! near field, the contact QP; tensors of the bodies at flank 1.5 mm, base
 //! 6 mm) against FE contact (`flank::mesh_cycle::bevel`, hard contact,
@@ -22,7 +22,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use flank::compliance::body::BodyMeshOptions;
-use flank::ltca::bevel::{BevelLtca, BevelLtcaOptions};
+use flank::ltca::cycle::{LtcaCycle, LtcaOptions};
 use flank::mesh::bevel_sector::BevelSectorOptions;
 use flank::mesh_cycle::bevel::{BevelCycle, BevelRunOptions};
 use flank::scene::{read_scene, Scene};
@@ -44,9 +44,9 @@ fn seed003_ltca_against_fe_contact() {
     let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("ltca_hypoid");
     let _ = std::fs::remove_dir_all(&work);
     let t = Instant::now();
-    let ltca = BevelLtca::new(
+    let ltca = LtcaCycle::new(
         &sc,
-        &BevelLtcaOptions {
+        &LtcaOptions {
             out: work.clone(),
             mesh: BodyMeshOptions {
                 flank_size: Some(1.5),
@@ -77,13 +77,14 @@ fn seed003_ltca_against_fe_contact() {
     let setup_fe = t.elapsed().as_secs_f64();
     println!(
         "setup: LTCA {setup_ltca:.1} s (tensors {:.1} s, TCA {:.2} s), FE {setup_fe:.1} s",
-        ltca.compliance_s, ltca.tca_s
+        ltca.setup.compliance_s,
+        ltca.point().unwrap().trace_s
     );
     println!("| roll (°) | pair | share LTCA | share FE | diff | force LTCA (N) | force FE (N) |");
     println!("|---|---|---|---|---|---|---|");
     let mut rows = Vec::new();
     // the TCA grid positions nearest to −5, 0, +5 twentieths of the cycle
-    let step = ltca.cycle_deg() / 20.0;
+    let step = ltca.point().unwrap().cycle_deg() / 20.0;
     for roll in [-5.0 * step, 0.0, 5.0 * step] {
         let t = Instant::now();
         let r = ltca.solve(roll).unwrap();
@@ -142,7 +143,7 @@ fn seed003_frictional_ltca_cross_checks() {
     let sc = scene();
     let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("ltca_hypoid_friction");
     let _ = std::fs::remove_dir_all(&work);
-    let base = BevelLtcaOptions {
+    let base = LtcaOptions {
         out: work.clone(),
         mesh: BodyMeshOptions {
             flank_size: Some(2.0),
@@ -150,14 +151,14 @@ fn seed003_frictional_ltca_cross_checks() {
             with_load: false,
             element: None,
         },
-        points_per_pair: 15,
+        points_per_line: Some(15),
         threads: 2,
         ..Default::default()
     };
-    let frictionless = BevelLtca::new(&sc, &base).unwrap();
+    let frictionless = LtcaCycle::new(&sc, &base).unwrap();
     let r0 = frictionless.solve(0.0).unwrap();
     // μ = 0 through the friction solver
-    let mut zero = base.clone();
+    let mut zero = LtcaCycle::new(&sc, &base).unwrap();
     zero.settings.friction = Some(LtcaFriction {
         mu: 0.0,
         options: FrictionOptions {
@@ -168,7 +169,7 @@ fn seed003_frictional_ltca_cross_checks() {
         cross_check: false,
         model: Default::default(),
     });
-    let rz = BevelLtca::new(&sc, &zero).unwrap().solve(0.0).unwrap();
+    let rz = zero.solve(0.0).unwrap();
     let pmax0 = r0.points.iter().map(|p| p.force_n).fold(0.0f64, f64::max);
     let dz = r0
         .points
@@ -181,11 +182,11 @@ fn seed003_frictional_ltca_cross_checks() {
     assert!(dz <= 1e-10 && dte <= 1e-10, "{dz} {dte}");
     // μ = 0.07 by both solvers
     let mu = 0.07;
-    let with = BevelLtca::new(
+    let with = LtcaCycle::new(
         &sc,
-        &BevelLtcaOptions {
-            friction_mu: mu,
-            increments: 10,
+        &LtcaOptions {
+            friction_mu: Some(mu),
+            increments: Some(10),
             cross_check: true,
             ..base.clone()
         },
@@ -252,15 +253,15 @@ fn seed003_friction_effect_against_fe_contact() {
         element: None,
     };
     let ltca = |friction_mu: f64| {
-        let o = BevelLtcaOptions {
+        let o = LtcaOptions {
             out: work.clone(),
             mesh,
-            friction_mu,
-            increments: 10,
+            friction_mu: Some(friction_mu),
+            increments: (friction_mu > 0.0).then_some(10),
             threads: 2,
             ..Default::default()
         };
-        let l = BevelLtca::new(&sc, &o).unwrap();
+        let l = LtcaCycle::new(&sc, &o).unwrap();
         let r = l.solve(0.0).unwrap();
         let forces = l.pair_forces(&r);
         (r.roll_deg, forces, l.te_arcsec(&r))

@@ -148,8 +148,8 @@ fn check_tables(standstill_varied: bool) {
         )
         .unwrap();
         let np = c.pair.sector_teeth();
-        let (a, e) = c.pair.engagement(c.pair.middle());
-        let (l, h) = c.pair.single_contact();
+        let (a, e) = c.line_pair().unwrap().engagement(c.pair.middle());
+        let (l, h) = c.line_pair().unwrap().single_contact();
         for roll in [
             0.5 * (a + l).to_degrees(),
             0.5 * (l + h).to_degrees(),
