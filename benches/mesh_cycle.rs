@@ -54,7 +54,7 @@ fn bench(c: &mut Criterion) {
         cyc.system.stats.dofs,
         cyc.system.stats.nnz_factor
     );
-    let (lpstc, hpstc) = cyc.gear_pair.single_contact();
+    let (lpstc, hpstc) = cyc.line_pair().unwrap().single_contact();
     let single = 0.5 * (lpstc + hpstc).to_degrees();
     let mut g = c.benchmark_group("mesh_cycle_0.75mm");
     g.sample_size(10);

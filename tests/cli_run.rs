@@ -329,8 +329,8 @@ fn seed003_hypoid_run_writes_balanced_positions() {
         .as_array()
         .unwrap()
         .iter()
-        .flat_map(|st| st["closed_nodes"].as_array().unwrap().iter())
-        .map(|x| x.as_u64().unwrap())
+        .flat_map(|st| st["patch"].as_array().unwrap().iter())
+        .map(|p| p["closed_nodes"].as_u64().unwrap())
         .sum();
     let pattern = std::fs::read_to_string(out.join("contact_pattern.csv")).unwrap();
     assert!(closed > 0);

@@ -1,7 +1,7 @@
 //! `flank compare` on a bevel/hypoid scene (issue 19 point 5): the hypoid
 //! LTCA ([`crate::ltca::cycle`], at several K on the tensors of one
 //! compliance mesh) against FE contact of the hypoid pair
-//! ([`crate::mesh_cycle::bevel`], hard contact, at several flank sizes) at
+//! ([`crate::mesh_cycle::cycle::MeshCycle`], hard contact, at several flank sizes) at
 //! the same roll angles, the finest FE the reference; the errors, times and
 //! files of the spur/helical comparison ([`super`]), with the TE as the
 //! pinion's loaded rotation (µrad; its relative error is the same at the
@@ -25,7 +25,8 @@ use std::time::Instant;
 use crate::error::FlankError;
 use crate::ltca::cycle::{LtcaCycle, LtcaOptions};
 use crate::mesh::bevel_sector::BevelSectorOptions;
-use crate::mesh_cycle::bevel::{BevelCycle, BevelRunOptions};
+use crate::mesh_cycle::bevel_checks::checked_cycle;
+use crate::mesh_cycle::cycle::RunSettings;
 use crate::scene::Scene;
 use crate::settings::EdgeVariants;
 
@@ -126,49 +127,40 @@ pub fn compare_bevel(
         // the inputs `flank run` refuses are refused here too (a sector too
         // small for the pairs in mesh at these angles, interpenetrating
         // unloaded bodies): FE numbers of such a model are not a reference
-        let cycle = BevelCycle::checked(
-            scene,
-            &BevelRunOptions {
-                mesh: BevelSectorOptions {
-                    flank_size: h,
-                    base_size: options
-                        .fe_base_size
-                        .or(scene.mesh.base_size)
-                        .unwrap_or(bevel.blank.cones.m_mn / 2.0)
-                        .max(h),
-                    ..Default::default()
-                },
-                threads: options.threads.max(1),
-                friction_mu: mu,
-                ..Default::default()
-            },
-            &angles,
-        )?
-        .cycle;
+        let mesh = BevelSectorOptions {
+            flank_size: h,
+            base_size: options
+                .fe_base_size
+                .or(scene.mesh.base_size)
+                .unwrap_or(bevel.blank.cones.m_mn / 2.0)
+                .max(h),
+            ..Default::default()
+        };
+        let settings = RunSettings {
+            friction_mu: mu,
+            roll_angles_deg: angles.clone(),
+            ..RunSettings::default_for(scene)
+        };
+        let cycle = checked_cycle(scene, &mesh, settings, options.threads.max(1), &angles)?.cycle;
         let setup_s = t.elapsed().as_secs_f64();
         let t = Instant::now();
         let steps: Vec<_> = angles
             .iter()
-            .map(|&a| cycle.solve(a))
+            .map(|&a| cycle.solve(a).map(|s| s.step))
             .collect::<Result<_, _>>()?;
         let cycle_s = t.elapsed().as_secs_f64();
-        let ratio = bevel.blank.z1 / bevel.blank.z2;
         fe.push(MethodRun {
             method: "fe_contact".into(),
             label: format!("FE flank {h} mm"),
             points_per_line: None,
             flank_size_mm: Some(h),
-            nodes: Some(cycle.model.model.mesh.node_count()),
+            nodes: Some(cycle.pair.model.mesh.node_count()),
             pair_force_n: steps.iter().map(|s| s.pair_force_n.clone()).collect(),
             pair_tangential_n: steps
                 .iter()
                 .map(|s| per_pair(&s.friction_force_n, s.pair_force_n.len()))
                 .collect(),
-            // the pinion's loaded rotation (µrad) from the TE at the gear
-            te_urad: steps
-                .iter()
-                .map(|s| crate::load_sharing::te_urad_at_pinion(s.te_arcsec, ratio))
-                .collect(),
+            te_urad: steps.iter().map(|s| s.te_urad).collect(),
             pmax_mpa: steps
                 .iter()
                 .map(|s| s.max_pressure_mpa.iter().copied().fold(0.0, f64::max))

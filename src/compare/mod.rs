@@ -32,7 +32,6 @@ use std::time::Instant;
 
 use crate::compliance::body::BodyMeshOptions;
 use crate::error::FlankError;
-use crate::geometry::gear_pair::LineContactPair;
 use crate::ltca::cycle::{LtcaCycle, LtcaOptions};
 use crate::ltca::model::PositionResult;
 use crate::mesh_cycle::run::{settings, RunOptions};
@@ -260,7 +259,6 @@ fn ltca_run(cycle: &LtcaCycle, angles: &[f64]) -> Result<MethodRun, FlankError> 
 /// slave of every pair at every position is recorded.
 fn fe_run(
     scene: &Scene,
-    pair: &dyn LineContactPair,
     (size, base): (f64, Option<f64>),
     angles: &[f64],
     threads: usize,
@@ -276,7 +274,7 @@ fn fe_run(
         quiet: true,
         ..Default::default()
     };
-    let s = settings(scene, pair, &o)?;
+    let s = settings(scene, &o)?;
     let mesh = BodyMeshOptions {
         flank_size: Some(size),
         base_size: base,
@@ -338,7 +336,6 @@ fn fe_run(
 /// runs; runs cached under an older slave rule are not reused).
 fn fe_run_cached(
     scene: &Scene,
-    pair: &dyn LineContactPair,
     (size, base): (f64, Option<f64>),
     angles: &[f64],
     threads: usize,
@@ -361,7 +358,7 @@ fn fe_run_cached(
             return Ok((r, true));
         }
     }
-    let r = fe_run(scene, pair, (size, base), angles, threads, friction_mu)?;
+    let r = fe_run(scene, (size, base), angles, threads, friction_mu)?;
     std::fs::create_dir_all(dir).map_err(|e| FlankError::io(dir, e))?;
     let t = serde_json::to_string(&r).map_err(|e| FlankError::Model(e.to_string()))?;
     crate::atomic_file::write(&file, t)?;
@@ -408,7 +405,6 @@ pub fn compare_cylindrical(
         ));
         let (r, cached) = fe_run_cached(
             scene,
-            pair,
             (h, options.fe_base_size),
             &angles,
             options.threads,
@@ -485,7 +481,6 @@ pub fn compare_cylindrical(
     let ltca_mu = base.settings.friction.as_ref().map_or(0.0, |f| f.mu);
     let fe_mu = settings(
         scene,
-        pair,
         &RunOptions {
             roll_angles_deg: Some(angles.clone()),
             friction_mu: options.friction_mu,

@@ -1,6 +1,6 @@
 //! `flank run` on a bevel/hypoid scene ([`run_bevel`]): the checked and
-//! factorized [`BevelCycle`] over the roll angles with checkpoints, and its
-//! files: `mesh_cycle.csv` and `positions.csv` with the columns of every
+//! factorized [`MeshCycle`] ([`checked_cycle`]) over the roll angles with
+//! checkpoints, and its files: `mesh_cycle.csv` and `positions.csv` with the columns of every
 //! pair kind ([`crate::mesh_cycle::outputs`]), `contact_pattern.csv`, the
 //! pattern plots and summary.json ([`RunSummary`]).
 
@@ -8,15 +8,13 @@ use crate::contact::PressureOverclosure;
 use crate::error::FlankError;
 use crate::geometry::gear_pair::GearPair;
 use crate::iteration_limits::IterationLimits;
-use crate::load_sharing::te_urad_at_pinion;
-use crate::mesh_cycle::bevel::{
-    BevelCycle, BevelRunOptions, BevelStep, CheckedCycle, DEFAULT_POSITIONS,
-};
-use crate::mesh_cycle::bevel_checks as checks;
+use crate::mesh_cycle::bevel_checks::{self as checks, checked_cycle, CheckedCycle};
 use crate::mesh_cycle::checkpoint::{self, Checkpoint, Position};
-use crate::mesh_cycle::outputs::{self, PairRecord, PositionRecord};
+use crate::mesh_cycle::cycle::{RunSettings, StepResult};
+use crate::mesh_cycle::options::RunOptions;
+use crate::mesh_cycle::outputs::{self, position_records};
 use crate::mesh_cycle::summary::{
-    peak_to_peak, BevelLaw, BevelRun, BevelRunStep, RunFiles, RunKind, RunSummary, SCHEMA_VERSION,
+    peak_to_peak, BevelLaw, BevelRun, RunFiles, RunKind, RunSummary, SCHEMA_VERSION,
 };
 use crate::report::fe_pattern::{plot_fe_pattern, PatternNode};
 use crate::scene::Scene;
@@ -26,7 +24,7 @@ use crate::settings::SlaveBody;
 /// pattern (which summary.json leaves out).
 #[derive(Clone, serde::Serialize, serde::Deserialize)]
 struct KeptStep {
-    step: BevelStep,
+    step: StepResult,
     pattern: Vec<PatternNode>,
 }
 
@@ -36,63 +34,71 @@ impl Position for KeptStep {
     }
 }
 
-/// `flank run` on a bevel/hypoid scene: the pair factorized once, then
-/// `roll_angles_deg` (default: [`DEFAULT_POSITIONS`] positions over one
-/// mesh cycle centred on roll 0, the middle pair at the mean point);
-/// writes `mesh_cycle.csv` (per position), `positions.csv` (per position
-/// and tooth pair), `contact_pattern.csv`, the pattern plots and
-/// `summary.json` into `out` and returns the summary.
+/// `flank run` on a bevel/hypoid scene with the merged `settings`
+/// ([`crate::mesh_cycle::run::settings`]; `options` gives the mesh,
+/// threads, output folder, decks and resume): the pair factorized once
+/// after its input checks, then the settings' roll angles (by default
+/// [`checks::DEFAULT_POSITIONS`] positions over one mesh cycle centred on
+/// roll 0, the middle pair at the mean point); writes `mesh_cycle.csv`
+/// (per position), `positions.csv` (per position and tooth pair),
+/// `contact_pattern.csv`, the pattern plots and `summary.json` into
+/// `options.out` and returns the summary.
 pub fn run_bevel(
     scene: &Scene,
-    options: &BevelRunOptions,
-    roll_angles_deg: Option<Vec<f64>>,
-    out: &std::path::Path,
+    settings: RunSettings,
+    options: &RunOptions,
 ) -> Result<RunSummary, FlankError> {
     let bevel = scene.bevel("the bevel/hypoid FE mesh cycle")?;
     use std::io::Write;
-    checks::check_torque(scene)?;
+    crate::mesh_cycle::pair_model::check_torque(scene)?;
+    let out = options.out.as_path();
     let pitch = bevel.pair.tooth_roll_step().abs().to_degrees();
     // the functional contact ratio needs the default cycle (positions
     // spread evenly over one pitch)
-    let default_cycle = roll_angles_deg.is_none();
-    let rolls = roll_angles_deg.unwrap_or_else(|| {
-        (0..DEFAULT_POSITIONS)
-            .map(|i| -0.5 * pitch + pitch * i as f64 / DEFAULT_POSITIONS as f64)
-            .collect()
-    });
-    if let Some(r) = rolls.iter().find(|r| !r.is_finite()) {
-        return Err(FlankError::Model(format!("roll angle {r} is not a number")));
-    }
+    let default_cycle = options.roll_angles_deg.is_none()
+        && scene
+            .analyses
+            .contact
+            .as_ref()
+            .is_none_or(|a| a.roll_angles_deg.is_none());
+    let rolls = settings.roll_angles_deg.clone();
+    let mesh = crate::compliance::body::bevel_sector_options(scene, &options.mesh)?;
+    let threads = if options.threads == 0 {
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    } else {
+        options.threads
+    };
     let CheckedCycle {
         cycle,
         unloaded,
         warnings: run_warnings,
         checks_s,
         factorization_s,
-    } = BevelCycle::checked(scene, options, &rolls)?;
+    } = checked_cycle(scene, &mesh, settings, threads, &rolls)?;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
     // every position is kept in checkpoint.json as it is solved; SIGINT is
     // polled between positions (the spur cycle's protocol)
-    let settings = format!(
+    let s = &cycle.settings;
+    let key_settings = format!(
         "{:?}",
         (
-            options.search_distance_mm,
-            &options.law,
-            options.penalty_factor,
-            options.friction_mu
+            s.search_distance_mm,
+            &s.law,
+            s.penalty_factor,
+            s.friction_mu
         )
     );
-    let key = checkpoint::key(&scene.source, &options.mesh, &settings);
+    let key = checkpoint::key(&scene.source, &mesh, &key_settings);
     let mut kept: Checkpoint<KeptStep> = Checkpoint::open(out, key, options.resume)?;
-    let mut steps: Vec<BevelStep> = Vec::with_capacity(rolls.len());
+    let mut steps: Vec<StepResult> = Vec::with_capacity(rolls.len());
     for &r in &rolls {
         let step = match kept.take(r)? {
-            Some(k) => BevelStep {
+            Some(k) => StepResult {
                 pattern: k.pattern,
                 ..k.step
             },
             None => {
-                let step = cycle.solve(r)?;
+                let step = cycle.solve(r)?.step;
                 kept.record(&KeptStep {
                     pattern: step.pattern.clone(),
                     step: step.clone(),
@@ -119,12 +125,8 @@ pub fn run_bevel(
             cycle.write_deck(r, &out.join(name))?;
         }
     }
-    let ratio = cycle.pair.ratio();
-    let records: Vec<PositionRecord> = steps
-        .iter()
-        .map(|st| position_record(st, &cycle.model.teeth, ratio))
-        .collect();
-    let np = cycle.model.teeth.len();
+    let records = position_records(&cycle, &steps);
+    let np = cycle.pair.teeth.len();
     outputs::write_mesh_cycle_csv(&out.join("mesh_cycle.csv"), np, &records)?;
     outputs::write_positions_csv(&out.join("positions.csv"), &records)?;
     // the contact pattern: every loaded node of every position
@@ -149,7 +151,7 @@ pub fn run_bevel(
     }
     w.commit()?;
     let pattern: Vec<PatternNode> = steps.iter().flat_map(|s| s.pattern.clone()).collect();
-    let plots = plot_fe_pattern(out, cycle.pair.as_ref(), &pattern)?;
+    let plots = plot_fe_pattern(out, cycle.gear_pair.as_ref(), &pattern)?;
     let interference = steps
         .iter()
         .flat_map(|s| s.min_initial_gap_mm.iter())
@@ -181,13 +183,13 @@ pub fn run_bevel(
             crate::load_sharing::cycle_sharing(&forces, pitch)
         })
         .flatten();
-    let torque = cycle.torque;
+    let torque = cycle.torque_nmm();
     let stats = &cycle.system.stats;
-    let nodes = cycle.model.model.mesh.node_count();
-    let law = match cycle.model.model.contact.interactions[0].behavior {
+    let nodes = cycle.pair.model.mesh.node_count();
+    let law = match cycle.pair.model.contact.interactions[0].behavior {
         Some(PressureOverclosure::Linear { slope: Some(s), .. }) => BevelLaw::Penalty {
             slope_mpa_per_mm: s,
-            factor: options.penalty_factor,
+            factor: cycle.settings.penalty_factor,
         },
         _ => BevelLaw::Hard,
     };
@@ -214,25 +216,18 @@ pub fn run_bevel(
             .fold(0.0, f64::max),
         max_moment_balance: steps
             .iter()
-            .map(|s| s.moment_balance.abs())
+            .filter_map(|s| s.moment_balance.map(f64::abs))
             .fold(0.0, f64::max),
         plots: plots.clone(),
         law,
         slave: SlaveBody::Pinion,
-        friction_mu: options.friction_mu,
+        friction_mu: cycle.settings.friction_mu,
         max_coulomb_residual: steps.iter().map(|s| s.coulomb_residual).fold(0.0, f64::max),
         friction_not_converged: steps
             .iter()
             .filter(|s| s.friction_converged == Some(false))
             .count(),
-        steps: steps
-            .iter()
-            .zip(&records)
-            .map(|(s, r)| BevelRunStep {
-                step: s.clone(),
-                te_urad: r.te_urad,
-            })
-            .collect(),
+        steps: steps.clone(),
     };
     let summary = RunSummary {
         schema_version: SCHEMA_VERSION,
@@ -241,8 +236,8 @@ pub fn run_bevel(
         positions: steps.len(),
         resumed_positions: resumed,
         nodes,
-        nodes_per_body: cycle.model.nodes,
-        elements_per_body: cycle.model.elements,
+        nodes_per_body: cycle.pair.nodes,
+        elements_per_body: cycle.pair.elements,
         dofs: 3 * nodes,
         nnz_factor: stats.nnz_factor,
         factorization_flops: stats.flops,
@@ -254,8 +249,8 @@ pub fn run_bevel(
         te_peak_to_peak_urad: peak_to_peak(records.iter().map(|r| r.te_urad)),
         te_peak_to_peak_arcsec: peak_to_peak(steps.iter().map(|s| s.te_arcsec)),
         iteration_limits: loops,
-        tooth_pairs: cycle.model.teeth.clone(),
-        kinematics: cycle.pair.describe(),
+        tooth_pairs: cycle.pair.teeth.clone(),
+        kinematics: cycle.gear_pair.describe(),
         files: RunFiles {
             csv: "mesh_cycle.csv",
             positions_csv: "positions.csv",
@@ -269,41 +264,4 @@ pub fn run_bevel(
     crate::atomic_file::write(&out.join("summary.json"), summary.to_json_text()? + "\n")?;
     kept.remove()?;
     Ok(summary)
-}
-
-/// A solved bevel position as the files of both pair kinds hold it: the
-/// figures only cylindrical pairs have (kinematic position on the line of
-/// action, TE along it, Delassus columns, equilibrium residual, reference
-/// roll) are left out; the slave is always the pinion.
-fn position_record(st: &BevelStep, teeth: &[(usize, usize)], ratio: f64) -> PositionRecord {
-    PositionRecord {
-        roll_deg: st.roll_deg,
-        reference_deg: None,
-        pairs: (0..st.pair_force_n.len())
-            .map(|p| PairRecord {
-                pinion_tooth: teeth[p].0,
-                gear_tooth: teeth[p].1,
-                force_n: st.pair_force_n[p],
-                load_share: st.load_share[p],
-                position_mm: None,
-                max_pressure_mpa: st.max_pressure_mpa[p],
-                closed_nodes: st.closed_nodes[p],
-                slave: SlaveBody::Pinion,
-                friction_n: st.friction_force_n.get(p).copied().unwrap_or(0.0),
-                pinion_tip_edge: Some(st.pinion_tip_edge[p]),
-                min_initial_gap_mm: Some(st.min_initial_gap_mm[p]),
-            })
-            .collect(),
-        te_urad: te_urad_at_pinion(st.te_arcsec, ratio),
-        te_arcsec: st.te_arcsec,
-        te_um: None,
-        candidates: st.candidates,
-        iterations: st.active_set_iterations,
-        columns: None,
-        max_violation_mm: st.max_violation_mm,
-        complementarity: st.complementarity,
-        equilibrium: None,
-        moment_balance: Some(st.moment_balance),
-        time_s: st.time_s,
-    }
 }

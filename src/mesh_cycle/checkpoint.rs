@@ -1,8 +1,7 @@
 //! The positions of a `flank run` solved so far, kept on disk so that an
 //! interrupted run (SIGINT, a kill, a lost node) resumes where it stopped.
-//! One format for both mesh cycles: the cylindrical one ([`StepResult`])
-//! and the hypoid one ([`crate::mesh_cycle::bevel::BevelStep`]), through
-//! [`Position`].
+//! One format for every pair kind's positions ([`StepResult`], or what a
+//! run keeps beside it), through [`Position`].
 //!
 //! `OUT/checkpoint.json` holds `{"format": 1, "key": …, "steps": [...]}`:
 //! every position solved so far (its whole result), rewritten

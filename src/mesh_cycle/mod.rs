@@ -5,23 +5,29 @@
 //! ```text
 //! pair_model  both sectors in one model (own frames), pinion hub coupled
 //!             to a torque-loaded reference node, gear hub clamped,
-//!             one contact pair per tooth pair (right flanks)
-//! cycle       factorize once; per roll angle: place, pair, solve the
-//!             condensed contact problem; force per pair, pressure, patch
-//! run         `flank run`: options, the cycle over the roll angles,
+//!             one contact pair per tooth pair (right flanks); the
+//!             cylindrical sector meshes or the bevel sector meshes
+//! cycle       one MeshCycle for every pair kind: factorize once; per roll
+//!             angle: place, pair, solve the condensed contact problem;
+//!             one StepResult (force per pair, TE in µrad and arcsec,
+//!             pressure, patch; the path position of line contact, the
+//!             tip edge, moment balance and pattern of point contact)
+//! options     `flank run`'s options and their one merge for every pair
+//!             kind (`settings`: command line > scene > default)
+//! run         `flank run`: the cylindrical cycle over the roll angles,
 //!             load sharing, transmission error, contact ratio,
 //!             single-pair force; checkpoints; CSV, summary.json, VTU,
 //!             plots (`report::cycle_plot`)
-//! bevel       a bevel/hypoid pair's FE contact at a roll angle (the
-//!             bevel sector meshes, the same pair model and solver)
 //! bevel_run   `flank run` on a bevel/hypoid scene: the checked cycle
-//!             over the roll angles, checkpoints, files, summary
+//!             over one mesh cycle, checkpoints, contact pattern, files,
+//!             summary
 //! outputs     mesh_cycle.csv and positions.csv, the same columns for
 //!             every pair kind, from one record per position
 //! summary     summary.json as a typed struct (`RunSummary`), the keys
 //!             of both kinds and each kind's own
-//! bevel_checks  the bad inputs a hypoid run refuses before factorizing:
-//!             no torque, a sector too small, interpenetrating bodies
+//! bevel_checks  the bad inputs a hypoid run refuses before factorizing
+//!             (a sector too small, interpenetrating bodies) and the
+//!             checked cycle built after them
 //! contact_band  FE contact per roll angle on meshes with contact bands
 //!             (finer involute rows around the contact points): p_max
 //!             against Hertz, elements across 2b (`flank run --contact-band`)
@@ -32,13 +38,13 @@
 //! The pair's kinematics (frames, tooth pairs, kinematic contact) come
 //! from the gear-pair interface ([`crate::geometry::gear_pair`]).
 
-pub mod bevel;
 pub mod bevel_checks;
 pub mod bevel_run;
 pub mod checkpoint;
 pub mod contact_band;
 pub mod cycle;
 pub mod lubricated;
+pub mod options;
 pub mod outputs;
 pub mod pair_model;
 pub mod run;

@@ -14,6 +14,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::error::FlankError;
+use crate::mesh_cycle::cycle::{MeshCycle, StepResult};
 use crate::settings::SlaveBody;
 
 /// One tooth pair at one position.
@@ -221,6 +222,50 @@ pub fn write_mesh_cycle_csv(
 /// Writes `positions.csv` to `path`.
 pub fn write_positions_csv(path: &Path, records: &[PositionRecord]) -> Result<(), FlankError> {
     crate::atomic_file::write(path, positions_csv(records))
+}
+
+/// The positions as the files of every pair kind hold them: what a kind
+/// does not have is an empty cell (point contact: the position on the
+/// line of action, TE along it, the reference roll; line contact: the
+/// tip edge and the moment balance).
+pub fn position_records(cycle: &MeshCycle, steps: &[StepResult]) -> Vec<PositionRecord> {
+    steps
+        .iter()
+        .map(|st| PositionRecord {
+            roll_deg: st.roll_deg,
+            reference_deg: st.reference_deg,
+            pairs: (0..st.pair_force_n.len())
+                .map(|p| PairRecord {
+                    pinion_tooth: cycle.pair.teeth[p].0,
+                    gear_tooth: cycle.pair.teeth[p].1,
+                    force_n: st.pair_force_n[p],
+                    load_share: st.load_share[p],
+                    position_mm: st.kinematic_position_mm.get(p).copied(),
+                    max_pressure_mpa: st.max_pressure_mpa[p],
+                    closed_nodes: st.patch[p].closed_nodes,
+                    slave: st.slave[p],
+                    friction_n: st.friction_force_n[p],
+                    pinion_tip_edge: st.pinion_tip_edge.as_ref().map(|e| e[p]),
+                    min_initial_gap_mm: st
+                        .min_initial_gap_mm
+                        .get(p)
+                        .copied()
+                        .filter(|g| g.is_finite()),
+                })
+                .collect(),
+            te_urad: st.te_urad,
+            te_arcsec: st.te_arcsec,
+            te_um: st.te_um,
+            candidates: st.candidates,
+            iterations: st.active_set_iterations,
+            columns: Some(st.delassus_columns),
+            max_violation_mm: st.max_violation_mm,
+            complementarity: st.complementarity,
+            equilibrium: Some(st.equilibrium),
+            moment_balance: st.moment_balance,
+            time_s: st.time_s,
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -17,6 +17,8 @@ use crate::error::FlankError;
 use crate::fem::mesh::Mesh;
 use crate::fem::model::{Dirichlet, Model, RigidCoupling};
 use crate::geometry::gear_pair::{GearPair, LineContactPair};
+use crate::mesh::bevel_body::bevel_body_model;
+use crate::mesh::bevel_sector::BevelSectorOptions;
 use crate::scene::Scene;
 use crate::settings::SlaveBody;
 
@@ -71,6 +73,55 @@ pub fn pair_model(
         law,
         slave,
     )
+}
+
+/// The pair model of a bevel/hypoid `scene`: both members meshed by the
+/// bevel sector mesher with `mesh`, kept in their own frames, hard
+/// contact, the pinion's drive flanks as slaves (a penalty law and
+/// friction are set by [`crate::mesh_cycle::cycle::MeshCycle::of_pair`]).
+pub fn bevel_pair_model(scene: &Scene, mesh: &BevelSectorOptions) -> Result<PairModel, FlankError> {
+    let bevel = scene.bevel("the bevel/hypoid FE mesh cycle")?;
+    check_torque(scene)?;
+    let pinion = bevel_body_model(
+        &bevel.bodies[0],
+        "pinion",
+        &scene.pinion_material,
+        &mesh.member(true),
+        None,
+    )?;
+    let gear = bevel_body_model(
+        &bevel.bodies[1],
+        "gear",
+        &scene.gear_material,
+        &mesh.member(false),
+        None,
+    )?;
+    combine(
+        bevel.pair.as_ref(),
+        [
+            PairBody::of("pinion", &pinion.model, &pinion.sector.flank_uv),
+            PairBody::of("gear", &gear.model, &gear.sector.flank_uv),
+        ],
+        scene.load.torque_nmm,
+        PressureOverclosure::Hard,
+        SlaveBody::Pinion,
+    )
+}
+
+/// `load.torque_nm` of a bevel/hypoid scene must load the pairs: a zero
+/// torque leaves every pair unloaded and the pinion's rotation
+/// undetermined (a negative one is refused when the scene is read).
+pub fn check_torque(scene: &Scene) -> Result<(), FlankError> {
+    let bevel = scene.bevel("the bevel/hypoid FE mesh cycle")?;
+    let t = scene.load.torque_nmm;
+    if !(t > 0.0 && t.is_finite()) {
+        return Err(FlankError::Model(format!(
+            "{}: `load.torque_nm` = {}: FE contact needs a positive pinion torque; with none every tooth pair is unloaded and the pinion's rotation is not determined",
+            scene.at(bevel.lines.torque),
+            t / 1000.0
+        )));
+    }
+    Ok(())
 }
 
 /// One body of a pair model: its name, its clamped model (mesh, material,

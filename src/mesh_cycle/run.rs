@@ -6,216 +6,26 @@
 //! contact pressure and patch, contact ratio, single-pair force) written
 //! as CSV, summary.json, VTU and plots.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
-use crate::compliance::body::BodyMeshOptions;
 use crate::contact::pairing::NormalLaw;
 use crate::contact::PressureOverclosure;
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
 
-use crate::geometry::gear_pair::LineContactPair;
 use crate::load_sharing::{te_arcsec_at_gear, LOADED_FRACTION};
-use crate::mesh_cycle::bevel::BevelRunOptions;
 use crate::mesh_cycle::bevel_run::run_bevel;
 use crate::mesh_cycle::checkpoint::{self, Checkpoint};
-use crate::mesh_cycle::cycle::{
-    default_roll_angles, iteration_limits, MeshCycle, RunSettings, Solved, StepResult,
-    ILL_CONDITIONED,
-};
-use crate::mesh_cycle::outputs::{self, PairRecord, PositionRecord};
+use crate::mesh_cycle::cycle::{iteration_limits, MeshCycle, Solved, StepResult, ILL_CONDITIONED};
+use crate::mesh_cycle::outputs::{self, position_records};
 use crate::mesh_cycle::summary::{
-    peak_to_peak, CylindricalRun, CylindricalStep, RunFiles, RunKind, RunSummary, SCHEMA_VERSION,
+    peak_to_peak, CylindricalRun, RunFiles, RunKind, RunSummary, SCHEMA_VERSION,
 };
 use crate::report::vtu::{vtu_name, write_vtu, PointField};
-use crate::scene::{read_scene, ContactAnalysis, Scene};
-use crate::settings::{ContactLaw, SlaveBody};
+use crate::scene::{read_scene, Scene};
 
-/// Options of [`run_scene`]; `None` falls back to the scene's
-/// `[analyses.contact]`, then to the defaults.
-#[derive(Clone, Debug, Default)]
-pub struct RunOptions {
-    pub out: PathBuf,
-    pub mesh: BodyMeshOptions,
-    pub threads: usize,
-    /// Roll angles (deg, flank's convention); overrides the scene's.
-    pub roll_angles_deg: Option<Vec<f64>>,
-    /// Roll angles in the scene's reference convention
-    /// (`reference_single_contact_start_deg`); overrides the scene's.
-    pub reference_angles_deg: Option<Vec<f64>>,
-    pub law: Option<ContactLaw>,
-    pub penalty_factor: Option<f64>,
-    pub slave: Option<SlaveBody>,
-    /// Coulomb friction coefficient; overrides the scene's `friction_mu`.
-    pub friction_mu: Option<f64>,
-    /// Write a VTU file per position.
-    pub vtu: Option<bool>,
-    /// Write a CalculiX deck per position (the pair model moved to its
-    /// placed coordinates, `roll_…deg.inp`), to run the same contact problem
-    /// in ccx.
-    pub decks: bool,
-    /// Bisect the middle pair's first and last loaded roll angles.
-    pub refine_contact_limits: Option<bool>,
-    pub quiet: bool,
-    /// Take the positions of `out/checkpoint.json` left by an interrupted
-    /// run of the same scene and options ([`super::checkpoint`]).
-    pub resume: bool,
-}
-
-/// The FE contact options of a bevel/hypoid run: each from `o` (the
-/// command line), else the scene's `[analyses.contact] friction_mu`, else
-/// the default (hard contact, penalty factor 1, frictionless, all cores);
-/// the bevel sector mesh from `o.mesh` and the scene's `[mesh]`
-/// ([`crate::compliance::body::bevel_sector_options`]). Options a bevel
-/// run does not have yet are refused: reference angles (the seeds'
-/// convention is that of cylindrical pairs) and the gear as slave.
-pub fn bevel_options(scene: &Scene, o: &RunOptions) -> Result<BevelRunOptions, FlankError> {
-    let refuse = |m: String| Err(FlankError::Model(m));
-    let unsupported = [
-        (o.reference_angles_deg.is_some(), "--reference-angles"),
-        (o.slave.is_some(), "--slave"),
-    ];
-    if let Some((_, name)) = unsupported.iter().find(|(given, _)| *given) {
-        return refuse(format!(
-            "{name}: not available for bevel and hypoid scenes yet (their FE contact has the pinion as slave)"
-        ));
-    }
-    let friction_mu = o
-        .friction_mu
-        .or(scene.analyses.contact.as_ref().and_then(|c| c.friction_mu))
-        .unwrap_or(0.0);
-    if !(0.0..=1.0).contains(&friction_mu) {
-        return refuse(format!("--friction-mu {friction_mu}: must be in 0…1"));
-    }
-    let penalty_factor = o.penalty_factor.unwrap_or(1.0);
-    if !(penalty_factor > 0.0 && penalty_factor.is_finite()) {
-        return refuse(format!(
-            "--penalty-factor {penalty_factor}: a positive finite factor is needed"
-        ));
-    }
-    let mesh = crate::compliance::body::bevel_sector_options(scene, &o.mesh)?;
-    let threads = if o.threads == 0 {
-        std::thread::available_parallelism().map_or(1, |n| n.get())
-    } else {
-        o.threads
-    };
-    Ok(BevelRunOptions {
-        mesh,
-        law: o.law.unwrap_or(ContactLaw::Hard),
-        penalty_factor,
-        decks: o.decks,
-        resume: o.resume,
-        friction_mu,
-        threads,
-        ..Default::default()
-    })
-}
-
-/// Resolves the run's settings from the options, the scene's
-/// `[analyses.contact]` and the defaults.
-pub fn settings(
-    scene: &Scene,
-    pair: &dyn LineContactPair,
-    o: &RunOptions,
-) -> Result<RunSettings, FlankError> {
-    let a = scene.analyses.contact.clone().unwrap_or_default();
-    let law = o.law.or(a.law).unwrap_or_default();
-    let penalty_factor = o.penalty_factor.or(a.penalty_factor).unwrap_or(1.0);
-    let mut friction_mu = o.friction_mu.or(a.friction_mu).unwrap_or(0.0);
-    let lubrication = crate::mesh_cycle::lubricated::loop_settings(scene, o.friction_mu)?;
-    if let Some(s) = &lubrication {
-        friction_mu = s.initial_mu;
-    }
-    if !(0.0..=1.0).contains(&friction_mu) {
-        return Err(FlankError::Model(format!(
-            "friction coefficient {friction_mu} must be in 0…1"
-        )));
-    }
-    if !(penalty_factor > 0.0 && penalty_factor.is_finite()) {
-        return Err(FlankError::Model(format!(
-            "penalty factor {penalty_factor} must be positive"
-        )));
-    }
-    let default_range = o.roll_angles_deg.is_none()
-        && o.reference_angles_deg.is_none()
-        && a.roll_angles_deg.is_none()
-        && a.reference_angles_deg.is_none()
-        && a.roll_start_deg.is_none();
-    let roll_angles_deg = match (&o.roll_angles_deg, &o.reference_angles_deg) {
-        (Some(_), Some(_)) => {
-            return Err(FlankError::Model(
-                "give roll angles or reference angles, not both".into(),
-            ))
-        }
-        (Some(v), None) => v.clone(),
-        (None, Some(v)) => {
-            let r = a.reference_single_contact_start_deg.ok_or_else(|| {
-                FlankError::Model(
-                    "reference angles need reference_single_contact_start_deg in the scene's [analyses.contact]".into(),
-                )
-            })?;
-            reference_to_roll(pair, r, v)
-        }
-        (None, None) => scene_roll_angles(&a, pair)?,
-    };
-    if roll_angles_deg.is_empty() || roll_angles_deg.iter().any(|v| !v.is_finite()) {
-        return Err(FlankError::Model(
-            "the roll angles must be finite and at least one".into(),
-        ));
-    }
-    Ok(RunSettings {
-        law,
-        penalty_factor,
-        friction_mu,
-        slave: o.slave.or(a.slave).unwrap_or_default(),
-        search_distance_mm: a.search_distance_mm.unwrap_or(0.2),
-        roll_angles_deg,
-        vtu: o.vtu.or(a.vtu).unwrap_or(true),
-        refine_contact_limits: o
-            .refine_contact_limits
-            .or(a.refine_contact_limits)
-            .unwrap_or(true),
-        reference_single_contact_start_deg: a.reference_single_contact_start_deg,
-        extend_step_deg: default_range.then(|| a.roll_step_deg.unwrap_or(1.0)),
-        lubrication,
-    })
-}
-
-/// Roll angles (deg) of angles given in a reference convention whose
-/// value `start` marks the kinematic start of single contact.
-fn reference_to_roll(pair: &dyn LineContactPair, start: f64, angles: &[f64]) -> Vec<f64> {
-    let lpstc = pair.single_contact().0.to_degrees();
-    angles.iter().map(|x| x - start + lpstc).collect()
-}
-
-fn scene_roll_angles(
-    a: &ContactAnalysis,
-    pair: &dyn LineContactPair,
-) -> Result<Vec<f64>, FlankError> {
-    if let Some(v) = &a.roll_angles_deg {
-        return Ok(v.clone());
-    }
-    if let Some(v) = &a.reference_angles_deg {
-        let r = a.reference_single_contact_start_deg.ok_or_else(|| {
-            FlankError::Model(
-                "reference_angles_deg needs reference_single_contact_start_deg".into(),
-            )
-        })?;
-        return Ok(reference_to_roll(pair, r, v));
-    }
-    let step = a.roll_step_deg.unwrap_or(1.0);
-    match (a.roll_start_deg, a.roll_end_deg) {
-        (Some(s), Some(e)) => {
-            let n = ((e - s) / step + 1e-9).floor() as i64;
-            Ok((0..=n).map(|i| s + i as f64 * step).collect())
-        }
-        (None, None) => Ok(default_roll_angles(pair, step)),
-        _ => Err(FlankError::Model(
-            "[analyses.contact]: give both roll_start_deg and roll_end_deg, or neither".into(),
-        )),
-    }
-}
+pub use crate::mesh_cycle::options::{settings, RunOptions};
 
 /// `flank run SCENE`: the FE contact mesh cycle of the scene, written to
 /// `options.out`. Returns the summary (also written as summary.json).
@@ -230,17 +40,15 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<RunSummary, FlankE
     run(&scene, options)
 }
 
-/// The mesh cycle of a parsed scene of any pair kind (see [`run_scene`]);
-/// a bevel/hypoid scene runs [`crate::mesh_cycle::bevel_run::run_bevel`] with
-/// [`bevel_options`].
+/// The mesh cycle of a parsed scene of any pair kind (see [`run_scene`]):
+/// the settings of [`settings`]; a bevel/hypoid scene runs
+/// [`crate::mesh_cycle::bevel_run::run_bevel`] with them.
 pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError> {
+    let settings = settings(scene, options)?;
     if scene.is_bevel() {
-        let bevel = bevel_options(scene, options)?;
-        return run_bevel(scene, &bevel, options.roll_angles_deg.clone(), &options.out);
+        return run_bevel(scene, settings, options);
     }
     let t_total = Instant::now();
-    let gear_pair = scene.gear_pair()?;
-    let settings = settings(scene, gear_pair.as_ref(), options)?;
     let out = &options.out;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
     // what a killed earlier run left half-written (never a result file)
@@ -248,9 +56,10 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError
     let t = Instant::now();
     let cycle = MeshCycle::new(scene, &options.mesh, settings, options.threads)?;
     let setup_s = t.elapsed().as_secs_f64();
-    let nominal = cycle.nominal_force();
+    let line = cycle.line_pair()?.clone();
+    let nominal = cycle.nominal_force()?;
     let np = cycle.pair.teeth.len();
-    let mid = cycle.gear_pair.middle() - 1;
+    let mid = line.middle() - 1;
     let angles = cycle.settings.roll_angles_deg.clone();
     let bar = if options.quiet {
         indicatif::ProgressBar::hidden()
@@ -277,7 +86,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError
             write_position_vtu(&cycle, out, a, &solved)?;
         }
         if options.decks {
-            write_position_deck(&cycle, out, a)?;
+            cycle.write_deck(a, &out.join(vtu_name(a).replace(".vtu", ".inp")))?;
         }
         checkpoint.record(&solved.step)?;
         Ok(solved.step)
@@ -298,7 +107,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError
     // a default range grows while the middle pair is loaded at an end
     let mut extended = 0;
     if let Some(step) = cycle.settings.extend_step_deg {
-        let limit = (cycle.gear_pair.pinion().angular_pitch().to_degrees() / step).ceil() as usize;
+        let limit = (line.pinion().angular_pitch().to_degrees() / step).ceil() as usize;
         for _ in 0..limit {
             if !cycle.loaded(&steps[0], mid) {
                 break;
@@ -367,7 +176,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError
                 .into(),
         ),
     }
-    let pitch_deg = cycle.gear_pair.pinion().angular_pitch().to_degrees();
+    let pitch_deg = line.pinion().angular_pitch().to_degrees();
     let contact_ratio = limits.map(|(s, e)| (e - s) / pitch_deg);
     // single contact: only the middle pair loaded
     let single: Vec<&StepResult> = steps
@@ -394,8 +203,8 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError
     let records = position_records(&cycle, &steps);
     outputs::write_mesh_cycle_csv(&out.join("mesh_cycle.csv"), np, &records)?;
     outputs::write_positions_csv(&out.join("positions.csv"), &records)?;
-    let (lpstc, hpstc) = cycle.gear_pair.single_contact();
-    let (eng_a, eng_e) = cycle.gear_pair.engagement(cycle.gear_pair.middle());
+    let (lpstc, hpstc) = line.single_contact();
+    let (eng_a, eng_e) = line.engagement(line.middle());
     // TE over the positions where the middle pair carries load (1.5
     // pitches: a whole mesh cycle away from the sector's outer teeth)
     let te: Vec<f64> = steps
@@ -419,7 +228,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError
         &te_series,
         &cycle.pair.teeth,
         nominal,
-        cycle.gear_pair.transmission_error_radius(),
+        line.transmission_error_radius(),
     )
     .unwrap_or_else(|e| {
         notes.push(format!("plots not written: {e}"));
@@ -439,12 +248,12 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError
         },
         _ => NormalLaw::Hard,
     };
-    let ratio = cycle.gear_pair.ratio();
+    let ratio = line.ratio();
     let te_arcsec: Vec<f64> = te.iter().map(|&t| te_arcsec_at_gear(t, ratio)).collect();
     let kind = CylindricalRun {
         analysis: "fe_contact_mesh_cycle",
         contact_ratio,
-        contact_ratio_kinematic: cycle.gear_pair.kinematic_contact_ratio(),
+        contact_ratio_kinematic: line.kinematic_contact_ratio(),
         single_pair_force_n,
         nominal_force_n: nominal,
         single_pair_force_error: single_pair_force_n.map(|f| f / nominal - 1.0),
@@ -468,20 +277,14 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError
         estimated_peak_memory_mb: stats.estimated_peak_mb,
         te_positions: te.len(),
         te_mean_urad: te_mean,
-        te_peak_to_peak_um: te_pp * cycle.gear_pair.transmission_error_radius() * 1e-3,
+        te_peak_to_peak_um: te_pp * line.transmission_error_radius() * 1e-3,
         max_violation_mm: worst(|s| s.max_violation_mm),
         max_complementarity: worst(|s| s.complementarity),
         max_equilibrium: worst(|s| s.equilibrium),
         max_backward_error: worst(|s| s.backward_error),
         settings: cycle.settings.clone(),
         law,
-        steps: steps
-            .iter()
-            .map(|s| CylindricalStep {
-                step: s.clone(),
-                te_arcsec: te_arcsec_at_gear(s.te_urad, ratio),
-            })
-            .collect(),
+        steps: steps.clone(),
     };
     let summary = RunSummary {
         schema_version: SCHEMA_VERSION,
@@ -503,7 +306,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError
         te_peak_to_peak_arcsec: peak_to_peak(te_arcsec.iter().copied()),
         iteration_limits: loops,
         tooth_pairs: cycle.pair.teeth.clone(),
-        kinematics: cycle.gear_pair.describe(),
+        kinematics: line.describe(),
         files: RunFiles {
             csv: "mesh_cycle.csv",
             positions_csv: "positions.csv",
@@ -550,23 +353,6 @@ fn interrupted(cycle: &MeshCycle, out: &Path, steps: &[StepResult], np: usize) -
     ))
 }
 
-/// `roll_…deg.inp`: the pair model with its nodes at the placed positions
-/// of `roll_deg` (coupling, clamps, contact pairs as solved), a deck ccx
-/// runs (its HARD contact is a 50 E penalty; use the penalty law to compare
-/// like with like).
-fn write_position_deck(cycle: &MeshCycle, out: &Path, roll_deg: f64) -> Result<(), FlankError> {
-    let roll = roll_deg.to_radians();
-    let placement = cycle.placement(roll);
-    let mut model = cycle.pair.model.clone();
-    model.mesh.coords = placement.positions(&model.mesh.coords);
-    // only the pairings solved at this position
-    model.contact.pairs = (0..cycle.pair.teeth.len())
-        .map(|p| model.contact.pairs[cycle.pairing_at(p, roll).0].clone())
-        .collect();
-    let name = vtu_name(roll_deg).replace(".vtu", ".inp");
-    crate::deck::write_deck(&model, &out.join(name))
-}
-
 /// `roll_…deg.vtu`: both bodies placed at the roll angle, displacement
 /// (global frame) and contact pressure.
 fn write_position_vtu(
@@ -597,44 +383,4 @@ fn write_position_vtu(
         ],
         &[],
     )
-}
-
-/// The positions as the files of both pair kinds hold them (the figures
-/// only bevel pairs have, tip edge, unloaded gap and moment balance, are
-/// left out).
-fn position_records(cycle: &MeshCycle, steps: &[StepResult]) -> Vec<PositionRecord> {
-    let ratio = cycle.gear_pair.ratio();
-    steps
-        .iter()
-        .map(|st| PositionRecord {
-            roll_deg: st.roll_deg,
-            reference_deg: st.reference_deg,
-            pairs: (0..st.pair_force_n.len())
-                .map(|p| PairRecord {
-                    pinion_tooth: cycle.pair.teeth[p].0,
-                    gear_tooth: cycle.pair.teeth[p].1,
-                    force_n: st.pair_force_n[p],
-                    load_share: st.load_share[p],
-                    position_mm: Some(st.kinematic_position_mm[p]),
-                    max_pressure_mpa: st.max_pressure_mpa[p],
-                    closed_nodes: st.patch[p].closed_nodes,
-                    slave: st.slave[p],
-                    friction_n: st.friction_force_n[p],
-                    pinion_tip_edge: None,
-                    min_initial_gap_mm: None,
-                })
-                .collect(),
-            te_urad: st.te_urad,
-            te_arcsec: te_arcsec_at_gear(st.te_urad, ratio),
-            te_um: Some(st.te_um),
-            candidates: st.candidates,
-            iterations: st.active_set_iterations,
-            columns: Some(st.delassus_columns),
-            max_violation_mm: st.max_violation_mm,
-            complementarity: st.complementarity,
-            equilibrium: Some(st.equilibrium),
-            moment_balance: None,
-            time_s: st.time_s,
-        })
-        .collect()
 }

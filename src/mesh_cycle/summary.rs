@@ -10,7 +10,6 @@ use serde::Serialize;
 use crate::contact::pairing::NormalLaw;
 use crate::iteration_limits::IterationLimits;
 use crate::load_sharing::CycleSharing;
-use crate::mesh_cycle::bevel::BevelStep;
 use crate::mesh_cycle::cycle::{RunSettings, StepResult};
 use crate::settings::SlaveBody;
 
@@ -136,16 +135,7 @@ pub struct CylindricalRun {
     pub max_backward_error: f64,
     pub settings: RunSettings,
     pub law: NormalLaw,
-    pub steps: Vec<CylindricalStep>,
-}
-
-/// A cylindrical position in summary.json: the step and its TE at the gear.
-#[derive(Clone, Debug, Serialize)]
-pub struct CylindricalStep {
-    #[serde(flatten)]
-    pub step: StepResult,
-    /// Loaded TE at the gear (arcsec).
-    pub te_arcsec: f64,
+    pub steps: Vec<StepResult>,
 }
 
 /// A bevel/hypoid run's own figures.
@@ -171,16 +161,7 @@ pub struct BevelRun {
     pub friction_mu: f64,
     pub max_coulomb_residual: f64,
     pub friction_not_converged: usize,
-    pub steps: Vec<BevelRunStep>,
-}
-
-/// A bevel position in summary.json: the step and its TE at the pinion.
-#[derive(Clone, Debug, Serialize)]
-pub struct BevelRunStep {
-    #[serde(flatten)]
-    pub step: BevelStep,
-    /// Loaded TE at the pinion (µrad).
-    pub te_urad: f64,
+    pub steps: Vec<StepResult>,
 }
 
 /// The normal law of a bevel run as its summary gives it: `"hard"`, or

@@ -234,7 +234,6 @@ fn fe(p: &Pair, scene: &Scene, law: Fe, name: &str) -> Result<Figures, String> {
         Fe::Penalty(f) => (ContactLaw::Penalty, Some(f)),
     };
     let roll = roll_deg(scene)?;
-    let gp = scene.gear_pair().map_err(|e| e.to_string())?;
     let o = RunOptions {
         out: work(&format!("{name}/fe")),
         roll_angles_deg: Some(vec![roll]),
@@ -245,7 +244,7 @@ fn fe(p: &Pair, scene: &Scene, law: Fe, name: &str) -> Result<Figures, String> {
         quiet: true,
         ..Default::default()
     };
-    let s = settings(scene, gp.as_ref(), &o).map_err(|e| e.to_string())?;
+    let s = settings(scene, &o).map_err(|e| e.to_string())?;
     let c = MeshCycle::new(scene, &mesh_of(p), s, 0).map_err(|e| e.to_string())?;
     let r = c.solve(roll).map_err(|e| e.to_string())?.step;
     println!(
@@ -256,7 +255,7 @@ fn fe(p: &Pair, scene: &Scene, law: Fe, name: &str) -> Result<Figures, String> {
         c.system.stats.dofs
     );
     let total: f64 = r.pair_force_n.iter().sum();
-    let delta = (r.te_um * 1e-3).abs();
+    let delta = (r.te_um.unwrap_or(f64::NAN) * 1e-3).abs();
     Ok(Figures {
         te_urad: r.te_urad,
         shares: r.load_share.clone(),

@@ -117,7 +117,7 @@ struct Position {
 
 fn position(c: &MeshCycle, name: &str, roll_deg: f64) -> Option<Position> {
     let torque = c.pair.model.couplings[0].load[5];
-    let nominal = c.nominal_force();
+    let nominal = c.nominal_force().unwrap();
     let t = Instant::now();
     let own = c.solve(roll_deg).expect("MeshCycle::solve");
     let cycle_s = t.elapsed().as_secs_f64();
@@ -317,7 +317,7 @@ fn compare(penalty_factor: f64) {
         c.pair.nodes,
         c.pair.model.mesh.elements.len()
     );
-    let (lpstc, hpstc) = c.gear_pair.single_contact();
+    let (lpstc, hpstc) = c.line_pair().unwrap().single_contact();
     let single = 0.5 * (lpstc + hpstc).to_degrees();
     let mut rows = Vec::new();
     for (name, roll) in [("double", -6.0), ("single", single)] {

@@ -87,8 +87,8 @@ fn cycle(m: &BodyMeshOptions, s: RunSettings) -> MeshCycle {
 fn frames_equilibrium_and_single_contact() {
     let m = mesh(1.0, 2.0);
     let c = cycle(&m, settings(ContactLaw::Hard, 1.0, SlaveBody::Pinion));
-    let nominal = c.nominal_force();
-    let (lpstc, hpstc) = c.gear_pair.single_contact();
+    let nominal = c.nominal_force().unwrap();
+    let (lpstc, hpstc) = c.line_pair().unwrap().single_contact();
     let single = 0.5 * (lpstc + hpstc).to_degrees();
     for roll in [-6.0, single] {
         let own = c.solve(roll).unwrap();
@@ -194,7 +194,7 @@ fn slave_choice_changes_little() {
     let m = mesh(1.0, 2.0);
     let roll = -6.0;
     let a = cycle(&m, settings(ContactLaw::Hard, 1.0, SlaveBody::Pinion));
-    let nominal = a.nominal_force();
+    let nominal = a.nominal_force().unwrap();
     let a = a.solve(roll).unwrap().step;
     let b = cycle(&m, settings(ContactLaw::Hard, 1.0, SlaveBody::Gear))
         .solve(roll)
@@ -353,7 +353,7 @@ fn helical_pair_carries_the_torque() {
         0,
     )
     .unwrap();
-    let nominal = c.nominal_force();
+    let nominal = c.nominal_force().unwrap();
     let bb = MeshKinematics::new(&sc.cylindrical("this case").unwrap().pair, 3)
         .unwrap()
         .base_helix_angle;
@@ -398,7 +398,7 @@ fn friction_on_the_flanks() {
     let free = with_mu(0.0);
     let rough = with_mu(0.05);
     let tiny = with_mu(1e-9);
-    let nominal = free.nominal_force();
+    let nominal = free.nominal_force().unwrap();
     for roll in [-6.0, 5.415] {
         let f = free.solve(roll).unwrap().step;
         let r = rough.solve(roll).unwrap().step;

@@ -2,16 +2,16 @@
 //!
 //! Issue 18 point 6 (see README.md beside this file). The seed 003 pair
 //! with the eased pinion (`papers/seed003-hypoid/scene_eased.toml`) as
-//! `flank run` builds it (`BevelCycle`: both bevel sectors, pinion mount
+//! `flank run` builds it (`MeshCycle`: both bevel sectors, pinion mount
 //! coupled to a reference node turning about the pinion axis under the
 //! torque, gear mount clamped, pinion drive flanks slave), with a LINEAR
 //! penalty of flank's automatic slope, at roll 0 (the middle pair at the
-//! mean point, its neighbours sharing the load). `BevelCycle::write_deck`
+//! mean point, its neighbours sharing the load). `MeshCycle::write_deck`
 //! writes the position as a deck in the pinion's own frame (the gear
 //! moved to its place). The same deck is solved
 //!
 //! * by flank: read back and solved by the plain `solve_contact` (no
-//!   placement) — against `BevelCycle::solve` at that roll: the deck is the
+//!   placement) — against `MeshCycle::solve` at that roll: the deck is the
 //!   position's problem (test `deck_is_the_position`, in CI);
 //! * by CalculiX 2.20, two steps as in `verification/gear_contact/ccx.rs`
 //!   (the pinion turned by 0.8 × flank's rotation first, then released
@@ -39,7 +39,8 @@ use std::time::Instant;
 
 use flank::contact::{solve_contact, ContactOptions, PressureOverclosure};
 use flank::mesh::bevel_sector::BevelSectorOptions;
-use flank::mesh_cycle::bevel::{BevelCycle, BevelRunOptions, BevelStep};
+use flank::mesh_cycle::cycle::{MeshCycle, RunSettings, StepResult};
+use flank::mesh_cycle::pair_model::bevel_pair_model;
 use flank::scene::read_scene;
 use flank::settings::ContactLaw;
 use flank::tca::point_contact::ARCSEC_PER_RAD;
@@ -52,7 +53,7 @@ const TENSION: f64 = 0.01;
 const C0: f64 = 0.3;
 const ROLL_DEG: f64 = 0.0;
 
-fn cycle(flank_size: f64) -> BevelCycle {
+fn cycle(flank_size: f64) -> MeshCycle {
     let path = format!(
         "{}/papers/seed003-hypoid/scene_eased.toml",
         env!("CARGO_MANIFEST_DIR")
@@ -62,32 +63,33 @@ fn cycle(flank_size: f64) -> BevelCycle {
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(1.0);
-    BevelCycle::new(
+    let mesh = BevelSectorOptions {
+        flank_size,
+        base_size: 4.0 * flank_size,
+        ..Default::default()
+    };
+    let settings = RunSettings {
+        law: ContactLaw::Penalty,
+        penalty_factor: std::env::var("HYPOID_CCX_PENALTY_FACTOR")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(1.0),
+        ..RunSettings::default_for(&scene)
+    };
+    MeshCycle::of_pair(
         &scene,
-        &BevelRunOptions {
-            mesh: BevelSectorOptions {
-                flank_size,
-                base_size: 4.0 * flank_size,
-                ..Default::default()
-            },
-            threads: 2,
-            law: ContactLaw::Penalty,
-            penalty_factor: std::env::var("HYPOID_CCX_PENALTY_FACTOR")
-                .ok()
-                .and_then(|v| v.parse().ok())
-                .unwrap_or(1.0),
-            ..Default::default()
-        },
+        bevel_pair_model(&scene, &mesh).unwrap(),
+        settings,
+        2,
     )
     .unwrap()
 }
 
 /// TE at the gear (arcsec) from the pinion's rotation about its axis, as
-/// `BevelCycle::solve` reports it.
-fn te_of(c: &BevelCycle, rz: f64) -> f64 {
-    use flank::geometry::gear_pair::GearPair;
-    let sense = c.pair.rotation_axes()[0][2].signum();
-    -rz * sense * c.pair.ratio() * ARCSEC_PER_RAD
+/// `MeshCycle::solve` reports it.
+fn te_of(c: &MeshCycle, rz: f64) -> f64 {
+    let sense = c.gear_pair.rotation_axes()[0][2].signum();
+    -rz * sense * c.gear_pair.ratio() * ARCSEC_PER_RAD
 }
 
 /// flank's answer on the deck read back: per-pair forces, pinion rotation,
@@ -139,8 +141,8 @@ fn deck_answer(deck: &Path) -> DeckAnswer {
     }
 }
 
-fn position(c: &BevelCycle, dir: &Path) -> (BevelStep, DeckAnswer, std::path::PathBuf) {
-    let step = c.solve(ROLL_DEG).unwrap();
+fn position(c: &MeshCycle, dir: &Path) -> (StepResult, DeckAnswer, std::path::PathBuf) {
+    let step = c.solve(ROLL_DEG).unwrap().step;
     let deck = dir.join("roll_0.inp");
     c.write_deck(ROLL_DEG, &deck).unwrap();
     let answer = deck_answer(&deck);
@@ -160,7 +162,7 @@ fn deck_is_the_position() {
     let te_deck = te_of(&c, deck.rz);
     println!(
         "seed 003 eased, flank 2 mm, penalty: {} nodes; setup {setup:.1} s, cycle solve {:.2} s, deck read + solve {:.2} s",
-        c.model.model.mesh.node_count(),
+        c.pair.model.mesh.node_count(),
         step.time_s,
         deck.seconds
     );
@@ -204,7 +206,7 @@ fn position_flank_vs_ccx() {
     });
     let written = flank::deck::format_deck(&model).expect("format_deck");
     let _ = path;
-    let max = *c.model.model.mesh.node_labels.iter().max().unwrap();
+    let max = *c.pair.model.mesh.node_labels.iter().max().unwrap();
     let (r, q) = (max + 1, max + 2);
     assert!(written.contains(&format!(
         "*RIGID BODY, NSET=PINION_HUB, REF NODE={r}, ROT NODE={q}\n"

@@ -111,7 +111,7 @@ fn a_conjugate_pair_has_no_te_and_line_contact() {
 /// the flanks of a neighbouring pair interpenetrate where the TE envelope
 /// puts the gear; the check finds it, deeper than any approach δ, and the
 /// FE pairing of `flank run` sees the same interference in the nominal
-/// placement (0.65 mm, `mesh_cycle::bevel` tests).
+/// placement (0.65 mm, `mesh_cycle::cycle` tests).
 #[test]
 fn crossing_flanks_are_reported() {
     let path = format!(

@@ -132,7 +132,7 @@ fn against_fe(scene: &Scene, c: &LtcaCycle, roll: &[f64]) -> (f64, f64) {
         quiet: true,
         ..Default::default()
     };
-    let s = settings(scene, c.line_pair().unwrap().as_ref(), &o).unwrap();
+    let s = settings(scene, &o).unwrap();
     let fe = MeshCycle::new(scene, &mesh(), s, 0).unwrap();
     println!(
         "roll (deg) | FE shares | LTCA shares | FE TE (µrad) | LTCA TE | LTCA ms (cells, F, H, QP)"

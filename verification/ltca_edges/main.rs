@@ -375,7 +375,8 @@ const TOL_FE_TE: f64 = 0.03;
 #[ignore = "misses: the edge-loaded LTCA is 0.09 off FE contact in load share and 15 % in TE at −9° (README, \"Against FE contact\"); run with --ignored"]
 fn seed000_edge_ltca_against_fe_contact() {
     use flank::compliance::body::bevel_sector_options;
-    use flank::mesh_cycle::bevel::{BevelCycle, BevelRunOptions};
+    use flank::mesh_cycle::cycle::{MeshCycle, RunSettings};
+    use flank::mesh_cycle::pair_model::bevel_pair_model;
     let sc = scene();
     let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("ltca_edges_fe");
     let _ = std::fs::remove_dir_all(&work);
@@ -386,16 +387,16 @@ fn seed000_edge_ltca_against_fe_contact() {
     let r = ltca.solve(roll).unwrap();
     let t_ltca = t.elapsed().as_secs_f64();
     let t = Instant::now();
-    let fe = BevelCycle::new(
+    let mesh = bevel_sector_options(&sc, &opts.mesh).unwrap();
+    let fe = MeshCycle::of_pair(
         &sc,
-        &BevelRunOptions {
-            mesh: bevel_sector_options(&sc, &opts.mesh).unwrap(),
-            threads: 2,
-            ..Default::default()
-        },
+        bevel_pair_model(&sc, &mesh).unwrap(),
+        RunSettings::default_for(&sc),
+        2,
     )
     .unwrap();
-    let s = fe.solve(r.roll_deg).unwrap();
+    let s = fe.solve(r.roll_deg).unwrap().step;
+    let tip = s.pinion_tip_edge.clone().unwrap();
     let t_fe = t.elapsed().as_secs_f64();
     assert!(r.kkt_within_tolerance, "KKT {}", r.kkt_max);
     let forces = ltca.pair_forces(&r);
@@ -421,7 +422,7 @@ fn seed000_edge_ltca_against_fe_contact() {
             p + 1,
             kinds.join("+"),
             s.load_share[p],
-            s.pinion_tip_edge[p],
+            tip[p],
             s.pair_force_n[p]
         );
     }
@@ -429,12 +430,9 @@ fn seed000_edge_ltca_against_fe_contact() {
     let d = (te - s.te_arcsec).abs() / s.te_arcsec.abs();
     println!(
         "VERIFY ltca_edges FE {:+.3}°: shares {worst:.4} (tol {TOL_FE_SHARE}), TE {te:.2}″ vs FE {:.2}″: {d:.4} (tol {TOL_FE_TE}), FE tip edge of pairs 4/5: {}/{}",
-        r.roll_deg, s.te_arcsec, s.pinion_tip_edge[3], s.pinion_tip_edge[4]
+        r.roll_deg, s.te_arcsec, tip[3], tip[4]
     );
-    assert!(
-        s.pinion_tip_edge[3] && s.pinion_tip_edge[4],
-        "FE: no tip-edge contact of pair 4 or 5"
-    );
+    assert!(tip[3] && tip[4], "FE: no tip-edge contact of pair 4 or 5");
     assert!(worst <= TOL_FE_SHARE, "shares {worst}");
     assert!(d <= TOL_FE_TE, "TE {d}");
 }

@@ -255,7 +255,7 @@ fn against_fe(scene: &Scene, angles: &[f64]) -> (f64, f64, f64) {
             quiet: true,
             ..Default::default()
         };
-        let s = settings(scene, l0.line_pair().unwrap().as_ref(), &o).unwrap();
+        let s = settings(scene, &o).unwrap();
         MeshCycle::new(scene, &mesh(), s, 0).unwrap()
     };
     let (fe0, fe1) = (fe(0.0), fe(MU));
