@@ -46,16 +46,13 @@ pub mod reference;
 pub mod run;
 pub mod summary;
 
-use crate::mesh_cycle::cycle::{default_roll_angles, MeshCycle, StepResult};
+use crate::mesh_cycle::cycle::{MeshCycle, StepResult};
 use method_run::shares;
 pub use method_run::MethodRun;
 use reference::{extrapolate, ExtrapolatedReference};
-use summary::{
-    CompareFiles, CompareKind, CompareSummary, CompareTargets, CylindricalCompare, PmaxContactBand,
-    PositionError,
-};
+use summary::PositionError;
 
-/// Options of [`run::compare`].
+/// Options of [`run::compare`] (any pair kind).
 #[derive(Clone, Debug)]
 pub struct CompareOptions {
     pub out: PathBuf,
@@ -148,7 +145,7 @@ impl CompareOptions {
 
 /// An FE step's friction force per pair, padded with zeros to its
 /// `pairs` (a frictionless step has none).
-fn per_pair(friction_n: &[f64], pairs: usize) -> Vec<f64> {
+pub(crate) fn per_pair(friction_n: &[f64], pairs: usize) -> Vec<f64> {
     let mut t = friction_n.to_vec();
     t.resize(pairs, 0.0);
     t
@@ -221,8 +218,13 @@ pub(crate) fn errors(run: &mut MethodRun, reference: &MethodRun, flank_positions
     run.tangential_force_err = if frictional { pt } else { f64::NAN };
 }
 
-fn ltca_run(cycle: &LtcaCycle, angles: &[f64]) -> Result<MethodRun, FlankError> {
-    // as `flank ltca` runs a cycle: the positions side by side
+/// One LTCA run over `angles` as `flank ltca` runs a cycle (the
+/// positions side by side), `setup_s` the time of its tensors and TCA.
+pub(crate) fn ltca_run(
+    cycle: &LtcaCycle,
+    angles: &[f64],
+    setup_s: f64,
+) -> Result<MethodRun, FlankError> {
     let t = Instant::now();
     let results: Vec<PositionResult> = cycle.solve_cycle(angles)?;
     let cycle_s = t.elapsed().as_secs_f64();
@@ -230,7 +232,7 @@ fn ltca_run(cycle: &LtcaCycle, angles: &[f64]) -> Result<MethodRun, FlankError> 
         method: "ltca".into(),
         label: format!("LTCA K = {}", cycle.points_per_line),
         points_per_line: Some(cycle.points_per_line),
-        flank_size_mm: Some(cycle.setup.flank_size_mm),
+        flank_size_mm: Some(cycle.setup.flank_size_mm).filter(|h| h.is_finite()),
         nodes: None,
         pair_force_n: results.iter().map(|r| cycle.pair_forces(r)).collect(),
         pair_tangential_n: results
@@ -240,7 +242,7 @@ fn ltca_run(cycle: &LtcaCycle, angles: &[f64]) -> Result<MethodRun, FlankError> 
         te_urad: results.iter().map(|r| r.te_urad).collect(),
         pmax_mpa: results.iter().map(|r| r.max_pressure_mpa).collect(),
         cycle_s,
-        setup_s: cycle.setup.compliance_s,
+        setup_s,
         slave: Vec::new(),
         load_sharing_err: f64::NAN,
         te_rel_err: f64::NAN,
@@ -248,6 +250,56 @@ fn ltca_run(cycle: &LtcaCycle, angles: &[f64]) -> Result<MethodRun, FlankError> 
         pmax_uniform_fe_rel_err: f64::NAN,
         tangential_force_err: f64::NAN,
     })
+}
+
+/// An FE contact run of flank size `size` from its solved positions: the
+/// forces, friction, TE (µrad, pinion), p_max and slave bodies per
+/// position.
+pub(crate) fn fe_method_run(
+    size: f64,
+    cycle: &MeshCycle,
+    steps: &[StepResult],
+    cycle_s: f64,
+    setup_s: f64,
+) -> MethodRun {
+    let slave = steps
+        .iter()
+        .map(|s| {
+            s.slave
+                .iter()
+                .map(|b| match b {
+                    SlaveBody::Gear => "gear",
+                    _ => "pinion",
+                })
+                .collect::<Vec<_>>()
+                .join("/")
+        })
+        .collect();
+    MethodRun {
+        method: "fe_contact".into(),
+        label: format!("FE flank {size} mm"),
+        points_per_line: None,
+        flank_size_mm: Some(size),
+        nodes: Some(cycle.pair.model.mesh.node_count()),
+        pair_force_n: steps.iter().map(|s| s.pair_force_n.clone()).collect(),
+        pair_tangential_n: steps
+            .iter()
+            .map(|s| per_pair(&s.friction_force_n, s.pair_force_n.len()))
+            .collect(),
+        te_urad: steps.iter().map(|s| s.te_urad).collect(),
+        pmax_mpa: steps
+            .iter()
+            .map(|s| s.max_pressure_mpa.iter().copied().fold(0.0, f64::max))
+            .collect(),
+        cycle_s,
+        setup_s,
+        slave,
+        load_sharing_err: f64::NAN,
+        te_rel_err: f64::NAN,
+        pmax_rel_err: f64::NAN,
+        pmax_uniform_fe_rel_err: f64::NAN,
+        tangential_force_err: f64::NAN,
+    }
 }
 
 /// FE contact at flank size `size` over `angles`, with the FE driver's
@@ -289,52 +341,14 @@ fn fe_run(
         .map(|&a| cycle.solve(a).map(|s| s.step))
         .collect::<Result<_, _>>()?;
     let cycle_s = t.elapsed().as_secs_f64();
-    let nodes = cycle.pair.model.mesh.node_count();
-    let slave = steps
-        .iter()
-        .map(|s| {
-            s.slave
-                .iter()
-                .map(|b| match b {
-                    SlaveBody::Gear => "gear",
-                    _ => "pinion",
-                })
-                .collect::<Vec<_>>()
-                .join("/")
-        })
-        .collect();
-    Ok(MethodRun {
-        method: "fe_contact".into(),
-        label: format!("FE flank {size} mm"),
-        points_per_line: None,
-        flank_size_mm: Some(size),
-        nodes: Some(nodes),
-        pair_force_n: steps.iter().map(|s| s.pair_force_n.clone()).collect(),
-        pair_tangential_n: steps
-            .iter()
-            .map(|s| per_pair(&s.friction_force_n, s.pair_force_n.len()))
-            .collect(),
-        te_urad: steps.iter().map(|s| s.te_urad).collect(),
-        pmax_mpa: steps
-            .iter()
-            .map(|s| s.max_pressure_mpa.iter().copied().fold(0.0, f64::max))
-            .collect(),
-        cycle_s,
-        setup_s,
-        slave,
-        load_sharing_err: f64::NAN,
-        te_rel_err: f64::NAN,
-        pmax_rel_err: f64::NAN,
-        pmax_uniform_fe_rel_err: f64::NAN,
-        tangential_force_err: f64::NAN,
-    })
+    Ok(fe_method_run(size, &cycle, &steps, cycle_s, setup_s))
 }
 
 /// [`fe_run`] through a file cache in `dir`: a run is reused when the
 /// scene text, the flank size, the roll angles and the slave rule are the
 /// same (so the LTCA side of a comparison can be redone without the FE
 /// runs; runs cached under an older slave rule are not reused).
-fn fe_run_cached(
+pub(crate) fn fe_run_cached(
     scene: &Scene,
     (size, base): (f64, Option<f64>),
     angles: &[f64],
@@ -363,206 +377,6 @@ fn fe_run_cached(
     let t = serde_json::to_string(&r).map_err(|e| FlankError::Model(e.to_string()))?;
     crate::atomic_file::write(&file, t)?;
     Ok((r, false))
-}
-
-/// The comparison of a spur/helical pair: both methods at the same
-/// positions; writes `compare.json`, `compare.md` and
-/// `error_vs_time.{svg,png}` into `options.out` (any pair kind:
-/// [`run::compare`]).
-pub fn compare_cylindrical(
-    scene: &Scene,
-    options: &CompareOptions,
-) -> Result<CompareSummary, FlankError> {
-    options.validate()?;
-    // the contact-band p_max reference, read before anything runs
-    let pmax_ref = if options.pmax_reference.is_empty() {
-        None
-    } else {
-        Some(pmax_reference::load(&options.pmax_reference, scene)?)
-    };
-    let out = &options.out;
-    std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
-    let gear_pair = scene.gear_pair()?;
-    let pair = gear_pair.as_ref();
-    let angles = options
-        .roll_angles_deg
-        .clone()
-        .unwrap_or_else(|| default_roll_angles(pair, options.roll_step_deg));
-    let say = |m: String| {
-        if !options.quiet {
-            eprintln!("{m}");
-        }
-    };
-    // FE contact, finest last
-    let mut sizes = options.fe_flank_sizes.clone();
-    sizes.sort_by(|a, b| b.total_cmp(a));
-    sizes.dedup();
-    let mut fe = Vec::new();
-    for &h in &sizes {
-        say(format!(
-            "FE contact, flank {h} mm, {} positions …",
-            angles.len()
-        ));
-        let (r, cached) = fe_run_cached(
-            scene,
-            (h, options.fe_base_size),
-            &angles,
-            options.threads,
-            options.friction_mu,
-            &out.join("fe_runs"),
-        )?;
-        if cached {
-            say(format!("  reused {}", r.label));
-        }
-        fe.push(r);
-    }
-    // LTCA: tensors once, then each K
-    say("LTCA: compliance tensors …".into());
-    let mut lo = options.ltca.clone();
-    lo.out = out.join("ltca_bodies");
-    lo.points_per_line = Some(options.points_per_line[0]);
-    lo.friction_mu = options.friction_mu.or(lo.friction_mu);
-    let base = LtcaCycle::new(scene, &lo)?;
-    let mut ltca = Vec::new();
-    let mut pmax_runs = Vec::new();
-    for &k in &options.points_per_line {
-        let c = base.with_points_per_line(k)?;
-        // one warm-up pass (page faults, thread pool), then the timed cycle
-        let _ = c.solve(angles[angles.len() / 2])?;
-        let run = ltca_run(&c, &angles)?;
-        // the extra positions of the p_max reference, untimed
-        if let Some(x) = &pmax_ref {
-            let rolls = x.roll_angles();
-            let results: Vec<_> = c
-                .solve_cycle(&rolls)?
-                .into_iter()
-                .zip(rolls)
-                .map(|(r, a)| {
-                    let f = c.pair_forces(&r);
-                    (a, r, f)
-                })
-                .collect();
-            pmax_runs.push(pmax_reference::ltca_against(x, &run.label, &results));
-        }
-        ltca.push(run);
-    }
-    // flank-contact positions: every loaded pair inside its path of contact
-    let (reference, extrapolated) = reference_of(&fe);
-    let nominal = base.nominal_force();
-    let flank_positions: Vec<bool> = angles
-        .iter()
-        .enumerate()
-        .map(|(i, &a)| {
-            reference.pair_force_n[i]
-                .iter()
-                .enumerate()
-                .filter(|(_, &f)| f > 1e-3 * nominal)
-                .all(|(p, _)| {
-                    let s = pair.path_position(p + 1, a.to_radians());
-                    s > 0.0 && s < pair.path_length()
-                })
-        })
-        .collect();
-    for r in fe.iter_mut().chain(ltca.iter_mut()) {
-        errors(r, &reference, &flank_positions);
-    }
-    for (r, p) in ltca.iter_mut().zip(&pmax_runs) {
-        r.pmax_rel_err = p.max_rel_err;
-    }
-    let pmax_against = match &pmax_ref {
-        Some(_) => "FE with contact bands (extrapolated, over the flank)".to_string(),
-        None => format!(
-            "{} (uniform FE mesh, the finest run's p_max)",
-            fe.last().map_or("FE", |r| r.label.as_str())
-        ),
-    };
-    let best = best_ltca(&ltca);
-    // each method's μ: the command line's, else its own scene section's
-    let ltca_mu = base.settings.friction.as_ref().map_or(0.0, |f| f.mu);
-    let fe_mu = settings(
-        scene,
-        &RunOptions {
-            roll_angles_deg: Some(angles.clone()),
-            friction_mu: options.friction_mu,
-            ..Default::default()
-        },
-    )?
-    .friction_mu;
-    let plots = plot::plot_error_vs_time(out, &fe, &ltca, &reference.label).unwrap_or_else(|e| {
-        say(format!("plots not written: {e}"));
-        Vec::new()
-    });
-    let mut md = markdown(
-        &scene.source,
-        &angles,
-        &fe,
-        &ltca,
-        &reference,
-        &flank_positions,
-        extrapolated.as_ref(),
-        pmax_ref.is_some(),
-    );
-    if ltca_mu.max(fe_mu) > 0.0 {
-        friction_table(
-            &mut md,
-            ltca_mu.max(fe_mu),
-            fe.iter().chain(&ltca),
-            &reference,
-        );
-    }
-    let per_position = position_errors(&angles, &best, &reference, extrapolated.as_ref());
-    position_table(&mut md, &best.label, &per_position, [0.02, 0.02]);
-    if let Some(x) = &pmax_ref {
-        pmax_reference::markdown(&mut md, x, &pmax_runs);
-    }
-    let p = out.join("compare.md");
-    crate::atomic_file::write(&p, &md)?;
-    let summary = CompareSummary {
-        schema_version: crate::summary::SCHEMA_VERSION,
-        scene: scene.source.display().to_string(),
-        pair_kind: scene.kind.name(),
-        positions: angles.len(),
-        roll_angles_deg: angles,
-        reference: reference.label.clone(),
-        reference_extrapolated: extrapolated,
-        best_ltca: best.label.clone(),
-        load_sharing_rel_err: best.load_sharing_err,
-        te_rel_err: best.te_rel_err,
-        pmax_rel_err: best.pmax_rel_err,
-        pmax_reference: pmax_against,
-        tangential_force_rel_err: best.tangential_force_err,
-        friction_mu: ltca_mu,
-        ltca_cycle_s: best.cycle_s,
-        fe_cycle_s: reference.cycle_s,
-        fe_setup_s: reference.setup_s,
-        speedup: reference.cycle_s / best.cycle_s,
-        targets: CompareTargets {
-            load_sharing_rel_err: 0.02,
-            te_rel_err: 0.02,
-            pmax_rel_err: 0.05,
-            ltca_cycle_s: 0.1,
-            speedup: Some(1000.0),
-        },
-        ltca_settings: base.settings.clone(),
-        runs: fe.iter().chain(ltca.iter()).cloned().collect(),
-        best_ltca_per_position: per_position,
-        files: CompareFiles {
-            markdown: "compare.md".into(),
-            plots,
-        },
-        kind: CompareKind::Cylindrical(Box::new(CylindricalCompare {
-            flank_contact_positions: flank_positions.iter().filter(|&&b| b).count(),
-            pmax_uniform_fe_rel_err: best.pmax_uniform_fe_rel_err,
-            pmax_contact_band: pmax_ref.map(|x| PmaxContactBand {
-                reference: x.pairs,
-                ltca: pmax_runs,
-            }),
-            fe_friction_mu: fe_mu,
-            ltca_compliance: base.setup.clone(),
-        })),
-    };
-    summary.write(out)?;
-    Ok(summary)
 }
 
 #[allow(clippy::too_many_arguments)]

@@ -67,14 +67,27 @@ pub fn settings(scene: &Scene, o: &RunOptions) -> Result<RunSettings, FlankError
     if let Some(s) = &lubrication {
         friction_mu = s.initial_mu;
     }
+    // a bad value is named where it was given: the command line's option
+    // (the scene's keys are range-checked when it is read)
+    let given = |cli: Option<f64>, option: &str, key: &str, v: f64| match cli {
+        Some(_) => format!("{option} {v}"),
+        None => format!("[analyses.contact] {key} = {v}"),
+    };
     if !(0.0..=1.0).contains(&friction_mu) {
         return Err(FlankError::Model(format!(
-            "friction coefficient {friction_mu} must be in 0…1"
+            "{}: a friction coefficient must be in 0…1",
+            given(o.friction_mu, "--friction-mu", "friction_mu", friction_mu)
         )));
     }
     if !(penalty_factor > 0.0 && penalty_factor.is_finite()) {
         return Err(FlankError::Model(format!(
-            "penalty factor {penalty_factor} must be positive"
+            "{}: a positive finite factor is needed",
+            given(
+                o.penalty_factor,
+                "--penalty-factor",
+                "penalty_factor",
+                penalty_factor
+            )
         )));
     }
     let search_distance_mm = a.search_distance_mm.unwrap_or(base.search_distance_mm);
