@@ -7,32 +7,18 @@
 use crate::contact::PressureOverclosure;
 use crate::error::FlankError;
 use crate::geometry::gear_pair::GearPair;
-use crate::iteration_limits::IterationLimits;
 use crate::mesh_cycle::bevel_checks::{self as checks, checked_cycle, CheckedCycle};
-use crate::mesh_cycle::checkpoint::{self, Checkpoint, Position};
-use crate::mesh_cycle::cycle::{RunSettings, StepResult};
+use crate::mesh_cycle::checkpoint;
+use crate::mesh_cycle::cycle::{iteration_limits, RunSettings, StepResult};
 use crate::mesh_cycle::options::RunOptions;
 use crate::mesh_cycle::outputs::{self, position_records};
+use crate::mesh_cycle::positions::{PositionFiles, Positions};
 use crate::mesh_cycle::summary::{
     peak_to_peak, BevelLaw, BevelRun, RunFiles, RunKind, RunSummary, SCHEMA_VERSION,
 };
 use crate::report::fe_pattern::{plot_fe_pattern, PatternNode};
 use crate::scene::Scene;
 use crate::settings::SlaveBody;
-
-/// A position as the checkpoint keeps it: the step with its contact
-/// pattern (which summary.json leaves out).
-#[derive(Clone, serde::Serialize, serde::Deserialize)]
-struct KeptStep {
-    step: StepResult,
-    pattern: Vec<PatternNode>,
-}
-
-impl Position for KeptStep {
-    fn roll_deg(&self) -> f64 {
-        self.step.roll_deg
-    }
-}
 
 /// `flank run` on a bevel/hypoid scene with the merged `settings`
 /// ([`crate::mesh_cycle::run::settings`]; `options` gives the mesh,
@@ -76,55 +62,23 @@ pub fn run_bevel(
         factorization_s,
     } = checked_cycle(scene, &mesh, settings, threads, &rolls)?;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
+    crate::atomic_file::remove_stale_temps(out);
     // every position is kept in checkpoint.json as it is solved; SIGINT is
-    // polled between positions (the spur cycle's protocol)
-    let s = &cycle.settings;
-    let key_settings = format!(
-        "{:?}",
-        (
-            s.search_distance_mm,
-            &s.law,
-            s.penalty_factor,
-            s.friction_mu
-        )
-    );
-    let key = checkpoint::key(&scene.source, &mesh, &key_settings);
-    let mut kept: Checkpoint<KeptStep> = Checkpoint::open(out, key, options.resume)?;
+    // polled between positions
+    let key = checkpoint::run_key(&scene.source, &mesh, &cycle.settings)?;
+    let files = PositionFiles {
+        vtu: false,
+        decks: options.decks,
+    };
+    let mut positions = Positions::open(&cycle, out, key, options.resume, files)?;
     let mut steps: Vec<StepResult> = Vec::with_capacity(rolls.len());
     for &r in &rolls {
-        let step = match kept.take(r)? {
-            Some(k) => StepResult {
-                pattern: k.pattern,
-                ..k.step
-            },
-            None => {
-                let step = cycle.solve(r)?.step;
-                kept.record(&KeptStep {
-                    pattern: step.pattern.clone(),
-                    step: step.clone(),
-                })?;
-                step
-            }
-        };
-        steps.push(step);
-        if crate::interrupt::requested() {
-            return Err(FlankError::Interrupted(format!(
-                "stopped at a position boundary after {} solved position(s); they are kept in {}; \
-                 resume with the same command and options plus --resume (`flank run SCENE --out {} ... --resume`): \
-                 only the remaining positions are solved",
-                steps.len(),
-                kept.path().display(),
-                out.display()
-            )));
+        steps.push(positions.solve(r)?);
+        if let Some(e) = positions.stop_requested(&steps) {
+            return Err(e);
         }
     }
-    let resumed = kept.reused();
-    if options.decks {
-        for &r in &rolls {
-            let name = crate::report::vtu::vtu_name(r).replace(".vtu", ".inp");
-            cycle.write_deck(r, &out.join(name))?;
-        }
-    }
+    let resumed = positions.reused();
     let records = position_records(&cycle, &steps);
     let np = cycle.pair.teeth.len();
     outputs::write_mesh_cycle_csv(&out.join("mesh_cycle.csv"), np, &records)?;
@@ -154,27 +108,10 @@ pub fn run_bevel(
     let plots = plot_fe_pattern(out, cycle.gear_pair.as_ref(), &pattern)?;
     let interference = steps
         .iter()
-        .flat_map(|s| s.min_initial_gap_mm.iter())
+        .flat_map(|s| s.min_initial_gap_mm.iter().flatten())
         .cloned()
         .fold(f64::INFINITY, f64::min);
-    let mut loops = IterationLimits::new();
-    for s in &steps {
-        crate::mesh_cycle::cycle::record_active_set(
-            &mut loops,
-            s.active_set_iterations,
-            cycle.contact.max_iterations,
-            s.max_violation_mm,
-        );
-        if let Some(converged) = s.friction_converged {
-            crate::mesh_cycle::cycle::record_friction(
-                &mut loops,
-                converged,
-                s.friction_iterations,
-                s.friction_rounds,
-                s.friction_bound_change,
-            );
-        }
-    }
+    let loops = iteration_limits(&steps, cycle.contact.max_iterations);
     // the LTCA's measure ([`crate::load_sharing::cycle`]): pairs above 1 %
     // of the position's normal force, over one pitch
     let sharing = default_cycle
@@ -262,6 +199,6 @@ pub fn run_bevel(
         kind: RunKind::Bevel(Box::new(kind)),
     };
     crate::atomic_file::write(&out.join("summary.json"), summary.to_json_text()? + "\n")?;
-    kept.remove()?;
+    positions.finish()?;
     Ok(summary)
 }

@@ -164,10 +164,10 @@ pub struct StepResult {
     /// Smallest initial gap g₀ of each pair's candidates in the nominal
     /// placement (mm; < 0: the unloaded flanks interpenetrate there, and
     /// the pinion's rotation resolves it before it carries load: the
-    /// loaded TE then contains that unloaded TE); ∞ (null in JSON, an
-    /// empty cell in the CSVs) for a pair without candidates.
+    /// loaded TE then contains that unloaded TE); `None` for a pair
+    /// without candidates.
     #[serde(default)]
-    pub min_initial_gap_mm: Vec<f64>,
+    pub min_initial_gap_mm: Vec<Option<f64>>,
     /// Whether closed slave nodes lie on the pinion's tip land, per pair
     /// (point-contact pairs, whose pinion mesh marks its tip land).
     #[serde(default)]
@@ -603,12 +603,7 @@ impl MeshCycle {
             patch: vec![Patch::default(); np],
             min_initial_gap_mm: pairs
                 .iter()
-                .map(|g| {
-                    g.constraints
-                        .iter()
-                        .map(|c| c.g0)
-                        .fold(f64::INFINITY, f64::min)
-                })
+                .map(|g| g.constraints.iter().map(|c| c.g0).reduce(f64::min))
                 .collect(),
             pinion_tip_edge: self.tip_nodes.as_ref().map(|_| vec![false; np]),
             candidates: state.constraints.len(),
@@ -705,8 +700,8 @@ impl MeshCycle {
             }
             offset += k;
         }
-        for (p, &g) in step.min_initial_gap_mm.iter().enumerate() {
-            if g < -INTERFERENCE_WARNING_MM {
+        for (p, g) in step.min_initial_gap_mm.iter().enumerate() {
+            if let Some(g) = g.filter(|&g| g < -INTERFERENCE_WARNING_MM) {
                 step.warnings.push(format!(
                     "tooth pair {} (pinion tooth {} / gear tooth {}): the unloaded flanks interpenetrate by {:.4} mm in the nominal placement",
                     p + 1,
@@ -897,7 +892,7 @@ mod tests {
         assert!(st.max_violation_mm < 1e-9 && st.complementarity.abs() < 1e-6);
         assert!((st.load_share.iter().sum::<f64>() - 1.0).abs() < 1e-12);
         assert!(
-            st.min_initial_gap_mm[1] > -1e-3,
+            st.min_initial_gap_mm[1].unwrap() > -1e-3,
             "{:?}",
             st.min_initial_gap_mm
         );
@@ -922,7 +917,7 @@ mod tests {
             .iter()
             .min_by(|a, b| a.g0.total_cmp(&b.g0))
             .unwrap();
-        assert_eq!(c.g0, st.min_initial_gap_mm[0]);
+        assert_eq!(Some(c.g0), st.min_initial_gap_mm[0]);
         let (u, v) = cycle.pair.flank_uv[&c.slave];
         let fr = pair.nominal_frames(0.0);
         let pf = pair.pinion().flank(Flank::Right, 1).unwrap();

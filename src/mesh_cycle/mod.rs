@@ -21,6 +21,9 @@
 //! bevel_run   `flank run` on a bevel/hypoid scene: the checked cycle
 //!             over one mesh cycle, checkpoints, contact pattern, files,
 //!             summary
+//! positions   the positions of a run, every kind: resumed from the
+//!             checkpoint or solved, VTU and deck files, SIGINT between
+//!             positions
 //! outputs     mesh_cycle.csv and positions.csv, the same columns for
 //!             every pair kind, from one record per position
 //! summary     summary.json as a typed struct (`RunSummary`), the keys
@@ -47,6 +50,7 @@ pub mod lubricated;
 pub mod options;
 pub mod outputs;
 pub mod pair_model;
+pub mod positions;
 pub mod run;
 pub mod summary;
 

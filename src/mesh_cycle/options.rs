@@ -81,7 +81,7 @@ pub fn settings(scene: &Scene, o: &RunOptions) -> Result<RunSettings, FlankError
     }
     if !(penalty_factor > 0.0 && penalty_factor.is_finite()) {
         return Err(FlankError::Model(format!(
-            "{}: a positive finite factor is needed",
+            "{}: the penalty factor must be positive and finite",
             given(
                 o.penalty_factor,
                 "--penalty-factor",

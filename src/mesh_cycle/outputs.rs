@@ -246,11 +246,7 @@ pub fn position_records(cycle: &MeshCycle, steps: &[StepResult]) -> Vec<Position
                     slave: st.slave[p],
                     friction_n: st.friction_force_n[p],
                     pinion_tip_edge: st.pinion_tip_edge.as_ref().map(|e| e[p]),
-                    min_initial_gap_mm: st
-                        .min_initial_gap_mm
-                        .get(p)
-                        .copied()
-                        .filter(|g| g.is_finite()),
+                    min_initial_gap_mm: st.min_initial_gap_mm.get(p).copied().flatten(),
                 })
                 .collect(),
             te_urad: st.te_urad,

@@ -16,13 +16,13 @@ use crate::fem::static_analysis::peak_memory_mb;
 
 use crate::load_sharing::{te_arcsec_at_gear, LOADED_FRACTION};
 use crate::mesh_cycle::bevel_run::run_bevel;
-use crate::mesh_cycle::checkpoint::{self, Checkpoint};
-use crate::mesh_cycle::cycle::{iteration_limits, MeshCycle, Solved, StepResult, ILL_CONDITIONED};
+use crate::mesh_cycle::checkpoint;
+use crate::mesh_cycle::cycle::{iteration_limits, MeshCycle, StepResult, ILL_CONDITIONED};
 use crate::mesh_cycle::outputs::{self, position_records};
+use crate::mesh_cycle::positions::{PositionFiles, Positions};
 use crate::mesh_cycle::summary::{
     peak_to_peak, CylindricalRun, RunFiles, RunKind, RunSummary, SCHEMA_VERSION,
 };
-use crate::report::vtu::{vtu_name, write_vtu, PointField};
 use crate::scene::{read_scene, Scene};
 
 pub use crate::mesh_cycle::options::{settings, RunOptions};
@@ -76,33 +76,25 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError
     };
     let mut steps = Vec::with_capacity(angles.len());
     let key = checkpoint::run_key(&scene.source, &options.mesh, &cycle.settings)?;
-    let mut checkpoint = Checkpoint::open(out, key, options.resume)?;
-    let mut solve = |a: f64| -> Result<StepResult, FlankError> {
-        if let Some(step) = checkpoint.take(a)? {
-            return Ok(step);
-        }
-        let solved = cycle.solve(a)?;
-        if cycle.settings.vtu {
-            write_position_vtu(&cycle, out, a, &solved)?;
-        }
-        if options.decks {
-            cycle.write_deck(a, &out.join(vtu_name(a).replace(".vtu", ".inp")))?;
-        }
-        checkpoint.record(&solved.step)?;
-        Ok(solved.step)
+    let files = PositionFiles {
+        vtu: cycle.settings.vtu,
+        decks: options.decks,
     };
+    let mut positions = Positions::open(&cycle, out, key, options.resume, files)?;
     // SIGINT is polled between positions: what is solved is kept
-    let stop = |steps: &[StepResult]| -> Result<(), FlankError> {
-        if crate::interrupt::requested() {
-            bar.abandon();
-            return Err(interrupted(&cycle, out, steps, np));
+    let stop = |positions: &Positions, steps: &[StepResult]| -> Result<(), FlankError> {
+        match positions.stop_requested(steps) {
+            Some(e) => {
+                bar.abandon();
+                Err(e)
+            }
+            None => Ok(()),
         }
-        Ok(())
     };
     for &a in &angles {
-        steps.push(solve(a)?);
+        steps.push(positions.solve(a)?);
         bar.inc(1);
-        stop(&steps)?;
+        stop(&positions, &steps)?;
     }
     // a default range grows while the middle pair is loaded at an end
     let mut extended = 0;
@@ -113,10 +105,10 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError
                 break;
             }
             bar.inc_length(1);
-            steps.insert(0, solve(steps[0].roll_deg - step)?);
+            steps.insert(0, positions.solve(steps[0].roll_deg - step)?);
             bar.inc(1);
             extended += 1;
-            stop(&steps)?;
+            stop(&positions, &steps)?;
         }
         for _ in 0..limit {
             let last = steps.len() - 1;
@@ -124,14 +116,14 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError
                 break;
             }
             bar.inc_length(1);
-            steps.push(solve(steps[last].roll_deg + step)?);
+            steps.push(positions.solve(steps[last].roll_deg + step)?);
             bar.inc(1);
             extended += 1;
-            stop(&steps)?;
+            stop(&positions, &steps)?;
         }
     }
     bar.finish_and_clear();
-    let reused = checkpoint.reused();
+    let reused = positions.reused();
     let mut notes: Vec<String> = scene.material_warnings();
     // the wet–dry loop: the positions solved so far are its dry pass
     let mut lubrication = None;
@@ -325,62 +317,6 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError
     let p = out.join("summary.json");
     crate::atomic_file::write(&p, text)?;
     // complete: summary.json holds every position
-    checkpoint.remove()?;
-    let _ = std::fs::remove_file(out.join("mesh_cycle.partial.csv"));
+    positions.finish()?;
     Ok(summary)
-}
-
-/// The error of a run stopped by SIGINT after the positions `steps`: they
-/// are in checkpoint.json (and their VTU files), and in
-/// `mesh_cycle.partial.csv` for a look; the message says how to resume.
-fn interrupted(cycle: &MeshCycle, out: &Path, steps: &[StepResult], np: usize) -> FlankError {
-    let mut sorted = steps.to_vec();
-    sorted.sort_by(|a, b| a.roll_deg.total_cmp(&b.roll_deg));
-    let partial = out.join("mesh_cycle.partial.csv");
-    let records = position_records(cycle, &sorted);
-    let written = match outputs::write_mesh_cycle_csv(&partial, np, &records) {
-        Ok(()) => format!(" and {}", partial.display()),
-        Err(e) => format!(" ({e})"),
-    };
-    FlankError::Interrupted(format!(
-        "stopped at a position boundary after {} solved position(s); \
-         they are kept in {}{written}; resume with the same command and options plus \
-         --resume (`flank run SCENE --out {} ... --resume`): only the remaining positions \
-         are solved",
-        steps.len(),
-        out.join(checkpoint::FILE).display(),
-        out.display()
-    ))
-}
-
-/// `roll_…deg.vtu`: both bodies placed at the roll angle, displacement
-/// (global frame) and contact pressure.
-fn write_position_vtu(
-    cycle: &MeshCycle,
-    out: &Path,
-    roll_deg: f64,
-    solved: &Solved,
-) -> Result<(), FlankError> {
-    let placement = cycle.placement(roll_deg.to_radians());
-    let mut mesh = cycle.pair.model.mesh.clone();
-    mesh.coords = placement.positions(&mesh.coords);
-    let u = placement.global_vectors(&solved.displacement);
-    let p = out.join(vtu_name(roll_deg));
-    write_vtu(
-        &p,
-        &mesh,
-        &[
-            PointField {
-                name: "displacement",
-                components: 3,
-                values: &u,
-            },
-            PointField {
-                name: "contact_pressure",
-                components: 1,
-                values: &solved.pressure,
-            },
-        ],
-        &[],
-    )
 }
