@@ -8,14 +8,17 @@
 //!   (seeds 001, 003: normal and tangential compliances, stick/slip/
 //!   separation, load increments), solved per increment by clarabel
 //!   (Tresca QPs, fixed point, polish) and cross-checked by Lemke's method.
-//! * [`cycle`]: spur/helical pairs over a mesh cycle (line contact), run
-//!   over a scene with its files by [`run`];
-//!   [`bevel`]: bevel/hypoid pairs (candidate points on each pair's
-//!   contact-ellipse major axis), both through [`model::LtcaBodies`]
-//!   (its compliance F from the tensors: [`influence`]);
-//!   [`edges`]: a bevel pair's edge contacts as candidate lines (seed 000),
-//!   load sharing and the functional contact ratio in
-//!   [`crate::load_sharing`], [`te_fit`]: the loaded TE's quadratic fit over a cycle (seed 003).
+//! * [`cycle`]: one LTCA cycle for every pair kind over the contact
+//!   candidates the kind hands it ([`crate::tca::candidates`]: the line
+//!   TCA's contact lines of a spur/helical pair; the point TCA's
+//!   major axes and edge lines of a bevel/hypoid pair,
+//!   [`crate::tca::point_candidates`]), both bodies' tensors from
+//!   [`bodies`], solved through [`model::LtcaBodies`] (its compliance F
+//!   from the tensors: [`influence`]); run over a scene with its files by
+//!   [`run`] (the point-contact tables, edge variants and plots:
+//!   [`point_run`]); load sharing and the functional contact ratio in
+//!   [`crate::load_sharing`], [`te_fit`]: the loaded TE's quadratic fit
+//!   over a cycle (seed 003).
 //! * [`lubricated`]: the wet–dry loop of seed 002 through the frictional
 //!   spur/helical LTCA (μ per position and tooth pair from the EHL model of
 //!   [`crate::lubrication`]).

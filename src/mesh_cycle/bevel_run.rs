@@ -1,5 +1,5 @@
 //! `flank run` on a bevel/hypoid scene ([`run_bevel`]): the checked and
-//! factorized [`MeshCycle`] ([`checked_cycle`]) over the roll angles with
+//! factorized [`MeshCycle`](crate::mesh_cycle::cycle::MeshCycle) ([`checked_cycle`]) over the roll angles with
 //! checkpoints, and its files: `mesh_cycle.csv` and `positions.csv` with the columns of every
 //! pair kind ([`crate::mesh_cycle::outputs`]), `contact_pattern.csv`, the
 //! pattern plots and summary.json ([`RunSummary`]).

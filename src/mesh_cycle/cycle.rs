@@ -1,13 +1,17 @@
 //! The quasi-static mesh cycle of a gear pair in FE contact
-//! ([`MeshCycle`]): one contact solve per roll angle with the stiffness
-//! factorized once, its result per position ([`StepResult`]) and the
-//! bookkeeping of its bounded loops. The run over a scene, its options and
+//! ([`MeshCycle`], every pair kind): one contact solve per roll angle with
+//! the stiffness factorized once, its result per position ([`StepResult`])
+//! and the bookkeeping of its bounded loops. What only a line-contact
+//! (cylindrical) pair has, the path of contact and the slave switch at the
+//! gear's tip edge, comes from its [`LineContactPair`]; what only a
+//! point-contact (bevel/hypoid) pair reports, the tip edge and the contact
+//! pattern, from its pinion mesh. The run over a scene, its options and
 //! files, is [`crate::mesh_cycle::run`].
 //!
 //! Reuse: the pair model keeps both bodies in their own frames, so K and
 //! its Cholesky factor ([`ElasticSystem`]) are the same at every roll
 //! angle. Per position only the contact geometry is rebuilt (bodies placed
-//! by [`GearPair::nominal_frames`](crate::geometry::gear_pair::GearPair::nominal_frames), search and projection) and the condensed
+//! by [`GearPair::nominal_frames`], search and projection) and the condensed
 //! problem is solved: one solve for the gaps under the torque, one per
 //! Delassus column of a constraint that enters the active set, one final
 //! solve. Nothing is refactorized.

@@ -1,10 +1,12 @@
-//! `flank run` over a scene: the options merged (command line > scene's
-//! `[analyses.contact]` > defaults, [`settings`]), the cycle of
-//! [`crate::mesh_cycle::cycle::MeshCycle`] over the roll angles with
-//! checkpoints and the wet–dry loop, and what a gear engineer reads from
-//! it (force per tooth pair, load sharing, loaded transmission error,
-//! contact pressure and patch, contact ratio, single-pair force) written
-//! as CSV, summary.json, VTU and plots.
+//! `flank run` over a scene of any pair kind: the options merged (command
+//! line > scene's `[analyses.contact]` > defaults, [`settings`]), the
+//! cycle of [`crate::mesh_cycle::cycle::MeshCycle`] over the roll angles
+//! ([`crate::mesh_cycle::positions`]: checkpoints, SIGINT), and what a gear
+//! engineer reads from it. Here the line-contact part: the default range
+//! extended while the middle pair is loaded, the wet–dry loop, contact
+//! ratio and single-pair force, VTU and plots; a bevel/hypoid scene goes
+//! to [`crate::mesh_cycle::bevel_run`]. Both write the same CSVs and
+//! [`RunSummary`].
 
 use std::path::Path;
 use std::time::Instant;
