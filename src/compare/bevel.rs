@@ -23,7 +23,7 @@ use crate::error::FlankError;
 use crate::ltca::cycle::LtcaCycle;
 use crate::mesh::bevel_sector::BevelSectorOptions;
 use crate::mesh_cycle::bevel_checks::checked_cycle;
-use crate::mesh_cycle::cycle::{RunSettings, StepResult};
+use crate::mesh_cycle::cycle::RunSettings;
 use crate::scene::Scene;
 
 use super::summary::BevelCompare;
@@ -59,14 +59,7 @@ pub fn bevel_fe_run(
         ..RunSettings::default_for(scene)
     };
     let cycle = checked_cycle(scene, &mesh, settings, options.threads.max(1), angles)?.cycle;
-    let setup_s = t.elapsed().as_secs_f64();
-    let t = Instant::now();
-    let steps: Vec<StepResult> = angles
-        .iter()
-        .map(|&a| cycle.solve(a).map(|s| s.step))
-        .collect::<Result<_, _>>()?;
-    let cycle_s = t.elapsed().as_secs_f64();
-    Ok(fe_method_run(h, &cycle, &steps, cycle_s, setup_s))
+    fe_method_run(h, &cycle, angles, t.elapsed().as_secs_f64())
 }
 
 /// The bevel/hypoid part of compare.json: the LTCA's friction model and

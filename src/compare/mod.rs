@@ -252,16 +252,21 @@ pub(crate) fn ltca_run(
     })
 }
 
-/// An FE contact run of flank size `size` from its solved positions: the
-/// forces, friction, TE (µrad, pinion), p_max and slave bodies per
-/// position.
+/// An FE contact run of flank size `size`: the factorized `cycle` (built in
+/// `setup_s`) solved at `angles`, timed, with the forces, friction, TE
+/// (µrad, pinion), p_max and slave bodies per position.
 pub(crate) fn fe_method_run(
     size: f64,
     cycle: &MeshCycle,
-    steps: &[StepResult],
-    cycle_s: f64,
+    angles: &[f64],
     setup_s: f64,
-) -> MethodRun {
+) -> Result<MethodRun, FlankError> {
+    let t = Instant::now();
+    let steps: Vec<StepResult> = angles
+        .iter()
+        .map(|&a| cycle.solve(a).map(|s| s.step))
+        .collect::<Result<_, _>>()?;
+    let cycle_s = t.elapsed().as_secs_f64();
     let slave = steps
         .iter()
         .map(|s| {
@@ -275,7 +280,7 @@ pub(crate) fn fe_method_run(
                 .join("/")
         })
         .collect();
-    MethodRun {
+    Ok(MethodRun {
         method: "fe_contact".into(),
         label: format!("FE flank {size} mm"),
         points_per_line: None,
@@ -299,7 +304,7 @@ pub(crate) fn fe_method_run(
         pmax_rel_err: f64::NAN,
         pmax_uniform_fe_rel_err: f64::NAN,
         tangential_force_err: f64::NAN,
-    }
+    })
 }
 
 /// FE contact at flank size `size` over `angles`, with the FE driver's
@@ -334,14 +339,7 @@ fn fe_run(
     };
     let t = Instant::now();
     let cycle = MeshCycle::new(scene, &mesh, s, threads)?;
-    let setup_s = t.elapsed().as_secs_f64();
-    let t = Instant::now();
-    let steps: Vec<StepResult> = angles
-        .iter()
-        .map(|&a| cycle.solve(a).map(|s| s.step))
-        .collect::<Result<_, _>>()?;
-    let cycle_s = t.elapsed().as_secs_f64();
-    Ok(fe_method_run(size, &cycle, &steps, cycle_s, setup_s))
+    fe_method_run(size, &cycle, angles, t.elapsed().as_secs_f64())
 }
 
 /// [`fe_run`] through a file cache in `dir`: a run is reused when the
