@@ -69,6 +69,7 @@ pub use crate::compare::CompareOptions;
 pub use crate::compliance::body::BodyMeshOptions;
 pub use crate::compliance::cache::FileFormat;
 pub use crate::compliance::run::RunOptions as ComplianceOptions;
+pub use crate::compliance::summary::ComplianceSummary;
 pub use crate::compliance::ComplianceTensor;
 pub use crate::ltca::cycle::LtcaOptions;
 pub use crate::ltca::summary::{
@@ -156,7 +157,7 @@ pub fn tca(scene: &Scene, options: &TcaOptions) -> Result<TcaRun, FlankError> {
 pub fn compliance(
     path: impl AsRef<Path>,
     options: &ComplianceOptions,
-) -> Result<serde_json::Value, FlankError> {
+) -> Result<ComplianceSummary, FlankError> {
     crate::compliance::run::run_scene(path.as_ref(), options)
 }
 

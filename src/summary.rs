@@ -2,10 +2,10 @@
 //! version of their layout and the cycle figures computed the same way in
 //! every analysis.
 
-/// Version of the layout of `flank ltca`'s and `flank run`'s
-/// `summary.json` and of `compare.json`: raised when a key changes its
+/// Version of the layout of the `summary.json` of `flank tca`, `flank
+/// compliance`, `flank ltca` and `flank run`, and of `compare.json`: raised when a key changes its
 /// meaning or goes, so that scripts can tell; a key added leaves it.
-pub const SCHEMA_VERSION: u32 = 1;
+pub const SCHEMA_VERSION: u32 = 2;
 
 /// max − min of `values` (−∞ for none): the peak-to-peak of a TE series.
 pub fn peak_to_peak(values: impl Iterator<Item = f64> + Clone) -> f64 {

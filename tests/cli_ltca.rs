@@ -59,7 +59,7 @@ fn same_ltca_files_for_every_kind(d: &std::path::Path, teeth: usize, ratio: f64,
     }
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap()).unwrap();
-    assert_eq!(s["schema_version"], 1);
+    assert_eq!(s["schema_version"], 2);
     assert_eq!(s["pair_kind"], kind);
     let te: Vec<f64> = rows
         .iter()

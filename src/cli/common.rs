@@ -35,24 +35,22 @@ pub enum MeshElement {
     Wedge15,
 }
 
-/// Prints the one-line summary of a wet–dry loop's `lubrication` object
-/// and its warnings.
-pub fn print_wet_dry_loop(l: &serde_json::Value) {
-    let g = |k: &str| l[k].as_f64().unwrap_or(f64::NAN);
+/// Prints the one-line summary of a wet–dry loop and its warnings.
+pub fn print_wet_dry_loop(l: &flank::report::lubrication::LubricationSummary) {
     println!(
         "lubrication: {} wet pass(es), {}; last change of μ {:+.3} %; μ max {:.4}; mesh power loss {:.0} W, efficiency {:.3} %",
-        l["iterations"],
-        if l["converged"] == true {
+        l.iterations,
+        if l.converged {
             "converged"
         } else {
             "NOT converged (iteration bound hit)"
         },
-        100.0 * g("mu_last_change_rel"),
-        g("mu_max"),
-        g("power_loss_w"),
-        100.0 * g("efficiency")
+        100.0 * l.mu_last_change_rel,
+        l.mu_max,
+        l.power_loss_w,
+        100.0 * l.efficiency
     );
-    for w in l["warnings"].as_array().into_iter().flatten() {
-        println!("warning: {}", w.as_str().unwrap_or_default());
+    for w in &l.warnings {
+        println!("warning: {w}");
     }
 }

@@ -99,59 +99,39 @@ pub fn run(args: Args) -> Result<()> {
     let summary = run_scene(&scene, &options)
         .with_context(|| format!("compliance of {}", scene.display()))?;
     if !quiet {
-        if let Some(bodies) = summary["bodies"].as_object() {
-            for (name, b) in bodies {
-                let s = &b["stats"];
-                if s.is_null() {
+        use flank::compliance::summary::MeanContact;
+        for (name, b) in &summary.bodies {
+            let (n, source, file) = (b.matrix_dim, b.source, &b.file);
+            let Some(s) = &b.stats else {
+                println!(
+                    "{name}: {} flank nodes, C {n}×{n} reused ({source:?}, same cache key): {file}",
+                    b.flank_nodes
+                );
+                continue;
+            };
+            let line = match &b.contact_line {
+                Some(c) => format!(", C_nn on the pitch line κ = {:.3e}", c.condition),
+                None => String::new(),
+            };
+            let kappa = s.condition.as_ref().map_or(f64::NAN, |c| c.kappa);
+            println!(
+                "{name}: {} flank nodes, C {n}×{n} ({source:?}); factorization {:.2} s, solve {:.2} s ({:.2}× its own factorization), κ(C) ≈ {kappa:.3e}{line}; {file}",
+                b.flank_nodes, s.factorization_s, s.solve_s, s.time_vs_factorization
+            );
+        }
+        for (name, b) in &summary.bodies {
+            match &b.mean_contact {
+                None => {}
+                Some(MeanContact::Missing { error }) => {
+                    println!("{name}: no directional compliances at the mean contact: {error}")
+                }
+                Some(MeanContact::Probed(m)) => {
+                    let r = &m.report;
                     println!(
-                        "{name}: {} flank nodes, C {}×{} reused ({}, same cache key): {}",
-                        b["flank_nodes"],
-                        b["matrix_dim"],
-                        b["matrix_dim"],
-                        b["source"].as_str().unwrap_or(""),
-                        b["file"].as_str().unwrap_or("")
+                        "{name}: mean contact (roll 0, {} points on the major axis, a = {:.3} mm): c_nn {:.4e}, c_tt {:.4e}, c_nt {:.4e}, c_tn {:.4e} mm/N; C_nn κ = {:.3e}, reciprocity {:.1e}",
+                        r.points, m.semi_major_mm, r.c_nn, r.c_tt, r.c_nt, r.c_tn, r.condition, r.reciprocity
                     );
-                    continue;
                 }
-                let line = match b["contact_line"]["condition"].as_f64() {
-                    Some(k) => format!(", C_nn on the pitch line κ = {k:.3e}"),
-                    None => String::new(),
-                };
-                println!(
-                    "{name}: {} flank nodes, C {}×{} ({}); factorization {:.2} s, solve {:.2} s ({:.2}× its own factorization), κ(C) ≈ {:.3e}{line}; {}",
-                    b["flank_nodes"],
-                    b["matrix_dim"],
-                    b["matrix_dim"],
-                    b["source"].as_str().unwrap_or(""),
-                    s["factorization_s"].as_f64().unwrap_or(0.0),
-                    s["solve_s"].as_f64().unwrap_or(0.0),
-                    s["time_vs_factorization"].as_f64().unwrap_or(0.0),
-                    s["condition"]["kappa"].as_f64().unwrap_or(f64::NAN),
-                    b["file"].as_str().unwrap_or("")
-                );
-            }
-            for (name, b) in bodies {
-                let m = &b["mean_contact"];
-                if m.is_null() {
-                    continue;
-                }
-                if let Some(why) = m["error"].as_str() {
-                    println!("{name}: no directional compliances at the mean contact: {why}");
-                    continue;
-                }
-                let r = &m["report"];
-                let f = |k: &str| r[k].as_f64().unwrap_or(f64::NAN);
-                println!(
-                    "{name}: mean contact (roll 0, {} points on the major axis, a = {:.3} mm): c_nn {:.4e}, c_tt {:.4e}, c_nt {:.4e}, c_tn {:.4e} mm/N; C_nn κ = {:.3e}, reciprocity {:.1e}",
-                    r["points"],
-                    m["semi_major_mm"].as_f64().unwrap_or(f64::NAN),
-                    f("c_nn"),
-                    f("c_tt"),
-                    f("c_nt"),
-                    f("c_tn"),
-                    f("condition"),
-                    f("reciprocity")
-                );
             }
         }
         println!("wrote {}", out.display());

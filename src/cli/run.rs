@@ -211,7 +211,7 @@ fn print_cylindrical(s: &RunSummary, c: &CylindricalRun) {
     // the law as summary.json writes it
     println!(
         "contact law: {}",
-        serde_json::to_value(c.law).unwrap_or_default()
+        serde_json::to_value(s.law).unwrap_or_default()
     );
     if let Some(l) = &c.lubrication {
         print_wet_dry_loop(l);

@@ -120,6 +120,7 @@ pub mod page_order;
 pub mod pages;
 pub mod plot;
 pub mod run;
+pub mod summary;
 pub mod tensor;
 pub mod tensor_cache;
 

@@ -13,6 +13,9 @@ use crate::compliance::body::{
 use crate::compliance::cache::{self, FileFormat};
 use crate::compliance::contact_probe::{directional_matrices, retain_meshed, ProbePoint};
 use crate::compliance::plot::plot_cnn;
+use crate::compliance::summary::{
+    BodySummary, ComplianceSummary, MeanContact, MeanContactProbe, SCHEMA_VERSION,
+};
 use crate::compliance::tensor_cache::{CacheOutcome, ComplianceCache};
 use crate::compliance::{
     cache_key, clamp_sets, compliance_tensor, mesh_hash, region_cache_key, ComplianceOptions,
@@ -469,7 +472,7 @@ pub fn body_tensor(
 /// Computes (or reuses) the tensors of the scene's bodies; writes
 /// `<body>.inp`, `<body>.compliance.{h5,bin}`, `<body>_cnn.{svg,png}` and
 /// `summary.json` into `options.out`; returns the summary.
-pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value, FlankError> {
+pub fn run_scene(path: &Path, options: &RunOptions) -> Result<ComplianceSummary, FlankError> {
     let t_all = Instant::now();
     let scene = read_scene(path)?;
     let (analyses, teeth) = (&scene.analyses, scene.mesh.teeth_in_sector as usize);
@@ -525,7 +528,7 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
     } else {
         options.bodies.clone()
     };
-    let mut summary = serde_json::Map::new();
+    let mut summary = std::collections::BTreeMap::new();
     for name in &bodies {
         let t_body = Instant::now();
         let body = any_scene_body(&scene, name, &options.mesh)?;
@@ -568,48 +571,41 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<serde_json::Value,
             }
             _ => None,
         };
-        let mut b = serde_json::json!({
-            "deck": deck.display().to_string(),
-            "file": file.display().to_string(),
-            "format": format,
-            "source": outcome,
-            "cache_key": tensor.meta.cache_key,
-            "mesh_hash": tensor.meta.mesh_hash,
-            "clamped_sets": tensor.meta.clamped_sets,
-            "flank_sets": tensor.meta.flank_sets,
-            "region_u_min": tensor.meta.region_u_min,
-            "flank_nodes": tensor.node_count(),
-            "matrix_dim": tensor.dim(),
-            "asymmetry": tensor.asymmetry(),
-            "plot": plot,
-            "contact_line": line,
-            "body_s": t_body.elapsed().as_secs_f64(),
-        });
-        if let Some(axis) = &axis {
-            b["mean_contact"] = mean_contact_report(axis, name, &tensor);
-        }
-        if let Some(s) = stats {
-            b["stats"] = serde_json::to_value(&s).map_err(|e| FlankError::Model(e.to_string()))?;
-        }
+        let b = BodySummary {
+            deck: deck.display().to_string(),
+            file: file.display().to_string(),
+            format,
+            source: outcome,
+            cache_key: tensor.meta.cache_key.clone(),
+            mesh_hash: tensor.meta.mesh_hash.clone(),
+            clamped_sets: tensor.meta.clamped_sets.clone(),
+            flank_sets: tensor.meta.flank_sets.clone(),
+            region_u_min: tensor.meta.region_u_min.clone(),
+            flank_nodes: tensor.node_count(),
+            matrix_dim: tensor.dim(),
+            asymmetry: tensor.asymmetry(),
+            plot,
+            contact_line: line,
+            body_s: t_body.elapsed().as_secs_f64(),
+            mean_contact: axis.as_ref().map(|a| mean_contact_report(a, name, &tensor)),
+            stats,
+        };
         summary.insert(name.clone(), b);
     }
-    let json = serde_json::json!({
-        "scene": path.display().to_string(),
-        "method": method,
-        "flanks": flanks,
-        "flank_region": region,
-        "clamp_cuts": clamp_cuts,
-        "threads": options.threads,
-        "bodies": summary,
-        "total_s": t_all.elapsed().as_secs_f64(),
-        "peak_memory_mb": peak_memory_mb(),
-    });
-    let p = out.join("summary.json");
-    crate::atomic_file::write(
-        &p,
-        serde_json::to_string_pretty(&json).map_err(|e| FlankError::Model(e.to_string()))? + "\n",
-    )?;
-    Ok(json)
+    let result = ComplianceSummary {
+        schema_version: SCHEMA_VERSION,
+        scene: path.display().to_string(),
+        method,
+        flanks,
+        flank_region: region,
+        clamp_cuts,
+        threads: options.threads,
+        bodies: summary,
+        total_s: t_all.elapsed().as_secs_f64(),
+        peak_memory_mb: peak_memory_mb(),
+    };
+    result.write(out)?;
+    Ok(result)
 }
 
 /// Points on the contact-ellipse major axis that [`mean_contact_axis`]
@@ -649,6 +645,11 @@ pub fn mean_contact_axis(scene: &Scene) -> Result<(f64, [Vec<AxisPoint>; 2]), St
     Ok((a, points))
 }
 
+/// [`MeanContact::Missing`] for `error`.
+fn missing(error: String) -> MeanContact {
+    MeanContact::Missing { error }
+}
+
 /// `mean_contact` of a bevel body's summary: the directional compliances
 /// (normal n outward from the body, tangent t the sliding direction from
 /// the TCA) on the major axis of the middle pair's contact at roll 0.
@@ -656,10 +657,10 @@ fn mean_contact_report(
     axis: &Result<(f64, [Vec<AxisPoint>; 2]), String>,
     name: &str,
     tensor: &ComplianceTensor,
-) -> serde_json::Value {
+) -> MeanContact {
     let (a, points) = match axis {
         Ok(x) => x,
-        Err(why) => return serde_json::json!({ "error": why }),
+        Err(why) => return missing(why.clone()),
     };
     let b = usize::from(name == "gear");
     let probe: Vec<ProbePoint> = points[b]
@@ -674,21 +675,21 @@ fn mean_contact_report(
         .collect();
     let (probe, outside) = match retain_meshed(tensor, probe) {
         Ok(x) => x,
-        Err(e) => return serde_json::json!({ "error": e.to_string() }),
+        Err(e) => return missing(e.to_string()),
     };
     if probe.is_empty() {
-        return serde_json::json!({ "error": "no point of the major axis lies on the meshed flank" });
+        return missing("no point of the major axis lies on the meshed flank".into());
     }
     match directional_matrices(tensor, &probe, None) {
-        Ok(m) => serde_json::json!({
-            "semi_major_mm": a,
-            "set": probe[0].set,
-            "uv_mm": probe[probe.len() / 2].uv,
-            "axis_points": MEAN_CONTACT_POINTS,
-            "off_the_active_flank": MEAN_CONTACT_POINTS - points[b].len(),
-            "off_the_meshed_flank": outside,
-            "report": m.report(),
-        }),
-        Err(e) => serde_json::json!({ "error": e.to_string() }),
+        Ok(m) => MeanContact::Probed(Box::new(MeanContactProbe {
+            semi_major_mm: *a,
+            set: probe[0].set.clone(),
+            uv_mm: probe[probe.len() / 2].uv,
+            axis_points: MEAN_CONTACT_POINTS,
+            off_the_active_flank: MEAN_CONTACT_POINTS - points[b].len(),
+            off_the_meshed_flank: outside,
+            report: m.report(),
+        })),
+        Err(e) => missing(e.to_string()),
     }
 }

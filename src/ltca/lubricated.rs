@@ -40,6 +40,7 @@ use crate::ltca::solve_settings::LtcaSettings;
 use crate::lubrication::{
     involute_contact, reduced_modulus, wet_dry_loop, LoopResult, LoopSettings, OperatingPoint,
 };
+use crate::report::lubrication::{LtcaLoopFigures, LubricationSummary};
 use crate::scene::Scene;
 use crate::settings::FrictionModel;
 
@@ -124,7 +125,7 @@ pub fn loop_settings(
 pub struct LubricatedLtca {
     pub results: Vec<PositionResult>,
     pub result: LoopResult,
-    pub summary: serde_json::Value,
+    pub summary: LubricationSummary,
 }
 
 /// Σ 2aᵢ wᵢ (mm²) over the loaded points of pinion tooth `k`; a point
@@ -255,20 +256,14 @@ pub fn lubricated_cycle(
         .filter(|r| !r.kkt_within_tolerance)
         .map(|r| format!("{}°", r.roll_deg))
         .collect();
-    if let Some(m) = summary.as_object_mut() {
-        m.insert("solver".into(), "ltca".into());
-        m.insert(
-            "friction_model".into(),
-            serde_json::to_value(ls.model).unwrap_or_default(),
-        );
-        m.insert(
-            "contact_area".into(),
-            "Σ 2aᵢwᵢ over the pair's loaded LTCA points: Hertz half-width of each point's load per length on its TCA radius (tip corners: on the operating point's R_x), times the length it represents".into(),
-        );
-        m.insert("wet_pass_s".into(), pass_s.into());
-        m.insert("loop_s".into(), t0.elapsed().as_secs_f64().into());
-        m.insert("final_pass_flagged".into(), flagged.into());
-    }
+    summary.ltca = Some(LtcaLoopFigures {
+        solver: "ltca",
+        friction_model: ls.model,
+        contact_area: "Σ 2aᵢwᵢ over the pair's loaded LTCA points: Hertz half-width of each point's load per length on its TCA radius (tip corners: on the operating point's R_x), times the length it represents",
+        wet_pass_s: pass_s,
+        loop_s: t0.elapsed().as_secs_f64(),
+        final_pass_flagged: flagged,
+    });
     Ok(LubricatedLtca {
         results: current,
         result,

@@ -27,6 +27,7 @@ pub mod bodies;
 pub mod candidate;
 pub mod cycle;
 pub mod friction;
+pub mod friction_report;
 pub mod hertz_elliptic;
 pub mod influence;
 pub mod local;

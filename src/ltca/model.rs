@@ -47,6 +47,9 @@ use crate::ltca::friction::{
     cross_check, friction_coupling, solve_friction, solve_sliding, FrictionProblem, FrictionSolver,
     PointState, MAX_ACTIVE_SET_ITERATIONS, MAX_SLIDING_ITERATIONS, SLIDING_TOLERANCE,
 };
+use crate::ltca::friction_report::{
+    DirectCheck, FrictionReport, IncrementalReport, LemkeCrossCheck, SlidingReport, SlidingResidual,
+};
 use crate::ltca::influence::{directional_compliance, normal_compliance_pair};
 use crate::ltca::local::{hertz_line, Cell, NearField};
 use crate::ltca::qp::{
@@ -190,7 +193,7 @@ pub struct PositionResult {
     /// Friction force per line (N) and the friction solve's report
     /// (residuals, increments, the Lemke cross-check if asked).
     pub line_friction_n: Vec<f64>,
-    pub friction: Option<serde_json::Value>,
+    pub friction: Option<FrictionReport>,
     /// Friction power loss Σ |P_t v_s| over the points (W; 0 without
     /// friction), seed 001's P_loss = Σ μ P_n |v_s| at slipping points.
     pub friction_power_w: f64,
@@ -813,7 +816,7 @@ struct Answer {
     within_tolerance: bool,
     /// Friction forces and states of the last increment.
     friction: Option<(Vec<f64>, Vec<PointState>)>,
-    report: Option<serde_json::Value>,
+    report: Option<FrictionReport>,
     /// How the solve's bounded loops ended.
     loops: IterationLimits,
 }
@@ -844,12 +847,12 @@ impl Answer {
     fn of_friction(problem: &FrictionProblem, fr: &LtcaFriction) -> Result<Self, FlankError> {
         let (sol, check) = if fr.cross_check {
             let c = cross_check(problem, &fr.options)?;
-            let summary = serde_json::json!({
-                "load_difference": c.load_difference,
-                "rotation_difference": c.rotation_difference,
-                "state_differences": c.state_differences,
-                "lemke_within_tolerance": c.lemke.within_tolerance,
-            });
+            let summary = LemkeCrossCheck {
+                load_difference: c.load_difference,
+                rotation_difference: c.rotation_difference,
+                state_differences: c.state_differences,
+                lemke_within_tolerance: c.lemke.within_tolerance,
+            };
             let sol = match fr.options.solver {
                 FrictionSolver::Lemke => c.lemke,
                 FrictionSolver::Clarabel => c.clarabel,
@@ -885,16 +888,16 @@ impl Answer {
                 ),
             }
         }
-        let report = serde_json::json!({
-            "mu": fr.mu,
-            "model": fr.model,
-            "coupling": friction_coupling(problem, &last.normal),
-            "solver": sol.solver.name(),
-            "increments": sol.increments.len(),
-            "max_residual": sol.max_residual,
-            "within_tolerance": sol.within_tolerance,
-            "limit_hit": sol.increments.iter().any(|k| k.limit_hit),
-            "cross_check": check,
+        let report = FrictionReport::Incremental(IncrementalReport {
+            mu: fr.mu,
+            model: fr.model,
+            coupling: friction_coupling(problem, &last.normal),
+            solver: sol.solver.name(),
+            increments: sol.increments.len(),
+            max_residual: sol.max_residual,
+            within_tolerance: sol.within_tolerance,
+            limit_hit: sol.increments.iter().any(|k| k.limit_hit),
+            cross_check: check,
         });
         Ok(Answer {
             load: last.normal.clone(),
@@ -958,18 +961,25 @@ impl Answer {
                 ),
             );
         }
-        let report = serde_json::json!({
-            "mu": fr.mu,
-            "model": fr.model,
-            "coupling": coupling,
-            "solver": "sliding fixed point",
-            "iterations": a.iterations,
-            "active_set_iterations": a.active_set_iterations,
-            "limit_hit": a.limit_hit,
-            "change": a.change,
-            "max_residual": {"max": max, "sliding_law": a.residual, "qp_kkt": a.kkt},
-            "within_tolerance": a.within_tolerance,
-            "cross_check": (a.active_set_iterations == 0).then(|| serde_json::json!({"method": "direct solve on the loaded set", "load_difference": a.direct_difference})),
+        let report = FrictionReport::Sliding(SlidingReport {
+            mu: fr.mu,
+            model: fr.model,
+            coupling,
+            solver: "sliding fixed point",
+            iterations: a.iterations,
+            active_set_iterations: a.active_set_iterations,
+            limit_hit: a.limit_hit,
+            change: a.change,
+            max_residual: SlidingResidual {
+                max,
+                sliding_law: a.residual,
+                qp_kkt: a.kkt,
+            },
+            within_tolerance: a.within_tolerance,
+            cross_check: (a.active_set_iterations == 0).then(|| DirectCheck {
+                method: "direct solve on the loaded set",
+                load_difference: a.direct_difference,
+            }),
         });
         Ok(Answer {
             load: a.normal,

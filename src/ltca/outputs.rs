@@ -7,6 +7,7 @@ use std::path::Path;
 
 use crate::error::FlankError;
 use crate::iteration_limits::IterationLimits;
+use crate::ltca::friction_report::FrictionReport;
 use crate::ltca::model::PositionResult;
 use crate::ltca::solve_settings::LtcaFriction;
 use crate::ltca::summary::{FrictionSummary, LtcaStep};
@@ -32,14 +33,12 @@ pub fn friction_summary(
     friction: &LtcaFriction,
     torque_nmm: f64,
 ) -> FrictionSummary {
-    let num = |r: &PositionResult, k: &str| -> f64 {
-        r.friction
-            .as_ref()
-            .and_then(|f| f.pointer(k))
-            .and_then(serde_json::Value::as_f64)
-            .unwrap_or(0.0)
+    let max = |figure: fn(&FrictionReport) -> f64| {
+        results
+            .iter()
+            .filter_map(|r| r.friction.as_ref().map(figure))
+            .fold(0.0f64, f64::max)
     };
-    let max = |k: &str| results.iter().map(|r| num(r, k)).fold(0.0f64, f64::max);
     let (pt, pn): (f64, f64) = results
         .iter()
         .flat_map(|r| &r.points)
@@ -53,15 +52,15 @@ pub fn friction_summary(
     FrictionSummary {
         mu: friction.mu,
         increments: friction.options.increments,
-        max_residual: max("/max_residual/max"),
-        max_coupling: max("/coupling"),
+        max_residual: max(FrictionReport::max_residual),
+        max_coupling: max(FrictionReport::coupling),
         within_tolerance: results.iter().all(|r| r.kkt_within_tolerance),
         cross_check_max_load_difference: friction
             .cross_check
-            .then(|| max("/cross_check/load_difference")),
+            .then(|| max(|f| f.cross_check_load_difference().unwrap_or(0.0))),
         cross_check_max_rotation_difference: friction
             .cross_check
-            .then(|| max("/cross_check/rotation_difference")),
+            .then(|| max(|f| f.cross_check_rotation_difference().unwrap_or(0.0))),
         tangential_to_normal: if pn > 0.0 { pt / pn } else { 0.0 },
         power_loss_w: power,
         mean_power_loss_w: mean_power,

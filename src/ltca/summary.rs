@@ -214,7 +214,7 @@ pub struct CylindricalLtcaSummary {
     pub files: LtcaFiles,
     /// The wet–dry loop's summary (`[analyses.lubrication]` only).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub lubrication: Option<serde_json::Value>,
+    pub lubrication: Option<crate::report::lubrication::LubricationSummary>,
 }
 
 /// The files a spur/helical cycle wrote.

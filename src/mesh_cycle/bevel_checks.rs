@@ -69,9 +69,10 @@ pub struct CheckedCycle {
     /// What the checks could not establish (shank with a partial sector;
     /// the point TCA did not run).
     pub warnings: Vec<String>,
-    /// Time of the checks and of the factorization (s).
+    /// Time of the checks, and of the system's setup (assembly, ordering,
+    /// factorization, condition estimates) (s).
     pub checks_s: f64,
-    pub factorization_s: f64,
+    pub setup_s: f64,
 }
 
 /// The FE cycle of a bevel/hypoid `scene` for the roll angles `rolls`
@@ -116,7 +117,7 @@ pub fn checked_cycle(
         unloaded,
         warnings,
         checks_s,
-        factorization_s: t0.elapsed().as_secs_f64(),
+        setup_s: t0.elapsed().as_secs_f64(),
     })
 }
 

@@ -4,7 +4,6 @@
 //! pair kind ([`crate::mesh_cycle::outputs`]), `contact_pattern.csv`, the
 //! pattern plots and summary.json ([`RunSummary`]).
 
-use crate::contact::PressureOverclosure;
 use crate::error::FlankError;
 use crate::geometry::gear_pair::GearPair;
 use crate::mesh_cycle::bevel_checks::{self as checks, checked_cycle, CheckedCycle};
@@ -14,7 +13,7 @@ use crate::mesh_cycle::options::RunOptions;
 use crate::mesh_cycle::outputs::{self, position_records};
 use crate::mesh_cycle::positions::{PositionFiles, Positions};
 use crate::mesh_cycle::summary::{
-    peak_to_peak, BevelLaw, BevelRun, RunFiles, RunKind, RunSummary, SCHEMA_VERSION,
+    peak_to_peak, BevelRun, RunFiles, RunKind, RunLaw, RunSummary, SCHEMA_VERSION,
 };
 use crate::report::fe_pattern::{plot_fe_pattern, PatternNode};
 use crate::scene::Scene;
@@ -59,7 +58,7 @@ pub fn run_bevel(
         unloaded,
         warnings: run_warnings,
         checks_s,
-        factorization_s,
+        setup_s,
     } = checked_cycle(scene, &mesh, settings, threads, &rolls)?;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
     crate::atomic_file::remove_stale_temps(out);
@@ -123,19 +122,9 @@ pub fn run_bevel(
     let torque = cycle.torque_nmm();
     let stats = &cycle.system.stats;
     let nodes = cycle.pair.model.mesh.node_count();
-    let law = match cycle.pair.model.contact.interactions[0].behavior {
-        Some(PressureOverclosure::Linear { slope: Some(s), .. }) => BevelLaw::Penalty {
-            slope_mpa_per_mm: s,
-            factor: cycle.settings.penalty_factor,
-        },
-        _ => BevelLaw::Hard,
-    };
     let kind = BevelRun {
         functional_contact_ratio: sharing.as_ref().map(|s| s.functional_contact_ratio),
         load_sharing: sharing,
-        // the numeric factorization alone (factorization_s also holds
-        // assembly, ordering and the condition estimates)
-        numeric_factorization_s: stats.factorization_s,
         input_checks_s: checks_s,
         largest_exact_unloaded_interpenetration_mm: unloaded
             .iter()
@@ -156,7 +145,6 @@ pub fn run_bevel(
             .filter_map(|s| s.moment_balance.map(f64::abs))
             .fold(0.0, f64::max),
         plots: plots.clone(),
-        law,
         slave: SlaveBody::Pinion,
         friction_mu: cycle.settings.friction_mu,
         max_coulomb_residual: steps.iter().map(|s| s.coulomb_residual).fold(0.0, f64::max),
@@ -175,16 +163,18 @@ pub fn run_bevel(
         nodes,
         nodes_per_body: cycle.pair.nodes,
         elements_per_body: cycle.pair.elements,
-        dofs: 3 * nodes,
+        dofs: stats.dofs,
         nnz_factor: stats.nnz_factor,
         factorization_flops: stats.flops,
-        factorization_s,
+        factorization_s: stats.factorization_s,
+        setup_s,
         factorization_gflop_per_s: stats.flops / stats.factorization_s.max(1e-9) / 1e9,
         time_per_position_s: steps.iter().map(|s| s.time_s).sum::<f64>()
             / steps.len().max(1) as f64,
         peak_memory_mb: crate::fem::static_analysis::peak_memory_mb(),
         te_peak_to_peak_urad: peak_to_peak(records.iter().map(|r| r.te_urad)),
         te_peak_to_peak_arcsec: peak_to_peak(steps.iter().map(|s| s.te_arcsec)),
+        law: RunLaw::of(&cycle),
         iteration_limits: loops,
         tooth_pairs: cycle.pair.teeth.clone(),
         kinematics: cycle.gear_pair.describe(),

@@ -63,7 +63,7 @@ pub fn loop_settings(
 pub struct LubricatedCycle {
     pub steps: Vec<StepResult>,
     pub result: LoopResult,
-    pub summary: serde_json::Value,
+    pub summary: crate::report::lubrication::LubricationSummary,
 }
 
 /// Runs the loop from the dry pass `dry` (solved at μ₀) and writes its files to `out`.

@@ -11,8 +11,6 @@
 use std::path::Path;
 use std::time::Instant;
 
-use crate::contact::pairing::NormalLaw;
-use crate::contact::PressureOverclosure;
 use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
 
@@ -23,7 +21,7 @@ use crate::mesh_cycle::cycle::{iteration_limits, MeshCycle, StepResult, ILL_COND
 use crate::mesh_cycle::outputs::{self, position_records};
 use crate::mesh_cycle::positions::{PositionFiles, Positions};
 use crate::mesh_cycle::summary::{
-    peak_to_peak, CylindricalRun, RunFiles, RunKind, RunSummary, SCHEMA_VERSION,
+    peak_to_peak, CylindricalRun, RunFiles, RunKind, RunLaw, RunSummary, SCHEMA_VERSION,
 };
 use crate::scene::{read_scene, Scene};
 
@@ -235,13 +233,6 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError
             stats.scaled_condition_estimate, stats.condition_estimate
         ));
     }
-    let law = match cycle.pair.model.contact.interactions[0].behavior {
-        Some(PressureOverclosure::Linear { slope: Some(s), .. }) => NormalLaw::Penalty {
-            slope: s,
-            automatic: cycle.settings.penalty_factor == 1.0,
-        },
-        _ => NormalLaw::Hard,
-    };
     let ratio = line.ratio();
     let te_arcsec: Vec<f64> = te.iter().map(|&t| te_arcsec_at_gear(t, ratio)).collect();
     let kind = CylindricalRun {
@@ -259,7 +250,6 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError
         loaded_threshold_fraction: LOADED_FRACTION,
         refinement_positions: refine_solves,
         extension_positions: extended,
-        setup_s,
         total_s: t_total.elapsed().as_secs_f64(),
         lubrication,
         ordering: stats.ordering.clone(),
@@ -277,7 +267,6 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError
         max_equilibrium: worst(|s| s.equilibrium),
         max_backward_error: worst(|s| s.backward_error),
         settings: cycle.settings.clone(),
-        law,
         steps: steps.clone(),
     };
     let summary = RunSummary {
@@ -293,11 +282,13 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError
         nnz_factor: stats.nnz_factor,
         factorization_flops: stats.flops,
         factorization_s: stats.factorization_s,
+        setup_s,
         factorization_gflop_per_s: stats.flops / stats.factorization_s.max(1e-9) / 1e9,
         time_per_position_s,
         peak_memory_mb: peak_memory_mb(),
         te_peak_to_peak_urad: te_pp,
         te_peak_to_peak_arcsec: peak_to_peak(te_arcsec.iter().copied()),
+        law: RunLaw::of(&cycle),
         iteration_limits: loops,
         tooth_pairs: cycle.pair.teeth.clone(),
         kinematics: line.describe(),

@@ -7,10 +7,10 @@
 use serde::ser::SerializeStruct;
 use serde::Serialize;
 
-use crate::contact::pairing::NormalLaw;
+use crate::contact::PressureOverclosure;
 use crate::iteration_limits::IterationLimits;
 use crate::load_sharing::CycleSharing;
-use crate::mesh_cycle::cycle::{RunSettings, StepResult};
+use crate::mesh_cycle::cycle::{MeshCycle, RunSettings, StepResult};
 use crate::settings::SlaveBody;
 
 pub use crate::summary::{peak_to_peak, SCHEMA_VERSION};
@@ -29,14 +29,16 @@ pub struct RunSummary {
     pub nodes: usize,
     pub nodes_per_body: [usize; 2],
     pub elements_per_body: [usize; 2],
-    /// Cylindrical pairs: the free DOFs; bevel pairs: 3 × nodes
-    /// (constrained ones included).
+    /// The free DOFs of the pair's system.
     pub dofs: usize,
     pub nnz_factor: usize,
     pub factorization_flops: f64,
-    /// Cylindrical pairs: the numeric factorization; bevel pairs: with the
-    /// assembly, ordering and condition estimates (s).
+    /// The numeric factorization (s).
     pub factorization_s: f64,
+    /// The system's setup: assembly, ordering, factorization and condition
+    /// estimates, with the meshing for cylindrical pairs (a bevel pair's
+    /// meshing is part of its `input_checks_s`) (s).
+    pub setup_s: f64,
     pub factorization_gflop_per_s: f64,
     pub time_per_position_s: f64,
     pub peak_memory_mb: f64,
@@ -45,6 +47,8 @@ pub struct RunSummary {
     /// middle pair loaded; bevel: all).
     pub te_peak_to_peak_urad: f64,
     pub te_peak_to_peak_arcsec: f64,
+    /// The normal contact law.
+    pub law: RunLaw,
     pub iteration_limits: IterationLimits,
     /// (pinion tooth, gear tooth) of each pair k.
     pub tooth_pairs: Vec<(usize, usize)>,
@@ -113,11 +117,10 @@ pub struct CylindricalRun {
     pub loaded_threshold_fraction: f64,
     pub refinement_positions: usize,
     pub extension_positions: usize,
-    pub setup_s: f64,
     pub total_s: f64,
     /// The wet–dry loop's figures, with `[analyses.lubrication]`.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub lubrication: Option<serde_json::Value>,
+    pub lubrication: Option<crate::report::lubrication::LubricationSummary>,
     pub ordering: String,
     pub assembly_s: f64,
     pub condition_estimate: f64,
@@ -134,7 +137,6 @@ pub struct CylindricalRun {
     pub max_equilibrium: f64,
     pub max_backward_error: f64,
     pub settings: RunSettings,
-    pub law: NormalLaw,
     pub steps: Vec<StepResult>,
 }
 
@@ -144,8 +146,6 @@ pub struct BevelRun {
     /// As in the hypoid LTCA (default cycle only).
     pub functional_contact_ratio: Option<f64>,
     pub load_sharing: Option<CycleSharing>,
-    /// The numeric factorization alone (s).
-    pub numeric_factorization_s: f64,
     /// The bad-input checks before the factorization (s).
     pub input_checks_s: f64,
     pub largest_exact_unloaded_interpenetration_mm: f64,
@@ -156,7 +156,6 @@ pub struct BevelRun {
     pub max_pressure_mpa: f64,
     pub max_moment_balance: f64,
     pub plots: Vec<String>,
-    pub law: BevelLaw,
     pub slave: SlaveBody,
     pub friction_mu: f64,
     pub max_coulomb_residual: f64,
@@ -164,23 +163,37 @@ pub struct BevelRun {
     pub steps: Vec<StepResult>,
 }
 
-/// The normal law of a bevel run as its summary gives it: `"hard"`, or
-/// `{"penalty_slope_mpa_per_mm": …, "factor": …}`.
+/// The normal law of a run as its summary gives it: `"hard"`, or
+/// `{"penalty_slope_mpa_per_mm": …, "factor": …}` (factor 1: the automatic
+/// slope).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum BevelLaw {
+pub enum RunLaw {
     Hard,
     Penalty { slope_mpa_per_mm: f64, factor: f64 },
 }
 
-impl Serialize for BevelLaw {
+impl RunLaw {
+    /// The law `cycle` solves with.
+    pub fn of(cycle: &MeshCycle) -> Self {
+        match cycle.pair.model.contact.interactions[0].behavior {
+            Some(PressureOverclosure::Linear { slope: Some(s), .. }) => RunLaw::Penalty {
+                slope_mpa_per_mm: s,
+                factor: cycle.settings.penalty_factor,
+            },
+            _ => RunLaw::Hard,
+        }
+    }
+}
+
+impl Serialize for RunLaw {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         match *self {
-            BevelLaw::Hard => s.serialize_str("hard"),
-            BevelLaw::Penalty {
+            RunLaw::Hard => s.serialize_str("hard"),
+            RunLaw::Penalty {
                 slope_mpa_per_mm,
                 factor,
             } => {
-                let mut m = s.serialize_struct("BevelLaw", 2)?;
+                let mut m = s.serialize_struct("RunLaw", 2)?;
                 m.serialize_field("penalty_slope_mpa_per_mm", &slope_mpa_per_mm)?;
                 m.serialize_field("factor", &factor)?;
                 m.end()
@@ -194,9 +207,9 @@ mod tests {
     use super::*;
 
     #[test]
-    fn bevel_law_keeps_its_keys() {
-        assert_eq!(serde_json::to_value(BevelLaw::Hard).unwrap(), "hard");
-        let v = serde_json::to_value(BevelLaw::Penalty {
+    fn law_keeps_its_keys() {
+        assert_eq!(serde_json::to_value(RunLaw::Hard).unwrap(), "hard");
+        let v = serde_json::to_value(RunLaw::Penalty {
             slope_mpa_per_mm: 2.0,
             factor: 1.0,
         })

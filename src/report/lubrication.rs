@@ -16,6 +16,8 @@
 
 use std::path::Path;
 
+use serde::Serialize;
+
 use crate::error::FlankError;
 use crate::lubrication::{ContactEhl, LoopResult, LoopSettings, Lubricant};
 
@@ -43,8 +45,115 @@ pub struct LoopOutputs<'a> {
     pub contact_length_mm: f64,
 }
 
+/// The `lubrication` object of `summary.json` (`flank ltca` and `flank
+/// run` with `[analyses.lubrication]`).
+#[derive(Clone, Debug, Serialize)]
+pub struct LubricationSummary {
+    /// Wet passes run, and whether μ settled within the tolerance.
+    pub iterations: usize,
+    pub converged: bool,
+    /// Largest and smallest μ of the final pass's contacts.
+    pub mu_max: f64,
+    pub mu_min: Option<f64>,
+    /// Largest relative change of μ in the last pass.
+    pub mu_last_change_rel: f64,
+    /// Change of the largest subsurface shear, last wet pass against the
+    /// dry one, over the positions (%).
+    pub subsurface_change_max_pct: Option<f64>,
+    pub subsurface_change_min_pct: Option<f64>,
+    /// How the subsurface shear is computed.
+    pub subsurface_stress: &'static str,
+    /// Mesh power loss (W, mean over one pitch), efficiency 1 − P/(T ω₁),
+    /// input power (W) and the positions of the mean.
+    pub power_loss_w: f64,
+    pub efficiency: f64,
+    pub input_power_w: f64,
+    pub power_loss_positions: usize,
+    /// The loop's settings.
+    pub initial_mu: f64,
+    pub tolerance: f64,
+    pub max_iterations: usize,
+    pub film_model: &'static str,
+    pub mean_pressure: &'static str,
+    /// E′ (MPa) and the contact length L (mm) of the operating points.
+    pub reduced_modulus_mpa: f64,
+    pub contact_length_mm: f64,
+    /// The lubricant, in internal units.
+    pub lubricant: Lubricant,
+    /// Contacts of the final pass, and how many carry each flag.
+    pub flags: FlagCounts,
+    /// Every pass.
+    pub passes: Vec<PassSummary>,
+    /// The files written.
+    pub files: LoopFiles,
+    pub notes: Vec<String>,
+    pub warnings: Vec<String>,
+    /// What the LTCA's loop adds (absent for the FE loop).
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    pub ltca: Option<LtcaLoopFigures>,
+}
+
+/// Contacts of the final pass and the count of each flag.
+#[derive(Clone, Debug, Serialize)]
+pub struct FlagCounts {
+    pub contacts: usize,
+    pub outside_ellipticity_range: usize,
+    pub point_contact_in_line_fit: usize,
+    pub not_eyring: usize,
+    pub isothermal_below_thermal: usize,
+    pub thermal_formula_not_positive: usize,
+    pub outside_path: usize,
+}
+
+/// One pass of the loop.
+#[derive(Clone, Debug, Serialize)]
+pub struct PassSummary {
+    /// 0 is the dry pass.
+    pub pass: usize,
+    /// `dry` or `wet`.
+    pub kind: &'static str,
+    /// Largest μ used, and largest μ from the EHL of this pass.
+    pub mu_used_max: f64,
+    pub mu_ehl_max: f64,
+    /// Largest relative change of μ against the pass before, and where.
+    pub mu_change_rel: f64,
+    pub mu_change_at: Option<MuChangeAt>,
+    /// Normal force per position and tooth pair (N).
+    pub pair_force_n: Vec<Vec<f64>>,
+}
+
+/// Where μ changed most.
+#[derive(Clone, Debug, Serialize)]
+pub struct MuChangeAt {
+    pub roll_deg: f64,
+    pub tooth_pair: usize,
+}
+
+/// The loop's files.
+#[derive(Clone, Debug, Serialize)]
+pub struct LoopFiles {
+    pub csv: [&'static str; 2],
+    pub plots: Vec<String>,
+}
+
+/// What the LTCA's loop adds to [`LubricationSummary`].
+#[derive(Clone, Debug, Serialize)]
+pub struct LtcaLoopFigures {
+    /// `"ltca"`.
+    pub solver: &'static str,
+    /// The friction model of the passes.
+    pub friction_model: crate::settings::FrictionModel,
+    /// How the contact area A of P̄ = W/A is summed.
+    pub contact_area: &'static str,
+    /// Wall time of each wet pass and of the whole loop (s).
+    pub wet_pass_s: Vec<f64>,
+    pub loop_s: f64,
+    /// Positions of the final pass whose KKT residual is above tolerance.
+    pub final_pass_flagged: Vec<String>,
+}
+
 /// Writes the CSV files and plots and returns the `lubrication` object.
-pub fn write_loop_outputs(o: &LoopOutputs) -> Result<serde_json::Value, FlankError> {
+pub fn write_loop_outputs(o: &LoopOutputs) -> Result<LubricationSummary, FlankError> {
     let result = o.result;
     let angles = o.angles;
     let settings = o.settings;
@@ -114,15 +223,27 @@ pub fn write_loop_outputs(o: &LoopOutputs) -> Result<serde_json::Value, FlankErr
         .collect();
     let count = |f: &dyn Fn(&ContactEhl) -> bool| all.iter().filter(|c| f(c)).count();
     use crate::lubrication::{FilmFlag, TractionFlag};
-    let flags = serde_json::json!({
-        "contacts": all.len(),
-        "outside_ellipticity_range": count(&|c| c.film.flags.contains(&FilmFlag::OutsideEllipticityRange)),
-        "point_contact_in_line_fit": count(&|c| c.film.flags.contains(&FilmFlag::PointContactInLineFit)),
-        "not_eyring": count(&|c| c.traction.flags.contains(&TractionFlag::NotEyring)),
-        "isothermal_below_thermal": count(&|c| c.traction.flags.contains(&TractionFlag::IsothermalBelowThermal)),
-        "thermal_formula_not_positive": count(&|c| c.traction.flags.contains(&TractionFlag::ThermalFormulaNotPositive)),
-        "outside_path": count(&|c| c.point.outside_path),
-    });
+    let flags = FlagCounts {
+        contacts: all.len(),
+        outside_ellipticity_range: count(&|c| {
+            c.film.flags.contains(&FilmFlag::OutsideEllipticityRange)
+        }),
+        point_contact_in_line_fit: count(&|c| {
+            c.film.flags.contains(&FilmFlag::PointContactInLineFit)
+        }),
+        not_eyring: count(&|c| c.traction.flags.contains(&TractionFlag::NotEyring)),
+        isothermal_below_thermal: count(&|c| {
+            c.traction
+                .flags
+                .contains(&TractionFlag::IsothermalBelowThermal)
+        }),
+        thermal_formula_not_positive: count(&|c| {
+            c.traction
+                .flags
+                .contains(&TractionFlag::ThermalFormulaNotPositive)
+        }),
+        outside_path: count(&|c| c.point.outside_path),
+    };
     // plots
     let series = |f: &dyn Fn(&ContactEhl) -> f64| -> Vec<(String, Vec<(f64, f64)>)> {
         (0..np)
@@ -170,50 +291,60 @@ pub fn write_loop_outputs(o: &LoopOutputs) -> Result<serde_json::Value, FlankErr
             Err(e) => notes.push(format!("plot {stem} not written: {e}")),
         }
     }
-    let passes: Vec<serde_json::Value> = result
+    let passes: Vec<PassSummary> = result
         .passes
         .iter()
         .zip(o.pass_forces)
-        .map(|(p, f)| {
-            serde_json::json!({
-                "pass": p.index,
-                "kind": if p.index == 0 { "dry" } else { "wet" },
-                "mu_used_max": p.mu_used.iter().flatten().fold(0.0f64, |a, &b| a.max(b)),
-                "mu_ehl_max": p.contacts.iter().flatten().flatten().map(|c| c.traction.mu).fold(0.0f64, f64::max),
-                "mu_change_rel": p.change_rel,
-                "mu_change_at": p.change_at.map(|(i, q)| serde_json::json!({"roll_deg": angles[i], "tooth_pair": q + 1})),
-                "pair_force_n": f,
-            })
+        .map(|(p, f)| PassSummary {
+            pass: p.index,
+            kind: if p.index == 0 { "dry" } else { "wet" },
+            mu_used_max: p.mu_used.iter().flatten().fold(0.0f64, |a, &b| a.max(b)),
+            mu_ehl_max: p
+                .contacts
+                .iter()
+                .flatten()
+                .flatten()
+                .map(|c| c.traction.mu)
+                .fold(0.0f64, f64::max),
+            mu_change_rel: p.change_rel,
+            mu_change_at: p.change_at.map(|(i, q)| MuChangeAt {
+                roll_deg: angles[i],
+                tooth_pair: q + 1,
+            }),
+            pair_force_n: f.clone(),
         })
         .collect();
-    let summary = serde_json::json!({
-        "iterations": result.iterations,
-        "converged": result.converged,
-        "mu_max": mu_max,
-        "mu_min": if mu_min.is_finite() { Some(mu_min) } else { None },
-        "mu_last_change_rel": result.mu_last_change_rel,
-        "subsurface_change_max_pct": subsurface_change_pct.iter().cloned().reduce(f64::max),
-        "subsurface_change_min_pct": subsurface_change_pct.iter().cloned().reduce(f64::min),
-        "subsurface_stress": "per position the largest principal shear below its contacts, Hertz line contacts with the pass's sliding friction (McEwen 1949, Smith & Liu 1953; lubrication::subsurface), last wet pass against the dry pass",
-        "power_loss_w": power_loss_w,
-        "efficiency": efficiency,
-        "input_power_w": input_power_w,
-        "power_loss_positions": used.len(),
-        "initial_mu": settings.initial_mu,
-        "tolerance": settings.tolerance,
-        "max_iterations": settings.max_iterations,
-        "film_model": settings.film.name(),
-        "mean_pressure": settings.mean_pressure.name(),
-        "reduced_modulus_mpa": o.reduced_modulus_mpa,
-        "contact_length_mm": o.contact_length_mm,
-        "lubricant": o.lubricant,
-        "flags": flags,
-        "passes": passes,
-        "files": {"csv": ["lubrication.csv", "lubrication_passes.csv"], "plots": files},
-        "notes": notes,
-        "warnings": result.warnings,
-    });
-    Ok(summary)
+    Ok(LubricationSummary {
+        iterations: result.iterations,
+        converged: result.converged,
+        mu_max,
+        mu_min: mu_min.is_finite().then_some(mu_min),
+        mu_last_change_rel: result.mu_last_change_rel,
+        subsurface_change_max_pct: subsurface_change_pct.iter().cloned().reduce(f64::max),
+        subsurface_change_min_pct: subsurface_change_pct.iter().cloned().reduce(f64::min),
+        subsurface_stress: "per position the largest principal shear below its contacts, Hertz line contacts with the pass's sliding friction (McEwen 1949, Smith & Liu 1953; lubrication::subsurface), last wet pass against the dry pass",
+        power_loss_w,
+        efficiency,
+        input_power_w,
+        power_loss_positions: used.len(),
+        initial_mu: settings.initial_mu,
+        tolerance: settings.tolerance,
+        max_iterations: settings.max_iterations,
+        film_model: settings.film.name(),
+        mean_pressure: settings.mean_pressure.name(),
+        reduced_modulus_mpa: o.reduced_modulus_mpa,
+        contact_length_mm: o.contact_length_mm,
+        lubricant: o.lubricant.clone(),
+        flags,
+        passes,
+        files: LoopFiles {
+            csv: ["lubrication.csv", "lubrication_passes.csv"],
+            plots: files,
+        },
+        notes,
+        warnings: result.warnings.clone(),
+        ltca: None,
+    })
 }
 
 fn flag_text(c: &ContactEhl) -> String {

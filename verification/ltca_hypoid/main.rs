@@ -193,18 +193,19 @@ fn seed003_frictional_ltca_cross_checks() {
     )
     .unwrap();
     let rf = with.solve(0.0).unwrap();
-    let report = rf.friction.as_ref().expect("a friction report");
-    let check = &report["cross_check"];
-    let load_diff = check["load_difference"].as_f64().unwrap();
-    let rot_diff = check["rotation_difference"].as_f64().unwrap();
+    let Some(flank::ltca::friction_report::FrictionReport::Incremental(report)) = &rf.friction
+    else {
+        panic!("an incremental friction report: {:?}", rf.friction)
+    };
+    let check = report.cross_check.as_ref().expect("a Lemke cross-check");
+    let (load_diff, rot_diff) = (check.load_difference, check.rotation_difference);
     println!(
         "VERIFY ltca_hypoid friction clarabel vs Lemke: loads {load_diff:.2e}, rotation {rot_diff:.2e}, states differing {} (tol 1e-8); residual {:.2e}",
-        check["state_differences"],
-        report["max_residual"]["max"].as_f64().unwrap_or(f64::NAN)
+        check.state_differences, report.max_residual.max
     );
-    assert!(load_diff <= 1e-8 && rot_diff <= 1e-8, "{check}");
-    assert_eq!(check["state_differences"], 0);
-    assert_eq!(report["within_tolerance"], true);
+    assert!(load_diff <= 1e-8 && rot_diff <= 1e-8, "{check:?}");
+    assert_eq!(check.state_differences, 0);
+    assert!(report.within_tolerance);
     // Coulomb law: every loaded point slips with |P_t| = μ P_n
     let (mut n_sum, mut t_sum) = (0.0, 0.0);
     for p in &rf.points {
