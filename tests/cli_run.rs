@@ -196,6 +196,7 @@ fn run_lubricated_loop_converges() {
             sliding_speed_mm_s: x(8) * 1e3,
             reduced_modulus_mpa: e_prime,
             outside_path: f[18].contains("OutsidePath"),
+            hertz_peak_mpa: 0.0,
         };
         let c = evaluate(&lub, FilmModel::Chittenden, &point, None).unwrap();
         let rel = |a: f64, b: f64| (a / b - 1.0).abs();

@@ -215,24 +215,24 @@ fn print_cycle(s: &LtcaSummary) {
                 100.0 * or_nan(c.single_pair_force_error),
                 s.max_kkt
             );
-            if let Some(fr) = &s.friction {
-                println!(
-                    "friction μ = {}: P_t/P_n {:.4}, mean friction power {:.1} W, mesh efficiency {:.4}; largest Coulomb residual {:.1e}{}",
-                    fr.mu,
-                    fr.tangential_to_normal,
-                    fr.mean_power_loss_w,
-                    fr.mesh_efficiency,
-                    fr.max_residual,
-                    match fr.cross_check_max_load_difference {
-                        Some(d) => format!(", Lemke cross-check {d:.1e}"),
-                        None => String::new(),
-                    }
-                );
-            }
-            if let Some(l) = &c.lubrication {
-                print_wet_dry_loop(l);
-            }
         }
+    }
+    if let Some(fr) = &s.friction {
+        println!(
+                "friction μ = {}: P_t/P_n {:.4}, mean friction power {:.1} W, mesh efficiency {:.4}; largest Coulomb residual {:.1e}{}",
+                fr.mu,
+                fr.tangential_to_normal,
+                fr.mean_power_loss_w,
+                fr.mesh_efficiency,
+                fr.max_residual,
+                match fr.cross_check_max_load_difference {
+                    Some(d) => format!(", Lemke cross-check {d:.1e}"),
+                    None => String::new(),
+                }
+            );
+    }
+    if let Some(l) = &s.lubrication {
+        print_wet_dry_loop(l);
     }
     for n in &s.notes {
         println!("note: {n}");

@@ -20,6 +20,7 @@ use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
 use crate::geometry::gear_pair::GearPair;
 use crate::ltca::cycle::{LtcaCycle, LtcaOptions};
+use crate::ltca::lubricated::LubricatedSettings;
 use crate::ltca::model::PositionResult;
 use crate::ltca::outputs::{write_cycle_csv, write_points_csv, write_positions_csv};
 use crate::ltca::summary::{
@@ -34,7 +35,19 @@ use crate::tca::point_candidates::PointCandidates;
 /// the scene's); returns the summary.
 pub fn run_point(scene: &Scene, options: &LtcaOptions) -> Result<LtcaResult, FlankError> {
     let t_total = Instant::now();
+    // the wet–dry loop (seed 002's, on point contacts): the cycle is its
+    // dry pass at μ₀
+    let lubricated = crate::ltca::lubricated::loop_settings(scene, options)?;
+    let dry_options;
+    let options = match &lubricated {
+        Some(l) => {
+            dry_options = l.dry_options(options);
+            &dry_options
+        }
+        None => options,
+    };
     let first = LtcaCycle::new(scene, options)?;
+    let lubricated = lubricated.as_ref();
     let out = &options.out;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
     let a = scene.analyses.ltca.clone().unwrap_or_default();
@@ -45,7 +58,15 @@ pub fn run_point(scene: &Scene, options: &LtcaOptions) -> Result<LtcaResult, Fla
         .runs();
     let compliance_s = first.setup.compliance_s;
     if runs.len() == 1 {
-        let mut s = run_variant(scene, &first, options, out, runs[0].1, compliance_s)?;
+        let mut s = run_variant(
+            scene,
+            &first,
+            options,
+            lubricated,
+            out,
+            runs[0].1,
+            compliance_s,
+        )?;
         s.total_s = t_total.elapsed().as_secs_f64();
         let result = LtcaResult::Cycle(Box::new(s));
         result.write(out)?;
@@ -63,7 +84,9 @@ pub fn run_point(scene: &Scene, options: &LtcaOptions) -> Result<LtcaResult, Fla
         };
         let dir = out.join(name);
         std::fs::create_dir_all(&dir).map_err(|e| FlankError::io(&dir, e))?;
-        variants.push(run_variant(scene, cycle, options, &dir, name, setup_s)?);
+        variants.push(run_variant(
+            scene, cycle, options, lubricated, &dir, name, setup_s,
+        )?);
     }
     let (Some(without_edges), Some(with_edges)) = (variants.pop(), variants.pop()) else {
         return Err(FlankError::Model(
@@ -101,6 +124,7 @@ fn run_variant(
     scene: &Scene,
     cycle: &LtcaCycle,
     options: &LtcaOptions,
+    lubricated: Option<&LubricatedSettings>,
     out: &std::path::Path,
     variant: &'static str,
     compliance_s: f64,
@@ -124,8 +148,23 @@ fn run_variant(
         .filter(|(_, r)| r.is_none())
         .map(|(&x, _)| x)
         .collect();
-    let results: Vec<PositionResult> = solved.iter().flatten().cloned().collect();
+    let mut results: Vec<PositionResult> = solved.iter().flatten().cloned().collect();
     let np = cycle.pair.sector_teeth();
+    let mut lubrication = None;
+    if let Some(l) = lubricated {
+        if !gaps.is_empty() {
+            return Err(FlankError::Model(format!(
+                "[analyses.lubrication]: no tooth pair of the sector is in contact at {} of the {} roll angles ({:?}°): the wet–dry loop needs a contact at every position",
+                gaps.len(),
+                rolls.len(),
+                gaps
+            )));
+        }
+        let dry = std::mem::take(&mut results);
+        let lc = crate::ltca::lubricated::lubricated_cycle(cycle, scene, l, dry, &rolls, out)?;
+        results = lc.results;
+        lubrication = Some(lc.summary);
+    }
     let ratio = cycle.pair.ratio();
     let steps: Vec<LtcaStep> = results
         .iter()
@@ -279,6 +318,7 @@ fn run_variant(
             .friction
             .as_ref()
             .map(|f| crate::ltca::outputs::friction_summary(&results, f, cycle.torque)),
+        lubrication,
         settings: cycle.settings.clone(),
         cycle_s,
         time_per_position_s: cycle_s / results.len().max(1) as f64,

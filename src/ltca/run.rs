@@ -202,6 +202,7 @@ fn run_line(scene: &Scene, options: &LtcaOptions) -> Result<LtcaResult, FlankErr
             .friction
             .as_ref()
             .map(|f| friction_summary(&results, f, cycle.torque)),
+        lubrication,
         settings: cycle.settings.clone(),
         cycle_s,
         time_per_position_s,
@@ -240,7 +241,6 @@ fn run_line(scene: &Scene, options: &LtcaOptions) -> Result<LtcaResult, FlankErr
                 plots,
                 contact_pattern: pattern,
             },
-            lubrication,
         })),
         steps,
     };

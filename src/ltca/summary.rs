@@ -98,6 +98,9 @@ pub struct LtcaSummary {
     pub iteration_limits: IterationLimits,
     /// The frictional LTCA's figures (`None` frictionless).
     pub friction: Option<FrictionSummary>,
+    /// The wet–dry loop's summary (`[analyses.lubrication]` only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lubrication: Option<crate::report::lubrication::LubricationSummary>,
     pub settings: LtcaSettings,
     /// Wall time of the cycle, per position, and of the whole run (s).
     pub cycle_s: f64,
@@ -212,9 +215,6 @@ pub struct CylindricalLtcaSummary {
     /// Positions whose KKT residual is above the tolerance.
     pub kkt_flagged: Vec<String>,
     pub files: LtcaFiles,
-    /// The wet–dry loop's summary (`[analyses.lubrication]` only).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub lubrication: Option<crate::report::lubrication::LubricationSummary>,
 }
 
 /// The files a spur/helical cycle wrote.

@@ -32,8 +32,8 @@ pub mod wet_dry;
 pub use film::{film_thickness, reduced_modulus, Film, FilmFlag, FilmInput, FilmModel};
 pub use lubricant::{Lubricant, LubricantSi};
 pub use operating_point::{
-    evaluate, hertz_line_contact, involute_contact, ContactEhl, InvoluteContact, MeanPressure,
-    OperatingPoint,
+    evaluate, hertz_line_contact, involute_contact, ContactEhl, ContactKinematics, HertzContact,
+    InvoluteContact, MeanPressure, OperatingPoint,
 };
 pub use traction::{traction, Traction, TractionFlag, TractionInput};
 pub use wet_dry::{wet_dry_loop, LoopResult, LoopSettings, Pass};

@@ -105,6 +105,61 @@ pub fn involute_contact(
     })
 }
 
+impl InvoluteContact {
+    /// What an operating point needs of it.
+    pub fn kinematics(&self) -> ContactKinematics {
+        ContactKinematics {
+            radius_x_mm: self.radius_x_mm,
+            radius_y_mm: self.radius_y_mm,
+            entraining_speed_mm_s: self.entraining_speed_mm_s,
+            sliding_speed_mm_s: self.sliding_speed_mm_s,
+            outside_path: self.outside_path,
+        }
+    }
+}
+
+/// The geometry and kinematics of one contact that the EHL formulas need,
+/// of any pair kind: closed form for an involute line contact
+/// ([`InvoluteContact::kinematics`]), from the point TCA's curvatures and
+/// velocities for a bevel/hypoid point contact
+/// (`crate::ltca::lubricated`).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct ContactKinematics {
+    /// R_x (along the entrainment, the smaller) and R_y (mm; R_y may be
+    /// infinite: a line contact).
+    pub radius_x_mm: f64,
+    pub radius_y_mm: f64,
+    /// u and v_s (mm/s).
+    pub entraining_speed_mm_s: f64,
+    pub sliding_speed_mm_s: f64,
+    /// The values are those of the path's end, the position lying beyond it.
+    pub outside_path: bool,
+}
+
+/// The Hertz contact of an operating point's load: its area (mm²), mean
+/// and peak pressure p₀ (MPa), for [`MeanPressure::Hertz`] and the
+/// subsurface stress.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HertzContact {
+    pub area_mm2: f64,
+    pub mean_mpa: f64,
+    pub peak_mpa: f64,
+}
+
+impl HertzContact {
+    /// A line contact of `length` (mm): area 2bL, p₀ = √(w′E′/(2πR_x))
+    /// (Johnson, *Contact Mechanics* 1985, eq. 4.45 with E′ = 2E*).
+    pub fn line(load: f64, radius_x: f64, length: f64, reduced_modulus: f64) -> Self {
+        let (mean, b) = hertz_line_contact(load, radius_x, length, reduced_modulus);
+        HertzContact {
+            area_mm2: 2.0 * b * length,
+            mean_mpa: mean,
+            peak_mpa: (load / length * reduced_modulus / (2.0 * std::f64::consts::PI * radius_x))
+                .sqrt(),
+        }
+    }
+}
+
 /// Where P̄ comes from.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -164,15 +219,20 @@ pub struct OperatingPoint {
     /// The other estimate of P̄, for comparison: Hertz when P̄ is W/A of
     /// the contact solution, W/A when P̄ is Hertz (MPa; 0 if unknown).
     pub other_mean_pressure_mpa: f64,
+    /// The Hertz peak pressure p₀ of the load on these radii (MPa; line or
+    /// elliptical contact), for the subsurface stress.
+    pub hertz_peak_mpa: f64,
 }
 
 impl OperatingPoint {
-    /// From the closed-form contact and the contact solution's W and A,
-    /// P̄ as `pressure` says.
+    /// From the contact's kinematics, the contact solution's W and A and
+    /// the Hertz contact of W, P̄ as `pressure` says; `length_mm` is the
+    /// contact length of line fits.
     pub fn new(
-        contact: &InvoluteContact,
+        contact: &ContactKinematics,
         load_n: f64,
         contact_area_mm2: f64,
+        hertz: HertzContact,
         length_mm: f64,
         reduced_modulus_mpa: f64,
         pressure: MeanPressure,
@@ -182,12 +242,11 @@ impl OperatingPoint {
                 "operating point: load {load_n} N on {contact_area_mm2} mm²: a loaded contact with an area is needed"
             )));
         }
-        let (p_hertz, b) =
-            hertz_line_contact(load_n, contact.radius_x_mm, length_mm, reduced_modulus_mpa);
+        let p_hertz = hertz.mean_mpa;
         let p_area = load_n / contact_area_mm2;
         let (area, p, other) = match pressure {
             MeanPressure::ContactArea => (contact_area_mm2, p_area, p_hertz),
-            MeanPressure::Hertz => (2.0 * b * length_mm, p_hertz, p_area),
+            MeanPressure::Hertz => (hertz.area_mm2, p_hertz, p_area),
         };
         Ok(OperatingPoint {
             load_n,
@@ -201,6 +260,7 @@ impl OperatingPoint {
             sliding_speed_mm_s: contact.sliding_speed_mm_s,
             reduced_modulus_mpa,
             outside_path: contact.outside_path,
+            hertz_peak_mpa: hertz.peak_mpa,
         })
     }
 

@@ -222,6 +222,7 @@ mod tests {
             reduced_modulus_mpa: 226_000.0,
             outside_path: false,
             other_mean_pressure_mpa: 0.0,
+            hertz_peak_mpa: 0.0,
         }
     }
 

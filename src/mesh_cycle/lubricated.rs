@@ -13,7 +13,8 @@ use std::path::Path;
 use crate::error::FlankError;
 use crate::geometry::cylindrical::MeshKinematics;
 use crate::lubrication::{
-    involute_contact, reduced_modulus, wet_dry_loop, LoopResult, LoopSettings, OperatingPoint,
+    involute_contact, reduced_modulus, wet_dry_loop, HertzContact, LoopResult, LoopSettings,
+    OperatingPoint,
 };
 use crate::mesh_cycle::cycle::{MeshCycle, StepResult};
 
@@ -116,9 +117,10 @@ pub fn lubricated_cycle(
                         let c =
                             involute_contact(&kin, st.kinematic_position_mm[p], speed, crowning)?;
                         OperatingPoint::new(
-                            &c,
+                            &c.kinematics(),
                             st.pair_force_n[p],
                             st.patch[p].area_mm2,
+                            HertzContact::line(st.pair_force_n[p], c.radius_x_mm, length, e_prime),
                             length,
                             e_prime,
                             settings.mean_pressure,
@@ -144,7 +146,8 @@ pub fn lubricated_cycle(
             torque_nmm: scene.load.torque_nmm,
             poisson: 0.5 * (scene.pinion_material.poisson + scene.gear_material.poisson),
             reduced_modulus_mpa: e_prime,
-            contact_length_mm: length,
+            contact_length_mm: Some(length),
+            point_contact: false,
         })?;
     Ok(LubricatedCycle {
         steps: current,

@@ -112,6 +112,12 @@ pub fn settings(scene: &Scene, o: &RunOptions) -> Result<RunSettings, FlankError
                 "{name}: not available for bevel and hypoid scenes yet (their FE contact has the pinion as slave and runs over one mesh cycle, `roll_angles_deg` or --roll-angles)"
             )));
         }
+        if lubrication.is_some() {
+            return Err(FlankError::Model(format!(
+                "{}: [analyses.lubrication] with `flank run`: the FE wet–dry loop takes its operating points from the involute closed form of spur and helical pairs; for bevel and hypoid pairs the loop runs in `flank ltca` (operating points from the point TCA)",
+                scene.source.display()
+            )));
+        }
         let bevel = scene.bevel("the bevel/hypoid FE mesh cycle")?;
         let pitch = bevel.pair.tooth_roll_step().abs().to_degrees();
         let roll_angles_deg = match o.roll_angles_deg.as_ref().or(a.roll_angles_deg.as_ref()) {

@@ -40,9 +40,12 @@ pub struct LoopOutputs<'a> {
     pub torque_nmm: f64,
     /// Poisson's ratio of the flanks (the mean of both bodies').
     pub poisson: f64,
-    /// E′ (MPa) and the contact line length L (mm) of the operating points.
+    /// E′ (MPa) and the contact line length L (mm) of the operating points
+    /// (`None` for point contacts, whose length is each contact's own).
     pub reduced_modulus_mpa: f64,
-    pub contact_length_mm: f64,
+    pub contact_length_mm: Option<f64>,
+    /// Bevel/hypoid point contacts (elliptical Hertz contacts).
+    pub point_contact: bool,
 }
 
 /// The `lubrication` object of `summary.json` (`flank ltca` and `flank
@@ -75,9 +78,10 @@ pub struct LubricationSummary {
     pub max_iterations: usize,
     pub film_model: &'static str,
     pub mean_pressure: &'static str,
-    /// E′ (MPa) and the contact length L (mm) of the operating points.
+    /// E′ (MPa) and the contact length L (mm) of the operating points
+    /// (line contacts; `None` for point contacts).
     pub reduced_modulus_mpa: f64,
-    pub contact_length_mm: f64,
+    pub contact_length_mm: Option<f64>,
     /// The lubricant, in internal units.
     pub lubricant: Lubricant,
     /// Contacts of the final pass, and how many carry each flag.
@@ -193,17 +197,15 @@ pub fn write_loop_outputs(o: &LoopOutputs) -> Result<LubricationSummary, FlankEr
         .map(|c| c.traction.mu)
         .fold(f64::INFINITY, f64::min);
     // largest subsurface shear under each contact, dry pass against the
-    // last wet pass (seed 002 Fig. 10): the Hertz line-contact peak
-    // p₀ = √(w′ E′ / (2π R_x)) (Johnson eq. 4.45 with E′ = 2E*; not the
-    // FE contact area, which one or two node rows resolve) times the
-    // McEwen/Smith–Liu maximum for the μ the pass used
+    // last wet pass (seed 002 Fig. 10): the Hertz peak p₀ of the operating
+    // point (line: √(w′ E′ / (2π R_x)), Johnson eq. 4.45 with E′ = 2E*;
+    // ellipse: 3W/(2πab); not the FE contact area, which one or two node
+    // rows resolve) times the McEwen/Smith–Liu maximum for the μ the pass
+    // used
     let nu = o.poisson;
     let tau_max = |pass: &crate::lubrication::wet_dry::Pass, i: usize, p: usize| -> Option<f64> {
         let c = pass.contacts[i][p].as_ref()?;
-        let q = &c.point;
-        let p0 = (q.load_n / q.length_mm * q.reduced_modulus_mpa
-            / (2.0 * std::f64::consts::PI * q.radius_x_mm))
-            .sqrt();
+        let p0 = c.point.hertz_peak_mpa;
         if !(p0.is_finite() && p0 > 0.0) {
             return None;
         }
@@ -322,7 +324,11 @@ pub fn write_loop_outputs(o: &LoopOutputs) -> Result<LubricationSummary, FlankEr
         mu_last_change_rel: result.mu_last_change_rel,
         subsurface_change_max_pct: subsurface_change_pct.iter().cloned().reduce(f64::max),
         subsurface_change_min_pct: subsurface_change_pct.iter().cloned().reduce(f64::min),
-        subsurface_stress: "per position the largest principal shear below its contacts, Hertz line contacts with the pass's sliding friction (McEwen 1949, Smith & Liu 1953; lubrication::subsurface), last wet pass against the dry pass",
+        subsurface_stress: if o.point_contact {
+            "per position the largest principal shear below its contacts: the elliptical Hertz peak p₀ = 3W/(2πab) times the line-contact maximum for the pass's sliding friction (McEwen 1949, Smith & Liu 1953; lubrication::subsurface; an approximation for an ellipse), last wet pass against the dry pass"
+        } else {
+            "per position the largest principal shear below its contacts, Hertz line contacts with the pass's sliding friction (McEwen 1949, Smith & Liu 1953; lubrication::subsurface), last wet pass against the dry pass"
+        },
         power_loss_w,
         efficiency,
         input_power_w,

@@ -205,9 +205,7 @@ pub(super) struct RawBevelScene {
     load: RawLoad,
     analyses: Option<RawAnalyses>,
     mesh: Option<RawMesh>,
-    /// Read only to refuse it by name (the lubricated analysis is spur and
-    /// helical only so far).
-    lubricant: Option<Spanned<toml::Value>>,
+    lubricant: Option<super::lubricant::RawLubricant>,
 }
 
 /// TOML value → JSON value (the blank inputs are read by their JSON reader).
@@ -311,24 +309,13 @@ pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<Scene> {
         materials::material(cx, &raw.materials, &raw.gear.get_ref().material, "gear")?;
     let load = load::load(cx, &raw.load)?;
     let analyses = analyses::analyses(cx, raw.analyses.as_ref())?;
-    if let Some(span) = analyses.lubrication_span.clone() {
-        return Err(cx.err(
-            span,
-            "`analyses.lubrication`: the lubricated analysis handles spur and helical pairs only so far".into(),
-        ));
-    }
     if let (Some(l), Some(span)) = (&analyses.ltca, analyses.ltca_span.clone()) {
         if let Some(key) = spur_only_ltca_key(l) {
             return Err(cx.err(span, format!("`analyses.ltca.{key}`: {}", SPUR_ONLY_LTCA)));
         }
     }
-    if let Some(l) = &raw.lubricant {
-        return Err(cx.err(
-            l.span(),
-            "[lubricant]: the lubricated analysis handles spur and helical pairs only so far"
-                .into(),
-        ));
-    }
+    let lubricant =
+        super::lubricant::scene_lubricant(cx, raw.lubricant.as_ref(), &analyses, &load)?;
     let mesh = mesh::mesh_options(cx, raw.mesh.as_ref(), inputs.z1, blank.cones.m_mn)?;
     let [teeth_in_sector, flank_size, base_size] = mesh::key_lines(cx, raw.mesh.as_ref());
     let lines = BevelKeyLines {
@@ -411,7 +398,7 @@ pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<Scene> {
         load,
         analyses,
         mesh,
-        lubricant: None,
+        lubricant,
         source: cx.file.to_path_buf(),
         kind_line: cx.line(raw.pair.kind.span().start),
     })

@@ -20,6 +20,8 @@
 use serde::Deserialize;
 use toml::Spanned;
 
+use super::analyses::Analyses;
+use super::load::Load;
 use super::location::{Cx, Res};
 use crate::lubrication::lubricant::{check_range, Lubricant, LubricantSi};
 
@@ -38,7 +40,40 @@ pub(super) struct RawLubricant {
     solid_conductivity_w_per_m_k: Spanned<f64>,
 }
 
-pub(super) fn lubricant(cx: &Cx, raw: &RawLubricant) -> Res<Lubricant> {
+/// The scene's lubricant, checked against `[analyses.lubrication]`: the
+/// loop needs a `[lubricant]` table and a pinion speed > 0 (both pair
+/// kinds).
+pub(super) fn scene_lubricant(
+    cx: &Cx,
+    raw: Option<&RawLubricant>,
+    analyses: &Analyses,
+    load: &Load,
+) -> Res<Option<Lubricant>> {
+    let lubricant = match raw {
+        Some(l) => Some(lubricant(cx, l)?),
+        None => None,
+    };
+    if let Some(span) = analyses.lubrication_span.clone() {
+        if lubricant.is_none() {
+            return Err(cx.err(
+                span,
+                "`analyses.lubrication` needs a [lubricant] table (viscosity_pa_s, pressure_viscosity_per_gpa, …)".into(),
+            ));
+        }
+        if !(load.speed_rpm > 0.0) {
+            return Err(cx.err(
+                span,
+                format!(
+                    "`analyses.lubrication` needs `load.speed_rpm` > 0 (got {}): an EHL film needs an entraining speed",
+                    load.speed_rpm
+                ),
+            ));
+        }
+    }
+    Ok(lubricant)
+}
+
+fn lubricant(cx: &Cx, raw: &RawLubricant) -> Res<Lubricant> {
     let check = |v: &Spanned<f64>, key: &str| -> Res<f64> {
         check_range(key, *v.get_ref()).map_err(|m| cx.err(v.span(), format!("[lubricant] {m}")))
     };

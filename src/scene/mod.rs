@@ -199,27 +199,7 @@ fn build(cx: &Cx, raw: RawScene) -> Res<Scene> {
     ) {
         return Err(cx.err(span, format!("`analyses.ltca`: {why}")));
     }
-    let lubricant = match &raw.lubricant {
-        Some(l) => Some(lubricant::lubricant(cx, l)?),
-        None => None,
-    };
-    if let Some(span) = analyses.lubrication_span.clone() {
-        if lubricant.is_none() {
-            return Err(cx.err(
-                span,
-                "`analyses.lubrication` needs a [lubricant] table (viscosity_pa_s, pressure_viscosity_per_gpa, …)".into(),
-            ));
-        }
-        if !(load.speed_rpm > 0.0) {
-            return Err(cx.err(
-                span,
-                format!(
-                    "`analyses.lubrication` needs `load.speed_rpm` > 0 (got {}): an EHL film needs an entraining speed",
-                    load.speed_rpm
-                ),
-            ));
-        }
-    }
+    let lubricant = lubricant::scene_lubricant(cx, raw.lubricant.as_ref(), &analyses, &load)?;
     let min_teeth = pair.pinion.teeth.min(pair.gear.teeth);
     let min_module = pair.pinion.normal_module.min(pair.gear.normal_module);
     let mesh = mesh::mesh_options(cx, raw.mesh.as_ref(), min_teeth, min_module)?;

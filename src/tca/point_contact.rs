@@ -173,6 +173,9 @@ pub struct PairContact {
     pub rolling_velocity: f64,
     /// Unit direction of v_t1 − v_t2 (global; zero vector at pure rolling).
     pub sliding_direction: V3,
+    /// Unit direction of v_t1 + v_t2, the entrainment (global; zero vector
+    /// where the surfaces do not move).
+    pub rolling_direction: V3,
     /// Point coincidence (mm) and tangency residual of the solve.
     pub residual: [f64; 2],
     pub edge_lean: f64,
@@ -980,6 +983,11 @@ pub fn point_tca_shared(
                 rolling_velocity: 0.5e-3 * norm(roll_v),
                 sliding_direction: if norm(slide) > 0.0 {
                     unit(slide)
+                } else {
+                    [0.0; 3]
+                },
+                rolling_direction: if norm(roll_v) > 0.0 {
+                    unit(roll_v)
                 } else {
                     [0.0; 3]
                 },

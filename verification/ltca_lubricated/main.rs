@@ -260,6 +260,7 @@ fn loop_converges_on_seed_002() {
             sliding_speed_mm_s: x(8) * 1e3,
             reduced_modulus_mpa: f("reduced_modulus_mpa"),
             outside_path: c[18].contains("OutsidePath"),
+            hertz_peak_mpa: 0.0,
         };
         let e = evaluate(
             &lub,
