@@ -113,9 +113,12 @@ pub fn settings(scene: &Scene, o: &RunOptions) -> Result<RunSettings, FlankError
             )));
         }
         if lubrication.is_some() {
+            let at = match scene.bevel("")?.lines.lubrication {
+                Some(l) => scene.at(l),
+                None => scene.source.display().to_string(),
+            };
             return Err(FlankError::Model(format!(
-                "{}: [analyses.lubrication] with `flank run`: the FE wet–dry loop takes its operating points from the involute closed form of spur and helical pairs; for bevel and hypoid pairs the loop runs in `flank ltca` (operating points from the point TCA)",
-                scene.source.display()
+                "{at}: `analyses.lubrication` with `flank run`: the FE wet–dry loop takes its operating points from the involute closed form of spur and helical pairs; for bevel and hypoid pairs the loop runs in `flank ltca` (operating points from the point TCA)"
             )));
         }
         let bevel = scene.bevel("the bevel/hypoid FE mesh cycle")?;

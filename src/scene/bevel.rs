@@ -324,6 +324,7 @@ pub(super) fn build(cx: &Cx, mut raw: RawBevelScene) -> Res<Scene> {
         teeth_in_sector,
         flank_size,
         base_size,
+        lubrication: analyses.lubrication_span.clone().map(|s| cx.line(s.start)),
     };
 
     // how each member is cut, and the members

@@ -277,4 +277,6 @@ pub struct BevelKeyLines {
     pub teeth_in_sector: Option<usize>,
     pub flank_size: Option<usize>,
     pub base_size: Option<usize>,
+    /// `analyses.lubrication` when given.
+    pub lubrication: Option<usize>,
 }

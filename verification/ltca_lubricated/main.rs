@@ -29,6 +29,10 @@
 //!    within 10 %, the subsurface change dry → wet within 1 percentage
 //!    point; both converge (the counts are reported, not compared).
 //!
+//! 5. **Point contacts**: the loop on seed 003's eased hypoid pair with
+//!    seed 002's oil converges, keeps 0 < μ < μ₀, logs what the formulas
+//!    give (1e-9) and applies μ_used per pair (1e-9).
+//!
 //! Run: `cargo test --release --test ltca_lubricated -- --nocapture`
 
 use std::path::{Path, PathBuf};
@@ -433,4 +437,144 @@ fn ltca_loop_against_the_fe_loop() {
         ds <= 1.0,
         "subsurface change differs by {ds:.2} percentage points"
     );
+}
+
+/// 5. The loop on point contacts: seed 003's eased hypoid pair with seed
+/// 002's oil (`hypoid_scene.toml`), the default cycle on coarse tensors
+/// (flank 2 mm, base 8 mm, K = 11). The operating points come from the
+/// point TCA (`flank::ltca::lubricated::point_contact_kinematics`, checked
+/// against the involute closed form in its unit test); here: the loop
+/// converges within its bound, μ stays below μ₀ = 0.05 and above 0, every
+/// logged μ and h_c is what the EHL formulas give for the logged operating
+/// point (1e-9), and the final pass's friction forces are μ_used P_n of
+/// each point's pair (1e-9).
+#[test]
+fn point_contact_loop_on_the_hypoid_pair() {
+    let sc = read_scene(
+        &Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("verification/ltca_lubricated/hypoid_scene.toml"),
+    )
+    .unwrap();
+    let out = work("hypoid");
+    let s = flank::ltca::run::run(
+        &sc,
+        &LtcaOptions {
+            mesh: BodyMeshOptions {
+                flank_size: Some(2.0),
+                base_size: Some(8.0),
+                ..Default::default()
+            },
+            points_per_line: Some(11),
+            ..options(out.clone())
+        },
+    )
+    .unwrap();
+    let c = s.first();
+    let l = c.lubrication.as_ref().expect("the loop's summary");
+    println!(
+        "5. hypoid, {} positions: {} wet passes, converged {}, last change {:+.3} %, μ {:.4} … {:.4}, power loss {:.0} W, efficiency {:.3} %, subsurface {:+.2} % / {:+.2} %; flags {:?}; notes {:?}",
+        c.positions,
+        l.iterations,
+        l.converged,
+        100.0 * l.mu_last_change_rel,
+        l.mu_min.unwrap_or(f64::NAN),
+        l.mu_max,
+        l.power_loss_w,
+        100.0 * l.efficiency,
+        l.subsurface_change_max_pct.unwrap_or(f64::NAN),
+        l.subsurface_change_min_pct.unwrap_or(f64::NAN),
+        l.flags,
+        l.notes
+    );
+    assert!(l.converged, "{:?}", l.warnings);
+    assert!((1..=10).contains(&l.iterations));
+    assert!(l.mu_max > 0.0 && l.mu_max < MU, "{}", l.mu_max);
+    assert!(l.mu_min.is_some_and(|m| m > 0.0));
+    assert_eq!(l.contact_length_mm, None);
+    let lub = sc.lubricant.clone().unwrap();
+    let csv = std::fs::read_to_string(out.join("lubrication.csv")).unwrap();
+    let mut rows = 0;
+    for line in csv.lines().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        let x = |i: usize| f[i].parse::<f64>().unwrap();
+        let point = OperatingPoint {
+            load_n: x(2),
+            contact_area_mm2: x(2) / x(3),
+            mean_pressure_mpa: x(3),
+            other_mean_pressure_mpa: x(4),
+            radius_x_mm: x(5),
+            radius_y_mm: x(6),
+            // the point-contact fit does not read a length
+            length_mm: f64::NAN,
+            entraining_speed_mm_s: x(7) * 1e3,
+            sliding_speed_mm_s: x(8) * 1e3,
+            reduced_modulus_mpa: l.reduced_modulus_mpa,
+            outside_path: false,
+            hertz_peak_mpa: 0.0,
+        };
+        let e = evaluate(
+            &lub,
+            flank::lubrication::FilmModel::Chittenden,
+            &point,
+            None,
+        )
+        .unwrap();
+        assert!((e.film.central * 1e3 / x(10) - 1.0).abs() < 1e-9, "{line}");
+        assert!((e.traction.mu / x(14) - 1.0).abs() < 1e-9, "{line}");
+        rows += 1;
+    }
+    assert!(rows >= c.positions, "{rows} loaded contacts");
+    // μ_used of the final pass per (roll, pinion tooth)
+    let mut checked = 0;
+    for step in &c.steps {
+        let r = &step.position;
+        for p in r.points.iter().filter(|p| p.force_n > 0.0) {
+            let k = r.lines[p.line].0;
+            let mu = last_mu(&out, l.iterations, r.roll_deg, k);
+            if p.sliding_velocity_m_s.abs() >= 1e-6 {
+                assert!(
+                    (p.friction_n.abs() / (mu * p.force_n) - 1.0).abs() < 1e-9,
+                    "{}°, pair {k}: {} vs {mu} × {}",
+                    r.roll_deg,
+                    p.friction_n,
+                    p.force_n
+                );
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked >= 2 * c.positions, "{checked} points checked");
+    // the FE loop has no point-contact operating points: refused, with
+    // where the loop runs instead
+    let e = flank::mesh_cycle::run::run(
+        &sc,
+        &flank::mesh_cycle::run::RunOptions {
+            out: work("hypoid_fe"),
+            quiet: true,
+            ..Default::default()
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("`analyses.lubrication`") && e.contains("flank ltca"),
+        "{e}"
+    );
+}
+
+/// μ_used of pass `pass` at `roll_deg` for pinion tooth `k`
+/// (`lubrication_passes.csv`).
+fn last_mu(out: &Path, pass: usize, roll_deg: f64, k: usize) -> f64 {
+    let passes = std::fs::read_to_string(out.join("lubrication_passes.csv")).unwrap();
+    passes
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect::<Vec<_>>())
+        .find(|c| {
+            c[0] == pass.to_string()
+                && (c[1].parse::<f64>().unwrap() - roll_deg).abs() < 1e-9
+                && c[2].parse::<usize>().unwrap() == k
+        })
+        .map(|c| c[3].parse().unwrap())
+        .unwrap_or_else(|| panic!("no μ of pass {pass} at {roll_deg}° for pair {k}"))
 }
