@@ -7,10 +7,11 @@
 //! | read a scene | [`load_scene`], [`load_scene_with`] (dotted keys overridden) | [`Scene`] |
 //! | check the pair | [`check`] | [`PairCheck`] |
 //! | unloaded TCA | [`tca`] | [`TcaSummary`] (in [`TcaRun`]) |
-//! | compliance tensors | [`compliance`], [`read_compliance_tensor`] | `summary.json` as JSON; [`ComplianceTensor`] |
+//! | compliance tensors | [`compliance`], [`read_compliance_tensor`] | [`ComplianceSummary`]; [`ComplianceTensor`] |
 //! | LTCA over the mesh cycle | [`ltca`] | [`LtcaResult`] |
 //! | FE contact over the mesh cycle | [`fe_mesh_cycle`] | [`RunSummary`] |
 //! | LTCA against FE contact | [`compare`] | [`CompareSummary`] |
+//! | a campaign of variants | [`campaign`] | [`CampaignRun`] (the collected [`CampaignTable`]) |
 //!
 //! Each analysis takes the options of its command: a field left `None`
 //! falls back to the scene's `[analyses.*]` key, else to the default
@@ -60,9 +61,12 @@
 //! ```
 #![warn(missing_docs)]
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use crate::error::FlankError;
+
+pub use crate::campaign::local::LocalReport as CampaignReport;
+pub use crate::campaign::table::Table as CampaignTable;
 
 pub use crate::compare::summary::{CompareKind, CompareSummary};
 pub use crate::compare::CompareOptions;
@@ -186,4 +190,63 @@ pub fn fe_mesh_cycle(scene: &Scene, options: &FeOptions) -> Result<RunSummary, F
 /// error-against-time plot in `options.out`.
 pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<CompareSummary, FlankError> {
     crate::compare::run::compare(scene, options)
+}
+
+/// Options of [`campaign`].
+#[derive(Clone, Debug)]
+pub struct CampaignOptions {
+    /// The output folder (default: the campaign file's `out`, else beside
+    /// it, as `flank campaign run`).
+    pub out: Option<PathBuf>,
+    /// The flank executable that runs the jobs: each block of jobs runs in
+    /// a child process (`flank campaign run-task`), so that a crash or a
+    /// kill loses only the job under way. A program of its own passes the
+    /// path of the `flank` binary it ships with.
+    pub exe: PathBuf,
+    /// Parallel jobs (default: cores / threads per job).
+    pub workers: Option<usize>,
+    /// Memory budget (MB; default: the machine's available memory).
+    pub memory_mb: Option<f64>,
+    /// No progress output.
+    pub quiet: bool,
+}
+
+/// What [`campaign`] did: the run's report (jobs done before, finished,
+/// failed with their logs) and the collected table.
+#[derive(Clone, Debug)]
+pub struct CampaignRun {
+    /// Jobs, workers, wall time, failures.
+    pub report: CampaignReport,
+    /// One row per job: inputs, figures (every number of its
+    /// `summary.json`, flattened), run time, status.
+    pub table: CampaignTable,
+}
+
+/// Runs the campaign file at `path` on this machine, any pair kind
+/// ([`crate::campaign::local::run_local`], `flank campaign run`): the jobs
+/// not done yet, in parallel, then the collected table (`table.csv`,
+/// `table.parquet` and the plots in the output folder). Unlike `flank
+/// campaign run`, an analysis option the command line would refuse is
+/// not caught before the jobs start: the job fails with the message in
+/// its log.
+pub fn campaign(
+    path: impl AsRef<Path>,
+    options: &CampaignOptions,
+) -> Result<CampaignRun, FlankError> {
+    let c = crate::campaign::variants::Campaign::open(path.as_ref(), options.out.as_deref())?;
+    let jobs = c.jobs()?;
+    let report = crate::campaign::local::run_local(
+        &c,
+        &jobs,
+        &crate::campaign::local::LocalOptions {
+            exe: options.exe.clone(),
+            workers: options.workers,
+            memory_mb: options.memory_mb,
+            batch: None,
+            quiet: options.quiet,
+        },
+    )?;
+    let table = crate::campaign::collect::collect(&c, &jobs)?;
+    crate::campaign::collect::write_all(&c, &table)?;
+    Ok(CampaignRun { report, table })
 }

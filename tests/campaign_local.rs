@@ -336,3 +336,68 @@ fn bad_campaigns_fail_before_any_job() {
         "{err}"
     );
 }
+
+/// A campaign of the hypoid LTCA (seed 003's eased pair, two torques,
+/// coarse tensors, three positions) through the library façade
+/// (`flank::api::campaign`): both jobs finish, the table has one row per
+/// torque with the same figure columns as any LTCA summary, and the
+/// largest contact pressure grows with the torque.
+#[test]
+fn hypoid_campaign_through_the_library() {
+    let d = dir("hypoid");
+    let c = d.join("hypoid.toml");
+    let scene =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("papers/seed003-hypoid/scene_eased.toml");
+    std::fs::write(
+        &c,
+        format!(
+            "[campaign]\nscene = \"{}\"\nanalyses = [\"ltca\"]\n\n[args]\nltca = [\"--roll-angles=-8.182,0,8.182\", \"--flank-size\", \"2\", \"--base-size\", \"8\", \"--points-per-line\", \"11\"]\n\n[grid]\n\"load.torque_nm\" = [134.0, 268.0]\n",
+            scene.display()
+        ),
+    )
+    .unwrap();
+    let out = d.join("out");
+    let run = flank::api::campaign(
+        &c,
+        &flank::api::CampaignOptions {
+            out: Some(out.clone()),
+            exe: PathBuf::from(env!("CARGO_BIN_EXE_flank")),
+            workers: Some(1),
+            memory_mb: None,
+            quiet: true,
+        },
+    )
+    .unwrap();
+    assert_eq!(
+        (run.report.jobs, run.report.finished),
+        (2, 2),
+        "{:?}",
+        run.report
+    );
+    assert!(run.report.failed.is_empty());
+    let t = &run.table;
+    assert_eq!(t.rows.len(), 2);
+    for key in [
+        "te_peak_to_peak_arcsec",
+        "te_peak_to_peak_urad",
+        "max_pressure_mpa",
+        "positions",
+    ] {
+        assert!(
+            t.figure_keys.iter().any(|k| k == key),
+            "{key} not in {:?}",
+            t.figure_keys
+        );
+    }
+    let figure = |key: &str| -> Vec<f64> {
+        t.rows
+            .iter()
+            .map(|r| flank::campaign::table::Table::figure(r, key).unwrap())
+            .collect()
+    };
+    let (te, p) = (figure("te_peak_to_peak_urad"), figure("max_pressure_mpa"));
+    println!("hypoid campaign: TE p-p {te:?} µrad, p_max {p:?} MPa at 134 and 268 N·m");
+    assert!(p[1] > p[0], "{p:?}");
+    assert!(t.rows.iter().all(|r| r.status == "done"));
+    assert!(out.join("table.csv").exists());
+}
