@@ -32,22 +32,15 @@ use crate::tca::point_candidates::PointCandidates;
 
 /// `flank ltca` on a bevel/hypoid scene: the cycle's positions, the files
 /// of the module docs, for each variant of [`LtcaOptions::edges`] (else
-/// the scene's); returns the summary.
-pub fn run_point(scene: &Scene, options: &LtcaOptions) -> Result<LtcaResult, FlankError> {
+/// the scene's), with the wet–dry loop's settings if it runs (`options`
+/// are then its dry pass's); returns the summary.
+pub fn run_point(
+    scene: &Scene,
+    options: &LtcaOptions,
+    lubricated: Option<&LubricatedSettings>,
+) -> Result<LtcaResult, FlankError> {
     let t_total = Instant::now();
-    // the wet–dry loop (seed 002's, on point contacts): the cycle is its
-    // dry pass at μ₀
-    let lubricated = crate::ltca::lubricated::loop_settings(scene, options)?;
-    let dry_options;
-    let options = match &lubricated {
-        Some(l) => {
-            dry_options = l.dry_options(options);
-            &dry_options
-        }
-        None => options,
-    };
     let first = LtcaCycle::new(scene, options)?;
-    let lubricated = lubricated.as_ref();
     let out = &options.out;
     std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
     let a = scene.analyses.ltca.clone().unwrap_or_default();

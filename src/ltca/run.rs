@@ -17,6 +17,7 @@ use crate::error::FlankError;
 use crate::fem::static_analysis::peak_memory_mb;
 use crate::load_sharing::LOADED_FRACTION;
 use crate::ltca::cycle::{roll_angles, LtcaCycle, LtcaOptions};
+use crate::ltca::lubricated::LubricatedSettings;
 use crate::ltca::model::PositionResult;
 use crate::ltca::outputs::{
     friction_summary, iteration_limits, write_cycle_csv, write_points_csv, write_positions_csv,
@@ -45,22 +46,8 @@ pub fn run_scene(path: &Path, options: &LtcaOptions) -> Result<LtcaResult, Flank
 /// rayon's global pool); the answer is the same on any number (fixed
 /// summation orders).
 pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<LtcaResult, FlankError> {
-    crate::fem::solver::with_threads(options.threads, || {
-        if scene.is_bevel() {
-            run_point(scene, options)
-        } else {
-            run_line(scene, options)
-        }
-    })
-}
-
-/// The run of a spur/helical scene (module docs).
-fn run_line(scene: &Scene, options: &LtcaOptions) -> Result<LtcaResult, FlankError> {
-    let t_total = Instant::now();
-    let out = &options.out;
-    // the wet–dry loop (seed 002): the cycle below is its dry pass at μ₀
+    // the wet–dry loop (seed 002): the cycle is its dry pass at μ₀
     let lubricated = crate::ltca::lubricated::loop_settings(scene, options)?;
-    std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
     let dry_options;
     let options = match &lubricated {
         Some(l) => {
@@ -69,6 +56,25 @@ fn run_line(scene: &Scene, options: &LtcaOptions) -> Result<LtcaResult, FlankErr
         }
         None => options,
     };
+    crate::fem::solver::with_threads(options.threads, || {
+        if scene.is_bevel() {
+            run_point(scene, options, lubricated.as_ref())
+        } else {
+            run_line(scene, options, lubricated.as_ref())
+        }
+    })
+}
+
+/// The run of a spur/helical scene (module docs), with the wet–dry loop's
+/// settings if it runs (`options` are then its dry pass's).
+fn run_line(
+    scene: &Scene,
+    options: &LtcaOptions,
+    lubricated: Option<&LubricatedSettings>,
+) -> Result<LtcaResult, FlankError> {
+    let t_total = Instant::now();
+    let out = &options.out;
+    std::fs::create_dir_all(out).map_err(|e| FlankError::io(out, e))?;
     let cycle = LtcaCycle::new(scene, options)?;
     let line_pair = cycle.line_pair()?;
     let (mut angles, default_range) = roll_angles(scene, line_pair.as_ref(), options);
@@ -111,7 +117,7 @@ fn run_line(scene: &Scene, options: &LtcaOptions) -> Result<LtcaResult, FlankErr
         notes.push("contact ratio not measured: the roll angles do not cover the middle pair's whole engagement with an unloaded position before and after".to_string());
     }
     let mut lubrication = None;
-    if let Some(l) = &lubricated {
+    if let Some(l) = lubricated {
         let dry = std::mem::take(&mut results);
         let lc = crate::ltca::lubricated::lubricated_cycle(&cycle, scene, l, dry, &angles, out)?;
         results = lc.results;

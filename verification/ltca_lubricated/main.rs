@@ -252,20 +252,7 @@ fn loop_converges_on_seed_002() {
     for line in csv.lines().skip(1) {
         let c: Vec<&str> = line.split(',').collect();
         let x = |i: usize| c[i].parse::<f64>().unwrap();
-        let point = OperatingPoint {
-            load_n: x(2),
-            contact_area_mm2: x(2) / x(3),
-            mean_pressure_mpa: x(3),
-            other_mean_pressure_mpa: x(4),
-            radius_x_mm: x(5),
-            radius_y_mm: if c[6] == "line" { f64::INFINITY } else { x(6) },
-            length_mm: f("contact_length_mm"),
-            entraining_speed_mm_s: x(7) * 1e3,
-            sliding_speed_mm_s: x(8) * 1e3,
-            reduced_modulus_mpa: f("reduced_modulus_mpa"),
-            outside_path: c[18].contains("OutsidePath"),
-            hertz_peak_mpa: 0.0,
-        };
+        let point = logged_point(&c, f("contact_length_mm"), f("reduced_modulus_mpa"));
         let e = evaluate(
             &lub,
             flank::lubrication::FilmModel::Chittenden,
@@ -497,21 +484,8 @@ fn point_contact_loop_on_the_hypoid_pair() {
     for line in csv.lines().skip(1) {
         let f: Vec<&str> = line.split(',').collect();
         let x = |i: usize| f[i].parse::<f64>().unwrap();
-        let point = OperatingPoint {
-            load_n: x(2),
-            contact_area_mm2: x(2) / x(3),
-            mean_pressure_mpa: x(3),
-            other_mean_pressure_mpa: x(4),
-            radius_x_mm: x(5),
-            radius_y_mm: x(6),
-            // the point-contact fit does not read a length
-            length_mm: f64::NAN,
-            entraining_speed_mm_s: x(7) * 1e3,
-            sliding_speed_mm_s: x(8) * 1e3,
-            reduced_modulus_mpa: l.reduced_modulus_mpa,
-            outside_path: false,
-            hertz_peak_mpa: 0.0,
-        };
+        // the point-contact fit does not read a length
+        let point = logged_point(&f, f64::NAN, l.reduced_modulus_mpa);
         let e = evaluate(
             &lub,
             flank::lubrication::FilmModel::Chittenden,
@@ -577,4 +551,24 @@ fn last_mu(out: &Path, pass: usize, roll_deg: f64, k: usize) -> f64 {
         })
         .map(|c| c[3].parse().unwrap())
         .unwrap_or_else(|| panic!("no μ of pass {pass} at {roll_deg}° for pair {k}"))
+}
+
+/// The operating point of a `lubrication.csv` row (`c`, its cells) with
+/// the loop's contact length (mm) and E′ (MPa).
+fn logged_point(c: &[&str], length_mm: f64, reduced_modulus_mpa: f64) -> OperatingPoint {
+    let x = |i: usize| c[i].parse::<f64>().unwrap();
+    OperatingPoint {
+        load_n: x(2),
+        contact_area_mm2: x(2) / x(3),
+        mean_pressure_mpa: x(3),
+        other_mean_pressure_mpa: x(4),
+        radius_x_mm: x(5),
+        radius_y_mm: if c[6] == "line" { f64::INFINITY } else { x(6) },
+        length_mm,
+        entraining_speed_mm_s: x(7) * 1e3,
+        sliding_speed_mm_s: x(8) * 1e3,
+        reduced_modulus_mpa,
+        outside_path: c[18].contains("OutsidePath"),
+        hertz_peak_mpa: 0.0,
+    }
 }
