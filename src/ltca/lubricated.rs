@@ -177,7 +177,7 @@ enum LoopContacts<'a> {
     /// Closed-form involute contacts along the path.
     Line {
         pair: &'a dyn LineContactPair,
-        kinematics: MeshKinematics,
+        kinematics: Box<MeshKinematics>,
         lead_crowning_mm: [f64; 2],
         length_mm: f64,
     },
@@ -287,7 +287,7 @@ pub fn lubricated_cycle(
     let speed = scene.load.speed_rpm;
     let contacts = match &scene.gears {
         Gears::Cylindrical(cyl) => {
-            let kinematics = MeshKinematics::new(&cyl.pair, np)?;
+            let kinematics = Box::new(MeshKinematics::new(&cyl.pair, np)?);
             let length_mm = kinematics.face_width[0].min(kinematics.face_width[1])
                 / kinematics.base_helix_angle.cos();
             LoopContacts::Line {

@@ -976,7 +976,7 @@ impl Answer {
                 qp_kkt: a.kkt,
             },
             within_tolerance: a.within_tolerance,
-            cross_check: (a.active_set_iterations == 0).then(|| DirectCheck {
+            cross_check: (a.active_set_iterations == 0).then_some(DirectCheck {
                 method: "direct solve on the loaded set",
                 load_difference: a.direct_difference,
             }),

@@ -426,8 +426,8 @@ fn ltca_loop_against_the_fe_loop() {
     );
 }
 
-/// 5. The loop on point contacts: seed 003's eased hypoid pair with seed
-/// 002's oil (`hypoid_scene.toml`), the default cycle on coarse tensors
+/// Check 5, the loop on point contacts: seed 003's eased hypoid pair with
+/// seed 002's oil (`hypoid_scene.toml`), the default cycle on coarse tensors
 /// (flank 2 mm, base 8 mm, K = 11). The operating points come from the
 /// point TCA (`flank::ltca::lubricated::point_contact_kinematics`, checked
 /// against the involute closed form in its unit test); here: the loop
