@@ -101,10 +101,10 @@ pub fn run(args: Args) -> Result<()> {
     if !quiet {
         use flank::compliance::summary::MeanContact;
         for (name, b) in &summary.bodies {
-            let (n, source, file) = (b.matrix_dim, b.source, &b.file);
+            let (n, source, file) = (b.matrix_dim, b.source.name(), &b.file);
             let Some(s) = &b.stats else {
                 println!(
-                    "{name}: {} flank nodes, C {n}×{n} reused ({source:?}, same cache key): {file}",
+                    "{name}: {} flank nodes, C {n}×{n} reused ({source}, same cache key): {file}",
                     b.flank_nodes
                 );
                 continue;
@@ -115,7 +115,7 @@ pub fn run(args: Args) -> Result<()> {
             };
             let kappa = s.condition.as_ref().map_or(f64::NAN, |c| c.kappa);
             println!(
-                "{name}: {} flank nodes, C {n}×{n} ({source:?}); factorization {:.2} s, solve {:.2} s ({:.2}× its own factorization), κ(C) ≈ {kappa:.3e}{line}; {file}",
+                "{name}: {} flank nodes, C {n}×{n} ({source}); factorization {:.2} s, solve {:.2} s ({:.2}× its own factorization), κ(C) ≈ {kappa:.3e}{line}; {file}",
                 b.flank_nodes, s.factorization_s, s.solve_s, s.time_vs_factorization
             );
         }

@@ -24,6 +24,17 @@ pub enum CacheOutcome {
     Disk,
 }
 
+impl CacheOutcome {
+    /// Its name in `summary.json` (`computed`, `memory`, `disk`).
+    pub fn name(self) -> &'static str {
+        match self {
+            CacheOutcome::Computed => "computed",
+            CacheOutcome::Memory => "memory",
+            CacheOutcome::Disk => "disk",
+        }
+    }
+}
+
 /// Compliance tensors by cache key: in memory, and as files
 /// `<body>.<key>.compliance.{h5,bin}` in a directory.
 pub struct ComplianceCache {
