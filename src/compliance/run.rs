@@ -14,7 +14,7 @@ use crate::compliance::cache::{self, FileFormat};
 use crate::compliance::contact_probe::{directional_matrices, retain_meshed, ProbePoint};
 use crate::compliance::plot::plot_cnn;
 use crate::compliance::summary::{
-    BodySummary, ComplianceSummary, MeanContact, MeanContactProbe, SCHEMA_VERSION,
+    BodySummary, ComplianceSummary, ContactLine, MeanContact, MeanContactProbe, SCHEMA_VERSION,
 };
 use crate::compliance::tensor_cache::{CacheOutcome, ComplianceCache};
 use crate::compliance::{
@@ -85,26 +85,6 @@ pub fn cylindrical_region_cut(
             active_flank_cut(scene, name, active_margin_mm(h)).map(Some)
         }
     }
-}
-
-/// A contact line across the face width: the nodes of the full profile row
-/// (nodes of equal u spanning the face width) nearest to a roll angle, and
-/// their normal compliance matrix.
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct ContactLine {
-    pub set: String,
-    /// Flank parameter u of the row (involute roll angle).
-    pub u: f64,
-    pub points: usize,
-    /// Eigenvalues of C_nn (mm/N).
-    pub lambda_min: f64,
-    pub lambda_max: f64,
-    /// λ_max / λ_min (2-norm condition number).
-    pub condition: f64,
-    pub positive_definite: bool,
-    /// C_nn diagonal at the first and the middle point (mm/N).
-    pub c_nn_first: f64,
-    pub c_nn_middle: f64,
 }
 
 /// C_nn (row-major K × K) on the contact line of `set` nearest to roll

@@ -10,13 +10,32 @@ use serde::Serialize;
 use crate::compliance::cache::FileFormat;
 use crate::compliance::contact_probe::ProbeReport;
 use crate::compliance::plot::PlotInfo;
-use crate::compliance::run::ContactLine;
 use crate::compliance::tensor_cache::CacheOutcome;
 use crate::compliance::ComplianceStats;
 use crate::error::FlankError;
 use crate::settings::{FlankRegion, FlankSelection, Method};
 
 pub use crate::summary::SCHEMA_VERSION;
+
+/// A contact line across the face width: the nodes of the full profile row
+/// (nodes of equal u spanning the face width) nearest to a roll angle, and
+/// their normal compliance matrix.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct ContactLine {
+    pub set: String,
+    /// Flank parameter u of the row (involute roll angle).
+    pub u: f64,
+    pub points: usize,
+    /// Eigenvalues of C_nn (mm/N).
+    pub lambda_min: f64,
+    pub lambda_max: f64,
+    /// λ_max / λ_min (2-norm condition number).
+    pub condition: f64,
+    pub positive_definite: bool,
+    /// C_nn diagonal at the first and the middle point (mm/N).
+    pub c_nn_first: f64,
+    pub c_nn_middle: f64,
+}
 
 /// What `flank compliance` returns and writes to `summary.json`.
 #[derive(Clone, Debug, Serialize)]
