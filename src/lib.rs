@@ -48,7 +48,7 @@
 //!   C3D15, sets), elements, quadrature, assembly, constraints, sparse
 //!   Cholesky, stress recovery, the linear static analysis; the model data
 //!   a deck defines (including its contact definition).
-//! * [`summary`]: what every `summary.json` shares (its `schema_version`).
+//! * [`summary`]: what every `summary.json` shares (its header: `schema_version`, `scene`, `pair_kind`).
 //! * [`settings`]: the choices the analyses offer (solvers, laws, models),
 //!   plain data read by the scene, the command line and the engines.
 //! * [`compliance`]: nodal compliance tensors of a gear body on its flanks

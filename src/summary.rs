@@ -7,6 +7,31 @@
 /// meaning or goes, so that scripts can tell; a key added leaves it.
 pub const SCHEMA_VERSION: u32 = 2;
 
+/// The keys every `summary.json` and `compare.json` opens with: the
+/// layout's version, the scene file and the pair kind. Each analysis's
+/// result flattens it (`#[serde(flatten)]`), so the keys stand at the top
+/// level of the file.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct Header {
+    /// [`SCHEMA_VERSION`].
+    pub schema_version: u32,
+    /// The scene file, as given.
+    pub scene: String,
+    /// `spur`, `helical`, `spiral_bevel` or `hypoid`.
+    pub pair_kind: &'static str,
+}
+
+impl Header {
+    /// The header of a result of the scene file `scene` of kind `pair_kind`.
+    pub fn new(scene: &std::path::Path, pair_kind: &'static str) -> Self {
+        Header {
+            schema_version: SCHEMA_VERSION,
+            scene: scene.display().to_string(),
+            pair_kind,
+        }
+    }
+}
+
 /// max − min of `values` (−∞ for none): the peak-to-peak of a TE series.
 pub fn peak_to_peak(values: impl Iterator<Item = f64> + Clone) -> f64 {
     values.clone().fold(f64::NEG_INFINITY, f64::max) - values.fold(f64::INFINITY, f64::min)

@@ -271,9 +271,7 @@ pub fn compare(scene: &Scene, options: &CompareOptions) -> Result<CompareSummary
         }))
     };
     let summary = CompareSummary {
-        schema_version: crate::summary::SCHEMA_VERSION,
-        scene: scene.source.display().to_string(),
-        pair_kind: scene.kind.name(),
+        header: scene.summary_header(),
         positions: angles.len(),
         roll_angles_deg: angles,
         reference: reference.label.clone(),

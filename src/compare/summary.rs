@@ -18,11 +18,9 @@ use crate::ltca::solve_settings::LtcaSettings;
 /// `compare.json`.
 #[derive(Clone, Debug, Serialize)]
 pub struct CompareSummary {
-    /// [`crate::summary::SCHEMA_VERSION`].
-    pub schema_version: u32,
-    pub scene: String,
-    /// `spur`, `helical`, `spiral_bevel` or `hypoid`.
-    pub pair_kind: &'static str,
+    /// Schema version, scene file and pair kind.
+    #[serde(flatten)]
+    pub header: crate::summary::Header,
     pub positions: usize,
     pub roll_angles_deg: Vec<f64>,
     /// Label of the FE reference run and, with three FE sizes, its

@@ -14,7 +14,7 @@ use crate::compliance::cache::{self, FileFormat};
 use crate::compliance::contact_probe::{directional_matrices, retain_meshed, ProbePoint};
 use crate::compliance::plot::plot_cnn;
 use crate::compliance::summary::{
-    BodySummary, ComplianceSummary, ContactLine, MeanContact, MeanContactProbe, SCHEMA_VERSION,
+    BodySummary, ComplianceSummary, ContactLine, MeanContact, MeanContactProbe,
 };
 use crate::compliance::tensor_cache::{CacheOutcome, ComplianceCache};
 use crate::compliance::{
@@ -573,8 +573,7 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<ComplianceSummary,
         summary.insert(name.clone(), b);
     }
     let result = ComplianceSummary {
-        schema_version: SCHEMA_VERSION,
-        scene: path.display().to_string(),
+        header: crate::summary::Header::new(path, scene.kind.name()),
         method,
         flanks,
         flank_region: region,

@@ -40,10 +40,9 @@ pub struct ContactLine {
 /// What `flank compliance` returns and writes to `summary.json`.
 #[derive(Clone, Debug, Serialize)]
 pub struct ComplianceSummary {
-    /// [`SCHEMA_VERSION`].
-    pub schema_version: u32,
-    /// The scene file.
-    pub scene: String,
+    /// Schema version, scene file and pair kind.
+    #[serde(flatten)]
+    pub header: crate::summary::Header,
     /// How the tensors were computed (`schur` / `blocked`).
     pub method: Method,
     /// Which flanks the tensors cover.

@@ -25,7 +25,7 @@ use crate::ltca::model::PositionResult;
 use crate::ltca::outputs::{write_cycle_csv, write_points_csv, write_positions_csv};
 use crate::ltca::summary::{
     peak_to_peak, shares, BevelLtcaSummary, EdgeVariantRatios, EdgeVariantSummaries, KindSummary,
-    LtcaResult, LtcaStep, LtcaSummary, SCHEMA_VERSION,
+    LtcaResult, LtcaStep, LtcaSummary,
 };
 use crate::scene::Scene;
 use crate::tca::point_candidates::PointCandidates;
@@ -91,10 +91,8 @@ pub fn run_point(
         KindSummary::Cylindrical(_) => None,
     };
     let result = LtcaResult::EdgeVariants(Box::new(EdgeVariantSummaries {
-        schema_version: SCHEMA_VERSION,
-        scene: scene.source.display().to_string(),
+        header: scene.summary_header(),
         analysis: "ltca_bevel_cycle",
-        pair_kind: scene.kind.name(),
         edges: "both",
         compliance_s,
         flank_nodes: first.setup.flank_nodes,
@@ -295,10 +293,8 @@ fn run_variant(
             .fold(0.0f64, f64::max)
     });
     Ok(LtcaSummary {
-        schema_version: SCHEMA_VERSION,
-        scene: scene.source.display().to_string(),
+        header: scene.summary_header(),
         analysis: "ltca_bevel_cycle",
-        pair_kind: scene.kind.name(),
         positions: results.len(),
         tooth_pairs: (1..=np).map(|k| (k, cycle.pair.mate(k))).collect(),
         te_peak_to_peak_urad: peak_to_peak(&te_urad),

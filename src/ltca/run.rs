@@ -26,7 +26,6 @@ use crate::ltca::point_run::run_point;
 use crate::ltca::summary::peak_to_peak;
 use crate::ltca::summary::{
     CylindricalLtcaSummary, KindSummary, LtcaFiles, LtcaResult, LtcaStep, LtcaSummary,
-    SCHEMA_VERSION,
 };
 use crate::scene::{read_scene, Scene};
 use std::path::Path;
@@ -192,10 +191,8 @@ fn run_line(
     let worst = |f: fn(&PositionResult) -> f64| results.iter().map(f).fold(0.0f64, f64::max);
     let te_arcsec: Vec<f64> = steps.iter().map(|s| s.te_arcsec).collect();
     let summary = LtcaSummary {
-        schema_version: SCHEMA_VERSION,
-        scene: scene.source.display().to_string(),
+        header: scene.summary_header(),
         analysis: "ltca_mesh_cycle",
-        pair_kind: scene.kind.name(),
         positions: results.len(),
         tooth_pairs: teeth,
         te_peak_to_peak_urad: peak_to_peak(&te),

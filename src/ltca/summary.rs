@@ -73,15 +73,12 @@ impl LtcaResult {
 /// One LTCA cycle of any pair kind.
 #[derive(Clone, Debug, Serialize)]
 pub struct LtcaSummary {
-    /// [`SCHEMA_VERSION`].
-    pub schema_version: u32,
-    /// The scene file.
-    pub scene: String,
+    /// Schema version, scene file and pair kind.
+    #[serde(flatten)]
+    pub header: crate::summary::Header,
     /// `"ltca_mesh_cycle"` (spur, helical) or `"ltca_bevel_cycle"` (bevel,
     /// hypoid).
     pub analysis: &'static str,
-    /// `spur`, `helical`, `spiral_bevel` or `hypoid`.
-    pub pair_kind: &'static str,
     /// Positions solved.
     pub positions: usize,
     /// (pinion tooth, gear tooth) of each pair k = 1 … n.
@@ -278,10 +275,10 @@ pub struct BevelLtcaSummary {
 /// A bevel/hypoid LTCA with and without edge contact (`--edges both`).
 #[derive(Clone, Debug, Serialize)]
 pub struct EdgeVariantSummaries {
-    pub schema_version: u32,
-    pub scene: String,
+    /// Schema version, scene file and pair kind.
+    #[serde(flatten)]
+    pub header: crate::summary::Header,
     pub analysis: &'static str,
-    pub pair_kind: &'static str,
     /// `"both"`.
     pub edges: &'static str,
     pub compliance_s: f64,

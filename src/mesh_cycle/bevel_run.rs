@@ -12,9 +12,7 @@ use crate::mesh_cycle::cycle::{iteration_limits, RunSettings, StepResult};
 use crate::mesh_cycle::options::RunOptions;
 use crate::mesh_cycle::outputs::{self, position_records};
 use crate::mesh_cycle::positions::{PositionFiles, Positions};
-use crate::mesh_cycle::summary::{
-    peak_to_peak, BevelRun, RunFiles, RunKind, RunLaw, RunSummary, SCHEMA_VERSION,
-};
+use crate::mesh_cycle::summary::{peak_to_peak, BevelRun, RunFiles, RunKind, RunLaw, RunSummary};
 use crate::report::fe_pattern::{plot_fe_pattern, PatternNode};
 use crate::scene::Scene;
 use crate::settings::SlaveBody;
@@ -155,9 +153,7 @@ pub fn run_bevel(
         steps: steps.clone(),
     };
     let summary = RunSummary {
-        schema_version: SCHEMA_VERSION,
-        pair_kind: scene.kind.name(),
-        scene: scene.source.display().to_string(),
+        header: scene.summary_header(),
         positions: steps.len(),
         resumed_positions: resumed,
         nodes,

@@ -21,7 +21,7 @@ use crate::mesh_cycle::cycle::{iteration_limits, MeshCycle, StepResult, ILL_COND
 use crate::mesh_cycle::outputs::{self, position_records};
 use crate::mesh_cycle::positions::{PositionFiles, Positions};
 use crate::mesh_cycle::summary::{
-    peak_to_peak, CylindricalRun, RunFiles, RunKind, RunLaw, RunSummary, SCHEMA_VERSION,
+    peak_to_peak, CylindricalRun, RunFiles, RunKind, RunLaw, RunSummary,
 };
 use crate::scene::{read_scene, Scene};
 
@@ -270,9 +270,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError
         steps: steps.clone(),
     };
     let summary = RunSummary {
-        schema_version: SCHEMA_VERSION,
-        pair_kind: scene.kind.name(),
-        scene: scene.source.display().to_string(),
+        header: scene.summary_header(),
         positions: steps.len(),
         resumed_positions: reused,
         nodes: cycle.pair.model.mesh.node_count(),

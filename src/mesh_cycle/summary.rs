@@ -18,11 +18,9 @@ pub use crate::summary::{peak_to_peak, SCHEMA_VERSION};
 /// summary.json of `flank run`.
 #[derive(Clone, Debug, Serialize)]
 pub struct RunSummary {
-    /// [`SCHEMA_VERSION`].
-    pub schema_version: u32,
-    /// "spur", "helical", "spiral_bevel" or "hypoid" (the scene's kind).
-    pub pair_kind: &'static str,
-    pub scene: String,
+    /// Schema version, scene file and pair kind.
+    #[serde(flatten)]
+    pub header: crate::summary::Header,
     /// Rows of `mesh_cycle.csv`, and positions taken from a checkpoint.
     pub positions: usize,
     pub resumed_positions: usize,

@@ -208,6 +208,11 @@ impl Scene {
         w
     }
 
+    /// The keys every result of this scene opens with.
+    pub fn summary_header(&self) -> crate::summary::Header {
+        crate::summary::Header::new(&self.source, self.kind.name())
+    }
+
     /// The scene's pair behind the gear-pair interface
     /// ([`crate::geometry::gear_pair::LineContactPair`]): what every analysis uses.
     pub fn gear_pair(&self) -> Result<Arc<dyn LineContactPair>, FlankError> {

@@ -116,11 +116,9 @@ impl TcaOptions {
 /// `summary.json` of `flank tca`.
 #[derive(Clone, Debug, Serialize)]
 pub struct TcaSummary {
-    /// [`crate::summary::SCHEMA_VERSION`].
-    pub schema_version: u32,
-    pub scene: String,
-    /// `spur`, `helical`, `spiral_bevel` or `hypoid`.
-    pub pair_kind: &'static str,
+    /// Schema version, scene file and pair kind.
+    #[serde(flatten)]
+    pub header: crate::summary::Header,
     /// The pair's kinematic data ([`GearPair::describe`]).
     pub pair: serde_json::Value,
     pub approach_mm: f64,
@@ -328,9 +326,7 @@ pub fn run(scene: &Scene, options: &TcaOptions) -> Result<TcaRun, FlankError> {
             }
             Ok(TcaRun {
                 summary: TcaSummary {
-                    schema_version: crate::summary::SCHEMA_VERSION,
-                    scene: scene.source.display().to_string(),
-                    pair_kind: scene.kind.name(),
+                    header: scene.summary_header(),
                     pair: pair.describe(),
                     approach_mm: options.approach_mm,
                     misalignment: mis,
@@ -393,9 +389,7 @@ pub fn run(scene: &Scene, options: &TcaOptions) -> Result<TcaRun, FlankError> {
             write_line_table(&out.join("tca_without_edges.csv"), &without, ratio)?;
             Ok(TcaRun {
                 summary: TcaSummary {
-                    schema_version: crate::summary::SCHEMA_VERSION,
-                    scene: scene.source.display().to_string(),
-                    pair_kind: scene.kind.name(),
+                    header: scene.summary_header(),
                     pair: pair.describe(),
                     approach_mm: options.approach_mm,
                     misalignment: mis,
