@@ -29,7 +29,9 @@ struct Registry {
 }
 
 impl Registry {
-    fn add(&mut self, p: [f64; 3], corner: bool) -> Result<usize, FlankError> {
+    /// The node at `p` (an existing one within `tol`, else a new one); the
+    /// error says where a corner and a midside node would merge.
+    fn add(&mut self, p: [f64; 3], corner: bool) -> Result<usize, String> {
         let k = p.map(|x| (x / self.tol).floor() as i64);
         for dx in -1..=1 {
             for dy in -1..=1 {
@@ -43,10 +45,10 @@ impl Registry {
                             .sqrt();
                             if d < self.tol {
                                 if self.corner[i] != corner {
-                                    return Err(err(format!(
+                                    return Err(format!(
                                         "lattice mismatch at ({:.6}, {:.6}, {:.6}): a corner and a midside node coincide",
                                         p[0], p[1], p[2]
-                                    )));
+                                    ));
                                 }
                                 return Ok(i);
                             }
@@ -200,7 +202,20 @@ pub(super) fn assemble(
                     let Some(corner) = node_role(roles[pi], s) else {
                         continue;
                     };
-                    let id = reg.add(point(p, v, k)?, corner)?;
+                    let id = reg.add(point(p, v, k)?, corner).map_err(|e| {
+                        err(format!(
+                            "{name}, tooth {} of the sector, {} block, station {s} of {nst} \
+                             (cone distance {v:.3} mm), section point {:?} ({}): {e}",
+                            k + 1,
+                            if upper { "upper" } else { "rim" },
+                            cells.lattice_index(pi),
+                            match p.flank {
+                                Some(Flank::Left) => "left flank",
+                                Some(Flank::Right) => "right flank",
+                                None => "off the flanks",
+                            },
+                        ))
+                    })?;
                     ids[s * np + pi] = id;
                     if s == 0 {
                         toe.push(id);
@@ -296,7 +311,9 @@ pub(super) fn assemble(
                     } else {
                         [rho * th.sin(), rho * th.cos(), z]
                     };
-                    let id = reg.add(x, corner)?;
+                    let id = reg
+                        .add(x, corner)
+                        .map_err(|e| err(format!("{name}, shank of tooth {}: {e}", k + 1)))?;
                     ids[ll * np + pi] = id;
                     if ll == nl - 1 {
                         shank_end.push(id);

@@ -175,6 +175,44 @@ fn seed003_sectors_are_valid_conforming_and_exact_on_the_flanks() {
     }
 }
 
+/// Seed 003's generated pinion (scene.toml) at `flank mesh`'s default sizes
+/// (m/12 ≈ 0.486 mm on the flank, 4 × that in the rim): on the station at
+/// cone distance 115.373 mm the form line's solve stalled at round-off
+/// (meshing residual 1.07e-14 against 1e-14), the form line fell back to the
+/// root line and the fillet's lattice points coincided ("a corner and a
+/// midside node coincide"). Now the form line lies above the root line at
+/// 401 cone distances across the face on both flanks, and the sector meshes.
+#[test]
+fn seed003_generated_pinion_meshes_at_the_default_sizes() {
+    let sc = scene("seed003-hypoid");
+    let pinion = &sc.bodies[0];
+    for side in [Flank::Left, Flank::Right] {
+        let f = pinion.flank(side, 1).unwrap();
+        let (v0, v1) = f.v_range();
+        let mut shortest = f64::INFINITY;
+        for i in 0..=400 {
+            let v = v0 + (v1 - v0) * i as f64 / 400.0;
+            shortest = shortest.min(f.u_form(v) - f.u_root(v));
+        }
+        assert!(
+            shortest > 0.1,
+            "{side:?}: fillet height down to {shortest} mm"
+        );
+    }
+    let h = 0.48605132617485347;
+    let r = bevel_sector(
+        pinion,
+        "pinion",
+        &BevelSectorOptions {
+            flank_size: h,
+            base_size: 4.0 * h,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert!(r.quality.min_scaled_jacobian > 0.2, "{:?}", r.quality);
+}
+
 /// The mounted gear under its nominal load deflects along the load; the
 /// reaction at the mount balances it.
 #[test]
