@@ -102,7 +102,9 @@ pub struct Assembly {
 /// reading (mm, rad).
 ///
 /// * ΔE `offset_error_mm`: change of the shortest distance between the
-///   axes (a parallel pair: the centre-distance error Δa, > 0 apart);
+///   axes, > 0 apart, on either hand of a hypoid pair whichever side of
+///   the gear axis the pinion axis lies on (a parallel pair: the
+///   centre-distance error Δa);
 /// * ΔP `pinion_axial_mm`, ΔG `gear_axial_mm`: axial displacements of the
 ///   pinion and the gear along their own axes (> 0 along own +z);
 /// * ΔΣ `shaft_angle_error_rad`: change of the shaft angle, a tilt of the
@@ -110,7 +112,13 @@ pub struct Assembly {
 ///   inclination error of ISO/TR 10064-3 over the bearing span L);
 /// * `out_of_plane_tilt_rad`: a tilt of the gear axis normal to the plane
 ///   of the axes (a parallel pair: f_Σβ / L, the deviation error; zero in
-///   the usual bevel set, where it is an offset change along the face).
+///   the usual bevel set, where it is an offset change along the face; a
+///   bevel pair: > 0 tips the gear's +z toward the pinion axis's side).
+///
+/// A bevel pair applies them relative to the side of the gear axis on
+/// which the pinion axis lies (`geometry::bevel::assembly` module docs),
+/// so a pair and its mirror image (both hands swapped) are misaligned as
+/// mirror images.
 ///
 /// For a parallel pair with working pressure angle α_wt these are the
 /// plane-of-action tilts of [`crate::geometry::cylindrical`]:

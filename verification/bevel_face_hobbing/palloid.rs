@@ -420,12 +420,14 @@ fn generating_assembly(s: &HobbingSetup, i: &BlankInputs) -> PairAssembly {
         let n = super::norm(r);
         to_h([r[0] / n, r[1] / n, r[2] / n])
     };
+    let offset = dot(sub(c1, c2), xh);
     PairAssembly {
         shaft_angle: c.clamp(-1.0, 1.0).acos(),
-        offset: dot(sub(c1, c2), xh),
+        offset,
         apex: [dot(sub(a1, c1), k1), dot(sub(a2, c2), k2)],
         teeth: [i.z1, i.z2],
         reference_x: [refx(a1, k1), refx(a2, k2)],
+        pinion_side: if offset < 0.0 { -1.0 } else { 1.0 },
         misalignment: Default::default(),
     }
 }

@@ -43,10 +43,23 @@
 //! # Misalignment ([`Misalignment`], gear_pair conventions)
 //!
 //! Applied to the gear as the gear-pair interface states, except ΔP which
-//! moves the pinion: ΔE shifts the gear by −ΔE x_h (the offset grows by ΔE),
-//! ΔG moves the gear along its own +z, ΔP the pinion along its own +z, ΔΣ
-//! turns the gear about x_h through the crossing point (the shaft angle
-//! becomes Σ + ΔΣ), the out-of-plane tilt turns it about k₂ × x_h.
+//! moves the pinion. With u = s x_h the unit vector from the gear axis
+//! toward the pinion axis along the common perpendicular (s =
+//! [`PairAssembly::pinion_side`], the sign of E; a left-hand pinion's pair
+//! has E < 0 after [`crate::geometry::bevel::cutting::assembly_for`]'s
+//! mirroring): ΔE shifts the gear by −ΔE u, so the shortest distance
+//! between the axes becomes |E| + ΔE on either hand (> 0: the axes apart);
+//! ΔG moves the gear along its own +z, ΔP the pinion along its own +z; ΔΣ
+//! turns the gear about x_h through its crossing point, so the angle
+//! between the heel-pointing axes becomes Σ + ΔΣ (x_h = k₁ × k₂ / sin Σ
+//! does not depend on the side); the out-of-plane tilt turns it about
+//! k₂ × u (> 0 tips the gear's +z toward the pinion axis's side). A pair
+//! and its mirror image (E → −E, both hands swapped) are then misaligned as
+//! mirror images of each other. At E = 0 the axes have no side:
+//! `pinion_side` is then the side a positive ISO 23509 offset a would take
+//! with the pair's hands (that of a left-hand gear is +x_h,
+//! [`PairAssembly::from_blank`] with a > 0), so ΔE > 0 moves the pinion
+//! axis toward the usual hypoid offset of those hands.
 
 use crate::error::{FlankError, Result};
 use crate::geometry::bevel::{BlankDesign, BlankInputs};
@@ -67,6 +80,10 @@ pub struct PairAssembly {
     pub teeth: [u32; 2],
     /// Unit housing directions of the pinion's and gear's own +x at rotation 0.
     pub reference_x: [V3; 2],
+    /// s = ±1: the side of the gear axis, along x_h, on which the pinion
+    /// axis lies (the sign of E; at E = 0 the side of the pair's hands,
+    /// module docs). The misalignment is applied relative to it.
+    pub pinion_side: f64,
     pub misalignment: Misalignment,
 }
 
@@ -166,13 +183,15 @@ impl PairAssembly {
         p.translation = add(p.translation, m.pinion_axial_mm, k1);
         g.translation = add(g.translation, m.gear_axial_mm, k2);
         let xh = [1.0, 0.0, 0.0];
+        // u: from the gear axis toward the pinion axis (module docs)
+        let u = scale(self.pinion_side, xh);
         let tilt = matmul(
-            &rotation_about(unit(cross(k2, xh)), m.out_of_plane_tilt_rad),
+            &rotation_about(unit(cross(k2, u)), m.out_of_plane_tilt_rad),
             &rotation_about(xh, m.shaft_angle_error_rad),
         );
         let placed = Frame {
             rotation: tilt,
-            translation: [-m.offset_error_mm, 0.0, 0.0],
+            translation: scale(-m.offset_error_mm, u),
         };
         g = Frame {
             rotation: matmul(&tilt, &g.rotation),
@@ -228,6 +247,10 @@ impl PairAssembly {
     /// (method 2 on sample F4: R_m1/R_mcheck − 1 = 0.31 %), so the standard's
     /// own pitch cones touch only to about 4e-5 (F4); P is then the
     /// least-squares point and the pair is assembled there.
+    ///
+    /// `pinion_side` is the sign of E, +1 at E = 0 (where
+    /// [`crate::geometry::bevel::cutting::assembly_for`] sets it from the
+    /// hands).
     pub fn from_blank(inputs: &BlankInputs, design: &BlankDesign) -> Result<Self> {
         let sigma = inputs.sigma_deg.to_radians();
         let e = inputs.a_mm;
@@ -254,6 +277,7 @@ impl PairAssembly {
             apex,
             teeth: [inputs.z1, inputs.z2],
             reference_x: refx,
+            pinion_side: if e < 0.0 { -1.0 } else { 1.0 },
             misalignment: Misalignment::default(),
         })
     }
@@ -396,6 +420,7 @@ impl Geometry {
 mod tests {
     use super::*;
     use crate::geometry::bevel::blank_design;
+    use crate::geometry::Hand;
 
     fn sample(name: &str) -> (BlankInputs, BlankDesign) {
         let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -478,6 +503,198 @@ mod tests {
         // frames are rigid and turn about their axes
         let [g1r, _] = a.nominal_frames(0.3, 0.0);
         assert!(norm(sub(g1r.rotate([0.0, 0.0, 1.0]), a.pinion_axis())) < 1e-14);
+    }
+
+    /// The pair's two axis lines as the frames place them (own +z through
+    /// the apex): (shortest distance, angle between the +z axes, feet of
+    /// the common perpendicular on the pinion and the gear axis), by the
+    /// closest points of two lines, independent of the assembly's algebra.
+    fn axes(frames: &[Frame; 2]) -> (f64, f64, V3, V3) {
+        let (a1, a2) = (frames[0].translation, frames[1].translation);
+        let k1 = frames[0].rotate([0.0, 0.0, 1.0]);
+        let k2 = frames[1].rotate([0.0, 0.0, 1.0]);
+        // minimise |a1 + t k1 − a2 − w k2|
+        let c = dot(k1, k2);
+        let d = sub(a1, a2);
+        let (d1, d2) = (dot(d, k1), dot(d, k2));
+        let det = 1.0 - c * c;
+        let t = (c * d2 - d1) / det;
+        let w = (d2 - c * d1) / det;
+        let f1 = add(a1, t, k1);
+        let f2 = add(a2, w, k2);
+        (norm(sub(f1, f2)), c.acos(), f1, f2)
+    }
+
+    /// The assemblies of sample `name` for both hands of the gear
+    /// ([`crate::geometry::bevel::cutting::assembly_for`], the scenes'
+    /// path): a left- and a right-hand pinion.
+    fn both_hands(name: &str) -> [(Hand, PairAssembly, BlankDesign); 2] {
+        let (inputs, d) = sample(name);
+        [Hand::Right, Hand::Left].map(|gear_hand| {
+            let a = crate::geometry::bevel::cutting::assembly_for(&inputs, &d, gear_hand).unwrap();
+            (gear_hand, a, d.clone())
+        })
+    }
+
+    /// ISO 23509's offset a > 0 assembled as it is (E = a) gives a
+    /// left-hand gear: the side `assembly_for` gives ΔE at E = 0.
+    #[test]
+    fn a_positive_offset_gives_a_left_hand_gear() {
+        let (inputs, d) = sample("F4_hypoid_method2_oerlikon_face_hobbing");
+        let a = PairAssembly::from_blank(&inputs, &d).unwrap();
+        assert!(a.offset > 0.0 && a.pinion_side == 1.0);
+        assert_eq!(
+            crate::geometry::bevel::cutting::assembly_gear_hand(&a, &d),
+            Hand::Left
+        );
+    }
+
+    /// The misalignments on both hands against displaced axes built here:
+    /// the pinion axis stays on its nominal line through (E, 0, 0) along
+    /// (0, sin Σ, cos Σ) with its apex moved by ΔP along it; the gear axis
+    /// is the line through (E − s(|E| + ΔE), 0, 0) (s = sign E: |E| + ΔE from
+    /// the pinion axis, on the gear's side) along (0, −sin ΔΣ, cos ΔΣ) (at
+    /// Σ + ΔΣ from the pinion axis), its apex t_z2 + ΔG from that foot. F4
+    /// (E = ±31.75 mm for the two hands) and F2 (E = 0: the side of the
+    /// hands), each misalignment alone and all together; the two hands'
+    /// misaligned axes are mirror images (x → −x) of each other.
+    #[test]
+    fn misalignments_move_the_axes_as_stated_on_both_hands() {
+        let m_all = Misalignment {
+            offset_error_mm: 0.1,
+            shaft_angle_error_rad: 1e-3,
+            gear_axial_mm: 0.05,
+            pinion_axial_mm: -0.02,
+            out_of_plane_tilt_rad: 0.0,
+        };
+        let cases = [
+            Misalignment {
+                offset_error_mm: 0.1,
+                ..Default::default()
+            },
+            Misalignment {
+                offset_error_mm: -0.1,
+                ..Default::default()
+            },
+            Misalignment {
+                pinion_axial_mm: 0.1,
+                ..Default::default()
+            },
+            Misalignment {
+                gear_axial_mm: 0.1,
+                ..Default::default()
+            },
+            Misalignment {
+                shaft_angle_error_rad: 1e-3,
+                ..Default::default()
+            },
+            m_all,
+        ];
+        for name in [
+            "F4_hypoid_method2_oerlikon_face_hobbing",
+            "F2_spiral_bevel_method0_face_milling",
+        ] {
+            let hands = both_hands(name);
+            // the two hands sit on opposite sides (E = 0: by the hands)
+            let [(_, r, _), (_, l, _)] = &hands;
+            assert_eq!(r.pinion_side, -l.pinion_side, "{name}");
+            assert!((r.offset + l.offset).abs() < 1e-12, "{name}");
+            for m in cases {
+                let mut placed = Vec::new();
+                for (gear_hand, nominal, _) in &hands {
+                    let e = nominal.offset;
+                    let s = if e != 0.0 {
+                        e.signum()
+                    } else {
+                        nominal.pinion_side
+                    };
+                    let sigma = nominal.shaft_angle;
+                    // the displaced axes, built directly
+                    let k1 = [0.0, sigma.sin(), sigma.cos()];
+                    let c1 = [e, 0.0, 0.0];
+                    let ds = m.shaft_angle_error_rad;
+                    let k2 = [0.0, -ds.sin(), ds.cos()];
+                    let c2 = [e - s * (e.abs() + m.offset_error_mm), 0.0, 0.0];
+                    let apex1 = add(c1, nominal.apex[0] + m.pinion_axial_mm, k1);
+                    let apex2 = add(c2, nominal.apex[1] + m.gear_axial_mm, k2);
+                    let a = PairAssembly {
+                        misalignment: m,
+                        ..*nominal
+                    };
+                    let f = a.frames(0.3, -0.1);
+                    let what = format!("{name}, {gear_hand:?} gear, {m:?}");
+                    assert!(norm(sub(f[0].translation, apex1)) < 1e-9, "{what}");
+                    assert!(norm(sub(f[1].translation, apex2)) < 1e-9, "{what}");
+                    assert!(
+                        norm(sub(f[0].rotate([0.0, 0.0, 1.0]), k1)) < 1e-12,
+                        "{what}"
+                    );
+                    assert!(
+                        norm(sub(f[1].rotate([0.0, 0.0, 1.0]), k2)) < 1e-12,
+                        "{what}"
+                    );
+                    // what the help states, measured on the frames' axes
+                    let (dist, ang, f1, f2) = axes(&f);
+                    // signed along s: |E| + ΔE (its size the distance; at
+                    // E = 0 a ΔE < 0 puts the pinion on the other side)
+                    let e_s = e.abs() + m.offset_error_mm;
+                    assert!((dist - e_s.abs()).abs() < 1e-9, "{what}: distance {dist}");
+                    assert!((ang - (sigma + ds)).abs() < 1e-12, "{what}: angle {ang}");
+                    // the pinion stays; the gear moved away from it (ΔE > 0)
+                    assert!(norm(sub(f1, c1)) < 1e-9, "{what}: pinion foot {f1:?}");
+                    assert!(norm(sub(f2, c2)) < 1e-9, "{what}: gear foot {f2:?}");
+                    assert!(
+                        (dot(sub(f1, f2), [s, 0.0, 0.0]) - e_s).abs() < 1e-9,
+                        "{what}"
+                    );
+                    // apexes beyond the crossing points along own +z
+                    let t1 = dot(sub(f[0].translation, f1), k1);
+                    let t2 = dot(sub(f[1].translation, f2), k2);
+                    assert!(
+                        (t1 - (nominal.apex[0] + m.pinion_axial_mm)).abs() < 1e-9,
+                        "{what}"
+                    );
+                    assert!(
+                        (t2 - (nominal.apex[1] + m.gear_axial_mm)).abs() < 1e-9,
+                        "{what}"
+                    );
+                    placed.push((f, dist));
+                }
+                // mirror images: axes of one hand = the other's with x → −x
+                let mirror = |v: V3| [-v[0], v[1], v[2]];
+                let (fr, dr) = &placed[0];
+                let (fl, dl) = &placed[1];
+                assert!((dr - dl).abs() < 1e-9, "{name} {m:?}");
+                for b in 0..2 {
+                    let (pr, pl) = (fr[b].translation, fl[b].translation);
+                    assert!(norm(sub(mirror(pr), pl)) < 1e-9, "{name} {m:?} body {b}");
+                    let (zr, zl) = (fr[b].rotate([0.0, 0.0, 1.0]), fl[b].rotate([0.0, 0.0, 1.0]));
+                    assert!(norm(sub(mirror(zr), zl)) < 1e-12, "{name} {m:?} body {b}");
+                }
+            }
+        }
+    }
+
+    /// The out-of-plane tilt tips the gear's +z toward the pinion axis's
+    /// side on either hand (module docs).
+    #[test]
+    fn out_of_plane_tilt_leans_toward_the_pinion_on_both_hands() {
+        for (gear_hand, nominal, _) in both_hands("F4_hypoid_method2_oerlikon_face_hobbing") {
+            let a = PairAssembly {
+                misalignment: Misalignment {
+                    out_of_plane_tilt_rad: 1e-3,
+                    ..Default::default()
+                },
+                ..nominal
+            };
+            let k2 = a.frames(0.0, 0.0)[1].rotate([0.0, 0.0, 1.0]);
+            let s = nominal.offset.signum();
+            assert!(
+                (k2[0] - s * 1e-3f64.sin()).abs() < 1e-15,
+                "{gear_hand:?}: {k2:?}"
+            );
+            assert!(k2[1].abs() < 1e-15, "{gear_hand:?}: {k2:?}");
+        }
     }
 
     /// Misalignment: ΔE changes the shortest distance between the axes by

@@ -737,14 +737,28 @@ pub fn assembly_gear_hand(assembly: &PairAssembly, design: &BlankDesign) -> Hand
 /// The pair's assembly with the offset on the side that gives the gear
 /// `gear_hand`: ISO 23509's offset a fixes which member has the larger
 /// spiral angle, the hands fix on which side of the gear axis the pinion
-/// sits (the mirror image E → −E swaps both hands).
+/// sits (the mirror image E → −E swaps both hands). At E = 0 the axes
+/// have no side and the hands set [`PairAssembly::pinion_side`]: +x_h for a
+/// left-hand gear, the side a positive offset takes with that hand
+/// (`PairAssembly::from_blank` with a > 0 gives a left-hand gear; test
+/// `a_positive_offset_gives_a_left_hand_gear`), −x_h for a right-hand one.
 pub fn assembly_for(
     inputs: &BlankInputs,
     design: &BlankDesign,
     gear_hand: Hand,
 ) -> Result<PairAssembly> {
     let assembly = PairAssembly::from_blank(inputs, design)?;
-    if inputs.a_mm == 0.0 || assembly_gear_hand(&assembly, design) == gear_hand {
+    if inputs.a_mm == 0.0 {
+        let pinion_side = match gear_hand {
+            Hand::Left => 1.0,
+            Hand::Right => -1.0,
+        };
+        return Ok(PairAssembly {
+            pinion_side,
+            ..assembly
+        });
+    }
+    if assembly_gear_hand(&assembly, design) == gear_hand {
         return Ok(assembly);
     }
     let mirrored = BlankInputs {
