@@ -307,6 +307,14 @@ impl<'a> FaceLayout<'a> {
                     s.v
                 )));
             }
+            for (p, which) in [(&s.lo, "low-θ"), (&s.hi, "high-θ")] {
+                if !(p.fillet_length() > 1e-9 * cones.re) {
+                    return Err(err(format!(
+                        "{name}: the {which} flank has no fillet at cone distance {:.3} mm (its form line, u = {:.4} mm, is the root line, u = {:.4} mm): the surface's form line was not found there, and a fillet of zero length cannot be meshed",
+                        s.v, p.u_form, p.u_root
+                    )));
+                }
+            }
             if !(s.theta_root[0] > s.theta_cut) {
                 return Err(err(format!(
                     "{name}: no gap land at cone distance {:.3} mm: the fillets of neighbouring teeth meet or overlap",
