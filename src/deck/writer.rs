@@ -5,7 +5,9 @@
 //! (ELSET=EALL), node and element sets, one element set and `*SOLID
 //! SECTION` per material, the contact definition, rigid couplings as `*RIGID
 //! BODY` with two fresh reference nodes each, and one `*STEP`/`*STATIC` with
-//! `*BOUNDARY`, `*CLOAD`, `*DLOAD` and a displacement `*NODE PRINT`. Names
+//! `*BOUNDARY`, `*CLOAD`, `*DLOAD` (pressures, then GRAV and CENTRIF per
+//! element; materials with a density get `*DENSITY`) and a displacement
+//! `*NODE PRINT`. Names
 //! are upper-cased and made deck-safe and unique; labels must fit ccx's
 //! 32-bit integers; reals are written in at most 20 characters (see
 //! [`super::real`]).
@@ -17,7 +19,7 @@ use std::path::Path;
 use super::real::fmt_real;
 use crate::error::{FlankError, Result};
 use crate::fem::contact_definition::{PressureOverclosure, SurfaceKind};
-use crate::fem::model::Model;
+use crate::fem::model::{BodyForce, Model};
 
 /// ccx reads labels as 32-bit integers.
 const CCX_MAX_LABEL: u64 = i32::MAX as u64;
@@ -200,6 +202,10 @@ pub fn format_deck(model: &Model) -> Result<String> {
         w!("*MATERIAL, NAME={}", material_names[m]);
         w!("*ELASTIC");
         w!("{}, {}", fmt_real(mat.young), fmt_real(mat.poisson));
+        if let Some(rho) = mat.density {
+            w!("*DENSITY");
+            w!("{}", fmt_real(rho));
+        }
     }
     for (set, m) in &sections {
         w!(
@@ -271,6 +277,36 @@ pub fn format_deck(model: &Model) -> Result<String> {
                 p.face,
                 fmt_real(p.value)
             );
+        }
+    }
+    if !model.body_loads.is_empty() {
+        w!("*DLOAD");
+        for b in &model.body_loads {
+            let label = mesh.elements[b.element].label;
+            match &b.force {
+                BodyForce::Gravity { acceleration: a } => {
+                    // ccx normalises the direction: write |a| and a/|a|
+                    let g = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+                    let d: Vec<String> = a.iter().map(|&c| fmt_real(c / g)).collect();
+                    w!("{label}, GRAV, {}, {}", fmt_real(g), d.join(", "));
+                }
+                BodyForce::Centrifugal {
+                    omega_squared,
+                    point: p,
+                    axis: a,
+                } => {
+                    w!(
+                        "{label}, CENTRIF, {}, {}, {}, {}, {}, {}, {}",
+                        fmt_real(*omega_squared),
+                        fmt_real(p[0]),
+                        fmt_real(p[1]),
+                        fmt_real(p[2]),
+                        fmt_real(a[0]),
+                        fmt_real(a[1]),
+                        fmt_real(a[2])
+                    );
+                }
+            }
         }
     }
     w!("*NODE PRINT, NSET=NALL");
@@ -450,6 +486,31 @@ fn check_writable(model: &Model) -> Result<()> {
             && p.value.is_finite();
         if !ok {
             return bad(format!("invalid pressure {p:?}"));
+        }
+    }
+    for b in &model.body_loads {
+        let ok = b.element < ne
+            && model.materials[model.element_material[b.element]]
+                .density
+                .is_some()
+            && match &b.force {
+                BodyForce::Gravity { acceleration: a } => {
+                    a.iter().all(|c| c.is_finite()) && a.iter().any(|&c| c != 0.0)
+                }
+                BodyForce::Centrifugal {
+                    omega_squared,
+                    point,
+                    axis,
+                } => {
+                    omega_squared.is_finite()
+                        && point.iter().chain(axis).all(|c| c.is_finite())
+                        && axis.iter().any(|&c| c != 0.0)
+                }
+            };
+        if !ok {
+            return bad(format!(
+                "invalid body load {b:?} (zero gravity, zero axis, or a material without density)"
+            ));
         }
     }
     for (name, s) in &mesh.node_sets {
