@@ -723,6 +723,65 @@ mod tests {
         assert!(text.contains("*NODE PRINT, NSET=NALL\nU\n*END STEP\n"));
     }
 
+    /// Densities and GRAV / CENTRIF loads are written and read back (the
+    /// gravity as |g| and g/|g|, renormalised by the reader: round-off).
+    #[test]
+    fn body_load_round_trip() {
+        use crate::fem::model::{BodyForce, BodyLoad};
+        let mut m = sample_model();
+        m.materials[0].density = Some(7.85e-9);
+        m.materials[1].density = Some(8.9e-9);
+        let grav = BodyForce::Gravity {
+            acceleration: [1.0, -2.0, 9810.0],
+        };
+        let centrif = BodyForce::Centrifugal {
+            omega_squared: 1.5e6,
+            point: [1.0, 2.0, 3.0],
+            axis: [0.0, 0.6, 0.8],
+        };
+        m.body_loads = vec![
+            BodyLoad {
+                element: 0,
+                force: grav.clone(),
+            },
+            BodyLoad {
+                element: 2,
+                force: centrif.clone(),
+            },
+        ];
+        let p = parse(&format_deck(&m).unwrap()).unwrap().model;
+        assert_eq!(p.materials[0].density, Some(7.85e-9));
+        assert_eq!(p.materials[1].density, Some(8.9e-9));
+        assert_eq!(p.body_loads.len(), 2);
+        assert_eq!(p.body_loads[0].element, 0);
+        match &p.body_loads[0].force {
+            BodyForce::Gravity { acceleration: a } => {
+                for (x, y) in a.iter().zip([1.0, -2.0, 9810.0]) {
+                    assert!((x - y).abs() <= 1e-12 * 9810.0, "{a:?}");
+                }
+            }
+            f => panic!("{f:?}"),
+        }
+        assert_eq!(p.body_loads[1].element, 2);
+        match &p.body_loads[1].force {
+            BodyForce::Centrifugal {
+                omega_squared,
+                point,
+                axis,
+            } => {
+                assert_eq!(*omega_squared, 1.5e6);
+                assert_eq!(*point, [1.0, 2.0, 3.0]);
+                for (x, y) in axis.iter().zip([0.0, 0.6, 0.8]) {
+                    assert!((x - y).abs() <= 1e-15, "{axis:?}");
+                }
+            }
+            f => panic!("{f:?}"),
+        }
+        // a body load on a material without density is not writable
+        m.materials[0].density = None;
+        assert!(format_deck(&m).is_err());
+    }
+
     #[test]
     fn write_deck_to_file() {
         let path = std::env::temp_dir().join(format!("flank-inp-write-{}.inp", std::process::id()));
