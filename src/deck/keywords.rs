@@ -92,7 +92,6 @@ const FATAL_KEYWORDS: &[(&str, &str)] = &[
 
 /// Known keywords without effect on a linear static answer: warned and skipped.
 const HARMLESS_KEYWORDS: &[&str] = &[
-    "DENSITY",
     "EXPANSION",
     "CONDUCTIVITY",
     "SPECIFIC HEAT",

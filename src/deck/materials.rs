@@ -2,8 +2,10 @@
 //!
 //! `*MATERIAL, NAME=name` followed by `*ELASTIC[, TYPE=ISO]` with one data
 //! line `E, ν[, temperature]` (further temperature lines: only the first is
-//! used, with a warning); `*DENSITY`, `*EXPANSION`, ... stay inside the
-//! material and are ignored with a warning (see [`super::keywords`]).
+//! used, with a warning); `*DENSITY` with one data line `ρ[, temperature]`
+//! (same rule), used by the body loads `*DLOAD` GRAV and CENTRIF;
+//! `*EXPANSION`, ... stay inside the material and are ignored with a
+//! warning (see [`super::keywords`]).
 //! `*SOLID SECTION, ELSET=set, MATERIAL=name` gives the elements of the set
 //! their material (replayed in file order; a later section reassigns, with
 //! a warning). At the end every element needs a material; materials without
@@ -34,6 +36,7 @@ impl Parser {
         self.materials.push(RawMaterial {
             name,
             elastic: None,
+            density: None,
             loc: card.loc,
         });
         Ok(Block::NoData(card.name.clone()))
@@ -67,6 +70,64 @@ impl Parser {
             lines: 0,
             loc: card.loc,
         })
+    }
+
+    /// `*DENSITY`: ρ of the current material (CalculiX manual, *DENSITY).
+    pub(super) fn kw_density(&mut self, card: &Card) -> Result<Block> {
+        self.check_params(card, &[])?;
+        let Some(material) = self.current_material else {
+            return Err(self.err(card.loc, "*DENSITY outside of a *MATERIAL"));
+        };
+        if self.materials[material].density.is_some() {
+            return Err(self.err(
+                card.loc,
+                format!(
+                    "second *DENSITY for material {}",
+                    self.materials[material].name
+                ),
+            ));
+        }
+        Ok(Block::Density {
+            material,
+            lines: 0,
+            loc: card.loc,
+        })
+    }
+
+    pub(super) fn density_line(
+        &mut self,
+        material: usize,
+        line_no: usize,
+        f: &[&str],
+        loc: Loc,
+    ) -> Result<()> {
+        if line_no > 1 {
+            if line_no == 2 {
+                self.warn(
+                    loc,
+                    "*DENSITY with several (temperature) lines: only the first is used",
+                );
+            }
+            return Ok(());
+        }
+        if f.is_empty() || f.len() > 2 {
+            return Err(self.err(loc, "*DENSITY data must be: rho[, temperature]"));
+        }
+        let rho = self.parse_real(f[0], loc)?;
+        if let Some(t) = f.get(1) {
+            self.parse_real(t, loc)?;
+        }
+        if !(rho.is_finite() && rho > 0.0) {
+            return Err(self.err(
+                loc,
+                format!(
+                    "*DENSITY of material {}: the density must be positive, got {rho}",
+                    self.materials[material].name
+                ),
+            ));
+        }
+        self.materials[material].density = Some((rho, loc));
+        Ok(())
     }
 
     pub(super) fn kw_section(&mut self, card: &Card) -> Result<Block> {
@@ -127,6 +188,7 @@ impl Parser {
             name: self.materials[material].name.clone(),
             young,
             poisson,
+            density: None,
         };
         m.validate().map_err(|e| self.err(loc, e.to_string()))?;
         self.materials[material].elastic = Some((young, poisson));
@@ -153,6 +215,7 @@ impl Parser {
                         name: m.name.clone(),
                         young,
                         poisson,
+                        density: m.density.map(|d| d.0),
                     });
                 }
                 None => dropped.push((m.loc, m.name.clone())),

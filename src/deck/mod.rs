@@ -16,8 +16,8 @@
 //! | `lexer.rs` | lines, comments, keyword lines and their continuation, parameters, `*INCLUDE`, labels, DOFs, reals; file:line of errors |
 //! | `nodes_elements.rs` | `*NODE`, `*ELEMENT` |
 //! | `sets.rs` | `*NSET`, `*ELSET` (`GENERATE`), `NALL`/`EALL` |
-//! | `materials.rs` | `*MATERIAL`, `*ELASTIC`, `*SOLID SECTION` |
-//! | `step.rs` | `*STEP`, `*STATIC`, `*END STEP`, `*BOUNDARY`, `*CLOAD`, `*DLOAD` |
+//! | `materials.rs` | `*MATERIAL`, `*ELASTIC`, `*DENSITY`, `*SOLID SECTION` |
+//! | `step.rs` | `*STEP`, `*STATIC`, `*END STEP`, `*BOUNDARY`, `*CLOAD`, `*DLOAD` (Pn, GRAV, CENTRIF) |
 //! | `contact.rs` | `*SURFACE`, `*SURFACE INTERACTION`, `*SURFACE BEHAVIOR`, `*FRICTION`, `*CONTACT PAIR` |
 //! | `coupling.rs` | `*RIGID BODY`, `*COUPLING`, `*KINEMATIC` |
 //! | `keywords.rs` | output requests (`*NODE PRINT`, ...), ignored and refused keywords |
@@ -148,6 +148,9 @@ impl Parser {
             Block::Elastic { lines: 0, loc, .. } => {
                 return Err(self.err(loc, "*ELASTIC without data line (E, nu)"))
             }
+            Block::Density { lines: 0, loc, .. } => {
+                return Err(self.err(loc, "*DENSITY without data line (rho)"))
+            }
             Block::Friction { lines: 0, loc, .. } => {
                 return Err(self.err(loc, "*FRICTION without data line (mu[, stick slope])"))
             }
@@ -198,6 +201,7 @@ impl Parser {
             "ELSET" => self.kw_set(&card, true)?,
             "MATERIAL" => self.kw_material(&card)?,
             "ELASTIC" => self.kw_elastic(&card)?,
+            "DENSITY" => self.kw_density(&card)?,
             "SOLID SECTION" => self.kw_section(&card)?,
             "SURFACE" => self.kw_surface(&card)?,
             "SURFACE INTERACTION" => self.kw_interaction(&card)?,
@@ -278,6 +282,12 @@ impl Parser {
             } => {
                 *lines += 1;
                 self.elastic_line(*material, *lines, &f, loc)?;
+            }
+            Block::Density {
+                material, lines, ..
+            } => {
+                *lines += 1;
+                self.density_line(*material, *lines, &f, loc)?;
             }
             Block::Boundary => self.boundary_line(&f, loc)?,
             Block::Cload => self.cload_line(&f, loc)?,

@@ -74,6 +74,8 @@ pub(super) struct RefRole {
 pub(super) struct RawMaterial {
     pub(super) name: String,
     pub(super) elastic: Option<(f64, f64)>,
+    /// ρ of `*DENSITY` and its line.
+    pub(super) density: Option<(f64, Loc)>,
     pub(super) loc: Loc,
 }
 pub(super) struct RawElement {
@@ -158,6 +160,12 @@ pub(super) enum Cmd {
         value: f64,
         loc: Loc,
     },
+    /// `*DLOAD` GRAV or CENTRIF: a body force per unit mass.
+    BodyLoad {
+        target: Target,
+        force: crate::fem::model::BodyForce,
+        loc: Loc,
+    },
     /// `*RIGID BODY` number `coupling`: its node or element set is taken as
     /// it stands at this point of the deck.
     Coupling {
@@ -195,6 +203,11 @@ pub(super) enum Block {
         generate: bool,
     },
     Elastic {
+        material: usize,
+        lines: usize,
+        loc: Loc,
+    },
+    Density {
         material: usize,
         lines: usize,
         loc: Loc,

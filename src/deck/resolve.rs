@@ -16,7 +16,7 @@ use super::sets::IdxSet;
 use super::Deck;
 use crate::error::Result;
 use crate::fem::contact_definition::SurfaceKind;
-use crate::fem::model::{Dirichlet, Model, NodalForce, Pressure};
+use crate::fem::model::{BodyForce, BodyLoad, Dirichlet, Model, NodalForce, Pressure};
 
 impl Parser {
     /// Resolves everything recorded in phase 1 and builds the model.
@@ -61,6 +61,10 @@ impl Parser {
         let mut bc_index: HashMap<(usize, usize), usize> = HashMap::new();
         let mut forces = Vec::new();
         let mut pressures = Vec::new();
+        let mut body_loads: Vec<BodyLoad> = Vec::new();
+        let mut body_loc: Vec<Loc> = Vec::new();
+        // (element, centrifugal?) → the line of its GRAV / CENTRIF
+        let mut body_seen: HashMap<(usize, bool), Loc> = HashMap::new();
         let mut surface_faces: Vec<Vec<(usize, usize)>> = vec![Vec::new(); self.surfaces.len()];
         let mut surface_nodes: Vec<Vec<usize>> = vec![Vec::new(); self.surfaces.len()];
         for cmd in std::mem::take(&mut self.cmds) {
@@ -286,6 +290,28 @@ impl Parser {
                         });
                     }
                 }
+                Cmd::BodyLoad { target, force, loc } => {
+                    let centrif = matches!(force, BodyForce::Centrifugal { .. });
+                    let ty = if centrif { "CENTRIF" } else { "GRAV" };
+                    let elements = self.target_elements(&esets, target, loc)?;
+                    for element in self.nonempty(elements, target, "*DLOAD", loc)? {
+                        if let Some(first) = body_seen.insert((element, centrif), loc) {
+                            return Err(self.err(
+                                loc,
+                                format!(
+                                    "second *DLOAD {ty} on element {} (first at line {}): several loads of one type on an element are not supported (ccx would replace or add them depending on the sets); give one {ty} per element",
+                                    self.mesh.elements[element].label,
+                                    first.line
+                                ),
+                            ));
+                        }
+                        body_loads.push(BodyLoad {
+                            element,
+                            force: force.clone(),
+                        });
+                        body_loc.push(loc);
+                    }
+                }
                 Cmd::SurfaceItem {
                     surface,
                     target,
@@ -329,6 +355,23 @@ impl Parser {
 
         // Materials: keep complete ones; drop unused ones without *ELASTIC.
         let (materials, element_material) = self.element_materials(&elem_mat, &elem_loc)?;
+        // Body loads need the density of their elements' material.
+        for (bl, &loc) in body_loads.iter().zip(&body_loc) {
+            let m = &materials[element_material[bl.element]];
+            if m.density.is_none() {
+                let ty = match bl.force {
+                    BodyForce::Gravity { .. } => "GRAV",
+                    BodyForce::Centrifugal { .. } => "CENTRIF",
+                };
+                return Err(self.err(
+                    loc,
+                    format!(
+                        "*DLOAD {ty} on element {}: its material {} has no *DENSITY",
+                        self.mesh.elements[bl.element].label, m.name
+                    ),
+                ));
+            }
+        }
 
         // Sets into the mesh (sorted once), NALL/EALL implicit.
         for (id, s) in nsets.into_iter().enumerate() {
@@ -426,6 +469,7 @@ impl Parser {
                 dirichlet,
                 forces,
                 pressures,
+                body_loads,
                 couplings,
                 contact,
             },

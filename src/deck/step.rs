@@ -9,14 +9,21 @@
 //! value]]`; DOFs 1-3 of mesh nodes, zero DOFs 4-6 ignored with a warning
 //! (solid elements have no rotations); a later value on the same DOF wins.
 //! `*CLOAD` (step data): `node or set, DOF, value`, forces add up. `*DLOAD`
-//! (step data): `element or set, Pn, value`, a pressure on face n. DOFs of
+//! (step data): `element or set, Pn, value`, a pressure on face n; `element
+//! or set, GRAV, g, nx, ny, nz`, gravity ρ g n (n normalised, as ccx does);
+//! `element or set, CENTRIF, ω², px, py, pz, ax, ay, az`, the centrifugal
+//! load ρ ω² r⊥ about the axis through p along a (normalised), r⊥ from the
+//! undeformed position; no centrifugal stiffening (linear statics, as ccx
+//! without NLGEOM). Both need a `*DENSITY` in the elements' material. Other
+//! load types (NEWGRAV, edge and body-flux loads, ...) are errors. DOFs of
 //! rigid-coupling reference nodes are resolved in [`super::coupling`].
 //! `OP=MOD` is accepted, `OP=NEW` only where it removes nothing.
 
 use super::lexer::norm_name;
 use super::parser::Parser;
-use super::records::{Block, Card, Cmd, Loc, StepState};
+use super::records::{Block, Card, Cmd, Loc, StepState, Target};
 use crate::error::Result;
+use crate::fem::model::BodyForce;
 
 impl Parser {
     /// `*STEP[, NLGEOM=NO]`: opens the one step.
@@ -197,6 +204,9 @@ impl Parser {
         }
         let target = self.parse_target(f[0], loc)?;
         let ty = f[1].to_ascii_uppercase();
+        if ty == "GRAV" || ty == "CENTRIF" {
+            return self.body_load_line(target, &ty, f, loc);
+        }
         let face = match ty.strip_prefix('P') {
             Some(d) if !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit()) => {
                 d.parse::<usize>().unwrap_or(usize::MAX)
@@ -204,7 +214,7 @@ impl Parser {
             _ => {
                 return Err(self.err(
                     loc,
-                    format!("unsupported *DLOAD load type {ty} (only face pressure P1..P6); ignoring it would change the answer"),
+                    format!("unsupported *DLOAD load type {ty} (only face pressure P1..P6, GRAV and CENTRIF); ignoring it would change the answer"),
                 ))
             }
         };
@@ -226,6 +236,47 @@ impl Parser {
         });
         Ok(())
     }
+
+    /// `*DLOAD` GRAV (`g, nx, ny, nz`) or CENTRIF (`ω², px, py, pz, ax, ay,
+    /// az`) after the target: the direction and the axis are normalised.
+    fn body_load_line(&mut self, target: Target, ty: &str, f: &[&str], loc: Loc) -> Result<()> {
+        let (n, form) = if ty == "GRAV" {
+            (6, "element or set, GRAV, g, nx, ny, nz")
+        } else {
+            (
+                9,
+                "element or set, CENTRIF, omega^2, px, py, pz, ax, ay, az",
+            )
+        };
+        if f.len() != n {
+            return Err(self.err(loc, format!("*DLOAD {ty} data must be: {form}")));
+        }
+        let v = f[2..]
+            .iter()
+            .map(|t| self.parse_real(t, loc))
+            .collect::<Result<Vec<f64>>>()?;
+        let unit = |d: &[f64], what: &str| {
+            let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            if !(len > 0.0 && len.is_finite()) {
+                return Err(self.err(loc, format!("*DLOAD {ty}: the {what} is zero")));
+            }
+            Ok([d[0] / len, d[1] / len, d[2] / len])
+        };
+        let force = if ty == "GRAV" {
+            let d = unit(&v[1..4], "direction")?;
+            BodyForce::Gravity {
+                acceleration: [v[0] * d[0], v[0] * d[1], v[0] * d[2]],
+            }
+        } else {
+            BodyForce::Centrifugal {
+                omega_squared: v[0],
+                point: [v[1], v[2], v[3]],
+                axis: unit(&v[4..7], "axis direction")?,
+            }
+        };
+        self.cmds.push(Cmd::BodyLoad { target, force, loc });
+        Ok(())
+    }
 }
 
 #[cfg(test)]
@@ -242,8 +293,71 @@ mod tests {
     fn dload_face_out_of_range() {
         let d = with(HEX, "E1, P2, 5.0", "E1, P7, 5.0");
         expect_err(&d, line_of(&d, "E1, P7"), "face");
-        let d = with(HEX, "E1, P2, 5.0", "E1, GRAV, 9810., 0., 0., -1.");
-        expect_err(&d, line_of(&d, "GRAV"), "unsupported *DLOAD load type GRAV");
+        let d = with(HEX, "E1, P2, 5.0", "E1, NEWGRAV, 9810., 0., 0., -1.");
+        expect_err(
+            &d,
+            line_of(&d, "NEWGRAV"),
+            "unsupported *DLOAD load type NEWGRAV",
+        );
+    }
+
+    #[test]
+    fn dload_grav_and_centrif() {
+        // HEX's material has *DENSITY 7.85e-9; a non-unit direction is normalised
+        let d = with(
+            HEX,
+            "E1, P2, 5.0",
+            "E1, P2, 5.0\nBLOCK, GRAV, 9810., 0., 0., -2.",
+        );
+        let m = parse(&d).unwrap().model;
+        assert_eq!(m.materials[0].density, Some(7.85e-9));
+        assert_eq!(
+            m.body_loads,
+            vec![crate::fem::model::BodyLoad {
+                element: 0,
+                force: crate::fem::model::BodyForce::Gravity {
+                    acceleration: [0.0, 0.0, -9810.0]
+                }
+            }]
+        );
+        let d = with(HEX, "E1, P2, 5.0", "E1, CENTRIF, 1e6, 0, 0, 0, 0, 0, 3");
+        let m = parse(&d).unwrap().model;
+        assert_eq!(
+            m.body_loads[0].force,
+            crate::fem::model::BodyForce::Centrifugal {
+                omega_squared: 1e6,
+                point: [0.0; 3],
+                axis: [0.0, 0.0, 1.0]
+            }
+        );
+        // malformed, zero direction, repeated, missing density
+        let d = with(HEX, "E1, P2, 5.0", "E1, GRAV, 9810., 0., 0.");
+        expect_err(&d, line_of(&d, "GRAV"), "GRAV data must be");
+        let d = with(HEX, "E1, P2, 5.0", "E1, CENTRIF, 1e6, 0, 0, 0, 0, 0");
+        expect_err(&d, line_of(&d, "CENTRIF"), "CENTRIF data must be");
+        let d = with(HEX, "E1, P2, 5.0", "E1, GRAV, 9810., 0., 0., 0.");
+        expect_err(&d, line_of(&d, "GRAV"), "direction is zero");
+        let d = with(
+            HEX,
+            "E1, P2, 5.0",
+            "E1, GRAV, 9810., 0., 0., -1.\nBLOCK, GRAV, 1., 1., 0., 0.",
+        );
+        expect_err(&d, line_of(&d, "BLOCK, GRAV"), "second *DLOAD GRAV");
+        let d = with(HEX, "*DENSITY\n7.85e-9\n", "");
+        assert!(parse(&d).is_ok());
+        let d = with(&d, "E1, P2, 5.0", "E1, CENTRIF, 1e6, 0, 0, 0, 0, 0, 1");
+        expect_err(&d, line_of(&d, "CENTRIF"), "has no *DENSITY");
+    }
+
+    #[test]
+    fn density_keyword() {
+        let d = with(HEX, "7.85e-9", "-7.85e-9");
+        expect_err(&d, line_of(&d, "-7.85e-9"), "density must be positive");
+        let d = with(HEX, "*DENSITY\n7.85e-9\n", "*DENSITY\n");
+        expect_err(&d, line_of(&d, "*DENSITY"), "*DENSITY without data line");
+        let d = with(HEX, "7.85e-9", "7.85e-9\n*DENSITY\n1e-9");
+        // at the second *DENSITY's keyword line, the one before its data
+        expect_err(&d, line_of(&d, "1e-9") - 1, "second *DENSITY");
     }
 
     #[test]

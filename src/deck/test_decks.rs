@@ -222,6 +222,7 @@ pub(super) fn sample_model() -> Model {
                 value: -2.25,
             },
         ],
+        body_loads: Vec::new(),
         couplings: Vec::new(),
         contact: Default::default(),
     }

@@ -5,7 +5,9 @@
 //! (ELSET=EALL), node and element sets, one element set and `*SOLID
 //! SECTION` per material, the contact definition, rigid couplings as `*RIGID
 //! BODY` with two fresh reference nodes each, and one `*STEP`/`*STATIC` with
-//! `*BOUNDARY`, `*CLOAD`, `*DLOAD` and a displacement `*NODE PRINT`. Names
+//! `*BOUNDARY`, `*CLOAD`, `*DLOAD` (pressures, then GRAV and CENTRIF per
+//! element; materials with a density get `*DENSITY`) and a displacement
+//! `*NODE PRINT`. Names
 //! are upper-cased and made deck-safe and unique; labels must fit ccx's
 //! 32-bit integers; reals are written in at most 20 characters (see
 //! [`super::real`]).
@@ -17,7 +19,7 @@ use std::path::Path;
 use super::real::fmt_real;
 use crate::error::{FlankError, Result};
 use crate::fem::contact_definition::{PressureOverclosure, SurfaceKind};
-use crate::fem::model::Model;
+use crate::fem::model::{BodyForce, Model};
 
 /// ccx reads labels as 32-bit integers.
 const CCX_MAX_LABEL: u64 = i32::MAX as u64;
@@ -200,6 +202,10 @@ pub fn format_deck(model: &Model) -> Result<String> {
         w!("*MATERIAL, NAME={}", material_names[m]);
         w!("*ELASTIC");
         w!("{}, {}", fmt_real(mat.young), fmt_real(mat.poisson));
+        if let Some(rho) = mat.density {
+            w!("*DENSITY");
+            w!("{}", fmt_real(rho));
+        }
     }
     for (set, m) in &sections {
         w!(
@@ -271,6 +277,36 @@ pub fn format_deck(model: &Model) -> Result<String> {
                 p.face,
                 fmt_real(p.value)
             );
+        }
+    }
+    if !model.body_loads.is_empty() {
+        w!("*DLOAD");
+        for b in &model.body_loads {
+            let label = mesh.elements[b.element].label;
+            match &b.force {
+                BodyForce::Gravity { acceleration: a } => {
+                    // ccx normalises the direction: write |a| and a/|a|
+                    let g = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+                    let d: Vec<String> = a.iter().map(|&c| fmt_real(c / g)).collect();
+                    w!("{label}, GRAV, {}, {}", fmt_real(g), d.join(", "));
+                }
+                BodyForce::Centrifugal {
+                    omega_squared,
+                    point: p,
+                    axis: a,
+                } => {
+                    w!(
+                        "{label}, CENTRIF, {}, {}, {}, {}, {}, {}, {}",
+                        fmt_real(*omega_squared),
+                        fmt_real(p[0]),
+                        fmt_real(p[1]),
+                        fmt_real(p[2]),
+                        fmt_real(a[0]),
+                        fmt_real(a[1]),
+                        fmt_real(a[2])
+                    );
+                }
+            }
         }
     }
     w!("*NODE PRINT, NSET=NALL");
@@ -450,6 +486,31 @@ fn check_writable(model: &Model) -> Result<()> {
             && p.value.is_finite();
         if !ok {
             return bad(format!("invalid pressure {p:?}"));
+        }
+    }
+    for b in &model.body_loads {
+        let ok = b.element < ne
+            && model.materials[model.element_material[b.element]]
+                .density
+                .is_some()
+            && match &b.force {
+                BodyForce::Gravity { acceleration: a } => {
+                    a.iter().all(|c| c.is_finite()) && a.iter().any(|&c| c != 0.0)
+                }
+                BodyForce::Centrifugal {
+                    omega_squared,
+                    point,
+                    axis,
+                } => {
+                    omega_squared.is_finite()
+                        && point.iter().chain(axis).all(|c| c.is_finite())
+                        && axis.iter().any(|&c| c != 0.0)
+                }
+            };
+        if !ok {
+            return bad(format!(
+                "invalid body load {b:?} (zero gravity, zero axis, or a material without density)"
+            ));
         }
     }
     for (name, s) in &mesh.node_sets {
@@ -660,6 +721,65 @@ mod tests {
         assert!(text.contains("*ELEMENT, TYPE=C3D20R, ELSET=EALL\n"));
         assert!(text.contains("*SOLID SECTION, ELSET=M_STEEL, MATERIAL=STEEL\n"));
         assert!(text.contains("*NODE PRINT, NSET=NALL\nU\n*END STEP\n"));
+    }
+
+    /// Densities and GRAV / CENTRIF loads are written and read back (the
+    /// gravity as |g| and g/|g|, renormalised by the reader: round-off).
+    #[test]
+    fn body_load_round_trip() {
+        use crate::fem::model::{BodyForce, BodyLoad};
+        let mut m = sample_model();
+        m.materials[0].density = Some(7.85e-9);
+        m.materials[1].density = Some(8.9e-9);
+        let grav = BodyForce::Gravity {
+            acceleration: [1.0, -2.0, 9810.0],
+        };
+        let centrif = BodyForce::Centrifugal {
+            omega_squared: 1.5e6,
+            point: [1.0, 2.0, 3.0],
+            axis: [0.0, 0.6, 0.8],
+        };
+        m.body_loads = vec![
+            BodyLoad {
+                element: 0,
+                force: grav.clone(),
+            },
+            BodyLoad {
+                element: 2,
+                force: centrif.clone(),
+            },
+        ];
+        let p = parse(&format_deck(&m).unwrap()).unwrap().model;
+        assert_eq!(p.materials[0].density, Some(7.85e-9));
+        assert_eq!(p.materials[1].density, Some(8.9e-9));
+        assert_eq!(p.body_loads.len(), 2);
+        assert_eq!(p.body_loads[0].element, 0);
+        match &p.body_loads[0].force {
+            BodyForce::Gravity { acceleration: a } => {
+                for (x, y) in a.iter().zip([1.0, -2.0, 9810.0]) {
+                    assert!((x - y).abs() <= 1e-12 * 9810.0, "{a:?}");
+                }
+            }
+            f => panic!("{f:?}"),
+        }
+        assert_eq!(p.body_loads[1].element, 2);
+        match &p.body_loads[1].force {
+            BodyForce::Centrifugal {
+                omega_squared,
+                point,
+                axis,
+            } => {
+                assert_eq!(*omega_squared, 1.5e6);
+                assert_eq!(*point, [1.0, 2.0, 3.0]);
+                for (x, y) in axis.iter().zip([0.0, 0.6, 0.8]) {
+                    assert!((x - y).abs() <= 1e-15, "{axis:?}");
+                }
+            }
+            f => panic!("{f:?}"),
+        }
+        // a body load on a material without density is not writable
+        m.materials[0].density = None;
+        assert!(format_deck(&m).is_err());
     }
 
     #[test]

@@ -13,6 +13,10 @@ pub struct Material {
     pub young: f64,
     /// Poisson's ratio ν.
     pub poisson: f64,
+    /// Mass density ρ (t/mm³ in flank's N-mm-s units), CalculiX's `*DENSITY`;
+    /// needed only by body loads (gravity, centrifugal).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub density: Option<f64>,
 }
 
 impl Material {
@@ -22,6 +26,7 @@ impl Material {
             name: name.to_string(),
             young,
             poisson,
+            density: None,
         };
         m.validate()?;
         Ok(m)
@@ -40,6 +45,14 @@ impl Material {
                 "material '{}': Poisson's ratio must lie in (-1, 0.5), got {}",
                 self.name, self.poisson
             )));
+        }
+        if let Some(rho) = self.density {
+            if !rho.is_finite() || rho <= 0.0 {
+                return Err(FlankError::Material(format!(
+                    "material '{}': density must be positive and finite, got {rho}",
+                    self.name
+                )));
+            }
         }
         Ok(())
     }

@@ -34,6 +34,53 @@ pub struct Pressure {
     pub value: f64,
 }
 
+/// A body force per unit mass b(x) (mm/s²), CalculiX's `*DLOAD` types
+/// GRAV and CENTRIF (ccx 2.20 manual, *DLOAD); the force per unit volume is
+/// ρ b with the element material's density.
+#[derive(Clone, Debug, PartialEq)]
+pub enum BodyForce {
+    /// GRAV: b = g n, the acceleration vector `g n` (n a unit vector).
+    Gravity { acceleration: [f64; 3] },
+    /// CENTRIF: b = ω² r⊥, r⊥ the distance vector of the *undeformed*
+    /// position from the axis through `point` along the unit vector `axis`.
+    /// Linear statics: no centrifugal stiffening (spin softening) enters the
+    /// stiffness, as in ccx without NLGEOM.
+    Centrifugal {
+        omega_squared: f64,
+        point: [f64; 3],
+        axis: [f64; 3],
+    },
+}
+
+impl BodyForce {
+    /// b(x), force per unit mass at the point x.
+    pub fn at(&self, x: [f64; 3]) -> [f64; 3] {
+        match self {
+            BodyForce::Gravity { acceleration } => *acceleration,
+            BodyForce::Centrifugal {
+                omega_squared,
+                point,
+                axis,
+            } => {
+                let d = [x[0] - point[0], x[1] - point[1], x[2] - point[2]];
+                let s = d[0] * axis[0] + d[1] * axis[1] + d[2] * axis[2];
+                [
+                    omega_squared * (d[0] - s * axis[0]),
+                    omega_squared * (d[1] - s * axis[1]),
+                    omega_squared * (d[2] - s * axis[2]),
+                ]
+            }
+        }
+    }
+}
+
+/// A body force on one element (its material needs a density).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyLoad {
+    pub element: usize,
+    pub force: BodyForce,
+}
+
 /// Rigid hub coupling (like Abaqus `*COUPLING` + `*KINEMATIC`): every node of
 /// `nodes` follows the rigid-body motion u = t + θ × (x − x_ref) of a reference
 /// point. Each of the six reference DOFs (tx, ty, tz, rx, ry, rz) is either
@@ -83,6 +130,8 @@ pub struct Model {
     pub dirichlet: Vec<Dirichlet>,
     pub forces: Vec<NodalForce>,
     pub pressures: Vec<Pressure>,
+    /// Gravity and centrifugal body loads, per element.
+    pub body_loads: Vec<BodyLoad>,
     pub couplings: Vec<RigidCoupling>,
     /// Contact surfaces, interactions and pairs (empty: no contact).
     pub contact: crate::fem::contact_definition::ContactDefinition,
