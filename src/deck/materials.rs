@@ -94,6 +94,18 @@ impl Parser {
         })
     }
 
+    /// A temperature table's lines after the first are skipped (flank
+    /// reads temperature-independent data), with one warning at the second.
+    fn beyond_first_line(&mut self, keyword: &str, line_no: usize, loc: Loc) -> bool {
+        if line_no == 2 {
+            self.warn(
+                loc,
+                format!("{keyword} with several (temperature) lines: only the first is used"),
+            );
+        }
+        line_no > 1
+    }
+
     pub(super) fn density_line(
         &mut self,
         material: usize,
@@ -101,13 +113,7 @@ impl Parser {
         f: &[&str],
         loc: Loc,
     ) -> Result<()> {
-        if line_no > 1 {
-            if line_no == 2 {
-                self.warn(
-                    loc,
-                    "*DENSITY with several (temperature) lines: only the first is used",
-                );
-            }
+        if self.beyond_first_line("*DENSITY", line_no, loc) {
             return Ok(());
         }
         if f.is_empty() || f.len() > 2 {
@@ -161,13 +167,7 @@ impl Parser {
         f: &[&str],
         loc: Loc,
     ) -> Result<()> {
-        if line_no > 1 {
-            if line_no == 2 {
-                self.warn(
-                    loc,
-                    "*ELASTIC with several (temperature) lines: only the first is used",
-                );
-            }
+        if self.beyond_first_line("*ELASTIC", line_no, loc) {
             return Ok(());
         }
         if f.len() < 2 {
