@@ -32,6 +32,34 @@ impl Header {
     }
 }
 
+/// A figure of a summary, or why it was not measured (a sentence, never
+/// a NaN): serialized as the figure's object or as
+/// `{"not_measured": "…"}`.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[serde(untagged)]
+pub enum Measured<T> {
+    Figures(T),
+    NotMeasured { not_measured: String },
+}
+
+impl<T> Measured<T> {
+    /// The figure of `Ok`, the reason of `Err`.
+    pub fn from_result(r: Result<T, String>) -> Self {
+        match r {
+            Ok(t) => Measured::Figures(t),
+            Err(e) => Measured::NotMeasured { not_measured: e },
+        }
+    }
+
+    /// The figure, if measured.
+    pub fn figures(&self) -> Option<&T> {
+        match self {
+            Measured::Figures(t) => Some(t),
+            Measured::NotMeasured { .. } => None,
+        }
+    }
+}
+
 /// max − min of `values` (−∞ for none): the peak-to-peak of a TE series.
 pub fn peak_to_peak(values: impl Iterator<Item = f64> + Clone) -> f64 {
     values.clone().fold(f64::NEG_INFINITY, f64::max) - values.fold(f64::INFINITY, f64::min)

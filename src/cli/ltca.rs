@@ -85,6 +85,12 @@ pub struct Args {
     /// `[analyses.ltca] compression`, else none.
     #[arg(long)]
     compression: Option<String>,
+    /// Pinion torques (N·m, comma-separated) of the map over torque: the
+    /// LTCA over one mesh pitch at each, TE peak-to-peak, mesh-order
+    /// harmonics and mesh stiffness (`ltca_torque_map.csv`, `.svg`);
+    /// default the scene's `[analyses.ltca] torques_nm`, else no map.
+    #[arg(long, value_delimiter = ',')]
+    torques: Option<Vec<f64>>,
     /// Print nothing but errors.
     #[arg(long, short)]
     quiet: bool,
@@ -113,6 +119,7 @@ pub fn run(args: Args) -> Result<()> {
         edges,
         flank_region,
         compression,
+        torques,
         quiet,
     } = args;
     let compression = match compression {
@@ -151,6 +158,7 @@ pub fn run(args: Args) -> Result<()> {
         edges,
         // a bevel pair's grid: the scene's `[analyses.ltca] positions`
         positions: None,
+        torques_nm: torques,
     };
     let read = flank::scene::read_scene(&scene)?;
     let result =
@@ -217,6 +225,7 @@ fn print_cycle(s: &LtcaSummary) {
             );
         }
     }
+    print_spectra(s);
     if let Some(fr) = &s.friction {
         println!(
                 "friction μ = {}: P_t/P_n {:.4}, mean friction power {:.1} W, mesh efficiency {:.4}; largest Coulomb residual {:.1e}{}",
@@ -240,6 +249,60 @@ fn print_cycle(s: &LtcaSummary) {
     if let KindSummary::Cylindrical(c) = &s.kind {
         for n in &c.kkt_flagged {
             println!("flagged: {n}");
+        }
+    }
+}
+
+/// The TE harmonics, mesh stiffness and the map over torque of a cycle.
+fn print_spectra(s: &LtcaSummary) {
+    use flank::summary::Measured;
+    match &s.te_harmonics {
+        Measured::Figures(h) => println!(
+            "loaded TE mesh orders 1-5 over {} positions ({} pitch): {} µrad",
+            h.positions,
+            h.pitches,
+            h.harmonics
+                .iter()
+                .map(|x| format!("{:.3}", x.amplitude_urad))
+                .collect::<Vec<_>>()
+                .join(" / ")
+        ),
+        Measured::NotMeasured { not_measured } => {
+            println!("TE harmonics of the cycle not measured: {not_measured}")
+        }
+    }
+    if let Measured::Figures(k) = &s.mesh_stiffness {
+        println!(
+            "mesh stiffness {:.1} N/µm mean ({:.1} … {:.1}){}",
+            k.mean_n_per_um,
+            k.min_n_per_um,
+            k.max_n_per_um,
+            k.mean_n_per_mm_um
+                .map(|x| format!(", {x:.2} N/(mm·µm)"))
+                .unwrap_or_default()
+        );
+    }
+    if let Some(m) = &s.torque_map {
+        println!(
+            "map over torque ({} positions per torque, {:.1} s):",
+            m.roll_deg.len(),
+            m.time_s
+        );
+        for p in &m.torques {
+            let first = p
+                .harmonics
+                .figures()
+                .map(|h| format!("{:.3} µm", h.harmonics[0].amplitude_um))
+                .unwrap_or_else(|| "not measured".into());
+            let k = p
+                .mesh_stiffness
+                .figures()
+                .map(|k| format!("{:.1} N/µm", k.mean_n_per_um))
+                .unwrap_or_else(|| "not measured".into());
+            println!(
+                "  {} N·m: TE p-p {:.3} µm ({:.2} µrad), first order {first}, mean mesh stiffness {k}",
+                p.torque_nm, p.te_peak_to_peak_um, p.te_peak_to_peak_urad
+            );
         }
     }
 }

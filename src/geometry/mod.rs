@@ -16,6 +16,7 @@ pub mod frame;
 pub mod gear_pair;
 pub mod involute;
 pub mod iso6336;
+pub mod iso6336_3;
 pub mod measured;
 pub mod measurement_grid;
 pub mod micro;

@@ -83,6 +83,10 @@ pub struct LtcaOptions {
     /// (default: the scene's `[analyses.ltca] positions`, else
     /// [`DEFAULT_POSITIONS`]).
     pub positions: Option<usize>,
+    /// Pinion torques of the map over torque (N·m; default the scene's
+    /// `[analyses.ltca] torques_nm`, else no map;
+    /// [`crate::ltca::torque_map`]).
+    pub torques_nm: Option<Vec<f64>>,
 }
 
 /// The corner-contact extension must exceed the loaded approach by this
@@ -396,6 +400,15 @@ impl LtcaCycle {
             CycleCandidates::Point(Box::new(point)),
             self.points_per_line,
         ))
+    }
+
+    /// The same prepared bodies and candidates at another pinion torque
+    /// (N·mm): the map over torque ([`crate::ltca::torque_map`]).
+    pub fn with_torque(&self, torque_nmm: f64) -> Self {
+        LtcaCycle {
+            torque: torque_nmm,
+            ..self.with_candidates(self.candidates.clone(), self.points_per_line)
+        }
     }
 
     fn with_candidates(&self, candidates: CycleCandidates, k: usize) -> Self {

@@ -18,7 +18,9 @@
 //!   [`run`] (the point-contact tables, edge variants and plots:
 //!   [`point_run`]); load sharing and the functional contact ratio in
 //!   [`crate::load_sharing`], [`te_fit`]: the loaded TE's quadratic fit
-//!   over a cycle (seed 003).
+//!   over a cycle (seed 003); [`harmonics`]: its mesh-order amplitudes
+//!   over whole pitches, [`mesh_stiffness`] per position, [`torque_map`]:
+//!   both over a list of torques (the Harris map).
 //! * [`lubricated`]: the wet–dry loop of seed 002 through the frictional
 //!   spur/helical LTCA (μ per position and tooth pair from the EHL model of
 //!   [`crate::lubrication`]).
@@ -28,10 +30,12 @@ pub mod candidate;
 pub mod cycle;
 pub mod friction;
 pub mod friction_report;
+pub mod harmonics;
 pub mod hertz_elliptic;
 pub mod influence;
 pub mod local;
 pub mod lubricated;
+pub mod mesh_stiffness;
 pub mod model;
 pub mod outputs;
 pub mod pattern;
@@ -41,3 +45,4 @@ pub mod run;
 pub mod solve_settings;
 pub mod summary;
 pub mod te_fit;
+pub mod torque_map;

@@ -1,16 +1,24 @@
 //! What both LTCA drivers (spur/helical [`crate::ltca::run`], bevel/hypoid
 //! [`crate::ltca::point_run`]) write and summarise of their positions: the
 //! per-position CSVs (`ltca_cycle.csv`, `ltca_positions.csv`), the
-//! per-point CSV, the friction summary and the positions' bounded loops.
+//! per-point CSV, the friction summary and the positions' bounded loops;
+//! the TE harmonics, mesh stiffness and the map over torque of a cycle
+//! ([`cycle_spectra`]).
 
 use std::path::Path;
 
 use crate::error::FlankError;
 use crate::iteration_limits::IterationLimits;
+use crate::ltca::cycle::{LtcaCycle, LtcaOptions};
 use crate::ltca::friction_report::FrictionReport;
+use crate::ltca::harmonics::{te_harmonics, TeHarmonics};
+use crate::ltca::mesh_stiffness::{mesh_stiffness, write_mesh_stiffness_csv, MeshStiffness};
 use crate::ltca::model::PositionResult;
 use crate::ltca::solve_settings::LtcaFriction;
 use crate::ltca::summary::{FrictionSummary, LtcaStep};
+use crate::ltca::torque_map::{map_rolls, torque_map, TorqueMap};
+use crate::scene::Scene;
+use crate::summary::Measured;
 
 /// The bounded loops of every position together (the summary's
 /// `iteration_limits`).
@@ -182,4 +190,96 @@ pub fn write_points_csv(path: &Path, results: &[PositionResult]) -> Result<(), F
         }
     }
     crate::atomic_file::write(path, s)
+}
+
+/// What a cycle reports of its TE spectrum and mesh stiffness
+/// ([`cycle_spectra`]).
+pub struct CycleSpectra {
+    pub te_harmonics: Measured<TeHarmonics>,
+    pub mesh_stiffness: Measured<MeshStiffness>,
+    pub torque_map: Option<TorqueMap>,
+    /// Files written (`ltca_mesh_stiffness.csv`, the map's).
+    pub files: Vec<String>,
+}
+
+/// The pinion torques of the map: the options', else the scene's
+/// `[analyses.ltca] torques_nm` (`None`: no map).
+pub fn map_torques(scene: &Scene, options: &LtcaOptions) -> Option<Vec<f64>> {
+    options.torques_nm.clone().or_else(|| {
+        scene
+            .analyses
+            .ltca
+            .as_ref()
+            .and_then(|a| a.torques_nm.clone())
+    })
+}
+
+/// The face width a cylindrical pair's mesh stiffness is divided by: the
+/// smaller of the two (mm); `None` for a bevel/hypoid pair.
+pub fn stiffness_face_width(scene: &Scene) -> Option<f64> {
+    scene
+        .cylindrical("the mesh stiffness per unit face width")
+        .ok()
+        .map(|c| c.pair.pinion.face_width.min(c.pair.gear.face_width))
+}
+
+/// Of a solved cycle (`results` at `rolls`, `gaps` the rolls without any
+/// contact): the TE harmonics and the mesh stiffness's mean and variation
+/// where the rolls are equal steps over whole pitches (else the reason),
+/// `ltca_mesh_stiffness.csv` (every position) and, if torques are asked,
+/// the map over torque; every file in `out`.
+pub fn cycle_spectra(
+    cycle: &LtcaCycle,
+    scene: &Scene,
+    options: &LtcaOptions,
+    results: &[PositionResult],
+    gaps: &[f64],
+    out: &Path,
+) -> Result<CycleSpectra, FlankError> {
+    let pitch = cycle.pair.pinion().angular_pitch().to_degrees();
+    let face = stiffness_face_width(scene);
+    let mut sorted: Vec<&PositionResult> = results.iter().collect();
+    sorted.sort_by(|a, b| a.roll_deg.total_cmp(&b.roll_deg));
+    let rolls: Vec<f64> = sorted.iter().map(|r| r.roll_deg).collect();
+    let te: Vec<f64> = sorted.iter().map(|r| r.te_urad).collect();
+    let harmonics = if gaps.is_empty() {
+        te_harmonics(
+            &rolls,
+            &te,
+            pitch,
+            cycle.bodies.te_radius_mm,
+            cycle.pair.ratio(),
+        )
+    } else {
+        Err(format!(
+            "no tooth pair of the sector is in contact at {} positions: the pitch is not sampled whole",
+            gaps.len()
+        ))
+    };
+    let stiffness = match &harmonics {
+        Ok(h) => {
+            let sample: Vec<PositionResult> =
+                sorted[..h.positions].iter().map(|r| (*r).clone()).collect();
+            mesh_stiffness(&sample, face, cycle.bodies.nominal_moment_arm_mm)
+        }
+        Err(e) => Err(format!("needs the positions of the harmonics: {e}")),
+    };
+    let owned: Vec<PositionResult> = sorted.iter().map(|r| (*r).clone()).collect();
+    write_mesh_stiffness_csv(&out.join("ltca_mesh_stiffness.csv"), &owned, pitch, face)?;
+    let mut files = vec!["ltca_mesh_stiffness.csv".to_string()];
+    let torque_map = match map_torques(scene, options) {
+        Some(t) => {
+            let rolls = map_rolls(cycle)?;
+            let m = torque_map(cycle, &t, &rolls, face, out)?;
+            files.extend(m.files.iter().cloned());
+            Some(m)
+        }
+        None => None,
+    };
+    Ok(CycleSpectra {
+        te_harmonics: Measured::from_result(harmonics),
+        mesh_stiffness: Measured::from_result(stiffness),
+        torque_map,
+        files,
+    })
 }

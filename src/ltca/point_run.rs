@@ -236,6 +236,7 @@ fn run_variant(
     write_positions_csv(&out.join("ltca_positions.csv"), &steps, &mates)?;
     write_points_csv(&out.join("ltca_points.csv"), &results)?;
     let plots = plot_variant(cycle, out, &results)?;
+    let spectra = crate::ltca::outputs::cycle_spectra(cycle, scene, options, &results, &gaps, out)?;
     let worst = |f: fn(&PositionResult) -> f64| results.iter().map(f).fold(0.0f64, f64::max);
     // the functional contact ratio needs the default cycle (positions
     // spread evenly over one pitch)
@@ -300,6 +301,9 @@ fn run_variant(
         te_peak_to_peak_urad: peak_to_peak(&te_urad),
         te_peak_to_peak_arcsec: peak_to_peak(&te),
         max_pressure_mpa: worst(|r| r.max_pressure_mpa),
+        te_harmonics: spectra.te_harmonics,
+        mesh_stiffness: spectra.mesh_stiffness,
+        torque_map: spectra.torque_map,
         max_kkt: worst(|r| r.kkt_max),
         iteration_limits: loops,
         friction: cycle

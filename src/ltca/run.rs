@@ -47,6 +47,15 @@ pub fn run_scene(path: &Path, options: &LtcaOptions) -> Result<LtcaResult, Flank
 pub fn run(scene: &Scene, options: &LtcaOptions) -> Result<LtcaResult, FlankError> {
     // the wet–dry loop (seed 002): the cycle is its dry pass at μ₀
     let lubricated = crate::ltca::lubricated::loop_settings(scene, options)?;
+    // the map's torques checked before anything is computed
+    if let Some(t) = crate::ltca::outputs::map_torques(scene, options) {
+        crate::ltca::torque_map::check_torques(&t, "--torques").map_err(FlankError::Model)?;
+        if lubricated.is_some() {
+            return Err(FlankError::Model(
+                "torques_nm (the map over torque) runs the dry LTCA: it is refused with [analyses.lubrication], whose wet–dry loop sets μ at the scene's torque".into(),
+            ));
+        }
+    }
     let dry_options;
     let options = match &lubricated {
         Some(l) => {
@@ -182,6 +191,7 @@ fn run_line(
         notes.push(format!("contact pattern not plotted: {e}"));
         Vec::new()
     });
+    let spectra = crate::ltca::outputs::cycle_spectra(&cycle, scene, options, &results, &[], out)?;
     let loops = iteration_limits(&results);
     notes.extend(loops.warnings());
     // the positions run side by side: the wall time of the cycle over them
@@ -198,6 +208,9 @@ fn run_line(
         te_peak_to_peak_urad: peak_to_peak(&te),
         te_peak_to_peak_arcsec: peak_to_peak(&te_arcsec),
         max_pressure_mpa: worst(|r| r.max_pressure_mpa),
+        te_harmonics: spectra.te_harmonics,
+        mesh_stiffness: spectra.mesh_stiffness,
+        torque_map: spectra.torque_map,
         max_kkt: worst(|r| r.kkt_max),
         iteration_limits: loops,
         friction: cycle
@@ -240,7 +253,9 @@ fn run_line(
             files: LtcaFiles {
                 csv: ["ltca_cycle.csv", "ltca_positions.csv", "ltca_points.csv"]
                     .map(String::from)
-                    .to_vec(),
+                    .into_iter()
+                    .chain(spectra.files)
+                    .collect(),
                 plots,
                 contact_pattern: pattern,
             },

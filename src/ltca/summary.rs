@@ -19,9 +19,13 @@ use crate::error::FlankError;
 use crate::iteration_limits::IterationLimits;
 use crate::load_sharing::CycleSharing;
 use crate::ltca::bodies::Setup;
+use crate::ltca::harmonics::TeHarmonics;
+use crate::ltca::mesh_stiffness::MeshStiffness;
 use crate::ltca::model::PositionResult;
 use crate::ltca::solve_settings::LtcaSettings;
 use crate::ltca::te_fit::QuadraticTeFit;
+use crate::ltca::torque_map::TorqueMap;
+use crate::summary::Measured;
 use crate::tca::point_contact::Transition;
 
 pub use crate::summary::SCHEMA_VERSION;
@@ -89,6 +93,16 @@ pub struct LtcaSummary {
     pub te_peak_to_peak_arcsec: f64,
     /// Largest Hertz peak pressure over the cycle (MPa).
     pub max_pressure_mpa: f64,
+    /// The loaded TE's mesh orders 1 … 5 over the cycle's positions,
+    /// measured where they are equal steps over whole pitches
+    /// ([`crate::ltca::harmonics`]), else why not.
+    pub te_harmonics: Measured<TeHarmonics>,
+    /// Mean and variation of the mesh stiffness over the same positions
+    /// ([`crate::ltca::mesh_stiffness`]), else why not.
+    pub mesh_stiffness: Measured<MeshStiffness>,
+    /// The map over torque (`torques_nm`; [`crate::ltca::torque_map`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub torque_map: Option<TorqueMap>,
     /// Largest KKT (or friction) residual over the positions.
     pub max_kkt: f64,
     /// How the bounded loops of every position ended.

@@ -151,6 +151,11 @@ pub struct LtcaAnalysis {
     /// TCA's grid (4 … 400; default 20). Seed 003 asks for 20, seed 001
     /// for 30; the spur/helical LTCA takes its roll range instead.
     pub positions: Option<usize>,
+    /// Pinion torques (N·m) of the map over torque (every pair kind): the
+    /// LTCA over one mesh pitch at each, its TE peak-to-peak, mesh-order
+    /// harmonics and mesh stiffness (`ltca_torque_map.csv`); 1 … 50
+    /// values, each > 0.
+    pub torques_nm: Option<Vec<f64>>,
 }
 
 /// Options of the `lubrication` analysis (the wet–dry loop of seed 002,
@@ -456,6 +461,17 @@ fn check_ltca_analysis(v: &LtcaAnalysis) -> Result<(), String> {
             ));
         }
     }
+    if let Some(t) = &v.torques_nm {
+        if t.is_empty() || t.len() > 50 {
+            return Err(format!(
+                "torques_nm must hold 1 … 50 torques, got {}",
+                t.len()
+            ));
+        }
+        if let Some(x) = t.iter().find(|x| !(x.is_finite() && **x > 0.0)) {
+            return Err(format!("torques_nm: every torque must be > 0 N·m, got {x}"));
+        }
+    }
     Ok(())
 }
 
@@ -555,6 +571,37 @@ mod tests {
             (
                 "ltca = { positions = 30 }",
                 &["positions = 30", "bevel and hypoid", "roll_step_deg"][..],
+            ),
+        ] {
+            let t = edit(SPUR, "mesh = {}\n", &format!("mesh = {{}}\n{bad}\n"));
+            expect_err(&t, line_of(&t, "ltca ="), words);
+        }
+    }
+
+    /// `torques_nm`: read as given; an empty list, a torque ≤ 0 or a
+    /// string refused naming the file, the line and the key.
+    #[test]
+    fn ltca_torques_key() {
+        let ok = edit(
+            SPUR,
+            "mesh = {}\n",
+            "mesh = {}\nltca = { torques_nm = [50.0, 100.0, 312.0] }\n",
+        );
+        let l = parse(&ok).unwrap().analyses.ltca.unwrap();
+        assert_eq!(l.torques_nm, Some(vec![50.0, 100.0, 312.0]));
+        for (bad, words) in [
+            ("ltca = { torques_nm = [] }", &["torques_nm", "1 … 50"][..]),
+            (
+                "ltca = { torques_nm = [100.0, -5.0] }",
+                &["torques_nm", "> 0 N·m", "-5"][..],
+            ),
+            (
+                "ltca = { torques_nm = [100.0, 0.0] }",
+                &["torques_nm", "> 0 N·m"][..],
+            ),
+            (
+                "ltca = { torques_nm = \"100\" }",
+                &["analyses.ltca", "torques_nm"][..],
             ),
         ] {
             let t = edit(SPUR, "mesh = {}\n", &format!("mesh = {{}}\n{bad}\n"));

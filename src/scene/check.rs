@@ -8,6 +8,7 @@ use serde::Serialize;
 use super::validated::{Gears, PairKind, Scene};
 use crate::error::FlankError;
 use crate::geometry::iso6336::ToothStiffness;
+use crate::geometry::iso6336_3::NominalRootStress;
 use crate::geometry::pair::PairReport;
 use crate::geometry::Hand;
 
@@ -30,6 +31,18 @@ pub struct CylindricalCheck {
     /// ISO 6336-1 single and mesh stiffness (N/(mm·µm)), or why the
     /// standard does not apply.
     pub iso6336_stiffness_n_per_mm_um: Iso6336Stiffness,
+    /// ISO 6336-3 method B nominal root stress σ_F0 of both gears at the
+    /// scene's torque, with Y_F, Y_S and the 30° tangent's geometry, or
+    /// why the standard does not apply.
+    pub iso6336_3_root_stress: Iso6336RootStress,
+}
+
+/// ISO 6336-3's nominal root stress, or the reason it does not apply.
+#[derive(Clone, Debug, Serialize)]
+#[serde(untagged)]
+pub enum Iso6336RootStress {
+    Figures(Box<NominalRootStress>),
+    NotApplicable(String),
 }
 
 /// ISO 6336-1's stiffness, or the reason it does not apply.
@@ -65,9 +78,26 @@ pub fn check(scene: &Scene) -> Result<PairCheck, FlankError> {
                 Ok(s) => Iso6336Stiffness::Figures(s),
                 Err(e) => Iso6336Stiffness::NotApplicable(format!("not applicable: {e}")),
             };
+            let torque = scene.load.torque_nmm;
+            let root = if !(torque > 0.0) {
+                Iso6336RootStress::NotApplicable(
+                    "not applicable: the scene has no pinion torque ([load] torque_nm)".into(),
+                )
+            } else {
+                match crate::geometry::iso6336_3::nominal_root_stress(
+                    &c.pair,
+                    report.contact_ratio,
+                    report.overlap_ratio,
+                    torque,
+                ) {
+                    Ok(s) => Iso6336RootStress::Figures(Box::new(s)),
+                    Err(e) => Iso6336RootStress::NotApplicable(format!("not applicable: {e}")),
+                }
+            };
             Ok(PairCheck::Cylindrical(Box::new(CylindricalCheck {
                 report,
                 iso6336_stiffness_n_per_mm_um: iso,
+                iso6336_3_root_stress: root,
             })))
         }
         Gears::Bevel(b) => Ok(PairCheck::Bevel(Box::new(BevelCheck {
