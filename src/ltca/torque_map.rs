@@ -282,3 +282,68 @@ fn plot_map(
         ],
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Torques outside the accepted list are refused with the key; a map
+    /// row whose harmonics and stiffness were not measured leaves its
+    /// cells empty (never "NaN"), a measured one fills all five orders in
+    /// the three units.
+    #[test]
+    fn torques_checked_and_unmeasured_cells_left_empty() {
+        assert!(check_torques(&[], "torques_nm")
+            .unwrap_err()
+            .contains("torques_nm"));
+        assert!(check_torques(&[100.0, f64::NAN], "--torques")
+            .unwrap_err()
+            .contains("> 0 N·m"));
+        assert!(check_torques(&[1.0; 51], "x").is_err());
+        assert!(check_torques(&[50.0, 312.0], "x").is_ok());
+        let pitch = 360.0 / 13.0;
+        let roll: Vec<f64> = (0..24).map(|i| pitch * i as f64 / 24.0).collect();
+        let te: Vec<f64> = roll
+            .iter()
+            .map(|r| 100.0 + 3.0 * (2.0 * std::f64::consts::PI * r / pitch).cos())
+            .collect();
+        let h = te_harmonics(&roll, &te, pitch, 22.93, 13.0 / 35.0).unwrap();
+        let point = |harmonics| TorqueMapPoint {
+            torque_nm: 100.0,
+            te_peak_to_peak_urad: 6.0,
+            te_peak_to_peak_um: 6.0 * 22.93e-3,
+            te_peak_to_peak_arcsec: 1.0,
+            te_mean_urad: 100.0,
+            max_pressure_mpa: 900.0,
+            max_kkt: 1e-12,
+            harmonics,
+            mesh_stiffness: Measured::NotMeasured {
+                not_measured: "a reason".into(),
+            },
+        };
+        let dir = std::env::temp_dir().join(format!("flank_map_csv_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("map.csv");
+        write_map_csv(
+            &path,
+            &[
+                point(Measured::Figures(h)),
+                point(Measured::NotMeasured {
+                    not_measured: "gaps".into(),
+                }),
+            ],
+        )
+        .unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let _ = std::fs::remove_dir_all(&dir);
+        assert!(!text.to_lowercase().contains("nan"), "{text}");
+        let rows: Vec<Vec<&str>> = text.lines().map(|l| l.split(',').collect()).collect();
+        let col = |name: &str| rows[0].iter().position(|c| *c == name).unwrap();
+        assert_eq!(rows[0].len(), rows[1].len());
+        let a1: f64 = rows[1][col("te_order1_urad")].parse().unwrap();
+        assert!((a1 - 3.0).abs() < 1e-12, "{a1}");
+        assert!(rows[1][col("te_order5_arcsec")].parse::<f64>().is_ok());
+        assert_eq!(rows[2][col("te_order1_urad")], "");
+        assert_eq!(rows[2][col("mesh_stiffness_mean_n_per_um")], "");
+    }
+}
