@@ -351,6 +351,14 @@ mod tests {
             let f = form_factors(&g, eps).unwrap();
             let (sfn, rho, hfe) = generated(&g, f.single_contact_diameter_mm);
             let rel = |a: f64, b: f64| (a - b).abs() / b;
+            eprintln!(
+                "z {} x {}: s_Fn {:.3e}, ρ_F {:.3e}, h_Fe {:.3e} relative",
+                g.teeth,
+                g.profile_shift,
+                rel(f.root_chord_mm, sfn),
+                rel(f.fillet_radius_mm, rho),
+                rel(f.bending_arm_mm, hfe)
+            );
             assert!(
                 rel(f.root_chord_mm, sfn) < 1e-9,
                 "s_Fn {} vs {sfn}",

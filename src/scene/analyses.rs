@@ -578,8 +578,9 @@ mod tests {
         }
     }
 
-    /// `torques_nm`: read as given; an empty list, a torque ≤ 0 or a
-    /// string refused naming the file, the line and the key.
+    /// `torques_nm`: read as given; an empty list or a torque ≤ 0 refused
+    /// naming the file, the line and the key; a string naming the file,
+    /// the line and the table.
     #[test]
     fn ltca_torques_key() {
         let ok = edit(
@@ -599,9 +600,11 @@ mod tests {
                 "ltca = { torques_nm = [100.0, 0.0] }",
                 &["torques_nm", "> 0 N·m"][..],
             ),
+            // a wrong type: serde's message names the table and the type
+            // (as for every key of the table), the line points at it
             (
                 "ltca = { torques_nm = \"100\" }",
-                &["analyses.ltca", "torques_nm"][..],
+                &["analyses.ltca", "expected a sequence"][..],
             ),
         ] {
             let t = edit(SPUR, "mesh = {}\n", &format!("mesh = {{}}\n{bad}\n"));
