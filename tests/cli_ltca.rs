@@ -104,11 +104,14 @@ fn ltca_writes_the_cycle_files() {
         "3",
         "--points-per-line",
         "10",
+        "--torques",
+        "100,312",
         "--out",
         d.to_str().unwrap(),
     ]);
     assert!(ok, "{err}");
     assert!(out.contains("contact ratio"), "{out}");
+    assert!(out.contains("map over torque"), "{out}");
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap()).unwrap();
     // the default range covers the middle pair's engagement: a contact ratio
@@ -136,6 +139,42 @@ fn ltca_writes_the_cycle_files() {
         s["positions"].as_u64().unwrap() as usize
     );
     same_ltca_files_for_every_kind(&d, 3, 13.0 / 35.0, "spur");
+    // the map over torque: one pitch at 24 steps plus the closing position
+    // at each torque; the harmonics measured; the mean mesh stiffness per
+    // unit face width inside the plausibility band [0.5, 2] × ISO 6336-1's
+    // c_γα = 15.547 N/(mm·µm) of this pair (verification/gear_stiffness);
+    // the cycle's own 1° steps are no whole number of pitches: refused
+    // with the reason
+    let map = &s["torque_map"];
+    assert_eq!(map["roll_deg"].as_array().unwrap().len(), 25);
+    let torques = map["torques"].as_array().unwrap();
+    assert_eq!(torques.len(), 2);
+    for t in torques {
+        let h = &t["harmonics"];
+        assert_eq!(h["positions"].as_u64(), Some(24), "{h}");
+        assert_eq!(h["harmonics"].as_array().unwrap().len(), 5);
+        let k = t["mesh_stiffness"]["mean_n_per_mm_um"].as_f64().unwrap();
+        assert!(k > 0.5 * 15.547 && k < 2.0 * 15.547, "c = {k}");
+    }
+    let pp: Vec<f64> = torques
+        .iter()
+        .map(|t| t["te_peak_to_peak_um"].as_f64().unwrap())
+        .collect();
+    assert!(pp[1] > pp[0], "{pp:?}");
+    assert!(s["te_harmonics"]["not_measured"]
+        .as_str()
+        .unwrap()
+        .contains("not a whole number"));
+    let map_csv = std::fs::read_to_string(d.join("ltca_torque_map.csv")).unwrap();
+    assert_eq!(map_csv.lines().count(), 3);
+    assert!(!map_csv.to_lowercase().contains("nan"));
+    for f in [
+        "ltca_torque_map.svg",
+        "ltca_torque_map_positions.csv",
+        "ltca_mesh_stiffness.csv",
+    ] {
+        assert!(d.join(f).exists(), "{f} missing");
+    }
     // every bounded loop of the solve is tallied: one Hertz half-width
     // fixed point per position, one QP per fixed-point iteration
     let loops = &s["iteration_limits"];
