@@ -449,12 +449,19 @@ pub fn body_tensor(
     })
 }
 
+/// Computes (or reuses) the tensors of the bodies of the scene file at
+/// `path` ([`run`] of the scene read).
+pub fn run_scene(path: &Path, options: &RunOptions) -> Result<ComplianceSummary, FlankError> {
+    run(&read_scene(path)?, options)
+}
+
 /// Computes (or reuses) the tensors of the scene's bodies; writes
 /// `<body>.inp`, `<body>.compliance.{h5,bin}`, `<body>_cnn.{svg,png}` and
-/// `summary.json` into `options.out`; returns the summary.
-pub fn run_scene(path: &Path, options: &RunOptions) -> Result<ComplianceSummary, FlankError> {
+/// `summary.json` into `options.out`; returns the summary. A parsed scene
+/// (with overrides, [`crate::api::load_scene_with`]) as the other analyses
+/// take it.
+pub fn run(scene: &Scene, options: &RunOptions) -> Result<ComplianceSummary, FlankError> {
     let t_all = Instant::now();
-    let scene = read_scene(path)?;
     let (analyses, teeth) = (&scene.analyses, scene.mesh.teeth_in_sector as usize);
     let analysis: ComplianceAnalysis = analyses.compliance.clone().unwrap_or_default();
     let method = options.method.unwrap_or(analysis.method);
@@ -573,7 +580,7 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<ComplianceSummary,
         summary.insert(name.clone(), b);
     }
     let result = ComplianceSummary {
-        header: crate::summary::Header::new(path, scene.kind.name()),
+        header: scene.summary_header(),
         method,
         flanks,
         flank_region: region,
