@@ -53,7 +53,7 @@ __version__: str = _native.__version__
 #: the ``schema_version`` of every ``summary.json`` this build writes
 SCHEMA_VERSION: int = _native.SCHEMA_VERSION
 
-FlankError = _native.Error
+FlankError = _native.FlankError
 SceneError = _native.SceneError
 
 __all__ = [

@@ -8,14 +8,14 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple
 __version__: str
 SCHEMA_VERSION: int
 
-class Error(Exception):
+class FlankError(Exception):
     """An error of flank: `kind` (the FlankError variant: Parse, Model,
     Io, Solver, Memory, …) and `message`."""
 
     kind: str
     message: str
 
-class SceneError(Error):
+class SceneError(FlankError):
     """A malformed or refused input file: `file`, `line` (1-based) and
     `key` (the dotted scene key or override, where the error names one)."""
 

@@ -29,9 +29,12 @@ __all__ = [
 def read_table(path: "os.PathLike[str] | str"):
     """A CSV file of flank as a pandas DataFrame: the column names as the
     file's header (units in the names: ``force_pair1_n``, ``te_urad``),
-    floats read back to the bit (``float_precision="round_trip"``)."""
+    floats read back to the bit (pandas < 3: ``float_precision="round_trip"``)."""
     import pandas as pd
 
+    if int(pd.__version__.split(".")[0]) >= 3:
+        # pandas 3 parses floats correctly rounded by default (and deprecates the option)
+        return pd.read_csv(path)
     return pd.read_csv(path, float_precision="round_trip")
 
 

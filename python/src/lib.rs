@@ -10,22 +10,22 @@ use std::sync::mpsc;
 use std::time::Duration;
 
 use flank::api;
-use flank::FlankError;
+use flank::FlankError as LibError;
 use numpy::{IntoPyArray, PyArrayMethods};
 use pyo3::exceptions::{PyKeyError, PyKeyboardInterrupt, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString};
 
 pyo3::create_exception!(
-    _native,
-    Error,
+    flank,
+    FlankError,
     pyo3::exceptions::PyException,
     "An error of flank (the library's FlankError): `kind` names its variant, `message` its text."
 );
 pyo3::create_exception!(
-    _native,
+    flank,
     SceneError,
-    Error,
+    FlankError,
     "A malformed or refused input file (a scene, a profile, a deck): `file`, `line` (1-based) \
      and, where the error names one, `key` (the dotted scene key or override)."
 );
@@ -44,11 +44,11 @@ fn quoted_key(message: &str) -> Option<String> {
 }
 
 /// A library error as a Python exception: Parse → [`SceneError`] with file,
-/// line and key; Interrupted → KeyboardInterrupt; the rest → [`Error`].
-fn to_py(py: Python<'_>, e: FlankError, key: Option<&str>) -> PyErr {
+/// line and key; Interrupted → KeyboardInterrupt; the rest → [`FlankError`].
+fn to_py(py: Python<'_>, e: LibError, key: Option<&str>) -> PyErr {
     let text = e.to_string();
     let (err, kind) = match &e {
-        FlankError::Parse {
+        LibError::Parse {
             file,
             line,
             message,
@@ -63,19 +63,19 @@ fn to_py(py: Python<'_>, e: FlankError, key: Option<&str>) -> PyErr {
             let _ = v.setattr("key", key);
             (err, "Parse")
         }
-        FlankError::Interrupted(m) => return PyKeyboardInterrupt::new_err(m.clone()),
-        FlankError::Io { path, source } => {
-            let err = Error::new_err(format!("{}: {source}", path.display()));
+        LibError::Interrupted(m) => return PyKeyboardInterrupt::new_err(m.clone()),
+        LibError::Io { path, source } => {
+            let err = FlankError::new_err(format!("{}: {source}", path.display()));
             let _ = err.value(py).setattr("path", path.display().to_string());
             (err, "Io")
         }
-        FlankError::Material(_) => (Error::new_err(text.clone()), "Material"),
-        FlankError::Element { .. } => (Error::new_err(text.clone()), "Element"),
-        FlankError::Model(_) => (Error::new_err(text.clone()), "Model"),
-        FlankError::Singular(_) => (Error::new_err(text.clone()), "Singular"),
-        FlankError::Solver(_) => (Error::new_err(text.clone()), "Solver"),
-        FlankError::Campaign(_) => (Error::new_err(text.clone()), "Campaign"),
-        FlankError::Memory(_) => (Error::new_err(text.clone()), "Memory"),
+        LibError::Material(_) => (FlankError::new_err(text.clone()), "Material"),
+        LibError::Element { .. } => (FlankError::new_err(text.clone()), "Element"),
+        LibError::Model(_) => (FlankError::new_err(text.clone()), "Model"),
+        LibError::Singular(_) => (FlankError::new_err(text.clone()), "Singular"),
+        LibError::Solver(_) => (FlankError::new_err(text.clone()), "Solver"),
+        LibError::Campaign(_) => (FlankError::new_err(text.clone()), "Campaign"),
+        LibError::Memory(_) => (FlankError::new_err(text.clone()), "Memory"),
     };
     let v = err.value(py);
     let _ = v.setattr("kind", kind);
@@ -92,8 +92,8 @@ fn to_py(py: Python<'_>, e: FlankError, key: Option<&str>) -> PyErr {
 /// across the FFI boundary.
 fn run_released<T: Send>(
     py: Python<'_>,
-    f: impl FnOnce() -> Result<T, FlankError> + Send,
-) -> PyResult<Result<T, FlankError>> {
+    f: impl FnOnce() -> Result<T, LibError> + Send,
+) -> PyResult<Result<T, LibError>> {
     flank::interrupt::clear();
     let (tx, rx) = mpsc::channel();
     let (outcome, interrupt) = std::thread::scope(|s| {
@@ -102,8 +102,11 @@ fn run_released<T: Send>(
             let _ = tx.send(r);
         });
         let mut interrupt: Option<PyErr> = None;
+        let mut rx = rx;
         loop {
-            let got = py.detach(|| rx.recv_timeout(Duration::from_millis(50)));
+            // the receiver goes into the GIL-free wait and comes back (it is Send, not Sync)
+            let (got, back) = py.detach(move || (rx.recv_timeout(Duration::from_millis(50)), rx));
+            rx = back;
             match got {
                 Ok(r) => break (Some(r), interrupt),
                 Err(mpsc::RecvTimeoutError::Disconnected) => break (None, interrupt),
@@ -129,23 +132,23 @@ fn run_released<T: Send>(
                 .map(|s| s.to_string())
                 .or_else(|| panic.downcast_ref::<String>().cloned())
                 .unwrap_or_else(|| "(no message)".into());
-            Err(Error::new_err(format!("internal error (a panic in flank): {what}")))
+            Err(FlankError::new_err(format!("internal error (a panic in flank): {what}")))
         }
-        None => Err(Error::new_err("internal error: the worker thread ended without a result")),
+        None => Err(FlankError::new_err("internal error: the worker thread ended without a result")),
     }
 }
 
 /// [`run_released`] with the library error converted.
 fn released<T: Send>(
     py: Python<'_>,
-    f: impl FnOnce() -> Result<T, FlankError> + Send,
+    f: impl FnOnce() -> Result<T, LibError> + Send,
 ) -> PyResult<T> {
     run_released(py, f)?.map_err(|e| to_py(py, e, None))
 }
 
 /// A serializable result as JSON text (what `summary.json` holds).
 fn json<T: serde::Serialize>(value: &T) -> PyResult<String> {
-    serde_json::to_string(value).map_err(|e| Error::new_err(format!("result as JSON: {e}")))
+    serde_json::to_string(value).map_err(|e| FlankError::new_err(format!("result as JSON: {e}")))
 }
 
 /// A CLI option value (`hex20`, `active`, `clarabel`, …) parsed as clap
@@ -392,7 +395,7 @@ impl PyScene {
         if self.overrides.is_empty() {
             return Ok(self.text.clone());
         }
-        toml::to_string(&self.table()?).map_err(|e| Error::new_err(e.to_string()))
+        toml::to_string(&self.table()?).map_err(|e| FlankError::new_err(e.to_string()))
     }
 
     /// A copy (the overrides of one do not reach the other).
@@ -726,7 +729,7 @@ fn read_compliance_tensor<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound
     )?;
     let dim = matrix.len().isqrt();
     if dim * dim != matrix.len() {
-        return Err(Error::new_err(format!(
+        return Err(FlankError::new_err(format!(
             "{}: {} matrix values, not a square",
             path.display(),
             matrix.len()
@@ -801,7 +804,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("SCHEMA_VERSION", api::SCHEMA_VERSION)?;
-    m.add("Error", py.get_type::<Error>())?;
+    m.add("FlankError", py.get_type::<FlankError>())?;
     m.add("SceneError", py.get_type::<SceneError>())?;
     m.add_class::<PyScene>()?;
     m.add_function(wrap_pyfunction!(check, m)?)?;

@@ -3,6 +3,9 @@ over without a copy."""
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 import numpy as np
 
 import flank
@@ -15,7 +18,9 @@ def test_seed002_tensor_is_the_clis_and_not_copied(tmp_path):
     run_cli("compliance", str(SEED002), *args, "--quiet", "--out", str(cli))
     r = flank.compliance(SEED002, out=tmp_path / "py", flank_size=1.5, base_size=3.0, bodies=["pinion"])
     t = r.tensor("pinion")
-    c = flank.read_compliance_tensor(cli / "pinion.compliance.bin")
+    # the CLI's file (.h5 with the feature hdf5, else .bin), by its summary
+    cli_summary = json.loads((cli / "summary.json").read_text())
+    c = flank.read_compliance_tensor(cli / Path(cli_summary["bodies"]["pinion"]["file"]).name)
     n = t.nodes
     assert n == r.summary["bodies"]["pinion"]["flank_nodes"]
     assert t.matrix.shape == (3 * n, 3 * n) and t.matrix.dtype == np.float64

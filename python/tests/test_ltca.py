@@ -13,10 +13,12 @@ import pytest
 import flank
 from conftest import SEED002
 
-#: wall times differ between two runs of the same analysis; every other
-#: value must be the same bit for bit
 def is_time(key: str) -> bool:
-    return key == "time_s" or key.endswith("_s")
+    """A measurement of the run, not a result: wall times (`time_s`,
+    `cycle_s`, `*_s`) and the process's peak memory (a Python process
+    holds numpy and pandas besides the run). Two runs of the same analysis
+    differ there; every other value must be the same bit for bit."""
+    return key == "time_s" or key.endswith("_s") or key == "peak_memory_mb"
 
 
 def without_times(v):
