@@ -132,9 +132,13 @@ fn run_released<T: Send>(
                 .map(|s| s.to_string())
                 .or_else(|| panic.downcast_ref::<String>().cloned())
                 .unwrap_or_else(|| "(no message)".into());
-            Err(FlankError::new_err(format!("internal error (a panic in flank): {what}")))
+            Err(FlankError::new_err(format!(
+                "internal error (a panic in flank): {what}"
+            )))
         }
-        None => Err(FlankError::new_err("internal error: the worker thread ended without a result")),
+        None => Err(FlankError::new_err(
+            "internal error: the worker thread ended without a result",
+        )),
     }
 }
 
@@ -161,10 +165,7 @@ fn choice<T: clap::ValueEnum>(option: &str, value: Option<&str>) -> PyResult<Opt
                     .iter()
                     .filter_map(|x| x.to_possible_value().map(|p| p.get_name().to_string()))
                     .collect();
-                PyValueError::new_err(format!(
-                    "{option}={v:?}: not one of {}",
-                    known.join(", ")
-                ))
+                PyValueError::new_err(format!("{option}={v:?}: not one of {}", known.join(", ")))
             })
         })
         .transpose()
@@ -709,7 +710,11 @@ fn compliance(
 fn read_compliance_tensor<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyDict>> {
     let p: &Path = &path;
     let t = released(py, || api::read_compliance_tensor(p))?;
-    let api::ComplianceTensor { meta, flank, matrix } = t;
+    let api::ComplianceTensor {
+        meta,
+        flank,
+        matrix,
+    } = t;
     let n = flank.labels.len();
     let d = PyDict::new(py);
     d.set_item("meta", json(&meta)?)?;
