@@ -803,6 +803,18 @@ fn campaign(
     }))
 }
 
+/// The grid convergence index from three grids ([`flank::grid_convergence::gci`],
+/// Celik et al. 2008): sizes `h` fine → coarse, results `phi`, safety
+/// factor `fs`; the estimate as JSON, or ValueError saying why none was made.
+#[pyfunction]
+#[pyo3(signature = (h, phi, fs=1.25))]
+fn grid_convergence(h: [f64; 3], phi: [f64; 3], fs: f64) -> PyResult<String> {
+    match flank::grid_convergence::gci(h, phi, fs) {
+        Ok(g) => json(&g),
+        Err(issue) => Err(PyValueError::new_err(format!("no GCI: {issue}"))),
+    }
+}
+
 /// The extension module.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -820,5 +832,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(compliance, m)?)?;
     m.add_function(wrap_pyfunction!(read_compliance_tensor, m)?)?;
     m.add_function(wrap_pyfunction!(campaign, m)?)?;
+    m.add_function(wrap_pyfunction!(grid_convergence, m)?)?;
     Ok(())
 }
