@@ -85,10 +85,10 @@ __all__ = [
     "CampaignResult",
 ]
 
-PathLike = "os.PathLike[str] | str"
+PathLike = os.PathLike[str] | str
 
 
-def load_scene(path: "os.PathLike[str] | str", overrides: Optional[Dict[str, Any]] = None) -> Scene:
+def load_scene(path: os.PathLike[str] | str, overrides: Optional[Dict[str, Any]] = None) -> Scene:
     """Reads and validates the scene file ``path`` (TOML, any pair kind).
 
     ``overrides``: dotted keys set before validation (``{"load.torque_nm":
@@ -100,7 +100,7 @@ def load_scene(path: "os.PathLike[str] | str", overrides: Optional[Dict[str, Any
 
 
 def scene_from_string(
-    text: str, path: "os.PathLike[str] | str" = "<string>.toml", overrides: Optional[Dict[str, Any]] = None
+    text: str, path: os.PathLike[str] | str = "<string>.toml", overrides: Optional[Dict[str, Any]] = None
 ) -> Scene:
     """Parses and validates scene TOML text; ``path`` names it in errors and
     anchors its relative paths (measured profiles, included files)."""
@@ -129,7 +129,7 @@ def check(scene) -> CheckResult:
 def tca(
     scene,
     *,
-    out: "Optional[os.PathLike[str] | str]" = None,
+    out: Optional[os.PathLike[str] | str] = None,
     approach_mm: float = 0.00635,
     positions_per_pitch: int = 30,
     search_directions: int = 18,
@@ -172,7 +172,7 @@ def tca(
 def ltca(
     scene,
     *,
-    out: "Optional[os.PathLike[str] | str]" = None,
+    out: Optional[os.PathLike[str] | str] = None,
     flank_size: Optional[float] = None,
     base_size: Optional[float] = None,
     element: Optional[str] = None,
@@ -181,7 +181,7 @@ def ltca(
     solver: Optional[str] = None,
     local: Optional[str] = None,
     fe_cell_factor: Optional[float] = None,
-    cache: "Optional[os.PathLike[str] | str]" = None,
+    cache: Optional[os.PathLike[str] | str] = None,
     no_condition: bool = False,
     threads: int = 0,
     span_approach_mm: Optional[float] = None,
@@ -191,7 +191,7 @@ def ltca(
     friction_model: Optional[str] = None,
     edges: Optional[str] = None,
     flank_region: Optional[str] = None,
-    compression: "Optional[str | float]" = None,
+    compression: Optional[str | float] = None,
     quiet: bool = False,
 ) -> LtcaResult:
     """``flank ltca``: compliance-matrix LTCA over the mesh cycle, any pair kind.
@@ -248,7 +248,7 @@ def ltca(
 def fe_run(
     scene,
     *,
-    out: "Optional[os.PathLike[str] | str]" = None,
+    out: Optional[os.PathLike[str] | str] = None,
     flank_size: Optional[float] = None,
     base_size: Optional[float] = None,
     element: Optional[str] = None,
@@ -304,7 +304,7 @@ def fe_run(
 def compare(
     scene,
     *,
-    out: "Optional[os.PathLike[str] | str]" = None,
+    out: Optional[os.PathLike[str] | str] = None,
     points_per_line: Sequence[int] = (5, 10, 20, 40),
     fe_flank_sizes: Sequence[float] = (1.0, 0.5),
     fe_base_size: Optional[float] = None,
@@ -318,8 +318,8 @@ def compare(
     friction_mu: Optional[float] = None,
     increments: Optional[int] = None,
     friction_model: Optional[str] = None,
-    compression: "Optional[str | float]" = None,
-    pmax_reference: Sequence["os.PathLike[str] | str"] = (),
+    compression: Optional[str | float] = None,
+    pmax_reference: Sequence[os.PathLike[str] | str] = (),
     quiet: bool = False,
 ) -> CompareResult:
     """``flank compare``: the LTCA (each K of ``points_per_line``) against FE
@@ -356,7 +356,7 @@ def compare(
 def compliance(
     scene,
     *,
-    out: "Optional[os.PathLike[str] | str]" = None,
+    out: Optional[os.PathLike[str] | str] = None,
     flank_size: Optional[float] = None,
     base_size: Optional[float] = None,
     element: Optional[str] = None,
@@ -368,7 +368,7 @@ def compliance(
     threads: int = 0,
     memory_budget_mb: Optional[float] = None,
     block_size: int = 0,
-    cache: "Optional[os.PathLike[str] | str]" = None,
+    cache: Optional[os.PathLike[str] | str] = None,
     format: Optional[str] = None,
     no_condition: bool = False,
     no_load: bool = False,
@@ -406,7 +406,7 @@ def compliance(
     return ComplianceResult(json.loads(summary), folder, keep)
 
 
-def read_compliance_tensor(path: "os.PathLike[str] | str") -> ComplianceTensor:
+def read_compliance_tensor(path: os.PathLike[str] | str) -> ComplianceTensor:
     """Reads a compliance tensor file (``<body>.compliance.bin`` or ``.h5``):
     C (3N × 3N, mm/N) as a numpy array over the buffer read (no copy), the
     flank nodes' positions, normals, u–v, labels and sets."""
@@ -414,10 +414,10 @@ def read_compliance_tensor(path: "os.PathLike[str] | str") -> ComplianceTensor:
 
 
 def campaign(
-    path: "os.PathLike[str] | str",
+    path: os.PathLike[str] | str,
     *,
-    exe: "Optional[os.PathLike[str] | str]" = None,
-    out: "Optional[os.PathLike[str] | str]" = None,
+    exe: Optional[os.PathLike[str] | str] = None,
+    out: Optional[os.PathLike[str] | str] = None,
     workers: Optional[int] = None,
     memory_mb: Optional[float] = None,
     quiet: bool = False,

@@ -26,7 +26,7 @@ __all__ = [
 ]
 
 
-def read_table(path: "os.PathLike[str] | str"):
+def read_table(path: os.PathLike[str] | str):
     """A CSV file of flank as a pandas DataFrame: the column names as the
     file's header (units in the names: ``force_pair1_n``, ``te_urad``),
     floats read back to the bit (pandas < 3: ``float_precision="round_trip"``)."""
@@ -100,7 +100,7 @@ class Result:
             return []
         return sorted(p.relative_to(self.folder) for p in self.folder.rglob("*") if p.is_file())
 
-    def save(self, folder: "os.PathLike[str] | str") -> Path:
+    def save(self, folder: os.PathLike[str] | str) -> Path:
         """Copies the files of the run into ``folder`` (created; files of the
         same name replaced): the files ``flank <command> --out folder`` writes."""
         if self.folder is None:
@@ -292,7 +292,7 @@ class CampaignResult(Result):
         return pd.DataFrame(rows)
 
 
-def output_folder(out) -> "tuple[Path, Any]":
+def output_folder(out) -> tuple[Path, Any]:
     """The folder a run writes into: ``out``, or a temporary folder owned by
     the result (removed when the result is)."""
     if out is not None:
