@@ -481,15 +481,15 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<ComplianceSummary, Fla
     };
     // the region and the mesh options are checked before anything is written
     if region == FlankRegion::Active {
-        region_cut(&scene, "pinion", region, &options.mesh)?;
+        region_cut(scene, "pinion", region, &options.mesh)?;
     }
     if scene.is_bevel() {
         bevel_sector_options(
-            &scene,
-            &crate::compliance::body::compliance_sizes(&scene, &options.mesh),
+            scene,
+            &crate::compliance::body::compliance_sizes(scene, &options.mesh),
         )?;
     } else {
-        sector_options(&scene, &options.mesh)?;
+        sector_options(scene, &options.mesh)?;
     }
     let format = options.format.unwrap_or_else(FileFormat::default_format);
     let out = &options.out;
@@ -509,7 +509,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<ComplianceSummary, Fla
         ),
         Gears::Bevel(_) => None,
     };
-    let axis = scene.is_bevel().then(|| mean_contact_axis(&scene));
+    let axis = scene.is_bevel().then(|| mean_contact_axis(scene));
     let bodies: Vec<String> = if options.bodies.is_empty() {
         vec!["pinion".into(), "gear".into()]
     } else {
@@ -518,7 +518,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<ComplianceSummary, Fla
     let mut summary = std::collections::BTreeMap::new();
     for name in &bodies {
         let t_body = Instant::now();
-        let body = any_scene_body(&scene, name, &options.mesh)?;
+        let body = any_scene_body(scene, name, &options.mesh)?;
         let BodyTensor {
             tensor,
             outcome,
@@ -533,7 +533,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<ComplianceSummary, Fla
                 compliance: copts.clone(),
                 format,
                 campaign: campaign.as_deref(),
-                region_u_min: region_cut(&scene, name, region, &options.mesh)?,
+                region_u_min: region_cut(scene, name, region, &options.mesh)?,
             },
             out,
         )?;
