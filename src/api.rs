@@ -7,7 +7,7 @@
 //! | read a scene | [`load_scene`], [`load_scene_with`] (dotted keys overridden) | [`Scene`] |
 //! | check the pair | [`check`] | [`PairCheck`] |
 //! | unloaded TCA | [`tca`] | [`TcaSummary`] (in [`TcaRun`]) |
-//! | compliance tensors | [`compliance`], [`read_compliance_tensor`] | [`ComplianceSummary`]; [`ComplianceTensor`] |
+//! | compliance tensors | [`compliance`], [`compliance_of`], [`read_compliance_tensor`] | [`ComplianceSummary`]; [`ComplianceTensor`] |
 //! | LTCA over the mesh cycle | [`ltca`] | [`LtcaResult`] |
 //! | FE contact over the mesh cycle | [`fe_mesh_cycle`] | [`RunSummary`] |
 //! | LTCA against FE contact | [`compare`] | [`CompareSummary`] |
@@ -163,6 +163,15 @@ pub fn compliance(
     options: &ComplianceOptions,
 ) -> Result<ComplianceSummary, FlankError> {
     crate::compliance::run::run_scene(path.as_ref(), options)
+}
+
+/// [`compliance`] of a parsed scene (one read with overrides,
+/// [`load_scene_with`]; [`crate::compliance::run::run`]).
+pub fn compliance_of(
+    scene: &Scene,
+    options: &ComplianceOptions,
+) -> Result<ComplianceSummary, FlankError> {
+    crate::compliance::run::run(scene, options)
 }
 
 /// Reads a compliance tensor file (`<body>.compliance.h5` or `.bin`, by

@@ -449,12 +449,19 @@ pub fn body_tensor(
     })
 }
 
+/// Computes (or reuses) the tensors of the bodies of the scene file at
+/// `path` ([`run`] of the scene read).
+pub fn run_scene(path: &Path, options: &RunOptions) -> Result<ComplianceSummary, FlankError> {
+    run(&read_scene(path)?, options)
+}
+
 /// Computes (or reuses) the tensors of the scene's bodies; writes
 /// `<body>.inp`, `<body>.compliance.{h5,bin}`, `<body>_cnn.{svg,png}` and
-/// `summary.json` into `options.out`; returns the summary.
-pub fn run_scene(path: &Path, options: &RunOptions) -> Result<ComplianceSummary, FlankError> {
+/// `summary.json` into `options.out`; returns the summary. A parsed scene
+/// (with overrides, [`crate::api::load_scene_with`]) as the other analyses
+/// take it.
+pub fn run(scene: &Scene, options: &RunOptions) -> Result<ComplianceSummary, FlankError> {
     let t_all = Instant::now();
-    let scene = read_scene(path)?;
     let (analyses, teeth) = (&scene.analyses, scene.mesh.teeth_in_sector as usize);
     let analysis: ComplianceAnalysis = analyses.compliance.clone().unwrap_or_default();
     let method = options.method.unwrap_or(analysis.method);
@@ -474,15 +481,15 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<ComplianceSummary,
     };
     // the region and the mesh options are checked before anything is written
     if region == FlankRegion::Active {
-        region_cut(&scene, "pinion", region, &options.mesh)?;
+        region_cut(scene, "pinion", region, &options.mesh)?;
     }
     if scene.is_bevel() {
         bevel_sector_options(
-            &scene,
-            &crate::compliance::body::compliance_sizes(&scene, &options.mesh),
+            scene,
+            &crate::compliance::body::compliance_sizes(scene, &options.mesh),
         )?;
     } else {
-        sector_options(&scene, &options.mesh)?;
+        sector_options(scene, &options.mesh)?;
     }
     let format = options.format.unwrap_or_else(FileFormat::default_format);
     let out = &options.out;
@@ -502,7 +509,7 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<ComplianceSummary,
         ),
         Gears::Bevel(_) => None,
     };
-    let axis = scene.is_bevel().then(|| mean_contact_axis(&scene));
+    let axis = scene.is_bevel().then(|| mean_contact_axis(scene));
     let bodies: Vec<String> = if options.bodies.is_empty() {
         vec!["pinion".into(), "gear".into()]
     } else {
@@ -511,7 +518,7 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<ComplianceSummary,
     let mut summary = std::collections::BTreeMap::new();
     for name in &bodies {
         let t_body = Instant::now();
-        let body = any_scene_body(&scene, name, &options.mesh)?;
+        let body = any_scene_body(scene, name, &options.mesh)?;
         let BodyTensor {
             tensor,
             outcome,
@@ -526,7 +533,7 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<ComplianceSummary,
                 compliance: copts.clone(),
                 format,
                 campaign: campaign.as_deref(),
-                region_u_min: region_cut(&scene, name, region, &options.mesh)?,
+                region_u_min: region_cut(scene, name, region, &options.mesh)?,
             },
             out,
         )?;
@@ -573,7 +580,7 @@ pub fn run_scene(path: &Path, options: &RunOptions) -> Result<ComplianceSummary,
         summary.insert(name.clone(), b);
     }
     let result = ComplianceSummary {
-        header: crate::summary::Header::new(path, scene.kind.name()),
+        header: scene.summary_header(),
         method,
         flanks,
         flank_region: region,

@@ -470,6 +470,16 @@ impl LtcaCycle {
         roll_deg: f64,
         settings: &LtcaSettings,
     ) -> Result<Option<PositionResult>, FlankError> {
+        // a stop asked for (Ctrl-C in an embedding program such as the
+        // Python package; the binary installs no handler for `ltca`): a
+        // position boundary is the LTCA's safe point, and the cycle's
+        // tables and summary.json come after the last position
+        if crate::interrupt::requested() {
+            return Err(FlankError::Interrupted(format!(
+                "the LTCA stopped on request before the position at {roll_deg}° roll; \
+                 the files written so far are whole, the cycle's tables and summary.json are not written"
+            )));
+        }
         let t = Instant::now();
         let base = self.candidates.source();
         let mut raised: Option<Box<dyn ContactCandidates>> = None;
