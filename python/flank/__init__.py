@@ -192,6 +192,7 @@ def ltca(
     edges: Optional[str] = None,
     flank_region: Optional[str] = None,
     compression: Optional[str | float] = None,
+    torques: Optional[Sequence[float]] = None,
     quiet: bool = False,
 ) -> LtcaResult:
     """``flank ltca``: compliance-matrix LTCA over the mesh cycle, any pair kind.
@@ -211,7 +212,9 @@ def ltca(
     friction_model: ``incremental``, ``standstill`` or ``sliding``. edges:
     bevel/hypoid ``with``, ``without`` or ``both``. flank_region:
     spur/helical ``active`` (default) or ``full``. compression: ``none`` or
-    a relative accuracy ε in (0, 1) for block low-rank tensors.
+    a relative accuracy ε in (0, 1) for block low-rank tensors. torques:
+    pinion torques (N·m) of the map over torque (default the scene's
+    ``[analyses.ltca] torques_nm``, else no map).
 
     Tables: ``cycle`` (ltca_cycle.csv: ``force_pair<k>_n`` N,
     ``share_pair<k>``, ``te_urad`` µrad, ``te_arcsec`` arcsec), ``pairs``
@@ -240,6 +243,7 @@ def ltca(
         edges=edges,
         flank_region=flank_region,
         compression=None if compression is None else str(compression),
+        torques=_floats(torques),
         quiet=quiet,
     )
     return LtcaResult(json.loads(summary), folder, keep)

@@ -84,6 +84,7 @@ def ltca(
     edges: Optional[str] = None,
     flank_region: Optional[str] = None,
     compression: Optional[str] = None,
+    torques: Optional[Sequence[float]] = None,
     quiet: bool = False,
 ) -> str: ...
 def fe_run(

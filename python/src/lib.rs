@@ -496,7 +496,7 @@ fn tca(
     roll_angles=None, points_per_line=None, solver=None, local=None, fe_cell_factor=None,
     cache=None, no_condition=false, threads=0, span_approach_mm=None, friction_mu=None,
     increments=None, cross_check=false, friction_model=None, edges=None, flank_region=None,
-    compression=None, quiet=false))]
+    compression=None, torques=None, quiet=false))]
 #[allow(clippy::too_many_arguments)]
 fn ltca(
     py: Python<'_>,
@@ -521,6 +521,7 @@ fn ltca(
     edges: Option<&str>,
     flank_region: Option<&str>,
     compression: Option<&str>,
+    torques: Option<Vec<f64>>,
     quiet: bool,
 ) -> PyResult<String> {
     let options = api::LtcaOptions {
@@ -545,6 +546,8 @@ fn ltca(
         edges: choice("edges", edges)?,
         // a bevel pair's grid: the scene's `[analyses.ltca] positions`, as the CLI
         positions: None,
+        // the map over torque (N·m), as `--torques`
+        torques_nm: torques,
     };
     let s = &scene.scene;
     let result = released(py, || api::ltca(s, &options))?;
