@@ -6,6 +6,7 @@
 //! |---|---|---|
 //! | read a scene | [`load_scene`], [`load_scene_with`] (dotted keys overridden) | [`Scene`] |
 //! | check the pair | [`check`] | [`PairCheck`] |
+//! | ISO 23509 bevel/hypoid blank | [`blank`] | [`BlankDesign`] |
 //! | unloaded TCA | [`tca`] | [`TcaSummary`] (in [`TcaRun`]) |
 //! | compliance tensors | [`compliance`], [`compliance_of`], [`read_compliance_tensor`] | [`ComplianceSummary`]; [`ComplianceTensor`] |
 //! | LTCA over the mesh cycle | [`ltca`] | [`LtcaResult`] |
@@ -75,6 +76,7 @@ pub use crate::compliance::cache::FileFormat;
 pub use crate::compliance::run::RunOptions as ComplianceOptions;
 pub use crate::compliance::summary::ComplianceSummary;
 pub use crate::compliance::ComplianceTensor;
+pub use crate::geometry::bevel::BlankDesign;
 pub use crate::ltca::cycle::LtcaOptions;
 pub use crate::ltca::summary::{
     BevelLtcaSummary, CylindricalLtcaSummary, KindSummary, LtcaResult, LtcaStep, LtcaSummary,
@@ -189,9 +191,22 @@ pub fn ltca(scene: &Scene, options: &LtcaOptions) -> Result<LtcaResult, FlankErr
 }
 
 /// Quasi-static FE contact over the scene's mesh cycle, any pair kind
-/// ([`crate::mesh_cycle::run::run`]).
+/// ([`crate::mesh_cycle::run::run`]); a spur/helical scene without
+/// `[analyses] contact` is refused, as `flank run` refuses it.
 pub fn fe_mesh_cycle(scene: &Scene, options: &FeOptions) -> Result<RunSummary, FlankError> {
+    crate::mesh_cycle::run::asks_for_contact(scene)?;
     crate::mesh_cycle::run::run(scene, options)
+}
+
+/// The ISO 23509 blank design of a spiral bevel or hypoid pair from its
+/// input set, a JSON object with the key names of the standard's Annex F
+/// (`method`, `Sigma_deg`, `a_mm`, `z1`, `z2`, …; `flank blank`): the
+/// design, whose [`BlankDesign::outputs`] are the printed outputs (Annex F
+/// names, mm and degrees). Unknown keys and bad values are errors naming
+/// the key.
+pub fn blank(inputs_json: &str) -> Result<BlankDesign, FlankError> {
+    let inputs = crate::geometry::bevel::BlankInputs::from_json(inputs_json)?;
+    crate::geometry::bevel::blank_design(&inputs)
 }
 
 /// The LTCA against FE contact at the same positions, any pair kind

@@ -72,13 +72,15 @@
 //! * [`resources`], [`atomic_file`], [`interrupt`]: the lowest layer, used
 //!   by all: the memory guard (memory available vs a step's estimate), files
 //!   written whole or not at all (temporary name + rename, locks), and the
-//!   SIGINT flag a long run polls at its safe points.
+//!   SIGINT flag a long run polls at its safe points; [`progress`]: the
+//!   steps of a long run reported to an embedding program (the Python
+//!   package's callback).
 //! * [`campaign`]: studies over many variants of a scene (grid, Monte Carlo),
 //!   run as child `flank` processes locally or as a Slurm job array; the
 //!   top layer: nothing imports it.
 //!
 //! Layers, lowest first: error; the leaves (text files, atomic files,
-//! interrupt, resources, iteration limits, grid convergence); settings;
+//! interrupt, progress, resources, iteration limits, grid convergence); settings;
 //! geometry; fem; mesh and deck; lubrication; scene; tca, ccx and
 //! load_sharing; contact; report; compliance; ltca; mesh_cycle; compare;
 //! campaign. A module imports only from lower layers and no files import
@@ -168,6 +170,7 @@ pub mod ltca;
 pub mod lubrication;
 pub mod mesh;
 pub mod mesh_cycle;
+pub mod progress;
 pub mod report;
 pub mod resources;
 pub mod scene;

@@ -48,6 +48,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("text_file", 1), // leaves: text files, whole-file writes, SIGINT, memory guard, limits, GCI
     ("atomic_file", 1),
     ("interrupt", 1),
+    ("progress", 1), // progress of long runs to an embedding program
     ("resources", 1),
     ("iteration_limits", 1),
     ("grid_convergence", 1),

@@ -20,7 +20,10 @@ go to a temporary folder that lives as long as the result.
 Long calls release the GIL; Ctrl-C raises ``KeyboardInterrupt`` (runs that
 poll the stop flag, ``flank run`` between positions and ``flank ltca``
 between positions, stop at that safe point; files are written whole or
-not at all).
+not at all). ``ltca``, ``fe_run``, ``compare`` and ``campaign`` report
+progress (``progress=``: a callable ``(task, done, total)``; by default
+tqdm bars when tqdm is installed and ``quiet`` is false; ``False``: none);
+an exception raised by the callback stops the run as Ctrl-C does.
 
 Errors: :class:`SceneError` (file, line, key) for a bad scene or
 override, :class:`FlankError` (``kind``, ``message``) for the rest.
@@ -31,10 +34,11 @@ from __future__ import annotations
 import json
 import os
 from pathlib import Path
-from typing import Any, Dict, Optional, Sequence
+from typing import Any, Dict, Mapping, Optional, Sequence, Union
 
 from . import _native
 from ._native import Scene
+from ._progress import ProgressCallback, resolve as _progress
 from ._results import (
     CampaignResult,
     CheckResult,
@@ -72,7 +76,9 @@ __all__ = [
     "compliance",
     "read_compliance_tensor",
     "campaign",
+    "blank",
     "grid_convergence",
+    "ProgressCallback",
     "read_table",
     "Result",
     "CheckResult",
@@ -194,6 +200,7 @@ def ltca(
     compression: Optional[str | float] = None,
     torques: Optional[Sequence[float]] = None,
     quiet: bool = False,
+    progress: Union[None, bool, ProgressCallback] = None,
 ) -> LtcaResult:
     """``flank ltca``: compliance-matrix LTCA over the mesh cycle, any pair kind.
 
@@ -245,6 +252,7 @@ def ltca(
         compression=None if compression is None else str(compression),
         torques=_floats(torques),
         quiet=quiet,
+        progress=_progress(progress, quiet),
     )
     return LtcaResult(json.loads(summary), folder, keep)
 
@@ -268,6 +276,7 @@ def fe_run(
     threads: int = 0,
     resume: bool = False,
     quiet: bool = False,
+    progress: Union[None, bool, ProgressCallback] = None,
 ) -> FeResult:
     """``flank run``: quasi-static FE contact over the mesh cycle, any pair kind.
 
@@ -301,6 +310,7 @@ def fe_run(
         threads=threads,
         resume=resume,
         quiet=quiet,
+        progress=_progress(progress, quiet),
     )
     return FeResult(json.loads(summary), folder, keep)
 
@@ -325,6 +335,7 @@ def compare(
     compression: Optional[str | float] = None,
     pmax_reference: Sequence[os.PathLike[str] | str] = (),
     quiet: bool = False,
+    progress: Union[None, bool, ProgressCallback] = None,
 ) -> CompareResult:
     """``flank compare``: the LTCA (each K of ``points_per_line``) against FE
     contact (each flank size of ``fe_flank_sizes``, mm) at the same
@@ -353,6 +364,7 @@ def compare(
         compression=None if compression is None else str(compression),
         pmax_reference=[os.fspath(p) for p in pmax_reference],
         quiet=quiet,
+        progress=_progress(progress, quiet),
     )
     return CompareResult(json.loads(summary), folder, keep)
 
@@ -425,6 +437,7 @@ def campaign(
     workers: Optional[int] = None,
     memory_mb: Optional[float] = None,
     quiet: bool = False,
+    progress: Union[None, bool, ProgressCallback] = None,
 ) -> CampaignResult:
     """``flank campaign run``: runs the campaign file's jobs not done yet (each
     in a child ``flank`` process: ``exe``, default the ``flank`` on PATH),
@@ -444,9 +457,27 @@ def campaign(
             workers=workers,
             memory_mb=memory_mb,
             quiet=quiet,
+            progress=_progress(progress, quiet),
         )
     )
     return CampaignResult(raw, None if out is None else Path(out))
+
+
+def blank(inputs: Union[Mapping[str, Any], os.PathLike[str], str]) -> Dict[str, Any]:
+    """``flank blank``: the ISO 23509 blank design of a spiral bevel or
+    hypoid pair. ``inputs``: the input set as a dict, a JSON file or JSON
+    text, with the key names of the standard's Annex F (``method``,
+    ``Sigma_deg``, ``a_mm``, ``z1``, ``z2``, ``de2_mm`` or ``dm2_mm``, …).
+    Returns the outputs as ``flank blank`` prints them (Annex F names, mm
+    and degrees). A missing or bad key raises :class:`FlankError` naming
+    it."""
+    if isinstance(inputs, Mapping):
+        text = json.dumps(dict(inputs))
+    elif isinstance(inputs, os.PathLike) or (isinstance(inputs, str) and not inputs.lstrip().startswith("{")):
+        text = Path(inputs).read_text(encoding="utf-8")
+    else:
+        text = inputs
+    return json.loads(_native.blank(text))
 
 
 def grid_convergence(h: Sequence[float], phi: Sequence[float], fs: float = 1.25) -> Dict[str, Any]:

@@ -3,7 +3,10 @@ the binding over flank::api that the functions of `flank` call. Results
 come back as JSON text (the serialization of summary.json) for flank's
 result classes to wrap."""
 
-from typing import Any, Dict, List, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
+
+#: a progress callback: (task, done, total), see flank::progress
+Progress = Callable[[str, int, int], None]
 
 __version__: str
 SCHEMA_VERSION: int
@@ -86,6 +89,7 @@ def ltca(
     compression: Optional[str] = None,
     torques: Optional[Sequence[float]] = None,
     quiet: bool = False,
+    progress: Optional[Progress] = None,
 ) -> str: ...
 def fe_run(
     scene: Scene,
@@ -106,6 +110,7 @@ def fe_run(
     threads: int = 0,
     resume: bool = False,
     quiet: bool = False,
+    progress: Optional[Progress] = None,
 ) -> str: ...
 def compare(
     scene: Scene,
@@ -127,6 +132,7 @@ def compare(
     compression: Optional[str] = None,
     pmax_reference: Sequence[str] = ...,
     quiet: bool = False,
+    progress: Optional[Progress] = None,
 ) -> str: ...
 def compliance(
     scene: Scene,
@@ -159,5 +165,8 @@ def campaign(
     workers: Optional[int] = None,
     memory_mb: Optional[float] = None,
     quiet: bool = False,
+    progress: Optional[Progress] = None,
 ) -> str: ...
+def blank(inputs: str) -> str:
+    """The ISO 23509 blank outputs (JSON) of an input set (JSON, Annex F names)."""
 def grid_convergence(h: Sequence[float], phi: Sequence[float], fs: float = 1.25) -> str: ...

@@ -83,33 +83,82 @@ fn to_py(py: Python<'_>, e: LibError, key: Option<&str>) -> PyErr {
     err
 }
 
+/// What the worker thread tells the calling thread.
+enum Event {
+    /// A progress step ([`flank::progress`]); the worker waits for the
+    /// acknowledgement, so that a callback's exception stops the run
+    /// before its next step.
+    Step(String, usize, usize, mpsc::Sender<()>),
+    /// The result is in its channel.
+    Finished,
+}
+
+/// How long a worker waits for the calling thread to take a progress
+/// event before it goes on (a callback that blocks must not stall the run
+/// for ever).
+const ACK_TIMEOUT: Duration = Duration::from_secs(10);
+
 /// Runs `f` on a worker thread with the GIL released; the calling (main)
-/// thread polls Python's signal handlers every 50 ms. On Ctrl-C the
-/// library's stop flag ([`flank::interrupt::request`]) is raised, so a run
-/// that polls it stops at its next safe point (atomic writes: no
-/// half-written file), and KeyboardInterrupt is raised once the worker has
-/// returned. A panic in the library becomes an exception, never an unwind
-/// across the FFI boundary.
+/// thread waits for the worker's events and polls Python's signal handlers
+/// every 50 ms. On Ctrl-C the library's stop flag
+/// ([`flank::interrupt::request`]) is raised, so a run that polls it stops
+/// at its next safe point (atomic writes: no half-written file), and
+/// KeyboardInterrupt is raised once the worker has returned. A panic in
+/// the library becomes an exception, never an unwind across the FFI
+/// boundary.
+///
+/// `progress`, a Python callable `(task, done, total)`, is called on the
+/// calling thread (with the GIL) for every progress event of the library;
+/// the step that reported it waits until the call has returned, so an
+/// exception the callback raises stops the run at its next safe point (as
+/// Ctrl-C) and is raised in its place.
 fn run_released<T: Send>(
     py: Python<'_>,
+    progress: Option<&Bound<'_, PyAny>>,
     f: impl FnOnce() -> Result<T, LibError> + Send,
 ) -> PyResult<Result<T, LibError>> {
     flank::interrupt::clear();
     let (tx, rx) = mpsc::channel();
+    let (events_tx, events) = mpsc::channel::<Event>();
+    let _observer = progress.map(|_| {
+        let events_tx = events_tx.clone();
+        flank::progress::observe(std::sync::Arc::new(
+            move |p: flank::progress::Progress<'_>| {
+                let (ack_tx, ack) = mpsc::channel();
+                let step = Event::Step(p.task.to_string(), p.done, p.total, ack_tx);
+                if events_tx.send(step).is_ok() {
+                    let _ = ack.recv_timeout(ACK_TIMEOUT);
+                }
+            },
+        ))
+    });
     let (outcome, interrupt) = std::thread::scope(|s| {
+        let finished = events_tx.clone();
         s.spawn(move || {
             let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(f));
             let _ = tx.send(r);
+            let _ = finished.send(Event::Finished);
         });
+        drop(events_tx);
         let mut interrupt: Option<PyErr> = None;
-        let mut rx = rx;
+        let mut events = events;
         loop {
             // the receiver goes into the GIL-free wait and comes back (it is Send, not Sync)
-            let (got, back) = py.detach(move || (rx.recv_timeout(Duration::from_millis(50)), rx));
-            rx = back;
+            let (got, back) =
+                py.detach(move || (events.recv_timeout(Duration::from_millis(50)), events));
+            events = back;
             match got {
-                Ok(r) => break (Some(r), interrupt),
-                Err(mpsc::RecvTimeoutError::Disconnected) => break (None, interrupt),
+                Ok(Event::Step(task, done, total, ack)) => {
+                    if let (Some(callback), None) = (progress, &interrupt) {
+                        if let Err(e) = callback.call1((task, done, total)) {
+                            flank::interrupt::request();
+                            interrupt = Some(e);
+                        }
+                    }
+                    let _ = ack.send(());
+                }
+                Ok(Event::Finished) => break (rx.try_recv().ok(), interrupt),
+                Err(mpsc::RecvTimeoutError::Disconnected) => break (rx.try_recv().ok(), interrupt),
                 Err(mpsc::RecvTimeoutError::Timeout) => {}
             }
             if interrupt.is_none() {
@@ -147,7 +196,16 @@ fn released<T: Send>(
     py: Python<'_>,
     f: impl FnOnce() -> Result<T, LibError> + Send,
 ) -> PyResult<T> {
-    run_released(py, f)?.map_err(|e| to_py(py, e, None))
+    run_released(py, None, f)?.map_err(|e| to_py(py, e, None))
+}
+
+/// [`released`] with a progress callback (None: no events).
+fn released_with<T: Send>(
+    py: Python<'_>,
+    progress: Option<&Bound<'_, PyAny>>,
+    f: impl FnOnce() -> Result<T, LibError> + Send,
+) -> PyResult<T> {
+    run_released(py, progress, f)?.map_err(|e| to_py(py, e, None))
 }
 
 /// A serializable result as JSON text (what `summary.json` holds).
@@ -496,7 +554,7 @@ fn tca(
     roll_angles=None, points_per_line=None, solver=None, local=None, fe_cell_factor=None,
     cache=None, no_condition=false, threads=0, span_approach_mm=None, friction_mu=None,
     increments=None, cross_check=false, friction_model=None, edges=None, flank_region=None,
-    compression=None, torques=None, quiet=false))]
+    compression=None, torques=None, quiet=false, progress=None))]
 #[allow(clippy::too_many_arguments)]
 fn ltca(
     py: Python<'_>,
@@ -523,6 +581,7 @@ fn ltca(
     compression: Option<&str>,
     torques: Option<Vec<f64>>,
     quiet: bool,
+    progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
     let options = api::LtcaOptions {
         out,
@@ -550,7 +609,7 @@ fn ltca(
         torques_nm: torques,
     };
     let s = &scene.scene;
-    let result = released(py, || api::ltca(s, &options))?;
+    let result = released_with(py, progress.as_ref(), || api::ltca(s, &options))?;
     json(&result)
 }
 
@@ -559,7 +618,7 @@ fn ltca(
 #[pyo3(signature = (scene, out, *, flank_size=None, base_size=None, element=None,
     roll_angles=None, reference_angles=None, law=None, penalty_factor=None, slave=None,
     friction_mu=None, no_vtu=false, decks=false, no_refine=false, threads=0, resume=false,
-    quiet=false))]
+    quiet=false, progress=None))]
 #[allow(clippy::too_many_arguments)]
 fn fe_run(
     py: Python<'_>,
@@ -580,6 +639,7 @@ fn fe_run(
     threads: usize,
     resume: bool,
     quiet: bool,
+    progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
     let options = api::FeOptions {
         out,
@@ -598,7 +658,7 @@ fn fe_run(
         resume,
     };
     let s = &scene.scene;
-    let summary = released(py, || api::fe_mesh_cycle(s, &options))?;
+    let summary = released_with(py, progress.as_ref(), || api::fe_mesh_cycle(s, &options))?;
     json(&summary)
 }
 
@@ -608,7 +668,7 @@ fn fe_run(
     fe_flank_sizes=vec![1.0, 0.5], fe_base_size=None, roll_angles=None, roll_step=1.0,
     flank_size=None, base_size=None, element=None, local=None, threads=0, friction_mu=None,
     increments=None, friction_model=None, compression=None, pmax_reference=vec![],
-    quiet=false))]
+    quiet=false, progress=None))]
 #[allow(clippy::too_many_arguments)]
 fn compare(
     py: Python<'_>,
@@ -630,6 +690,7 @@ fn compare(
     compression: Option<&str>,
     pmax_reference: Vec<PathBuf>,
     quiet: bool,
+    progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
     let options = api::CompareOptions {
         out,
@@ -654,7 +715,7 @@ fn compare(
         pmax_reference,
     };
     let s = &scene.scene;
-    let summary = released(py, || api::compare(s, &options))?;
+    let summary = released_with(py, progress.as_ref(), || api::compare(s, &options))?;
     json(&summary)
 }
 
@@ -753,7 +814,9 @@ fn read_compliance_tensor<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound
 /// collected table (`input_keys`, `figure_keys`, `rows` as dicts; the rows
 /// of `table.csv`), as JSON.
 #[pyfunction]
-#[pyo3(signature = (path, exe, *, out=None, workers=None, memory_mb=None, quiet=false))]
+#[pyo3(signature = (path, exe, *, out=None, workers=None, memory_mb=None, quiet=false,
+    progress=None))]
+#[allow(clippy::too_many_arguments)]
 fn campaign(
     py: Python<'_>,
     path: PathBuf,
@@ -762,6 +825,7 @@ fn campaign(
     workers: Option<usize>,
     memory_mb: Option<f64>,
     quiet: bool,
+    progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<String> {
     let options = api::CampaignOptions {
         out,
@@ -771,7 +835,7 @@ fn campaign(
         quiet,
     };
     let p: &Path = &path;
-    let run = released(py, || api::campaign(p, &options))?;
+    let run = released_with(py, progress.as_ref(), || api::campaign(p, &options))?;
     let r = &run.report;
     let rows: Vec<serde_json::Value> = run
         .table
@@ -806,6 +870,16 @@ fn campaign(
     }))
 }
 
+/// `flank blank`: the ISO 23509 blank design of an input set (JSON text,
+/// the key names of Annex F) as its outputs (JSON: Annex F names, mm and
+/// degrees).
+#[pyfunction]
+fn blank(py: Python<'_>, inputs: String) -> PyResult<String> {
+    let text: &str = &inputs;
+    let design = released(py, || api::blank(text))?;
+    json(&design.outputs())
+}
+
 /// The grid convergence index from three grids ([`flank::grid_convergence::gci`],
 /// Celik et al. 2008): sizes `h` fine → coarse, results `phi`, safety
 /// factor `fs`; the estimate as JSON, or ValueError saying why none was made.
@@ -835,6 +909,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(compliance, m)?)?;
     m.add_function(wrap_pyfunction!(read_compliance_tensor, m)?)?;
     m.add_function(wrap_pyfunction!(campaign, m)?)?;
+    m.add_function(wrap_pyfunction!(blank, m)?)?;
     m.add_function(wrap_pyfunction!(grid_convergence, m)?)?;
     Ok(())
 }

@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pytest
 
 import flank
 from conftest import SEED002, run_cli
@@ -26,3 +27,18 @@ def test_seed002_fe_run_is_the_clis(tmp_path):
     c = r.cycle
     assert list(c.columns) == (cli / "mesh_cycle.csv").read_text().splitlines()[0].split(",")
     assert c["te_urad"].dtype == np.float64 and len(c) == 2
+
+
+def test_a_scene_without_the_contact_analysis_is_refused_as_by_the_cli(tmp_path):
+    from conftest import flank_binary
+    import subprocess
+
+    text = "\n".join(l for l in SEED002.read_text().splitlines() if not l.startswith("contact ="))
+    path = tmp_path / "no_contact.toml"
+    path.write_text(text)
+    scene = flank.load_scene(path)
+    with pytest.raises(flank.FlankError, match=r"add `contact = \{\}` under \[analyses\]"):
+        flank.fe_run(scene, out=tmp_path / "py", flank_size=1.5, base_size=3.0, roll_angles=[0], quiet=True)
+    assert not (tmp_path / "py" / "summary.json").exists()
+    p = subprocess.run([str(flank_binary()), "run", str(path), "--out", str(tmp_path / "cli")], capture_output=True, text=True)
+    assert p.returncode != 0 and "add `contact = {}` under [analyses]" in p.stderr

@@ -143,6 +143,7 @@ pub fn run_local(campaign: &Campaign, jobs: &[Job], options: &LocalOptions) -> R
         &format!("run pid {} pending {}", std::process::id(), pending.len()),
     );
     let bar = progress_bar(pending.len(), options.quiet);
+    let progress = crate::progress::Counter::start("campaign jobs", pending.len());
     let pool = Mutex::new(Pool {
         queue: pending
             .chunks(batch)
@@ -202,6 +203,7 @@ pub fn run_local(campaign: &Campaign, jobs: &[Job], options: &LocalOptions) -> R
                             if let Some(b) = &bar {
                                 b.inc(1);
                             }
+                            progress.step();
                             outcomes
                                 .lock()
                                 .unwrap_or_else(|e| e.into_inner())
@@ -243,7 +245,8 @@ pub fn run_local(campaign: &Campaign, jobs: &[Job], options: &LocalOptions) -> R
 
 fn progress_bar(n: usize, quiet: bool) -> Option<indicatif::ProgressBar> {
     use std::io::IsTerminal;
-    if quiet || !std::io::stderr().is_terminal() {
+    // an embedding program that observes progress draws its own bar
+    if quiet || !std::io::stderr().is_terminal() || crate::progress::observed() {
         return None;
     }
     let b = indicatif::ProgressBar::new(n as u64);

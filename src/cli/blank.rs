@@ -15,10 +15,7 @@ pub struct Args {
 
 pub fn run(args: Args) -> Result<()> {
     let text = flank::text_file::read_utf8(&args.inputs)?;
-    let inputs = flank::geometry::bevel::BlankInputs::from_json(&text)
-        .with_context(|| args.inputs.display().to_string())?;
-    let design = flank::geometry::bevel::blank_design(&inputs)
-        .with_context(|| args.inputs.display().to_string())?;
+    let design = flank::api::blank(&text).with_context(|| args.inputs.display().to_string())?;
     println!("{}", serde_json::to_string_pretty(&design.outputs())?);
     Ok(())
 }

@@ -535,9 +535,14 @@ impl LtcaCycle {
         settings: &LtcaSettings,
     ) -> Result<Vec<PositionResult>, FlankError> {
         use rayon::prelude::*;
+        let progress = crate::progress::Counter::start("ltca positions", rolls_deg.len());
         let all: Vec<_> = rolls_deg
             .par_iter()
-            .map(|&a| self.solve_with(a, settings))
+            .map(|&a| {
+                let r = self.solve_with(a, settings);
+                progress.step();
+                r
+            })
             .collect();
         all.into_iter().collect()
     }
@@ -549,9 +554,14 @@ impl LtcaCycle {
         rolls_deg: &[f64],
     ) -> Result<Vec<Option<PositionResult>>, FlankError> {
         use rayon::prelude::*;
+        let progress = crate::progress::Counter::start("ltca positions", rolls_deg.len());
         let all: Vec<_> = rolls_deg
             .par_iter()
-            .map(|&a| self.solve_or_gap(a))
+            .map(|&a| {
+                let r = self.solve_or_gap(a);
+                progress.step();
+                r
+            })
             .collect();
         all.into_iter().collect()
     }

@@ -69,8 +69,10 @@ pub fn run_bevel(
     };
     let mut positions = Positions::open(&cycle, out, key, options.resume, files)?;
     let mut steps: Vec<StepResult> = Vec::with_capacity(rolls.len());
+    let progress = crate::progress::Counter::start("fe positions", rolls.len());
     for &r in &rolls {
         steps.push(positions.solve(r)?);
+        progress.step();
         if let Some(e) = positions.stop_requested(&steps) {
             return Err(e);
         }

@@ -31,13 +31,21 @@ pub use crate::mesh_cycle::options::{settings, RunOptions};
 /// `options.out`. Returns the summary (also written as summary.json).
 pub fn run_scene(path: &Path, options: &RunOptions) -> Result<RunSummary, FlankError> {
     let scene = read_scene(path)?;
+    asks_for_contact(&scene)?;
+    run(&scene, options)
+}
+
+/// Refuses a spur/helical scene without `[analyses] contact`: `flank run`
+/// (and the library's FE mesh cycle) would otherwise run on defaults the
+/// scene never asked for. Bevel/hypoid scenes run on the defaults.
+pub fn asks_for_contact(scene: &Scene) -> Result<(), FlankError> {
     if !scene.is_bevel() && scene.analyses.contact.is_none() {
         return Err(FlankError::Model(format!(
             "{}: the scene asks for no analysis `flank run` performs; add `contact = {{}}` under [analyses] for the FE contact mesh cycle",
-            path.display()
+            scene.source.display()
         )));
     }
-    run(&scene, options)
+    Ok(())
 }
 
 /// The mesh cycle of a parsed scene of any pair kind (see [`run_scene`]):
@@ -61,7 +69,9 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError
     let np = cycle.pair.teeth.len();
     let mid = line.middle() - 1;
     let angles = cycle.settings.roll_angles_deg.clone();
-    let bar = if options.quiet {
+    let progress = crate::progress::Counter::start("fe positions", angles.len());
+    // an embedding program that observes progress draws its own bar
+    let bar = if options.quiet || crate::progress::observed() {
         indicatif::ProgressBar::hidden()
     } else {
         let b = indicatif::ProgressBar::new(angles.len() as u64);
@@ -94,6 +104,7 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError
     for &a in &angles {
         steps.push(positions.solve(a)?);
         bar.inc(1);
+        progress.step();
         stop(&positions, &steps)?;
     }
     // a default range grows while the middle pair is loaded at an end
@@ -105,8 +116,10 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError
                 break;
             }
             bar.inc_length(1);
+            progress.grow(1);
             steps.insert(0, positions.solve(steps[0].roll_deg - step)?);
             bar.inc(1);
+            progress.step();
             extended += 1;
             stop(&positions, &steps)?;
         }
@@ -116,8 +129,10 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError
                 break;
             }
             bar.inc_length(1);
+            progress.grow(1);
             steps.push(positions.solve(steps[last].roll_deg + step)?);
             bar.inc(1);
+            progress.step();
             extended += 1;
             stop(&positions, &steps)?;
         }
