@@ -3,13 +3,13 @@ a process that reads one tensor file with flank.read_compliance_tensor,
 against the tensor's own size (issue: "memory of a compliance tensor
 returned to Python not doubled").
 
-    target/ci-venv/bin/python benches/python_tensor_memory.py [FLANK_SIZE_MM]
+    target/ci-venv/bin/python benches/python_tensor_memory.py [FLANK_SIZE_MM [native|hdf5]]
 
 Writes seed 002's tensors at the given flank size (default 0.75 mm, base
 3 mm) into a temporary folder, then reads the pinion's in a fresh process
-and prints: the matrix's bytes, the process's peak RSS before and after the
-read (ru_maxrss, MB) and their difference over the matrix's size (1.0 = one
-copy; 2.0 = a copy made on the way)."""
+and prints the matrix's size and what the read adds to the resident set
+(VmRSS after, and the peak VmHWM reset before the read) over it: 1.0 = the
+matrix held once, 2.0 = a second copy."""
 
 from __future__ import annotations
 
@@ -22,13 +22,21 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 
 READ = """
-import resource, sys, json
+import sys, json
 import numpy, pandas, flank  # imported before the baseline
-before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+def status(field):
+    for line in open("/proc/self/status"):
+        if line.startswith(field + ":"):
+            return int(line.split()[1]) / 1024  # kB -> MB
+
+# the peak so far is the imports': reset it (Linux: clear_refs 5 resets VmHWM)
+with open("/proc/self/clear_refs", "w") as f:
+    f.write("5")
+before = status("VmRSS")
 t = flank.read_compliance_tensor(sys.argv[1])
-after = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 print(json.dumps({"matrix_mb": t.matrix.nbytes / 2**20, "shape": list(t.matrix.shape),
-                  "owns_data": bool(t.matrix.base is None), "before_mb": before, "after_mb": after}))
+                  "before_mb": before, "after_mb": status("VmRSS"), "peak_mb": status("VmHWM")}))
 """
 
 
@@ -36,6 +44,7 @@ def main() -> int:
     import flank
 
     flank_size = float(sys.argv[1]) if len(sys.argv) > 1 else 0.75
+    fmt = sys.argv[2] if len(sys.argv) > 2 else "native"
     with tempfile.TemporaryDirectory() as tmp:
         r = flank.compliance(
             ROOT / "papers/seed002-spur/scene.toml",
@@ -43,7 +52,7 @@ def main() -> int:
             flank_size=flank_size,
             base_size=3.0,
             bodies=["pinion"],
-            format="native",
+            format=fmt,
             no_condition=True,
         )
         path = Path(r.summary["bodies"]["pinion"]["file"])
@@ -51,10 +60,12 @@ def main() -> int:
             path = Path(tmp) / path.name
         p = subprocess.run([sys.executable, "-c", READ, str(path)], capture_output=True, text=True, check=True)
         m = json.loads(p.stdout)
-    grew = m["after_mb"] - m["before_mb"]
+    held = m["after_mb"] - m["before_mb"]
+    peak = m["peak_mb"] - m["before_mb"]
     print(
-        f"tensor {m['shape'][0]} x {m['shape'][1]} ({m['matrix_mb']:.1f} MB); peak RSS {m['before_mb']:.1f} -> "
-        f"{m['after_mb']:.1f} MB: +{grew:.1f} MB = {grew / m['matrix_mb']:.2f} x the matrix"
+        f"{fmt}: tensor {m['shape'][0]} x {m['shape'][1]} ({m['matrix_mb']:.1f} MB); resident {m['before_mb']:.1f} MB before the read; "
+        f"held after it +{held:.1f} MB = {held / m['matrix_mb']:.2f} x the matrix, peak during it +{peak:.1f} MB = "
+        f"{peak / m['matrix_mb']:.2f} x"
     )
     return 0
 

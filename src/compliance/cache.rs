@@ -303,18 +303,30 @@ impl<'a> Cursor<'a> {
     }
 }
 
+/// Matrix words read per chunk (8 MB): the matrix is streamed from the
+/// file into its full (symmetric) layout, so reading a tensor holds the
+/// matrix once, not the file's bytes beside it.
+const READ_CHUNK_WORDS: usize = 1 << 20;
+
 fn read_native(path: &Path) -> Result<ComplianceTensor, FlankError> {
-    let bytes = std::fs::read(path).map_err(|e| FlankError::io(path, e))?;
-    if bytes.len() < 8 || &bytes[..8] != MAGIC {
+    use std::io::Read;
+    let io = |e| FlankError::io(path, e);
+    let mut file = std::fs::File::open(path).map_err(io)?;
+    let size = usize::try_from(file.metadata().map_err(io)?.len())
+        .map_err(|_| parse_err(path, "larger than this machine's address space"))?;
+    // magic, format version, header length
+    let mut head = vec![0u8; size.min(16)];
+    file.read_exact(&mut head).map_err(io)?;
+    if head.len() < 8 || &head[..8] != MAGIC {
         return Err(parse_err(
             path,
             "not a flank compliance file (bad magic; expected \"FLANKCMP\")",
         ));
     }
-    if bytes.len() < 24 {
+    if size < 24 {
         return Err(parse_err(path, "truncated: no header"));
     }
-    let version = u32::from_le_bytes(bytes[8..12].try_into().expect("4 bytes"));
+    let version = u32::from_le_bytes(head[8..12].try_into().expect("4 bytes"));
     if version != FORMAT_VERSION {
         return Err(parse_err(
             path,
@@ -328,17 +340,18 @@ fn read_native(path: &Path) -> Result<ComplianceTensor, FlankError> {
             ),
         ));
     }
-    let (body, tail) = bytes.split_at(bytes.len() - 8);
-    let mut h = WordHash::new();
-    h.update(body);
-    let stored = u64::from_le_bytes(tail.try_into().expect("8 bytes"));
-    let mut c = Cursor {
-        b: body,
-        pos: 12,
-        path,
-    };
-    let hl = u32::from_le_bytes(c.take(4, "header length")?.try_into().expect("4")) as usize;
-    let header: NativeHeader = serde_json::from_slice(c.take(hl, "header")?)
+    // everything before the 8-byte checksum
+    let body_len = size - 8;
+    let hl = u32::from_le_bytes(head[12..16].try_into().expect("4 bytes")) as usize;
+    if hl > body_len - 16 {
+        return Err(parse_err(
+            path,
+            format!("truncated: header ends beyond the file ({size} bytes)"),
+        ));
+    }
+    let mut header_bytes = vec![0u8; hl];
+    file.read_exact(&mut header_bytes).map_err(io)?;
+    let header: NativeHeader = serde_json::from_slice(&header_bytes)
         .map_err(|e| parse_err(path, format!("header: {e}")))?;
     if header.matrix != PACKED || header.dim != 3 * header.nodes {
         return Err(parse_err(
@@ -353,25 +366,64 @@ fn read_native(path: &Path) -> Result<ComplianceTensor, FlankError> {
     let nf = header.faces;
     let m = header.dim;
     // every length against the file size before allocating
-    let expect = 16usize
-        .checked_add(hl)
-        .and_then(|s| s.checked_add(n.checked_mul(8 + 4 + 16 + 24 + 24)?))
-        .and_then(|s| s.checked_add(nf.checked_mul(40)?))
-        .and_then(|s| s.checked_add(m.checked_mul(m + 1)?.checked_div(2)?.checked_mul(8)?));
-    if expect != Some(body.len()) {
+    let arrays_len = n
+        .checked_mul(8 + 4 + 16 + 24 + 24)
+        .and_then(|a| a.checked_add(nf.checked_mul(40)?));
+    let packed_len = m.checked_mul(m + 1).map(|x| x / 2);
+    let expect = arrays_len
+        .and_then(|a| a.checked_add(16 + hl))
+        .and_then(|s| s.checked_add(packed_len?.checked_mul(8)?));
+    let (Some(arrays_len), Some(packed_len), Some(body_len)) =
+        (arrays_len, packed_len, expect.filter(|&e| e == body_len))
+    else {
         return Err(parse_err(
             path,
             format!(
-                "size {} bytes does not match the header ({} nodes, {} faces): truncated or corrupt",
-                bytes.len(),
-                n,
-                nf
+                "size {size} bytes does not match the header ({n} nodes, {nf} faces): truncated or corrupt"
             ),
         ));
+    };
+    let mut arrays = vec![0u8; arrays_len];
+    file.read_exact(&mut arrays).map_err(io)?;
+    let mut h = WordHash::new();
+    h.update(&head);
+    h.update(&header_bytes);
+    h.update(&arrays);
+    // the packed lower triangle, row by row, into both triangles
+    let mut matrix = vec![0.0; m * m];
+    let mut chunk = vec![0u8; 8 * READ_CHUNK_WORDS.min(packed_len)];
+    let (mut i, mut j) = (0usize, 0usize);
+    let mut left = packed_len;
+    while left > 0 {
+        let k = left.min(READ_CHUNK_WORDS);
+        let words = &mut chunk[..8 * k];
+        file.read_exact(words).map_err(io)?;
+        h.update(words);
+        for w in words.chunks_exact(8) {
+            let x = f64::from_bits(u64::from_le_bytes(w.try_into().expect("8 bytes")));
+            matrix[i * m + j] = x;
+            matrix[j * m + i] = x;
+            if j == i {
+                i += 1;
+                j = 0;
+            } else {
+                j += 1;
+            }
+        }
+        left -= k;
     }
-    if h.finish() != stored {
+    drop(chunk);
+    let mut tail = [0u8; 8];
+    file.read_exact(&mut tail).map_err(io)?;
+    debug_assert_eq!(body_len + 8, size);
+    if h.finish() != u64::from_le_bytes(tail) {
         return Err(parse_err(path, "checksum mismatch: the file is corrupt"));
     }
+    let mut c = Cursor {
+        b: &arrays,
+        pos: 0,
+        path,
+    };
     let labels = c.u64s(n, "node ids")?;
     let set_of = c.u32s(n, "flank sets")?;
     let uv = c.f64s(2 * n, "flank (u, v)")?;
@@ -379,7 +431,6 @@ fn read_native(path: &Path) -> Result<ComplianceTensor, FlankError> {
     let nor = c.f64s(3 * n, "normals")?;
     let faces_raw = c.u32s(9 * nf, "faces")?;
     let face_set = c.u32s(nf, "face sets")?;
-    let packed = c.f64s(m * (m + 1) / 2, "matrix")?;
     let mut faces = Vec::with_capacity(nf);
     for (k, row) in faces_raw.chunks_exact(9).enumerate() {
         let cnt = row[0] as usize;
@@ -390,15 +441,6 @@ fn read_native(path: &Path) -> Result<ComplianceTensor, FlankError> {
             set: face_set[k],
             nodes: row[1..1 + cnt].to_vec(),
         });
-    }
-    let mut matrix = vec![0.0; m * m];
-    let mut k = 0;
-    for i in 0..m {
-        for j in 0..=i {
-            matrix[i * m + j] = packed[k];
-            matrix[j * m + i] = packed[k];
-            k += 1;
-        }
     }
     let flank = FlankNodes {
         sets: header.meta.flank_sets.clone(),
