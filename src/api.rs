@@ -12,7 +12,7 @@
 //! | LTCA over the mesh cycle | [`ltca`] | [`LtcaResult`] |
 //! | FE contact over the mesh cycle | [`fe_mesh_cycle`] | [`RunSummary`] |
 //! | LTCA against FE contact | [`compare`] | [`CompareSummary`] |
-//! | a campaign of variants | [`campaign`] | [`CampaignRun`] (the collected [`CampaignTable`]) |
+//! | a campaign of variants | [`campaign`], [`campaign_collect`] | [`CampaignRun`] (the collected [`CampaignTable`]) |
 //!
 //! Each analysis takes the options of its command: a field left `None`
 //! falls back to the scene's `[analyses.*]` key, else to the default
@@ -252,12 +252,14 @@ pub struct CampaignRun {
 /// `table.parquet` and the plots in the output folder). Unlike `flank
 /// campaign run`, an analysis option the command line would refuse is
 /// not caught before the jobs start: the job fails with the message in
-/// its log.
+/// its log. An executable of another build than this library is refused
+/// (job identities carry the build).
 pub fn campaign(
     path: impl AsRef<Path>,
     options: &CampaignOptions,
 ) -> Result<CampaignRun, FlankError> {
     let c = crate::campaign::variants::Campaign::open(path.as_ref(), options.out.as_deref())?;
+    same_build(&options.exe)?;
     let jobs = c.jobs()?;
     let report = crate::campaign::local::run_local(
         &c,
@@ -273,4 +275,44 @@ pub fn campaign(
     let table = crate::campaign::collect::collect(&c, &jobs)?;
     crate::campaign::collect::write_all(&c, &table)?;
     Ok(CampaignRun { report, table })
+}
+
+/// Refuses a `flank` executable of another build than this library: a
+/// job's identity carries the build (its git commit), so the jobs it ran
+/// would not be the ones this library looks for (every row "pending").
+fn same_build(exe: &Path) -> Result<(), FlankError> {
+    let ours = crate::campaign::variants::flank_version_static();
+    let out = std::process::Command::new(exe)
+        .arg("--version")
+        .output()
+        .map_err(|e| FlankError::Campaign(format!("cannot start {}: {e}", exe.display())))?;
+    let theirs = String::from_utf8_lossy(&out.stdout);
+    let theirs = theirs
+        .trim()
+        .strip_prefix("flank ")
+        .unwrap_or(theirs.trim());
+    if !out.status.success() || theirs != ours {
+        return Err(FlankError::Campaign(format!(
+            "{} is flank {theirs:?}, this library is flank {ours:?}: the jobs would run under another build's identities (their results would not be collected); pass the `flank` executable of the same build",
+            exe.display()
+        )));
+    }
+    Ok(())
+}
+
+/// Collects the campaign at `path` without running anything
+/// ([`crate::campaign::collect::collect`], `flank campaign collect`): every
+/// finished job's figures in the table (`table.csv`, `table.parquet`, the
+/// convergence or Monte Carlo summaries and plots written to the output
+/// folder, `out` or the campaign's own); jobs not done (pending, failed,
+/// still queued on Slurm) are rows with their status.
+pub fn campaign_collect(
+    path: impl AsRef<Path>,
+    out: Option<&Path>,
+) -> Result<CampaignTable, FlankError> {
+    let c = crate::campaign::variants::Campaign::open(path.as_ref(), out)?;
+    let jobs = c.jobs()?;
+    let table = crate::campaign::collect::collect(&c, &jobs)?;
+    crate::campaign::collect::write_all(&c, &table)?;
+    Ok(table)
 }

@@ -9,7 +9,8 @@ use clap::{Parser, Subcommand};
 #[derive(Parser)]
 #[command(
     name = "flank",
-    version,
+    // with the git commit: campaign job identities carry it
+    version = flank::campaign::variants::flank_version_static(),
     about = "Finite-element-first gear tooth contact: native 3D elasticity, FE contact, LTCA"
 )]
 struct Cli {

@@ -76,6 +76,7 @@ __all__ = [
     "compliance",
     "read_compliance_tensor",
     "campaign",
+    "campaign_collect",
     "blank",
     "grid_convergence",
     "ProgressCallback",
@@ -460,6 +461,18 @@ def campaign(
             progress=_progress(progress, quiet),
         )
     )
+    return CampaignResult(raw, None if out is None else Path(out))
+
+
+def campaign_collect(
+    path: os.PathLike[str] | str, *, out: Optional[os.PathLike[str] | str] = None
+) -> CampaignResult:
+    """``flank campaign collect``: the table of the campaign's finished jobs
+    (a run on this machine or a Slurm submission), nothing run; writes
+    ``table.csv``, ``table.parquet`` and the summaries to the output folder
+    (``out``, else the campaign's own). Jobs not done are rows with their
+    status."""
+    raw = json.loads(_native.campaign_collect(os.fspath(path), out=None if out is None else os.fspath(out)))
     return CampaignResult(raw, None if out is None else Path(out))
 
 

@@ -269,12 +269,15 @@ class ComplianceTensor:
 
 class CampaignResult(Result):
     """``flank campaign run``: ``report`` (jobs, skipped, finished, failed,
-    workers, wall_s) and ``table`` (one row per job: inputs, figures,
-    seconds, status, as ``table.csv``) as a DataFrame."""
+    workers, wall_s; empty after :func:`flank.campaign_collect`) and
+    ``table`` (one row per job: inputs, figures, seconds, status, as
+    ``table.csv``) as a DataFrame."""
 
     def __init__(self, raw: Dict[str, Any], folder: Optional[Path]):
-        super().__init__(raw["report"], folder)
-        self.report: Dict[str, Any] = raw["report"]
+        # a collect without a run has no report
+        report = raw.get("report", {})
+        super().__init__(report, folder)
+        self.report: Dict[str, Any] = report
         self._raw = raw
 
     @property

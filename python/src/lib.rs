@@ -837,8 +837,24 @@ fn campaign(
     let p: &Path = &path;
     let run = released_with(py, progress.as_ref(), || api::campaign(p, &options))?;
     let r = &run.report;
-    let rows: Vec<serde_json::Value> = run
-        .table
+    json(&serde_json::json!({
+        "report": {
+            "jobs": r.jobs,
+            "skipped": r.skipped,
+            "finished": r.finished,
+            "failed": r.failed.iter().map(|(i, log)| (i, log.display().to_string())).collect::<Vec<_>>(),
+            "workers": r.workers,
+            "wall_s": r.wall_s,
+        },
+        "input_keys": run.table.input_keys,
+        "figure_keys": run.table.figure_keys,
+        "rows": table_rows(&run.table),
+    }))
+}
+
+/// The collected table's rows as JSON objects (the rows of `table.csv`).
+fn table_rows(table: &api::CampaignTable) -> Vec<serde_json::Value> {
+    table
         .rows
         .iter()
         .map(|row| {
@@ -854,19 +870,22 @@ fn campaign(
                 "seconds": row.seconds,
             })
         })
-        .collect();
+        .collect()
+}
+
+/// `flank campaign collect`: the table of a campaign's finished jobs
+/// (written to its output folder, `out` or the campaign's own), nothing
+/// run; JSON as [`campaign`]'s without the report.
+#[pyfunction]
+#[pyo3(signature = (path, *, out=None))]
+fn campaign_collect(py: Python<'_>, path: PathBuf, out: Option<PathBuf>) -> PyResult<String> {
+    let p: &Path = &path;
+    let o = out.as_deref();
+    let table = released(py, || api::campaign_collect(p, o))?;
     json(&serde_json::json!({
-        "report": {
-            "jobs": r.jobs,
-            "skipped": r.skipped,
-            "finished": r.finished,
-            "failed": r.failed.iter().map(|(i, log)| (i, log.display().to_string())).collect::<Vec<_>>(),
-            "workers": r.workers,
-            "wall_s": r.wall_s,
-        },
-        "input_keys": run.table.input_keys,
-        "figure_keys": run.table.figure_keys,
-        "rows": rows,
+        "input_keys": table.input_keys,
+        "figure_keys": table.figure_keys,
+        "rows": table_rows(&table),
     }))
 }
 
@@ -909,6 +928,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(compliance, m)?)?;
     m.add_function(wrap_pyfunction!(read_compliance_tensor, m)?)?;
     m.add_function(wrap_pyfunction!(campaign, m)?)?;
+    m.add_function(wrap_pyfunction!(campaign_collect, m)?)?;
     m.add_function(wrap_pyfunction!(blank, m)?)?;
     m.add_function(wrap_pyfunction!(grid_convergence, m)?)?;
     Ok(())

@@ -110,3 +110,19 @@ def test_campaign_runs_and_collects_as_the_cli(tmp_path):
     assert te, list(cli_table.columns)
     assert py_table[te[0]].iloc[1] > py_table[te[0]].iloc[0]
     assert ("campaign jobs", 2, 2) in events
+    # collected again, nothing run: the same table
+    again = flank.campaign_collect(path, out=tmp_path / "py")
+    assert again.report == {} and again.table[figures].equals(r.table[figures])
+
+
+def test_campaign_refuses_a_flank_of_another_build(tmp_path):
+    fake = tmp_path / "flank"
+    fake.write_text("#!/bin/sh\necho 'flank 0.0.0+000000000000'\n")
+    fake.chmod(0o755)
+    path = tmp_path / "campaign.toml"
+    path.write_text(
+        f'[campaign]\nscene = "{SEED002}"\nanalyses = ["ltca"]\n\n[grid]\n"load.torque_nm" = [150.0]\n'
+    )
+    with pytest.raises(flank.FlankError, match="this library is flank"):
+        flank.campaign(path, exe=fake, out=tmp_path / "out", quiet=True)
+    assert not (tmp_path / "out" / "jobs").exists()

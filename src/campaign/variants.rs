@@ -28,6 +28,14 @@ pub fn flank_version() -> String {
     }
 }
 
+/// [`flank_version`] as the command line's `--version` prints it (after
+/// `flank `): a program that hands jobs to a `flank` executable compares
+/// the two, since job identities differ between builds.
+pub fn flank_version_static() -> &'static str {
+    static VERSION: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    VERSION.get_or_init(flank_version)
+}
+
 /// A campaign: its file and its output folder.
 #[derive(Clone, Debug)]
 pub struct Campaign {
