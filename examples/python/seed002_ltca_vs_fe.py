@@ -10,6 +10,10 @@ the table to OUT/ltca_vs_fe.csv. For the converged comparison with its
 error-against-time plot, `flank.compare`.
 """
 
+# %% [markdown]
+# Open as a notebook (Jupyter/VS Code read the `# %%` cells), or run as a script.
+
+# %% setup
 import sys
 from pathlib import Path
 
@@ -22,10 +26,12 @@ out = Path(sys.argv[1]) if len(sys.argv) > 1 else ROOT / "out/seed002_ltca_vs_fe
 rolls = [-6.0, 0.0, 6.0]
 mesh = dict(flank_size=1.5, base_size=3.0)
 
+# %% the LTCA and FE contact at the same positions
 scene = flank.load_scene(ROOT / "papers/seed002-spur/scene.toml")
 ltca = flank.ltca(scene, out=out / "ltca", roll_angles=rolls, points_per_line=10, quiet=True, **mesh)
 fe = flank.fe_run(scene, out=out / "fe", roll_angles=rolls, quiet=True, **mesh)
 
+# %% side by side
 # one row per roll angle in both, in roll order (the LTCA's roll_deg carries
 # the round trip through radians in its last digit: rows, not values, match)
 a = ltca.cycle.sort_values("roll_deg").reset_index(drop=True)

@@ -9,6 +9,10 @@ Three flank sizes (1.0, 1.5, 2.0 mm; base 3 mm, K = 10: under a minute on
 out/seed002_mesh_gci_py), the table to OUT/gci.csv.
 """
 
+# %% [markdown]
+# Open as a notebook (Jupyter/VS Code read the `# %%` cells), or run as a script.
+
+# %% setup
 import sys
 from pathlib import Path
 
@@ -20,12 +24,14 @@ ROOT = Path(__file__).resolve().parents[2]
 out = Path(sys.argv[1]) if len(sys.argv) > 1 else ROOT / "out/seed002_mesh_gci_py"
 sizes = [1.0, 1.5, 2.0]  # fine → coarse (mm)
 
+# %% the LTCA on three compliance meshes
 scene = flank.load_scene(ROOT / "papers/seed002-spur/scene.toml")
 levels = {}
 for h in sizes:
     r = flank.ltca(scene, out=out / f"h{h}", flank_size=h, base_size=3.0, points_per_line=10, quiet=True)
     levels[h] = r.summary
 
+# %% Richardson extrapolation and GCI per figure
 figures = {
     "te_peak_to_peak_urad": "TE peak-to-peak (µrad)",
     "max_pressure_mpa": "largest contact pressure (MPa)",

@@ -11,6 +11,10 @@ ellipse at the elastic approach δ = 6.35 µm. Writes the files of
 (default out/seed003_tca_py).
 """
 
+# %% [markdown]
+# Open as a notebook (Jupyter/VS Code read the `# %%` cells), or run as a script.
+
+# %% setup
 import sys
 from pathlib import Path
 
@@ -24,9 +28,11 @@ import flank
 ROOT = Path(__file__).resolve().parents[2]
 out = Path(sys.argv[1]) if len(sys.argv) > 1 else ROOT / "out/seed003_tca_py"
 
+# %% the unloaded TCA
 scene = flank.load_scene(ROOT / "papers/seed003-hypoid/scene_eased.toml")
 r = flank.tca(scene, out=out, search_directions=0, quiet=True)
 
+# %% contact pattern and TE
 t = r.with_edges  # tca_with_edges.csv: per position and tooth pair
 mid = t[(t["pair"] == 0) & (t["system"] == "flank")]
 fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
@@ -48,6 +54,7 @@ ax2.legend()
 fig.tight_layout()
 fig.savefig(out / "contact_pattern.png", dpi=120)
 
+# %% figures
 w = r.summary["with_edges"]
 print(f"contact ratio {w['contact_ratio']:.3f}; TE peak-to-peak {w['te_peak_to_peak_arcsec']:.2f} arcsec; "
       f"{len(mid)} flank contacts of the middle pair")
