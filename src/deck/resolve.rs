@@ -399,7 +399,7 @@ impl Parser {
 
         // A thermal load takes the elastic constants at one temperature:
         // ccx would interpolate a temperature table at each point's T.
-        if self.initial_temperature.is_some() {
+        if let Some(initial_loc) = self.initial_temperature {
             let mut used = vec![false; self.materials.len()];
             for m in elem_mat.iter().flatten() {
                 used[*m] = true;
@@ -423,9 +423,8 @@ impl Parser {
                 }
                 if let Some(&n) = el.nodes.iter().find(|&&n| t0[n].is_none()) {
                     let missing = (0..nn).filter(|&n| t0[n].is_none()).count();
-                    let loc = self.initial_temperature.expect("thermal deck");
                     return Err(self.err(
-                        loc,
+                        initial_loc,
                         format!(
                             "node {} of element {} (material {} with *EXPANSION) has no initial temperature ({missing} node(s) in all have none): ccx would silently take its placeholder value 1.2357111319 as T0 (and as T without a *TEMPERATURE); give these nodes an *INITIAL CONDITIONS, TYPE=TEMPERATURE line",
                             self.mesh.node_labels[n],

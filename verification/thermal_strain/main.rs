@@ -252,8 +252,8 @@ fn field_error(model: &Model, sol: &StaticSolution, u_ref: impl Fn([f64; 3]) -> 
     let mut scale = 0.0f64;
     for (n, &x) in model.mesh.coords.iter().enumerate() {
         let want = u_ref(x);
-        for i in 0..3 {
-            err = err.max((sol.displacement[3 * n + i] - want[i]).abs());
+        for (i, w) in want.iter().enumerate() {
+            err = err.max((sol.displacement[3 * n + i] - w).abs());
         }
         scale = scale.max(norm(want));
     }
