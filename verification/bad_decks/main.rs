@@ -548,6 +548,18 @@ fn thermal_load_errors() {
             "1.2357111319",
         ],
     );
+    // a thermal load on a contact deck: the contact solver refuses it
+    let t = contact_deck(0.0, &format!("*TEMPERATURE\nNALL, 120.\n{PUSH}"), HARD)
+        .replace("210000., 0.3\n", "210000., 0.3\n*EXPANSION\n1.2e-5\n")
+        .replace(
+            "*STEP\n",
+            "*INITIAL CONDITIONS, TYPE=TEMPERATURE\nNALL, 20.\n*STEP\n",
+        );
+    expect_error(
+        "thermal_with_contact",
+        &t,
+        &["thermal strains", "contact are not supported"],
+    );
     let t = thermal(|s| s.replace("*TEMPERATURE\n", "*TEMPERATURE, AMPLITUDE=RAMP\n"));
     expect_error(
         "thermal_amplitude",
