@@ -28,6 +28,7 @@ use crate::fem::model::Model;
 use crate::fem::ordering::OrderingMethod;
 use crate::fem::solver::{parallelism, Precision, SolveReach, SparseCholesky};
 use crate::fem::static_analysis::{check_rigid_body_modes, validate};
+use crate::fem::thermal::has_thermal_strain;
 
 /// Figures of the factorization (for summaries).
 #[derive(Clone, Debug, Default, serde::Serialize)]
@@ -89,6 +90,13 @@ impl ElasticSystem {
         threads: usize,
     ) -> Result<Self, FlankError> {
         validate(model)?;
+        if has_thermal_strain(model) {
+            // the contact solution's external load, work and reactions are
+            // the mechanical loads only: a thermal load would be dropped
+            return Err(FlankError::Model(
+                "thermal strains (temperatures with *EXPANSION) together with contact are not supported; solve without the contact pairs or without the temperatures".into(),
+            ));
+        }
         let dofs0 = DofMap::new(model)?;
         let floating = floating_modes(model, &dofs0);
         if !floating.modes.is_empty() {

@@ -50,8 +50,6 @@ const FATAL_KEYWORDS: &[(&str, &str)] = &[
     ("HYPERELASTIC", "hyperelasticity"),
     ("HYPERFOAM", "hyperelasticity"),
     ("USER MATERIAL", "user materials"),
-    ("TEMPERATURE", "thermal loads"),
-    ("INITIAL CONDITIONS", "initial conditions"),
     ("TRANSFORM", "local coordinate systems"),
     ("ORIENTATION", "local material directions"),
     ("FREQUENCY", "not a linear static step"),
@@ -92,7 +90,6 @@ const FATAL_KEYWORDS: &[(&str, &str)] = &[
 
 /// Known keywords without effect on a linear static answer: warned and skipped.
 const HARMLESS_KEYWORDS: &[&str] = &[
-    "EXPANSION",
     "CONDUCTIVITY",
     "SPECIFIC HEAT",
     "DAMPING",

@@ -1,10 +1,15 @@
-//! `*MATERIAL`, `*ELASTIC` and `*SOLID SECTION`.
+//! `*MATERIAL`, `*ELASTIC`, `*DENSITY`, `*EXPANSION` and `*SOLID SECTION`.
 //!
 //! `*MATERIAL, NAME=name` followed by `*ELASTIC[, TYPE=ISO]` with one data
 //! line `E, ν[, temperature]` (further temperature lines: only the first is
 //! used, with a warning); `*DENSITY` with one data line `ρ[, temperature]`
-//! (same rule), used by the body loads `*DLOAD` GRAV and CENTRIF;
-//! `*EXPANSION`, ... stay inside the material and are ignored with a
+//! (same rule), used by the body loads `*DLOAD` GRAV and CENTRIF (with a
+//! thermal load, several temperature lines are an error: ccx would take the
+//! constants at each point's temperature); `*EXPANSION[, TYPE=ISO][,
+//! ZERO=T]` with one data line `α[, temperature]`, the isotropic expansion
+//! coefficient of the thermal strain α (T − T0) (a constant α makes ZERO
+//! irrelevant; several temperature lines, other TYPEs and USER are errors);
+//! `*CONDUCTIVITY`, ... stay inside the material and are ignored with a
 //! warning (see [`super::keywords`]).
 //! `*SOLID SECTION, ELSET=set, MATERIAL=name` gives the elements of the set
 //! their material (replayed in file order; a later section reassigns, with
@@ -37,6 +42,8 @@ impl Parser {
             name,
             elastic: None,
             density: None,
+            expansion: None,
+            temperature_table: None,
             loc: card.loc,
         });
         Ok(Block::NoData(card.name.clone()))
@@ -96,8 +103,16 @@ impl Parser {
 
     /// A temperature table's lines after the first are skipped (flank
     /// reads temperature-independent data), with one warning at the second.
-    fn beyond_first_line(&mut self, keyword: &str, line_no: usize, loc: Loc) -> bool {
+    fn beyond_first_line(
+        &mut self,
+        material: usize,
+        keyword: &str,
+        line_no: usize,
+        loc: Loc,
+    ) -> bool {
         if line_no == 2 {
+            let m = &mut self.materials[material];
+            m.temperature_table.get_or_insert(loc);
             self.warn(
                 loc,
                 format!("{keyword} with several (temperature) lines: only the first is used"),
@@ -113,7 +128,7 @@ impl Parser {
         f: &[&str],
         loc: Loc,
     ) -> Result<()> {
-        if self.beyond_first_line("*DENSITY", line_no, loc) {
+        if self.beyond_first_line(material, "*DENSITY", line_no, loc) {
             return Ok(());
         }
         if f.is_empty() || f.len() > 2 {
@@ -133,6 +148,74 @@ impl Parser {
             ));
         }
         self.materials[material].density = Some((rho, loc));
+        Ok(())
+    }
+
+    /// `*EXPANSION[, TYPE=ISO][, ZERO=T]`: α of the current material
+    /// (CalculiX manual, *EXPANSION). ccx's thermal strain is
+    /// α(T)(T − Z) − α(T0)(T0 − Z) with Z the ZERO temperature: for the one
+    /// constant α read here that is α (T − T0) whatever Z, so ZERO is read
+    /// and has no effect.
+    pub(super) fn kw_expansion(&mut self, card: &Card) -> Result<Block> {
+        self.check_params(card, &["TYPE", "ZERO"])?;
+        if let Some(t) = self.value(card, "TYPE")? {
+            let t = norm_name(&t);
+            if t != "ISO" && t != "ISOTROPIC" {
+                return Err(self.err(
+                    card.loc,
+                    format!("*EXPANSION, TYPE={t} is not supported (only isotropic); ignoring it would change the answer"),
+                ));
+            }
+        }
+        if let Some(z) = self.value(card, "ZERO")? {
+            self.parse_real(&z, card.loc)?;
+        }
+        let Some(material) = self.current_material else {
+            return Err(self.err(card.loc, "*EXPANSION outside of a *MATERIAL"));
+        };
+        if self.materials[material].expansion.is_some() {
+            return Err(self.err(
+                card.loc,
+                format!(
+                    "second *EXPANSION for material {}",
+                    self.materials[material].name
+                ),
+            ));
+        }
+        Ok(Block::Expansion {
+            material,
+            lines: 0,
+            loc: card.loc,
+        })
+    }
+
+    pub(super) fn expansion_line(
+        &mut self,
+        material: usize,
+        line_no: usize,
+        f: &[&str],
+        loc: Loc,
+    ) -> Result<()> {
+        if line_no > 1 {
+            return Err(self.err(
+                loc,
+                format!(
+                    "*EXPANSION of material {} with several (temperature) lines: a temperature-dependent expansion coefficient is not supported (give one line alpha[, temperature])",
+                    self.materials[material].name
+                ),
+            ));
+        }
+        if f.is_empty() || f.len() > 2 {
+            return Err(self.err(
+                loc,
+                "*EXPANSION data must be: alpha[, temperature] (isotropic)",
+            ));
+        }
+        let alpha = self.parse_real(f[0], loc)?;
+        if let Some(t) = f.get(1) {
+            self.parse_real(t, loc)?;
+        }
+        self.materials[material].expansion = Some((alpha, loc));
         Ok(())
     }
 
@@ -167,7 +250,7 @@ impl Parser {
         f: &[&str],
         loc: Loc,
     ) -> Result<()> {
-        if self.beyond_first_line("*ELASTIC", line_no, loc) {
+        if self.beyond_first_line(material, "*ELASTIC", line_no, loc) {
             return Ok(());
         }
         if f.len() < 2 {
@@ -189,6 +272,7 @@ impl Parser {
             young,
             poisson,
             density: None,
+            expansion: None,
         };
         m.validate().map_err(|e| self.err(loc, e.to_string()))?;
         self.materials[material].elastic = Some((young, poisson));
@@ -216,6 +300,7 @@ impl Parser {
                         young,
                         poisson,
                         density: m.density.map(|d| d.0),
+                        expansion: m.expansion.map(|a| a.0),
                     });
                 }
                 None => dropped.push((m.loc, m.name.clone())),

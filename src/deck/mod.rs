@@ -16,7 +16,8 @@
 //! | `lexer.rs` | lines, comments, keyword lines and their continuation, parameters, `*INCLUDE`, labels, DOFs, reals; file:line of errors |
 //! | `nodes_elements.rs` | `*NODE`, `*ELEMENT` |
 //! | `sets.rs` | `*NSET`, `*ELSET` (`GENERATE`), `NALL`/`EALL` |
-//! | `materials.rs` | `*MATERIAL`, `*ELASTIC`, `*DENSITY`, `*SOLID SECTION` |
+//! | `materials.rs` | `*MATERIAL`, `*ELASTIC`, `*DENSITY`, `*EXPANSION`, `*SOLID SECTION` |
+//! | `temperature.rs` | `*INITIAL CONDITIONS, TYPE=TEMPERATURE`, `*TEMPERATURE` |
 //! | `step.rs` | `*STEP`, `*STATIC`, `*END STEP`, `*BOUNDARY`, `*CLOAD`, `*DLOAD` (Pn, GRAV, CENTRIF) |
 //! | `contact.rs` | `*SURFACE`, `*SURFACE INTERACTION`, `*SURFACE BEHAVIOR`, `*FRICTION`, `*CONTACT PAIR` |
 //! | `coupling.rs` | `*RIGID BODY`, `*COUPLING`, `*KINEMATIC` |
@@ -48,6 +49,7 @@ mod records;
 mod resolve;
 mod sets;
 mod step;
+mod temperature;
 mod writer;
 
 #[cfg(test)]
@@ -123,6 +125,7 @@ impl Parser {
             boundary_seen: false,
             cload_seen: false,
             dload_seen: false,
+            initial_temperature: None,
         }
     }
 
@@ -150,6 +153,9 @@ impl Parser {
             }
             Block::Density { lines: 0, loc, .. } => {
                 return Err(self.err(loc, "*DENSITY without data line (rho)"))
+            }
+            Block::Expansion { lines: 0, loc, .. } => {
+                return Err(self.err(loc, "*EXPANSION without data line (alpha)"))
             }
             Block::Friction { lines: 0, loc, .. } => {
                 return Err(self.err(loc, "*FRICTION without data line (mu[, stick slope])"))
@@ -202,6 +208,9 @@ impl Parser {
             "MATERIAL" => self.kw_material(&card)?,
             "ELASTIC" => self.kw_elastic(&card)?,
             "DENSITY" => self.kw_density(&card)?,
+            "EXPANSION" => self.kw_expansion(&card)?,
+            "INITIAL CONDITIONS" => self.kw_initial_conditions(&card)?,
+            "TEMPERATURE" => self.kw_temperature(&card)?,
             "SOLID SECTION" => self.kw_section(&card)?,
             "SURFACE" => self.kw_surface(&card)?,
             "SURFACE INTERACTION" => self.kw_interaction(&card)?,
@@ -289,6 +298,13 @@ impl Parser {
                 *lines += 1;
                 self.density_line(*material, *lines, &f, loc)?;
             }
+            Block::Expansion {
+                material, lines, ..
+            } => {
+                *lines += 1;
+                self.expansion_line(*material, *lines, &f, loc)?;
+            }
+            Block::Temperature { initial } => self.temperature_line(*initial, &f, loc)?,
             Block::Boundary => self.boundary_line(&f, loc)?,
             Block::Cload => self.cload_line(&f, loc)?,
             Block::Dload => self.dload_line(&f, loc)?,

@@ -37,4 +37,7 @@ pub(super) struct Parser {
     pub(super) boundary_seen: bool,
     pub(super) cload_seen: bool,
     pub(super) dload_seen: bool,
+    /// The first `*INITIAL CONDITIONS, TYPE=TEMPERATURE` (the deck has a
+    /// thermal load: ccx's ithermal).
+    pub(super) initial_temperature: Option<super::records::Loc>,
 }

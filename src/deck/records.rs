@@ -76,6 +76,12 @@ pub(super) struct RawMaterial {
     pub(super) elastic: Option<(f64, f64)>,
     /// ρ of `*DENSITY` and its line.
     pub(super) density: Option<(f64, Loc)>,
+    /// α of `*EXPANSION` and its line.
+    pub(super) expansion: Option<(f64, Loc)>,
+    /// The first further (temperature) line of its `*ELASTIC` or
+    /// `*DENSITY`: a temperature-dependent constant, refused with a
+    /// thermal load.
+    pub(super) temperature_table: Option<Loc>,
     pub(super) loc: Loc,
 }
 pub(super) struct RawElement {
@@ -166,6 +172,14 @@ pub(super) enum Cmd {
         force: crate::fem::model::BodyForce,
         loc: Loc,
     },
+    /// A data line of `*INITIAL CONDITIONS, TYPE=TEMPERATURE` (`initial`:
+    /// sets T0 and T) or of the step's `*TEMPERATURE` (sets T).
+    Temperature {
+        target: Target,
+        value: f64,
+        initial: bool,
+        loc: Loc,
+    },
     /// `*RIGID BODY` number `coupling`: its node or element set is taken as
     /// it stands at this point of the deck.
     Coupling {
@@ -211,6 +225,16 @@ pub(super) enum Block {
         material: usize,
         lines: usize,
         loc: Loc,
+    },
+    Expansion {
+        material: usize,
+        lines: usize,
+        loc: Loc,
+    },
+    /// Data lines `node or set, temperature` of `*INITIAL CONDITIONS,
+    /// TYPE=TEMPERATURE` (`initial`) or `*TEMPERATURE`.
+    Temperature {
+        initial: bool,
     },
     /// Keyword without data lines: a data line is an error.
     NoData(String),

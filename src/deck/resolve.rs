@@ -2,7 +2,7 @@
 //!
 //! Element connectivity is resolved (so `*NODE` may follow `*ELEMENT`), then
 //! the commands recorded while reading (set contents, sections, `*BOUNDARY`,
-//! `*CLOAD`, `*DLOAD`, the sets of `*RIGID BODY`, surface items) are
+//! `*CLOAD`, `*DLOAD`, temperatures, the sets of `*RIGID BODY`, surface items) are
 //! replayed in file order; the couplings and the contact definition are
 //! checked and built, materials assigned, the sets stored in the mesh, and
 //! the couplings' reference nodes leave the mesh. Every error names the line
@@ -16,7 +16,9 @@ use super::sets::IdxSet;
 use super::Deck;
 use crate::error::Result;
 use crate::fem::contact_definition::SurfaceKind;
-use crate::fem::model::{BodyForce, BodyLoad, Dirichlet, Model, NodalForce, Pressure};
+use crate::fem::model::{
+    BodyForce, BodyLoad, Dirichlet, Model, NodalForce, Pressure, Temperatures,
+};
 
 impl Parser {
     /// Resolves everything recorded in phase 1 and builds the model.
@@ -65,6 +67,9 @@ impl Parser {
         let mut body_loc: Vec<Loc> = Vec::new();
         // (element, centrifugal?) → the line of its GRAV / CENTRIF
         let mut body_seen: HashMap<(usize, bool), Loc> = HashMap::new();
+        // T0 and T of each node (None: not given, 0 as in ccx)
+        let mut t0: Vec<Option<f64>> = vec![None; nn];
+        let mut t1: Vec<Option<f64>> = vec![None; nn];
         let mut surface_faces: Vec<Vec<(usize, usize)>> = vec![Vec::new(); self.surfaces.len()];
         let mut surface_nodes: Vec<Vec<usize>> = vec![Vec::new(); self.surfaces.len()];
         for cmd in std::mem::take(&mut self.cmds) {
@@ -244,6 +249,25 @@ impl Parser {
                         });
                     }
                 }
+                Cmd::Temperature {
+                    target,
+                    value,
+                    initial,
+                    loc,
+                } => {
+                    let kw = if initial {
+                        "*INITIAL CONDITIONS"
+                    } else {
+                        "*TEMPERATURE"
+                    };
+                    let nodes = self.target_nodes(&nsets, target, loc)?;
+                    for node in self.nonempty(nodes, target, kw, loc)? {
+                        if initial {
+                            t0[node] = Some(value);
+                        }
+                        t1[node] = Some(value);
+                    }
+                }
                 Cmd::Coupling { coupling } => {
                     let raw = &self.couplings[coupling];
                     let loc = raw.loc;
@@ -373,6 +397,45 @@ impl Parser {
             }
         }
 
+        // A thermal load takes the elastic constants at one temperature:
+        // ccx would interpolate a temperature table at each point's T.
+        if let Some(initial_loc) = self.initial_temperature {
+            let mut used = vec![false; self.materials.len()];
+            for m in elem_mat.iter().flatten() {
+                used[*m] = true;
+            }
+            for (m, raw) in self.materials.iter().enumerate() {
+                if let (true, Some(loc)) = (used[m], raw.temperature_table) {
+                    return Err(self.err(
+                        loc,
+                        format!(
+                            "material {} has temperature-dependent constants (several *ELASTIC or *DENSITY lines) and the deck has a thermal load: not supported (ccx would take them at each point's temperature); give one line",
+                            raw.name
+                        ),
+                    ));
+                }
+            }
+            // every node of an element with an expansion coefficient needs
+            // its T0: ccx would take its placeholder 1.2357111319 there
+            for (e, el) in self.mesh.elements.iter().enumerate() {
+                if materials[element_material[e]].expansion.is_none() {
+                    continue;
+                }
+                if let Some(&n) = el.nodes.iter().find(|&&n| t0[n].is_none()) {
+                    let missing = (0..nn).filter(|&n| t0[n].is_none()).count();
+                    return Err(self.err(
+                        initial_loc,
+                        format!(
+                            "node {} of element {} (material {} with *EXPANSION) has no initial temperature ({missing} node(s) in all have none): ccx would silently take its placeholder value 1.2357111319 as T0 (and as T without a *TEMPERATURE); give these nodes an *INITIAL CONDITIONS, TYPE=TEMPERATURE line",
+                            self.mesh.node_labels[n],
+                            el.label,
+                            materials[element_material[e]].name
+                        ),
+                    ));
+                }
+            }
+        }
+
         // Sets into the mesh (sorted once), NALL/EALL implicit.
         for (id, s) in nsets.into_iter().enumerate() {
             if let Some(s) = s {
@@ -452,6 +515,15 @@ impl Parser {
             }
         }
 
+        // the temperatures of the mesh nodes (a reference node's has no effect)
+        let temperatures = self.initial_temperature.map(|_| {
+            let keep: Vec<usize> = (0..nn).filter(|&n| !dropped[n]).collect();
+            Temperatures {
+                initial: keep.iter().map(|&n| t0[n].unwrap_or(0.0)).collect(),
+                current: keep.iter().map(|&n| t1[n].unwrap_or(0.0)).collect(),
+            }
+        });
+
         let unused = self.mesh.used_nodes().iter().filter(|u| !**u).count();
         if unused > 0 {
             self.warn(
@@ -470,6 +542,7 @@ impl Parser {
                 forces,
                 pressures,
                 body_loads,
+                temperatures,
                 couplings,
                 contact,
             },

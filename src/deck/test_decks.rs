@@ -223,6 +223,7 @@ pub(super) fn sample_model() -> Model {
             },
         ],
         body_loads: Vec::new(),
+        temperatures: None,
         couplings: Vec::new(),
         contact: Default::default(),
     }

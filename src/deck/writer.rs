@@ -6,8 +6,10 @@
 //! SECTION` per material, the contact definition, rigid couplings as `*RIGID
 //! BODY` with two fresh reference nodes each, and one `*STEP`/`*STATIC` with
 //! `*BOUNDARY`, `*CLOAD`, `*DLOAD` (pressures, then GRAV and CENTRIF per
-//! element; materials with a density get `*DENSITY`) and a displacement
-//! `*NODE PRINT`. Names
+//! element; materials with a density get `*DENSITY`), nodal temperatures
+//! as `*INITIAL CONDITIONS, TYPE=TEMPERATURE` (T0, every node) and a
+//! `*TEMPERATURE` in the step (T, every node), `*EXPANSION` for materials
+//! with an expansion coefficient, and a displacement `*NODE PRINT`. Names
 //! are upper-cased and made deck-safe and unique; labels must fit ccx's
 //! 32-bit integers; reals are written in at most 20 characters (see
 //! [`super::real`]).
@@ -206,6 +208,10 @@ pub fn format_deck(model: &Model) -> Result<String> {
             w!("*DENSITY");
             w!("{}", fmt_real(rho));
         }
+        if let Some(alpha) = mat.expansion {
+            w!("*EXPANSION");
+            w!("{}", fmt_real(alpha));
+        }
     }
     for (set, m) in &sections {
         w!(
@@ -227,8 +233,20 @@ pub fn format_deck(model: &Model) -> Result<String> {
             (q, k - 2)
         }
     };
+    if let Some(t) = &model.temperatures {
+        w!("*INITIAL CONDITIONS, TYPE=TEMPERATURE");
+        for (label, v) in mesh.node_labels.iter().zip(&t.initial) {
+            w!("{label}, {}", fmt_real(*v));
+        }
+    }
     w!("*STEP");
     w!("*STATIC");
+    if let Some(t) = &model.temperatures {
+        w!("*TEMPERATURE");
+        for (label, v) in mesh.node_labels.iter().zip(&t.current) {
+            w!("{label}, {}", fmt_real(*v));
+        }
+    }
     let coupling_fixed = model.couplings.iter().any(|cp| cp.free.contains(&false));
     if !model.dirichlet.is_empty() || coupling_fixed {
         w!("*BOUNDARY");
@@ -486,6 +504,18 @@ fn check_writable(model: &Model) -> Result<()> {
             && p.value.is_finite();
         if !ok {
             return bad(format!("invalid pressure {p:?}"));
+        }
+    }
+    if let Some(t) = &model.temperatures {
+        if t.initial.len() != nn
+            || t.current.len() != nn
+            || t.initial.iter().chain(&t.current).any(|v| !v.is_finite())
+        {
+            return bad(format!(
+                "temperatures: {} initial and {} current values for {nn} nodes, all finite",
+                t.initial.len(),
+                t.current.len()
+            ));
         }
     }
     for b in &model.body_loads {
@@ -779,6 +809,29 @@ mod tests {
         }
         // a body load on a material without density is not writable
         m.materials[0].density = None;
+        assert!(format_deck(&m).is_err());
+    }
+
+    /// Expansion coefficients and the nodal temperatures T0, T are written
+    /// and read back exactly (T0 already on ccx's 1e-6 grid); a wrong
+    /// number of temperatures is not writable.
+    #[test]
+    fn thermal_round_trip() {
+        use crate::fem::model::Temperatures;
+        let mut m = sample_model();
+        m.materials[0].expansion = Some(1.15e-5);
+        let nn = m.mesh.node_count();
+        let t = Temperatures {
+            initial: (0..nn).map(|i| 20.0 + 0.5 * i as f64).collect(),
+            current: (0..nn).map(|i| -40.0 + 7.25 * i as f64).collect(),
+        };
+        m.temperatures = Some(t.clone());
+        let text = format_deck(&m).unwrap();
+        let p = parse(&text).unwrap().model;
+        assert_eq!(p.materials[0].expansion, Some(1.15e-5));
+        assert_eq!(p.materials[1].expansion, None);
+        assert_eq!(p.temperatures, Some(t));
+        m.temperatures.as_mut().unwrap().current.pop();
         assert!(format_deck(&m).is_err());
     }
 

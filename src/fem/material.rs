@@ -17,6 +17,11 @@ pub struct Material {
     /// needed only by body loads (gravity, centrifugal).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub density: Option<f64>,
+    /// Isotropic thermal expansion coefficient α (1/K), CalculiX's
+    /// `*EXPANSION`; the thermal strain is α (T − T0) I where the model has
+    /// temperatures.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub expansion: Option<f64>,
 }
 
 impl Material {
@@ -27,6 +32,7 @@ impl Material {
             young,
             poisson,
             density: None,
+            expansion: None,
         };
         m.validate()?;
         Ok(m)
@@ -50,6 +56,14 @@ impl Material {
             if !rho.is_finite() || rho <= 0.0 {
                 return Err(FlankError::Material(format!(
                     "material '{}': density must be positive and finite, got {rho}",
+                    self.name
+                )));
+            }
+        }
+        if let Some(alpha) = self.expansion {
+            if !alpha.is_finite() {
+                return Err(FlankError::Material(format!(
+                    "material '{}': expansion coefficient must be finite, got {alpha}",
                     self.name
                 )));
             }

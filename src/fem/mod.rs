@@ -5,7 +5,7 @@
 //! (Dirichlet elimination, rigid hub coupling) → `solver` (ordering,
 //! sparse Cholesky; `substructuring`: the two-domain factorization) →
 //! `refinement` (mixed-precision CG to f64 round-off) → `stress`
-//! (recovery at nodes). `mesh` holds nodes, elements and sets, `model`
+//! (recovery at nodes); `thermal` the initial strains of nodal temperatures. `mesh` holds nodes, elements and sets, `model`
 //! what a deck defines (the mesh, materials, loads, constraints), `contact_definition` its contact surfaces and pairs (the
 //! contact *solution* is [`crate::contact`]'s).
 
@@ -25,3 +25,4 @@ pub mod solver;
 pub mod static_analysis;
 pub mod stress;
 pub mod substructuring;
+pub mod thermal;

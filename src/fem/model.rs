@@ -81,6 +81,17 @@ pub struct BodyLoad {
     pub force: BodyForce,
 }
 
+/// Nodal temperatures of a thermal load (CalculiX's `*INITIAL CONDITIONS,
+/// TYPE=TEMPERATURE` for `initial` = T0 and the step's `*TEMPERATURE` for
+/// `current` = T), one value per mesh node. Elements whose material has an
+/// expansion coefficient α get the initial strain α (T − T0) I
+/// ([`crate::fem::thermal`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Temperatures {
+    pub initial: Vec<f64>,
+    pub current: Vec<f64>,
+}
+
 /// Rigid hub coupling (like Abaqus `*COUPLING` + `*KINEMATIC`): every node of
 /// `nodes` follows the rigid-body motion u = t + θ × (x − x_ref) of a reference
 /// point. Each of the six reference DOFs (tx, ty, tz, rx, ry, rz) is either
@@ -132,6 +143,8 @@ pub struct Model {
     pub pressures: Vec<Pressure>,
     /// Gravity and centrifugal body loads, per element.
     pub body_loads: Vec<BodyLoad>,
+    /// Initial and current nodal temperatures (thermal strains), if any.
+    pub temperatures: Option<Temperatures>,
     pub couplings: Vec<RigidCoupling>,
     /// Contact surfaces, interactions and pairs (empty: no contact).
     pub contact: crate::fem::contact_definition::ContactDefinition,

@@ -23,6 +23,7 @@ use crate::fem::stress::{recover, Recovery};
 use crate::fem::substructuring::{
     Substructure, SubstructureStats, TwoDomainCholesky, SUBSTRUCTURE_MAX_SEPARATOR_DOFS,
 };
+use crate::fem::thermal::{has_thermal_strain, thermal_load_vector, validate_temperatures};
 
 /// How to solve.
 #[derive(Clone, Debug)]
@@ -110,6 +111,8 @@ pub struct StaticSolution {
     /// Displacements (node-major, mm).
     pub displacement: Vec<f64>,
     /// Reaction forces f_int − f_ext (node-major, N); non-zero only at constrained DOFs.
+    /// f_ext: the mechanical loads (forces, pressures, body loads); a thermal
+    /// load enters through f_int = ∫ Bᵀ D (ε − ε_th) dV instead.
     pub reaction: Option<Vec<f64>>,
     pub recovery: Option<Recovery>,
     /// Motion (tx, ty, tz, rx, ry, rz) of each rigid coupling's reference point.
@@ -135,6 +138,7 @@ pub fn validate(model: &Model) -> Result<(), FlankError> {
     if model.mesh.elements.is_empty() {
         return Err(FlankError::Model("the model has no elements".into()));
     }
+    validate_temperatures(model)?;
     for (e, &m) in model.element_material.iter().enumerate() {
         if m >= model.materials.len() {
             return Err(FlankError::Model(format!(
@@ -493,9 +497,17 @@ fn solve_static_in_pool(
     // the function)
     let mut pattern = assembly.into_pattern();
 
-    // reduced right-hand side: Tᵀ f + coupling loads − Tᵀ K u₀
+    // reduced right-hand side: Tᵀ (f + f_th) + coupling loads − Tᵀ K u₀;
+    // the reactions are f_int − f with f the mechanical loads (f_int holds
+    // the thermal part: σ = D (ε − ε_th))
     let f_full = load_vector(model)?;
-    let mut b = dofs.restrict(&f_full);
+    let mut b = if has_thermal_strain(model) {
+        let f_th = thermal_load_vector(model)?;
+        let total: Vec<f64> = f_full.iter().zip(&f_th).map(|(a, b)| a + b).collect();
+        dofs.restrict(&total)
+    } else {
+        dofs.restrict(&f_full)
+    };
     for (c, cp) in model.couplings.iter().enumerate() {
         for k in 0..6 {
             if let Some(r) = dofs.coupling_dofs[c][k] {

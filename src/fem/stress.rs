@@ -6,6 +6,9 @@
 //! triangle × quadratic-in-ζ through the wedge's 9 points), then averaged over
 //! the elements meeting at a node. The same pass integrates the internal
 //! forces f_int = Σ_e ∫ Bᵀσ dV, from which reactions follow as f_int − f_ext.
+//! With thermal strains the stress is σ = D (ε − ε_th) (as ccx prints it), so
+//! f_int is K u minus the thermal load and the reactions stay f_int − f_ext
+//! with f_ext the mechanical loads.
 
 use std::sync::OnceLock;
 
@@ -15,6 +18,7 @@ use crate::error::FlankError;
 use crate::fem::element::{gradients, inv3, ReferenceElement, HEX20_NODES, WEDGE15_NODES};
 use crate::fem::mesh::ElementKind;
 use crate::fem::model::Model;
+use crate::fem::thermal::element_thermal_strains;
 
 /// Nodal results of the stress recovery.
 #[derive(Clone, Debug)]
@@ -127,7 +131,9 @@ pub struct PointStresses {
     pub grads: Vec<[f64; 3]>,
 }
 
-/// Stresses at the integration points of element `e` for the full displacement `u`.
+/// Stresses σ = D (ε − ε_th) at the integration points of element `e` for
+/// the full displacement `u` (ε_th: [`crate::fem::thermal`], zero without
+/// temperatures).
 pub fn element_point_stresses(
     model: &Model,
     e: usize,
@@ -141,6 +147,10 @@ pub fn element_point_stresses(
     gradients(re, &x, &mut grads, &mut dvol).map_err(|j| j.into_error(el.label, el.kind))?;
     let mat = &model.materials[model.element_material[e]];
     let n = el.nodes.len();
+    // σ = D (ε − ε_th): the isotropic thermal strain ε_th I takes
+    // (3λ + 2μ) ε_th off the normal stresses
+    let thermal = element_thermal_strains(model, e);
+    let (lambda, mu) = mat.lame();
     let sig = (0..dvol.len())
         .map(|g| {
             let mut h = [[0.0; 3]; 3];
@@ -153,7 +163,14 @@ pub fn element_point_stresses(
                     }
                 }
             }
-            mat.stress_from_gradient(&h)
+            let mut s = mat.stress_from_gradient(&h);
+            if let Some(eth) = &thermal {
+                let st = (3.0 * lambda + 2.0 * mu) * eth[g];
+                for v in s.iter_mut().take(3) {
+                    *v -= st;
+                }
+            }
+            s
         })
         .collect();
     Ok(PointStresses {

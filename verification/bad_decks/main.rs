@@ -495,3 +495,75 @@ fn rigid_coupling_errors() {
         &["free rigid-body mode", "rotation about z"],
     );
 }
+
+/// The unit cube heated from T0 = 20 to 120 (α = 1.2e-5, base held, the
+/// pressure kept); `edit` breaks one thing.
+fn thermal(edit: impl Fn(String) -> String) -> String {
+    let s = deck(|s| {
+        s.replace(
+            "210000., 0.3\n",
+            "210000., 0.3\n*EXPANSION\n1.2e-5\n",
+        )
+        .replace(
+            "*STEP\n*STATIC\n",
+            "*INITIAL CONDITIONS, TYPE=TEMPERATURE\nNALL, 20.\n*STEP\n*STATIC\n*TEMPERATURE\nNALL, 120.\n",
+        )
+    });
+    edit(s)
+}
+
+#[test]
+fn thermal_load_errors() {
+    let (ok, stderr) = run("valid_thermal", &thermal(|s| s));
+    assert!(ok, "the thermal deck must solve:\n{stderr}");
+    let line = |text: &str, needle: &str| {
+        let n = text.lines().position(|l| l.contains(needle)).unwrap() + 1;
+        format!(".inp:{n}:")
+    };
+    let t = thermal(|s| s.replace("*INITIAL CONDITIONS, TYPE=TEMPERATURE\nNALL, 20.\n", ""));
+    expect_error(
+        "thermal_no_initial",
+        &t,
+        &[&line(&t, "*TEMPERATURE"), "without *initial conditions"],
+    );
+    let t = thermal(|s| s.replace("1.2e-5\n", "1.2e-5, 20.\n1.3e-5, 300.\n"));
+    expect_error(
+        "thermal_alpha_table",
+        &t,
+        &[&line(&t, "1.3e-5, 300."), "temperature-dependent expansion"],
+    );
+    let t = thermal(|s| s.replace("TYPE=TEMPERATURE", "TYPE=STRESS"));
+    expect_error(
+        "thermal_initial_stress",
+        &t,
+        &[&line(&t, "TYPE=STRESS"), "TYPE=STRESS is not supported"],
+    );
+    let t = thermal(|s| s.replace("NALL, 20.\n", "BASE, 20.\n"));
+    expect_error(
+        "thermal_missing_t0",
+        &t,
+        &[
+            &line(&t, "*INITIAL CONDITIONS"),
+            "no initial temperature",
+            "1.2357111319",
+        ],
+    );
+    // a thermal load on a contact deck: the contact solver refuses it
+    let t = contact_deck(0.0, &format!("*TEMPERATURE\nNALL, 120.\n{PUSH}"), HARD)
+        .replace("210000., 0.3\n", "210000., 0.3\n*EXPANSION\n1.2e-5\n")
+        .replace(
+            "*STEP\n",
+            "*INITIAL CONDITIONS, TYPE=TEMPERATURE\nNALL, 20.\n*STEP\n",
+        );
+    expect_error(
+        "thermal_with_contact",
+        &t,
+        &["thermal strains", "contact are not supported"],
+    );
+    let t = thermal(|s| s.replace("*TEMPERATURE\n", "*TEMPERATURE, AMPLITUDE=RAMP\n"));
+    expect_error(
+        "thermal_amplitude",
+        &t,
+        &[&line(&t, "AMPLITUDE=RAMP"), "AMPLITUDE"],
+    );
+}
