@@ -486,7 +486,11 @@ mod tests {
         assert_eq!(default_rack_tip_radius(1.25, 20f64.to_radians()), 0.38);
         // ISO 53 profile D (h_fP* = 1.4, ρ_fP* = 0.39) is 0.99 of its full radius
         let d = rack_tip_radius_limit(1.4, 20f64.to_radians());
-        assert!((0.39 / d - FULL_ROOT_RADIUS_SHARE).abs() < 0.002, "{}", 0.39 / d);
+        assert!(
+            (0.39 / d - FULL_ROOT_RADIUS_SHARE).abs() < 0.002,
+            "{}",
+            0.39 / d
+        );
     }
 
     #[test]

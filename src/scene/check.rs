@@ -7,10 +7,10 @@ use serde::Serialize;
 
 use super::validated::{Gears, PairKind, RackTipRadiusSource, Scene};
 use crate::error::FlankError;
+use crate::geometry::involute::rack_tip_radius_limit;
 use crate::geometry::iso6336::ToothStiffness;
 use crate::geometry::iso6336_3::NominalRootStress;
 use crate::geometry::pair::PairReport;
-use crate::geometry::involute::rack_tip_radius_limit;
 use crate::geometry::{GearSpec, Hand};
 
 /// The check of a scene's pair (`flank check` prints it as JSON).

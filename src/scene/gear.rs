@@ -11,13 +11,12 @@ use toml::Spanned;
 use super::involute::{base_diameter, root_diameter, tip_diameter, tip_thickness};
 use super::location::{Cx, Res};
 use super::pair::{CylindricalKind, GearSpans};
-use crate::geometry::micro::{MicroGeometry, Relief, ReliefShape};
 use super::validated::RackTipRadiusSource;
 use crate::error::FlankError;
 use crate::geometry::involute::{
-    default_rack_tip_radius, rack_tip_radius_limit, undercut_limit, GearGeometry,
-    ISO53_TIP_RADIUS,
+    default_rack_tip_radius, rack_tip_radius_limit, undercut_limit, GearGeometry, ISO53_TIP_RADIUS,
 };
+use crate::geometry::micro::{MicroGeometry, Relief, ReliefShape};
 use crate::geometry::{GearSpec, Hand, RackProfile};
 
 #[derive(Deserialize)]
@@ -530,7 +529,10 @@ speed_rpm = 1500.0
                 (&c.pair.gear, c.rack_tip_radius_source[1]),
             ] {
                 let rho = g.rack.tip_radius;
-                assert!(rho > 0.0 && rho < limit, "α_n = {alpha_deg}°: ρ = {rho}, limit {limit}");
+                assert!(
+                    rho > 0.0 && rho < limit,
+                    "α_n = {alpha_deg}°: ρ = {rho}, limit {limit}"
+                );
                 if ISO53_TIP_RADIUS < FULL_ROOT_RADIUS_SHARE * limit {
                     assert_eq!(rho, ISO53_TIP_RADIUS, "α_n = {alpha_deg}°");
                     assert_eq!(source, RackTipRadiusSource::DefaultIso53);
@@ -540,7 +542,11 @@ speed_rpm = 1500.0
                 }
             }
             // the 20° value does not fit from 25° on: these angles were refused
-            assert_eq!(ISO53_TIP_RADIUS > limit, alpha_deg >= 25.0, "α_n = {alpha_deg}°");
+            assert_eq!(
+                ISO53_TIP_RADIUS > limit,
+                alpha_deg >= 25.0,
+                "α_n = {alpha_deg}°"
+            );
             let report = crate::scene::check::check(&scene)
                 .unwrap_or_else(|e| panic!("α_n = {alpha_deg}°: {e}"));
             let crate::scene::check::PairCheck::Cylindrical(r) = report else {
@@ -570,8 +576,14 @@ speed_rpm = 1500.0
         assert_eq!(d.pair.pinion.rack, RackProfile::default());
         assert_eq!(d.pair.pinion.rack.tip_radius, 0.38);
         assert_eq!(g.rack_tip_radius_source[0], RackTipRadiusSource::Scene);
-        assert_eq!(d.rack_tip_radius_source[0], RackTipRadiusSource::DefaultIso53);
-        assert_eq!(g.rack_tip_radius_source[1], RackTipRadiusSource::DefaultIso53);
+        assert_eq!(
+            d.rack_tip_radius_source[0],
+            RackTipRadiusSource::DefaultIso53
+        );
+        assert_eq!(
+            g.rack_tip_radius_source[1],
+            RackTipRadiusSource::DefaultIso53
+        );
     }
 
     /// An explicit tip radius that does not fit is refused at its own line
@@ -592,7 +604,13 @@ speed_rpm = 1500.0
         // a deeper rack's default follows its addendum
         let t = spur_at(25.0, "rack = { addendum = 1.3 }");
         let s = parse(&t).unwrap();
-        let rho = s.cylindrical("this test").unwrap().pair.pinion.rack.tip_radius;
+        let rho = s
+            .cylindrical("this test")
+            .unwrap()
+            .pair
+            .pinion
+            .rack
+            .tip_radius;
         let want = FULL_ROOT_RADIUS_SHARE * rack_tip_radius_limit(1.3, 25f64.to_radians());
         assert!((rho - want).abs() < 1e-15, "{rho} vs {want}");
     }
@@ -608,7 +626,11 @@ speed_rpm = 1500.0
             &["pointed", "`pinion.rack`", "1.1217"],
         );
         let t = spur_at(20.0, "rack = { addendum = 2.2 }");
-        expect_err(&t, line_of(&t, "rack = "), &["pointed", "`pinion.rack.addendum` = 2.2"]);
+        expect_err(
+            &t,
+            line_of(&t, "rack = "),
+            &["pointed", "`pinion.rack.addendum` = 2.2"],
+        );
     }
 
     /// Undercut and pointed-tip refusals name the shift or the tip diameter at
@@ -616,7 +638,11 @@ speed_rpm = 1500.0
     #[test]
     fn gear_checks_at_the_key_that_changes_them() {
         // x_min of 24 teeth at 14.5° is 0.212: x = 0.1 undercuts
-        let t = edit(&spur_at(14.5, ""), "profile_shift = 0.4", "profile_shift = 0.1");
+        let t = edit(
+            &spur_at(14.5, ""),
+            "profile_shift = 0.4",
+            "profile_shift = 0.1",
+        );
         let t = edit(&t, "profile_shift = -0.4", "profile_shift = -0.1");
         expect_err(
             &t,
@@ -626,7 +652,11 @@ speed_rpm = 1500.0
         // no shift given: at the tooth count
         let t = edit(&spur_at(14.5, ""), "profile_shift = 0.4\n", "");
         let t = edit(&t, "profile_shift = -0.4\n", "");
-        expect_err(&t, line_of(&t, "teeth = 24"), &["undercut", "`pinion.profile_shift`"]);
+        expect_err(
+            &t,
+            line_of(&t, "teeth = 24"),
+            &["undercut", "`pinion.profile_shift`"],
+        );
     }
 
     #[test]
