@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 
-use crate::cli::common::{print_wet_dry_loop, SectorArgs};
+use crate::cli::common::{contact_ratio_line, print_wet_dry_loop, SectorArgs};
 use flank::ltca::summary::{KindSummary, LtcaSummary};
 
 #[derive(clap::Args)]
@@ -205,7 +205,6 @@ fn print_cycle(s: &LtcaSummary) {
             }
         }
         KindSummary::Cylindrical(c) => {
-            let or_nan = |x: Option<f64>| x.unwrap_or(f64::NAN);
             println!(
                 "{} positions, K = {}: {:.4} s for the cycle ({:.2} ms per position); compliance {:.1} s",
                 s.positions,
@@ -215,12 +214,14 @@ fn print_cycle(s: &LtcaSummary) {
                 c.setup.compliance_s
             );
             println!(
-                "contact ratio {:.4} (kinematic ε_α {:.4}); single-pair force {:.1} N vs T/(r_b1 cos β_b) = {:.1} N ({:+.2} %); max KKT residual {:.1e}",
-                or_nan(c.contact_ratio),
-                c.contact_ratio_kinematic,
-                or_nan(c.single_pair_force_n),
-                c.nominal_force_n,
-                100.0 * or_nan(c.single_pair_force_error),
+                "{}; max KKT residual {:.1e}",
+                contact_ratio_line(
+                    c.contact_ratio,
+                    c.contact_ratio_kinematic,
+                    c.single_pair_force_n,
+                    c.nominal_force_n,
+                    c.single_pair_force_error,
+                ),
                 s.max_kkt
             );
         }

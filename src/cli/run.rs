@@ -6,7 +6,7 @@ use anyhow::{Context, Result};
 
 use flank::mesh_cycle::summary::{BevelRun, CylindricalRun, RunKind, RunSummary};
 
-use crate::cli::common::{print_wet_dry_loop, SectorArgs};
+use crate::cli::common::{contact_ratio_line, print_wet_dry_loop, SectorArgs};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -198,14 +198,15 @@ fn print_cylindrical(s: &RunSummary, c: &CylindricalRun) {
         shown(s.time_per_position_s),
         shown(s.peak_memory_mb)
     );
-    let opt = |v: Option<f64>| shown(v.unwrap_or(f64::NAN));
     println!(
-        "contact ratio {:.4} (kinematic ε_α {:.4}); single-pair force {:.1} N vs T/(r_b1 cos β_b) = {:.1} N ({:+.2} %); TE peak-to-peak {:.2} µrad",
-        opt(c.contact_ratio),
-        shown(c.contact_ratio_kinematic),
-        opt(c.single_pair_force_n),
-        shown(c.nominal_force_n),
-        100.0 * opt(c.single_pair_force_error),
+        "{}; TE peak-to-peak {:.2} µrad",
+        contact_ratio_line(
+            c.contact_ratio,
+            shown(c.contact_ratio_kinematic),
+            c.single_pair_force_n,
+            shown(c.nominal_force_n),
+            c.single_pair_force_error,
+        ),
         shown(s.te_peak_to_peak_urad)
     );
     // the law as summary.json writes it

@@ -227,8 +227,41 @@ pub fn form_radius(g: &GearSpec) -> Result<f64> {
 /// Largest rack tip radius ρ_fP* that fits the rack tooth tip (the two roundings touch):
 /// ρ_max* = (π/4 − h_fP* tan α_n) cos α_n / (1 − sin α_n).
 pub fn max_rack_tip_radius(g: &GearSpec) -> f64 {
-    let an = g.normal_pressure_angle;
-    (PI / 4.0 - g.rack.addendum * an.tan()) * an.cos() / (1.0 - an.sin())
+    rack_tip_radius_limit(g.rack.addendum, g.normal_pressure_angle)
+}
+
+/// [`max_rack_tip_radius`] of a rack of addendum h_fP* (×m_n) at α_n (rad).
+///
+/// The generating rack's tooth (s_P = e_P = π/2 m_n at the datum line) has the
+/// half-width π/4 − h_fP* tan α_n at its tip line. A rounding tangent to the tip
+/// line and to the flank (which meets the tip line at 90° + α_n inside the tooth)
+/// touches the tip line ρ tan(45° − α_n/2) = ρ (1 − sin α_n)/cos α_n from the
+/// corner; both roundings fit while that is at most the half-width, which gives
+/// the formula (full root radius at equality). Negative: the rack tooth is pointed.
+pub fn rack_tip_radius_limit(addendum: f64, alpha_n: f64) -> f64 {
+    (PI / 4.0 - addendum * alpha_n.tan()) * alpha_n.cos() / (1.0 - alpha_n.sin())
+}
+
+/// ISO 53:1998 profile A's rack tip radius ρ_fP* = 0.38 (stated for α_P = 20°).
+pub const ISO53_TIP_RADIUS: f64 = 0.38;
+
+/// Share of [`rack_tip_radius_limit`] the default tip radius takes where 0.38
+/// does not fit: a full-radius root less 1 %, leaving the root a short flat land
+/// (the meshers need one). ISO 53 profile D is cut the same way at 20°:
+/// ρ_fP* = 0.39 on h_fP* = 1.4, where the full radius is 0.394.
+pub const FULL_ROOT_RADIUS_SHARE: f64 = 0.99;
+
+/// Default rack tip radius ρ_fP* (×m_n) for a rack of addendum h_fP* at α_n (rad):
+/// ρ_fP* = min(0.38, 0.99 ρ_max*) with ρ_max* from [`rack_tip_radius_limit`]:
+/// ISO 53 profile A's 0.38 where it leaves the root its land, otherwise nearly the
+/// full root radius. ISO 53 gives ρ_fP* for α_P = 20° only; at 20° and h_fP* = 1.25,
+/// ρ_max* = 0.472 and the default is 0.38, as it is up to α_n = 23.04°. Zero where
+/// the rack tooth is pointed (the scene refuses such a rack).
+pub fn default_rack_tip_radius(addendum: f64, alpha_n: f64) -> f64 {
+    let limit = rack_tip_radius_limit(addendum, alpha_n);
+    ISO53_TIP_RADIUS
+        .min(FULL_ROOT_RADIUS_SHARE * limit)
+        .max(0.0)
 }
 
 /// Smallest normal tip thickness accepted, as a multiple of m_n (pointed-tip check).
@@ -421,6 +454,43 @@ mod tests {
             tip_diameter: None,
             bore_diameter: 0.0,
         }
+    }
+
+    /// ρ_max from the geometry of the rack tooth (s_P = π/2, symmetric about
+    /// X = 0, flank X = π/4 − Y tan α, tip line Y = h_fP*): the rounding centred on
+    /// the axis at (0, h − ρ) is at distance ρ from the flank; at 24.7° the limit is
+    /// the 0.3285 that refused the 20° default, and the default now fits.
+    #[test]
+    fn rack_tip_radius_limit_is_the_full_root_radius() {
+        for deg in [14.5, 20.0, 24.7, 28.0, 31.0] {
+            let a = f64::to_radians(deg);
+            for h in [1.0, 1.25, 1.4] {
+                let rho = rack_tip_radius_limit(h, a);
+                // distance of (0, h − ρ) from the line X + Y tan α − π/4 = 0
+                let d = (PI / 4.0 - (h - rho) * a.tan()) * a.cos();
+                assert!((d - rho).abs() < 1e-14, "{deg}° h {h}: {d} vs {rho}");
+                let rho_d = default_rack_tip_radius(h, a);
+                if rho > 0.0 {
+                    assert!(rho_d <= ISO53_TIP_RADIUS && rho_d < rho, "{deg}° h {h}");
+                } else {
+                    assert_eq!(rho_d, 0.0, "{deg}° h {h}: the rack tooth is pointed");
+                }
+            }
+        }
+        let mut g = spur(20, 4.0, 0.5);
+        g.normal_pressure_angle = 24.7f64.to_radians();
+        let e = validate(&g, "pinion").unwrap_err().to_string();
+        assert!(e.contains("ρ_fP* ≤ 0.3285"), "{e}");
+        g.rack.tip_radius = default_rack_tip_radius(g.rack.addendum, g.normal_pressure_angle);
+        validate(&g, "pinion").unwrap();
+        assert_eq!(default_rack_tip_radius(1.25, 20f64.to_radians()), 0.38);
+        // ISO 53 profile D (h_fP* = 1.4, ρ_fP* = 0.39) is 0.99 of its full radius
+        let d = rack_tip_radius_limit(1.4, 20f64.to_radians());
+        assert!(
+            (0.39 / d - FULL_ROOT_RADIUS_SHARE).abs() < 0.002,
+            "{}",
+            0.39 / d
+        );
     }
 
     #[test]

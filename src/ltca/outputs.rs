@@ -85,7 +85,7 @@ pub fn friction_summary(
 /// its force, share and friction; the loaded TE at the pinion (µrad) and
 /// times the TE radius (µm; r_b1 of a cylindrical pair, the middle pair's
 /// moment arm at roll 0 of a bevel pair); the unloaded TE; the secant mesh
-/// stiffness; solver counts; and, last, both TEs at the gear (arcsec).
+/// stiffness (an empty cell where it is not defined); solver counts; and, last, both TEs at the gear (arcsec).
 pub fn write_cycle_csv(path: &Path, steps: &[LtcaStep], teeth: usize) -> Result<(), FlankError> {
     use std::fmt::Write;
     let mut s = String::from("roll_deg");
@@ -111,7 +111,10 @@ pub fn write_cycle_csv(path: &Path, steps: &[LtcaStep], teeth: usize) -> Result<
             r.te_urad,
             r.te_um,
             r.unloaded_te_urad,
-            r.mesh_stiffness_n_per_um,
+            // empty where not defined (no deflection), as the torque-map CSVs
+            Some(r.mesh_stiffness_n_per_um)
+                .filter(|k| k.is_finite())
+                .map_or(String::new(), |k| k.to_string()),
             r.max_pressure_mpa,
             r.friction_power_w,
             r.candidates,

@@ -5,12 +5,13 @@
 
 use serde::Serialize;
 
-use super::validated::{Gears, PairKind, Scene};
+use super::validated::{Gears, PairKind, RackTipRadiusSource, Scene};
 use crate::error::FlankError;
+use crate::geometry::involute::rack_tip_radius_limit;
 use crate::geometry::iso6336::ToothStiffness;
 use crate::geometry::iso6336_3::NominalRootStress;
 use crate::geometry::pair::PairReport;
-use crate::geometry::Hand;
+use crate::geometry::{GearSpec, Hand};
 
 /// The check of a scene's pair (`flank check` prints it as JSON).
 #[derive(Clone, Debug, Serialize)]
@@ -28,6 +29,9 @@ pub enum PairCheck {
 pub struct CylindricalCheck {
     #[serde(flatten)]
     pub report: PairReport,
+    /// The generating racks the gears are cut with, and where each tip
+    /// radius came from.
+    pub racks: Racks,
     /// ISO 6336-1 single and mesh stiffness (N/(mm·µm)), or why the
     /// standard does not apply.
     pub iso6336_stiffness_n_per_mm_um: Iso6336Stiffness,
@@ -35,6 +39,40 @@ pub struct CylindricalCheck {
     /// scene's torque, with Y_F, Y_S and the 30° tangent's geometry, or
     /// why the standard does not apply.
     pub iso6336_3_root_stress: Iso6336RootStress,
+}
+
+/// The generating racks of both gears.
+#[derive(Clone, Debug, Serialize)]
+pub struct Racks {
+    pub pinion: RackReport,
+    pub gear: RackReport,
+}
+
+/// One gear's generating rack as used (×m_n).
+#[derive(Clone, Debug, Serialize)]
+pub struct RackReport {
+    /// h_fP*: cuts the gear's dedendum.
+    pub addendum: f64,
+    /// h_aP*: shapes the gear's addendum.
+    pub dedendum: f64,
+    /// ρ_fP*, the scene's or the default.
+    pub tip_radius: f64,
+    /// The largest ρ_fP* that fits the rack tooth tip at this addendum and
+    /// α_n (a full root radius).
+    pub tip_radius_limit: f64,
+    pub tip_radius_source: RackTipRadiusSource,
+}
+
+impl RackReport {
+    fn new(g: &GearSpec, source: RackTipRadiusSource) -> Self {
+        RackReport {
+            addendum: g.rack.addendum,
+            dedendum: g.rack.dedendum,
+            tip_radius: g.rack.tip_radius,
+            tip_radius_limit: rack_tip_radius_limit(g.rack.addendum, g.normal_pressure_angle),
+            tip_radius_source: source,
+        }
+    }
 }
 
 /// ISO 6336-3's nominal root stress, or the reason it does not apply.
@@ -94,8 +132,13 @@ pub fn check(scene: &Scene) -> Result<PairCheck, FlankError> {
                     Err(e) => Iso6336RootStress::NotApplicable(format!("not applicable: {e}")),
                 }
             };
+            let racks = Racks {
+                pinion: RackReport::new(&c.pair.pinion, c.rack_tip_radius_source[0]),
+                gear: RackReport::new(&c.pair.gear, c.rack_tip_radius_source[1]),
+            };
             Ok(PairCheck::Cylindrical(Box::new(CylindricalCheck {
                 report,
+                racks,
                 iso6336_stiffness_n_per_mm_um: iso,
                 iso6336_3_root_stress: root,
             })))

@@ -11,6 +11,11 @@ use toml::Spanned;
 use super::involute::{base_diameter, root_diameter, tip_diameter, tip_thickness};
 use super::location::{Cx, Res};
 use super::pair::{CylindricalKind, GearSpans};
+use super::validated::RackTipRadiusSource;
+use crate::error::FlankError;
+use crate::geometry::involute::{
+    default_rack_tip_radius, rack_tip_radius_limit, undercut_limit, GearGeometry, ISO53_TIP_RADIUS,
+};
 use crate::geometry::micro::{MicroGeometry, Relief, ReliefShape};
 use crate::geometry::{GearSpec, Hand, RackProfile};
 
@@ -89,7 +94,7 @@ pub(super) fn gear(
     g: &RawGear,
     name: &str,
     kind: CylindricalKind,
-) -> Res<(GearSpec, GearSpans)> {
+) -> Res<(GearSpec, GearSpans, RackTipRadiusSource)> {
     let key = |k: &str| format!("{name}.{k}");
 
     let z = *g.teeth.get_ref();
@@ -186,50 +191,67 @@ pub(super) fn gear(
         None => 0.0,
     };
 
+    // the generating rack: ISO 53's depths, and a tip radius that follows α_n
+    // where the scene gives none (`geometry::involute::default_rack_tip_radius`)
+    let alpha = alpha_deg.to_radians();
+    let raw_rack = g.rack.as_ref();
     let mut rack = RackProfile::default();
-    if let Some(r) = &g.rack {
-        if let Some(v) = &r.addendum {
-            rack.addendum = cx.positive(v, &key("rack.addendum"))?;
-        }
-        if let Some(v) = &r.dedendum {
-            rack.dedendum = cx.positive(v, &key("rack.dedendum"))?;
-        }
-        if let Some(v) = &r.tip_radius {
-            rack.tip_radius = cx.non_negative(v, &key("rack.tip_radius"))?;
-        }
-        // the generating rack's tooth tip must be wide enough for both fillets
-        let alpha = alpha_deg.to_radians();
-        let half_tip = PI / 4.0 - rack.addendum * alpha.tan();
-        let rho_max = half_tip * alpha.cos() / (1.0 - alpha.sin());
-        let span = r
-            .tip_radius
-            .as_ref()
-            .or(r.addendum.as_ref())
-            .or(r.dedendum.as_ref())
-            .map_or(g.teeth.span(), |v| v.span());
-        if !(half_tip > 0.0) {
-            return Err(cx.err(
-                span,
-                format!(
-                    "`{}` = {}: the generating rack's tooth is pointed (addendum × tan α_n ≥ π/4)",
-                    key("rack.addendum"),
-                    rack.addendum
-                ),
-            ));
-        }
-        if rack.tip_radius > rho_max {
-            return Err(cx.err(
-                span,
-                format!(
-                    "`{}` = {}: larger than the {:.4} the rack tooth tip allows at addendum {} and α_n = {alpha_deg}°",
-                    key("rack.tip_radius"),
-                    rack.tip_radius,
-                    rho_max,
-                    rack.addendum
-                ),
-            ));
-        }
+    let addendum_span = raw_rack.and_then(|r| r.addendum.as_ref()).map(|v| v.span());
+    if let Some(v) = raw_rack.and_then(|r| r.addendum.as_ref()) {
+        rack.addendum = cx.positive(v, &key("rack.addendum"))?;
     }
+    if let Some(v) = raw_rack.and_then(|r| r.dedendum.as_ref()) {
+        rack.dedendum = cx.positive(v, &key("rack.dedendum"))?;
+    }
+    // the generating rack's tooth tip must be wide enough for both fillets
+    let rho_max = rack_tip_radius_limit(rack.addendum, alpha);
+    if !(PI / 4.0 - rack.addendum * alpha.tan() > 0.0) {
+        let (span, given) = match addendum_span {
+            Some(s) => (s, String::new()),
+            None => (
+                g.normal_pressure_angle_deg.span(),
+                format!(
+                    " (the default ISO 53 depth at α_n = {alpha_deg}°; a rack of addendum below {:.4} is needed: set `{}`)",
+                    PI / 4.0 / alpha.tan(),
+                    key("rack")
+                ),
+            ),
+        };
+        return Err(cx.err(
+            span,
+            format!(
+                "`{}` = {}: the generating rack's tooth is pointed (addendum × tan α_n ≥ π/4){given}",
+                key("rack.addendum"),
+                rack.addendum
+            ),
+        ));
+    }
+    let tip_radius_source = match raw_rack.and_then(|r| r.tip_radius.as_ref()) {
+        Some(v) => {
+            rack.tip_radius = cx.non_negative(v, &key("rack.tip_radius"))?;
+            if rack.tip_radius > rho_max {
+                return Err(cx.err(
+                    v.span(),
+                    format!(
+                        "`{}` = {}: larger than the {:.4} the rack tooth tip allows at addendum {} and α_n = {alpha_deg}°",
+                        key("rack.tip_radius"),
+                        rack.tip_radius,
+                        rho_max,
+                        rack.addendum
+                    ),
+                ));
+            }
+            RackTipRadiusSource::Scene
+        }
+        None => {
+            rack.tip_radius = default_rack_tip_radius(rack.addendum, alpha);
+            if rack.tip_radius == ISO53_TIP_RADIUS {
+                RackTipRadiusSource::DefaultIso53
+            } else {
+                RackTipRadiusSource::DefaultNearFullRadius
+            }
+        }
+    };
 
     let mut spec = GearSpec {
         teeth,
@@ -299,6 +321,24 @@ pub(super) fn gear(
     }
     spec.bore_diameter = bore;
 
+    // the gear's own checks (undercut by the rack, pointed tip, no involute
+    // left), at the key that changes them rather than at the centre distance
+    if let Err(e) = GearGeometry::new(&spec, name) {
+        let m = match e {
+            FlankError::Model(m) => m,
+            other => other.to_string(),
+        };
+        let shift_span = g.profile_shift.as_ref().map(|v| v.span());
+        let (span, k) = if spec.profile_shift < undercut_limit(&spec) {
+            (shift_span.unwrap_or(g.teeth.span()), key("profile_shift"))
+        } else if let Some(v) = &g.tip_diameter_mm {
+            (v.span(), key("tip_diameter_mm"))
+        } else {
+            (shift_span.unwrap_or(g.teeth.span()), key("profile_shift"))
+        };
+        return Err(cx.err(span, format!("{m} (`{k}`)")));
+    }
+
     Ok((
         spec,
         GearSpans {
@@ -309,6 +349,7 @@ pub(super) fn gear(
             tip: tip_span,
             material: g.material.clone(),
         },
+        tip_radius_source,
     ))
 }
 
@@ -429,8 +470,194 @@ pub(super) fn micro_geometry(
 
 #[cfg(test)]
 mod tests {
+    use super::*;
+    use crate::geometry::involute::FULL_ROOT_RADIUS_SHARE;
     use crate::scene::parse_scene;
     use crate::scene::test_support::*;
+
+    /// A spur pair of ordinary proportions at α_n = `alpha_deg` with the
+    /// racks left to their defaults: z 24/60, m_n 4, x ±0.4 (a = a_0 = 168 mm).
+    fn spur_at(alpha_deg: f64, pinion_rack: &str) -> String {
+        format!(
+            r#"
+[pair]
+kind = "spur"
+centre_distance_mm = 168.0
+
+[pinion]
+teeth = 24
+normal_module_mm = 4.0
+normal_pressure_angle_deg = {alpha_deg}
+face_width_mm = 40.0
+profile_shift = 0.4
+{pinion_rack}
+bore_diameter_mm = 30.0
+material = "steel"
+
+[gear]
+teeth = 60
+normal_module_mm = 4.0
+normal_pressure_angle_deg = {alpha_deg}
+face_width_mm = 40.0
+profile_shift = -0.4
+bore_diameter_mm = 80.0
+material = "steel"
+
+[materials.steel]
+young_modulus_mpa = 206000.0
+poisson_ratio = 0.3
+
+[load]
+torque_nm = 500.0
+speed_rpm = 1500.0
+"#
+        )
+    }
+
+    /// Issue 56: the default rack tip radius follows α_n, so every ordinary
+    /// pressure angle checks without a `rack`; above 23.04° the 20° value 0.38
+    /// would not fit (and was refused), there the default is 0.99 × the limit.
+    #[test]
+    fn default_rack_checks_at_every_ordinary_pressure_angle() {
+        for alpha_deg in [14.5, 17.5, 20.0, 22.5, 25.0, 28.0, 30.0] {
+            let t = spur_at(alpha_deg, "");
+            let scene = parse(&t).unwrap_or_else(|e| panic!("α_n = {alpha_deg}°: {e}"));
+            let c = scene.cylindrical("this test").unwrap();
+            let limit = rack_tip_radius_limit(1.25, f64::to_radians(alpha_deg));
+            for (g, source) in [
+                (&c.pair.pinion, c.rack_tip_radius_source[0]),
+                (&c.pair.gear, c.rack_tip_radius_source[1]),
+            ] {
+                let rho = g.rack.tip_radius;
+                assert!(
+                    rho > 0.0 && rho < limit,
+                    "α_n = {alpha_deg}°: ρ = {rho}, limit {limit}"
+                );
+                if ISO53_TIP_RADIUS < FULL_ROOT_RADIUS_SHARE * limit {
+                    assert_eq!(rho, ISO53_TIP_RADIUS, "α_n = {alpha_deg}°");
+                    assert_eq!(source, RackTipRadiusSource::DefaultIso53);
+                } else {
+                    assert!((rho - FULL_ROOT_RADIUS_SHARE * limit).abs() < 1e-15);
+                    assert_eq!(source, RackTipRadiusSource::DefaultNearFullRadius);
+                }
+            }
+            // the 20° value does not fit from 25° on: these angles were refused
+            assert_eq!(
+                ISO53_TIP_RADIUS > limit,
+                alpha_deg >= 25.0,
+                "α_n = {alpha_deg}°"
+            );
+            let report = crate::scene::check::check(&scene)
+                .unwrap_or_else(|e| panic!("α_n = {alpha_deg}°: {e}"));
+            let crate::scene::check::PairCheck::Cylindrical(r) = report else {
+                panic!("a spur pair checks as cylindrical")
+            };
+            assert!(r.report.contact_ratio > 1.0);
+            assert_eq!(r.racks.pinion.tip_radius, c.pair.pinion.rack.tip_radius);
+        }
+    }
+
+    /// At 20° nothing moves: 0.38 by default and as given, the scene's value
+    /// reported as the scene's.
+    #[test]
+    fn twenty_degree_rack_unchanged() {
+        let given = parse(SPUR).unwrap();
+        let defaulted = parse(&edit(
+            SPUR,
+            "rack = { addendum = 1.25, dedendum = 1.0, tip_radius = 0.38 }\n",
+            "",
+        ))
+        .unwrap();
+        let (g, d) = (
+            given.cylindrical("this test").unwrap(),
+            defaulted.cylindrical("this test").unwrap(),
+        );
+        assert_eq!(g.pair, d.pair);
+        assert_eq!(d.pair.pinion.rack, RackProfile::default());
+        assert_eq!(d.pair.pinion.rack.tip_radius, 0.38);
+        assert_eq!(g.rack_tip_radius_source[0], RackTipRadiusSource::Scene);
+        assert_eq!(
+            d.rack_tip_radius_source[0],
+            RackTipRadiusSource::DefaultIso53
+        );
+        assert_eq!(
+            g.rack_tip_radius_source[1],
+            RackTipRadiusSource::DefaultIso53
+        );
+    }
+
+    /// An explicit tip radius that does not fit is refused at its own line
+    /// (not at the centre distance), with the limit; one that fits is kept.
+    #[test]
+    fn explicit_rack_tip_radius_is_checked_at_its_key() {
+        let t = spur_at(25.0, "rack = { tip_radius = 0.36 }");
+        expect_err(
+            &t,
+            line_of(&t, "rack = "),
+            &["`pinion.rack.tip_radius` = 0.36", "0.3179", "α_n = 25°"],
+        );
+        let t = spur_at(25.0, "rack = { tip_radius = 0.2 }");
+        let s = parse(&t).unwrap();
+        let c = s.cylindrical("this test").unwrap();
+        assert_eq!(c.pair.pinion.rack.tip_radius, 0.2);
+        assert_eq!(c.rack_tip_radius_source[0], RackTipRadiusSource::Scene);
+        // a deeper rack's default follows its addendum
+        let t = spur_at(25.0, "rack = { addendum = 1.3 }");
+        let s = parse(&t).unwrap();
+        let rho = s
+            .cylindrical("this test")
+            .unwrap()
+            .pair
+            .pinion
+            .rack
+            .tip_radius;
+        let want = FULL_ROOT_RADIUS_SHARE * rack_tip_radius_limit(1.3, 25f64.to_radians());
+        assert!((rho - want).abs() < 1e-15, "{rho} vs {want}");
+    }
+
+    /// The ISO depth leaves no rack tooth tip above 32.14°: refused at the
+    /// pressure angle (no rack given) or at the rack (addendum given).
+    #[test]
+    fn pointed_rack_is_refused_at_its_cause() {
+        let t = spur_at(35.0, "");
+        expect_err(
+            &t,
+            line_of(&t, "normal_pressure_angle_deg"),
+            &["pointed", "`pinion.rack`", "1.1217"],
+        );
+        let t = spur_at(20.0, "rack = { addendum = 2.2 }");
+        expect_err(
+            &t,
+            line_of(&t, "rack = "),
+            &["pointed", "`pinion.rack.addendum` = 2.2"],
+        );
+    }
+
+    /// Undercut and pointed-tip refusals name the shift or the tip diameter at
+    /// its line (they were reported at `pair.centre_distance_mm`).
+    #[test]
+    fn gear_checks_at_the_key_that_changes_them() {
+        // x_min of 24 teeth at 14.5° is 0.212: x = 0.1 undercuts
+        let t = edit(
+            &spur_at(14.5, ""),
+            "profile_shift = 0.4",
+            "profile_shift = 0.1",
+        );
+        let t = edit(&t, "profile_shift = -0.4", "profile_shift = -0.1");
+        expect_err(
+            &t,
+            line_of(&t, "profile_shift = 0.1"),
+            &["undercut", "`pinion.profile_shift`"],
+        );
+        // no shift given: at the tooth count
+        let t = edit(&spur_at(14.5, ""), "profile_shift = 0.4\n", "");
+        let t = edit(&t, "profile_shift = -0.4\n", "");
+        expect_err(
+            &t,
+            line_of(&t, "teeth = 24"),
+            &["undercut", "`pinion.profile_shift`"],
+        );
+    }
 
     #[test]
     fn unknown_key_in_pinion() {

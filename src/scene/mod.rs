@@ -19,7 +19,7 @@
 //! # hand = "right"                    # helical only; pinion and gear opposite
 //! face_width_mm = 13.3
 //! profile_shift = 0.3                 # optional, default 0
-//! rack = { addendum = 1.25, dedendum = 1.0, tip_radius = 0.38 }  # optional (ISO 53, ×m_n)
+//! rack = { addendum = 1.25, dedendum = 1.0, tip_radius = 0.38 }  # optional (ISO 53, ×m_n; tip_radius follows α_n)
 //! tip_diameter_mm = 59.0              # optional; default d + 2 m_n (h_aP* + x)
 //! bore_diameter_mm = 20.0
 //! material = "steel"                  # a [materials.<name>] table
@@ -62,8 +62,12 @@
 //! 0 < α_n < 45°, spur β = 0 and no hand, helical 0 < β < 45° with opposite
 //! hands, b > 0, |x| ≤ 2, E > 0, −1 < ν < 0.5, torque and speed ≥ 0) the
 //! checks are geometric: both gears share m_n, α_n and β; the rack tooth tip
-//! fits its fillets; the tip lies above the base and root circles and below
-//! the pointed-tooth diameter; the bore is inside the root circle; the centre
+//! fits its fillets (a rack without `tip_radius` takes ISO 53's 0.38 where it
+//! fits, otherwise 0.99 × the full root radius:
+//! [`crate::geometry::involute::default_rack_tip_radius`]); the tip lies above
+//! the base and root circles and below the pointed-tooth diameter; the gear is
+//! not undercut and its tip not pointed ([`crate::geometry::involute::GearGeometry`],
+//! reported at the shift or tip diameter); the bore is inside the root circle; the centre
 //! distance exceeds r_b1 + r_b2 and is not too small for x1 + x2 (no
 //! interference); no tip reaches into the mating root circle. Last, the pair
 //! goes through [`crate::geometry::pair::check_pair`] (zero backlash: Σx within
@@ -106,7 +110,9 @@ pub use analyses::{
 };
 pub use load::Load;
 pub use mesh::{ElementKind, MeshOptions};
-pub use validated::{BevelGears, BevelKeyLines, CylindricalGears, Gears, PairKind, Scene};
+pub use validated::{
+    BevelGears, BevelKeyLines, CylindricalGears, Gears, PairKind, RackTipRadiusSource, Scene,
+};
 
 /// Flank modifications: defined in [`crate::geometry::micro`], re-exported here
 /// because a scene is where they are read.
@@ -164,8 +170,8 @@ struct RawScene {
 
 fn build(cx: &Cx, raw: RawScene) -> Res<Scene> {
     let kind = *raw.pair.kind.get_ref();
-    let (pinion, ps) = gear::gear(cx, &raw.pinion, "pinion", kind)?;
-    let (gear_spec, gs) = gear::gear(cx, &raw.gear, "gear", kind)?;
+    let (pinion, ps, pinion_rack) = gear::gear(cx, &raw.pinion, "pinion", kind)?;
+    let (gear_spec, gs, gear_rack) = gear::gear(cx, &raw.gear, "gear", kind)?;
     let pair = pair::pair_spec(cx, &raw.pair, kind, pinion, &ps, gear_spec, &gs)?;
 
     // materials
@@ -204,7 +210,11 @@ fn build(cx: &Cx, raw: RawScene) -> Res<Scene> {
     let min_module = pair.pinion.normal_module.min(pair.gear.normal_module);
     let mesh = mesh::mesh_options(cx, raw.mesh.as_ref(), min_teeth, min_module)?;
 
-    let gears = CylindricalGears { pair, micro };
+    let gears = CylindricalGears {
+        pair,
+        micro,
+        rack_tip_radius_source: [pinion_rack, gear_rack],
+    };
     // bind the modifications to their gears now (a relief longer than the
     // active profile, a measured profile that does not fit): the error names
     // the `[<gear>.micro]` table instead of surfacing later without a line

@@ -63,6 +63,21 @@ pub struct CylindricalGears {
     pub pair: PairSpec,
     /// Flank modifications of `[pinion, gear]`.
     pub micro: [Option<MicroGeometry>; 2],
+    /// Where the rack tip radius ρ_fP* of `[pinion, gear]` came from.
+    pub rack_tip_radius_source: [RackTipRadiusSource; 2],
+}
+
+/// Where a generating rack's tip radius ρ_fP* came from (`flank check` reports it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RackTipRadiusSource {
+    /// The scene's `rack.tip_radius`.
+    Scene,
+    /// The default where it fits: ISO 53:1998 profile A's 0.38.
+    DefaultIso53,
+    /// The default where 0.38 does not fit the rack tooth tip: 0.99 × the
+    /// full root radius (`geometry::involute::default_rack_tip_radius`).
+    DefaultNearFullRadius,
 }
 
 /// Kind of a gear pair (`[pair] kind`).

@@ -390,10 +390,14 @@ impl Tca {
             }
         }
         if !te.is_finite() {
+            // in degrees, as the scene gives roll angles
+            let (a, e) = self.pair.engagement(self.pair.middle());
             return Err(FlankError::Model(format!(
-                "TCA: no tooth pair of the {}-tooth sectors is in mesh at roll {roll} rad (engagement of the middle pair: {:?})",
+                "TCA: no tooth pair of the {}-tooth sectors is in mesh at roll {:.4}° ({roll:.4} rad); the middle pair engages from {:.4}° to {:.4}°",
                 self.pair.sector_teeth(),
-                self.pair.engagement(self.pair.middle())
+                roll.to_degrees(),
+                a.to_degrees(),
+                e.to_degrees()
             )));
         }
         Ok(TcaPosition {

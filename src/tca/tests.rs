@@ -694,6 +694,11 @@ fn bad_input() {
     // far outside the sector's engagement: no pair in mesh
     let e = t.position(3.0).unwrap_err();
     assert!(e.to_string().contains("no tooth pair"), "{e}");
+    // in degrees, as the scene's angles (issue 56), the radians in parentheses
+    assert!(
+        e.to_string().contains("at roll 171.8873° (3.0000 rad)"),
+        "{e}"
+    );
     assert!(t.roll_angles_for_cycle(0).is_empty());
 }
 
