@@ -60,18 +60,7 @@ impl Parser {
                 ));
             }
         }
-        let Some(material) = self.current_material else {
-            return Err(self.err(card.loc, "*ELASTIC outside of a *MATERIAL"));
-        };
-        if self.materials[material].elastic.is_some() {
-            return Err(self.err(
-                card.loc,
-                format!(
-                    "second *ELASTIC for material {}",
-                    self.materials[material].name
-                ),
-            ));
-        }
+        let material = self.material_card(card, "ELASTIC", |m| m.elastic.is_some())?;
         Ok(Block::Elastic {
             material,
             lines: 0,
@@ -79,21 +68,34 @@ impl Parser {
         })
     }
 
-    /// `*DENSITY`: ρ of the current material (CalculiX manual, *DENSITY).
-    pub(super) fn kw_density(&mut self, card: &Card) -> Result<Block> {
-        self.check_params(card, &[])?;
+    /// The material a material card (`*ELASTIC`, `*DENSITY`, `*EXPANSION`)
+    /// belongs to: the current `*MATERIAL`, refused outside one or when the
+    /// material has that data already (`given`).
+    fn material_card(
+        &self,
+        card: &Card,
+        keyword: &str,
+        given: impl Fn(&RawMaterial) -> bool,
+    ) -> Result<usize> {
         let Some(material) = self.current_material else {
-            return Err(self.err(card.loc, "*DENSITY outside of a *MATERIAL"));
+            return Err(self.err(card.loc, format!("*{keyword} outside of a *MATERIAL")));
         };
-        if self.materials[material].density.is_some() {
+        if given(&self.materials[material]) {
             return Err(self.err(
                 card.loc,
                 format!(
-                    "second *DENSITY for material {}",
+                    "second *{keyword} for material {}",
                     self.materials[material].name
                 ),
             ));
         }
+        Ok(material)
+    }
+
+    /// `*DENSITY`: ρ of the current material (CalculiX manual, *DENSITY).
+    pub(super) fn kw_density(&mut self, card: &Card) -> Result<Block> {
+        self.check_params(card, &[])?;
+        let material = self.material_card(card, "DENSITY", |m| m.density.is_some())?;
         Ok(Block::Density {
             material,
             lines: 0,
@@ -170,18 +172,7 @@ impl Parser {
         if let Some(z) = self.value(card, "ZERO")? {
             self.parse_real(&z, card.loc)?;
         }
-        let Some(material) = self.current_material else {
-            return Err(self.err(card.loc, "*EXPANSION outside of a *MATERIAL"));
-        };
-        if self.materials[material].expansion.is_some() {
-            return Err(self.err(
-                card.loc,
-                format!(
-                    "second *EXPANSION for material {}",
-                    self.materials[material].name
-                ),
-            ));
-        }
+        let material = self.material_card(card, "EXPANSION", |m| m.expansion.is_some())?;
         Ok(Block::Expansion {
             material,
             lines: 0,
