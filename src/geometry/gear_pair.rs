@@ -237,6 +237,13 @@ pub trait LineContactPair: GearPair {
     /// Kinematic engagement of pinion tooth `k`: roll angles of the start
     /// and the end of its contact.
     fn engagement(&self, k: usize) -> (f64, f64);
+    /// Whole engagement of pinion tooth `k` over the common face: the
+    /// first and the last roll angle at which its contact line meets the
+    /// face (transverse plus overlap, ε_α + ε_β pitches of a helical
+    /// pair); [`Self::engagement`] where the two coincide (spur pairs).
+    fn face_engagement(&self, k: usize) -> (f64, f64) {
+        self.engagement(k)
+    }
     /// Kinematic single-tooth contact of the middle pair (roll angles).
     fn single_contact(&self) -> (f64, f64);
     /// Kinematic contact ratio (path of contact / base pitch).
@@ -268,11 +275,50 @@ pub trait LineContactPair: GearPair {
     fn line_seed(&self, line: &KinematicLine, xi: f64, across: f64) -> ContactSeed;
 }
 
+/// Offsets j from the middle pair (pinion tooth k_m + j) of every tooth
+/// pair whose whole engagement ([`LineContactPair::face_engagement`]),
+/// widened by `reach` (rad of roll) on each side, contains one of `rolls`
+/// (rad): the pairs a sector must hold to model those positions, as the
+/// smallest and the largest offset ((0, 0) when only the middle pair is
+/// in mesh, or for no roll). Pair k_m + j engages `j` tooth roll steps
+/// after the middle one ([`GearPair::tooth_roll_step`]).
+pub fn pairs_in_mesh(pair: &dyn LineContactPair, rolls: &[f64], reach: f64) -> (i64, i64) {
+    let (a, e) = pair.face_engagement(pair.middle());
+    let step = pair.tooth_roll_step();
+    let z = i64::from(pair.pinion().teeth());
+    let (mut lo, mut hi) = (0, 0);
+    for j in -z..=z {
+        let (aj, ej) = (a + j as f64 * step, e + j as f64 * step);
+        let (from, to) = (aj.min(ej) - reach, aj.max(ej) + reach);
+        if rolls.iter().any(|&r| r >= from && r <= to) {
+            lo = lo.min(j);
+            hi = hi.max(j);
+        }
+    }
+    (lo, hi)
+}
+
+/// The smallest sector (n teeth, middle tooth ⌈n/2⌉) that holds the tooth
+/// pairs at offsets `lo ..= hi` from the middle one ([`pairs_in_mesh`]).
+pub fn sector_teeth_holding(lo: i64, hi: i64) -> usize {
+    let (lo, hi) = (lo.min(0), hi.max(0));
+    // n = 2 max(−lo, hi) + 1 always holds them: the search is bounded
+    let bound = (2 * (-lo).max(hi) + 1) as usize;
+    (1..=bound)
+        .find(|&n| {
+            let km = n.div_ceil(2) as i64;
+            km + lo >= 1 && km + hi <= n as i64
+        })
+        .unwrap_or(bound)
+}
+
 /// Roll angles (deg) on whole multiples of `step_deg` over the middle
-/// pair's kinematic engagement, widened by two steps on each side: the
-/// default positions of a mesh cycle (FE contact and LTCA alike).
+/// pair's whole kinematic engagement over the face
+/// ([`LineContactPair::face_engagement`]: ε_α + ε_β pitches of a helical
+/// pair), widened by two steps on each side: the default positions of a
+/// mesh cycle (FE contact and LTCA alike).
 pub fn engagement_roll_angles(pair: &dyn LineContactPair, step_deg: f64) -> Vec<f64> {
-    let (a, e) = pair.engagement(pair.middle());
+    let (a, e) = pair.face_engagement(pair.middle());
     let start = (a.to_degrees() / step_deg).floor() - 2.0;
     let end = (e.to_degrees() / step_deg).ceil() + 2.0;
     let n = (end - start).round() as i64;

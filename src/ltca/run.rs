@@ -120,6 +120,7 @@ fn run_line(
         }
     }
     let mut notes = scene.material_warnings();
+    notes.extend(scene.sector_warning(&angles));
     let limits = cycle.loaded_limits(&angles, &results)?;
     if limits.is_none() {
         notes.push("contact ratio not measured: the roll angles do not cover the middle pair's whole engagement with an unloaded position before and after".to_string());

@@ -162,10 +162,8 @@ pub fn check_sector(scene: &Scene, rolls_deg: &[f64]) -> Result<Option<usize>, F
     );
     // the smallest sector whose middle tooth ⌈n/2⌉ has the needed pairs on both sides
     let z1 = bevel.blank_inputs.z1 as usize;
-    let enough = (1..=z1).find(|&n| {
-        let km = n.div_ceil(2) as i64;
-        km > -lo && n as i64 - km >= hi
-    });
+    let enough =
+        Some(crate::geometry::gear_pair::sector_teeth_holding(lo, hi)).filter(|&n| n <= z1);
     if let Some((roll, offset)) = missing {
         let n = pair.sector_teeth();
         let key = match bevel.lines.teeth_in_sector {

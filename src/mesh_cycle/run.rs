@@ -140,6 +140,8 @@ pub fn run(scene: &Scene, options: &RunOptions) -> Result<RunSummary, FlankError
     bar.finish_and_clear();
     let reused = positions.reused();
     let mut notes: Vec<String> = scene.material_warnings();
+    let rolls: Vec<f64> = steps.iter().map(|s| s.roll_deg).collect();
+    notes.extend(scene.sector_warning(&rolls));
     // the wet–dry loop: the positions solved so far are its dry pass
     let mut lubrication = None;
     if let Some(ls) = cycle.settings.lubrication.clone() {

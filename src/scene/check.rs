@@ -39,6 +39,25 @@ pub struct CylindricalCheck {
     /// scene's torque, with Y_F, Y_S and the 30° tangent's geometry, or
     /// why the standard does not apply.
     pub iso6336_3_root_stress: Iso6336RootStress,
+    /// The sector bodies: the teeth used, where the count came from, and
+    /// the sector that holds every pair in mesh under the load.
+    pub sector: SectorReport,
+}
+
+/// The sector bodies of a cylindrical pair
+/// ([`crate::geometry::cylindrical::sector_size`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct SectorReport {
+    /// `[mesh] teeth_in_sector` as used.
+    pub teeth: u32,
+    /// `scene` or `default_pairs_in_mesh`.
+    pub teeth_source: &'static str,
+    /// Teeth that hold every pair in mesh over the middle pair's whole
+    /// engagement, the pairs' offsets from the middle one, the single-pair
+    /// approach δ and contact extension under the load (mm).
+    pub in_mesh: Option<crate::geometry::cylindrical::sector_size::SectorInMesh>,
+    /// Why the sectors used are too small, if they are.
+    pub warning: Option<String>,
 }
 
 /// The generating racks of both gears.
@@ -136,11 +155,22 @@ pub fn check(scene: &Scene) -> Result<PairCheck, FlankError> {
                 pinion: RackReport::new(&c.pair.pinion, c.rack_tip_radius_source[0]),
                 gear: RackReport::new(&c.pair.gear, c.rack_tip_radius_source[1]),
             };
+            let sector = SectorReport {
+                teeth: scene.mesh.teeth_in_sector,
+                teeth_source: if c.teeth_in_sector_line.is_some() {
+                    "scene"
+                } else {
+                    "default_pairs_in_mesh"
+                },
+                in_mesh: c.sector_in_mesh,
+                warning: c.sector_in_mesh.and_then(|s| scene.sector_shortfall(s)),
+            };
             Ok(PairCheck::Cylindrical(Box::new(CylindricalCheck {
                 report,
                 racks,
                 iso6336_stiffness_n_per_mm_um: iso,
                 iso6336_3_root_stress: root,
+                sector,
             })))
         }
         Gears::Bevel(b) => Ok(PairCheck::Bevel(Box::new(BevelCheck {

@@ -208,12 +208,27 @@ fn build(cx: &Cx, raw: RawScene) -> Res<Scene> {
     let lubricant = lubricant::scene_lubricant(cx, raw.lubricant.as_ref(), &analyses, &load)?;
     let min_teeth = pair.pinion.teeth.min(pair.gear.teeth);
     let min_module = pair.pinion.normal_module.min(pair.gear.normal_module);
-    let mesh = mesh::mesh_options(cx, raw.mesh.as_ref(), min_teeth, min_module)?;
+    let mut mesh = mesh::mesh_options(cx, raw.mesh.as_ref(), min_teeth, min_module)?;
+    let [teeth_line, ..] = mesh::key_lines(cx, raw.mesh.as_ref());
+    // the sector that holds every pair in mesh under the load (a pair the
+    // analyses would refuse is refused by them, with its reason)
+    let (e1, e2) = (pinion_material.young, gear_material.young);
+    let sector_in_mesh = crate::geometry::cylindrical::sector_size::sector_in_mesh(
+        &pair,
+        load.torque_nmm / 1e3,
+        2.0 * e1 * e2 / (e1 + e2),
+    )
+    .ok();
+    if let (None, Some(s)) = (teeth_line, &sector_in_mesh) {
+        mesh.teeth_in_sector = s.teeth as u32;
+    }
 
     let gears = CylindricalGears {
         pair,
         micro,
         rack_tip_radius_source: [pinion_rack, gear_rack],
+        sector_in_mesh,
+        teeth_in_sector_line: teeth_line,
     };
     // bind the modifications to their gears now (a relief longer than the
     // active profile, a measured profile that does not fit): the error names
@@ -353,7 +368,21 @@ mod tests {
         assert!(close(s.load.torque_nmm, 5.0e6));
         assert_eq!(s.cylindrical("this test").unwrap().micro, [None, None]);
         assert_eq!(s.analyses, Analyses::default());
-        assert_eq!(s.mesh, MeshOptions::default());
+        // no sector stated: the default is the sector that holds every pair in mesh
+        let held = s
+            .cylindrical("this test")
+            .unwrap()
+            .sector_in_mesh
+            .as_ref()
+            .unwrap()
+            .teeth;
+        assert!(held >= 3, "{held}");
+        assert_eq!(s.mesh.teeth_in_sector as usize, held);
+        let stated = MeshOptions {
+            teeth_in_sector: held as u32,
+            ..MeshOptions::default()
+        };
+        assert_eq!(s.mesh, stated);
         // reference centre distance: (21 + 37) 15 / (2 cos 20°) = 462.9173 mm
         let a_ref = reference_diameter(p) / 2.0 + reference_diameter(g) / 2.0;
         assert!((a_ref - 462.9173).abs() < 1e-4, "{a_ref}");

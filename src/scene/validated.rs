@@ -16,8 +16,9 @@ use crate::geometry::bevel::body::BevelGear;
 use crate::geometry::bevel::cutting::{MachineCut, PinionCut};
 use crate::geometry::bevel::pair::BevelPair;
 use crate::geometry::bevel::{BlankDesign, BlankInputs};
+use crate::geometry::cylindrical::sector_size::{sector_for_rolls, SectorInMesh};
 use crate::geometry::cylindrical::CylindricalPair;
-use crate::geometry::gear_pair::LineContactPair;
+use crate::geometry::gear_pair::{sector_teeth_holding, LineContactPair};
 use crate::geometry::micro::{roll_angle_at_radius, FlankModification, MicroGeometry};
 use crate::geometry::rack::ToothProfile;
 use crate::geometry::{Hand, PairSpec};
@@ -65,6 +66,12 @@ pub struct CylindricalGears {
     pub micro: [Option<MicroGeometry>; 2],
     /// Where the rack tip radius ρ_fP* of `[pinion, gear]` came from.
     pub rack_tip_radius_source: [RackTipRadiusSource; 2],
+    /// The sector that holds every pair in mesh over the middle pair's
+    /// whole engagement under the scene's load: the default of
+    /// `[mesh] teeth_in_sector` (`None` if the pair could not be built).
+    pub sector_in_mesh: Option<SectorInMesh>,
+    /// Line of `[mesh] teeth_in_sector` when the scene gives it.
+    pub teeth_in_sector_line: Option<usize>,
 }
 
 /// Where a generating rack's tip radius ρ_fP* came from (`flank check` reports it).
@@ -209,6 +216,48 @@ impl Scene {
             c.flank_modifications()?,
             self.mesh.teeth_in_sector as usize,
         )
+    }
+
+    /// A warning when the sectors of `[mesh] teeth_in_sector` teeth do
+    /// not hold every spur/helical tooth pair in mesh at the roll angles
+    /// `rolls_deg` under the scene's load
+    /// ([`crate::geometry::cylindrical::sector_size`]); `None` when they
+    /// do, and for bevel pairs (their FE cycle checks its sector itself).
+    pub fn sector_warning(&self, rolls_deg: &[f64]) -> Option<String> {
+        let c = self.cylindrical("").ok()?;
+        let approach = c.sector_in_mesh?.approach_mm;
+        let teeth = self.mesh.teeth_in_sector as usize;
+        let pair = CylindricalPair::new(&c.pair, [None, None], teeth).ok()?;
+        self.sector_shortfall(sector_for_rolls(&pair, rolls_deg, approach))
+    }
+
+    /// The warning of [`Self::sector_warning`] for the sector `need` that
+    /// holds the pairs in mesh; `None` when the scene's sectors are as large.
+    pub fn sector_shortfall(&self, need: SectorInMesh) -> Option<String> {
+        let c = self.cylindrical("").ok()?;
+        let n = self.mesh.teeth_in_sector as usize;
+        // a sector of the smaller tooth count is the whole gear
+        if need.teeth <= n {
+            return None;
+        }
+        let key = match c.teeth_in_sector_line {
+            Some(l) => format!("{} `mesh.teeth_in_sector` = {n}", self.at(l)),
+            None => format!("`mesh.teeth_in_sector` (default {n})"),
+        };
+        let (lo, hi) = need.pair_offsets;
+        let what = if need.fits {
+            format!("{} teeth hold them", need.teeth)
+        } else {
+            format!(
+                "a sector of {} teeth would hold them, more than the smaller gear has: the whole gear ({} teeth) does",
+                sector_teeth_holding(lo, hi),
+                need.teeth
+            )
+        };
+        Some(format!(
+            "{key}: the sectors do not hold every tooth pair in mesh at these roll angles: pairs from {lo:+} to {hi:+} pitches from the middle one come within the single-pair approach δ = {:.4} mm under the load (ISO 6336-1 c′; contact extension {:.3} mm along the path); {what}; the missing pairs' load is carried by the modelled ones",
+            need.approach_mm, need.extension_mm
+        ))
     }
 
     /// Warnings about the members' materials (ν near ½:

@@ -6,7 +6,9 @@
 //!   sector with the gear's flank modification;
 //! * [`CylindricalPair`]: a [`LineContactPair`], the kinematics of
 //!   [`MeshKinematics`] (line of action, path of contact, roll angle) and
-//!   its misalignment in plane-of-action terms.
+//!   its misalignment in plane-of-action terms;
+//! * [`sector_size`]: the teeth a sector body needs to hold every pair in
+//!   mesh.
 //!
 //! # Kinematic contact lines
 //!
@@ -38,6 +40,7 @@
 //! the lines follow the pinion. [`Misalignment`] converts as its docs say.
 
 pub mod kinematics;
+pub mod sector_size;
 
 use crate::error::FlankError;
 use crate::geometry::flank::FlankSurface;
@@ -367,6 +370,16 @@ impl CylindricalPair {
         Ok(())
     }
 
+    /// How far along the path of contact (mm) beyond its kinematic ends a
+    /// tip corner comes within `separation_mm` of the mating flank: the
+    /// corner windows of [`LineContactPair::contact_lines`],
+    /// 2 √(L δ / (2 cos³β_b)) (the separation grows with the square of the
+    /// distance from the path end, curvature 1/L of the relative involute
+    /// motion).
+    pub fn corner_reach_mm(&self, separation_mm: f64) -> f64 {
+        2.0 * (0.5 * self.line_length * separation_mm / self.cos_beta_b.powi(3)).sqrt()
+    }
+
     /// The involute kinematics of the aligned pair.
     pub fn kinematics(&self) -> &MeshKinematics {
         &self.kin
@@ -533,6 +546,28 @@ impl LineContactPair for CylindricalPair {
     fn engagement(&self, k: usize) -> (f64, f64) {
         self.kin.engagement(k)
     }
+    /// Tooth `k`'s line s = s₀ + c z (s₀ = contact position + shift, less
+    /// c ΔP with a pinion axial offset, as [`Self::contact_lines`]) meets
+    /// the path [s_A, s_E] inside the common face z ∈ [z_a, z_b] while
+    /// s₀ ∈ [s_A − max(c z), s_E − min(c z)]; s₀ grows with the roll at
+    /// the rate r_b1.
+    fn face_engagement(&self, k: usize) -> (f64, f64) {
+        let c = self.slope;
+        if c.abs() < 1e-14
+            && self.s_shift == 0.0
+            && self.path == (self.kin.path_start, self.kin.path_end)
+        {
+            return self.kin.engagement(k);
+        }
+        let (ps, pe) = self.path;
+        let (za, zb) = self.z_range;
+        let (cz_lo, cz_hi) = ((c * za).min(c * zb), (c * za).max(c * zb));
+        let s0 = |s: f64| s - self.s_shift + c * self.axial[0];
+        (
+            self.kin.roll_at(k, s0(ps - cz_hi)),
+            self.kin.roll_at(k, s0(pe - cz_lo)),
+        )
+    }
     fn single_contact(&self) -> (f64, f64) {
         self.kin.single_contact()
     }
@@ -558,8 +593,7 @@ impl LineContactPair for CylindricalPair {
         let (ps, pe) = self.path;
         let c = self.slope;
         let spur = c.abs() < 1e-14;
-        let reach =
-            2.0 * (0.5 * self.line_length * corner_separation_mm / self.cos_beta_b.powi(3)).sqrt();
+        let reach = self.corner_reach_mm(corner_separation_mm);
         let dp = self.axial[0];
         let mut lines = Vec::new();
         for k in 1..=self.kin.teeth {
