@@ -489,7 +489,7 @@ fn tip_relief_scene(
     let fm = cyl.flank_modifications().unwrap()[0].clone().unwrap();
     let spec = cyl.pair.pinion.clone();
     let p = ToothProfile::new(&spec, "pinion").unwrap();
-    assert_eq!(s.mesh.element, ElementKind::C3D15);
+    assert_eq!(s.mesh.element, crate::scene::ElementKind::Wedge15);
     let opts = SectorOptions {
         teeth: s.mesh.teeth_in_sector as usize,
         flank_size,
