@@ -962,3 +962,92 @@ fn gear_sector_band_cost() {
         report(&format!("band {size} base {base} {kind:?}"), &m, 0.0);
     }
 }
+
+/// What moving the body costs in figures: the compliance diagonal of the
+/// seed 002 tip-relief pinion (1.0 mm wedges, bore clamped) at flank nodes
+/// of the middle tooth's right flank, with only the flank nodes moved (the
+/// old behaviour) against the extension. Bound set before running: the
+/// interior moves by at most the offset (60 µm) over a tooth of 8 mm, so the
+/// change must stay below 1 %.
+#[test]
+fn modified_body_compliance_change() {
+    use crate::fem::material::Material;
+    use crate::fem::model::{Dirichlet, Model, NodalForce};
+    use crate::fem::static_analysis::{solve_static, SolveOptions};
+    let (spec, p, fm, opts) = tip_relief_scene(1.0);
+    let nominal = gear_sector(&spec, "pinion", &opts).unwrap();
+    let mut ext = nominal.clone();
+    modify_flanks(&mut ext, &p, &fm).unwrap();
+    let mut flank_only = nominal.clone();
+    for &n in nominal.flank_uv.keys() {
+        flank_only.mesh.coords[n] = ext.mesh.coords[n];
+    }
+    // loaded nodes: FLANK_R2 at mid face, in the relief zone, at the pitch circle, low
+    let rb = p.geometry.base_radius;
+    let zm = 0.5 * spec.face_width;
+    let set = &nominal.mesh.node_sets["FLANK_R2"];
+    let pick = |r: f64| {
+        *set.iter()
+            .min_by(|&&a, &&b| {
+                let f = |i: usize| {
+                    let x = nominal.mesh.coords[i];
+                    (x[0].hypot(x[1]) - r).abs() + (x[2] - zm).abs()
+                };
+                f(a).total_cmp(&f(b))
+            })
+            .unwrap()
+    };
+    let r_a = p.geometry.tip_radius;
+    let nodes = [
+        pick(r_a - 0.5),
+        pick(p.geometry.reference_radius),
+        pick(rb * 1.02),
+    ];
+    let compliance = |m: &GearSectorMesh, n: usize| {
+        let (u, z) = m.flank_uv[&n];
+        let sp = p.surface(Flank::Right, flank_segment(&p, u), z);
+        let q = rot([sp.n[0], sp.n[1]], p.angular_pitch());
+        let dir = [-q[0], -q[1], -sp.n[2]];
+        let mut model = Model {
+            materials: vec![Material::new("steel", 206e3, 0.3).unwrap()],
+            element_material: vec![0; m.mesh.elements.len()],
+            mesh: m.mesh.clone(),
+            ..Default::default()
+        };
+        for &b in &m.mesh.node_sets["BORE"] {
+            for c in 0..3 {
+                model.dirichlet.push(Dirichlet {
+                    node: b,
+                    component: c,
+                    value: 0.0,
+                });
+            }
+        }
+        for (c, &value) in dir.iter().enumerate() {
+            model.forces.push(NodalForce {
+                node: n,
+                component: c,
+                value,
+            });
+        }
+        let s = solve_static(
+            &model,
+            &SolveOptions {
+                recover_stress: false,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let d = &s.displacement[3 * n..3 * n + 3];
+        d[0] * dir[0] + d[1] * dir[1] + d[2] * dir[2]
+    };
+    for n in nodes {
+        let (a, b) = (compliance(&flank_only, n), compliance(&ext, n));
+        let r = nominal.mesh.coords[n][0].hypot(nominal.mesh.coords[n][1]);
+        let rel = (b - a) / a;
+        println!(
+            "compliance at r = {r:.3} mm: flank nodes only {a:.6e} mm/N, extension {b:.6e} mm/N, relative change {rel:+.3e}"
+        );
+        assert!(rel.abs() < 0.01, "{rel}");
+    }
+}
