@@ -970,6 +970,7 @@ fn gear_sector_band_cost() {
 /// interior moves by at most the offset (60 µm) over a tooth of 8 mm, so the
 /// change must stay below 1 %.
 #[test]
+#[ignore = "a measurement for modify.rs's docs: four solves, about 9 s"]
 fn modified_body_compliance_change() {
     use crate::fem::material::Material;
     use crate::fem::model::{Dirichlet, Model, NodalForce};
