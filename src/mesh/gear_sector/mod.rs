@@ -72,7 +72,7 @@
 //! | `section.rs` | the transverse section: element sizes across and along the tooth, boundary points on the exact profile, the Coons blend, the rim; the points of every pitch and their cells |
 //! //! | `extrude.rs` | extrusion along the axis (twisted for helical gears), hex20/wedge15 elements with their Jacobian check, node and element sets |
 //! | `quality.rs` | [`Quality`]: scaled Jacobian and aspect ratio of the elements |
-//! | `modify.rs` | [`modify_flanks`]: flank nodes moved onto a modified surface, [`FlankModificationReport`] |
+//! | `modify.rs` | [`modify_flanks`]: flank nodes moved onto a modified surface and the body carried along (elastic extension), [`FlankModificationReport`] |
 //! | `tests.rs` | unit tests (validity, exact flank nodes, conformity and sets, a clamped-bore solve, modifications, full ring) |
 //!
 //! [`Flank::Right`]: crate::geometry::rack::Flank::Right
