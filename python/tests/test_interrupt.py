@@ -11,7 +11,13 @@ import time
 import pytest
 
 import flank
-from conftest import LTCA_KW, SEED002
+from conftest import SEED002
+
+# Finer than the other tests' LTCA_KW: its tensors take about 2.7 s on a
+# 2-core machine, so a SIGINT at 0.3 s lands in them with seconds to spare
+# (with LTCA_KW the whole call took 0.7–0.9 s, and a CI dry run on a loaded
+# machine once saw the call end before the signal was handled)
+SLOW_LTCA_KW = dict(flank_size=1.0, base_size=2.0, points_per_line=10)
 
 
 @pytest.mark.skipif(not hasattr(signal, "SIGINT") or os.name != "posix", reason="POSIX signals")
@@ -23,7 +29,7 @@ def test_ctrl_c_raises_keyboard_interrupt_and_writes_no_summary(tmp_path):
     t0 = time.monotonic()
     try:
         with pytest.raises(KeyboardInterrupt):
-            flank.ltca(SEED002, out=tmp_path, quiet=True, **LTCA_KW)
+            flank.ltca(SEED002, out=tmp_path, quiet=True, **SLOW_LTCA_KW)
     finally:
         timer.cancel()
     elapsed = time.monotonic() - t0
