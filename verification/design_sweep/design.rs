@@ -267,8 +267,8 @@ pub fn sample(seed: u64, n: usize) -> Vec<Design> {
             for _ in 0..200 {
                 let lo1 = d.undercut_limit(z1) + UNDERCUT_MARGIN;
                 let lo2 = d.undercut_limit(z2) + UNDERCUT_MARGIN;
-                d.x1 = (rng.random_range(lo1.max(-0.3).min(0.55)..=0.6) * 1e4).round() / 1e4;
-                d.x2 = (rng.random_range(lo2.max(-0.4).min(0.35)..=0.4) * 1e4).round() / 1e4;
+                d.x1 = (rng.random_range(lo1.clamp(-0.3, 0.55)..=0.6) * 1e4).round() / 1e4;
+                d.x2 = (rng.random_range(lo2.clamp(-0.4, 0.35)..=0.4) * 1e4).round() / 1e4;
                 if d.tip_thickness(z1, d.x1) >= MIN_TIP_THICKNESS
                     && d.tip_thickness(z2, d.x2) >= MIN_TIP_THICKNESS
                     && d.contact_ratio() >= 1.1
