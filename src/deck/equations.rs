@@ -90,7 +90,7 @@ impl Parser {
             });
             return Ok(());
         };
-        if f.len() > MAX_ENTRIES || f.len() % 3 != 0 {
+        if f.len() > MAX_ENTRIES || !f.len().is_multiple_of(3) {
             return Err(self.err(
                 loc,
                 format!(
