@@ -289,7 +289,7 @@ pub(crate) fn factor_flank(
                 DofTarget::Free(_) | DofTarget::Fixed(_) => {}
                 DofTarget::Coupled { .. } => {
                     return Err(FlankError::Model(format!(
-                        "flank node {} belongs to a rigid coupling: not supported",
+                        "flank node {} belongs to a rigid coupling or is the dependent DOF of an equation: not supported",
                         model.mesh.node_labels[n]
                     )))
                 }

@@ -192,6 +192,9 @@ pub fn floating_modes(model: &Model, dofs: &DofMap) -> FloatingModes {
                 let mut row: Vec<(usize, f64)> = (0..6).map(|j| (j, m[i][j])).collect();
                 match dofs.targets[3 * n + i] {
                     DofTarget::Fixed(_) => {}
+                    // an equation's dependent DOF follows other DOFs: free
+                    // here, not fixed (the contact solver refuses equations)
+                    DofTarget::Coupled { .. } if dofs.is_dependent(3 * n + i) => continue,
                     DofTarget::Coupled { .. } => {
                         let k = coupling_of[n];
                         let cp = &model.couplings[k];

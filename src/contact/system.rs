@@ -97,6 +97,13 @@ impl ElasticSystem {
                 "thermal strains (temperatures with *EXPANSION) together with contact are not supported; solve without the contact pairs or without the temperatures".into(),
             ));
         }
+        if !model.equations.is_empty() {
+            // the floating-body detection and the contact condensation are
+            // not verified with eliminated equation DOFs
+            return Err(FlankError::Model(
+                "linear equations (*EQUATION) together with contact are not supported; solve without the contact pairs or without the equations".into(),
+            ));
+        }
         let dofs0 = DofMap::new(model)?;
         let floating = floating_modes(model, &dofs0);
         if !floating.modes.is_empty() {
@@ -281,7 +288,7 @@ impl ElasticSystem {
         (0..self.dofs.targets.len())
             .map(|d| match self.dofs.targets[d] {
                 DofTarget::Free(r) => q[r],
-                DofTarget::Coupled { start, len } => self.dofs.terms[start..start + len]
+                DofTarget::Coupled { start, len, .. } => self.dofs.terms[start..start + len]
                     .iter()
                     .map(|&(r, c)| c * q[r])
                     .sum(),

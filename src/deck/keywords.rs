@@ -25,7 +25,6 @@ pub(super) const OUTPUT_KEYWORDS: &[&str] = &[
 
 /// Keywords that cannot be ignored without changing the answer, with the reason.
 const FATAL_KEYWORDS: &[(&str, &str)] = &[
-    ("EQUATION", "linear multi-point constraints"),
     ("MPC", "multi-point constraints"),
     (
         "DISTRIBUTING",

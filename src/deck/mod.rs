@@ -3,7 +3,7 @@
 //! The reader accepts the subset of the CalculiX (ccx 2.20) deck language that
 //! describes one *linear static* analysis of C3D20/C3D20R/C3D15 solids and
 //! turns it into a [`Model`]. Anything that would change the answer if it were
-//! silently ignored (equations, distributing couplings, plasticity, temperatures, other
+//! silently ignored (distributing couplings, plasticity, temperatures, other
 //! procedures, ...) is a [`FlankError::Parse`] with file and line; harmless
 //! or unknown keywords become [`DeckWarning`]s. No input panics.
 //!
@@ -21,8 +21,9 @@
 //! | `step.rs` | `*STEP`, `*STATIC`, `*END STEP`, `*BOUNDARY`, `*CLOAD`, `*DLOAD` (Pn, GRAV, CENTRIF) |
 //! | `contact.rs` | `*SURFACE`, `*SURFACE INTERACTION`, `*SURFACE BEHAVIOR`, `*FRICTION`, `*CONTACT PAIR` |
 //! | `coupling.rs` | `*RIGID BODY`, `*COUPLING`, `*KINEMATIC` |
+//! | `equations.rs` | `*EQUATION` |
 //! | `keywords.rs` | output requests (`*NODE PRINT`, ...), ignored and refused keywords |
-//! | `resolve.rs` | the end of the deck: connectivity, sets, sections, conditions, loads, couplings, contact |
+//! | `resolve.rs` | the end of the deck: connectivity, sets, sections, conditions, loads, couplings, equations, contact |
 //! | `mod.rs` (this file) | the driver: which keyword starts which block, what its data lines mean |
 //!
 //! The writer (`writer.rs`, reals in `real.rs`) produces a deck that ccx runs
@@ -39,6 +40,7 @@
 
 mod contact;
 mod coupling;
+mod equations;
 mod keywords;
 mod lexer;
 mod materials;
@@ -117,6 +119,7 @@ impl Parser {
             pairs: Vec::new(),
             couplings: Vec::new(),
             pending_coupling: None,
+            equations: Vec::new(),
             names: Vec::new(),
             name_ids: HashMap::new(),
             cmds: Vec::new(),
@@ -161,6 +164,7 @@ impl Parser {
                 return Err(self.err(loc, "*FRICTION without data line (mu[, stick slope])"))
             }
             Block::Kinematic { coupling, loc } => self.check_kinematic(coupling, loc)?,
+            Block::Equation { open, seen, loc } => self.close_equations(open, seen, loc)?,
             _ => {}
         }
         Ok(())
@@ -220,6 +224,7 @@ impl Parser {
             "RIGID BODY" => self.kw_rigid_body(&card)?,
             "COUPLING" => self.kw_coupling(&card)?,
             "KINEMATIC" => self.kw_kinematic(&card, pending)?,
+            "EQUATION" => self.kw_equation(&card)?,
             "STEP" => self.kw_step(&card)?,
             "STATIC" => self.kw_static(&card)?,
             "END STEP" => self.kw_end_step(&card)?,
@@ -326,6 +331,7 @@ impl Parser {
                 self.friction_line(*interaction, *lines, &f, loc)?;
             }
             Block::Kinematic { coupling, .. } => self.kinematic_line(*coupling, &f, loc)?,
+            Block::Equation { open, seen, .. } => self.equation_line(open, seen, &f, loc)?,
             Block::ContactPair {
                 interaction,
                 small_sliding,

@@ -7,8 +7,8 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 
 use super::records::{
-    Block, Cmd, DeckWarning, RawCoupling, RawElement, RawInteraction, RawMaterial, RawPair,
-    RawSurface, StepState,
+    Block, Cmd, DeckWarning, RawCoupling, RawElement, RawEquation, RawInteraction, RawMaterial,
+    RawPair, RawSurface, StepState,
 };
 
 /// The reader: what was read so far and the block the next data line
@@ -29,6 +29,8 @@ pub(super) struct Parser {
     pub(super) couplings: Vec<RawCoupling>,
     /// A `*COUPLING` whose `*KINEMATIC` must come next.
     pub(super) pending_coupling: Option<usize>,
+    /// `*EQUATION`s, in deck order.
+    pub(super) equations: Vec<RawEquation>,
     pub(super) names: Vec<String>,
     pub(super) name_ids: HashMap<String, u32>,
     pub(super) cmds: Vec<Cmd>,

@@ -65,6 +65,14 @@ pub(super) struct RawCoupling {
     pub(super) loc: Loc,
 }
 
+/// An `*EQUATION` as read: the announced number of terms, the terms
+/// (node label, DOF 0..=2, coefficient, line) and the line of the count.
+pub(super) struct RawEquation {
+    pub(super) count: usize,
+    pub(super) terms: Vec<(u64, usize, f64, Loc)>,
+    pub(super) loc: Loc,
+}
+
 /// What a reference node's DOFs are: (coupling, `true` for a ROT NODE).
 #[derive(Clone, Copy)]
 pub(super) struct RefRole {
@@ -267,6 +275,13 @@ pub(super) enum Block {
     ContactPair {
         interaction: String,
         small_sliding: bool,
+    },
+    /// Data lines of `*EQUATION`: `open` is the equation still reading
+    /// terms (None: a term count comes next), `seen` whether any was read.
+    Equation {
+        open: Option<usize>,
+        seen: bool,
+        loc: Loc,
     },
     /// DOF lines of the `*KINEMATIC` of coupling `coupling`.
     Kinematic {

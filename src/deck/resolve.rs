@@ -3,8 +3,8 @@
 //! Element connectivity is resolved (so `*NODE` may follow `*ELEMENT`), then
 //! the commands recorded while reading (set contents, sections, `*BOUNDARY`,
 //! `*CLOAD`, `*DLOAD`, temperatures, the sets of `*RIGID BODY`, surface items) are
-//! replayed in file order; the couplings and the contact definition are
-//! checked and built, materials assigned, the sets stored in the mesh, and
+//! replayed in file order; the couplings, the equations and the contact
+//! definition are checked and built, materials assigned, the sets stored in the mesh, and
 //! the couplings' reference nodes leave the mesh. Every error names the line
 //! that caused it.
 
@@ -376,6 +376,7 @@ impl Parser {
             &dirichlet_loc,
         )?;
         let contact = self.contact_definition(surface_faces, surface_nodes)?;
+        let mut equations = self.build_equations(&roles, contact.pairs.len())?;
 
         // Materials: keep complete ones; drop unused ones without *ELASTIC.
         let (materials, element_material) = self.element_materials(&elem_mat, &elem_loc)?;
@@ -506,6 +507,9 @@ impl Parser {
             for f in forces.iter_mut() {
                 f.node = remap[f.node];
             }
+            for t in equations.iter_mut().flat_map(|e| e.terms.iter_mut()) {
+                t.node = remap[t.node];
+            }
             for s in contact.surfaces.iter_mut() {
                 if let SurfaceKind::Node(nodes) = &mut s.kind {
                     for n in nodes.iter_mut() {
@@ -533,19 +537,22 @@ impl Parser {
         }
 
         let title = self.title.join("\n").trim().to_string();
+        let model = Model {
+            mesh: std::mem::take(&mut self.mesh),
+            materials,
+            element_material,
+            dirichlet,
+            forces,
+            pressures,
+            body_loads,
+            temperatures,
+            couplings,
+            equations,
+            contact,
+        };
+        self.check_equations(&model, &dirichlet_loc)?;
         Ok(Deck {
-            model: Model {
-                mesh: self.mesh,
-                materials,
-                element_material,
-                dirichlet,
-                forces,
-                pressures,
-                body_loads,
-                temperatures,
-                couplings,
-                contact,
-            },
+            model,
             warnings: self.warnings,
             title: (!title.is_empty()).then_some(title),
         })

@@ -225,6 +225,7 @@ pub(super) fn sample_model() -> Model {
         body_loads: Vec::new(),
         temperatures: None,
         couplings: Vec::new(),
+        equations: Vec::new(),
         contact: Default::default(),
     }
 }

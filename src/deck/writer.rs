@@ -9,7 +9,8 @@
 //! element; materials with a density get `*DENSITY`), nodal temperatures
 //! as `*INITIAL CONDITIONS, TYPE=TEMPERATURE` (T0, every node) and a
 //! `*TEMPERATURE` in the step (T, every node), `*EXPANSION` for materials
-//! with an expansion coefficient, and a displacement `*NODE PRINT`. Names
+//! with an expansion coefficient, `*EQUATION` (model data, the dependent
+//! term first), and a displacement `*NODE PRINT`. Names
 //! are upper-cased and made deck-safe and unique; labels must fit ccx's
 //! 32-bit integers; reals are written in at most 20 characters (see
 //! [`super::real`]).
@@ -27,6 +28,9 @@ use crate::fem::model::{BodyForce, Model};
 const CCX_MAX_LABEL: u64 = i32::MAX as u64;
 /// Entries per data line (ccx accepts at most 16).
 const PER_LINE: usize = 8;
+/// `*EQUATION` terms per line: ccx reads up to 4, three keep a line of
+/// 20-character reals under 132 characters.
+const EQUATION_TERMS_PER_LINE: usize = 3;
 
 /// Writes the model as a CalculiX deck (see [`format_deck`]).
 pub fn write_deck(model: &Model, path: &Path) -> Result<()> {
@@ -222,6 +226,28 @@ pub fn format_deck(model: &Model) -> Result<String> {
     write_contact(&mut out, model);
     for (set, &(r, q)) in coupling_sets.iter().zip(&ref_labels) {
         w!("*RIGID BODY, NSET={set}, REF NODE={r}, ROT NODE={q}");
+    }
+    // equations: the term count, then the terms, EQUATION_TERMS_PER_LINE a line
+    if !model.equations.is_empty() {
+        w!("*EQUATION");
+        for eq in &model.equations {
+            w!("{}", eq.terms.len());
+            let lines: Vec<_> = eq.terms.chunks(EQUATION_TERMS_PER_LINE).collect();
+            for chunk in lines {
+                let terms: Vec<String> = chunk
+                    .iter()
+                    .map(|t| {
+                        format!(
+                            "{}, {}, {}",
+                            mesh.node_labels[t.node],
+                            t.component + 1,
+                            fmt_real(t.coefficient)
+                        )
+                    })
+                    .collect();
+                w!("{}", terms.join(", "));
+            }
+        }
     }
 
     // reference DOF k of coupling c: (node label, DOF 1..3)
@@ -497,6 +523,9 @@ fn check_writable(model: &Model) -> Result<()> {
             return bad(format!("invalid nodal force {f:?}"));
         }
     }
+    // equations the reader would refuse are not written
+    crate::fem::constraints::resolve_equations(model)
+        .map_err(|e| FlankError::Model(e.describe(model, &|k| format!("equation {}", k + 1))))?;
     for p in &model.pressures {
         let ok = p.element < ne
             && p.face >= 1
@@ -951,6 +980,55 @@ mod tests {
         let twice = format_deck(&parse(&again).unwrap().model).unwrap();
         assert_eq!(again, twice);
         assert_eq!(again.matches("*NSET, NSET=HUB\n").count(), 1);
+    }
+
+    /// Equations (chains, a repeated DOF, a prescribed independent, more
+    /// terms than one line holds) are written as `*EQUATION` and read back
+    /// to the same model, bit for bit.
+    #[test]
+    fn equation_round_trip() {
+        use crate::fem::model::{Equation, EquationTerm};
+        let mut m = sample_model();
+        let term = |node, component, coefficient| EquationTerm {
+            node,
+            component,
+            coefficient,
+        };
+        m.equations = vec![
+            Equation {
+                terms: vec![
+                    term(20, 0, 1.0),
+                    term(21, 0, -1.0 / 3.0),
+                    term(4, 2, 0.1 + 0.2),
+                ],
+            },
+            Equation {
+                terms: (0..7)
+                    .map(|k| term(22 + k, k % 3, 1.5 - k as f64 * 0.75e-3))
+                    .collect(),
+            },
+            Equation {
+                terms: vec![term(21, 0, 2.0), term(30, 1, -1.0), term(31, 1, 1e-12)],
+            },
+            Equation {
+                terms: vec![term(35, 2, 4.0)],
+            },
+        ];
+        let text = format_deck(&m).unwrap();
+        assert_eq!(text.matches("*EQUATION\n").count(), 1);
+        assert!(text.lines().all(|l| l.len() <= 132));
+        let deck = parse(&text).unwrap();
+        assert!(deck.warnings.is_empty(), "{:?}", deck.warnings);
+        assert_eq!(deck.model.equations, m.equations);
+        assert_eq!(deck.model.dirichlet, m.dirichlet);
+        let again = format_deck(&deck.model).unwrap();
+        let block = |t: &str| t[t.find("*EQUATION").unwrap()..t.find("*STEP").unwrap()].to_string();
+        assert_eq!(block(&again), block(&text));
+        // what the reader would refuse is not written
+        let mut bad = m.clone();
+        bad.equations[0].terms[0] = term(0, 0, 1.0);
+        let err = format_deck(&bad).unwrap_err().to_string();
+        assert!(err.contains("also prescribed"), "{err}");
     }
 
     /// Runs ccx (if on PATH) in a fresh directory on `deck`; returns the

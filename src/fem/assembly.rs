@@ -8,8 +8,9 @@
 //! the elements so that elements of one colour share no node. The numeric pass
 //! then integrates element matrices in parallel (rayon) colour by colour and adds
 //! them into their slots without locks: within a colour the slots are disjoint.
-//! Elements touching a rigid coupling write into shared reference-DOF slots and
-//! are added serially afterwards.
+//! Elements touching a rigid coupling or a dependent DOF of an equation
+//! write into shared slots and are added serially afterwards; a node with a
+//! dependent DOF joins the groups of its independent DOFs in the graph.
 
 use rayon::prelude::*;
 
@@ -244,11 +245,35 @@ impl Assembly {
                 None
             }
         };
+        // nodes with a dependent DOF (`*EQUATION`) also touch the groups of
+        // its independent DOFs
+        let equation_groups: std::collections::HashMap<usize, Vec<usize>> =
+            if dofs.equation_of.is_empty() {
+                Default::default()
+            } else {
+                let mut group_of = vec![0usize; dofs.reduced_count];
+                for g in 0..ng {
+                    dofs.group_dofs(g).for_each(|r| group_of[r] = g);
+                }
+                let mut map: std::collections::HashMap<usize, Vec<usize>> = Default::default();
+                for &d in dofs.equation_of.keys() {
+                    let list = map.entry(d / 3).or_default();
+                    dofs.for_each_term(d, |r, _| list.push(group_of[r]));
+                }
+                map
+            };
         let elem_groups: Vec<Vec<usize>> = mesh
             .elements
             .iter()
             .map(|el| {
                 let mut g: Vec<usize> = el.nodes.iter().filter_map(|&n| node_groups(n)).collect();
+                if !equation_groups.is_empty() {
+                    for n in &el.nodes {
+                        if let Some(extra) = equation_groups.get(n) {
+                            g.extend_from_slice(extra);
+                        }
+                    }
+                }
                 g.sort_unstable();
                 g.dedup();
                 g

@@ -1,13 +1,18 @@
 //! Constraints as a map from full DOFs to the reduced (free) unknowns.
 //!
 //! Every full DOF u_d is either a free unknown, a prescribed value (Dirichlet,
-//! eliminated), or a linear combination of the free DOFs of a rigid coupling's
-//! reference point: u = Tq + u₀. The reduced stiffness is Tᵀ K T, which stays
-//! symmetric positive definite when the rigid-body modes are constrained.
+//! eliminated), or a linear combination of free DOFs plus a constant: the
+//! free DOFs of a rigid coupling's reference point, or the independent DOFs
+//! of a linear equation (`*EQUATION`, [`resolve_equations`]), whose
+//! prescribed independent DOFs give the constant: u = Tq + u₀. The reduced
+//! stiffness is Tᵀ K T, which stays symmetric positive definite when the
+//! rigid-body modes are constrained (elimination, not Lagrange multipliers).
 //!
 //! Reduced unknowns are grouped: one group per node with free DOFs (in node
 //! order), then one group per rigid coupling. Groups are the vertices of the
 //! graph used for the fill-reducing ordering.
+
+use std::collections::HashMap;
 
 use crate::error::FlankError;
 use crate::fem::model::Model;
@@ -19,8 +24,14 @@ pub enum DofTarget {
     Free(usize),
     /// A prescribed value (Dirichlet).
     Fixed(f64),
-    /// A combination of reduced unknowns: `terms[start..start+len]` of [`DofMap`].
-    Coupled { start: usize, len: usize },
+    /// A combination of reduced unknowns, `terms[start..start+len]` of
+    /// [`DofMap`], plus `offset` (an equation's prescribed independent DOFs;
+    /// 0 for a rigid coupling).
+    Coupled {
+        start: usize,
+        len: usize,
+        offset: f64,
+    },
     /// A node attached to no element: not part of the system, displacement 0.
     Unused,
 }
@@ -40,6 +51,9 @@ pub struct DofMap {
     pub coupling_group: Vec<usize>,
     /// For each coupling, the reduced index of each of its six reference DOFs, if free.
     pub coupling_dofs: Vec<[Option<usize>; 6]>,
+    /// Full DOF → index of the equation that makes it dependent (empty
+    /// without equations).
+    pub equation_of: HashMap<usize, usize>,
 }
 
 impl DofMap {
@@ -88,6 +102,14 @@ impl DofMap {
                 owner[n] = c;
             }
         }
+        let resolved = resolve_equations(model).map_err(|e| {
+            FlankError::Model(e.describe(model, &|k| format!("equation {}", k + 1)))
+        })?;
+        let equation_of: HashMap<usize, usize> = resolved
+            .iter()
+            .enumerate()
+            .map(|(e, (dep, _))| (*dep, e))
+            .collect();
         let mut targets = vec![DofTarget::Unused; 3 * nn];
         let mut group_start = Vec::new();
         let mut node_group = vec![usize::MAX; nn];
@@ -98,6 +120,9 @@ impl DofMap {
             }
             let start = next;
             for k in 0..3 {
+                if equation_of.contains_key(&(3 * n + k)) {
+                    continue;
+                }
                 targets[3 * n + k] = match fixed[3 * n + k] {
                     Some(v) => DofTarget::Fixed(v),
                     None => {
@@ -161,9 +186,37 @@ impl DofMap {
                     targets[3 * n + i] = DofTarget::Coupled {
                         start,
                         len: terms.len() - start,
+                        offset: 0.0,
                     };
                 }
             }
+        }
+        // equations: u_dep = Σ cᵢ uᵢ over independent DOFs, free ones as
+        // terms, prescribed ones into the offset
+        for (dep, flat) in &resolved {
+            let start = terms.len();
+            let mut offset = 0.0;
+            for &(d, c) in flat {
+                match targets[d] {
+                    DofTarget::Free(r) => terms.push((r, c)),
+                    DofTarget::Fixed(v) => offset += c * v,
+                    // refused by resolve_equations (coupled nodes, nodes
+                    // outside every element)
+                    DofTarget::Coupled { .. } | DofTarget::Unused => {
+                        return Err(FlankError::Model(format!(
+                            "equation on node {}: its independent DOF {} of node {} is not a free or prescribed mesh DOF",
+                            model.mesh.node_labels[dep / 3],
+                            d % 3 + 1,
+                            model.mesh.node_labels[d / 3]
+                        )))
+                    }
+                }
+            }
+            targets[*dep] = DofTarget::Coupled {
+                start,
+                len: terms.len() - start,
+                offset,
+            };
         }
         Ok(DofMap {
             targets,
@@ -173,7 +226,14 @@ impl DofMap {
             node_group,
             coupling_group,
             coupling_dofs,
+            equation_of,
         })
+    }
+
+    /// Whether full DOF `d` is the dependent DOF of an equation.
+    #[inline]
+    pub fn is_dependent(&self, d: usize) -> bool {
+        !self.equation_of.is_empty() && self.equation_of.contains_key(&d)
     }
 
     /// Renumbers the reduced DOFs so that groups come in the order `perm`
@@ -233,7 +293,7 @@ impl DofMap {
     pub fn for_each_term(&self, d: usize, mut f: impl FnMut(usize, f64)) {
         match self.targets[d] {
             DofTarget::Free(r) => f(r, 1.0),
-            DofTarget::Coupled { start, len } => {
+            DofTarget::Coupled { start, len, .. } => {
                 for &(r, c) in &self.terms[start..start + len] {
                     f(r, c);
                 }
@@ -242,11 +302,13 @@ impl DofMap {
         }
     }
 
-    /// Prescribed value of a full DOF (0 for non-fixed DOFs).
+    /// Prescribed part u₀ of a full DOF: its value if fixed, the constant
+    /// of a dependent DOF, 0 otherwise.
     #[inline]
     pub fn prescribed(&self, d: usize) -> f64 {
         match self.targets[d] {
             DofTarget::Fixed(v) => v,
+            DofTarget::Coupled { offset, .. } => offset,
             _ => 0.0,
         }
     }
@@ -257,10 +319,13 @@ impl DofMap {
             .map(|d| match self.targets[d] {
                 DofTarget::Free(r) => q[r],
                 DofTarget::Fixed(v) => v,
-                DofTarget::Coupled { start, len } => self.terms[start..start + len]
-                    .iter()
-                    .map(|&(r, c)| c * q[r])
-                    .sum(),
+                DofTarget::Coupled { start, len, offset } => {
+                    offset
+                        + self.terms[start..start + len]
+                            .iter()
+                            .map(|&(r, c)| c * q[r])
+                            .sum::<f64>()
+                }
                 DofTarget::Unused => 0.0,
             })
             .collect()
@@ -275,5 +340,329 @@ impl DofMap {
             }
         }
         out
+    }
+}
+
+/// Why an equation cannot be eliminated ([`resolve_equations`]).
+#[derive(Clone, Debug, PartialEq)]
+pub enum EquationFault {
+    /// No term, an out-of-range node or DOF, a non-finite coefficient.
+    Malformed(String),
+    /// The dependent DOF's coefficient is zero (as given, or after adding
+    /// the terms that repeat it).
+    ZeroDependent,
+    /// The dependent DOF is also prescribed (Dirichlet condition number
+    /// `dirichlet`): ccx refuses it too.
+    DependentFixed { dirichlet: usize },
+    /// The dependent DOF is already the dependent DOF of equation `first`.
+    DependentTwice { first: usize },
+    /// The equations `chain` (this one first) depend on each other in a
+    /// cycle.
+    Cycle { chain: Vec<usize> },
+    /// A term's node belongs to no element (it has no stiffness).
+    OutsideElements { node: usize },
+    /// A term's node is held by rigid coupling `coupling`.
+    InCoupling { node: usize, coupling: usize },
+}
+
+/// An equation that cannot be eliminated: its index in `Model::equations`
+/// and the reason.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EquationError {
+    pub equation: usize,
+    pub fault: EquationFault,
+}
+
+impl EquationError {
+    /// The reason in words; `name(k)` names equation k ("equation 3", "the
+    /// equation at line 12").
+    pub fn describe(&self, model: &Model, name: &dyn Fn(usize) -> String) -> String {
+        let labels = &model.mesh.node_labels;
+        let dof_name = |d: usize| {
+            let node = labels.get(d / 3).copied().unwrap_or(0);
+            format!("DOF {} of node {node}", d % 3 + 1)
+        };
+        let dependent = model.equations[self.equation]
+            .terms
+            .first()
+            .map(|t| dof_name(3 * t.node + t.component))
+            .unwrap_or_default();
+        let this = name(self.equation);
+        match &self.fault {
+            EquationFault::Malformed(why) => format!("{this}: {why}"),
+            EquationFault::ZeroDependent => format!(
+                "{this}: the coefficient of its first term ({dependent}, the dependent DOF) is zero (after adding the terms that repeat that DOF); the first term must have a non-zero coefficient"
+            ),
+            EquationFault::DependentFixed { .. } => format!(
+                "{this}: its dependent DOF ({dependent}, the first term) is also prescribed by a *BOUNDARY; a dependent DOF cannot be prescribed (ccx refuses it too): put another DOF first or drop the *BOUNDARY"
+            ),
+            EquationFault::DependentTwice { first } => format!(
+                "{this}: its dependent DOF ({dependent}, the first term) is already the dependent DOF of {}; a DOF can be dependent in one equation only (ccx refuses it too): put another DOF first",
+                name(*first)
+            ),
+            EquationFault::Cycle { chain } => {
+                let path: Vec<String> = chain
+                    .iter()
+                    .chain(chain.first())
+                    .map(|&e| {
+                        let t = &model.equations[e].terms[0];
+                        dof_name(3 * t.node + t.component)
+                    })
+                    .collect();
+                format!(
+                    "{this}: the equations form a cycle, each dependent DOF depending on the next: {} (through {}); flank does not solve cyclic equations: write them without the cycle",
+                    path.join(" -> "),
+                    chain.iter().map(|&e| name(e)).collect::<Vec<_>>().join(", ")
+                )
+            }
+            EquationFault::OutsideElements { node } => format!(
+                "{this}: node {} belongs to no element (it has no stiffness): not supported in an equation",
+                labels[*node]
+            ),
+            EquationFault::InCoupling { node, coupling } => format!(
+                "{this}: node {} is held by the rigid coupling '{}': an equation on a coupled node is not supported",
+                labels[*node], model.couplings[*coupling].name
+            ),
+        }
+    }
+}
+
+/// Resolves the model's equations (`*EQUATION`, ccx 2.20 manual): in each
+/// equation Σ cᵢ uᵢ = 0 the first term's DOF is the dependent one,
+/// u_dep = −Σ_{i≥2} (cᵢ/c₁) uᵢ (terms repeating a DOF add up, as in ccx).
+/// An independent DOF that is itself dependent is replaced by its own
+/// combination (chains, in a depth-first pass bounded by the number of
+/// equations), so each result is over DOFs no equation makes dependent.
+///
+/// Returns per equation (dependent full DOF, [(independent full DOF,
+/// coefficient)]). Refused: malformed terms, a zero dependent coefficient,
+/// a dependent DOF that is prescribed or dependent twice, cycles (ccx
+/// solves some cycles by substitution; flank refuses them all), nodes in no
+/// element and nodes of rigid couplings.
+#[allow(clippy::type_complexity)]
+pub fn resolve_equations(model: &Model) -> Result<Vec<(usize, Vec<(usize, f64)>)>, EquationError> {
+    let eqs = &model.equations;
+    if eqs.is_empty() {
+        return Ok(Vec::new());
+    }
+    let nn = model.mesh.node_count();
+    let fail = |equation: usize, fault: EquationFault| Err(EquationError { equation, fault });
+    let used = model.mesh.used_nodes();
+    let mut coupling_of: HashMap<usize, usize> = HashMap::new();
+    for (c, cp) in model.couplings.iter().enumerate() {
+        for &n in &cp.nodes {
+            coupling_of.insert(n, c);
+        }
+    }
+    // merged terms (DOF, coefficient) per equation, the dependent first
+    let mut merged: Vec<Vec<(usize, f64)>> = Vec::with_capacity(eqs.len());
+    for (e, eq) in eqs.iter().enumerate() {
+        if eq.terms.is_empty() {
+            return fail(e, EquationFault::Malformed("it has no term".into()));
+        }
+        let mut terms: Vec<(usize, f64)> = Vec::with_capacity(eq.terms.len());
+        for t in &eq.terms {
+            if t.node >= nn || t.component > 2 {
+                return fail(
+                    e,
+                    EquationFault::Malformed(format!(
+                        "term on node index {} DOF {} is out of range (nodes 0..{nn}, DOFs 1-3)",
+                        t.node,
+                        t.component + 1
+                    )),
+                );
+            }
+            if !t.coefficient.is_finite() {
+                return fail(
+                    e,
+                    EquationFault::Malformed(format!(
+                        "the coefficient of node {} DOF {} is not finite",
+                        model.mesh.node_labels[t.node],
+                        t.component + 1
+                    )),
+                );
+            }
+            if !used[t.node] {
+                return fail(e, EquationFault::OutsideElements { node: t.node });
+            }
+            if let Some(&c) = coupling_of.get(&t.node) {
+                return fail(
+                    e,
+                    EquationFault::InCoupling {
+                        node: t.node,
+                        coupling: c,
+                    },
+                );
+            }
+            let d = 3 * t.node + t.component;
+            match terms.iter_mut().find(|(k, _)| *k == d) {
+                Some(slot) => slot.1 += t.coefficient,
+                None => terms.push((d, t.coefficient)),
+            }
+        }
+        if terms[0].1 == 0.0 {
+            return fail(e, EquationFault::ZeroDependent);
+        }
+        merged.push(terms);
+    }
+    // dependent DOFs: once each, never prescribed
+    let mut dep_of: HashMap<usize, usize> = HashMap::with_capacity(eqs.len());
+    for (e, terms) in merged.iter().enumerate() {
+        if let Some(first) = dep_of.insert(terms[0].0, e) {
+            return fail(e, EquationFault::DependentTwice { first });
+        }
+    }
+    for (k, bc) in model.dirichlet.iter().enumerate() {
+        if let Some(&e) = dep_of.get(&(3 * bc.node + bc.component)) {
+            return fail(e, EquationFault::DependentFixed { dirichlet: k });
+        }
+    }
+    // depth-first elimination of dependent independents; state 0 new,
+    // 1 on the stack, 2 resolved
+    let mut state = vec![0u8; eqs.len()];
+    let mut flat: Vec<Vec<(usize, f64)>> = vec![Vec::new(); eqs.len()];
+    for root in 0..eqs.len() {
+        if state[root] != 0 {
+            continue;
+        }
+        // (equation, next term to look at)
+        let mut stack: Vec<(usize, usize)> = vec![(root, 1)];
+        state[root] = 1;
+        while let Some(top) = stack.last_mut() {
+            let (e, next) = *top;
+            if let Some(&(d, _)) = merged[e].get(next) {
+                top.1 += 1;
+                if let Some(&f) = dep_of.get(&d) {
+                    match state[f] {
+                        0 => {
+                            state[f] = 1;
+                            stack.push((f, 1));
+                        }
+                        1 => {
+                            let at = stack.iter().position(|&(g, _)| g == f).unwrap_or(0);
+                            let chain = stack[at..].iter().map(|&(g, _)| g).collect();
+                            return fail(f, EquationFault::Cycle { chain });
+                        }
+                        _ => {}
+                    }
+                }
+                continue;
+            }
+            // all independents resolved: combine
+            let c1 = merged[e][0].1;
+            let mut out: Vec<(usize, f64)> = Vec::new();
+            let mut add = |d: usize, c: f64| match out.iter_mut().find(|(k, _)| *k == d) {
+                Some(slot) => slot.1 += c,
+                None => out.push((d, c)),
+            };
+            for &(d, c) in &merged[e][1..] {
+                let w = -c / c1;
+                match dep_of.get(&d) {
+                    Some(&f) => flat[f].iter().for_each(|&(g, cg)| add(g, w * cg)),
+                    None => add(d, w),
+                }
+            }
+            out.retain(|&(_, c)| c != 0.0);
+            flat[e] = out;
+            state[e] = 2;
+            stack.pop();
+        }
+    }
+    Ok(merged
+        .iter()
+        .zip(flat)
+        .map(|(terms, f)| (terms[0].0, f))
+        .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fem::model::{Dirichlet, Equation, EquationTerm};
+    use crate::mesh::structured::{cantilever_model, BoxElement};
+
+    fn eq(terms: &[(usize, usize, f64)]) -> Equation {
+        Equation {
+            terms: terms
+                .iter()
+                .map(|&(node, component, coefficient)| EquationTerm {
+                    node,
+                    component,
+                    coefficient,
+                })
+                .collect(),
+        }
+    }
+
+    /// A chain of 200 equations (each on the next) resolves to the last
+    /// independent DOF, whatever the order; a prescribed independent DOF
+    /// becomes the offset of the dependent one.
+    #[test]
+    fn chains_resolve_and_offsets_follow_prescribed_dofs() {
+        let mut model = cantilever_model([8, 2, 2], BoxElement::Hex20, 1000.0).unwrap();
+        let x0: Vec<usize> = (0..model.mesh.node_count())
+            .filter(|&n| model.mesh.coords[n][0] > 5.0)
+            .take(201)
+            .collect();
+        for w in x0.windows(2).rev() {
+            model.equations.push(eq(&[(w[0], 1, 2.0), (w[1], 1, -1.0)]));
+        }
+        let r = resolve_equations(&model).unwrap();
+        let first = r.iter().find(|(d, _)| *d == 3 * x0[0] + 1).unwrap();
+        assert_eq!(first.1.len(), 1);
+        assert_eq!(first.1[0].0, 3 * x0[200] + 1);
+        assert!((first.1[0].1 - 0.5f64.powi(200)).abs() <= 1e-15 * 0.5f64.powi(200));
+        model.dirichlet.push(Dirichlet {
+            node: x0[200],
+            component: 1,
+            value: 0.25,
+        });
+        let dofs = DofMap::new(&model).unwrap();
+        assert_eq!(dofs.prescribed(3 * x0[199] + 1), 0.125);
+        let u = dofs.expand(&vec![0.0; dofs.reduced_count]);
+        assert_eq!(u[3 * x0[198] + 1], 0.0625);
+    }
+
+    #[test]
+    fn refusals() {
+        let model = cantilever_model([4, 1, 1], BoxElement::Hex20, 1000.0).unwrap();
+        let far: Vec<usize> = (0..model.mesh.node_count())
+            .filter(|&n| model.mesh.coords[n][0] > 5.0)
+            .collect();
+        let (a, b, c) = (far[0], far[1], far[2]);
+        let fault = |eqs: Vec<Equation>| {
+            let mut m = model.clone();
+            m.equations = eqs;
+            resolve_equations(&m).unwrap_err()
+        };
+        let e = fault(vec![
+            eq(&[(a, 0, 1.0), (b, 0, -1.0)]),
+            eq(&[(b, 0, 1.0), (c, 0, -1.0)]),
+            eq(&[(c, 0, 1.0), (a, 0, -2.0)]),
+        ]);
+        assert_eq!(
+            e,
+            EquationError {
+                equation: 0,
+                fault: EquationFault::Cycle {
+                    chain: vec![0, 1, 2]
+                }
+            }
+        );
+        let e = fault(vec![
+            eq(&[(a, 0, 1.0), (b, 0, -1.0)]),
+            eq(&[(a, 0, 1.0), (c, 0, -1.0)]),
+        ]);
+        assert_eq!(e.fault, EquationFault::DependentTwice { first: 0 });
+        assert_eq!(e.equation, 1);
+        let e = fault(vec![eq(&[(a, 0, 0.0), (b, 0, -1.0)])]);
+        assert_eq!(e.fault, EquationFault::ZeroDependent);
+        let fixed = model.dirichlet[0].clone();
+        let e = fault(vec![eq(&[(fixed.node, fixed.component, 1.0), (b, 0, 1.0)])]);
+        assert_eq!(e.fault, EquationFault::DependentFixed { dirichlet: 0 });
+        let e = fault(vec![eq(&[(a, 3, 1.0)])]);
+        assert!(matches!(e.fault, EquationFault::Malformed(_)));
+        let e = fault(vec![Equation { terms: Vec::new() }]);
+        assert!(matches!(e.fault, EquationFault::Malformed(_)));
     }
 }

@@ -131,6 +131,25 @@ impl RigidCoupling {
     }
 }
 
+/// One term c·u of a linear multi-point constraint: DOF `component` (0, 1, 2
+/// for x, y, z) of mesh node `node` times `coefficient`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EquationTerm {
+    pub node: usize,
+    pub component: usize,
+    pub coefficient: f64,
+}
+
+/// A linear multi-point constraint Σ cᵢ uᵢ = 0 (CalculiX `*EQUATION`, ccx
+/// 2.20 manual: homogeneous, the first term's DOF is the dependent one and
+/// is eliminated from the system). A term repeating a DOF adds its
+/// coefficient, as in ccx. Resolved into the DOF map by
+/// [`crate::fem::constraints::resolve_equations`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Equation {
+    pub terms: Vec<EquationTerm>,
+}
+
 /// A complete linear static problem.
 #[derive(Clone, Debug, Default)]
 pub struct Model {
@@ -146,6 +165,8 @@ pub struct Model {
     /// Initial and current nodal temperatures (thermal strains), if any.
     pub temperatures: Option<Temperatures>,
     pub couplings: Vec<RigidCoupling>,
+    /// Linear multi-point constraints (`*EQUATION`), in deck order.
+    pub equations: Vec<Equation>,
     /// Contact surfaces, interactions and pairs (empty: no contact).
     pub contact: crate::fem::contact_definition::ContactDefinition,
 }

@@ -167,7 +167,10 @@ fn find(parent: &mut [usize], mut i: usize) -> usize {
 }
 
 /// Names the rigid-body modes left free by the constraints, per connected
-/// body; `Ok(())` if every body is held.
+/// body; `Ok(())` if every body is held. Bodies joined by equations
+/// (`*EQUATION`) are checked together: the unknowns are the rigid motions
+/// of each body, and each equation is one row Σ cᵢ uᵢ = 0 between them (a
+/// mechanism, two bodies joined at one node, is a free mode too).
 pub fn check_rigid_body_modes(model: &Model, dofs: &DofMap) -> Result<(), FlankError> {
     let mesh = &model.mesh;
     let nn = mesh.node_count();
@@ -245,33 +248,67 @@ pub fn check_rigid_body_modes(model: &Model, dofs: &DofMap) -> Result<(), FlankE
             [0.0, 0.0, 1.0, r[1], -r[0], 0.0],
         ]
     };
-    // Unknowns per body: its rigid motion m (6) and the free reference DOFs
-    // of the couplings on it. Constraints: m vanishes at Dirichlet DOFs, and at
-    // every coupled node m equals the motion the reference imposes. A null
-    // vector of these rows is a free mode (of the body, or of a reference
-    // DOF its nodes do not feel, e.g. a rotation about the line of collinear
+    // clusters: the bodies joined by equations (one body each without)
+    let mut cparent: Vec<usize> = (0..nc).collect();
+    for eq in &model.equations {
+        let bodies: Vec<usize> = eq
+            .terms
+            .iter()
+            .filter(|t| t.node < nn && comp_of[t.node] != usize::MAX)
+            .map(|t| comp_of[t.node])
+            .collect();
+        for w in bodies.windows(2) {
+            union(&mut cparent, w[0], w[1]);
+        }
+    }
+    let mut cluster_of = vec![usize::MAX; nc];
+    let mut clusters: Vec<Vec<usize>> = Vec::new();
+    for c in 0..nc {
+        let r = find(&mut cparent, c);
+        if cluster_of[r] == usize::MAX {
+            cluster_of[r] = clusters.len();
+            clusters.push(Vec::new());
+        }
+        cluster_of[c] = cluster_of[r];
+        clusters[cluster_of[c]].push(c);
+    }
+    let ncl = clusters.len();
+    // Unknowns per cluster: the rigid motion (6) of each of its bodies and
+    // the free reference DOFs of the couplings on them. Constraints: the
+    // motion vanishes at Dirichlet DOFs, at every coupled node it equals the
+    // motion the reference imposes, and every equation holds. A null vector
+    // of these rows is a free mode (of a body, or of a reference DOF its
+    // nodes do not feel, e.g. a rotation about the line of collinear
     // coupled nodes).
+    let mut body_col = vec![0usize; nc];
+    let mut width = vec![0usize; ncl];
+    for (cl, bodies) in clusters.iter().enumerate() {
+        for &c in bodies {
+            body_col[c] = width[cl];
+            width[cl] += 6;
+        }
+    }
     let mut comp_couplings: Vec<Vec<usize>> = vec![Vec::new(); nc];
     for (k, cp) in model.couplings.iter().enumerate() {
         if let Some(&n0) = cp.nodes.iter().find(|&&n| used[n]) {
             comp_couplings[comp_of[n0]].push(k);
         }
     }
-    // column of each (coupling, reference DOF) within its body's unknowns
+    // column of each (coupling, reference DOF) within its cluster's unknowns
     let mut column = vec![[usize::MAX; 6]; model.couplings.len()];
-    let mut width = vec![6usize; nc];
     for c in 0..nc {
+        let cl = cluster_of[c];
         for &k in &comp_couplings[c] {
             for j in 0..6 {
                 if model.couplings[k].free[j] {
-                    column[k][j] = width[c];
-                    width[c] += 1;
+                    column[k][j] = width[cl];
+                    width[cl] += 1;
                 }
             }
         }
     }
-    let mut gram: Vec<DMatrix<f64>> = (0..nc)
-        .map(|c| DMatrix::zeros(width[c], width[c]))
+    let mut gram: Vec<DMatrix<f64>> = (0..ncl)
+        .map(|cl| DMatrix::zeros(width[cl], width[cl]))
         .collect();
     let add_row = |g: &mut DMatrix<f64>, row: &[(usize, f64)]| {
         for &(a, va) in row {
@@ -292,10 +329,13 @@ pub fn check_rigid_body_modes(model: &Model, dofs: &DofMap) -> Result<(), FlankE
             continue;
         }
         let m = mode(c, mesh.coords[n]);
+        let b0 = body_col[c];
         for i in 0..3 {
-            let mut row: Vec<(usize, f64)> = (0..6).map(|j| (j, m[i][j])).collect();
+            let mut row: Vec<(usize, f64)> = (0..6).map(|j| (b0 + j, m[i][j])).collect();
             match dofs.targets[3 * n + i] {
                 DofTarget::Fixed(_) => {}
+                // an equation's dependent DOF: its row is the equation's
+                DofTarget::Coupled { .. } if dofs.is_dependent(3 * n + i) => continue,
                 DofTarget::Coupled { .. } => {
                     let k = coupling_of[n];
                     let cp = &model.couplings[k];
@@ -328,7 +368,31 @@ pub fn check_rigid_body_modes(model: &Model, dofs: &DofMap) -> Result<(), FlankE
                 }
                 _ => continue,
             }
-            add_row(&mut gram[c], &row);
+            add_row(&mut gram[cluster_of[c]], &row);
+        }
+    }
+    // one row per equation, Σ cᵢ (mode of the body of node i)ᵢ, scaled to
+    // a largest coefficient of 1
+    for eq in &model.equations {
+        let scale = eq
+            .terms
+            .iter()
+            .fold(0.0f64, |a, t| a.max(t.coefficient.abs()));
+        let mut row: Vec<(usize, f64)> = Vec::new();
+        let mut cl = usize::MAX;
+        for t in &eq.terms {
+            if t.node >= nn || t.component > 2 || comp_of[t.node] == usize::MAX {
+                continue;
+            }
+            let c = comp_of[t.node];
+            cl = cluster_of[c];
+            let m = mode(c, mesh.coords[t.node]);
+            for j in 0..6 {
+                row.push((body_col[c] + j, t.coefficient / scale * m[t.component][j]));
+            }
+        }
+        if cl != usize::MAX && scale > 0.0 {
+            add_row(&mut gram[cl], &row);
         }
     }
     let names = [
@@ -340,34 +404,54 @@ pub fn check_rigid_body_modes(model: &Model, dofs: &DofMap) -> Result<(), FlankE
         "rotation about z",
     ];
     let ref_names = ["ux", "uy", "uz", "rx", "ry", "rz"];
+    // "translation x + rotation about z" for the 6 entries at `at` of v
+    let describe = |v: &[f64], at: usize, norm: f64| -> String {
+        let mut parts: Vec<(f64, usize)> = (0..6)
+            .map(|j| (v[at + j].abs() / norm, j))
+            .filter(|p| p.0 > 0.2)
+            .collect();
+        parts.sort_by(|a, b| b.0.partial_cmp(&a.0).unwrap_or(std::cmp::Ordering::Equal));
+        let desc: Vec<&str> = parts.iter().map(|p| names[p.1]).collect();
+        desc.join(" + ")
+    };
     let mut problems = Vec::new();
-    for c in 0..nc {
-        let eig = SymmetricEigen::new(gram[c].clone());
+    for (cl, bodies) in clusters.iter().enumerate() {
+        let eig = SymmetricEigen::new(gram[cl].clone());
         let scale = eig.eigenvalues.iter().fold(1.0f64, |a, &b| a.max(b));
+        let nb = 6 * bodies.len();
         let mut free = Vec::new();
-        for k in 0..width[c] {
+        for k in 0..width[cl] {
             if eig.eigenvalues[k] <= 1e-10 * scale {
-                let v = eig.eigenvectors.column(k);
-                let body: f64 = (0..6).map(|j| v[j] * v[j]).sum::<f64>().sqrt();
-                if body > 0.2 {
-                    let mut parts: Vec<(f64, usize)> = (0..6)
-                        .map(|j| (v[j].abs() / body, j))
-                        .filter(|p| p.0 > 0.2)
-                        .collect();
-                    parts
-                        .sort_by(|a, b| b.0.partial_cmp(&a.0).unwrap_or(std::cmp::Ordering::Equal));
-                    let desc: Vec<&str> = parts.iter().map(|p| names[p.1]).collect();
-                    free.push(desc.join(" + "));
+                let v: Vec<f64> = eig.eigenvectors.column(k).iter().copied().collect();
+                let body: f64 = (0..nb).map(|j| v[j] * v[j]).sum::<f64>().sqrt();
+                if body > 0.2 && bodies.len() == 1 {
+                    free.push(describe(&v, 0, body));
+                } else if body > 0.2 {
+                    let mut desc = Vec::new();
+                    for &c in bodies {
+                        let at = body_col[c];
+                        let norm: f64 = (0..6).map(|j| v[at + j] * v[at + j]).sum::<f64>().sqrt();
+                        if norm > 0.2 * body {
+                            desc.push(format!(
+                                "body of node {}: {}",
+                                mesh.node_labels[roots[c]],
+                                describe(&v, at, norm)
+                            ));
+                        }
+                    }
+                    free.push(desc.join(" with "));
                 } else {
                     let mut desc = Vec::new();
-                    for &kc in &comp_couplings[c] {
-                        for j in 0..6 {
-                            let col = column[kc][j];
-                            if col != usize::MAX && v[col].abs() > 0.2 {
-                                desc.push(format!(
-                                    "coupling '{}' reference {} (its nodes do not feel it)",
-                                    model.couplings[kc].name, ref_names[j]
-                                ));
+                    for &c in bodies {
+                        for &kc in &comp_couplings[c] {
+                            for j in 0..6 {
+                                let col = column[kc][j];
+                                if col != usize::MAX && v[col].abs() > 0.2 {
+                                    desc.push(format!(
+                                        "coupling '{}' reference {} (its nodes do not feel it)",
+                                        model.couplings[kc].name, ref_names[j]
+                                    ));
+                                }
                             }
                         }
                     }
@@ -375,7 +459,10 @@ pub fn check_rigid_body_modes(model: &Model, dofs: &DofMap) -> Result<(), FlankE
                 }
             }
         }
-        if !free.is_empty() {
+        if free.is_empty() {
+            continue;
+        }
+        if let [c] = bodies[..] {
             let label = mesh.node_labels[roots[c]];
             problems.push(format!(
                 "body containing node {label} ({} nodes, centroid [{:.4}, {:.4}, {:.4}]) has {} free rigid-body mode(s): {}",
@@ -383,6 +470,19 @@ pub fn check_rigid_body_modes(model: &Model, dofs: &DofMap) -> Result<(), FlankE
                 centroid[c][0],
                 centroid[c][1],
                 centroid[c][2],
+                free.len(),
+                free.join("; ")
+            ));
+        } else {
+            let labels: Vec<String> = bodies
+                .iter()
+                .map(|&c| mesh.node_labels[roots[c]].to_string())
+                .collect();
+            problems.push(format!(
+                "the {} bodies containing nodes {} (joined by equations, {} nodes) have {} free rigid-body mode(s): {}",
+                bodies.len(),
+                labels.join(", "),
+                bodies.iter().map(|&c| count[c]).sum::<usize>(),
                 free.len(),
                 free.join("; ")
             ));
@@ -1140,6 +1240,100 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(err.contains("coupling 'AXIS' reference rz"), "{err}");
+    }
+
+    /// Two unit cubes side by side (x ∈ [−1, 1] and [1, 3], separate
+    /// nodes on the shared face), the first clamped at z = −1: the second
+    /// tied by equations u_b = u_a on every node pair of the face solves
+    /// as one body (its face follows); tied at one node only, it keeps
+    /// the three rotations about that node, named for the joined bodies.
+    #[test]
+    fn bodies_joined_by_equations() {
+        use crate::fem::model::{Equation, EquationTerm, NodalForce};
+        let mut mesh = Mesh::new();
+        for (i, p) in HEX20_NODES.iter().enumerate() {
+            mesh.add_node(i as u64 + 1, *p).unwrap();
+        }
+        for (i, p) in HEX20_NODES.iter().enumerate() {
+            mesh.add_node(i as u64 + 101, [p[0] + 2.0, p[1], p[2]])
+                .unwrap();
+        }
+        mesh.add_element(1, ElementKind::C3D20, (0..20).collect())
+            .unwrap();
+        mesh.add_element(2, ElementKind::C3D20, (20..40).collect())
+            .unwrap();
+        let mut model = Model {
+            mesh,
+            materials: vec![Material::new("steel", 200e3, 0.3).unwrap()],
+            element_material: vec![0, 0],
+            ..Default::default()
+        };
+        for (i, p) in HEX20_NODES.iter().enumerate() {
+            if p[2] == -1.0 {
+                for k in 0..3 {
+                    model.dirichlet.push(Dirichlet {
+                        node: i,
+                        component: k,
+                        value: 0.0,
+                    });
+                }
+            }
+        }
+        // pairs (node of cube 2 at x = 1, node of cube 1 at x = 1)
+        let pairs: Vec<(usize, usize)> = (0..20)
+            .filter(|&i| HEX20_NODES[i][0] == -1.0)
+            .map(|i| {
+                let j = (0..20)
+                    .find(|&j| {
+                        HEX20_NODES[j][0] == 1.0
+                            && HEX20_NODES[j][1] == HEX20_NODES[i][1]
+                            && HEX20_NODES[j][2] == HEX20_NODES[i][2]
+                    })
+                    .unwrap();
+                (20 + i, j)
+            })
+            .collect();
+        let tie = |b: usize, a: usize, k: usize| Equation {
+            terms: vec![
+                EquationTerm {
+                    node: b,
+                    component: k,
+                    coefficient: 1.0,
+                },
+                EquationTerm {
+                    node: a,
+                    component: k,
+                    coefficient: -1.0,
+                },
+            ],
+        };
+        let mut tied = model.clone();
+        for &(b, a) in &pairs {
+            tied.equations.extend((0..3).map(|k| tie(b, a, k)));
+        }
+        tied.forces.push(NodalForce {
+            node: 26,
+            component: 2,
+            value: -100.0,
+        });
+        let sol = solve_static(&tied, &SolveOptions::default()).unwrap();
+        let u = &sol.displacement;
+        assert!(u[3 * 26 + 2] < 0.0);
+        for &(b, a) in &pairs {
+            for k in 0..3 {
+                assert!((u[3 * b + k] - u[3 * a + k]).abs() <= 1e-15 * u[3 * 26 + 2].abs());
+            }
+        }
+        let mut pinned = model.clone();
+        let (b, a) = pairs[0];
+        pinned.equations.extend((0..3).map(|k| tie(b, a, k)));
+        let err = solve_static(&pinned, &SolveOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("joined by equations") && err.contains("3 free rigid-body mode"),
+            "{err}"
+        );
     }
 
     #[test]

@@ -249,7 +249,8 @@ fn write_all(
     )
 }
 
-/// Nodes with at least one prescribed DOF or in a rigid coupling.
+/// Nodes with at least one prescribed DOF, in a rigid coupling or in an
+/// equation (its constraint force acts on all of its terms' nodes).
 fn constrained_nodes(model: &Model) -> Vec<bool> {
     let mut c = vec![false; model.mesh.node_count()];
     for bc in &model.dirichlet {
@@ -258,6 +259,11 @@ fn constrained_nodes(model: &Model) -> Vec<bool> {
     for cp in &model.couplings {
         for &n in &cp.nodes {
             c[n] = true;
+        }
+    }
+    for t in model.equations.iter().flat_map(|e| &e.terms) {
+        if let Some(slot) = c.get_mut(t.node) {
+            *slot = true;
         }
     }
     c

@@ -567,3 +567,58 @@ fn thermal_load_errors() {
         &[&line(&t, "AMPLITUDE=RAMP"), "AMPLITUDE"],
     );
 }
+
+/// The unit cube with its top face corner 7 following corner 6 in x
+/// (`*EQUATION`, model data); `edit` breaks one thing.
+fn equation(edit: impl Fn(String) -> String) -> String {
+    let s = deck(|s| s.replace("*STEP\n", "*EQUATION\n2\n7, 1, 1., 6, 1, -1.\n*STEP\n"));
+    edit(s)
+}
+
+#[test]
+fn equation_errors() {
+    let (ok, stderr) = run("valid_equation", &equation(|s| s));
+    assert!(ok, "the equation deck must solve:\n{stderr}");
+    let line = |text: &str, needle: &str| {
+        let n = text.lines().position(|l| l.contains(needle)).unwrap() + 1;
+        format!(".inp:{n}:")
+    };
+    let count = |text: &str| {
+        let n = text.lines().position(|l| l == "*EQUATION").unwrap() + 2;
+        format!(".inp:{n}:")
+    };
+    let t = equation(|s| s.replace("7, 1, 1., 6", "1, 1, 1., 6"));
+    expect_error(
+        "equation_dependent_fixed",
+        &t,
+        &[&count(&t), "also prescribed by a *boundary"],
+    );
+    let t = equation(|s| s.replace("6, 1, -1.\n", "6, 1, -1.\n2\n7, 1, 1., 8, 1, -1.\n"));
+    expect_error(
+        "equation_dependent_twice",
+        &t,
+        &[
+            &format!(
+                ".inp:{}:",
+                t.lines().position(|l| l.contains("7, 1, 1., 8")).unwrap()
+            ),
+            "already the dependent dof",
+        ],
+    );
+    let t = equation(|s| s.replace("6, 1, -1.\n", "6, 1, -1.\n2\n6, 1, 1., 7, 1, -1.\n"));
+    expect_error("equation_cycle", &t, &[&count(&t), "cycle"]);
+    let t = deck(|s| s.replace("*END STEP", "*EQUATION\n2\n7, 1, 1., 6, 1, -1.\n*END STEP"));
+    expect_error(
+        "equation_in_step",
+        &t,
+        &[&line(&t, "*EQUATION"), "before *step"],
+    );
+    let t = equation(|s| s.replace("7, 1, 1., 6", "7, 1, 0., 6"));
+    expect_error("equation_zero_coefficient", &t, &[&count(&t), "is zero"]);
+    let t = equation(|s| s.replace("7, 1, 1., 6", "7, 4, 1., 6"));
+    expect_error(
+        "equation_rotation_dof",
+        &t,
+        &[&line(&t, "7, 4, 1."), "translations 1-3"],
+    );
+}
