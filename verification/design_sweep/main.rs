@@ -326,7 +326,7 @@ fn flawed_designs_are_refused_at_the_shift_with_their_reason() {
 
 /// A larger sample of another seed (200 designs).
 #[test]
-#[ignore = "200 coarse LTCAs: about 15 min on 2 cores (the 40 of CI take 3 min)"]
+#[ignore = "200 coarse LTCAs: about 25 min on 2 cores (the 40 of CI take 3 min)"]
 fn two_hundred_designs_run_or_are_refused_with_their_reason() {
     sweep(SEED + 1, 200, "design_sweep_large");
 }

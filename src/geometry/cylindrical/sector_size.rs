@@ -28,9 +28,7 @@
 
 use super::CylindricalPair;
 use crate::error::FlankError;
-use crate::geometry::gear_pair::{
-    engagement_roll_angles, pairs_in_mesh, sector_teeth_holding, GearPair, LineContactPair,
-};
+use crate::geometry::gear_pair::{pairs_in_mesh, sector_teeth_holding, GearPair, LineContactPair};
 use crate::geometry::iso6336::tooth_stiffness;
 use crate::geometry::PairSpec;
 
@@ -77,6 +75,18 @@ pub fn load_approach_mm(
     force / face / single * 1e-3
 }
 
+/// Roll samples of [`sector_in_mesh`] at most (0.05° apart up to 25 000°).
+const MAX_ROLL_SAMPLES: f64 = 500_000.0;
+
+/// A contact reach (rad of roll) past which the sector no longer grows:
+/// 2z + 1 tooth steps reach every pair a sector can hold
+/// ([`pairs_in_mesh`] looks at offsets within ±z). Also the reach taken
+/// where the load's is not a number (`f64::min` keeps the other operand),
+/// so an absurd load errs towards more teeth.
+fn saturated_reach(pair: &CylindricalPair) -> f64 {
+    (2 * pair.pinion().teeth() + 1) as f64 * pair.tooth_roll_step().abs()
+}
+
 /// The pairs in mesh of `pair` at the roll angles `rolls_deg` widened by
 /// the contact extension at approach `approach_mm`, and the sector that
 /// holds them (module docs).
@@ -86,7 +96,7 @@ pub fn sector_for_rolls(
     approach_mm: f64,
 ) -> SectorInMesh {
     let extension_mm = pair.corner_reach_mm(approach_mm);
-    let reach = extension_mm / pair.transmission_error_radius();
+    let reach = (extension_mm / pair.transmission_error_radius()).min(saturated_reach(pair));
     // the positions at which the middle pair can be in contact: outside
     // them (the unloaded brackets of a default range) the pairs that are
     // in mesh do not share the middle pair's load
@@ -111,7 +121,7 @@ pub fn sector_for_rolls(
 
 /// The sector of `spec` under pinion torque `torque_nm` that holds every
 /// pair in mesh while the middle pair is, over its whole engagement
-/// ([`engagement_roll_angles`], sampled at 0.05°) and its extension under
+/// ([`crate::geometry::gear_pair::engagement_roll_angles`], sampled at 0.05°) and its extension under
 /// load (the LTCA extends a default range while the middle pair is
 /// loaded): the default of `[mesh] teeth_in_sector`.
 pub fn sector_in_mesh(
@@ -121,12 +131,32 @@ pub fn sector_in_mesh(
 ) -> Result<SectorInMesh, FlankError> {
     let pair = CylindricalPair::new(spec, [None, None], 3)?;
     let approach = load_approach_mm(spec, &pair, torque_nm, modulus_mpa);
+    if !approach.is_finite() {
+        return Err(FlankError::Model(format!(
+            "the load's approach F_bn / (b c′) is {approach} mm (pinion torque {torque_nm} N·m, \
+             reduced modulus {modulus_mpa} MPa): no sector holds its pairs in mesh"
+        )));
+    }
     // the whole loaded engagement, finely: the default range and beyond
-    let ext_deg = (pair.corner_reach_mm(approach) / pair.transmission_error_radius()).to_degrees();
-    let rolls = engagement_roll_angles(&pair, 0.05);
-    let (first, last) = (rolls[0], rolls[rolls.len() - 1]);
-    let n = ((last - first + 2.0 * ext_deg) / 0.05).ceil() as usize;
-    let rolls: Vec<f64> = (0..=n).map(|i| first - ext_deg + 0.05 * i as f64).collect();
+    // (the reach is bounded where the sector stops growing, see
+    // `saturated_reach`)
+    let ext_deg = (pair.corner_reach_mm(approach) / pair.transmission_error_radius())
+        .min(saturated_reach(&pair))
+        .to_degrees();
+    let (a, e) = pair.face_engagement(pair.middle());
+    // engagement_roll_angles' range at 0.05°, without building it
+    let first = ((a.min(e).to_degrees() / 0.05).floor() - 2.0) * 0.05 - ext_deg;
+    let last = ((a.max(e).to_degrees() / 0.05).ceil() + 2.0) * 0.05 + ext_deg;
+    // 0.05° apart, or coarser where an absurd face engagement (thousands
+    // of pitches) would need more than MAX_ROLL_SAMPLES of them
+    let n = ((last - first) / 0.05).ceil().clamp(1.0, MAX_ROLL_SAMPLES);
+    let step = if n < MAX_ROLL_SAMPLES {
+        0.05
+    } else {
+        (last - first) / n
+    };
+    let n = n as usize;
+    let rolls: Vec<f64> = (0..=n).map(|i| first + step * i as f64).collect();
     Ok(sector_for_rolls(&pair, &rolls, approach))
 }
 
@@ -181,5 +211,22 @@ mod tests {
         assert_eq!(sector_teeth_holding(-1, 2), 4);
         let s = sector_for_rolls(&pair, &[], 0.05);
         assert_eq!((s.teeth, s.pair_offsets), (1, (0, 0)));
+    }
+
+    /// An absurd (finite) load reaches every pair: the whole smaller gear
+    /// (which cannot hold them all, `fits` false),
+    /// found in bounded time (a fuzzed 1e300 N·m once asked for a roll
+    /// vector of 10³⁰⁰ samples); a load whose approach overflows is
+    /// refused with the figures.
+    #[test]
+    fn absurd_loads_are_bounded() {
+        let g = spec("papers/seed002-spur/scene.toml");
+        let most = g.pinion.teeth.min(g.gear.teeth) as usize;
+        let s = sector_in_mesh(&g, 1e30, 206_000.0).unwrap();
+        assert_eq!((s.teeth, s.fits), (most, false), "{s:?}");
+        let e = sector_in_mesh(&g, 1e306, 206_000.0)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("approach") && e.contains("inf"), "{e}");
     }
 }
